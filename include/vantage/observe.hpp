@@ -1,0 +1,52 @@
+#pragma once
+/// Observe: each candidate's depth image ray cast against the whole scene; the voxels of the
+/// target points it sees form its observation set O_i (SYSTEM.md, coverage metric).
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "vantage/candidates.hpp"
+#include "vantage/reference.hpp"
+#include "vantage/scene.hpp"
+
+namespace vantage {
+
+/// O_i of one candidate.
+struct Observation {
+  std::vector<uint32_t> reference_indices;  ///< indices into Reference::keys, sorted, unique
+  std::vector<uint64_t> outside_keys;  ///< packed keys seen but not in R, sorted, unique
+  uint64_t rays_traced = 0;            ///< pixels actually ray cast (after culling)
+};
+
+struct ObserveOptions {
+  /// Trace only pixels whose ray can reach a target's bounds (exact: same result as tracing all).
+  bool cull = true;
+  /// Called from worker threads with (candidates done, total); may be empty.
+  std::function<void(size_t, size_t)> progress;
+};
+
+/// One Observation per candidate, in candidate order. Deterministic whatever the thread count.
+std::vector<Observation> Observe(const Scene& scene, const Reference& reference,
+                                 std::span<const Candidate> candidates,
+                                 const ObserveOptions& options = {});
+
+/// Everything `vantage select` needs to rerun selection without re-rendering.
+struct VisibilityFile {
+  std::string scene;  ///< path of the scene it came from
+  uint64_t seed = 1;
+  int n = 1;
+  int ransac_iterations = 1000;
+  double ransac_stop_coverage = 1.0;
+  Reference reference;
+  std::vector<Candidate> candidates;
+  std::vector<Observation> observations;  ///< one per candidate
+};
+
+/// Writes the versioned binary file (magic, version, payload, FNV-1a 64 checksum) atomically.
+void SaveVisibilityFile(const std::string& path, const VisibilityFile& file);
+/// Reads it back; InputError naming the file when it is not one, corrupt, or another version.
+VisibilityFile LoadVisibilityFile(const std::string& path);
+
+}  // namespace vantage

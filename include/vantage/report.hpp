@@ -1,0 +1,52 @@
+#pragma once
+/// Outputs of a run (SYSTEM.md, Outputs): report.json (vantage.report/1), candidates.csv,
+/// reference.ply, observed.ply; written into a temporary folder and renamed into place.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "vantage/observe.hpp"
+#include "vantage/select.hpp"
+
+namespace vantage {
+
+/// Version of vantage, as written in report.json.
+const char* Version();
+
+struct Timings {
+  double load = 0, reference = 0, observe = 0, select = 0, total = 0;
+};
+
+/// Everything one report holds.
+struct Report {
+  std::string scene;
+  uint64_t seed = 1;
+  const VisibilityFile* data = nullptr;  ///< reference, candidates, observations (not owned)
+  std::vector<Selection> results;
+  Timings timings;
+  std::vector<std::string> notes;
+};
+
+/// The report.json text (pretty-printed, keys of SYSTEM.md plus extras).
+std::string ReportJson(const Report& report);
+/// candidates.csv text: one row per candidate.
+std::string CandidatesCsv(const Report& report);
+/// Binary little-endian PLY of voxel centres (x y z float).
+std::string VoxelPly(const std::vector<uint64_t>& keys, double cell_size);
+/// Packed keys that the union of `chosen` observes (in R and outside it), sorted.
+std::vector<uint64_t> ObservedKeys(const VisibilityFile& data, const std::vector<uint32_t>& chosen);
+
+/// Writes every output into `out_dir` atomically: a temporary sibling folder, renamed over the
+/// old one only once complete. `extra_files` (name -> content) are written beside the others.
+void WriteOutputs(const std::string& out_dir, const Report& report,
+                  const std::map<std::string, std::string>& extra_files = {});
+
+/// A constellation to evaluate: the candidates of a report.json (and, when present, the
+/// sensors named by its first `results` entry; otherwise every candidate).
+struct Constellation {
+  std::vector<Candidate> sensors;
+};
+/// Reads report.json-shaped input; InputError naming file and problem when malformed.
+Constellation LoadConstellation(const std::string& path);
+
+}  // namespace vantage

@@ -1,0 +1,63 @@
+#pragma once
+/// The scene: triangles of every object in world coordinates, each object a target or an
+/// occluder (SYSTEM.md, pipeline stage 1), and the meshes/primitives it is built from.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vantage/types.hpp"
+
+namespace vantage {
+
+/// Indexed triangle mesh; vertices in metres.
+struct TriangleMesh {
+  std::vector<Vec3> vertices;
+  std::vector<std::array<uint32_t, 3>> triangles;
+
+  bool IsEmpty() const { return triangles.empty(); }
+  Aabb Bounds() const;
+  /// Sum of triangle areas [m²].
+  double Area() const;
+  /// Appends another mesh (indices shifted).
+  void Append(const TriangleMesh& other);
+  /// Applies p -> pose * p to every vertex.
+  void Transform(const Pose& pose);
+  /// Multiplies every vertex component-wise by `scale` (before any pose).
+  void Scale(const Vec3& scale);
+};
+
+enum class Role { kTarget, kOccluder };
+
+/// One object of the scene, already in world coordinates.
+struct SceneObject {
+  std::string name;
+  Role role = Role::kOccluder;
+  TriangleMesh mesh;  ///< world frame
+  bool is_target() const { return role == Role::kTarget; }
+};
+
+struct Scene {
+  std::vector<SceneObject> objects;
+
+  size_t TargetCount() const;
+  size_t TriangleCount() const;
+  /// Bounds of every target's triangles (empty when there is none).
+  Aabb TargetBounds() const;
+};
+
+/// Axis-aligned box of the given edge lengths, centred at the origin (12 triangles, outward).
+TriangleMesh MakeBox(const Vec3& size);
+/// Sphere of `radius` at the origin, tessellated so that the chord error is below
+/// `max_chord_error` (UV sphere).
+TriangleMesh MakeSphere(double radius, double max_chord_error);
+/// Closed cylinder along z, centred at the origin (caps included), chord error below the bound.
+TriangleMesh MakeCylinder(double radius, double length, double max_chord_error);
+/// Rectangle in the z = 0 plane, centred at the origin, normal +z (two triangles).
+TriangleMesh MakePlane(double size_x, double size_y);
+
+/// Loads any mesh format Assimp reads (STL, DAE, OBJ, PLY...), all its nodes flattened with
+/// their transforms. Throws InputError naming the file when it is unreadable, empty, has
+/// non-finite vertices or only degenerate triangles.
+TriangleMesh LoadMeshFile(const std::string& path);
+
+}  // namespace vantage

@@ -1,0 +1,66 @@
+#pragma once
+/// Geometry value types shared by every stage: poses, voxel keys, bounds.
+/// Units: metres and radians; frames are named in variables (world_from_body).
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+
+namespace vantage {
+
+using Vec3 = Eigen::Vector3d;
+using Quat = Eigen::Quaterniond;
+using Mat3 = Eigen::Matrix3d;
+
+/// A rigid transform target_from_source: p_target = rotation * p_source + position.
+struct Pose {
+  Vec3 position = Vec3::Zero();
+  Quat rotation = Quat::Identity();
+
+  Vec3 operator*(const Vec3& p) const { return rotation * p + position; }
+  Pose operator*(const Pose& other) const {
+    return Pose{rotation * other.position + position, (rotation * other.rotation).normalized()};
+  }
+  Pose Inverse() const {
+    const Quat inv = rotation.conjugate();
+    return Pose{-(inv * position), inv};
+  }
+  /// Gazebo's `<pose>x y z roll pitch yaw</pose>`: R = Rz(yaw)·Ry(pitch)·Rx(roll).
+  static Pose FromXyzRpy(double x, double y, double z, double roll, double pitch, double yaw);
+};
+
+/// R = Rz(yaw)·Ry(pitch)·Rx(roll) (fixed-axis XYZ, as SDF and ROS).
+Mat3 RotationFromRpy(double roll, double pitch, double yaw);
+/// Inverse of RotationFromRpy: (roll, pitch, yaw) with pitch in [-pi/2, pi/2].
+Vec3 RpyFromRotation(const Mat3& rotation);
+
+/// Integer cell of a point: floor(p / F) per axis, grid aligned to the world origin (PCL VoxelGrid).
+using VoxelIndex = std::array<int64_t, 3>;
+VoxelIndex VoxelKeyOf(const Vec3& p, double cell_size);
+
+/// Cells are packed into 64 bits (21 bits per axis, offset 2^20), ordered by x, then y, then z.
+/// Range: |index| < 2^20 per axis (about ±5 km at 5 mm cells).
+constexpr int64_t kVoxelAxisOffset = int64_t{1} << 20;
+/// True when the index fits the packed range.
+bool VoxelIndexFits(const VoxelIndex& index);
+/// Packs an index; the caller checks VoxelIndexFits first (throws InternalError otherwise).
+uint64_t PackVoxel(const VoxelIndex& index);
+VoxelIndex UnpackVoxel(uint64_t key);
+/// Centre of a packed cell, in world coordinates.
+Vec3 VoxelCenter(uint64_t key, double cell_size);
+
+/// Axis-aligned bounds; empty when min > max.
+struct Aabb {
+  Vec3 min = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 max = Vec3::Constant(-std::numeric_limits<double>::infinity());
+  bool IsEmpty() const { return (min.array() > max.array()).any(); }
+  void Extend(const Vec3& p) {
+    min = min.cwiseMin(p);
+    max = max.cwiseMax(p);
+  }
+  void Extend(const Aabb& b) {
+    min = min.cwiseMin(b.min);
+    max = max.cwiseMax(b.max);
+  }
+};
+
+}  // namespace vantage

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs every Debian package vantage needs to build, test and benchmark.
+# Idempotent; run as root (or with sudo available). Chromium is for the HTML report test.
+set -euo pipefail
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+PACKAGES=(
+  build-essential cmake pkg-config git
+  libembree-dev libassimp-dev libeigen3-dev libtbb-dev libyaml-cpp-dev nlohmann-json3-dev
+  libcli11-dev libfmt-dev libspdlog-dev libsdformat-dev coinor-libcbc-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libpng-dev
+)
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ "${#missing[@]}" -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,134 @@
+#include "vantage/sensors.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "vantage/error.hpp"
+
+namespace vantage {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+SensorType Entry(const char* id, const char* name, const char* technology, int w, int h,
+                 double hfov, std::optional<double> vfov, double near, double far, double fps,
+                 double cost) {
+  SensorType t = SensorType::FromFov(id, w, h, hfov, vfov, near, far);
+  t.name = name;
+  t.technology = technology;
+  t.fps = fps;
+  t.cost = cost;
+  return t;
+}
+
+bool Close(double a, double b) { return std::abs(a - b) <= 1e-6 * std::max(1.0, std::abs(b)); }
+
+}  // namespace
+
+double SensorType::HorizontalFov() const { return 2.0 * std::atan(width / (2.0 * fx)); }
+double SensorType::VerticalFov() const { return 2.0 * std::atan(height / (2.0 * fy)); }
+
+SensorType SensorType::FromFov(std::string id, int width, int height, double hfov,
+                               std::optional<double> vfov, double near, double far) {
+  SensorType t;
+  t.id = std::move(id);
+  t.name = t.id;
+  t.width = width;
+  t.height = height;
+  t.fx = width / (2.0 * std::tan(hfov / 2.0));
+  t.fy = vfov ? height / (2.0 * std::tan(*vfov / 2.0)) : t.fx;
+  t.cx = width / 2.0;
+  t.cy = height / 2.0;
+  t.near = near;
+  t.far = far;
+  return t;
+}
+
+void SensorType::Validate(const std::string& where) const {
+  const auto fail = [&](const std::string& what) {
+    throw InputError(where.empty() ? fmt::format("sensor type '{}': {}", id, what)
+                                   : fmt::format("{}: sensor type '{}': {}", where, id, what));
+  };
+  if (width <= 0 || height <= 0)
+    fail(fmt::format("resolution {}x{} must be positive — set width and height >= 1", width, height));
+  if (int64_t{width} * height > int64_t{64} << 20)
+    fail(fmt::format("resolution {}x{} is above 64 Mpx — use a real sensor resolution", width, height));
+  if (!std::isfinite(fx) || !std::isfinite(fy) || fx <= 0 || fy <= 0)
+    fail("focal lengths must be positive and finite — field of view must lie in (0, pi)");
+  if (!std::isfinite(cx) || !std::isfinite(cy)) fail("principal point must be finite");
+  if (!std::isfinite(near) || near <= 0) fail(fmt::format("near = {} must be > 0", near));
+  if (!std::isfinite(far) || far <= near)
+    fail(fmt::format("near = {} must be below far = {} — swap or fix the range", near, far));
+  if (!std::isfinite(cost) || cost < 0) fail(fmt::format("cost = {} must be >= 0", cost));
+}
+
+const std::vector<SensorType>& Catalog() {
+  // SENSORS.md: the ten types of the original system (Gazebo values, square pixels), then four
+  // current cameras from vendors' datasheets (separate fields of view).
+  static const std::vector<SensorType> catalog = {
+      Entry("kinect_xbox_360", "Microsoft Kinect for Xbox 360", "structured light", 640, 480,
+            0.994838, std::nullopt, 0.4, 4.0, 30, 150),
+      Entry("asus_xtion_pro_live", "ASUS Xtion PRO LIVE", "structured light", 640, 480, 1.01229,
+            std::nullopt, 0.5, 3.5, 30, 200),
+      Entry("ensenso_n35", "IDS Ensenso N35", "structured light (projected-texture stereo)", 1280,
+            1024, 1.01229, std::nullopt, 0.46, 4.0, 10, 5000),
+      Entry("kinect_xbox_one", "Microsoft Kinect for Xbox One", "time of flight", 512, 424,
+            1.22173, std::nullopt, 0.5, 4.5, 30, 200),
+      Entry("orbbec_astra", "Orbbec Astra", "structured light", 640, 480, 1.0472, std::nullopt,
+            0.6, 8.0, 30, 150),
+      Entry("multisense_s7", "Carnegie Robotics MultiSense S7", "stereo", 2048, 1088, 1.39626,
+            std::nullopt, 0.4, 5.0, 15, 6000),
+      Entry("intel_realsense_sr300", "Intel RealSense SR300", "structured light (coded)", 640,
+            480, 1.24791, std::nullopt, 0.2, 1.5, 60, 150),
+      Entry("zed", "Stereolabs ZED", "stereo", 4416, 1242, 1.91986, std::nullopt, 0.7, 20.0, 15,
+            450),
+      Entry("intel_realsense_d415", "Intel RealSense D415", "active stereo", 1280, 720, 1.106539,
+            std::nullopt, 0.16, 10.0, 90, 300),
+      Entry("photoneo_phoxi_s", "Photoneo PhoXi 3D Scanner S", "structured light", 2064, 1536,
+            0.672088562, std::nullopt, 0.354, 0.588, 5, 9000),
+      Entry("intel_realsense_d435", "Intel RealSense D435", "active stereo", 1280, 720, 87 * kDeg,
+            58 * kDeg, 0.28, 10.0, 90, 300),
+      Entry("intel_realsense_d455", "Intel RealSense D455", "active stereo", 1280, 720, 87 * kDeg,
+            58 * kDeg, 0.52, 6.0, 90, 400),
+      Entry("azure_kinect_nfov", "Azure Kinect DK, NFOV unbinned", "time of flight", 640, 576,
+            75 * kDeg, 65 * kDeg, 0.5, 3.86, 30, 400),
+      Entry("azure_kinect_wfov", "Azure Kinect DK, WFOV 2x2 binned", "time of flight", 512, 512,
+            120 * kDeg, 120 * kDeg, 0.25, 2.88, 30, 400),
+  };
+  return catalog;
+}
+
+const SensorType* FindCatalogType(std::string_view id) {
+  for (const SensorType& t : Catalog()) {
+    if (t.id == id) return &t;
+  }
+  return nullptr;
+}
+
+std::string MatchCatalogId(const SensorType& type) {
+  for (const SensorType& t : Catalog()) {
+    if (t.width == type.width && t.height == type.height && Close(t.fx, type.fx) &&
+        Close(t.fy, type.fy) && Close(t.cx, type.cx) && Close(t.cy, type.cy) &&
+        Close(t.near, type.near) && Close(t.far, type.far)) {
+      return t.id;
+    }
+  }
+  return "";
+}
+
+Vec3 PixelRayInBody(const SensorType& type, int u, int v) {
+  // Optical frame (x right, y down, z forward) -> body (x forward, y left, z up).
+  const double x_right = (u + 0.5 - type.cx) / type.fx;
+  const double y_down = (v + 0.5 - type.cy) / type.fy;
+  return Vec3(1.0, -x_right, -y_down);
+}
+
+std::optional<Eigen::Vector2d> ProjectBodyPoint(const SensorType& type, const Vec3& p_body) {
+  if (!(p_body.x() > 0)) return std::nullopt;
+  return Eigen::Vector2d(type.cx + type.fx * (-p_body.y() / p_body.x()),
+                         type.cy + type.fy * (-p_body.z() / p_body.x()));
+}
+
+}  // namespace vantage

@@ -1,0 +1,39 @@
+#pragma once
+/// Helpers shared by the tests: temporary folders, running the CLI, reading files.
+#include <string>
+
+namespace vantage::test {
+
+/// A fresh empty folder under the system temp dir, removed by the destructor.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::string& path() const { return path_; }
+  /// path() + "/" + name
+  std::string File(const std::string& name) const;
+
+ private:
+  std::string path_;
+};
+
+/// Writes text to a file (creating parent folders).
+void WriteText(const std::string& path, const std::string& text);
+std::string ReadText(const std::string& path);
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;  ///< stdout
+  std::string err;  ///< stderr
+};
+/// Runs the vantage binary with the given argument string (shell-quoted by the caller).
+CommandResult RunVantage(const std::string& args);
+
+/// Absolute path of a file in tests/data.
+std::string DataPath(const std::string& name);
+/// Absolute path of the shared costa2017 folder (../shared/worlds/costa2017).
+std::string Costa2017Dir();
+
+}  // namespace vantage::test
