@@ -23,9 +23,15 @@ struct Report {
   uint64_t seed = 1;
   const VisibilityFile* data = nullptr;  ///< reference, candidates, observations (not owned)
   std::vector<Selection> results;
+  /// Index into `results` of the constellation that observed.ply shows; -1 = PrimaryResult().
+  int primary = -1;
   Timings timings;
   std::vector<std::string> notes;
 };
+
+/// The result that stands for the run: among those with the largest n, the highest coverage
+/// (ties: the first). -1 when there is no result.
+int PrimaryResult(const std::vector<Selection>& results);
 
 /// The report.json text (pretty-printed, keys of SYSTEM.md plus extras).
 std::string ReportJson(const Report& report);

@@ -1,0 +1,65 @@
+#pragma once
+/// The subcommands of the `vantage` binary: each registers its options on the CLI11 app and
+/// runs through the library. Only main.cpp maps errors to exit codes.
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vantage/vantage.hpp"
+
+namespace vantage::cli {
+
+/// Options shared by every command that loads a scene.
+struct SceneOptions {
+  std::string scene;
+  std::vector<std::string> model_paths;
+  std::vector<std::string> resource_paths;
+  std::vector<std::string> targets;
+  std::optional<double> cell_size;
+  std::optional<uint64_t> seed;
+  bool no_cull = false;
+};
+
+/// Options of selection, given on the command line (unset = the scene's value).
+struct SelectionOptions {
+  std::optional<int> n;
+  std::optional<std::string> method;
+  std::optional<int> iterations;
+  std::optional<double> stop_coverage;
+  double time_limit = 60;
+};
+
+void AddSceneOptions(CLI::App* app, SceneOptions* options, bool with_positional = true);
+void AddSelectionOptions(CLI::App* app, SelectionOptions* options);
+
+/// Loads the scene with the command-line overrides applied.
+Problem LoadScene(const SceneOptions& options);
+
+/// Result of the first half of the pipeline.
+struct ObservedScene {
+  VisibilityFile data;
+  Timings timings;
+  std::vector<std::string> notes;
+};
+/// Load -> reference -> candidates -> observe, logging each stage.
+ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* selection);
+
+/// Selection options resolved from the file's defaults and the command line.
+SelectOptions ResolveSelectOptions(const VisibilityFile& data, const SelectionOptions& cli,
+                                   std::optional<uint64_t> seed, const std::string& method_default);
+/// Prints the human summary of a run to stdout.
+void PrintSummary(const VisibilityFile& data, const std::vector<Selection>& results,
+                  const Timings& timings, const std::string& out_dir);
+
+void SetupOptimize(CLI::App* parent);
+void SetupObserve(CLI::App* parent);
+void SetupSelect(CLI::App* parent);
+void SetupEvaluate(CLI::App* parent);
+void SetupSensors(CLI::App* parent);
+
+/// Seconds since `start` on the steady clock.
+double SecondsSince(std::chrono::steady_clock::time_point start);
+
+}  // namespace vantage::cli

@@ -1,0 +1,87 @@
+// vantage: where to put depth cameras so that together they see the most of the targets.
+// Exit codes: 0 success, 2 bad input (file:line: what is wrong), 1 internal failure.
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <memory>
+
+#include "commands.hpp"
+#include "vantage/error.hpp"
+
+namespace {
+
+int Run(int argc, char** argv) {
+  CLI::App app{"vantage — choose where to put depth cameras to see the most of the targets.\n"
+               "Run `vantage help COMMAND` for the options of a command."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", vantage::Version());
+  int threads = 0;
+  bool quiet = false;
+  int verbosity = 0;
+  app.add_option("--threads", threads, "worker threads (default: all cores)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  app.add_flag("-q,--quiet", quiet, "only errors on stderr");
+  app.add_flag("-v,--verbose", verbosity, "more log detail (repeatable)");
+  app.fallthrough();
+
+  vantage::cli::SetupOptimize(&app);
+  vantage::cli::SetupObserve(&app);
+  vantage::cli::SetupSelect(&app);
+  vantage::cli::SetupEvaluate(&app);
+  vantage::cli::SetupSensors(&app);
+  auto* help = app.add_subcommand("help", "show the options of a command");
+  std::string help_topic;
+  help->add_option("command", help_topic, "command name");
+
+  // `vantage help X` becomes `X --help` (CLI11 has no help command).
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (!args.empty() && args[0] == "help") {
+    if (args.size() >= 2) {
+      args = {args[1], "--help"};
+    } else {
+      args = {"--help"};
+    }
+  }
+  std::reverse(args.begin(), args.end());
+  try {
+    app.parse(args);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  auto logger = spdlog::stderr_color_mt("vantage");
+  logger->set_pattern("[%l] %v");
+  spdlog::set_default_logger(logger);
+  // Options are parsed inside Run; log level and threads are read from argv here so that they
+  // apply before any command runs.
+  int threads = 0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if ((arg == "-q" || arg == "--quiet")) logger->set_level(spdlog::level::err);
+    if (arg == "-v" || arg == "--verbose") logger->set_level(spdlog::level::debug);
+    if (arg == "--threads" && i + 1 < argc) threads = std::atoi(argv[i + 1]);
+    if (arg.rfind("--threads=", 0) == 0) threads = std::atoi(arg.c_str() + 10);
+  }
+  std::unique_ptr<tbb::global_control> thread_limit;
+  if (threads > 0)
+    thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                         static_cast<size_t>(threads));
+  try {
+    return Run(argc, argv);
+  } catch (const vantage::InputError& e) {
+    logger->error("{}", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    logger->critical("internal error: {}", e.what());
+    return 1;
+  }
+}

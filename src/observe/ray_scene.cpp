@@ -1,0 +1,131 @@
+#include "observe/ray_scene.hpp"
+
+#include <embree3/rtcore.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <limits>
+
+#include "vantage/error.hpp"
+
+namespace vantage::detail {
+
+struct RayScene::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  std::vector<uint8_t> is_target;  // by geometry id
+
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+namespace {
+
+void ReportEmbreeError(void* /*user*/, RTCError code, const char* message) {
+  spdlog::get("vantage") ? spdlog::get("vantage")->error("embree error {}: {}", static_cast<int>(code), message)
+                         : spdlog::error("embree error {}: {}", static_cast<int>(code), message);
+}
+
+}  // namespace
+
+RayScene::RayScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
+  impl_->device = rtcNewDevice(nullptr);
+  if (!impl_->device) throw InternalError("cannot create the Embree device");
+  rtcSetDeviceErrorFunction(impl_->device, ReportEmbreeError, nullptr);
+  impl_->scene = rtcNewScene(impl_->device);
+  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  for (const SceneObject& object : scene.objects) {
+    if (object.mesh.triangles.empty()) continue;
+    RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+        object.mesh.vertices.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+        object.mesh.triangles.size()));
+    VANTAGE_CHECK(vertices != nullptr && indices != nullptr);
+    for (size_t i = 0; i < object.mesh.vertices.size(); ++i) {
+      for (int a = 0; a < 3; ++a) vertices[3 * i + a] = static_cast<float>(object.mesh.vertices[i][a]);
+    }
+    for (size_t i = 0; i < object.mesh.triangles.size(); ++i) {
+      for (int a = 0; a < 3; ++a) indices[3 * i + a] = object.mesh.triangles[i][a];
+    }
+    rtcCommitGeometry(geometry);
+    const unsigned id = rtcAttachGeometry(impl_->scene, geometry);
+    rtcReleaseGeometry(geometry);
+    if (impl_->is_target.size() <= id) impl_->is_target.resize(id + 1, 0);
+    impl_->is_target[id] = object.is_target() ? 1 : 0;
+  }
+  rtcCommitScene(impl_->scene);
+}
+
+RayScene::~RayScene() = default;
+RayScene::RayScene(RayScene&&) noexcept = default;
+RayScene& RayScene::operator=(RayScene&&) noexcept = default;
+
+void RayScene::Intersect(RayBatch* batch) const {
+  static_assert(RayBatch::kWidth == 8);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  alignas(32) int valid[8];
+  alignas(32) RTCRayHit8 rays;
+  for (int lane = 0; lane < 8; ++lane) {
+    valid[lane] = lane < batch->active ? -1 : 0;
+    rays.ray.org_x[lane] = batch->origin[0];
+    rays.ray.org_y[lane] = batch->origin[1];
+    rays.ray.org_z[lane] = batch->origin[2];
+    rays.ray.dir_x[lane] = batch->dir[0][lane];
+    rays.ray.dir_y[lane] = batch->dir[1][lane];
+    rays.ray.dir_z[lane] = batch->dir[2][lane];
+    rays.ray.tnear[lane] = 0.0f;
+    rays.ray.tfar[lane] = batch->tfar;
+    rays.ray.time[lane] = 0.0f;
+    rays.ray.mask[lane] = 0xFFFFFFFFu;  // Debian's Embree has ray masks on (debian-deps.md)
+    rays.ray.id[lane] = static_cast<unsigned>(lane);
+    rays.ray.flags[lane] = 0;
+    rays.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+    rays.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+  }
+  rtcIntersect8(valid, impl_->scene, &context, &rays);
+  for (int lane = 0; lane < batch->active; ++lane) {
+    const unsigned geom = rays.hit.geomID[lane];
+    if (geom == RTC_INVALID_GEOMETRY_ID) {
+      batch->t[lane] = std::numeric_limits<float>::infinity();
+      batch->is_target[lane] = false;
+    } else {
+      batch->t[lane] = rays.ray.tfar[lane];
+      batch->is_target[lane] = impl_->is_target[geom] != 0;
+    }
+  }
+}
+
+float RayScene::IntersectOne(const float origin[3], const float dir[3], float tfar,
+                             bool* is_target) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit ray{};
+  ray.ray.org_x = origin[0];
+  ray.ray.org_y = origin[1];
+  ray.ray.org_z = origin[2];
+  ray.ray.dir_x = dir[0];
+  ray.ray.dir_y = dir[1];
+  ray.ray.dir_z = dir[2];
+  ray.ray.tnear = 0.0f;
+  ray.ray.tfar = tfar;
+  ray.ray.mask = 0xFFFFFFFFu;
+  ray.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  ray.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &context, &ray);
+  if (ray.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+    *is_target = false;
+    return std::numeric_limits<float>::infinity();
+  }
+  *is_target = impl_->is_target[ray.hit.geomID] != 0;
+  return ray.ray.tfar;
+}
+
+}  // namespace vantage::detail

@@ -1,0 +1,44 @@
+#pragma once
+/// Embree behind a small interface: the scene built once, shared read-only by every thread.
+/// The only file that includes Embree is ray_scene.cpp (STYLE.md).
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "vantage/scene.hpp"
+
+namespace vantage::detail {
+
+/// One ray of a packet: origin o and direction d (not normalised) in world coordinates.
+struct RayBatch {
+  static constexpr int kWidth = 8;
+  float origin[3];                      ///< shared by the packet (one camera centre)
+  float dir[3][kWidth];                 ///< per-lane direction, SoA
+  int active = 0;                       ///< lanes in use, from 0
+  float tfar = 0;                       ///< farthest distance searched (in units of |d|)
+  // Results: ray parameter of the first hit (inf when none) and whether it hit a target.
+  float t[kWidth];
+  bool is_target[kWidth];
+};
+
+/// Owns an Embree device and a committed scene of every object (targets and occluders).
+class RayScene {
+ public:
+  explicit RayScene(const Scene& scene);
+  ~RayScene();
+  RayScene(RayScene&&) noexcept;
+  RayScene& operator=(RayScene&&) noexcept;
+  RayScene(const RayScene&) = delete;
+  RayScene& operator=(const RayScene&) = delete;
+
+  /// Traces the active lanes of `batch` (coherent packet) and fills t / is_target. Thread-safe.
+  void Intersect(RayBatch* batch) const;
+  /// Single ray; returns t (inf on miss) and sets *is_target. Thread-safe.
+  float IntersectOne(const float origin[3], const float dir[3], float tfar, bool* is_target) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vantage::detail

@@ -1,0 +1,141 @@
+#include <fmt/format.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "util/atomic_file.hpp"
+#include "util/binary_io.hpp"
+#include "vantage/error.hpp"
+#include "vantage/observe.hpp"
+
+namespace vantage {
+namespace {
+
+// Layout: magic (8 bytes), format version (u32), payload, FNV-1a 64 of everything before it.
+constexpr char kMagic[8] = {'V', 'A', 'N', 'T', 'V', 'I', 'S', '\0'};
+constexpr uint32_t kFormatVersion = 1;
+
+void WritePose(detail::BinaryWriter* w, const Pose& pose) {
+  for (int a = 0; a < 3; ++a) w->F64(pose.position[a]);
+  w->F64(pose.rotation.w());
+  w->F64(pose.rotation.x());
+  w->F64(pose.rotation.y());
+  w->F64(pose.rotation.z());
+}
+
+Pose ReadPose(detail::BinaryReader* r) {
+  Pose pose;
+  for (int a = 0; a < 3; ++a) pose.position[a] = r->F64();
+  const double w = r->F64(), x = r->F64(), y = r->F64(), z = r->F64();
+  pose.rotation = Quat(w, x, y, z);
+  return pose;
+}
+
+void WriteSensor(detail::BinaryWriter* w, const SensorType& s) {
+  w->Str(s.id);
+  w->Str(s.name);
+  w->Str(s.technology);
+  w->U32(static_cast<uint32_t>(s.width));
+  w->U32(static_cast<uint32_t>(s.height));
+  for (double v : {s.fx, s.fy, s.cx, s.cy, s.near, s.far, s.fps, s.cost}) w->F64(v);
+}
+
+SensorType ReadSensor(detail::BinaryReader* r) {
+  SensorType s;
+  s.id = r->Str();
+  s.name = r->Str();
+  s.technology = r->Str();
+  s.width = static_cast<int>(r->U32());
+  s.height = static_cast<int>(r->U32());
+  for (double* v : {&s.fx, &s.fy, &s.cx, &s.cy, &s.near, &s.far, &s.fps, &s.cost}) *v = r->F64();
+  return s;
+}
+
+}  // namespace
+
+void SaveVisibilityFile(const std::string& path, const VisibilityFile& file) {
+  detail::BinaryWriter w;
+  w.Bytes(kMagic, sizeof(kMagic));
+  w.U32(kFormatVersion);
+  w.Str(file.scene);
+  w.U64(file.seed);
+  w.U32(static_cast<uint32_t>(file.n));
+  w.U32(static_cast<uint32_t>(file.ransac_iterations));
+  w.F64(file.ransac_stop_coverage);
+  w.F64(file.reference.cell_size);
+  w.U64Vector(file.reference.keys);
+  w.U64(file.candidates.size());
+  VANTAGE_CHECK(file.observations.size() == file.candidates.size());
+  for (size_t i = 0; i < file.candidates.size(); ++i) {
+    const Candidate& c = file.candidates[i];
+    w.Str(c.name);
+    w.Str(c.type_id);
+    w.Str(c.population);
+    WriteSensor(&w, c.sensor);
+    WritePose(&w, c.world_from_body);
+    const Observation& o = file.observations[i];
+    w.U32Vector(o.reference_indices);
+    w.U64Vector(o.outside_keys);
+    w.U64(o.rays_traced);
+  }
+  w.U64(detail::Fnv1a64(w.data()));
+  detail::WriteFileAtomically(path, w.data());
+}
+
+VisibilityFile LoadVisibilityFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(AtPlace(path, 0, "cannot open the visibility file — check the path"));
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto corrupt = [&](const std::string& what) {
+    return InputError(AtPlace(path, 0, what + " — recreate it with `vantage observe`"));
+  };
+  if (bytes.size() < sizeof(kMagic) + 4 + 8 || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0)
+    throw corrupt("not a vantage visibility file");
+  const std::string_view body(bytes.data(), bytes.size() - 8);
+  uint64_t stored = 0;
+  std::memcpy(&stored, bytes.data() + body.size(), 8);
+  detail::BinaryReader r(body, path);
+  r.Skip(sizeof(kMagic));
+  const uint32_t version = r.U32();
+  if (version != kFormatVersion)
+    throw corrupt(fmt::format("visibility file format version {}, this vantage reads version {}",
+                              version, kFormatVersion));
+  if (stored != detail::Fnv1a64(body)) throw corrupt("checksum mismatch: the file is corrupt");
+
+  VisibilityFile file;
+  file.scene = r.Str();
+  file.seed = r.U64();
+  file.n = static_cast<int>(r.U32());
+  file.ransac_iterations = static_cast<int>(r.U32());
+  file.ransac_stop_coverage = r.F64();
+  file.reference.cell_size = r.F64();
+  file.reference.keys = r.U64Vector();
+  const uint64_t count = r.U64();
+  r.CheckCount(count, 64);
+  for (uint64_t i = 0; i < count; ++i) {
+    Candidate c;
+    c.name = r.Str();
+    c.type_id = r.Str();
+    c.population = r.Str();
+    c.sensor = ReadSensor(&r);
+    c.world_from_body = ReadPose(&r);
+    Observation o;
+    o.reference_indices = r.U32Vector();
+    o.outside_keys = r.U64Vector();
+    o.rays_traced = r.U64();
+    for (size_t k = 0; k < o.reference_indices.size(); ++k) {
+      if (o.reference_indices[k] >= file.reference.keys.size() ||
+          (k > 0 && o.reference_indices[k] <= o.reference_indices[k - 1]))
+        throw corrupt("observation indices out of range or unsorted");
+    }
+    file.candidates.push_back(std::move(c));
+    file.observations.push_back(std::move(o));
+  }
+  if (!r.AtEnd()) throw corrupt("trailing bytes after the payload");
+  if (!(file.reference.cell_size > 0)) throw corrupt("cell size is not positive");
+  return file;
+}
+
+}  // namespace vantage

@@ -1,0 +1,134 @@
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "vantage/error.hpp"
+#include "vantage/report.hpp"
+
+namespace vantage {
+namespace {
+
+using nlohmann::json;
+
+int LineOfByte(const std::string& text, size_t byte) {
+  byte = std::min(byte, text.size());
+  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(byte), '\n'));
+}
+
+double Number(const json& object, const char* key, const std::string& where) {
+  if (!object.contains(key) || !object[key].is_number())
+    throw InputError(fmt::format("{}: '{}' must be a number", where, key));
+  const double v = object[key].get<double>();
+  if (!std::isfinite(v)) throw InputError(fmt::format("{}: '{}' must be finite", where, key));
+  return v;
+}
+
+std::vector<double> Numbers(const json& object, const char* key, size_t count, const std::string& where) {
+  if (!object.contains(key) || !object[key].is_array() || object[key].size() != count)
+    throw InputError(fmt::format("{}: '{}' must be an array of {} numbers", where, key, count));
+  std::vector<double> out;
+  for (const json& v : object[key]) {
+    if (!v.is_number() || !std::isfinite(v.get<double>()))
+      throw InputError(fmt::format("{}: '{}' must hold finite numbers", where, key));
+    out.push_back(v.get<double>());
+  }
+  return out;
+}
+
+Candidate ParseCandidate(const json& j, const std::string& where) {
+  if (!j.is_object()) throw InputError(fmt::format("{}: must be an object", where));
+  Candidate c;
+  if (!j.contains("name") || !j["name"].is_string() || j["name"].get<std::string>().empty())
+    throw InputError(fmt::format("{}: 'name' must be a non-empty string", where));
+  c.name = j["name"].get<std::string>();
+  const std::string at = fmt::format("{} ('{}')", where, c.name);
+  c.type_id = j.contains("type") && j["type"].is_string() ? j["type"].get<std::string>() : "custom";
+  const std::vector<double> p = Numbers(j, "position", 3, at);
+  const std::vector<double> q = Numbers(j, "quaternion", 4, at);
+  const Quat rotation(q[0], q[1], q[2], q[3]);
+  if (rotation.norm() < 1e-9) throw InputError(fmt::format("{}: 'quaternion' has zero length", at));
+  c.world_from_body = Pose{Vec3(p[0], p[1], p[2]), rotation.normalized()};
+  SensorType& s = c.sensor;
+  s.id = c.type_id;
+  s.name = c.type_id;
+  const double width = Number(j, "width", at), height = Number(j, "height", at);
+  if (width < 1 || height < 1 || width != std::floor(width) || height != std::floor(height) ||
+      width > 1e5 || height > 1e5)
+    throw InputError(fmt::format("{}: width and height must be whole numbers >= 1", at));
+  s.width = static_cast<int>(width);
+  s.height = static_cast<int>(height);
+  s.fx = Number(j, "fx", at);
+  s.fy = Number(j, "fy", at);
+  s.cx = Number(j, "cx", at);
+  s.cy = Number(j, "cy", at);
+  s.near = Number(j, "near", at);
+  s.far = Number(j, "far", at);
+  if (const SensorType* catalog = FindCatalogType(c.type_id)) {
+    s.name = catalog->name;
+    s.technology = catalog->technology;
+    s.fps = catalog->fps;
+    s.cost = catalog->cost;
+  }
+  s.Validate(at);
+  return c;
+}
+
+}  // namespace
+
+Constellation LoadConstellation(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(AtPlace(path, 0, "cannot open the constellation file — check the path"));
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw InputError(AtPlace(path, LineOfByte(text, e.byte > 0 ? e.byte - 1 : 0),
+                             fmt::format("not valid JSON ({}) — give a report.json written by vantage",
+                                         e.what())));
+  }
+  if (!j.is_object() || !j.contains("candidates") || !j["candidates"].is_array())
+    throw InputError(AtPlace(path, 1, "no 'candidates' array — give a report.json written by vantage"));
+  if (j.contains("schema") && j["schema"] != "vantage.report/1")
+    throw InputError(AtPlace(path, 1, fmt::format("schema {} is not vantage.report/1", j["schema"].dump())));
+  std::vector<Candidate> all;
+  std::set<std::string> names;
+  for (size_t i = 0; i < j["candidates"].size(); ++i) {
+    Candidate c = ParseCandidate(j["candidates"][i], AtPlace(path, 0, fmt::format("candidates[{}]", i)));
+    if (!names.insert(c.name).second)
+      throw InputError(AtPlace(path, 0, fmt::format("candidates[{}]: duplicate name '{}'", i, c.name)));
+    all.push_back(std::move(c));
+  }
+  Constellation constellation;
+  const bool has_selection = j.contains("results") && j["results"].is_array() && !j["results"].empty();
+  if (!has_selection) {
+    constellation.sensors = std::move(all);
+  } else {
+    // The primary result when the report names one, else the first entry.
+    size_t which = 0;
+    if (j.contains("primary_result") && j["primary_result"].is_number_unsigned() &&
+        j["primary_result"].get<size_t>() < j["results"].size())
+      which = j["primary_result"].get<size_t>();
+    const json& result = j["results"][which];
+    if (!result.is_object() || !result.contains("sensors") || !result["sensors"].is_array())
+      throw InputError(AtPlace(path, 0, fmt::format("results[{}]: 'sensors' must be an array of names", which)));
+    for (const json& name : result["sensors"]) {
+      if (!name.is_string()) throw InputError(AtPlace(path, 0, "results: sensor names must be strings"));
+      const auto it = std::find_if(all.begin(), all.end(),
+                                   [&](const Candidate& c) { return c.name == name.get<std::string>(); });
+      if (it == all.end())
+        throw InputError(AtPlace(path, 0, fmt::format("results[{}] names sensor '{}', which is not among "
+                                                      "the candidates", which, name.get<std::string>())));
+      constellation.sensors.push_back(*it);
+    }
+  }
+  if (constellation.sensors.empty())
+    throw InputError(AtPlace(path, 0, "the constellation holds no sensor"));
+  return constellation;
+}
+
+}  // namespace vantage

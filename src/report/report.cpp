@@ -1,0 +1,182 @@
+#include "vantage/report.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstring>
+#include <nlohmann/json.hpp>
+
+#include "util/atomic_file.hpp"
+#include "vantage/error.hpp"
+
+#ifndef VANTAGE_VERSION
+#define VANTAGE_VERSION "0.0.0"
+#endif
+
+namespace vantage {
+namespace {
+
+using nlohmann::ordered_json;
+
+double Fraction(size_t count, size_t total) {
+  return total == 0 ? 0.0 : static_cast<double>(count) / static_cast<double>(total);
+}
+
+// JSON quaternions are [w, x, y, z]; Eigen's coeffs() are x, y, z, w: converted here only.
+ordered_json QuaternionJson(const Quat& q) {
+  const Quat n = q.normalized();
+  return ordered_json::array({n.w(), n.x(), n.y(), n.z()});
+}
+
+ordered_json CandidateJson(const Candidate& c, const Observation& o, size_t reference_size) {
+  const Vec3& p = c.world_from_body.position;
+  const SensorType& s = c.sensor;
+  ordered_json j;
+  j["name"] = c.name;
+  j["type"] = c.type_id.empty() ? s.id : c.type_id;
+  j["position"] = ordered_json::array({p.x(), p.y(), p.z()});
+  j["quaternion"] = QuaternionJson(c.world_from_body.rotation);
+  j["width"] = s.width;
+  j["height"] = s.height;
+  j["fx"] = s.fx;
+  j["fy"] = s.fy;
+  j["cx"] = s.cx;
+  j["cy"] = s.cy;
+  j["near"] = s.near;
+  j["far"] = s.far;
+  j["coverage"] = Fraction(o.reference_indices.size(), reference_size);
+  j["paper_coverage"] = Fraction(o.reference_indices.size() + o.outside_keys.size(), reference_size);
+  j["population"] = c.population;
+  j["observed_voxels"] = o.reference_indices.size();
+  j["rays_traced"] = o.rays_traced;
+  return j;
+}
+
+}  // namespace
+
+const char* Version() { return VANTAGE_VERSION; }
+
+int PrimaryResult(const std::vector<Selection>& results) {
+  int best = -1;
+  for (size_t i = 0; i < results.size(); ++i) {
+    if (best < 0 || results[i].n > results[best].n ||
+        (results[i].n == results[best].n && results[i].coverage > results[best].coverage))
+      best = static_cast<int>(i);
+  }
+  return best;
+}
+
+std::string ReportJson(const Report& report) {
+  VANTAGE_CHECK(report.data != nullptr);
+  const VisibilityFile& data = *report.data;
+  const size_t reference_size = data.reference.keys.size();
+  ordered_json j;
+  j["schema"] = "vantage.report/1";
+  j["version"] = Version();
+  j["seed"] = report.seed;
+  j["scene"] = report.scene;
+  j["cell_size"] = data.reference.cell_size;
+  j["reference_voxels"] = reference_size;
+  ordered_json candidates = ordered_json::array();
+  for (size_t i = 0; i < data.candidates.size(); ++i)
+    candidates.push_back(CandidateJson(data.candidates[i], data.observations[i], reference_size));
+  j["candidates"] = std::move(candidates);
+  ordered_json results = ordered_json::array();
+  for (const Selection& s : report.results) {
+    ordered_json r;
+    r["method"] = s.method;
+    r["n"] = s.n;
+    ordered_json names = ordered_json::array();
+    for (uint32_t index : s.chosen) names.push_back(data.candidates.at(index).name);
+    r["sensors"] = std::move(names);
+    r["coverage"] = s.coverage;
+    r["paper_coverage"] = s.paper_coverage;
+    if (s.upper_bound) {
+      r["upper_bound"] = *s.upper_bound;
+      r["gap"] = std::max(0.0, *s.upper_bound - s.coverage);
+      r["optimal"] = s.proven_optimal;
+    }
+    r["seconds"] = s.seconds;
+    results.push_back(std::move(r));
+  }
+  j["results"] = std::move(results);
+  const int primary = report.primary >= 0 ? report.primary : PrimaryResult(report.results);
+  if (primary >= 0) j["primary_result"] = primary;
+  j["timings"] = {{"load", report.timings.load},
+                  {"reference", report.timings.reference},
+                  {"observe", report.timings.observe},
+                  {"select", report.timings.select},
+                  {"total", report.timings.total}};
+  if (!report.notes.empty()) j["notes"] = report.notes;
+  return j.dump(2) + "\n";
+}
+
+std::string CandidatesCsv(const Report& report) {
+  VANTAGE_CHECK(report.data != nullptr);
+  const VisibilityFile& data = *report.data;
+  const size_t reference_size = data.reference.keys.size();
+  std::string csv =
+      "index,name,type,population,x,y,z,qw,qx,qy,qz,width,height,fx,fy,cx,cy,near,far,"
+      "observed_voxels,coverage,paper_coverage,rays_traced\n";
+  for (size_t i = 0; i < data.candidates.size(); ++i) {
+    const Candidate& c = data.candidates[i];
+    const Observation& o = data.observations[i];
+    const Quat q = c.world_from_body.rotation.normalized();
+    const Vec3& p = c.world_from_body.position;
+    const SensorType& s = c.sensor;
+    csv += fmt::format("{},{},{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{},{},{:.4f},{:.4f},"
+                       "{:.4f},{:.4f},{},{},{},{:.6f},{:.6f},{}\n",
+                       i, c.name, c.type_id.empty() ? s.id : c.type_id, c.population, p.x(), p.y(),
+                       p.z(), q.w(), q.x(), q.y(), q.z(), s.width, s.height, s.fx, s.fy, s.cx, s.cy,
+                       s.near, s.far, o.reference_indices.size(),
+                       Fraction(o.reference_indices.size(), reference_size),
+                       Fraction(o.reference_indices.size() + o.outside_keys.size(), reference_size),
+                       o.rays_traced);
+  }
+  return csv;
+}
+
+std::string VoxelPly(const std::vector<uint64_t>& keys, double cell_size) {
+  std::string ply = fmt::format(
+      "ply\nformat binary_little_endian 1.0\ncomment vantage voxel centres, cell size {} m\n"
+      "element vertex {}\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
+      cell_size, keys.size());
+  const size_t header = ply.size();
+  ply.resize(header + keys.size() * 12);
+  char* out = ply.data() + header;
+  for (uint64_t key : keys) {
+    const Vec3 c = VoxelCenter(key, cell_size);
+    const float xyz[3] = {static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z())};
+    std::memcpy(out, xyz, 12);
+    out += 12;
+  }
+  return ply;
+}
+
+std::vector<uint64_t> ObservedKeys(const VisibilityFile& data, const std::vector<uint32_t>& chosen) {
+  std::vector<uint64_t> keys;
+  for (uint32_t index : chosen) {
+    const Observation& o = data.observations.at(index);
+    for (uint32_t r : o.reference_indices) keys.push_back(data.reference.keys[r]);
+    keys.insert(keys.end(), o.outside_keys.begin(), o.outside_keys.end());
+  }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  return keys;
+}
+
+void WriteOutputs(const std::string& out_dir, const Report& report,
+                  const std::map<std::string, std::string>& extra_files) {
+  VANTAGE_CHECK(report.data != nullptr);
+  std::map<std::string, std::string> files = extra_files;
+  files["report.json"] = ReportJson(report);
+  files["candidates.csv"] = CandidatesCsv(report);
+  files["reference.ply"] = VoxelPly(report.data->reference.keys, report.data->reference.cell_size);
+  const int primary = report.primary >= 0 ? report.primary : PrimaryResult(report.results);
+  const std::vector<uint32_t> chosen =
+      primary >= 0 ? report.results[primary].chosen : std::vector<uint32_t>{};
+  files["observed.ply"] = VoxelPly(ObservedKeys(*report.data, chosen), report.data->reference.cell_size);
+  detail::WriteFolderAtomically(out_dir, files);
+}
+
+}  // namespace vantage

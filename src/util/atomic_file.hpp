@@ -1,0 +1,15 @@
+#pragma once
+/// Writing outputs so that a failed or interrupted run never leaves a half-written file or folder.
+#include <map>
+#include <string>
+
+namespace vantage::detail {
+
+/// Writes `content` to `path` through a temporary sibling and a rename.
+void WriteFileAtomically(const std::string& path, const std::string& content);
+
+/// Writes every (name -> content) into a temporary sibling folder of `dir`, then replaces `dir`
+/// with it (the old folder is removed only after the new one is complete).
+void WriteFolderAtomically(const std::string& dir, const std::map<std::string, std::string>& files);
+
+}  // namespace vantage::detail

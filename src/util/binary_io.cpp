@@ -1,0 +1,79 @@
+#include "util/binary_io.hpp"
+
+#include <fmt/format.h>
+
+#include "vantage/error.hpp"
+
+namespace vantage::detail {
+
+uint64_t Fnv1a64(std::string_view bytes) {
+  uint64_t hash = 0xcbf29ce484222325ULL;
+  for (unsigned char c : bytes) {
+    hash ^= c;
+    hash *= 0x100000001b3ULL;
+  }
+  return hash;
+}
+
+void BinaryReader::Read(void* out, size_t n) {
+  if (n > data_.size() - pos_)
+    throw InputError(fmt::format("{}: truncated at byte {} (needs {} more bytes) — the file is corrupt",
+                                 file_, pos_, n));
+  std::memcpy(out, data_.data() + pos_, n);
+  pos_ += n;
+}
+
+void BinaryReader::Skip(size_t n) {
+  std::string scratch(n, '\0');
+  Read(scratch.data(), n);
+}
+
+uint32_t BinaryReader::U32() {
+  uint32_t v = 0;
+  Read(&v, 4);
+  return v;
+}
+
+uint64_t BinaryReader::U64() {
+  uint64_t v = 0;
+  Read(&v, 8);
+  return v;
+}
+
+double BinaryReader::F64() {
+  double v = 0;
+  Read(&v, 8);
+  return v;
+}
+
+void BinaryReader::CheckCount(uint64_t count, size_t min_item_bytes) const {
+  if (count > (data_.size() - pos_) / std::max<size_t>(min_item_bytes, 1))
+    throw InputError(fmt::format("{}: count {} at byte {} exceeds the file size — the file is corrupt",
+                                 file_, count, pos_));
+}
+
+std::string BinaryReader::Str() {
+  const uint64_t n = U64();
+  CheckCount(n, 1);
+  std::string s(n, '\0');
+  Read(s.data(), n);
+  return s;
+}
+
+std::vector<uint32_t> BinaryReader::U32Vector() {
+  const uint64_t n = U64();
+  CheckCount(n, 4);
+  std::vector<uint32_t> v(n);
+  Read(v.data(), n * 4);
+  return v;
+}
+
+std::vector<uint64_t> BinaryReader::U64Vector() {
+  const uint64_t n = U64();
+  CheckCount(n, 8);
+  std::vector<uint64_t> v(n);
+  Read(v.data(), n * 8);
+  return v;
+}
+
+}  // namespace vantage::detail
