@@ -1,0 +1,30 @@
+# The two commands of the README: `make run` and `make test`. Both install the Debian packages
+# first (scripts/install-deps.sh, idempotent) and build into build/ with two jobs.
+BUILD ?= build
+JOBS ?= 2
+EXAMPLE ?= examples/scenes/bin_picking_cell.yaml
+OUT ?= out/example
+
+.PHONY: deps build run test bench paper clean
+
+deps:
+	bash scripts/install-deps.sh
+
+build: deps
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+	cmake --build $(BUILD) -j$(JOBS)
+
+run: build
+	./$(BUILD)/vantage optimize $(EXAMPLE) --out $(OUT)
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
+
+bench: build
+	bash scripts/bench_e2e.sh
+
+paper: build
+	bash bench/paper.sh
+
+clean:
+	rm -rf $(BUILD) out

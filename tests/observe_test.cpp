@@ -1,0 +1,231 @@
+// Observe against analytic answers (SYSTEM.md coverage metric). Boxes have faces mid-cell so
+// that the expected counts are exact to the voxel; cameras have fine pixels (well below a cell)
+// so that every visible cell receives a ray.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "test_util.hpp"
+#include "vantage/error.hpp"
+#include "vantage/observe.hpp"
+#include "vantage/reference.hpp"
+#include "vantage/select.hpp"
+
+namespace vantage {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+SceneObject Box(const std::string& name, Role role, const Vec3& center, const Vec3& size) {
+  TriangleMesh mesh = MakeBox(size);
+  mesh.Transform(Pose{center, Quat::Identity()});
+  return {name, role, std::move(mesh)};
+}
+
+// A camera at `eye` whose optical axis points along -x (body x -> world -x, body y -> -y).
+Candidate CameraLookingMinusX(const Vec3& eye, int width, double hfov, double near, double far) {
+  Candidate c;
+  c.name = "cam";
+  c.sensor = SensorType::FromFov("test", width, width, hfov, std::nullopt, near, far);
+  c.type_id = "test";
+  c.world_from_body = Pose{eye, Quat(Eigen::AngleAxisd(kPi, Vec3::UnitZ()))};
+  return c;
+}
+
+// Rotates a camera built by CameraLookingMinusX about the world z axis through the origin.
+Candidate RotatedAboutZ(Candidate c, double angle) {
+  const Quat r(Eigen::AngleAxisd(angle, Vec3::UnitZ()));
+  c.world_from_body = Pose{r * c.world_from_body.position, r * c.world_from_body.rotation};
+  return c;
+}
+
+double CoverageOf(const Scene& scene, double cell, const std::vector<Candidate>& cameras) {
+  const Reference reference = BuildReference(scene, {cell});
+  const std::vector<Observation> obs = Observe(scene, reference, cameras);
+  std::vector<uint32_t> all(cameras.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<uint32_t>(i);
+  return CoverageEvaluator(obs, reference.size()).Coverage(all);
+}
+
+// A cube centred at the origin with faces at ±2.5 F: mid-cell, in cell layers -3 and 2.
+constexpr double kCell = 0.01;
+constexpr double kHalf = 2.5 * kCell;  // faces at ±2.5 cells: mid-cell
+// R: shell of the 6x6x6 block of cells -3..2 = 6³ - 4³ = 152 cells; one face: 6 x 6 = 36.
+constexpr double kShell = 6 * 6 * 6 - 4 * 4 * 4;
+constexpr double kFace = 6 * 6;
+
+Scene CubeScene() {
+  Scene scene;
+  scene.objects.push_back(Box("cube", Role::kTarget, Vec3::Zero(), Vec3::Constant(2 * kHalf)));
+  return scene;
+}
+
+TEST(Observe, CubeSeenHeadOnSeesExactlyOneFace) {
+  // From (1, 0, 0) looking along -x only the face x = +2.5F faces the camera: its 36 cells.
+  // Narrow 0.1 rad view at 1 m: 0.1 m wide over 400 px = 0.25 mm per pixel, far below F.
+  const Candidate cam = CameraLookingMinusX(Vec3(1, 0, 0), 400, 0.1, 0.2, 3.0);
+  EXPECT_DOUBLE_EQ(CoverageOf(CubeScene(), kCell, {cam}), kFace / kShell);
+}
+
+TEST(Observe, TwoOppositeCamerasSeeTheUnion) {
+  const Candidate front = CameraLookingMinusX(Vec3(1, 0, 0), 400, 0.1, 0.2, 3.0);
+  const Candidate back = RotatedAboutZ(front, kPi);
+  EXPECT_DOUBLE_EQ(CoverageOf(CubeScene(), kCell, {back}), kFace / kShell);
+  EXPECT_DOUBLE_EQ(CoverageOf(CubeScene(), kCell, {front, back}), 2 * kFace / kShell);
+}
+
+TEST(Observe, PlateHidingHalfTheFaceHalvesCoverage) {
+  // A plate between camera and cube covering y >= 0: its edge plane y = 0 contains the camera,
+  // so it hides exactly the cells with y index 0..2 (y >= 0): 18 of the 36.
+  Scene scene = CubeScene();
+  scene.objects.push_back(Box("plate", Role::kOccluder, Vec3(0.5, 0.25, 0), Vec3(0.01, 0.5, 0.5)));
+  const Candidate cam = CameraLookingMinusX(Vec3(1, 0, 0), 400, 0.1, 0.2, 3.0);
+  EXPECT_DOUBLE_EQ(CoverageOf(scene, kCell, {cam}), 0.5 * kFace / kShell);
+}
+
+TEST(Observe, TargetBeyondFarIsNotSeen) {
+  const Candidate cam = CameraLookingMinusX(Vec3(1, 0, 0), 400, 0.1, 0.2, 0.9);
+  EXPECT_EQ(CoverageOf(CubeScene(), kCell, {cam}), 0.0);
+}
+
+TEST(Observe, GeometryNearerThanNearStillBlocks) {
+  // The plate sits at depth 0.5, nearer than near = 0.6: the sensor is blind there, but the
+  // plate still hides half of the face (it is not clipped away as in OpenGL).
+  Scene scene = CubeScene();
+  scene.objects.push_back(Box("plate", Role::kOccluder, Vec3(0.5, 0.25, 0), Vec3(0.01, 0.5, 0.5)));
+  const Candidate cam = CameraLookingMinusX(Vec3(1, 0, 0), 400, 0.1, 0.6, 3.0);
+  EXPECT_DOUBLE_EQ(CoverageOf(scene, kCell, {cam}), 0.5 * kFace / kShell);
+}
+
+TEST(Observe, TargetNearerThanNearIsNotSeen) {
+  const Candidate cam = CameraLookingMinusX(Vec3(1, 0, 0), 400, 0.1, 1.0, 3.0);
+  EXPECT_EQ(CoverageOf(CubeScene(), kCell, {cam}), 0.0);
+}
+
+// Share of the sphere's surface cells that lie on the cap n_x > c, by the density of cells a
+// surface crosses per unit area, (|nx| + |ny| + |nz|) / F² (exact in the limit F << r).
+double CapCellShare(double c) {
+  const int steps = 1500;
+  double cap = 0, all = 0;
+  for (int i = 0; i < steps; ++i) {
+    const double theta = kPi * (i + 0.5) / steps;
+    for (int j = 0; j < steps; ++j) {
+      const double phi = 2 * kPi * (j + 0.5) / steps;
+      const double w = (std::abs(std::cos(theta)) +
+                        std::sin(theta) * (std::abs(std::cos(phi)) + std::abs(std::sin(phi)))) *
+                       std::sin(theta);
+      all += w;
+      if (std::cos(theta) > c) cap += w;
+    }
+  }
+  return cap / all;
+}
+
+TEST(Observe, SphereSeenFromDistanceShowsItsCap) {
+  // A camera at distance d sees the cap n_x > r/d: (1 - r/d)/2 of the area. In cells, the cap
+  // is weighted by the cell density above. Tolerance 0.02: cells of the silhouette band, whose
+  // visible sliver projects below one pixel (band ≈ sqrt(2 r · pixel) ≈ 2 cells wide along a
+  // rim of ≈ 300 cells, against ≈ 47 000 cells of R ≈ 1.3 %), plus partly visible rim cells.
+  const double r = 0.1, d = 0.5, cell = 0.002;
+  Scene scene;
+  scene.objects.push_back({"ball", Role::kTarget, MakeSphere(r, cell / 10)});
+  const double hfov = 2 * std::asin(r / d) * 1.05;
+  const Candidate cam = CameraLookingMinusX(Vec3(d, 0, 0), 2000, hfov, 0.1, 2.0);
+  const double coverage = CoverageOf(scene, cell, {cam});
+  EXPECT_NEAR(coverage, CapCellShare(r / d), 0.02);
+  // The headline area share, (1 - r/d)/2 = 0.4, differs from the cell share only by the
+  // orientation weighting (the cap faces the x axis, where cells per area are fewest).
+  EXPECT_NEAR(coverage, (1 - r / d) / 2, 0.06);
+}
+
+TEST(Observe, CullingGivesTheSameSetsAsTracingEveryPixel) {
+  Scene scene = CubeScene();
+  scene.objects.push_back(Box("plate", Role::kOccluder, Vec3(0.5, 0.25, 0), Vec3(0.01, 0.5, 0.5)));
+  scene.objects.push_back(Box("cube2", Role::kTarget, Vec3(0, 0.3, 0.1), Vec3(0.05, 0.05, 0.05)));
+  std::vector<Candidate> cams;
+  for (int k = 0; k < 12; ++k) {
+    Candidate c = RotatedAboutZ(CameraLookingMinusX(Vec3(0.8, 0.05 * k - 0.3, 0.1), 160, 1.2, 0.1, 2.0),
+                                0.4 * k);
+    c.name = "cam" + std::to_string(k);
+    cams.push_back(c);
+  }
+  const Reference reference = BuildReference(scene, {kCell});
+  ObserveOptions all_pixels;
+  all_pixels.cull = false;
+  const auto culled = Observe(scene, reference, cams);
+  const auto full = Observe(scene, reference, cams, all_pixels);
+  uint64_t culled_rays = 0, full_rays = 0;
+  for (size_t i = 0; i < cams.size(); ++i) {
+    EXPECT_EQ(culled[i].reference_indices, full[i].reference_indices) << i;
+    EXPECT_EQ(culled[i].outside_keys, full[i].outside_keys) << i;
+    culled_rays += culled[i].rays_traced;
+    full_rays += full[i].rays_traced;
+  }
+  EXPECT_EQ(full_rays, uint64_t{12} * 160 * 160);
+  EXPECT_LT(culled_rays, full_rays);
+}
+
+TEST(Observe, SameSetsWithOneOrTwoThreads) {
+  const Scene scene = CubeScene();
+  std::vector<Candidate> cams;
+  for (int k = 0; k < 8; ++k) cams.push_back(RotatedAboutZ(CameraLookingMinusX(Vec3(0.6, 0, 0.05 * k), 200, 0.5, 0.1, 2.0), 0.7 * k));
+  const Reference reference = BuildReference(scene, {kCell});
+  std::vector<Observation> one, two;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = Observe(scene, reference, cams);
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    two = Observe(scene, reference, cams);
+  }
+  for (size_t i = 0; i < cams.size(); ++i) {
+    EXPECT_EQ(one[i].reference_indices, two[i].reference_indices);
+    EXPECT_EQ(one[i].outside_keys, two[i].outside_keys);
+  }
+}
+
+TEST(Camera, FocalLengthFromHorizontalFov) {
+  // 90° over 640 px: fx = 320 / tan(45°) = 320.
+  const SensorType t = SensorType::FromFov("t", 640, 480, kPi / 2, std::nullopt, 0.1, 1);
+  EXPECT_NEAR(t.fx, 320.0, 1e-9);
+  EXPECT_NEAR(t.fy, 320.0, 1e-9);
+  EXPECT_DOUBLE_EQ(t.cx, 320.0);
+  EXPECT_DOUBLE_EQ(t.cy, 240.0);
+  // Vertical fov from the aspect ratio: 2 atan(240 / 320).
+  EXPECT_NEAR(t.VerticalFov(), 2 * std::atan(0.75), 1e-12);
+}
+
+TEST(Camera, ProjectThenBackProjectLandsInTheSameVoxel) {
+  const SensorType t = SensorType::FromFov("t", 640, 480, 1.0, std::nullopt, 0.1, 5);
+  const Pose world_from_body{Vec3(0.3, -0.2, 1.1), Quat(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()))};
+  const double cell = 0.005;
+  int checked = 0;
+  for (int u = 3; u < 640; u += 37) {
+    for (int v = 5; v < 480; v += 41) {
+      const double depth = 0.5 + 0.001 * (u + v);
+      const Vec3 p_world = world_from_body * (depth * PixelRayInBody(t, u, v));
+      const auto uv = ProjectBodyPoint(t, world_from_body.Inverse() * p_world);
+      ASSERT_TRUE(uv.has_value());
+      EXPECT_NEAR(uv->x(), u + 0.5, 1e-9);  // the pixel centre
+      EXPECT_NEAR(uv->y(), v + 0.5, 1e-9);
+      const Vec3 back = world_from_body * (depth * PixelRayInBody(t, static_cast<int>(uv->x()), static_cast<int>(uv->y())));
+      EXPECT_EQ(VoxelKeyOf(back, cell), VoxelKeyOf(p_world, cell));
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100);
+}
+
+TEST(Camera, ImageAxesFollowTheBodyFrame) {
+  // u grows to the right = -y of the body, v grows down = -z; depth along +x.
+  const SensorType t = SensorType::FromFov("t", 100, 100, kPi / 2, std::nullopt, 0.1, 5);
+  EXPECT_LT(PixelRayInBody(t, 99, 50).y(), 0);  // right column looks to -y
+  EXPECT_GT(PixelRayInBody(t, 50, 0).z(), 0);   // top row looks up
+  EXPECT_DOUBLE_EQ(PixelRayInBody(t, 10, 10).x(), 1.0);
+}
+
+}  // namespace
+}  // namespace vantage

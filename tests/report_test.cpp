@@ -1,0 +1,258 @@
+// Outputs: the visibility file round trip and its corruption checks, report.json against the
+// shared JSON Schema (validated by a small independent validator below), PLY and constellation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+
+#include "test_util.hpp"
+#include "vantage/error.hpp"
+#include "vantage/report.hpp"
+
+namespace vantage {
+namespace {
+
+using nlohmann::json;
+
+VisibilityFile SmallData() {
+  VisibilityFile data;
+  data.scene = "scene.yaml";
+  data.seed = 7;
+  data.n = 2;
+  data.reference.cell_size = 0.005;
+  for (int64_t i = 0; i < 10; ++i) data.reference.keys.push_back(PackVoxel({i, -i, 2 * i}));
+  std::sort(data.reference.keys.begin(), data.reference.keys.end());
+  for (int k = 0; k < 3; ++k) {
+    Candidate c;
+    c.name = "cam" + std::to_string(k);
+    c.type_id = "intel_realsense_sr300";
+    c.sensor = *FindCatalogType("intel_realsense_sr300");
+    c.world_from_body = Pose{Vec3(0.1 * k, 0.2, 0.5), Quat(Eigen::AngleAxisd(0.3 * k, Vec3::UnitZ()))};
+    c.population = "pop";
+    data.candidates.push_back(c);
+    Observation o;
+    for (uint32_t r = static_cast<uint32_t>(k); r < 10; r += 3) o.reference_indices.push_back(r);
+    o.outside_keys = {PackVoxel({100 + k, 0, 0})};
+    o.rays_traced = 1000u * static_cast<uint64_t>(k);
+    data.observations.push_back(o);
+  }
+  return data;
+}
+
+TEST(VisibilityFile, RoundTripKeepsEverything) {
+  test::TempDir dir;
+  const VisibilityFile data = SmallData();
+  SaveVisibilityFile(dir.File("m.vis"), data);
+  const VisibilityFile back = LoadVisibilityFile(dir.File("m.vis"));
+  EXPECT_EQ(back.scene, data.scene);
+  EXPECT_EQ(back.seed, data.seed);
+  EXPECT_EQ(back.n, data.n);
+  EXPECT_EQ(back.reference.keys, data.reference.keys);
+  EXPECT_EQ(back.reference.cell_size, data.reference.cell_size);
+  ASSERT_EQ(back.candidates.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(back.candidates[i].name, data.candidates[i].name);
+    EXPECT_EQ(back.candidates[i].sensor.fx, data.candidates[i].sensor.fx);
+    EXPECT_TRUE(back.candidates[i].world_from_body.position.isApprox(data.candidates[i].world_from_body.position));
+    EXPECT_EQ(back.observations[i].reference_indices, data.observations[i].reference_indices);
+    EXPECT_EQ(back.observations[i].outside_keys, data.observations[i].outside_keys);
+    EXPECT_EQ(back.observations[i].rays_traced, data.observations[i].rays_traced);
+  }
+}
+
+TEST(VisibilityFile, CorruptTruncatedOrForeignFilesAreInputErrors) {
+  test::TempDir dir;
+  SaveVisibilityFile(dir.File("m.vis"), SmallData());
+  const std::string good = test::ReadText(dir.File("m.vis"));
+  std::string flipped = good;
+  flipped[flipped.size() / 2] ^= 0x40;
+  test::WriteText(dir.File("flipped.vis"), flipped);
+  test::WriteText(dir.File("short.vis"), good.substr(0, good.size() / 3));
+  test::WriteText(dir.File("text.vis"), "hello, not a matrix\n");
+  std::string other_version = good;
+  other_version[8] = 9;
+  test::WriteText(dir.File("version.vis"), other_version);
+  for (const char* name : {"flipped.vis", "short.vis", "text.vis", "version.vis", "missing.vis"}) {
+    try {
+      LoadVisibilityFile(dir.File(name));
+      ADD_FAILURE() << name << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(dir.File(name)), std::string::npos) << e.what();
+    }
+  }
+}
+
+// A validator for the subset of JSON Schema that report.schema.json uses.
+void Validate(const json& schema, const json& root, const json& value, const std::string& path,
+              std::vector<std::string>* errors) {
+  if (schema.contains("$ref")) {
+    const std::string ref = schema["$ref"];  // "#/$defs/name"
+    Validate(root["$defs"][ref.substr(ref.rfind('/') + 1)], root, value, path, errors);
+    return;
+  }
+  const auto fail = [&](const std::string& what) { errors->push_back(path + ": " + what); };
+  if (schema.contains("const") && value != schema["const"]) fail("const");
+  if (schema.contains("type")) {
+    const std::string type = schema["type"];
+    const bool ok = (type == "object" && value.is_object()) || (type == "array" && value.is_array()) ||
+                    (type == "string" && value.is_string()) || (type == "number" && value.is_number()) ||
+                    (type == "integer" && value.is_number_integer()) || (type == "boolean" && value.is_boolean());
+    if (!ok) return fail("type " + type);
+  }
+  if (value.is_number()) {
+    const double v = value.get<double>();
+    if (schema.contains("minimum") && v < schema["minimum"].get<double>()) fail("minimum");
+    if (schema.contains("maximum") && v > schema["maximum"].get<double>()) fail("maximum");
+    if (schema.contains("exclusiveMinimum") && v <= schema["exclusiveMinimum"].get<double>()) fail("exclusiveMinimum");
+  }
+  if (value.is_string() && schema.contains("minLength") && value.get<std::string>().size() < schema["minLength"].get<size_t>())
+    fail("minLength");
+  if (value.is_array()) {
+    if (schema.contains("minItems") && value.size() < schema["minItems"].get<size_t>()) fail("minItems");
+    if (schema.contains("maxItems") && value.size() > schema["maxItems"].get<size_t>()) fail("maxItems");
+    if (schema.contains("items"))
+      for (size_t i = 0; i < value.size(); ++i)
+        Validate(schema["items"], root, value[i], path + "[" + std::to_string(i) + "]", errors);
+  }
+  if (value.is_object()) {
+    if (schema.contains("required"))
+      for (const auto& key : schema["required"])
+        if (!value.contains(key.get<std::string>())) fail("missing " + key.get<std::string>());
+    for (const auto& [key, sub] : value.items()) {
+      if (schema.contains("properties") && schema["properties"].contains(key)) {
+        Validate(schema["properties"][key], root, sub, path + "." + key, errors);
+      } else if (schema.contains("additionalProperties") && schema["additionalProperties"].is_object()) {
+        Validate(schema["additionalProperties"], root, sub, path + "." + key, errors);
+      }
+    }
+  }
+}
+
+std::vector<std::string> SchemaErrors(const json& report) {
+  std::ifstream in(std::string(VANTAGE_SHARED_DIR) + "/spec/report.schema.json");
+  const json schema = json::parse(in);
+  std::vector<std::string> errors;
+  Validate(schema, schema, report, "$", &errors);
+  return errors;
+}
+
+Report SmallReport(const VisibilityFile& data) {
+  Report report;
+  report.scene = data.scene;
+  report.seed = data.seed;
+  report.data = &data;
+  Selection s;
+  s.method = "exact";
+  s.n = 2;
+  s.chosen = {0, 1};
+  s.coverage = 0.7;
+  s.paper_coverage = 0.9;
+  s.upper_bound = 0.75;
+  s.seconds = 0.01;
+  report.results = {s};
+  report.timings = {0.1, 0.2, 0.3, 0.4, 1.0};
+  return report;
+}
+
+TEST(Report, JsonValidatesAgainstTheSharedSchema) {
+  const VisibilityFile data = SmallData();
+  const json report = json::parse(ReportJson(SmallReport(data)));
+  EXPECT_EQ(SchemaErrors(report), std::vector<std::string>{});
+  // The validator itself rejects what the schema forbids.
+  json broken = report;
+  broken["candidates"][0]["coverage"] = 1.5;
+  broken.erase("timings");
+  EXPECT_EQ(SchemaErrors(broken).size(), 2u);
+}
+
+TEST(Report, CandidateValuesAreTheInputs) {
+  const VisibilityFile data = SmallData();
+  const json report = json::parse(ReportJson(SmallReport(data)));
+  const json& c1 = report["candidates"][1];
+  EXPECT_EQ(c1["name"], "cam1");
+  // Rotation of 0.3 rad about z: q = (cos 0.15, 0, 0, sin 0.15), written w first.
+  EXPECT_NEAR(c1["quaternion"][0].get<double>(), std::cos(0.15), 1e-12);
+  EXPECT_NEAR(c1["quaternion"][3].get<double>(), std::sin(0.15), 1e-12);
+  // cam1 sees reference indices 1, 4, 7: 3 of 10 cells; plus one outside: 4 / 10.
+  EXPECT_DOUBLE_EQ(c1["coverage"].get<double>(), 0.3);
+  EXPECT_DOUBLE_EQ(c1["paper_coverage"].get<double>(), 0.4);
+  EXPECT_EQ(report["reference_voxels"], 10);
+  EXPECT_EQ(report["results"][0]["sensors"], json::array({"cam0", "cam1"}));
+}
+
+TEST(Report, PlyHeaderAndBinaryBodyMatchTheVoxelCentres) {
+  const std::vector<uint64_t> keys = {PackVoxel({0, 0, 0}), PackVoxel({-2, 3, 5})};
+  const std::string ply = VoxelPly(keys, 0.5);
+  const size_t end = ply.find("end_header\n");
+  ASSERT_NE(end, std::string::npos);
+  EXPECT_NE(ply.find("format binary_little_endian 1.0"), std::string::npos);
+  EXPECT_NE(ply.find("element vertex 2\n"), std::string::npos);
+  const char* body = ply.data() + end + 11;
+  ASSERT_EQ(ply.size(), end + 11 + 2 * 12);
+  float xyz[6];
+  std::memcpy(xyz, body, sizeof(xyz));
+  // Centres: (0.25, 0.25, 0.25) and (-0.75, 1.75, 2.75).
+  EXPECT_FLOAT_EQ(xyz[0], 0.25f);
+  EXPECT_FLOAT_EQ(xyz[3], -0.75f);
+  EXPECT_FLOAT_EQ(xyz[4], 1.75f);
+  EXPECT_FLOAT_EQ(xyz[5], 2.75f);
+}
+
+TEST(Report, WriteOutputsReplacesAPreviousRunAndRefusesForeignFolders) {
+  test::TempDir dir;
+  const VisibilityFile data = SmallData();
+  const std::string out = dir.File("out");
+  WriteOutputs(out, SmallReport(data));
+  for (const char* name : {"report.json", "candidates.csv", "reference.ply", "observed.ply"})
+    EXPECT_TRUE(std::filesystem::exists(out + "/" + name)) << name;
+  test::WriteText(out + "/stale.txt", "old");
+  WriteOutputs(out, SmallReport(data));
+  EXPECT_FALSE(std::filesystem::exists(out + "/stale.txt"));
+  // A non-empty folder that vantage did not write is never replaced.
+  test::WriteText(dir.File("home/notes.txt"), "precious");
+  EXPECT_THROW(WriteOutputs(dir.File("home"), SmallReport(data)), InputError);
+  EXPECT_EQ(test::ReadText(dir.File("home/notes.txt")), "precious");
+}
+
+TEST(Report, ConstellationRoundTripsThroughReportJson) {
+  test::TempDir dir;
+  const VisibilityFile data = SmallData();
+  test::WriteText(dir.File("report.json"), ReportJson(SmallReport(data)));
+  const Constellation c = LoadConstellation(dir.File("report.json"));
+  ASSERT_EQ(c.sensors.size(), 2u);  // the result names cam0 and cam1
+  EXPECT_EQ(c.sensors[1].name, "cam1");
+  EXPECT_TRUE(c.sensors[1].world_from_body.position.isApprox(data.candidates[1].world_from_body.position));
+  EXPECT_NEAR(c.sensors[1].sensor.fx, data.candidates[1].sensor.fx, 1e-9);
+}
+
+TEST(Report, BadConstellationsNameTheFile) {
+  test::TempDir dir;
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"syntax.json", "{\n  \"candidates\": [\n    {\"name\": }\n  ]\n}\n"},
+      {"nocand.json", "{\"results\": []}"},
+      {"badfov.json", R"({"candidates":[{"name":"a","position":[0,0,0],"quaternion":[1,0,0,0],"width":10,"height":10,"fx":-1,"fy":1,"cx":5,"cy":5,"near":0.1,"far":1}]})"},
+      {"nearfar.json", R"({"candidates":[{"name":"a","position":[0,0,0],"quaternion":[1,0,0,0],"width":10,"height":10,"fx":1,"fy":1,"cx":5,"cy":5,"near":2,"far":1}]})"},
+      {"unknown.json", R"({"candidates":[{"name":"a","position":[0,0,0],"quaternion":[1,0,0,0],"width":10,"height":10,"fx":1,"fy":1,"cx":5,"cy":5,"near":0.1,"far":1}],"results":[{"sensors":["zzz"]}]})"},
+      {"zeroq.json", R"({"candidates":[{"name":"a","position":[0,0,0],"quaternion":[0,0,0,0],"width":10,"height":10,"fx":1,"fy":1,"cx":5,"cy":5,"near":0.1,"far":1}]})"},
+  };
+  for (const auto& [name, text] : cases) {
+    test::WriteText(dir.File(name), text);
+    try {
+      LoadConstellation(dir.File(name));
+      ADD_FAILURE() << name << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(dir.File(name) + ":", 0), 0u) << e.what();
+    }
+  }
+  // The syntax error is on line 3.
+  try {
+    LoadConstellation(dir.File("syntax.json"));
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(dir.File("syntax.json") + ":3:", 0), 0u) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace vantage
