@@ -15,7 +15,7 @@ build: deps
 	cmake --build $(BUILD) -j$(JOBS)
 
 run: build
-	./$(BUILD)/vantage optimize $(EXAMPLE) --out $(OUT)
+	BUILD=$(BUILD) EXAMPLE=$(EXAMPLE) OUT=$(OUT) bash scripts/run_example.sh
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)

@@ -47,6 +47,8 @@ class CoverageEvaluator {
   double Coverage(std::span<const uint32_t> chosen) const;
   double PaperCoverage(std::span<const uint32_t> chosen) const;
   size_t reference_size() const { return reference_size_; }
+  /// The observation sets it evaluates (one per candidate, in candidate order).
+  std::span<const Observation> observations() const { return observations_; }
 
  private:
   std::span<const Observation> observations_;

@@ -29,7 +29,7 @@ uint32_t Nearest(const Vec3& p, const std::vector<Vec3>& centroids) {
 std::vector<Vec3> KMeans(std::span<const Vec3> points, int k, int max_iterations) {
   VANTAGE_CHECK(k >= 1 && static_cast<size_t>(k) <= points.size());
   VANTAGE_CHECK(max_iterations >= 1);
-  const size_t cluster_count = static_cast<size_t>(k);
+  const auto cluster_count = static_cast<size_t>(k);
 
   // Gazebo: "Choose a random observation ... Note: This is not really random": the first k.
   std::vector<Vec3> centroids(points.begin(), points.begin() + k);

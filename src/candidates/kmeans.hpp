@@ -25,7 +25,8 @@ constexpr int kKMeansMaxIterations = 1000;
 /// cluster is re-seeded at the point farthest from its centroid (ties to the lower index) and
 /// another pass runs. Deterministic: no random draw at all.
 /// Requires 1 <= k <= points.size() (InternalError otherwise; callers report the user error).
-std::vector<Vec3> KMeans(std::span<const Vec3> points, int k,
+std::vector<Vec3> KMeans(std::span<const Vec3> points,
+                         int k,
                          int max_iterations = kKMeansMaxIterations);
 
 }  // namespace vantage::detail

@@ -73,10 +73,9 @@ void Validate(const Population& p) {
                          p.distribution == Distribution::kLinearZ;
   // Supported combinations: Population.cc's PopulateOne. Gazebo never reads a region for grid;
   // vantage accepts a box there (ignored, as in Gazebo) but rejects a cylinder as a mistake.
-  const bool is_supported =
-      is_grid ? p.region != RegionShape::kCylinder
-              : (p.region == RegionShape::kBox ||
-                 (p.region == RegionShape::kCylinder && !is_linear));
+  const bool is_supported = is_grid ? p.region != RegionShape::kCylinder
+                                    : (p.region == RegionShape::kBox ||
+                                       (p.region == RegionShape::kCylinder && !is_linear));
   if (!is_supported) {
     Fail(p, fmt::format("distribution '{}' with {} is not supported — use box or cylinder with "
                         "random/uniform, box with linear-x/-y/-z, or grid without a region",
@@ -84,15 +83,15 @@ void Validate(const Population& p) {
   }
   if (is_grid) {
     if (p.rows < 1 || p.cols < 1)
-      Fail(p, fmt::format("grid of {} rows x {} cols — give <rows> and <cols> >= 1", p.rows, p.cols));
+      Fail(p,
+           fmt::format("grid of {} rows x {} cols — give <rows> and <cols> >= 1", p.rows, p.cols));
     if (int64_t{p.rows} * p.cols > kMaxClones)
       Fail(p, fmt::format("grid of {} x {} sensors is above {} — use fewer rows or cols", p.rows,
                           p.cols, kMaxClones));
     if (!IsFinite(p.step)) Fail(p, "grid <step> is not finite — give three numbers dx dy dz");
     return;
   }
-  if (p.count < 1)
-    Fail(p, fmt::format("<model_count> is {} — give at least 1", p.count));
+  if (p.count < 1) Fail(p, fmt::format("<model_count> is {} — give at least 1", p.count));
   if (p.count > kMaxClones)
     Fail(p, fmt::format("<model_count> {} is above {} — use fewer clones", p.count, kMaxClones));
   if (p.region == RegionShape::kBox) {
@@ -153,7 +152,8 @@ std::vector<Vec3> BoxLattice(const Population& p, uint64_t seed, uint32_t popula
 
 }  // namespace
 
-std::vector<Vec3> PopulationPositions(const Population& population, uint64_t seed,
+std::vector<Vec3> PopulationPositions(const Population& population,
+                                      uint64_t seed,
                                       uint32_t population_index) {
   const Population& p = population;
   Validate(p);
@@ -175,7 +175,7 @@ std::vector<Vec3> PopulationPositions(const Population& population, uint64_t see
     return positions;
   }
 
-  const size_t count = static_cast<size_t>(p.count);
+  const auto count = static_cast<size_t>(p.count);
   positions.reserve(count);
 
   if (p.region == RegionShape::kCylinder) {
@@ -208,7 +208,7 @@ std::vector<Vec3> PopulationPositions(const Population& population, uint64_t see
   // rotated, so a rotated box region is not centred on P (GAZEBO.md quirk, reproduced).
   const Vec3& size = p.box_size;
   const Vec3 origin = p.pose.position - size / 2.0;
-  const double n = static_cast<double>(p.count);
+  const auto n = static_cast<double>(p.count);
   switch (p.distribution) {
     case Distribution::kRandom:
       for (size_t i = 0; i < count; ++i) {

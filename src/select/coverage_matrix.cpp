@@ -1,0 +1,209 @@
+#include "select/coverage_matrix.hpp"
+
+#include <algorithm>
+#include <bit>
+
+#include "vantage/error.hpp"
+
+namespace vantage::detail {
+namespace {
+
+// Rows are also kept as bitsets (one bit per element, popcount gains) while that costs at most
+// this much memory; above it (huge, unmergeable instances) the sparse rows alone are used.
+constexpr size_t kMaxDenseBytes = size_t{512} << 20;
+
+bool Has(const Bitset& set, uint32_t element) { return (set[element >> 6] >> (element & 63)) & 1; }
+
+}  // namespace
+
+std::vector<int64_t> RefinePartition(size_t item_count,
+                                     std::span<const std::span<const uint32_t>> sets) {
+  // Class 0 holds the items of no set so far and is never reused. Each set splits every class it
+  // touches into the part inside the set (moved to a fresh class) and the part outside; classes
+  // emptied by a split are recycled, so at most item_count + 1 class ids are ever live.
+  std::vector<uint32_t> class_of(item_count, 0);
+  std::vector<size_t> class_size{item_count};
+  std::vector<uint32_t> split_into{0};
+  std::vector<uint64_t> split_round{0};
+  std::vector<uint32_t> free_classes;
+  std::vector<uint32_t> touched;
+  for (size_t s = 0; s < sets.size(); ++s) {
+    const uint64_t round = s + 1;
+    touched.clear();
+    for (const uint32_t item : sets[s]) {
+      VANTAGE_CHECK(item < item_count);
+      const uint32_t k = class_of[item];
+      if (split_round[k] != round) {
+        split_round[k] = round;
+        uint32_t fresh = 0;
+        if (!free_classes.empty()) {
+          fresh = free_classes.back();
+          free_classes.pop_back();
+        } else {
+          fresh = static_cast<uint32_t>(class_size.size());
+          class_size.push_back(0);
+          split_into.push_back(0);
+          split_round.push_back(0);
+        }
+        split_into[k] = fresh;
+        touched.push_back(k);
+      }
+      class_of[item] = split_into[k];
+      --class_size[k];
+      ++class_size[split_into[k]];
+    }
+    for (const uint32_t k : touched) {
+      if (k != 0 && class_size[k] == 0) free_classes.push_back(k);
+    }
+  }
+  // Number the classes by their first item so the result does not depend on recycling order.
+  std::vector<int64_t> number(class_size.size(), -1);
+  std::vector<int64_t> result(item_count, -1);
+  int64_t next = 0;
+  for (size_t item = 0; item < item_count; ++item) {
+    const uint32_t k = class_of[item];
+    if (k == 0) continue;
+    if (number[k] < 0) number[k] = next++;
+    result[item] = number[k];
+  }
+  return result;
+}
+
+CoverageMatrix::CoverageMatrix(std::span<const Observation> observations, size_t reference_size)
+    : reference_size_(reference_size) {
+  std::vector<std::span<const uint32_t>> sets;
+  sets.reserve(observations.size());
+  for (const Observation& o : observations) {
+    // Observation's contract: sorted, unique, indices into R (checked: merging relies on it).
+    for (size_t k = 0; k < o.reference_indices.size(); ++k) {
+      VANTAGE_CHECK(o.reference_indices[k] < reference_size);
+      VANTAGE_CHECK(k == 0 || o.reference_indices[k - 1] < o.reference_indices[k]);
+    }
+    sets.emplace_back(o.reference_indices);
+  }
+  const std::vector<int64_t> element_of = RefinePartition(reference_size, sets);
+  for (const int64_t e : element_of) {
+    if (e < 0) continue;
+    if (static_cast<size_t>(e) >= weights_.size()) weights_.resize(e + 1, 0);
+    ++weights_[e];
+    ++seen_weight_;
+  }
+  unit_weights_ = std::all_of(weights_.begin(), weights_.end(), [](uint32_t w) { return w == 1; });
+  word_count_ = (weights_.size() + 63) / 64;
+
+  rows_.resize(observations.size());
+  row_weights_.resize(observations.size());
+  std::vector<uint32_t> last_candidate(weights_.size(), UINT32_MAX);
+  for (size_t i = 0; i < observations.size(); ++i) {
+    std::vector<uint32_t>& row = rows_[i];
+    for (const uint32_t cell : observations[i].reference_indices) {
+      const auto e = static_cast<uint32_t>(element_of[cell]);
+      if (last_candidate[e] == i) continue;
+      last_candidate[e] = static_cast<uint32_t>(i);
+      row.push_back(e);
+    }
+    std::sort(row.begin(), row.end());
+    row_weights_[i] = observations[i].reference_indices.size();
+  }
+
+  if (observations.size() * word_count_ * sizeof(uint64_t) <= kMaxDenseBytes) {
+    bits_.assign(observations.size() * word_count_, 0);
+    for (size_t i = 0; i < rows_.size(); ++i) {
+      uint64_t* words = bits_.data() + i * word_count_;
+      for (const uint32_t e : rows_[i]) words[e >> 6] |= uint64_t{1} << (e & 63);
+    }
+  }
+}
+
+uint64_t CoverageMatrix::Gain(uint32_t candidate, const Bitset& covered) const {
+  uint64_t gain = 0;
+  if (!is_dense()) {
+    for (const uint32_t e : rows_[candidate]) {
+      if (!Has(covered, e)) gain += weights_[e];
+    }
+    return gain;
+  }
+  const uint64_t* row = Bits(candidate);
+  for (size_t w = 0; w < word_count_; ++w) {
+    uint64_t m = row[w] & ~covered[w];
+    if (unit_weights_) {
+      gain += std::popcount(m);
+      continue;
+    }
+    while (m) {
+      gain += weights_[w * 64 + std::countr_zero(m)];
+      m &= m - 1;
+    }
+  }
+  return gain;
+}
+
+uint64_t CoverageMatrix::WeightIn(uint32_t candidate, const Bitset& set) const {
+  uint64_t weight = 0;
+  if (!is_dense()) {
+    for (const uint32_t e : rows_[candidate]) {
+      if (Has(set, e)) weight += weights_[e];
+    }
+    return weight;
+  }
+  const uint64_t* row = Bits(candidate);
+  for (size_t w = 0; w < word_count_; ++w) {
+    uint64_t m = row[w] & set[w];
+    if (unit_weights_) {
+      weight += std::popcount(m);
+      continue;
+    }
+    while (m) {
+      weight += weights_[w * 64 + std::countr_zero(m)];
+      m &= m - 1;
+    }
+  }
+  return weight;
+}
+
+void CoverageMatrix::AddTo(uint32_t candidate, Bitset* covered) const {
+  if (!is_dense()) {
+    for (const uint32_t e : rows_[candidate]) (*covered)[e >> 6] |= uint64_t{1} << (e & 63);
+    return;
+  }
+  const uint64_t* row = Bits(candidate);
+  for (size_t w = 0; w < word_count_; ++w) (*covered)[w] |= row[w];
+}
+
+uint64_t CoverageMatrix::SetWeight(const Bitset& set) const {
+  uint64_t weight = 0;
+  for (size_t w = 0; w < word_count_; ++w) {
+    uint64_t m = set[w];
+    if (unit_weights_) {
+      weight += std::popcount(m);
+      continue;
+    }
+    while (m) {
+      weight += weights_[w * 64 + std::countr_zero(m)];
+      m &= m - 1;
+    }
+  }
+  return weight;
+}
+
+uint64_t CoverageMatrix::CoveredWeight(std::span<const uint32_t> chosen) const {
+  Bitset covered = EmptySet();
+  uint64_t weight = 0;
+  for (const uint32_t c : chosen) {
+    weight += Gain(c, covered);
+    AddTo(c, &covered);
+  }
+  return weight;
+}
+
+bool CoverageMatrix::IsSubset(uint32_t a, uint32_t b) const {
+  if (rows_[a].size() > rows_[b].size()) return false;
+  if (!is_dense()) return std::includes(rows_[b].begin(), rows_[b].end(), rows_[a].begin(), rows_[a].end());
+  const uint64_t* row_b = Bits(b);
+  for (const uint32_t e : rows_[a]) {
+    if (!((row_b[e >> 6] >> (e & 63)) & 1)) return false;
+  }
+  return true;
+}
+
+}  // namespace vantage::detail

@@ -1,0 +1,73 @@
+#pragma once
+/// The visibility matrix as the selection methods use it: candidates × elements, where an element
+/// is a class of reference cells that exactly the same candidates see, weighted by its cell count.
+/// Cells that no candidate sees are dropped. Coverage of any set of candidates is unchanged by the
+/// merge (it is a sum of weights of the covered elements), so every method stays exact.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "vantage/observe.hpp"
+
+namespace vantage::detail {
+
+/// A set of elements as 64-bit words (bit e of word e / 64).
+using Bitset = std::vector<uint64_t>;
+
+/// Partition refinement: splits `item_count` items into classes of items that belong to exactly
+/// the same `sets` (each a sorted list of unique item indices < item_count). Returns the class of
+/// every item: -1 for items in no set, otherwise classes numbered 0, 1, ... in order of their first
+/// (lowest) item. O(total set size + item_count), deterministic.
+std::vector<int64_t> RefinePartition(size_t item_count,
+                                     std::span<const std::span<const uint32_t>> sets);
+
+class CoverageMatrix {
+ public:
+  /// Builds the merged matrix. Throws InputError when a reference index is >= reference_size.
+  CoverageMatrix(std::span<const Observation> observations, size_t reference_size);
+
+  size_t candidate_count() const { return rows_.size(); }
+  size_t element_count() const { return weights_.size(); }
+  size_t reference_size() const { return reference_size_; }
+  /// 64-bit words of a Bitset over the elements.
+  size_t word_count() const { return word_count_; }
+  /// Reference cells seen by at least one candidate (= sum of all element weights).
+  uint64_t seen_weight() const { return seen_weight_; }
+  /// Sorted element ids seen by a candidate.
+  const std::vector<uint32_t>& Row(uint32_t candidate) const { return rows_[candidate]; }
+  std::span<const std::vector<uint32_t>> rows() const { return rows_; }
+  /// Cells in an element.
+  uint32_t Weight(uint32_t element) const { return weights_[element]; }
+  /// Cells seen by a candidate alone (= |O_i|).
+  uint64_t RowWeight(uint32_t candidate) const { return row_weights_[candidate]; }
+  /// Whether rows are also held as bitsets (false when that would take too much memory).
+  bool is_dense() const { return !bits_.empty(); }
+
+  Bitset EmptySet() const { return Bitset(word_count_, 0); }
+  /// Weight of the elements of `candidate` not in `covered`.
+  uint64_t Gain(uint32_t candidate, const Bitset& covered) const;
+  /// Weight of the elements of `candidate` that are in `set`.
+  uint64_t WeightIn(uint32_t candidate, const Bitset& set) const;
+  /// covered |= row(candidate).
+  void AddTo(uint32_t candidate, Bitset* covered) const;
+  /// Total weight of the elements in `set`.
+  uint64_t SetWeight(const Bitset& set) const;
+  /// Cells covered by the union of `chosen` (duplicates allowed).
+  uint64_t CoveredWeight(std::span<const uint32_t> chosen) const;
+  /// Whether row(a) ⊆ row(b).
+  bool IsSubset(uint32_t a, uint32_t b) const;
+
+ private:
+  const uint64_t* Bits(uint32_t candidate) const { return bits_.data() + candidate * word_count_; }
+
+  size_t reference_size_ = 0;
+  size_t word_count_ = 0;
+  uint64_t seen_weight_ = 0;
+  bool unit_weights_ = true;
+  std::vector<uint32_t> weights_;
+  std::vector<std::vector<uint32_t>> rows_;
+  std::vector<uint64_t> row_weights_;
+  std::vector<uint64_t> bits_;  ///< candidate_count × word_count, or empty (sparse mode)
+};
+
+}  // namespace vantage::detail
