@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -142,9 +143,9 @@ TEST(Candidates, LinearOffsetsAreSizeTimesIOverN) {
   ASSERT_EQ(x.size(), 4u);
   ASSERT_EQ(y.size(), 4u);
   ASSERT_EQ(z.size(), 4u);
-  const double xs[] = {0.8, 0.9, 1.0, 1.1};
-  const double ys[] = {1.7, 1.85, 2.0, 2.15};
-  const double zs[] = {2.6, 2.8, 3.0, 3.2};
+  const std::array<double, 4> xs = {0.8, 0.9, 1.0, 1.1};
+  const std::array<double, 4> ys = {1.7, 1.85, 2.0, 2.15};
+  const std::array<double, 4> zs = {2.6, 2.8, 3.0, 3.2};
   for (int i = 0; i < 4; ++i) {
     EXPECT_TRUE(x[i].isApprox(Vec3(xs[i], 2.0, 3.0), 1e-12)) << x[i].transpose();
     EXPECT_TRUE(y[i].isApprox(Vec3(1.0, ys[i], 3.0), 1e-12)) << y[i].transpose();
@@ -186,7 +187,8 @@ TEST(Candidates, BoxUniformWithAsManyClustersAsLatticePointsReturnsTheLattice) {
                                      Vec3(0.15, 0.15, 0.1), 4);
   const std::vector<Vec3> positions = PopulationPositions(p, 5, 0);
   ASSERT_EQ(positions.size(), 4u);
-  const double xy[4][2] = {{-0.075, -0.075}, {0.025, -0.075}, {-0.075, 0.025}, {0.025, 0.025}};
+  const std::array<Vec3, 4> xy = {Vec3(-0.075, -0.075, 0), Vec3(0.025, -0.075, 0),
+                                  Vec3(-0.075, 0.025, 0), Vec3(0.025, 0.025, 0)};
   for (int i = 0; i < 4; ++i) {
     EXPECT_NEAR(positions[i].x(), xy[i][0], 1e-12);
     EXPECT_NEAR(positions[i].y(), xy[i][1], 1e-12);
@@ -496,7 +498,7 @@ TEST(Candidates, DeployNamesOrderTypesAndLookAt) {
   options.observation_point = Vec3(0, 0, 0.1);
   const std::vector<Candidate> c = DeployCandidates({a, b}, {s}, {kinect, custom}, options);
   ASSERT_EQ(c.size(), 6u);
-  const char* names[] = {"pa_0", "pa_1", "pa_2", "pb_0", "pb_1", "fixed"};
+  const std::array<const char*, 6> names = {"pa_0", "pa_1", "pa_2", "pb_0", "pb_1", "fixed"};
   for (size_t i = 0; i < 6; ++i) EXPECT_EQ(c[i].name, names[i]);
   EXPECT_EQ(c[0].type_id, "kinect_xbox_360");
   EXPECT_EQ(c[3].type_id, "my_cam");
@@ -583,7 +585,7 @@ TEST(Candidates, RandomRollKeepsTheViewAndSpreadsTheRoll) {
   const std::vector<Candidate> c = DeployCandidates({RandomBoxAbove(400)}, {}, {}, options);
   ASSERT_EQ(c.size(), 400u);
   std::vector<double> rolls;
-  int quadrant[4] = {0, 0, 0, 0};
+  std::array<int, 4> quadrant{};
   for (const Candidate& k : c) {
     const Mat3 r = k.world_from_body.rotation.toRotationMatrix();
     const Vec3 to_target = (options.observation_point - k.world_from_body.position).normalized();

@@ -1,0 +1,48 @@
+#pragma once
+/// A small non-validating XML reader for SDF worlds, model files and model.config files.
+///
+/// Why not libsdformat's element tree: once sdformat has expanded an `<include>`, the include
+/// element itself, every child of a `<plugin>` and the include's overriding `<pose>` carry no line
+/// number (or the model file's), and malformed XML is only printed to the console, without an
+/// Errors entry. vantage must point at the offending line in each of those cases (GAZEBO.md,
+/// STYLE.md "Errors"), so it reads the XML itself and keeps each element's file line.
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace vantage::detail {
+
+/// One XML element: its name, attributes, directly contained character data and children.
+struct XmlElement {
+  std::string name;
+  std::vector<std::pair<std::string, std::string>> attributes;  ///< in document order
+  std::string text;  ///< character data directly inside (entities decoded, CDATA included)
+  std::vector<XmlElement> children;
+  int line = 0;  ///< 1-based line of the element's '<'
+
+  /// First child named `child_name`, or nullptr.
+  const XmlElement* Child(std::string_view child_name) const;
+  /// Every child named `child_name`, in document order.
+  std::vector<const XmlElement*> Children(std::string_view child_name) const;
+  /// Value of an attribute, or nullptr when absent.
+  const std::string* Attribute(std::string_view key) const;
+  /// `text` without leading and trailing white space.
+  std::string Trimmed() const;
+};
+
+/// A parsed file: its path (as given) and its root element.
+struct XmlDocument {
+  std::string path;
+  XmlElement root;
+};
+
+/// Parses XML text. Throws InputError "path:line: malformed XML: ..." on the first
+/// well-formedness error (unclosed or mismatched tags, bad attributes, unknown entities, text
+/// outside the root, nesting deeper than 256 levels).
+XmlDocument ParseXml(std::string_view text, const std::string& path);
+
+/// Reads and parses a file. Throws InputError naming the file when it cannot be read.
+XmlDocument ReadXmlFile(const std::string& path);
+
+}  // namespace vantage::detail

@@ -1,0 +1,506 @@
+// Selection methods against answers derived here: hand-worked instances, and brute force over
+// every n-subset of tiny random instances (SYSTEM.md, Select and the coverage metric).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <set>
+
+#include "select/coverage_matrix.hpp"
+#include "vantage/error.hpp"
+#include "vantage/rng.hpp"
+#include "vantage/select.hpp"
+
+namespace vantage {
+namespace {
+
+Observation Obs(std::vector<uint32_t> cells, std::vector<uint64_t> outside = {}) {
+  Observation o;
+  o.reference_indices = std::move(cells);
+  o.outside_keys = std::move(outside);
+  return o;
+}
+
+// Each candidate sees each of `cells` reference cells with probability `p`, and a few keys
+// outside R.
+std::vector<Observation> RandomInstance(uint64_t seed, size_t candidates, size_t cells, double p) {
+  Rng rng(seed, Stream::kTest, 0);
+  std::vector<Observation> obs(candidates);
+  for (Observation& o : obs) {
+    for (uint32_t c = 0; c < cells; ++c) {
+      if (rng.Uniform01() < p) o.reference_indices.push_back(c);
+    }
+    for (uint64_t k = 0; k < 8; ++k) {
+      if (rng.Uniform01() < 0.3) o.outside_keys.push_back(1000 + k);
+    }
+  }
+  return obs;
+}
+
+// |∪ reference_indices| computed independently of the library.
+size_t UnionSize(const std::vector<Observation>& obs, const std::vector<uint32_t>& chosen) {
+  std::set<uint32_t> cells;
+  for (uint32_t c : chosen) cells.insert(obs[c].reference_indices.begin(), obs[c].reference_indices.end());
+  return cells.size();
+}
+
+// Largest union over all n-subsets.
+size_t BruteForceOptimum(const std::vector<Observation>& obs, size_t n) {
+  const size_t m = obs.size();
+  std::vector<bool> pick(m, false);
+  std::fill(pick.begin(), pick.begin() + static_cast<std::ptrdiff_t>(n), true);
+  size_t best = 0;
+  do {
+    std::vector<uint32_t> chosen;
+    for (uint32_t i = 0; i < m; ++i) {
+      if (pick[i]) chosen.push_back(i);
+    }
+    best = std::max(best, UnionSize(obs, chosen));
+  } while (std::prev_permutation(pick.begin(), pick.end()));
+  return best;
+}
+
+// Textbook greedy (no laziness): largest gain, ties to the lower index, then lowest-index fill.
+std::vector<uint32_t> PlainGreedy(const std::vector<Observation>& obs, size_t n) {
+  std::vector<uint32_t> chosen;
+  std::vector<bool> used(obs.size(), false);
+  while (chosen.size() < n) {
+    const size_t base = UnionSize(obs, chosen);
+    size_t best_gain = 0;
+    int best = -1;
+    for (uint32_t i = 0; i < obs.size(); ++i) {
+      if (used[i]) continue;
+      std::vector<uint32_t> with = chosen;
+      with.push_back(i);
+      const size_t gain = UnionSize(obs, with) - base;
+      if (best < 0 || gain > best_gain) {
+        best_gain = gain;
+        best = static_cast<int>(i);
+      }
+    }
+    used[best] = true;
+    chosen.push_back(static_cast<uint32_t>(best));
+  }
+  return chosen;
+}
+
+std::vector<uint32_t> Sorted(std::vector<uint32_t> v) {
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+SelectOptions Options(Method method, int n) {
+  SelectOptions options;
+  options.method = method;
+  options.n = n;
+  return options;
+}
+
+Selection SelectOne(const std::vector<Observation>& obs, size_t reference_size, Method method,
+                    int n) {
+  const std::vector<Selection> results = Select(obs, reference_size, Options(method, n));
+  EXPECT_EQ(results.size(), 1u);
+  return results.at(0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Names and options
+
+TEST(Select, MethodNamesRoundTrip) {
+  for (const Method m : {Method::kBest, Method::kRansac, Method::kGreedy, Method::kLocal,
+                         Method::kExact, Method::kAll}) {
+    EXPECT_EQ(ParseMethod(MethodName(m)), m);
+  }
+  EXPECT_EQ(MethodName(Method::kGreedy), "greedy");
+  EXPECT_EQ(ParseMethod("exact"), Method::kExact);
+}
+
+TEST(Select, UnknownMethodListsTheNames) {
+  try {
+    ParseMethod("fastest");
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "unknown method 'fastest' — use one of best, ransac, greedy, local, exact, all");
+  }
+}
+
+TEST(Select, ValidateRejectsBadOptions) {
+  EXPECT_NO_THROW(SelectOptions{}.Validate(1));
+  SelectOptions o;
+  o.n = 0;
+  EXPECT_THROW(o.Validate(5), InputError);
+  o.n = 6;
+  try {
+    o.Validate(5);
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("5 candidates"), std::string::npos) << e.what();
+  }
+  o.n = 5;
+  EXPECT_NO_THROW(o.Validate(5));
+  EXPECT_THROW(SelectOptions{}.Validate(0), InputError);
+
+  SelectOptions it;
+  it.ransac_iterations = 0;
+  EXPECT_THROW(it.Validate(3), InputError);
+  for (double c : {-0.1, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    SelectOptions s;
+    s.ransac_stop_coverage = c;
+    EXPECT_THROW(s.Validate(3), InputError) << c;
+  }
+  for (double c : {0.0, 1.0}) {
+    SelectOptions s;
+    s.ransac_stop_coverage = c;
+    EXPECT_NO_THROW(s.Validate(3)) << c;
+  }
+  for (double t : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    SelectOptions s;
+    s.time_limit = t;
+    EXPECT_THROW(s.Validate(3), InputError) << t;
+  }
+}
+
+TEST(Select, MoreSensorsThanCandidatesIsInputError) {
+  const std::vector<Observation> obs = {Obs({0}), Obs({1})};
+  const CoverageEvaluator evaluator(obs, 2);
+  for (const Method m : {Method::kBest, Method::kRansac, Method::kGreedy, Method::kLocal,
+                         Method::kExact, Method::kAll}) {
+    EXPECT_THROW(Select(obs, 2, Options(m, 3)), InputError) << MethodName(m);
+  }
+  EXPECT_THROW(SelectGreedy(evaluator, 3), InputError);
+  EXPECT_THROW(SelectGreedy(evaluator, 0), InputError);
+  EXPECT_THROW(SelectRansac(evaluator, Options(Method::kRansac, 3)), InputError);
+  const std::vector<Observation> none;
+  EXPECT_THROW(SelectBest(CoverageEvaluator(none, 2)), InputError);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Coverage
+
+TEST(CoverageEvaluator, UnionAndPaperCoverage) {
+  // R has 10 cells. A sees cells 0-2 and outside keys 100, 200; B sees 2-3 and 200, 300.
+  const std::vector<Observation> obs = {Obs({0, 1, 2}, {100, 200}), Obs({2, 3}, {200, 300})};
+  const CoverageEvaluator evaluator(obs, 10);
+  const std::vector<uint32_t> a{0}, ab{0, 1}, aa{0, 0};
+  EXPECT_EQ(evaluator.CoveredCount(ab), 4u);
+  EXPECT_DOUBLE_EQ(evaluator.Coverage(a), 0.3);
+  EXPECT_DOUBLE_EQ(evaluator.Coverage(ab), 0.4);
+  EXPECT_DOUBLE_EQ(evaluator.Coverage(aa), 0.3);
+  EXPECT_DOUBLE_EQ(evaluator.PaperCoverage(a), 0.5);
+  // 4 cells of R plus 100, 200, 300: key 200, seen by both, counts once.
+  EXPECT_DOUBLE_EQ(evaluator.PaperCoverage(ab), 0.7);
+  EXPECT_DOUBLE_EQ(evaluator.Coverage({}), 0.0);
+}
+
+TEST(CoverageEvaluator, EmptyReferenceGivesZero) {
+  const std::vector<Observation> obs = {Obs({}, {5, 6}), Obs({}, {7})};
+  const CoverageEvaluator evaluator(obs, 0);
+  const std::vector<uint32_t> both{0, 1};
+  EXPECT_EQ(evaluator.Coverage(both), 0.0);
+  EXPECT_EQ(evaluator.PaperCoverage(both), 0.0);
+}
+
+TEST(Select, EmptyReferenceRunsEveryMethod) {
+  const std::vector<Observation> obs = {Obs({}, {5, 6}), Obs({}, {7}), Obs({})};
+  SelectOptions options;
+  options.n = 2;
+  const std::vector<Selection> results = Select(obs, 0, options);
+  ASSERT_EQ(results.size(), 1u + 2 * 4);
+  for (const Selection& s : results) {
+    EXPECT_EQ(s.coverage, 0.0);
+    EXPECT_EQ(s.paper_coverage, 0.0);
+    EXPECT_EQ(static_cast<int>(s.chosen.size()), s.n);
+  }
+}
+
+TEST(Select, PaperCoverageOfTheUnion) {
+  // Both candidates see the same outside key 9; the union sees cells 0-3 and key 9 once.
+  const std::vector<Observation> obs = {Obs({0, 1}, {9}), Obs({2, 3}, {9})};
+  const Selection s = SelectOne(obs, 8, Method::kGreedy, 2);
+  EXPECT_DOUBLE_EQ(s.coverage, 4.0 / 8);
+  EXPECT_DOUBLE_EQ(s.paper_coverage, 5.0 / 8);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The merged matrix
+
+TEST(CoverageMatrix, PartitionRefinement) {
+  const std::vector<uint32_t> a{0, 1, 2}, b{1, 2, 3};
+  const std::vector<std::span<const uint32_t>> sets{a, b};
+  const std::vector<int64_t> classes = detail::RefinePartition(6, sets);
+  EXPECT_EQ(classes, (std::vector<int64_t>{0, 1, 1, 2, -1, -1}));
+}
+
+TEST(CoverageMatrix, MergesCellsSeenBySameCandidates) {
+  // Cells 0, 5: only c0; 1, 2: both; 3: only c1; 4, 6: nobody (dropped).
+  const std::vector<Observation> obs = {Obs({0, 1, 2, 5}), Obs({1, 2, 3})};
+  const detail::CoverageMatrix matrix(obs, 7);
+  ASSERT_EQ(matrix.element_count(), 3u);
+  EXPECT_EQ(matrix.seen_weight(), 5u);
+  EXPECT_EQ(matrix.Weight(0), 2u);  // {0, 5}
+  EXPECT_EQ(matrix.Weight(1), 2u);  // {1, 2}
+  EXPECT_EQ(matrix.Weight(2), 1u);  // {3}
+  EXPECT_EQ(matrix.Row(0), (std::vector<uint32_t>{0, 1}));
+  EXPECT_EQ(matrix.Row(1), (std::vector<uint32_t>{1, 2}));
+  const std::vector<uint32_t> both{0, 1}, second{1};
+  EXPECT_EQ(matrix.CoveredWeight(both), 5u);
+  EXPECT_EQ(matrix.CoveredWeight(second), 3u);
+}
+
+TEST(CoverageMatrix, CoveredWeightMatchesTheUnion) {
+  const std::vector<Observation> obs = RandomInstance(7, 20, 300, 0.15);
+  const detail::CoverageMatrix matrix(obs, 300);
+  EXPECT_LT(matrix.element_count(), 300u);
+  Rng rng(7, Stream::kTest, 1);
+  for (int trial = 0; trial < 50; ++trial) {
+    std::vector<uint32_t> chosen;
+    for (uint32_t i = 0; i < 20; ++i) {
+      if (rng.Uniform01() < 0.25) chosen.push_back(i);
+    }
+    EXPECT_EQ(matrix.CoveredWeight(chosen), UnionSize(obs, chosen));
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Hand-worked instances
+
+// X = cells 0-5 (c0), Y = cells 6-11 (c1), G = {0, 1, 2, 6, 7, 8, 12} (c2); R = 13 cells.
+// Greedy takes G (7 cells) first; then X and Y each add 3 and the tie goes to X (c0): 10 cells.
+// The optimum is X + Y: 12 cells. Local search swaps G (alone sees 6, 7, 8, 12: loses 4) for Y
+// (adds 6-11: gains 6) in place: [1, 0].
+std::vector<Observation> ClassicInstance() {
+  return {Obs({0, 1, 2, 3, 4, 5}), Obs({6, 7, 8, 9, 10, 11}), Obs({0, 1, 2, 6, 7, 8, 12})};
+}
+
+TEST(Select, GreedyIsSuboptimalOnTheClassicInstance) {
+  const std::vector<Observation> obs = ClassicInstance();
+  const Selection greedy = SelectOne(obs, 13, Method::kGreedy, 2);
+  EXPECT_EQ(greedy.method, "greedy");
+  EXPECT_EQ(greedy.n, 2);
+  EXPECT_EQ(greedy.chosen, (std::vector<uint32_t>{2, 0}));
+  EXPECT_DOUBLE_EQ(greedy.coverage, 10.0 / 13);
+  EXPECT_FALSE(greedy.upper_bound.has_value());
+
+  const Selection local = SelectOne(obs, 13, Method::kLocal, 2);
+  EXPECT_EQ(local.method, "local");
+  EXPECT_EQ(local.chosen, (std::vector<uint32_t>{1, 0}));
+  EXPECT_DOUBLE_EQ(local.coverage, 12.0 / 13);
+
+  const Selection exact = SelectOne(obs, 13, Method::kExact, 2);
+  EXPECT_EQ(exact.method, "exact");
+  EXPECT_EQ(Sorted(exact.chosen), (std::vector<uint32_t>{0, 1}));
+  EXPECT_DOUBLE_EQ(exact.coverage, 12.0 / 13);
+  EXPECT_TRUE(exact.proven_optimal);
+  ASSERT_TRUE(exact.upper_bound.has_value());
+  EXPECT_NEAR(*exact.upper_bound, 12.0 / 13, 1e-12);
+}
+
+TEST(Select, ExactNeedsTheSolverWhenLocalSearchIsStuck) {
+  // R = 12 cells, n = 2:
+  //   c0 = {0,1,2,3,6,7,8,9}  (8)   c1 = {4,5}   c2 = {10,11}
+  //   c3 = {0,...,5}          (6)   c4 = {6,...,11}  (6)
+  // Greedy: c0, then c1, c2, c3, c4 all add 2 -> c1: 10 cells. From [c0, c1] no swap helps:
+  // dropping c0 loses 8 and the best newcomer (c4) brings back 6; dropping c1 loses 2 and any
+  // newcomer adds 2. So local = greedy = 10, while {c3, c4} covers all 12.
+  const std::vector<Observation> obs = {Obs({0, 1, 2, 3, 6, 7, 8, 9}), Obs({4, 5}),
+                                        Obs({10, 11}), Obs({0, 1, 2, 3, 4, 5}),
+                                        Obs({6, 7, 8, 9, 10, 11})};
+  const Selection greedy = SelectOne(obs, 12, Method::kGreedy, 2);
+  EXPECT_EQ(greedy.chosen, (std::vector<uint32_t>{0, 1}));
+  const Selection local = SelectOne(obs, 12, Method::kLocal, 2);
+  EXPECT_EQ(local.chosen, (std::vector<uint32_t>{0, 1}));
+  EXPECT_DOUBLE_EQ(local.coverage, 10.0 / 12);
+  const Selection exact = SelectOne(obs, 12, Method::kExact, 2);
+  EXPECT_EQ(Sorted(exact.chosen), (std::vector<uint32_t>{3, 4}));
+  EXPECT_DOUBLE_EQ(exact.coverage, 1.0);
+  EXPECT_TRUE(exact.proven_optimal);
+}
+
+TEST(Select, TiesGoToTheLowerIndex) {
+  // c0 and c1 see the same 2 cells, c3 also 2: best is c0. After c0, c2 and c3 each add cell 2.
+  const std::vector<Observation> obs = {Obs({0, 1}), Obs({0, 1}), Obs({2}), Obs({1, 2})};
+  const Selection best = SelectOne(obs, 3, Method::kBest, 1);
+  EXPECT_EQ(best.chosen, (std::vector<uint32_t>{0}));
+  EXPECT_EQ(best.n, 1);
+  const Selection greedy = SelectOne(obs, 3, Method::kGreedy, 2);
+  EXPECT_EQ(greedy.chosen, (std::vector<uint32_t>{0, 2}));
+  EXPECT_EQ(SelectGreedy(CoverageEvaluator(obs, 3), 2).chosen, greedy.chosen);
+}
+
+TEST(Select, GreedyFillsUpToNWithTheLowestUnusedCandidates) {
+  // c0 sees 4 cells, c4 adds cell 5, then nothing adds anything: c1, c2 fill up to n = 4.
+  const std::vector<Observation> obs = {Obs({0, 1, 2, 3}), Obs({0, 1}), Obs({}), Obs({2}),
+                                        Obs({5})};
+  const Selection greedy = SelectOne(obs, 6, Method::kGreedy, 4);
+  EXPECT_EQ(greedy.n, 4);
+  EXPECT_EQ(greedy.chosen, (std::vector<uint32_t>{0, 4, 1, 2}));
+  EXPECT_DOUBLE_EQ(greedy.coverage, 5.0 / 6);
+  for (const Method m : {Method::kLocal, Method::kExact, Method::kRansac}) {
+    const Selection s = SelectOne(obs, 6, m, 4);
+    EXPECT_EQ(s.n, 4) << MethodName(m);
+    EXPECT_EQ(std::set<uint32_t>(s.chosen.begin(), s.chosen.end()).size(), 4u) << MethodName(m);
+  }
+}
+
+TEST(Select, ExactReturnsNSensorsWhenFewerSuffice) {
+  // c1 and c2 are subsets of c0: c0 alone is optimal, but n = 2 sensors are reported.
+  const std::vector<Observation> obs = {Obs({0, 1, 2}), Obs({0, 1}), Obs({1})};
+  const Selection exact = SelectOne(obs, 4, Method::kExact, 2);
+  EXPECT_EQ(exact.n, 2);
+  ASSERT_EQ(exact.chosen.size(), 2u);
+  EXPECT_NE(exact.chosen[0], exact.chosen[1]);
+  EXPECT_DOUBLE_EQ(exact.coverage, 0.75);
+  EXPECT_TRUE(exact.proven_optimal);
+  EXPECT_DOUBLE_EQ(*exact.upper_bound, 0.75);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Random instances against brute force
+
+TEST(Select, EveryMethodAgainstBruteForce) {
+  const double greedy_factor = 1.0 - 1.0 / std::exp(1.0);
+  for (uint64_t trial = 0; trial < 24; ++trial) {
+    const size_t m = 6 + trial % 8;             // 6-13 candidates
+    const size_t r = 20 + 5 * (trial % 5);      // 20-40 cells
+    const double p = 0.1 + 0.05 * (trial % 4);  // sparse to dense
+    const std::vector<Observation> obs = RandomInstance(100 + trial, m, r, p);
+    SelectOptions options;
+    options.n = static_cast<int>(std::min<size_t>(4, m));
+    options.ransac_iterations = 30;
+    options.seed = trial;
+    const std::vector<Selection> results = Select(obs, r, options);
+    std::vector<size_t> optimum(options.n + 1), greedy_cells(options.n + 1);
+    for (int n = 1; n <= options.n; ++n) optimum[n] = BruteForceOptimum(obs, n);
+
+    ASSERT_EQ(results.size(), 1u + 4u * options.n);
+    for (const Selection& s : results) {
+      SCOPED_TRACE(testing::Message() << "trial " << trial << " " << s.method << " n=" << s.n);
+      ASSERT_EQ(static_cast<int>(s.chosen.size()), s.n);
+      EXPECT_EQ(std::set<uint32_t>(s.chosen.begin(), s.chosen.end()).size(), s.chosen.size());
+      for (uint32_t c : s.chosen) EXPECT_LT(c, m);
+      const size_t cells = UnionSize(obs, s.chosen);
+      EXPECT_DOUBLE_EQ(s.coverage, static_cast<double>(cells) / r);
+      EXPECT_LE(s.coverage, 1.0);
+      EXPECT_GE(s.paper_coverage, s.coverage);
+      EXPECT_LE(cells, optimum[s.n]);
+      EXPECT_GE(s.seconds, 0.0);
+      if (s.upper_bound) {
+        EXPECT_GE(*s.upper_bound, s.coverage);
+        EXPECT_GE(*s.upper_bound + 1e-12, static_cast<double>(optimum[s.n]) / r);
+      }
+      if (s.method == "best") {
+        EXPECT_EQ(s.n, 1);
+        EXPECT_EQ(cells, optimum[1]);
+      } else if (s.method == "greedy") {
+        EXPECT_EQ(s.chosen, PlainGreedy(obs, s.n));
+        EXPECT_GE(static_cast<double>(cells), greedy_factor * optimum[s.n] - 1e-9);
+        greedy_cells[s.n] = cells;
+      } else if (s.method == "local") {
+        EXPECT_GE(cells, greedy_cells[s.n]);
+      } else if (s.method == "exact") {
+        EXPECT_EQ(cells, optimum[s.n]);
+        EXPECT_TRUE(s.proven_optimal);
+        ASSERT_TRUE(s.upper_bound.has_value());
+        EXPECT_NEAR(*s.upper_bound, static_cast<double>(optimum[s.n]) / r, 1e-12);
+      } else {
+        EXPECT_EQ(s.method, "ransac");
+      }
+    }
+  }
+}
+
+TEST(Select, AllGivesBestThenEachMethodPerNAndIsDeterministic) {
+  const std::vector<Observation> obs = RandomInstance(3, 12, 60, 0.2);
+  SelectOptions options;
+  options.n = 3;
+  options.ransac_iterations = 20;
+  const std::vector<Selection> a = Select(obs, 60, options);
+  const std::vector<Selection> b = Select(obs, 60, options);
+  ASSERT_EQ(a.size(), 1u + 3 * 4);
+  EXPECT_EQ(a[0].method, "best");
+  EXPECT_EQ(a[0].n, 1);
+  const char* order[] = {"ransac", "greedy", "local", "exact"};
+  for (int n = 1; n <= 3; ++n) {
+    for (int k = 0; k < 4; ++k) {
+      const Selection& s = a[1 + 4 * (n - 1) + k];
+      EXPECT_EQ(s.method, order[k]);
+      EXPECT_EQ(s.n, n);
+    }
+  }
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].method, b[i].method);
+    EXPECT_EQ(a[i].n, b[i].n);
+    EXPECT_EQ(a[i].chosen, b[i].chosen);
+    EXPECT_EQ(a[i].coverage, b[i].coverage);
+    EXPECT_EQ(a[i].paper_coverage, b[i].paper_coverage);
+    EXPECT_EQ(a[i].upper_bound, b[i].upper_bound);
+    EXPECT_EQ(a[i].proven_optimal, b[i].proven_optimal);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// RANSAC
+
+TEST(Select, RansacIsReproducibleAndDependsOnTheSeed) {
+  const std::vector<Observation> obs = RandomInstance(11, 30, 100, 0.1);
+  const CoverageEvaluator evaluator(obs, 100);
+  SelectOptions options = Options(Method::kRansac, 3);
+  options.ransac_iterations = 5;
+  std::set<std::vector<uint32_t>> answers;
+  for (uint64_t seed = 1; seed <= 10; ++seed) {
+    options.seed = seed;
+    const Selection first = SelectRansac(evaluator, options);
+    const std::vector<Selection> via_select = Select(obs, 100, options);
+    EXPECT_EQ(first.method, "ransac");
+    EXPECT_EQ(first.chosen, via_select.at(0).chosen);
+    EXPECT_EQ(first.chosen, SelectRansac(evaluator, options).chosen);
+    EXPECT_EQ(std::set<uint32_t>(first.chosen.begin(), first.chosen.end()).size(), 3u);
+    answers.insert(first.chosen);
+  }
+  EXPECT_GT(answers.size(), 1u);
+}
+
+TEST(Select, RansacKeepsTheBestDrawAndStopsAtTheThreshold) {
+  const std::vector<Observation> obs = RandomInstance(12, 40, 200, 0.05);
+  const CoverageEvaluator evaluator(obs, 200);
+  SelectOptions one = Options(Method::kRansac, 2);
+  one.ransac_iterations = 1;
+  one.seed = 5;
+  const Selection first_draw = SelectRansac(evaluator, one);
+
+  // Iteration 0 draws the same subset whatever the cap; more iterations can only do better.
+  SelectOptions many = one;
+  many.ransac_iterations = 300;
+  const Selection best_of_many = SelectRansac(evaluator, many);
+  EXPECT_GE(best_of_many.coverage, first_draw.coverage);
+  EXPECT_LE(best_of_many.coverage,
+            static_cast<double>(BruteForceOptimum(obs, 2)) / 200 + 1e-12);
+
+  // A threshold the first draw already meets stops the search after it.
+  SelectOptions stop = many;
+  stop.ransac_stop_coverage = first_draw.coverage;
+  EXPECT_EQ(SelectRansac(evaluator, stop).chosen, first_draw.chosen);
+  stop.ransac_stop_coverage = 0.0;
+  EXPECT_EQ(SelectRansac(evaluator, stop).chosen, first_draw.chosen);
+}
+
+TEST(Select, RansacWithNEqualToTheCandidatesTakesThemAll) {
+  const std::vector<Observation> obs = RandomInstance(13, 5, 30, 0.3);
+  const Selection s = SelectOne(obs, 30, Method::kRansac, 5);
+  EXPECT_EQ(Sorted(s.chosen), (std::vector<uint32_t>{0, 1, 2, 3, 4}));
+  EXPECT_DOUBLE_EQ(s.coverage, static_cast<double>(UnionSize(obs, s.chosen)) / 30);
+}
+
+TEST(Select, RansacWhenNothingIsSeenStillReturnsNSensors) {
+  const std::vector<Observation> obs = {Obs({}), Obs({}), Obs({})};
+  const Selection s = SelectOne(obs, 4, Method::kRansac, 2);
+  EXPECT_EQ(s.chosen.size(), 2u);
+  EXPECT_EQ(s.coverage, 0.0);
+}
+
+}  // namespace
+}  // namespace vantage
