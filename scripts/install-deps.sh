@@ -8,7 +8,7 @@ PACKAGES=(
   build-essential cmake pkg-config git
   libembree-dev libassimp-dev libeigen3-dev libtbb-dev libyaml-cpp-dev nlohmann-json3-dev
   libcli11-dev libfmt-dev libspdlog-dev libsdformat-dev coinor-libcbc-dev
-  libgtest-dev libgmock-dev libbenchmark-dev libpng-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libpng-dev libstb-dev libjs-three chromium
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -62,7 +62,9 @@ void RunEvaluate(const EvaluateOptions& options) {
     report.data = &data;
     report.results = {given};
     report.timings = timings;
-    WriteOutputs(options.out, report);
+    WriteOutputs(options.out, report,
+                 {{"report.html", HtmlReport(report, problem.scene)},
+                  {"static_transforms.yaml", StaticTransformsYaml(report)}});
     fmt::print("outputs {}/\n", options.out);
   }
 }

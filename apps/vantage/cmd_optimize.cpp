@@ -31,7 +31,9 @@ void RunOptimize(const OptimizeOptions& options) {
   report.results = std::move(results);
   report.timings = observed.timings;
   report.notes = observed.notes;
-  WriteOutputs(options.out, report);
+  WriteOutputs(options.out, report,
+               {{"report.html", HtmlReport(report, observed.scene)},
+                {"static_transforms.yaml", StaticTransformsYaml(report)}});
   PrintSummary(observed.data, report.results, report.timings, options.out);
 }
 

@@ -1,5 +1,6 @@
 #include <spdlog/spdlog.h>
 
+#include <filesystem>
 #include <memory>
 
 #include "commands.hpp"
@@ -13,6 +14,22 @@ struct SelectCommandOptions {
   std::optional<uint64_t> seed;
   std::string out = "vantage_out";
 };
+
+// The scene's meshes for report.html: reloaded from the path the visibility file names when it is
+// still there; otherwise (or when it no longer loads) the page shows voxels and sensors only.
+Scene ReportScene(const std::string& path) {
+  std::error_code error;
+  if (path.empty() || !std::filesystem::exists(path, error)) {
+    spdlog::info("report.html without meshes: scene '{}' not found from here", path);
+    return {};
+  }
+  try {
+    return LoadProblem(path).scene;
+  } catch (const InputError& e) {
+    spdlog::warn("report.html without meshes: {}", e.what());
+    return {};
+  }
+}
 
 void RunSelect(const SelectCommandOptions& options) {
   const auto start = std::chrono::steady_clock::now();
@@ -29,7 +46,9 @@ void RunSelect(const SelectCommandOptions& options) {
   report.seed = select_options.seed;
   report.data = &data;
   report.timings = timings;
-  WriteOutputs(options.out, report);
+  WriteOutputs(options.out, report,
+               {{"report.html", HtmlReport(report, ReportScene(data.scene))},
+                {"static_transforms.yaml", StaticTransformsYaml(report)}});
   PrintSummary(data, report.results, timings, options.out);
 }
 

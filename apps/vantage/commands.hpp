@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "vantage/vantage.hpp"
+#include "vantage/visualize.hpp"
 
 namespace vantage::cli {
 
@@ -42,6 +43,7 @@ struct ObservedScene {
   VisibilityFile data;
   Timings timings;
   std::vector<std::string> notes;
+  Scene scene;  ///< the loaded geometry, for report.html
 };
 /// Load -> reference -> candidates -> observe, logging each stage.
 ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* selection);
@@ -58,6 +60,7 @@ void SetupObserve(CLI::App* parent);
 void SetupSelect(CLI::App* parent);
 void SetupEvaluate(CLI::App* parent);
 void SetupSensors(CLI::App* parent);
+void SetupRender(CLI::App* parent);
 
 /// Seconds since `start` on the steady clock.
 double SecondsSince(std::chrono::steady_clock::time_point start);

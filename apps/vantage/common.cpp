@@ -129,6 +129,7 @@ ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* 
   data.candidates = std::move(candidates);
   data.observations = std::move(observations);
   result.notes.insert(result.notes.end(), problem.notes.begin(), problem.notes.end());
+  result.scene = std::move(problem.scene);
   return result;
 }
 

@@ -32,6 +32,7 @@ int Run(int argc, char** argv) {
   vantage::cli::SetupSelect(&app);
   vantage::cli::SetupEvaluate(&app);
   vantage::cli::SetupSensors(&app);
+  vantage::cli::SetupRender(&app);
   auto* help = app.add_subcommand("help", "show the options of a command");
   std::string help_topic;
   help->add_option("command", help_topic, "command name");

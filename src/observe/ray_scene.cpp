@@ -14,6 +14,7 @@ struct RayScene::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   std::vector<uint8_t> is_target;  // by geometry id
+  std::vector<int32_t> object;     // by geometry id: index into Scene::objects
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -37,7 +38,8 @@ RayScene::RayScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   impl_->scene = rtcNewScene(impl_->device);
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
   rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
-  for (const SceneObject& object : scene.objects) {
+  for (size_t object_index = 0; object_index < scene.objects.size(); ++object_index) {
+    const SceneObject& object = scene.objects[object_index];
     if (object.mesh.triangles.empty()) continue;
     RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
@@ -58,6 +60,8 @@ RayScene::RayScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     rtcReleaseGeometry(geometry);
     if (impl_->is_target.size() <= id) impl_->is_target.resize(id + 1, 0);
     impl_->is_target[id] = object.is_target() ? 1 : 0;
+    if (impl_->object.size() <= id) impl_->object.resize(id + 1, -1);
+    impl_->object[id] = static_cast<int32_t>(object_index);
   }
   rtcCommitScene(impl_->scene);
 }
@@ -126,6 +130,37 @@ float RayScene::IntersectOne(const float origin[3], const float dir[3], float tf
   }
   *is_target = impl_->is_target[ray.hit.geomID] != 0;
   return ray.ray.tfar;
+}
+
+RayHit RayScene::IntersectHit(const float origin[3], const float dir[3], float tfar) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit ray{};
+  ray.ray.org_x = origin[0];
+  ray.ray.org_y = origin[1];
+  ray.ray.org_z = origin[2];
+  ray.ray.dir_x = dir[0];
+  ray.ray.dir_y = dir[1];
+  ray.ray.dir_z = dir[2];
+  ray.ray.tnear = 0.0f;
+  ray.ray.tfar = tfar;
+  ray.ray.mask = 0xFFFFFFFFu;  // Debian's Embree has ray masks on (debian-deps.md)
+  ray.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  ray.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &context, &ray);
+  RayHit hit;
+  if (ray.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+    hit.t = std::numeric_limits<float>::infinity();
+    return hit;
+  }
+  hit.t = ray.ray.tfar;
+  hit.object = impl_->object[ray.hit.geomID];
+  hit.triangle = ray.hit.primID;
+  hit.normal[0] = ray.hit.Ng_x;
+  hit.normal[1] = ray.hit.Ng_y;
+  hit.normal[2] = ray.hit.Ng_z;
+  hit.is_target = impl_->is_target[ray.hit.geomID] != 0;
+  return hit;
 }
 
 }  // namespace vantage::detail

@@ -21,6 +21,15 @@ struct RayBatch {
   bool is_target[kWidth];
 };
 
+/// The first hit of one ray, with what it hit (for shading a rendered view).
+struct RayHit {
+  float t = 0;             ///< ray parameter of the hit; inf on a miss
+  int32_t object = -1;     ///< index into Scene::objects; -1 on a miss
+  uint32_t triangle = 0;   ///< triangle index in that object's mesh
+  float normal[3] = {};    ///< geometric normal, world frame, not normalised (Embree's Ng)
+  bool is_target = false;
+};
+
 /// Owns an Embree device and a committed scene of every object (targets and occluders).
 class RayScene {
  public:
@@ -35,6 +44,8 @@ class RayScene {
   void Intersect(RayBatch* batch) const;
   /// Single ray; returns t (inf on miss) and sets *is_target. Thread-safe.
   float IntersectOne(const float origin[3], const float dir[3], float tfar, bool* is_target) const;
+  /// Single ray with the object, triangle and normal it hits. Thread-safe.
+  RayHit IntersectHit(const float origin[3], const float dir[3], float tfar) const;
 
  private:
   struct Impl;

@@ -102,7 +102,7 @@ CoverageMatrix::CoverageMatrix(std::span<const Observation> observations, size_t
       last_candidate[e] = static_cast<uint32_t>(i);
       row.push_back(e);
     }
-    std::sort(row.begin(), row.end());
+    if (!std::is_sorted(row.begin(), row.end())) std::sort(row.begin(), row.end());
     row_weights_[i] = observations[i].reference_indices.size();
   }
 

@@ -9,6 +9,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -198,6 +200,17 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix, size_t n, const std::vector<uint
   Cbc_setMaximumSeconds(cbc, time_limit);
   // Weights are whole cells, so an incumbent within 1 of the bound is optimal.
   Cbc_setAllowableGap(cbc, 0.99);
+  if (const char* extra = std::getenv("VANTAGE_CBC_PARAMS")) {  // TEMP experiment
+    std::string all(extra);
+    size_t pos = 0;
+    while (pos < all.size()) {
+      size_t eq = all.find('=', pos), end = all.find(',', pos);
+      if (end == std::string::npos) end = all.size();
+      Cbc_setParameter(cbc, all.substr(pos, eq - pos).c_str(), all.substr(eq + 1, end - eq - 1).c_str());
+      pos = end + 1;
+    }
+  }
+  fprintf(stderr, "model: x %d y %d nnz %zu\n", x_count, y_count, indices.size());  // TEMP
   // Warm start: the start set, each dominated candidate replaced by a kept superset.
   std::vector<int> start_columns;
   for (const uint32_t c : start) {
@@ -206,7 +219,7 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix, size_t n, const std::vector<uint
   std::sort(start_columns.begin(), start_columns.end());
   start_columns.erase(std::unique(start_columns.begin(), start_columns.end()), start_columns.end());
   const std::vector<double> ones(start_columns.size(), 1.0);
-  Cbc_setMIPStartI(cbc, static_cast<int>(start_columns.size()), start_columns.data(), ones.data());
+  if (!std::getenv("VANTAGE_NO_MIPSTART")) Cbc_setMIPStartI(cbc, static_cast<int>(start_columns.size()), start_columns.data(), ones.data());
 
   Cbc_solve(cbc);
   const double bound = Cbc_getBestPossibleObjValue(cbc);

@@ -1,0 +1,104 @@
+#pragma once
+/// Results people can look at (issue #7): the self-contained report.html, a ray-traced PNG view
+/// of the scene, and the chosen sensors as ROS-style static transforms.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vantage/report.hpp"
+#include "vantage/scene.hpp"
+#include "vantage/types.hpp"
+
+namespace vantage {
+
+/// Colours shared by the page and the picture (8-bit sRGB).
+using Rgb = std::array<uint8_t, 3>;
+/// Target surface that no chosen sensor observes.
+inline constexpr Rgb kUnobservedColor = {214, 64, 52};
+/// Target surface observed by 1, 2, and 3 or more chosen sensors.
+inline constexpr std::array<Rgb, 3> kObservedColors = {Rgb{70, 180, 75}, Rgb{30, 160, 135},
+                                                       Rgb{45, 110, 200}};
+/// Occluders.
+inline constexpr Rgb kOccluderColor = {168, 168, 168};
+/// Frusta and markers of the chosen sensors.
+inline constexpr Rgb kFrustumColor = {255, 200, 0};
+
+/// Options of the HTML report.
+struct HtmlReportOptions {
+  /// Folder of three.js r111 (Debian's libjs-three): three.min.js and
+  /// examples/js/controls/OrbitControls.js are read from it and inlined. When they are missing the
+  /// page is written without the 3D view, with a visible note saying why.
+  std::string three_js_dir = "/usr/share/javascript/three";
+  /// Most triangles embedded for the 3D view; larger scenes are simplified by vertex clustering
+  /// (the page says so). Must be >= 1.
+  size_t max_mesh_triangles = 300000;
+};
+
+/// The report.html text: one self-contained page (no network access, opens from disk) with a 3D
+/// view (scene meshes, candidates coloured by their coverage, the chosen sensors with frusta cut
+/// at `far`, the reference voxels coloured by how many chosen sensors see them), a
+/// coverage-versus-N chart per method (with the exact bound where present) and sortable tables of
+/// the candidates and of the chosen sensors (with marginal gains). The chosen sensors are those of
+/// report.primary (or PrimaryResult()); none when there is no result. `scene` may be empty (the
+/// page then shows no meshes). When the page's script runs to the end it sets the text of the
+/// element `#vantage-status` to "ok"; on a script error, to "error: <message>".
+/// Requires report.data; InternalError otherwise.
+std::string HtmlReport(const Report& report, const Scene& scene, const HtmlReportOptions& options = {});
+
+/// The chosen sensors of report.primary (or PrimaryResult()) as ROS-style static transforms YAML
+/// (schema vantage.static_transforms/1, docs/outputs.md): per sensor its name, parent frame,
+/// translation xyz [m] and rotation quaternion in ROS order x, y, z, w of the sensor body frame
+/// (x forward, y left, z up) in `parent_frame`; each followed by its optical frame
+/// (`<name>_optical_frame`: z forward, x right, y down) as a child of the body frame.
+/// An empty `transforms` list when there is no result. Requires report.data.
+std::string StaticTransformsYaml(const Report& report, const std::string& parent_frame = "world");
+
+/// An 8-bit RGB picture, rows top to bottom.
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> rgb;  ///< 3 * width * height bytes
+
+  Rgb At(int x, int y) const {
+    const size_t i = 3 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x));
+    return {rgb[i], rgb[i + 1], rgb[i + 2]};
+  }
+};
+
+/// Options of RenderView.
+struct RenderOptions {
+  int width = 1280;   ///< pixels, 16..8192
+  int height = 960;   ///< pixels, 16..8192
+  double vertical_fov = 0.7853981633974483;  ///< [rad], in (0, pi); default 45°
+  /// Viewpoint [m, world]. Default: outside the targets and the chosen sensors, on the side the
+  /// chosen sensors look from, framing all of them.
+  std::optional<Vec3> eye;
+  /// Point looked at [m, world]. Default: the centre of the targets' bounds.
+  std::optional<Vec3> look_at;
+  bool draw_frusta = true;  ///< chosen sensors' frusta (cut at `far`) and markers
+  /// Throws InputError naming the field.
+  void Validate() const;
+};
+
+/// A viewpoint: where the eye is and what it looks at (up is +z).
+struct View {
+  Vec3 eye = Vec3::Zero();
+  Vec3 look_at = Vec3::Zero();
+};
+
+/// The default viewpoint of RenderView and of the page's 3D view for a vertical field of view.
+View DefaultView(const Scene& scene, const Report& report, double vertical_fov);
+
+/// Ray traces (Embree) a shaded view of `scene`: occluders grey; targets coloured by how many of
+/// the chosen sensors observe the voxel hit (kObservedColors; kUnobservedColor when none), the
+/// same voxels as report.json counts; the chosen sensors' frusta drawn over it (dimmed where
+/// hidden). Requires report.data (its reference and observations); InputError on bad options
+/// or when eye == look_at.
+Image RenderView(const Scene& scene, const Report& report, const RenderOptions& options = {});
+
+/// Writes `image` as a PNG file. InputError naming the path when it cannot be written.
+void WritePng(const std::string& path, const Image& image);
+
+}  // namespace vantage

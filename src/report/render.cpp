@@ -1,0 +1,319 @@
+// A picture without a browser (issue #7): the scene ray traced with Embree through RayScene
+// (the only file that includes Embree is observe/ray_scene.cpp), targets coloured by how many
+// chosen sensors observe the voxel each pixel lands in, the chosen sensors' frusta drawn over it.
+#include <fmt/format.h>
+#include <stb_image_write.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include "observe/ray_scene.hpp"
+#include "vantage/error.hpp"
+#include "vantage/visualize.hpp"
+
+namespace vantage {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::vector<uint32_t> PrimaryChosen(const Report& report) {
+  const int primary = report.primary >= 0 ? report.primary : PrimaryResult(report.results);
+  if (primary < 0 || primary >= static_cast<int>(report.results.size())) return {};
+  return report.results[static_cast<size_t>(primary)].chosen;
+}
+
+// Packed voxel key -> number of chosen sensors that observe it (inside R and outside it).
+std::unordered_map<uint64_t, int> ObservationCounts(const VisibilityFile& data,
+                                                    const std::vector<uint32_t>& chosen) {
+  std::unordered_map<uint64_t, int> counts;
+  for (uint32_t index : chosen) {
+    const Observation& o = data.observations.at(index);
+    for (uint32_t r : o.reference_indices) ++counts[data.reference.keys.at(r)];
+    for (uint64_t key : o.outside_keys) ++counts[key];
+  }
+  return counts;
+}
+
+Rgb TargetColor(int sensors_seeing) {
+  if (sensors_seeing <= 0) return kUnobservedColor;
+  return kObservedColors[static_cast<size_t>(std::min(sensors_seeing, 3) - 1)];
+}
+
+// Pinhole camera of the picture: right/up/forward basis, +z up in the world.
+struct ViewCamera {
+  Vec3 eye, forward, right, up;
+  double tan_half_x = 1, tan_half_y = 1;
+  int width = 0, height = 0;
+
+  Vec3 RayThrough(double x, double y) const {
+    const double sx = (2.0 * x / width - 1.0) * tan_half_x;
+    const double sy = (1.0 - 2.0 * y / height) * tan_half_y;
+    return (forward + sx * right + sy * up).normalized();
+  }
+  // Continuous pixel coordinates of a world point, nullopt behind the eye.
+  bool Project(const Vec3& p, double* x, double* y) const {
+    const Vec3 v = p - eye;
+    const double z = v.dot(forward);
+    if (z <= 1e-9) return false;
+    *x = (v.dot(right) / (z * tan_half_x) + 1.0) * 0.5 * width;
+    *y = (1.0 - v.dot(up) / (z * tan_half_y)) * 0.5 * height;
+    return true;
+  }
+};
+
+ViewCamera MakeCamera(const View& view, const RenderOptions& options) {
+  ViewCamera camera;
+  camera.eye = view.eye;
+  camera.forward = (view.look_at - view.eye).normalized();
+  Vec3 right = camera.forward.cross(Vec3::UnitZ());
+  if (right.norm() < 1e-6) right = camera.forward.cross(Vec3::UnitY());  // looking straight up/down
+  camera.right = right.normalized();
+  camera.up = camera.right.cross(camera.forward).normalized();
+  camera.width = options.width;
+  camera.height = options.height;
+  camera.tan_half_y = std::tan(0.5 * options.vertical_fov);
+  camera.tan_half_x = camera.tan_half_y * options.width / options.height;
+  return camera;
+}
+
+// Line overlay: per-pixel opacity (the strongest wins), composited once at the end so that
+// overlapping samples do not accumulate.
+class Overlay {
+ public:
+  Overlay(const ViewCamera& camera, const std::vector<float>& depth)
+      : camera_(camera), depth_(depth), alpha_(depth.size(), 0.0f) {}
+
+  void Segment(const Vec3& a, const Vec3& b) {
+    // Clip to the half-space in front of the eye, then sample at about two samples per pixel.
+    Vec3 p = a, q = b;
+    const double za = (p - camera_.eye).dot(camera_.forward), zb = (q - camera_.eye).dot(camera_.forward);
+    constexpr double kMinDepth = 1e-6;
+    if (za <= kMinDepth && zb <= kMinDepth) return;
+    if (za <= kMinDepth) p = p + (q - p) * ((kMinDepth - za) / (zb - za));
+    if (zb <= kMinDepth) q = q + (p - q) * ((kMinDepth - zb) / (za - zb));
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    if (!camera_.Project(p, &x0, &y0) || !camera_.Project(q, &x1, &y1)) return;
+    const double length = std::hypot(x1 - x0, y1 - y0);
+    const int samples = static_cast<int>(std::clamp(2.0 * length, 2.0, 40000.0));
+    for (int i = 0; i <= samples; ++i) {
+      const Vec3 point = p + (q - p) * (static_cast<double>(i) / samples);
+      double x = 0, y = 0;
+      if (!camera_.Project(point, &x, &y)) continue;
+      const double distance = (point - camera_.eye).norm();
+      // Two pixels wide so that the lines stay visible at large sizes.
+      Mark(x - 0.5, y - 0.5, distance);
+      Mark(x + 0.5, y + 0.5, distance);
+    }
+  }
+
+  void Disc(const Vec3& center, double radius_px) {
+    double cx = 0, cy = 0;
+    if (!camera_.Project(center, &cx, &cy)) return;
+    const double distance = (center - camera_.eye).norm();
+    for (double dy = -radius_px; dy <= radius_px; dy += 1.0) {
+      for (double dx = -radius_px; dx <= radius_px; dx += 1.0) {
+        if (dx * dx + dy * dy <= radius_px * radius_px) Mark(cx + dx, cy + dy, distance);
+      }
+    }
+  }
+
+  void Composite(const Rgb& color, Image* image) const {
+    for (size_t i = 0; i < alpha_.size(); ++i) {
+      if (alpha_[i] <= 0.0f) continue;
+      for (int c = 0; c < 3; ++c) {
+        const float mixed = (1.0f - alpha_[i]) * image->rgb[3 * i + c] + alpha_[i] * color[c];
+        image->rgb[3 * i + c] = static_cast<uint8_t>(std::lround(std::clamp(mixed, 0.0f, 255.0f)));
+      }
+    }
+  }
+
+ private:
+  void Mark(double x, double y, double distance) {
+    const int xi = static_cast<int>(std::floor(x)), yi = static_cast<int>(std::floor(y));
+    if (xi < 0 || yi < 0 || xi >= camera_.width || yi >= camera_.height) return;
+    const size_t i = static_cast<size_t>(yi) * static_cast<size_t>(camera_.width) + static_cast<size_t>(xi);
+    // Hidden behind the surface this pixel shows: drawn faintly.
+    const bool is_visible = distance <= static_cast<double>(depth_[i]) * 1.002 + 1e-6;
+    alpha_[i] = std::max(alpha_[i], is_visible ? 1.0f : 0.3f);
+  }
+
+  const ViewCamera& camera_;
+  const std::vector<float>& depth_;
+  std::vector<float> alpha_;
+};
+
+// Corner of a sensor's image at depth `far`, in the world: body x forward, u right = -y,
+// v down = -z (sensors.hpp).
+Vec3 FarCorner(const Candidate& c, double u, double v) {
+  const SensorType& s = c.sensor;
+  const Vec3 body(1.0, -(u - s.cx) / s.fx, -(v - s.cy) / s.fy);
+  return c.world_from_body * (s.far * body);
+}
+
+}  // namespace
+
+void RenderOptions::Validate() const {
+  if (width < 16 || width > 8192) throw InputError(fmt::format("render: width {} must be within 16..8192", width));
+  if (height < 16 || height > 8192)
+    throw InputError(fmt::format("render: height {} must be within 16..8192", height));
+  if (!(vertical_fov > 0 && vertical_fov < kPi))
+    throw InputError(fmt::format("render: vertical_fov {} rad must be within (0, pi)", vertical_fov));
+  if (eye && !eye->allFinite()) throw InputError("render: eye must be finite numbers");
+  if (look_at && !look_at->allFinite()) throw InputError("render: look_at must be finite numbers");
+}
+
+View DefaultView(const Scene& scene, const Report& report, double vertical_fov) {
+  Aabb bounds = scene.TargetBounds();
+  if (bounds.IsEmpty()) {
+    for (const SceneObject& object : scene.objects) {
+      if (!object.mesh.IsEmpty()) bounds.Extend(object.mesh.Bounds());
+    }
+  }
+  std::vector<Vec3> sensors;
+  if (report.data) {
+    for (uint32_t index : PrimaryChosen(report)) {
+      if (index < report.data->candidates.size())
+        sensors.push_back(report.data->candidates[index].world_from_body.position);
+    }
+    if (bounds.IsEmpty()) {
+      for (const Candidate& c : report.data->candidates) bounds.Extend(c.world_from_body.position);
+    }
+  }
+  if (bounds.IsEmpty()) bounds = Aabb{Vec3::Constant(-0.5), Vec3::Constant(0.5)};
+  View view;
+  view.look_at = 0.5 * (bounds.min + bounds.max);
+
+  // Frame the targets with room around them, and the chosen sensors that stand close to them;
+  // far sensors are left out of the frame (their frusta still cross it), or the targets would
+  // shrink to a few pixels.
+  const double target_radius = std::max(0.5 * (bounds.max - bounds.min).norm(), 1e-3);
+  double radius = 1.8 * target_radius;
+  for (const Vec3& p : sensors) {
+    const double d = (p - view.look_at).norm();
+    if (d <= 3.0 * target_radius) radius = std::max(radius, 1.1 * d);
+  }
+
+  // Look from the side the chosen sensors look from, a little off their mean direction and from
+  // above, so that the picture shows depth; a fixed oblique direction when there is none.
+  const Vec3 oblique = Vec3(1.0, -1.2, 0.9).normalized();
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& p : sensors) {
+    const Vec3 d = p - view.look_at;
+    if (d.norm() > 1e-9) mean += d.normalized();
+  }
+  Vec3 direction = oblique;
+  if (!sensors.empty() && mean.norm() > 0.2 * static_cast<double>(sensors.size()))
+    direction = (mean.normalized() + 0.5 * oblique).normalized();
+  direction.z() = std::max(direction.z(), 0.35);
+  if (Vec3(direction.x(), direction.y(), 0).norm() < 0.2) direction += Vec3(0.3, -0.36, 0);
+  direction.normalize();
+  const double distance = 1.1 * radius / std::sin(0.5 * vertical_fov);
+  view.eye = view.look_at + distance * direction;
+  return view;
+}
+
+Image RenderView(const Scene& scene, const Report& report, const RenderOptions& options) {
+  options.Validate();
+  VANTAGE_CHECK(report.data != nullptr);
+  const VisibilityFile& data = *report.data;
+  const std::vector<uint32_t> chosen = PrimaryChosen(report);
+  const std::unordered_map<uint64_t, int> counts = ObservationCounts(data, chosen);
+
+  View view = DefaultView(scene, report, options.vertical_fov);
+  if (options.look_at) view.look_at = *options.look_at;
+  if (options.eye) view.eye = *options.eye;
+  if ((view.eye - view.look_at).norm() < 1e-9)
+    throw InputError(fmt::format("render: the eye ({}, {}, {}) is the point looked at — give two different points",
+                                 view.eye.x(), view.eye.y(), view.eye.z()));
+  const ViewCamera camera = MakeCamera(view, options);
+
+  Image image;
+  image.width = options.width;
+  image.height = options.height;
+  const size_t pixel_count = static_cast<size_t>(options.width) * static_cast<size_t>(options.height);
+  image.rgb.assign(3 * pixel_count, 0);
+  std::vector<float> depth(pixel_count, std::numeric_limits<float>::infinity());
+
+  const Vec3 key_light = (-camera.forward + 0.8 * camera.up - 0.5 * camera.right).normalized();
+  const detail::RayScene rays(scene);
+  const double cell_size = data.reference.cell_size;
+  const float origin[3] = {static_cast<float>(view.eye.x()), static_cast<float>(view.eye.y()),
+                           static_cast<float>(view.eye.z())};
+  // Rows fill preallocated slots by index: the picture does not depend on the thread count.
+  tbb::parallel_for(tbb::blocked_range<int>(0, options.height), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      for (int x = 0; x < options.width; ++x) {
+        const size_t i = static_cast<size_t>(y) * static_cast<size_t>(options.width) + static_cast<size_t>(x);
+        const Vec3 dir = camera.RayThrough(x + 0.5, y + 0.5);
+        const float dir_f[3] = {static_cast<float>(dir.x()), static_cast<float>(dir.y()),
+                                static_cast<float>(dir.z())};
+        const detail::RayHit hit = rays.IntersectHit(origin, dir_f, std::numeric_limits<float>::infinity());
+        Rgb color{};
+        double shade = 1.0;
+        if (hit.object < 0) {
+          // Background: a soft vertical gradient.
+          const double s = static_cast<double>(y) / options.height;
+          color = {static_cast<uint8_t>(236 - 36 * s), static_cast<uint8_t>(239 - 33 * s),
+                   static_cast<uint8_t>(243 - 25 * s)};
+        } else {
+          depth[i] = hit.t;
+          Vec3 normal(hit.normal[0], hit.normal[1], hit.normal[2]);
+          if (normal.norm() > 0) normal.normalize();
+          if (normal.dot(dir) > 0) normal = -normal;  // two-sided: the side facing the eye
+          // A headlight (every visible face lit) plus a key light from the upper left of the view,
+          // so that faces of different orientation differ.
+          const double facing = normal.norm() > 0 ? -normal.dot(dir) : 1.0;
+          const double key = std::max(0.0, normal.dot(key_light));
+          shade = 0.3 + 0.45 * facing + 0.3 * key;
+          if (hit.is_target) {
+            const Vec3 point = view.eye + static_cast<double>(hit.t) * dir;
+            const VoxelIndex key = VoxelKeyOf(point, cell_size);
+            int seeing = 0;
+            if (VoxelIndexFits(key)) {
+              const auto it = counts.find(PackVoxel(key));
+              if (it != counts.end()) seeing = it->second;
+            }
+            color = TargetColor(seeing);
+          } else {
+            // Neighbouring occluders (a table on a floor) differ a little in lightness.
+            const double tint = 0.86 + 0.07 * static_cast<double>(static_cast<uint32_t>(hit.object) % 5) / 2.0;
+            for (int c = 0; c < 3; ++c)
+              color[c] = static_cast<uint8_t>(std::lround(std::min(255.0, tint * kOccluderColor[c])));
+          }
+        }
+        for (int c = 0; c < 3; ++c)
+          image.rgb[3 * i + c] = static_cast<uint8_t>(std::lround(std::clamp(shade * color[c], 0.0, 255.0)));
+      }
+    }
+  });
+
+  if (options.draw_frusta) {
+    Overlay overlay(camera, depth);
+    for (uint32_t index : chosen) {
+      const Candidate& c = data.candidates.at(index);
+      const Vec3 apex = c.world_from_body.position;
+      const double w = c.sensor.width, h = c.sensor.height;
+      const Vec3 corners[4] = {FarCorner(c, 0, 0), FarCorner(c, w, 0), FarCorner(c, w, h), FarCorner(c, 0, h)};
+      for (int k = 0; k < 4; ++k) {
+        overlay.Segment(apex, corners[k]);
+        overlay.Segment(corners[k], corners[(k + 1) % 4]);
+      }
+      overlay.Disc(apex, std::max(3.0, options.height / 160.0));
+    }
+    overlay.Composite(kFrustumColor, &image);
+  }
+  return image;
+}
+
+void WritePng(const std::string& path, const Image& image) {
+  VANTAGE_CHECK(image.width > 0 && image.height > 0 &&
+                image.rgb.size() == 3 * static_cast<size_t>(image.width) * static_cast<size_t>(image.height));
+  if (stbi_write_png(path.c_str(), image.width, image.height, 3, image.rgb.data(), 3 * image.width) == 0)
+    throw InputError(AtPlace(path, 0, "cannot write the PNG file — check that its folder exists and is writable"));
+}
+
+}  // namespace vantage

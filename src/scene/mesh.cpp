@@ -1,0 +1,344 @@
+// Triangle meshes: the scene's geometry, the primitives of SDF and YAML scenes (tessellated with
+// a bounded chord error, SYSTEM.md "coverage metric"), and mesh files read through Assimp.
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <assimp/Importer.hpp>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "vantage/error.hpp"
+#include "vantage/scene.hpp"
+
+namespace vantage {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+/// Above this many segments per circle a primitive would need billions of triangles: the chord
+/// error is absurdly small for its radius (a typo in a radius or in the cell size).
+constexpr int kMaxSegments = 20'000;
+/// A triangle whose doubled area is below this share of its longest edge squared is degenerate
+/// (collinear to rounding), as well as one with two equal indices.
+constexpr double kDegenerateRatio = 1e-12;
+
+double TriangleArea(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return 0.5 * (b - a).cross(c - a).norm();
+}
+
+bool IsDegenerate(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double doubled_area = (b - a).cross(c - a).norm();
+  const double longest_squared =
+      std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  return !(doubled_area > kDegenerateRatio * longest_squared);
+}
+
+void CheckPositive(double value, const char* what, const char* shape) {
+  if (!std::isfinite(value) || value <= 0) {
+    throw InputError(fmt::format("{} {} = {} must be a positive length [m] — fix the {}", shape,
+                                 what, value, shape));
+  }
+}
+
+/// Smallest n >= 3 for which a circle of `radius` cut into n chords deviates from its polygon by
+/// less than `max_chord_error`: r (1 − cos(π / n)) < e (the sagitta of one chord).
+int SegmentsFor(double radius, double max_chord_error, const char* shape) {
+  CheckPositive(max_chord_error, "chord error", shape);
+  const double ratio = max_chord_error / radius;
+  int n = 3;
+  if (ratio < 2.0) {
+    const double half_angle = std::acos(1.0 - ratio);
+    const double estimate = std::floor(kPi / half_angle) + 1.0;
+    if (!(estimate <= kMaxSegments)) {
+      throw InputError(fmt::format(
+          "{} of radius {} m needs more than {} segments for a chord error of {} m — check the "
+          "radius and the cell size",
+          shape, radius, kMaxSegments, max_chord_error));
+    }
+    n = std::max(3, static_cast<int>(estimate));
+  }
+  // The closed form may land one short after rounding: step up until the rule holds.
+  while (radius * (1.0 - std::cos(kPi / n)) >= max_chord_error) ++n;
+  return n;
+}
+
+/// Largest distance between a triangle with vertices on a sphere of `radius` (centred at the
+/// origin) and that sphere: r − (distance of the triangle's plane), the plane's distance being
+/// sqrt(r² − R²) for the triangle's circumradius R. An upper bound of the true deviation.
+double SphereDeviation(const Vec3& a, const Vec3& b, const Vec3& c, double radius) {
+  const double ab = (b - a).norm(), bc = (c - b).norm(), ca = (a - c).norm();
+  const double area = TriangleArea(a, b, c);
+  if (area <= 0) return radius;
+  const double circumradius = ab * bc * ca / (4.0 * area);
+  return radius - std::sqrt(std::max(0.0, radius * radius - circumradius * circumradius));
+}
+
+/// Vertex of a UV sphere at ring `ring` (0 = north pole, rings = south pole) and slice `slice`.
+Vec3 SpherePoint(double radius, int ring, int rings, int slice, int slices) {
+  const double polar = kPi * ring / rings;
+  const double azimuth = 2.0 * kPi * slice / slices;
+  return radius * Vec3(std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth),
+                       std::cos(polar));
+}
+
+/// Largest deviation of a UV sphere's facets from the sphere: every slice is the same by
+/// symmetry, so one column suffices. The triangles are those MakeSphere builds: a fan at each
+/// pole, and quads (a, b, c, d) split into (a, b, c) and (a, c, d) in between.
+double UvSphereDeviation(double radius, int rings, int slices) {
+  double worst = 0;
+  for (int ring = 0; ring < rings; ++ring) {
+    const Vec3 a = SpherePoint(radius, ring, rings, 0, slices);
+    const Vec3 b = SpherePoint(radius, ring + 1, rings, 0, slices);
+    const Vec3 c = SpherePoint(radius, ring + 1, rings, 1, slices);
+    const Vec3 d = SpherePoint(radius, ring, rings, 1, slices);
+    if (ring == 0) {
+      worst = std::max(worst, SphereDeviation(a, b, c, radius));  // a = d: north pole
+    } else if (ring + 1 == rings) {
+      worst = std::max(worst, SphereDeviation(a, b, d, radius));  // b = c: south pole
+    } else {
+      worst = std::max({worst, SphereDeviation(a, b, c, radius), SphereDeviation(a, c, d, radius)});
+    }
+  }
+  return worst;
+}
+
+/// Appends the triangle (a, b, c) and (a, c, d) of a quad given counter-clockwise from outside.
+void AddQuad(TriangleMesh* mesh, uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
+  mesh->triangles.push_back({a, b, c});
+  mesh->triangles.push_back({a, c, d});
+}
+
+/// Drops vertices no triangle uses (after degenerate triangles were removed) so that Bounds()
+/// describes the surface.
+void RemoveUnusedVertices(TriangleMesh* mesh) {
+  constexpr uint32_t kUnused = UINT32_MAX;
+  std::vector<uint32_t> new_index(mesh->vertices.size(), kUnused);
+  std::vector<Vec3> kept;
+  for (auto& triangle : mesh->triangles) {
+    for (uint32_t& index : triangle) {
+      if (new_index[index] == kUnused) {
+        new_index[index] = static_cast<uint32_t>(kept.size());
+        kept.push_back(mesh->vertices[index]);
+      }
+      index = new_index[index];
+    }
+  }
+  mesh->vertices = std::move(kept);
+}
+
+/// Appends the triangles of one Assimp mesh, placed by `world_from_mesh`; lines and points
+/// (left by aiProcess_SortByPType) are skipped.
+void AppendAssimpMesh(const aiMesh& mesh, const aiMatrix4x4& world_from_mesh, TriangleMesh* out) {
+  if (!(mesh.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return;
+  const auto base = static_cast<uint32_t>(out->vertices.size());
+  for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+    const aiVector3D p = world_from_mesh * mesh.mVertices[v];
+    out->vertices.emplace_back(p.x, p.y, p.z);
+  }
+  for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+    const aiFace& face = mesh.mFaces[f];
+    if (face.mNumIndices != 3) continue;
+    out->triangles.push_back(
+        {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+  }
+}
+
+/// Walks the node tree, composing each node's transform onto its parent's.
+void Flatten(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent,
+             TriangleMesh* out) {
+  const aiMatrix4x4 world_from_node = parent * node.mTransformation;
+  for (unsigned i = 0; i < node.mNumMeshes; ++i) {
+    if (node.mMeshes[i] < scene.mNumMeshes)
+      AppendAssimpMesh(*scene.mMeshes[node.mMeshes[i]], world_from_node, out);
+  }
+  for (unsigned i = 0; i < node.mNumChildren; ++i) {
+    Flatten(scene, *node.mChildren[i], world_from_node, out);
+  }
+}
+
+[[noreturn]] void FailMesh(const std::string& path, const std::string& what) {
+  throw InputError(fmt::format(
+      "{}: cannot read mesh: {} — check the file exists and is STL/DAE/OBJ/PLY or another "
+      "format Assimp reads, with at least one non-degenerate triangle",
+      path, what));
+}
+
+}  // namespace
+
+Aabb TriangleMesh::Bounds() const {
+  Aabb box;
+  for (const Vec3& v : vertices) box.Extend(v);
+  return box;
+}
+
+double TriangleMesh::Area() const {
+  double area = 0;
+  for (const auto& t : triangles) area += TriangleArea(vertices[t[0]], vertices[t[1]], vertices[t[2]]);
+  return area;
+}
+
+void TriangleMesh::Append(const TriangleMesh& other) {
+  const auto shift = static_cast<uint32_t>(vertices.size());
+  vertices.insert(vertices.end(), other.vertices.begin(), other.vertices.end());
+  triangles.reserve(triangles.size() + other.triangles.size());
+  for (const auto& t : other.triangles) triangles.push_back({t[0] + shift, t[1] + shift, t[2] + shift});
+}
+
+void TriangleMesh::Transform(const Pose& pose) {
+  for (Vec3& v : vertices) v = pose * v;
+}
+
+void TriangleMesh::Scale(const Vec3& scale) {
+  for (Vec3& v : vertices) v = v.cwiseProduct(scale);
+}
+
+size_t Scene::TargetCount() const {
+  size_t count = 0;
+  for (const SceneObject& object : objects) count += object.is_target() ? 1 : 0;
+  return count;
+}
+
+size_t Scene::TriangleCount() const {
+  size_t count = 0;
+  for (const SceneObject& object : objects) count += object.mesh.triangles.size();
+  return count;
+}
+
+Aabb Scene::TargetBounds() const {
+  Aabb box;
+  for (const SceneObject& object : objects) {
+    if (object.is_target()) box.Extend(object.mesh.Bounds());
+  }
+  return box;
+}
+
+TriangleMesh MakeBox(const Vec3& size) {
+  CheckPositive(size.x(), "size x", "box");
+  CheckPositive(size.y(), "size y", "box");
+  CheckPositive(size.z(), "size z", "box");
+  const Vec3 h = size / 2.0;
+  TriangleMesh mesh;
+  // Vertex i has x = ±h.x by bit 0, y by bit 1, z by bit 2.
+  for (int i = 0; i < 8; ++i) {
+    mesh.vertices.emplace_back(i & 1 ? h.x() : -h.x(), i & 2 ? h.y() : -h.y(),
+                               i & 4 ? h.z() : -h.z());
+  }
+  // Each face counter-clockwise seen from outside, so normals point out.
+  AddQuad(&mesh, 0, 2, 3, 1);  // -z
+  AddQuad(&mesh, 4, 5, 7, 6);  // +z
+  AddQuad(&mesh, 0, 1, 5, 4);  // -y
+  AddQuad(&mesh, 2, 6, 7, 3);  // +y
+  AddQuad(&mesh, 0, 4, 6, 2);  // -x
+  AddQuad(&mesh, 1, 3, 7, 5);  // +x
+  return mesh;
+}
+
+TriangleMesh MakeSphere(double radius, double max_chord_error) {
+  CheckPositive(radius, "radius", "sphere");
+  // Slices by the chord rule on the equator, rings by the same rule on a meridian (half a
+  // circle); then refine both until the facets' deviation, not only the edges', is below the
+  // bound (a quad's centre lies deeper than its edges).
+  int slices = SegmentsFor(radius, max_chord_error, "sphere");
+  int rings = std::max(2, (slices + 1) / 2);
+  while (UvSphereDeviation(radius, rings, slices) >= max_chord_error) {
+    slices += std::max(1, slices / 8);
+    rings = std::max(2, (slices + 1) / 2);
+    if (slices > kMaxSegments) {
+      throw InputError(fmt::format("sphere of radius {} m needs more than {} segments for a chord "
+                                   "error of {} m — check the radius and the cell size",
+                                   radius, kMaxSegments, max_chord_error));
+    }
+  }
+  TriangleMesh mesh;
+  mesh.vertices.push_back(Vec3(0, 0, radius));  // north pole: index 0
+  for (int ring = 1; ring < rings; ++ring) {
+    for (int slice = 0; slice < slices; ++slice) {
+      mesh.vertices.push_back(SpherePoint(radius, ring, rings, slice, slices));
+    }
+  }
+  const auto south = static_cast<uint32_t>(mesh.vertices.size());
+  mesh.vertices.push_back(Vec3(0, 0, -radius));
+  const auto at = [&](int ring, int slice) {
+    return static_cast<uint32_t>(1 + (ring - 1) * slices + slice % slices);
+  };
+  for (int slice = 0; slice < slices; ++slice) {
+    mesh.triangles.push_back({0, at(1, slice), at(1, slice + 1)});
+    for (int ring = 1; ring + 1 < rings; ++ring) {
+      AddQuad(&mesh, at(ring, slice), at(ring + 1, slice), at(ring + 1, slice + 1),
+              at(ring, slice + 1));
+    }
+    mesh.triangles.push_back({south, at(rings - 1, slice + 1), at(rings - 1, slice)});
+  }
+  return mesh;
+}
+
+TriangleMesh MakeCylinder(double radius, double length, double max_chord_error) {
+  CheckPositive(radius, "radius", "cylinder");
+  CheckPositive(length, "length", "cylinder");
+  // The side's quads are planar with their corners on the circle, so the chord rule alone bounds
+  // the deviation; the caps are flat.
+  const int slices = SegmentsFor(radius, max_chord_error, "cylinder");
+  const double h = length / 2.0;
+  TriangleMesh mesh;
+  for (int slice = 0; slice < slices; ++slice) {
+    const double azimuth = 2.0 * kPi * slice / slices;
+    const double x = radius * std::cos(azimuth), y = radius * std::sin(azimuth);
+    mesh.vertices.emplace_back(x, y, -h);  // 2·slice
+    mesh.vertices.emplace_back(x, y, h);   // 2·slice + 1
+  }
+  const auto bottom_centre = static_cast<uint32_t>(mesh.vertices.size());
+  mesh.vertices.emplace_back(0, 0, -h);
+  mesh.vertices.emplace_back(0, 0, h);
+  const uint32_t top_centre = bottom_centre + 1;
+  for (int slice = 0; slice < slices; ++slice) {
+    const auto lo = static_cast<uint32_t>(2 * slice);
+    const auto next_lo = static_cast<uint32_t>(2 * ((slice + 1) % slices));
+    AddQuad(&mesh, lo, next_lo, next_lo + 1, lo + 1);
+    mesh.triangles.push_back({bottom_centre, next_lo, lo});
+    mesh.triangles.push_back({top_centre, lo + 1, next_lo + 1});
+  }
+  return mesh;
+}
+
+TriangleMesh MakePlane(double size_x, double size_y) {
+  CheckPositive(size_x, "size x", "plane");
+  CheckPositive(size_y, "size y", "plane");
+  const double hx = size_x / 2.0, hy = size_y / 2.0;
+  TriangleMesh mesh;
+  mesh.vertices = {Vec3(-hx, -hy, 0), Vec3(hx, -hy, 0), Vec3(hx, hy, 0), Vec3(-hx, hy, 0)};
+  AddQuad(&mesh, 0, 1, 2, 3);
+  return mesh;
+}
+
+TriangleMesh LoadMeshFile(const std::string& path) {
+  Assimp::Importer importer;
+  // Gazebo uses a Collada file's coordinates as they are (Z up in practice), with only the
+  // <unit> scale applied; Assimp would otherwise rotate Z_UP files to Y up.
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  const aiScene* scene = importer.ReadFile(
+      path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+  if (!scene || !scene->mRootNode) FailMesh(path, importer.GetErrorString());
+
+  TriangleMesh raw;
+  Flatten(*scene, *scene->mRootNode, aiMatrix4x4(), &raw);
+  if (raw.triangles.empty()) FailMesh(path, "it holds no triangles");
+  for (const Vec3& v : raw.vertices) {
+    if (!v.allFinite()) FailMesh(path, "it has a vertex that is not finite (NaN or infinity)");
+  }
+  TriangleMesh mesh;
+  mesh.vertices = std::move(raw.vertices);
+  for (const auto& t : raw.triangles) {
+    if (!IsDegenerate(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]))
+      mesh.triangles.push_back(t);
+  }
+  if (mesh.triangles.empty()) FailMesh(path, "every triangle is degenerate (zero area)");
+  RemoveUnusedVertices(&mesh);
+  return mesh;
+}
+
+}  // namespace vantage

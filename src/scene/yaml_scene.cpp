@@ -1,0 +1,1181 @@
+// vantage's YAML scene format (docs/scene-format.md) and the loader that dispatches by extension.
+// Every problem is collected with its line (STYLE.md, Errors) and reported in one InputError.
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "vantage/error.hpp"
+#include "vantage/problem.hpp"
+#include "vantage/select.hpp"
+
+namespace vantage {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDegree = kPi / 180.0;
+/// Below this norm a quaternion has no direction.
+constexpr double kMinQuaternionNorm = 1e-9;
+
+// ---------------------------------------------------------------------------------------------
+// Words: suggestions for misspelt keys and values.
+
+size_t EditDistance(std::string_view a, std::string_view b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t substitution = diagonal + (a[i - 1] == b[j - 1] ? 0 : 1);
+      diagonal = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, substitution});
+    }
+  }
+  return row[b.size()];
+}
+
+std::string JoinQuoted(const std::vector<std::string>& words) {
+  std::string all;
+  for (const std::string& word : words) all += (all.empty() ? "'" : ", '") + word + "'";
+  return all;
+}
+
+/// "did you mean 'x'?" for the closest word within a third of its length (at least 2 edits),
+/// else the list of valid words.
+std::string Suggest(std::string_view word, const std::vector<std::string>& valid) {
+  const std::string* best = nullptr;
+  size_t best_distance = std::numeric_limits<size_t>::max();
+  for (const std::string& candidate : valid) {
+    const size_t distance = EditDistance(word, candidate);
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = &candidate;
+    }
+  }
+  const size_t tolerance = std::max<size_t>(2, word.size() / 3);
+  if (best && best_distance <= tolerance) return fmt::format("did you mean '{}'?", *best);
+  return "valid: " + JoinQuoted(valid);
+}
+
+int LineOf(const YAML::Node& node) {
+  const YAML::Mark mark = node.Mark();
+  return mark.is_null() ? 0 : mark.line + 1;
+}
+
+std::string TextOf(const YAML::Node& node) {
+  if (node.IsScalar()) return node.Scalar();
+  if (node.IsSequence()) return "a list";
+  if (node.IsMap()) return "a mapping";
+  return "nothing";
+}
+
+/// A YAML value and the line to report it at: its key's line for a mapping entry (yaml-cpp marks
+/// an empty value at the next token, often a later line), else its own.
+struct Value {
+  YAML::Node node;
+  int line = 0;
+};
+
+Value ValueOf(const YAML::Node& node) { return Value{node, LineOf(node)}; }
+
+std::vector<std::string> CatalogIds() {
+  std::vector<std::string> ids;
+  for (const SensorType& type : Catalog()) ids.push_back(type.id);
+  return ids;
+}
+
+/// Diagnostics that also count, so that a reader can tell whether one item was clean.
+class Reporter {
+ public:
+  explicit Reporter(Diagnostics* diag) : diag_(diag) {}
+  void Error(int line, const std::string& message) {
+    ++count_;
+    diag_->Error(line, message);
+  }
+  size_t count() const { return count_; }
+
+ private:
+  Diagnostics* diag_;
+  size_t count_ = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Fields: one YAML mapping, its keys checked against those it may hold.
+
+class Fields {
+ public:
+  /// Records an error when `node` is not a mapping, or holds unknown or repeated keys.
+  Fields(const Value& input,
+         std::string context,
+         std::initializer_list<std::string_view> allowed,
+         Reporter* diag)
+      : context_(std::move(context)), line_(input.line) {
+    const YAML::Node& node = input.node;
+    if (node.IsNull()) return;  // an empty section: every key absent
+    if (!node.IsMap()) {
+      diag->Error(line_, fmt::format("{} must be a mapping of `key: value` lines, got {} — see "
+                                     "docs/scene-format.md",
+                                     context_, TextOf(node)));
+      return;
+    }
+    const std::vector<std::string> valid(allowed.begin(), allowed.end());
+    for (const auto& entry : node) {
+      const YAML::Node& key = entry.first;
+      const std::string name = key.IsScalar() ? key.Scalar() : "";
+      if (std::find(valid.begin(), valid.end(), name) == valid.end()) {
+        diag->Error(LineOf(key), fmt::format("unknown key '{}' in {} — {}", name, context_,
+                                             Suggest(name, valid)));
+      } else if (Get(name)) {
+        diag->Error(LineOf(key), fmt::format("key '{}' appears twice in {} — keep one", name,
+                                             context_));
+      } else {
+        const YAML::Node& item = entry.second;
+        entries_.emplace_back(name, Value{item, LineOf(key)});
+      }
+    }
+  }
+
+  std::optional<Value> Get(std::string_view key) const {
+    for (const auto& [name, value] : entries_) {
+      if (name == key) return value;
+    }
+    return std::nullopt;
+  }
+  bool Has(std::string_view key) const { return Get(key).has_value(); }
+  const std::string& context() const { return context_; }
+  int line() const { return line_; }
+
+ private:
+  std::string context_;
+  int line_ = 0;
+  std::vector<std::pair<std::string, Value>> entries_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// The reader of one scene file.
+
+class SceneReader {
+ public:
+  SceneReader(const std::string& path, const LoadOptions& options, Diagnostics* diag,
+              Problem* problem)
+      : folder_(fs::path(path).parent_path()),
+        options_(options),
+        reporter_(diag),
+        diag_(&reporter_),
+        problem_(problem) {}
+
+  void Read(const YAML::Node& root);
+
+ private:
+  // Values. Each records an error naming `what` and returns nullopt when the value is wrong.
+  std::optional<double> Number(const Value& input, const std::string& what);
+  std::optional<double> Positive(const Value& input, const std::string& what);
+  std::optional<int64_t> Integer(const Value& input, const std::string& what, int64_t min,
+                                 int64_t max);
+  std::optional<bool> Boolean(const Value& input, const std::string& what);
+  std::optional<std::string> Text(const Value& input, const std::string& what);
+  std::optional<std::vector<double>> Numbers(const Value& input, size_t count,
+                                             const std::string& what);
+  std::optional<Vec3> Vector(const Value& input, const std::string& what);
+  std::optional<Quat> Rotation(const Fields& fields, const std::string& what);
+  std::optional<Pose> PoseOf(const Value& input, const std::string& what);
+  std::optional<std::string> Name(const Fields& fields, const std::string& kind);
+  std::vector<Value> Items(const Value& input, const std::string& section);
+  void Missing(const Fields& fields, const std::string& key, const std::string& example);
+
+  // Sections.
+  void ReadSettings(const Value& input);
+  void ReadRansac(const Value& input);
+  void ReadSensorTypes(const Value& input);
+  std::optional<SensorType> ReadSensorType(const Value& input);
+  const SensorType* ReadBase(const Fields& fields, const std::string& what);
+  void ReadIntrinsics(const Fields& fields, const std::string& what, const SensorType* base,
+                      bool resolution_changed, SensorType* type);
+  void ReadRangeAndCost(const Fields& fields, const std::string& what, SensorType* type);
+  void ReadResolution(const Fields& fields, const std::string& what, SensorType* type,
+                      bool* changed);
+  std::optional<double> ReadFov(const Fields& fields, const std::string& key,
+                                const std::string& what);
+  void ReadObjects(const Value& input);
+  std::optional<SceneObject> ReadObject(const Value& input);
+  std::optional<TriangleMesh> ReadShape(const Fields& fields, const std::string& what);
+  std::optional<TriangleMesh> ReadPrimitive(const std::string& shape, const Value& input,
+                                            const std::string& what);
+  std::optional<TriangleMesh> ReadMesh(const Value& input, const std::string& what);
+  std::optional<Vec3> ReadScale(const Value& input, const std::string& what);
+  void ReadPopulations(const Value& input);
+  std::optional<Population> ReadPopulation(const Value& input);
+  bool ReadRegion(const Fields& fields, const std::string& what, Population* population);
+  bool ReadGrid(const Fields& fields, const std::string& what, Population* population);
+  void ReadSensors(const Value& input);
+  std::optional<ExplicitSensor> ReadSensor(const Value& input);
+  std::optional<std::string> TypeReference(const Fields& fields, const std::string& what);
+  void ApplyTargetOverride();
+  void AddReferencedCatalogTypes();
+  bool IsCustomType(const std::string& id) const { return problem_->FindType(id) != nullptr; }
+
+  void Error(int line, const std::string& message) { reporter_.Error(line, message); }
+  size_t ErrorCount() const { return reporter_.count(); }
+
+  fs::path folder_;
+  const LoadOptions& options_;
+  Reporter reporter_;
+  Reporter* diag_;  ///< what Fields report to
+  Problem* problem_;
+  int objects_line_ = 0;
+  std::map<std::string, TriangleMesh> mesh_cache_;  ///< by resolved path
+};
+
+// ----- values --------------------------------------------------------------------------------
+
+std::string Shown(const YAML::Node& node) {
+  return node.IsScalar() ? "'" + node.Scalar() + "'" : TextOf(node);
+}
+
+std::optional<double> SceneReader::Number(const Value& input, const std::string& what) {
+  std::optional<double> number;
+  if (input.node.IsScalar()) {
+    try {
+      number = input.node.as<double>();
+    } catch (const YAML::Exception&) {
+      number.reset();
+    }
+  }
+  if (!number) {
+    Error(input.line, fmt::format("{}: expected a number, got {} — write a plain number, e.g. 0.5",
+                                  what, Shown(input.node)));
+    return std::nullopt;
+  }
+  if (!std::isfinite(*number)) {
+    Error(input.line, fmt::format("{} is {} — give a finite number", what, input.node.Scalar()));
+    return std::nullopt;
+  }
+  return number;
+}
+
+std::optional<double> SceneReader::Positive(const Value& input, const std::string& what) {
+  const std::optional<double> number = Number(input, what);
+  if (number && *number <= 0) {
+    Error(input.line, fmt::format("{} = {} must be positive — give a value > 0", what, *number));
+    return std::nullopt;
+  }
+  return number;
+}
+
+std::optional<int64_t> SceneReader::Integer(const Value& input, const std::string& what,
+                                            int64_t min, int64_t max) {
+  std::optional<int64_t> number;
+  if (input.node.IsScalar()) {
+    try {
+      number = input.node.as<int64_t>();
+    } catch (const YAML::Exception&) {
+      number.reset();
+    }
+  }
+  if (!number) {
+    Error(input.line, fmt::format("{}: expected a whole number, got {} — write e.g. 3", what,
+                                  Shown(input.node)));
+    return std::nullopt;
+  }
+  if (*number < min || *number > max) {
+    Error(input.line, fmt::format("{} = {} is out of range — give a value in [{}, {}]", what,
+                                  *number, min, max));
+    return std::nullopt;
+  }
+  return number;
+}
+
+std::optional<bool> SceneReader::Boolean(const Value& input, const std::string& what) {
+  if (input.node.IsScalar()) {
+    try {
+      return input.node.as<bool>();
+    } catch (const YAML::Exception&) {
+      // reported below
+    }
+  }
+  Error(input.line,
+        fmt::format("{}: expected true or false, got {} — write true or false", what, Shown(input.node)));
+  return std::nullopt;
+}
+
+std::optional<std::string> SceneReader::Text(const Value& input, const std::string& what) {
+  if (input.node.IsScalar() && !input.node.Scalar().empty()) return input.node.Scalar();
+  Error(input.line, fmt::format("{}: expected a word, got {} — write a plain word, e.g. part_1", what, TextOf(input.node)));
+  return std::nullopt;
+}
+
+/// The line of a list's element: its own, unless yaml-cpp has none for it.
+Value ElementOf(const Value& list, size_t i) {
+  const YAML::Node element = list.node[i];
+  const int line = LineOf(element);
+  return Value{element, line > 0 ? line : list.line};
+}
+
+std::optional<std::vector<double>> SceneReader::Numbers(const Value& input, size_t count,
+                                                        const std::string& what) {
+  const YAML::Node& node = input.node;
+  if (!node.IsSequence() || node.size() != count) {
+    const char* example = count == 2 ? "0.5, 2.0" : count == 3 ? "0, 0, 1" : "1, 0, 0, 0";
+    Error(input.line, fmt::format("{}: expected a list of {} numbers, got {} — write e.g. [{}]",
+                                  what, count,
+                                  node.IsSequence() ? fmt::format("{} items", node.size())
+                                                    : Shown(node),
+                                  example));
+    return std::nullopt;
+  }
+  std::vector<double> numbers;
+  for (size_t i = 0; i < count; ++i) {
+    const std::optional<double> number = Number(ElementOf(input, i), fmt::format("{}[{}]", what, i));
+    if (!number) return std::nullopt;
+    numbers.push_back(*number);
+  }
+  return numbers;
+}
+
+std::optional<Vec3> SceneReader::Vector(const Value& input, const std::string& what) {
+  const auto numbers = Numbers(input, 3, what);
+  if (!numbers) return std::nullopt;
+  return Vec3((*numbers)[0], (*numbers)[1], (*numbers)[2]);
+}
+
+/// `rpy: [roll, pitch, yaw]` (R = Rz·Ry·Rx, as SDF) or `quaternion: [w, x, y, z]`; identity when
+/// neither is given.
+std::optional<Quat> SceneReader::Rotation(const Fields& fields, const std::string& what) {
+  const auto rpy = fields.Get("rpy");
+  const auto quaternion = fields.Get("quaternion");
+  if (rpy && quaternion) {
+    Error(quaternion->line,
+          fmt::format("{}: both rpy and quaternion are given — keep one of them", what));
+    return std::nullopt;
+  }
+  if (rpy) {
+    const auto v = Vector(*rpy, what + ".rpy");
+    if (!v) return std::nullopt;
+    return Quat(RotationFromRpy(v->x(), v->y(), v->z())).normalized();
+  }
+  if (quaternion) {
+    const auto q = Numbers(*quaternion, 4, what + ".quaternion");
+    if (!q) return std::nullopt;
+    const Quat rotation((*q)[0], (*q)[1], (*q)[2], (*q)[3]);  // [w, x, y, z]
+    if (rotation.norm() < kMinQuaternionNorm) {
+      Error(quaternion->line,
+            fmt::format("{}.quaternion is zero — give [w, x, y, z], e.g. [1, 0, 0, 0]", what));
+      return std::nullopt;
+    }
+    return rotation.normalized();
+  }
+  return Quat::Identity();
+}
+
+std::optional<Pose> SceneReader::PoseOf(const Value& input, const std::string& what) {
+  const Fields fields(input, what, {"xyz", "rpy", "quaternion"}, diag_);
+  Pose pose;
+  bool ok = true;
+  if (const auto xyz = fields.Get("xyz")) {
+    const auto position = Vector(*xyz, what + ".xyz");
+    ok = position.has_value();
+    if (position) pose.position = *position;
+  }
+  const auto rotation = Rotation(fields, what);
+  if (!rotation || !ok) return std::nullopt;
+  pose.rotation = *rotation;
+  return pose;
+}
+
+std::optional<std::string> SceneReader::Name(const Fields& fields, const std::string& kind) {
+  const auto name = fields.Get("name");
+  if (!name) {
+    Missing(fields, "name", "name: part_1");
+    return std::nullopt;
+  }
+  return Text(*name, kind + " name");
+}
+
+std::vector<Value> SceneReader::Items(const Value& input, const std::string& section) {
+  std::vector<Value> items;
+  if (input.node.IsNull()) return items;
+  if (!input.node.IsSequence()) {
+    Error(input.line, fmt::format("{} must be a list, got {} — write one `- name: ...` entry per item",
+                                  section, Shown(input.node)));
+    return items;
+  }
+  for (size_t i = 0; i < input.node.size(); ++i) items.push_back(ElementOf(input, i));
+  return items;
+}
+
+void SceneReader::Missing(const Fields& fields, const std::string& key,
+                          const std::string& example) {
+  Error(fields.line(), fmt::format("{} has no '{}' — add e.g. `{}`", fields.context(), key, example));
+}
+
+// ----- settings ------------------------------------------------------------------------------
+
+void SceneReader::ReadSettings(const Value& input) {
+  const Fields fields(input, "settings",
+                      {"cell_size", "n", "method", "observation_point", "random_roll", "seed",
+                       "ransac", "expected_candidates"},
+                      diag_);
+  Problem& p = *problem_;
+  if (const auto v = fields.Get("cell_size")) {
+    if (const auto f = Positive(*v, "settings.cell_size")) p.cell_size = *f;
+  }
+  if (const auto v = fields.Get("n")) {
+    if (const auto n = Integer(*v, "settings.n", 1, std::numeric_limits<int>::max()))
+      p.n = static_cast<int>(*n);
+  }
+  if (const auto v = fields.Get("method")) {
+    if (const auto method = Text(*v, "settings.method")) {
+      try {
+        p.method = MethodName(ParseMethod(*method));
+      } catch (const InputError&) {
+        Error(v->line, fmt::format("settings.method '{}' is unknown — {}", *method,
+                                   Suggest(*method, {"best", "ransac", "greedy", "local", "exact",
+                                                     "all"})));
+      }
+    }
+  }
+  if (const auto v = fields.Get("observation_point")) {
+    if (const auto point = Vector(*v, "settings.observation_point")) p.observation_point = *point;
+  }
+  if (const auto v = fields.Get("random_roll")) {
+    if (const auto roll = Boolean(*v, "settings.random_roll")) p.random_roll = *roll;
+  }
+  if (const auto v = fields.Get("seed")) {
+    if (const auto seed = Integer(*v, "settings.seed", 0, std::numeric_limits<int64_t>::max()))
+      p.seed = static_cast<uint64_t>(*seed);
+  }
+  if (const auto v = fields.Get("ransac")) ReadRansac(*v);
+  if (const auto v = fields.Get("expected_candidates")) {
+    if (const auto count = Integer(*v, "settings.expected_candidates", 1,
+                                   std::numeric_limits<int>::max()))
+      p.expected_candidates = static_cast<int>(*count);
+  }
+}
+
+void SceneReader::ReadRansac(const Value& input) {
+  const Fields fields(input, "settings.ransac", {"iterations", "stop_coverage"}, diag_);
+  if (const auto v = fields.Get("iterations")) {
+    if (const auto n = Integer(*v, "settings.ransac.iterations", 1, std::numeric_limits<int>::max()))
+      problem_->ransac_iterations = static_cast<int>(*n);
+  }
+  if (const auto v = fields.Get("stop_coverage")) {
+    const auto c = Number(*v, "settings.ransac.stop_coverage");
+    if (c && (*c < 0 || *c > 1)) {
+      Error(v->line, fmt::format("settings.ransac.stop_coverage = {} is a fraction — give a "
+                                    "value in [0, 1] (e.g. 0.8 for 80 %)",
+                                    *c));
+    } else if (c) {
+      problem_->ransac_stop_coverage = *c;
+    }
+  }
+}
+
+// ----- sensor types --------------------------------------------------------------------------
+
+void SceneReader::ReadSensorTypes(const Value& input) {
+  for (const Value& item : Items(input, "sensor_types")) {
+    std::optional<SensorType> type = ReadSensorType(item);
+    if (!type) continue;
+    if (FindCatalogType(type->id)) {
+      Error(item.line, fmt::format("sensor type id '{}' is a catalog id — choose another id "
+                                      "(derive with `base: {}` to change its fields)",
+                                      type->id, type->id));
+    } else if (IsCustomType(type->id)) {
+      Error(item.line, fmt::format("sensor type '{}' is declared twice — rename one", type->id));
+    } else {
+      problem_->sensor_types.push_back(std::move(*type));
+    }
+  }
+}
+
+/// `hfov`/`vfov` in radians or `hfov_deg`/`vfov_deg` in degrees; the angle must lie in (0, π).
+std::optional<double> SceneReader::ReadFov(const Fields& fields, const std::string& key,
+                                           const std::string& what) {
+  const auto radians = fields.Get(key);
+  const auto degrees = fields.Get(key + "_deg");
+  if (radians && degrees) {
+    Error(degrees->line, fmt::format("{}: both {} and {}_deg are given — keep one", what, key,
+                                        key));
+    return std::nullopt;
+  }
+  if (!radians && !degrees) return std::nullopt;
+  const Value& input = radians ? *radians : *degrees;
+  const std::string name = fmt::format("{}.{}{}", what, key, radians ? "" : "_deg");
+  const auto value = Number(input, name);
+  if (!value) return std::nullopt;
+  const double angle = radians ? *value : *value * kDegree;
+  if (angle <= 0 || angle >= kPi) {
+    Error(input.line, fmt::format("{} = {} must lie in (0, {}) — {}", name, *value,
+                                    radians ? "π" : "180",
+                                    radians ? "give radians, or use " + key + "_deg for degrees"
+                                            : "give degrees"));
+    return std::nullopt;
+  }
+  return angle;
+}
+
+void SceneReader::ReadResolution(const Fields& fields, const std::string& what, SensorType* type,
+                                 bool* changed) {
+  const auto resolution = fields.Get("resolution");
+  if (!resolution) return;
+  if (!resolution->node.IsSequence() || resolution->node.size() != 2) {
+    Error(resolution->line, fmt::format("{}.resolution: expected [width, height] in pixels — write e.g. "
+                                     "[640, 480]",
+                                     what));
+    return;
+  }
+  constexpr int64_t kMaxSide = 100'000;
+  const auto w = Integer(ElementOf(*resolution, 0), what + ".resolution width", 1, kMaxSide);
+  const auto h = Integer(ElementOf(*resolution, 1), what + ".resolution height", 1, kMaxSide);
+  if (!w || !h) return;
+  type->width = static_cast<int>(*w);
+  type->height = static_cast<int>(*h);
+  *changed = true;
+}
+
+/// The catalog type named by `base`, or nullptr (no base, or an unknown one: reported).
+const SensorType* SceneReader::ReadBase(const Fields& fields, const std::string& what) {
+  const auto base_node = fields.Get("base");
+  if (!base_node) return nullptr;
+  const auto base_id = Text(*base_node, what + ".base");
+  if (!base_id) return nullptr;
+  const SensorType* base = FindCatalogType(*base_id);
+  if (!base) {
+    Error(base_node->line, fmt::format("{}: base '{}' is not a catalog id — {}", what, *base_id,
+                                       Suggest(*base_id, CatalogIds())));
+  }
+  return base;
+}
+
+/// fx, fy, cx, cy from `intrinsics`, or from the fields of view (Gazebo's model, SENSORS.md); a
+/// field of view not given keeps the base's, and vfov follows from the aspect ratio when the
+/// base has square pixels.
+void SceneReader::ReadIntrinsics(const Fields& fields, const std::string& what,
+                                 const SensorType* base, bool resolution_changed,
+                                 SensorType* type) {
+  const auto hfov = ReadFov(fields, "hfov", what);
+  const auto vfov = ReadFov(fields, "vfov", what);
+  const auto intrinsics = fields.Get("intrinsics");
+  const bool has_fov =
+      fields.Has("hfov") || fields.Has("hfov_deg") || fields.Has("vfov") || fields.Has("vfov_deg");
+  if (intrinsics && has_fov) {
+    Error(intrinsics->line,
+          fmt::format("{}: both intrinsics and a field of view are given — keep one", what));
+    return;
+  }
+  if (intrinsics) {
+    const auto k = Numbers(*intrinsics, 4, what + ".intrinsics");
+    if (k && ((*k)[0] <= 0 || (*k)[1] <= 0)) {
+      Error(intrinsics->line, fmt::format("{}.intrinsics: fx and fy must be positive [px] — write [fx, fy, cx, cy]", what));
+    } else if (k) {
+      type->fx = (*k)[0];
+      type->fy = (*k)[1];
+      type->cx = (*k)[2];
+      type->cy = (*k)[3];
+    }
+    return;
+  }
+  if (!hfov && !vfov && !(base && resolution_changed)) return;
+  if (!hfov && !base) {
+    Error(fields.line(), fmt::format("{}: vfov needs hfov — add hfov or hfov_deg", what));
+    return;
+  }
+  const double h = hfov ? *hfov : base->HorizontalFov();
+  std::optional<double> v = vfov;
+  if (!v && !hfov && base->fx != base->fy) v = base->VerticalFov();
+  const SensorType fov = SensorType::FromFov(type->id, type->width, type->height, h, v, 0, 1);
+  type->fx = fov.fx;
+  type->fy = fov.fy;
+  type->cx = fov.cx;
+  type->cy = fov.cy;
+}
+
+void SceneReader::ReadRangeAndCost(const Fields& fields, const std::string& what,
+                                   SensorType* type) {
+  if (const auto v = fields.Get("range")) {
+    if (const auto range = Numbers(*v, 2, what + ".range")) {
+      const double near = (*range)[0], far = (*range)[1];
+      if (near <= 0 || near >= far) {
+        Error(v->line, fmt::format("{}.range [{}, {}] must be [near, far] with 0 < near < far "
+                                   "[m] — fix or swap the values",
+                                   what, near, far));
+      }
+      type->near = near;
+      type->far = far;
+    }
+  }
+  if (const auto v = fields.Get("fps")) {
+    if (const auto fps = Positive(*v, what + ".fps")) type->fps = *fps;
+  }
+  if (const auto v = fields.Get("cost")) {
+    const auto cost = Number(*v, what + ".cost");
+    if (cost && *cost < 0) {
+      Error(v->line, fmt::format("{}.cost = {} must be >= 0 — give the unit's price", what, *cost));
+    } else if (cost) {
+      type->cost = *cost;
+    }
+  }
+}
+
+/// A custom type: every field given, or `base: CATALOG_ID` and the fields that differ.
+std::optional<SensorType> SceneReader::ReadSensorType(const Value& input) {
+  const size_t errors_before = ErrorCount();
+  const Fields fields(input, "sensor type",
+                      {"id", "base", "name", "technology", "resolution", "hfov", "hfov_deg", "vfov",
+                       "vfov_deg", "intrinsics", "range", "fps", "cost"},
+                      diag_);
+  const auto id_node = fields.Get("id");
+  if (!id_node) {
+    Missing(fields, "id", "id: my_camera");
+    return std::nullopt;
+  }
+  const auto id = Text(*id_node, "sensor type id");
+  if (!id) return std::nullopt;
+  const std::string what = fmt::format("sensor type '{}'", *id);
+
+  SensorType type;
+  type.name = *id;
+  const SensorType* base = ReadBase(fields, what);
+  if (base) {
+    type = *base;
+  } else if (fields.Has("base")) {
+    return std::nullopt;  // reported by ReadBase
+  } else {
+    if (!fields.Has("resolution")) Missing(fields, "resolution", "resolution: [640, 480]");
+    if (!fields.Has("range")) Missing(fields, "range", "range: [0.3, 3.0]");
+    if (!fields.Has("intrinsics") && !fields.Has("hfov") && !fields.Has("hfov_deg"))
+      Missing(fields, "hfov", "hfov_deg: 70 (or intrinsics: [fx, fy, cx, cy])");
+  }
+  type.id = *id;
+  if (const auto v = fields.Get("name")) type.name = Text(*v, what + ".name").value_or(type.name);
+  if (const auto v = fields.Get("technology"))
+    type.technology = Text(*v, what + ".technology").value_or(type.technology);
+  bool resolution_changed = false;
+  ReadResolution(fields, what, &type, &resolution_changed);
+  ReadIntrinsics(fields, what, base, resolution_changed, &type);
+  ReadRangeAndCost(fields, what, &type);
+  if (ErrorCount() != errors_before) return std::nullopt;
+  try {
+    type.Validate();
+  } catch (const InputError& e) {
+    Error(fields.line(), fmt::format("{} — fix the type's fields", e.what()));
+    return std::nullopt;
+  }
+  return type;
+}
+
+// ----- objects -------------------------------------------------------------------------------
+
+void SceneReader::ReadObjects(const Value& input) {
+  objects_line_ = input.line;
+  const std::vector<Value> items = Items(input, "objects");
+  if (items.empty() && input.node.IsSequence()) {
+    Error(objects_line_, "objects is empty — add at least one object with `role: target`");
+  }
+  for (const Value& item : items) {
+    std::optional<SceneObject> object = ReadObject(item);
+    if (!object) continue;
+    const auto same = [&](const SceneObject& o) { return o.name == object->name; };
+    if (std::any_of(problem_->scene.objects.begin(), problem_->scene.objects.end(), same)) {
+      Error(item.line, fmt::format("object name '{}' is used twice — names must be unique",
+                                      object->name));
+      continue;
+    }
+    problem_->scene.objects.push_back(std::move(*object));
+  }
+}
+
+std::optional<SceneObject> SceneReader::ReadObject(const Value& input) {
+  const Fields fields(input, "object",
+                      {"name", "role", "pose", "mesh", "box", "cylinder", "sphere", "plane"},
+                      diag_);
+  const size_t errors_before = ErrorCount();
+  const auto name = Name(fields, "object");
+  const std::string what = fmt::format("object '{}'", name.value_or("?"));
+  SceneObject object;
+  object.name = name.value_or("");
+  if (const auto v = fields.Get("role")) {
+    if (const auto role = Text(*v, what + ".role")) {
+      if (*role == "target") {
+        object.role = Role::kTarget;
+      } else if (*role != "occluder") {
+        Error(v->line, fmt::format("{}: role '{}' is unknown — {}", what, *role,
+                                      Suggest(*role, {"target", "occluder"})));
+      }
+    }
+  }
+  Pose pose;
+  if (const auto v = fields.Get("pose")) pose = PoseOf(*v, what + ".pose").value_or(Pose{});
+  std::optional<TriangleMesh> mesh = ReadShape(fields, what);
+  if (!mesh || ErrorCount() != errors_before) return std::nullopt;
+  mesh->Transform(pose);
+  object.mesh = std::move(*mesh);
+  return object;
+}
+
+/// Exactly one of mesh, box, cylinder, sphere, plane.
+std::optional<TriangleMesh> SceneReader::ReadShape(const Fields& fields, const std::string& what) {
+  std::vector<std::pair<std::string, Value>> shapes;
+  for (const char* key : {"mesh", "box", "cylinder", "sphere", "plane"}) {
+    if (const auto v = fields.Get(key)) shapes.emplace_back(key, *v);
+  }
+  if (shapes.size() != 1) {
+    Error(shapes.empty() ? fields.line() : shapes[1].second.line,
+          fmt::format("{} needs exactly one shape, got {} — give one of mesh, box, cylinder, "
+                      "sphere, plane",
+                      what, shapes.size()));
+    return std::nullopt;
+  }
+  const auto& [shape, input] = shapes.front();
+  if (shape == "mesh") return ReadMesh(input, what + ".mesh");
+  return ReadPrimitive(shape, input, what + "." + shape);
+}
+
+std::optional<TriangleMesh> SceneReader::ReadPrimitive(const std::string& shape,
+                                                       const Value& input,
+                                                       const std::string& what) {
+  // SYSTEM.md: primitives are tessellated with a chord error below F / 10.
+  const double chord = problem_->cell_size / 10.0;
+  const bool is_box = shape == "box", is_plane = shape == "plane";
+  const Fields fields =
+      is_box || is_plane ? Fields(input, what, {"size"}, diag_)
+      : shape == "sphere" ? Fields(input, what, {"radius"}, diag_)
+                          : Fields(input, what, {"radius", "length"}, diag_);
+  const size_t errors_before = ErrorCount();
+  const auto get = [&](const char* key, const char* example) {
+    const auto v = fields.Get(key);
+    if (!v) Missing(fields, key, example);
+    return v;
+  };
+  std::optional<double> radius, length;
+  std::optional<std::vector<double>> size;
+  if (is_box || is_plane) {
+    if (const auto v = get("size", is_box ? "size: [0.1, 0.2, 0.3]" : "size: [1.0, 1.0]")) {
+      size = Numbers(*v, is_box ? 3 : 2, what + ".size");
+      if (size && std::any_of(size->begin(), size->end(), [](double x) { return x <= 0; })) {
+        Error(v->line, fmt::format("{}.size must be positive lengths [m] — fix the size", what));
+      }
+    }
+  } else {
+    if (const auto v = get("radius", "radius: 0.05")) radius = Positive(*v, what + ".radius");
+    if (shape == "cylinder") {
+      if (const auto v = get("length", "length: 0.1")) length = Positive(*v, what + ".length");
+    }
+  }
+  if (ErrorCount() != errors_before) return std::nullopt;
+  try {
+    if (is_box) return MakeBox(Vec3((*size)[0], (*size)[1], (*size)[2]));
+    if (is_plane) return MakePlane((*size)[0], (*size)[1]);
+    if (shape == "sphere") return MakeSphere(*radius, chord);
+    return MakeCylinder(*radius, *length, chord);
+  } catch (const InputError& e) {
+    Error(fields.line(), fmt::format("{}: {}", what, e.what()));
+    return std::nullopt;
+  }
+}
+
+std::optional<Vec3> SceneReader::ReadScale(const Value& input, const std::string& what) {
+  std::optional<Vec3> scale;
+  if (input.node.IsSequence()) {
+    scale = Vector(input, what);
+  } else if (const auto s = Number(input, what)) {
+    scale = Vec3::Constant(*s);
+  }
+  if (scale && (scale->array() <= 0).any()) {
+    Error(input.line, fmt::format("{} must be positive — give a number or [sx, sy, sz] > 0",
+                                    what));
+    return std::nullopt;
+  }
+  return scale;
+}
+
+std::optional<TriangleMesh> SceneReader::ReadMesh(const Value& input, const std::string& what) {
+  const Fields fields(input, what, {"file", "scale"}, diag_);
+  const auto file_node = fields.Get("file");
+  if (!file_node) {
+    Missing(fields, "file", "file: ../meshes/part.stl");
+    return std::nullopt;
+  }
+  const auto file = Text(*file_node, what + ".file");
+  Vec3 scale = Vec3::Ones();
+  if (const auto v = fields.Get("scale")) {
+    const auto s = ReadScale(*v, what + ".scale");
+    if (!s) return std::nullopt;
+    scale = *s;
+  }
+  if (!file) return std::nullopt;
+  // Paths are relative to the scene file's folder, so a scene and its meshes move together.
+  const fs::path resolved = fs::path(*file).is_absolute() ? fs::path(*file) : folder_ / *file;
+  std::error_code ec;
+  if (!fs::is_regular_file(resolved, ec)) {
+    Error(file_node->line,
+          fmt::format("{}: mesh file '{}' not found (looked for '{}') — paths are relative to the "
+                      "scene file's folder",
+                      what, *file, resolved.string()));
+    return std::nullopt;
+  }
+  const std::string key = resolved.lexically_normal().string();
+  auto cached = mesh_cache_.find(key);
+  if (cached == mesh_cache_.end()) {
+    try {
+      cached = mesh_cache_.emplace(key, LoadMeshFile(key)).first;
+    } catch (const InputError& e) {
+      Error(file_node->line, e.what());
+      return std::nullopt;
+    }
+  }
+  TriangleMesh mesh = cached->second;
+  mesh.Scale(scale);
+  return mesh;
+}
+
+// ----- populations and sensors ---------------------------------------------------------------
+
+/// A type id that a population or sensor names: declared under sensor_types, or a catalog id.
+std::optional<std::string> SceneReader::TypeReference(const Fields& fields,
+                                                      const std::string& what) {
+  const auto node = fields.Get("type");
+  if (!node) {
+    Missing(fields, "type", "type: intel_realsense_d415");
+    return std::nullopt;
+  }
+  const auto id = Text(*node, what + ".type");
+  if (!id) return std::nullopt;
+  if (IsCustomType(*id) || FindCatalogType(*id)) return id;
+  std::vector<std::string> ids = CatalogIds();
+  for (const SensorType& type : problem_->sensor_types) ids.push_back(type.id);
+  Error(node->line, fmt::format("{}: unknown sensor type '{}' — {} (declare your own under "
+                                   "sensor_types; `vantage sensors` lists the catalog)",
+                                   what, *id, Suggest(*id, ids)));
+  return std::nullopt;
+}
+
+void SceneReader::ReadPopulations(const Value& input) {
+  for (const Value& item : Items(input, "populations")) {
+    std::optional<Population> population = ReadPopulation(item);
+    if (!population) continue;
+    const auto same = [&](const Population& p) { return p.name == population->name; };
+    if (std::any_of(problem_->populations.begin(), problem_->populations.end(), same)) {
+      Error(item.line, fmt::format("population name '{}' is used twice — names must be unique",
+                                      population->name));
+      continue;
+    }
+    problem_->populations.push_back(std::move(*population));
+  }
+}
+
+std::optional<Distribution> ParseDistribution(const std::string& name) {
+  static const std::map<std::string, Distribution> kNames = {
+      {"random", Distribution::kRandom},    {"uniform", Distribution::kUniform},
+      {"grid", Distribution::kGrid},        {"linear-x", Distribution::kLinearX},
+      {"linear-y", Distribution::kLinearY}, {"linear-z", Distribution::kLinearZ}};
+  const auto it = kNames.find(name);
+  if (it == kNames.end()) return std::nullopt;
+  return it->second;
+}
+
+std::optional<Population> SceneReader::ReadPopulation(const Value& input) {
+  const Fields fields(input, "population",
+                      {"name", "type", "pose", "distribution", "box", "cylinder", "count", "rows",
+                       "cols", "step", "mount"},
+                      diag_);
+  const size_t errors_before = ErrorCount();
+  Population population;
+  population.name = Name(fields, "population").value_or("?");
+  population.file = problem_->source;
+  population.line = fields.line();
+  const std::string what = fmt::format("population '{}'", population.name);
+  population.sensor_type = TypeReference(fields, what).value_or("");
+  if (const auto v = fields.Get("pose")) population.pose = PoseOf(*v, what + ".pose").value_or(Pose{});
+  if (const auto v = fields.Get("mount"))
+    population.model_from_camera = PoseOf(*v, what + ".mount").value_or(Pose{});
+  if (const auto v = fields.Get("distribution")) {
+    if (const auto name = Text(*v, what + ".distribution")) {
+      if (const auto distribution = ParseDistribution(*name)) {
+        population.distribution = *distribution;
+      } else {
+        Error(v->line, fmt::format("{}: distribution '{}' is unknown — {}", what, *name,
+                                      Suggest(*name, {"random", "uniform", "grid", "linear-x",
+                                                      "linear-y", "linear-z"})));
+        return std::nullopt;
+      }
+    }
+  }
+  const bool ok = population.distribution == Distribution::kGrid
+                      ? ReadGrid(fields, what, &population)
+                      : ReadRegion(fields, what, &population);
+  if (!ok || ErrorCount() != errors_before) return std::nullopt;
+  return population;
+}
+
+/// Box or cylinder region and a count (GAZEBO.md, "Sensor populations").
+bool SceneReader::ReadRegion(const Fields& fields, const std::string& what, Population* p) {
+  for (const char* key : {"rows", "cols", "step"}) {
+    if (const auto v = fields.Get(key)) {
+      Error(v->line, fmt::format("{}: '{}' belongs to the grid distribution — remove it or set "
+                                    "`distribution: grid`",
+                                    what, key));
+    }
+  }
+  const auto box = fields.Get("box");
+  const auto cylinder = fields.Get("cylinder");
+  if (box.has_value() == cylinder.has_value()) {
+    Error(fields.line(), fmt::format("{} needs one region, box or cylinder — add e.g. `box: "
+                                     "{{size: [1, 1, 0.5]}}`",
+                                     what));
+    return false;
+  }
+  const bool is_linear = p->distribution != Distribution::kRandom &&
+                         p->distribution != Distribution::kUniform;
+  if (cylinder && is_linear) {
+    Error(cylinder->line, fmt::format("{}: linear distributions need a box region (GAZEBO.md "
+                                         "defines no linear cylinder) — use a box",
+                                         what));
+    return false;
+  }
+  if (box) {
+    const Fields region(*box, what + ".box", {"size"}, diag_);
+    p->region = RegionShape::kBox;
+    if (const auto size = region.Get("size")) {
+      const auto v = Vector(*size, what + ".box.size");
+      if (v && (v->array() <= 0).any())
+        Error(size->line, fmt::format("{}.box.size must be three positive lengths [m] — fix the size", what));
+      if (v) p->box_size = *v;
+    } else {
+      Missing(region, "size", "size: [1.0, 1.0, 0.5]");
+    }
+  } else {
+    const Fields region(*cylinder, what + ".cylinder", {"radius", "length"}, diag_);
+    p->region = RegionShape::kCylinder;
+    const auto radius = region.Get("radius");
+    const auto length = region.Get("length");
+    if (!radius) Missing(region, "radius", "radius: 0.5");
+    if (!length) Missing(region, "length", "length: 0.3");
+    if (radius) p->radius = Positive(*radius, what + ".cylinder.radius").value_or(0);
+    if (length) p->length = Positive(*length, what + ".cylinder.length").value_or(0);
+  }
+  const auto count = fields.Get("count");
+  if (!count) {
+    Missing(fields, "count", "count: 20");
+    return false;
+  }
+  constexpr int64_t kMaxCount = 1'000'000;  // the bound PopulationPositions enforces
+  const auto n = Integer(*count, what + ".count", 1, kMaxCount);
+  if (n) p->count = static_cast<int>(*n);
+  return n.has_value();
+}
+
+/// Grid: rows × cols sensors spaced by step, no region, no count (GAZEBO.md).
+bool SceneReader::ReadGrid(const Fields& fields, const std::string& what, Population* p) {
+  for (const char* key : {"box", "cylinder", "count"}) {
+    if (const auto v = fields.Get(key)) {
+      Error(v->line, fmt::format("{}: a grid takes no '{}' (it places rows × cols sensors) — "
+                                    "remove it",
+                                    what, key));
+    }
+  }
+  p->region = RegionShape::kNone;
+  constexpr int64_t kMaxSide = 1'000;
+  const auto integer = [&](const char* key, int* out) {
+    const auto v = fields.Get(key);
+    if (!v) return Missing(fields, key, fmt::format("{}: 3", key));
+    if (const auto n = Integer(*v, fmt::format("{}.{}", what, key), 1, kMaxSide))
+      *out = static_cast<int>(*n);
+  };
+  integer("rows", &p->rows);
+  integer("cols", &p->cols);
+  if (const auto v = fields.Get("step")) {
+    if (const auto step = Vector(*v, what + ".step")) p->step = *step;
+  } else {
+    Missing(fields, "step", "step: [0.3, 0.3, 0]");
+  }
+  return p->rows >= 1 && p->cols >= 1;
+}
+
+void SceneReader::ReadSensors(const Value& input) {
+  for (const Value& item : Items(input, "sensors")) {
+    std::optional<ExplicitSensor> sensor = ReadSensor(item);
+    if (!sensor) continue;
+    const auto same = [&](const ExplicitSensor& s) { return s.name == sensor->name; };
+    const auto clone_of = [&](const Population& p) {
+      return sensor->name.rfind(p.name + "_", 0) == 0;
+    };
+    if (std::any_of(problem_->sensors.begin(), problem_->sensors.end(), same) ||
+        std::any_of(problem_->populations.begin(), problem_->populations.end(), clone_of)) {
+      Error(item.line, fmt::format("sensor name '{}' is already used (by a sensor, or by a "
+                                      "population's clones NAME_i) — rename it",
+                                      sensor->name));
+      continue;
+    }
+    problem_->sensors.push_back(std::move(*sensor));
+  }
+}
+
+std::optional<ExplicitSensor> SceneReader::ReadSensor(const Value& input) {
+  const Fields fields(input, "sensor", {"name", "type", "position", "orientation", "mount"}, diag_);
+  const size_t errors_before = ErrorCount();
+  ExplicitSensor sensor;
+  sensor.name = Name(fields, "sensor").value_or("?");
+  sensor.file = problem_->source;
+  sensor.line = fields.line();
+  const std::string what = fmt::format("sensor '{}'", sensor.name);
+  sensor.sensor_type = TypeReference(fields, what).value_or("");
+  if (const auto v = fields.Get("position")) {
+    sensor.pose.position = Vector(*v, what + ".position").value_or(Vec3::Zero());
+  } else {
+    Missing(fields, "position", "position: [0.5, 0, 1.2]");
+  }
+  // Without an orientation the sensor looks at the observation point, as the plugin re-orients
+  // every sensor (GAZEBO.md, "Sensor orientation").
+  if (const auto v = fields.Get("orientation")) {
+    const Fields orientation(*v, what + ".orientation", {"rpy", "quaternion"}, diag_);
+    if (!orientation.Has("rpy") && !orientation.Has("quaternion"))
+      Missing(orientation, "rpy", "rpy: [0, 0.5, 3.14]");
+    sensor.pose.rotation = Rotation(orientation, what + ".orientation").value_or(Quat::Identity());
+    sensor.look_at = false;
+  }
+  if (const auto v = fields.Get("mount"))
+    sensor.model_from_camera = PoseOf(*v, what + ".mount").value_or(Pose{});
+  if (ErrorCount() != errors_before) return std::nullopt;
+  return sensor;
+}
+
+// ----- the whole file ------------------------------------------------------------------------
+
+/// --target NAME makes exactly the named objects targets (GAZEBO.md, "Targets").
+void SceneReader::ApplyTargetOverride() {
+  if (options_.targets.empty()) return;
+  std::vector<std::string> names;
+  for (const SceneObject& object : problem_->scene.objects) names.push_back(object.name);
+  for (const std::string& target : options_.targets) {
+    if (std::find(names.begin(), names.end(), target) == names.end()) {
+      Error(0, fmt::format("--target '{}' names no object of the scene — {}", target,
+                           Suggest(target, names)));
+    }
+  }
+  for (SceneObject& object : problem_->scene.objects) {
+    const bool is_target = std::find(options_.targets.begin(), options_.targets.end(),
+                                     object.name) != options_.targets.end();
+    object.role = is_target ? Role::kTarget : Role::kOccluder;
+  }
+}
+
+/// Problem::sensor_types holds every type the populations and sensors name, catalog ones too.
+void SceneReader::AddReferencedCatalogTypes() {
+  const auto add = [&](const std::string& id) {
+    if (IsCustomType(id)) return;
+    if (const SensorType* type = FindCatalogType(id)) problem_->sensor_types.push_back(*type);
+  };
+  for (const Population& p : problem_->populations) add(p.sensor_type);
+  for (const ExplicitSensor& s : problem_->sensors) add(s.sensor_type);
+}
+
+void SceneReader::Read(const YAML::Node& root) {
+  if (root.IsNull()) {
+    Error(1, "the scene file is empty — see docs/scene-format.md for an example");
+    return;
+  }
+  const Fields top(ValueOf(root), "the scene", {"settings", "sensor_types", "objects", "populations",
+                                       "sensors"},
+                   diag_);
+  if (!root.IsMap()) return;
+  // Settings first: the cell size sets the primitives' tessellation.
+  if (const auto v = top.Get("settings")) ReadSettings(*v);
+  if (const auto v = top.Get("sensor_types")) ReadSensorTypes(*v);
+  if (const auto v = top.Get("objects")) {
+    ReadObjects(*v);
+  } else {
+    Missing(top, "objects", "objects: [{name: part, role: target, box: {size: [0.1, 0.1, 0.1]}}]");
+    return;
+  }
+  if (const auto v = top.Get("populations")) ReadPopulations(*v);
+  if (const auto v = top.Get("sensors")) ReadSensors(*v);
+  AddReferencedCatalogTypes();
+  ApplyTargetOverride();
+  if (ErrorCount() == 0 && problem_->scene.TargetCount() == 0) {
+    Error(objects_line_, "no object is a target — set `role: target` on at least one object, or "
+                         "pass --target NAME");
+  }
+}
+
+std::string ReadWholeFile(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw InputError(AtPlace(path, 0, "cannot open the scene file — check the path"));
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in) throw InputError(AtPlace(path, 0, "cannot read the scene file — check permissions"));
+  return text.str();
+}
+
+std::string LowerExtension(const std::string& path) {
+  std::string extension = fs::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+}  // namespace
+
+const SensorType* Problem::FindType(const std::string& id) const {
+  for (const SensorType& type : sensor_types) {
+    if (type.id == id) return &type;
+  }
+  return nullptr;
+}
+
+Problem LoadYamlScene(const std::string& path, const LoadOptions& options) {
+  Problem problem;
+  problem.source = path;
+  Diagnostics diag(path);
+  const std::string text = ReadWholeFile(path);
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    diag.Error(e.mark.is_null() ? 0 : e.mark.line + 1,
+               fmt::format("malformed YAML: {} — fix the syntax (indentation, colons, brackets)",
+                           e.msg));
+    diag.ThrowIfAny();
+  }
+  SceneReader reader(path, options, &diag, &problem);
+  try {
+    reader.Read(root);
+  } catch (const YAML::Exception& e) {
+    // The reader checks every node's kind first, so this is unexpected; still the user's file.
+    diag.Error(e.mark.is_null() ? 0 : e.mark.line + 1,
+               fmt::format("cannot read this value: {} — see docs/scene-format.md", e.msg));
+  }
+  diag.ThrowIfAny();
+  return problem;
+}
+
+Problem LoadProblem(const std::string& path, const LoadOptions& options) {
+  const std::string extension = LowerExtension(path);
+  if (extension == ".yaml" || extension == ".yml") return LoadYamlScene(path, options);
+  if (extension == ".world" || extension == ".sdf") return LoadGazeboWorld(path, options);
+  throw InputError(AtPlace(path, 0, fmt::format("unknown scene extension '{}' — give a .yaml/.yml "
+                                                "scene (docs/scene-format.md) or a Gazebo "
+                                                ".world/.sdf",
+                                                extension)));
+}
+
+}  // namespace vantage

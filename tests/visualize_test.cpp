@@ -1,0 +1,505 @@
+// Results people can look at (issue #7): the ray-traced PNG against analytic answers (a sphere
+// seen from one side), the ROS static transforms, and report.html — self-contained, and opened in
+// headless Chromium (no script error, no network request, a 3D view that is not blank, a chart).
+#include <gtest/gtest.h>
+#include <stb_image.h>
+#include <yaml-cpp/yaml.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <regex>
+
+#include "test_util.hpp"
+#include "vantage/candidates.hpp"
+#include "vantage/error.hpp"
+#include "vantage/observe.hpp"
+#include "vantage/reference.hpp"
+#include "vantage/select.hpp"
+#include "vantage/visualize.hpp"
+
+namespace vantage {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kCell = 0.005;
+constexpr double kRadius = 0.1;
+
+// A camera at `eye` looking at `target`, square image, fine pixels (well below a cell at 1 m).
+Candidate Camera(const std::string& name, const Vec3& eye, const Vec3& target, int pixels, double hfov) {
+  Candidate c;
+  c.name = name;
+  c.sensor = SensorType::FromFov("test", pixels, pixels, hfov, std::nullopt, 0.05, 3.0);
+  c.type_id = "test";
+  c.world_from_body = Pose{eye, LookAt(eye, target)};
+  return c;
+}
+
+Scene SphereScene(double radius) {
+  Scene scene;
+  scene.objects.push_back({"ball", Role::kTarget, MakeSphere(radius, kCell / 10)});
+  return scene;
+}
+
+// A scene, its observed data and a report of one greedy selection of n sensors; not movable
+// (the report points at the data).
+struct Run {
+  Scene scene;
+  VisibilityFile data;
+  Report report;
+};
+
+std::unique_ptr<Run> MakeRun(Scene scene, std::vector<Candidate> cameras, int n) {
+  auto run = std::make_unique<Run>();
+  run->scene = std::move(scene);
+  run->data.scene = "sphere (built in code)";
+  run->data.reference = BuildReference(run->scene, ReferenceOptions{kCell});
+  run->data.candidates = std::move(cameras);
+  run->data.observations = Observe(run->scene, run->data.reference, run->data.candidates);
+  SelectOptions options;
+  options.n = n;
+  options.method = Method::kGreedy;
+  run->report.scene = run->data.scene;
+  run->report.data = &run->data;
+  run->report.results = Select(run->data.observations, run->data.reference.size(), options);
+  return run;
+}
+
+// Pixel class by hue (shading scales colours): -1 neither target colour, 0 unobserved,
+// k = observed by k (3 = three or more) chosen sensors.
+int Classify(const Rgb& p) {
+  const Eigen::Vector3d v(p[0], p[1], p[2]);
+  if (v.norm() < 30) return -1;
+  int best = -1;
+  double best_cos = 0.995;
+  const std::array<Rgb, 4> palette = {kUnobservedColor, kObservedColors[0], kObservedColors[1], kObservedColors[2]};
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d c(palette[k][0], palette[k][1], palette[k][2]);
+    const double cos = v.dot(c) / (v.norm() * c.norm());
+    if (cos > best_cos) {
+      best_cos = cos;
+      best = k;
+    }
+  }
+  return best;
+}
+
+struct Counts {
+  int unobserved = 0;
+  int observed = 0;
+  std::array<int, 4> by_class = {0, 0, 0, 0};
+  int frustum = 0;
+  double ObservedShare() const {
+    return observed + unobserved ? static_cast<double>(observed) / (observed + unobserved) : 0.0;
+  }
+};
+
+Counts CountPixels(const Image& image) {
+  Counts counts;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const Rgb p = image.At(x, y);
+      if (p == kFrustumColor) ++counts.frustum;
+      const int k = Classify(p);
+      if (k < 0) continue;
+      ++counts.by_class[k];
+      (k == 0 ? counts.unobserved : counts.observed) += 1;
+    }
+  }
+  return counts;
+}
+
+Image ReadPng(const std::string& path) {
+  int width = 0, height = 0, channels = 0;
+  unsigned char* pixels = stbi_load(path.c_str(), &width, &height, &channels, 3);
+  Image image;
+  if (pixels == nullptr) return image;
+  image.width = width;
+  image.height = height;
+  image.rgb.assign(pixels, pixels + 3 * static_cast<size_t>(width) * static_cast<size_t>(height));
+  stbi_image_free(pixels);
+  return image;
+}
+
+RenderOptions View(const Vec3& eye, int size, double fov) {
+  RenderOptions options;
+  options.width = options.height = size;
+  options.vertical_fov = fov;
+  options.eye = eye;
+  options.look_at = Vec3::Zero();
+  options.draw_frusta = false;
+  return options;
+}
+
+// --------------------------------------------------------------------------------------------
+// The picture
+
+// One camera on +x at distance d sees the cap x > r²/d: (1 - r/d)/2 of the sphere. The picture
+// must colour exactly what report.json counts: everything from the camera's own viewpoint, nothing
+// from behind, and from the side the share of the disc with x > r²/d.
+TEST(Render, VisibleCapIsColouredObservedAsTheReportCounts) {
+  const double d = 1.0;
+  const double hfov = 15.0 * kPi / 180.0;
+  auto run = MakeRun(SphereScene(kRadius), {Camera("cam", Vec3(d, 0, 0), Vec3::Zero(), 600, hfov)}, 1);
+  ASSERT_EQ(run->report.results.size(), 1u);
+  const double coverage = run->report.results[0].coverage;
+  EXPECT_NEAR(coverage, 0.5 * (1 - kRadius / d), 0.03);
+
+  // From the camera itself: every target pixel observed.
+  const Counts own = CountPixels(RenderView(run->scene, run->report, View(Vec3(d, 0, 0), 200, hfov)));
+  EXPECT_GT(own.observed, 5000);
+  EXPECT_GE(own.ObservedShare(), 0.98) << own.observed << " observed, " << own.unobserved << " not";
+
+  // From behind: nothing observed.
+  const Counts behind = CountPixels(RenderView(run->scene, run->report, View(Vec3(-d, 0, 0), 200, hfov)));
+  EXPECT_GT(behind.unobserved, 5000);
+  EXPECT_LE(behind.ObservedShare(), 0.02);
+
+  // From the side (through the PNG file): the disc's share with x > a = r²/d,
+  // (acos(a/r) - (a/r)·sqrt(1 - (a/r)²)) / pi.
+  test::TempDir dir;
+  const std::string png = dir.File("side.png");
+  WritePng(png, RenderView(run->scene, run->report, View(Vec3(0, -3, 0), 300, 8.0 * kPi / 180.0)));
+  const Image side = ReadPng(png);
+  ASSERT_EQ(side.width, 300);
+  ASSERT_EQ(side.height, 300);
+  const double s = kRadius / d;
+  const double expected = (std::acos(s) - s * std::sqrt(1 - s * s)) / kPi;
+  const Counts counts = CountPixels(side);
+  EXPECT_GT(counts.observed + counts.unobserved, 20000);
+  EXPECT_NEAR(counts.ObservedShare(), expected, 0.03);
+}
+
+TEST(Render, CountsColoursAndFrustaOfTwoSensors) {
+  const double hfov = 15.0 * kPi / 180.0;
+  auto run = MakeRun(SphereScene(kRadius),
+                     {Camera("east", Vec3(1, 0, 0), Vec3::Zero(), 500, hfov),
+                      Camera("north", Vec3(0, 1, 0), Vec3::Zero(), 500, hfov)},
+                     2);
+  ASSERT_EQ(run->report.results[0].chosen.size(), 2u);
+  RenderOptions options;
+  options.width = 400;
+  options.height = 300;
+  const Counts counts = CountPixels(RenderView(run->scene, run->report, options));  // default view
+  EXPECT_GT(counts.by_class[1], 500);   // seen by one sensor
+  EXPECT_GT(counts.by_class[2], 100);   // the band both see
+  EXPECT_EQ(counts.by_class[3], 0);     // no third sensor
+  EXPECT_GT(counts.observed, counts.unobserved);  // the default view looks from the sensors' side
+  EXPECT_GT(counts.frustum, 50);
+  options.draw_frusta = false;
+  EXPECT_EQ(CountPixels(RenderView(run->scene, run->report, options)).frustum, 0);
+}
+
+TEST(Render, BadOptionsAndUnwritablePathsAreInputErrors) {
+  auto run = MakeRun(SphereScene(kRadius), {Camera("cam", Vec3(1, 0, 0), Vec3::Zero(), 64, 0.3)}, 1);
+  RenderOptions options;
+  options.width = 0;
+  EXPECT_THROW(RenderView(run->scene, run->report, options), InputError);
+  options = View(Vec3(0.5, 0.5, 0.5), 32, 0.5);
+  options.look_at = Vec3(0.5, 0.5, 0.5);
+  EXPECT_THROW(RenderView(run->scene, run->report, options), InputError);
+  options.vertical_fov = kPi;
+  EXPECT_THROW(RenderView(run->scene, run->report, options), InputError);
+  const Image image = RenderView(run->scene, run->report, View(Vec3(1, 1, 1), 32, 0.5));
+  try {
+    WritePng("/nonexistent-folder/x/view.png", image);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent-folder/x/view.png:"), std::string::npos) << e.what();
+  }
+}
+
+// --------------------------------------------------------------------------------------------
+// Static transforms
+
+TEST(StaticTransforms, ChosenSensorsWithRosQuaternionsAndOpticalFrames) {
+  const Vec3 eye(0.8, 0.3, 0.5);
+  auto run = MakeRun(SphereScene(kRadius),
+                     {Camera("cam_a", eye, Vec3::Zero(), 64, 0.5), Camera("cam_b", Vec3(-0.9, 0, 0.1), Vec3::Zero(), 64, 0.5)},
+                     2);
+  const YAML::Node yaml = YAML::Load(StaticTransformsYaml(run->report, "base_link"));
+  EXPECT_EQ(yaml["schema"].as<std::string>(), "vantage.static_transforms/1");
+  const YAML::Node transforms = yaml["transforms"];
+  ASSERT_EQ(transforms.size(), 4u);
+  for (size_t k = 0; k < 2; ++k) {
+    const Candidate& c = run->data.candidates[run->report.results[0].chosen[k]];
+    const YAML::Node body = transforms[2 * k];
+    const YAML::Node optical = transforms[2 * k + 1];
+    EXPECT_EQ(body["name"].as<std::string>(), c.name);
+    EXPECT_EQ(body["parent_frame"].as<std::string>(), "base_link");
+    EXPECT_EQ(body["child_frame"].as<std::string>(), c.name);
+    const auto xyz = body["xyz"].as<std::vector<double>>();
+    EXPECT_TRUE(Vec3(xyz[0], xyz[1], xyz[2]).isApprox(c.world_from_body.position, 1e-8));
+    const auto q = body["quaternion_xyzw"].as<std::vector<double>>();
+    const Quat world_from_body(q[3], q[0], q[1], q[2]);  // Eigen's constructor takes w first
+    EXPECT_NEAR(std::abs(world_from_body.dot(c.world_from_body.rotation)), 1.0, 1e-8);
+    EXPECT_EQ(optical["name"].as<std::string>(), c.name + "_optical_frame");
+    EXPECT_EQ(optical["parent_frame"].as<std::string>(), c.name);
+    const auto o = optical["quaternion_xyzw"].as<std::vector<double>>();
+    const Quat body_from_optical(o[3], o[0], o[1], o[2]);
+    // The optical frame's z looks where the camera looks; its x is the image's right, y down.
+    const Mat3 world_from_optical = (world_from_body * body_from_optical).toRotationMatrix();
+    const Vec3 forward = (Vec3::Zero() - c.world_from_body.position).normalized();
+    EXPECT_TRUE(world_from_optical.col(2).isApprox(forward, 1e-6));
+    EXPECT_TRUE(world_from_optical.col(0).isApprox(-(c.world_from_body.rotation * Vec3::UnitY()), 1e-6));
+    EXPECT_TRUE(world_from_optical.col(1).isApprox(-(c.world_from_body.rotation * Vec3::UnitZ()), 1e-6));
+  }
+  run->report.results.clear();
+  const YAML::Node empty = YAML::Load(StaticTransformsYaml(run->report));
+  EXPECT_EQ(empty["transforms"].size(), 0u);
+}
+
+// --------------------------------------------------------------------------------------------
+// report.html
+
+std::string DataJsonOf(const std::string& html) {
+  const std::string open = "<script id=\"vantage-data\" type=\"application/json\">";
+  const size_t begin = html.find(open);
+  if (begin == std::string::npos) return "";
+  const size_t end = html.find("</script>", begin);
+  return html.substr(begin + open.size(), end - begin - open.size());
+}
+
+size_t CountOf(const std::string& text, const std::string& what) {
+  size_t count = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++count;
+  return count;
+}
+
+bool HasThreeJs() {
+  return std::filesystem::exists(HtmlReportOptions{}.three_js_dir + "/three.min.js") &&
+         std::filesystem::exists(HtmlReportOptions{}.three_js_dir + "/examples/js/controls/OrbitControls.js");
+}
+
+TEST(HtmlReport, SelfContainedEscapedAndWithoutNetworkUrls) {
+  auto run = MakeRun(SphereScene(kRadius),
+                     {Camera("cam</script><img src=x onerror=alert(1)>", Vec3(1, 0, 0), Vec3::Zero(), 64, 0.5),
+                      Camera("plain", Vec3(0, 1, 0), Vec3::Zero(), 64, 0.5)},
+                     2);
+  const std::string html = HtmlReport(run->report, run->scene);
+  // No element loads anything from elsewhere: no src/href to a network (or protocol-relative) URL.
+  EXPECT_FALSE(std::regex_search(html, std::regex(R"((src|href)\s*=\s*["']?\s*(https?:)?//)", std::regex::icase)));
+  EXPECT_EQ(html.find("<link"), std::string::npos);
+  // Every <script> is closed once: the hostile name did not end one early.
+  EXPECT_EQ(CountOf(html, "<script"), CountOf(html, "</script>"));
+  EXPECT_NE(html.find("id=\"vantage-status\""), std::string::npos);
+  const nlohmann::json data = nlohmann::json::parse(DataJsonOf(html));
+  EXPECT_EQ(data["candidates"][0]["name"], "cam</script><img src=x onerror=alert(1)>");
+  EXPECT_EQ(data["chosen"].size(), 2u);
+  EXPECT_EQ(data["voxels"]["count"], run->data.reference.size());
+  double gains = 0;
+  for (const auto& s : data["chosen"]) gains += s["marginal_gain"].get<double>();
+  EXPECT_NEAR(gains, run->report.results[0].coverage, 1e-12);
+  if (HasThreeJs()) {
+    EXPECT_NE(html.find("REVISION=\"111\""), std::string::npos);
+    EXPECT_NE(html.find("OrbitControls"), std::string::npos);
+  }
+
+  // Without three.js: a page all the same, saying why there is no 3D view.
+  HtmlReportOptions options;
+  options.three_js_dir = "/nonexistent/three";
+  const std::string bare = HtmlReport(run->report, run->scene, options);
+  EXPECT_EQ(bare.find("OrbitControls"), std::string::npos);
+  EXPECT_NE(DataJsonOf(bare).find("three.js r111 was not found"), std::string::npos);
+
+  // Huge meshes are simplified for the page, and the page says so.
+  options = HtmlReportOptions{};
+  options.max_mesh_triangles = 400;
+  ASSERT_GT(run->scene.TriangleCount(), 400u);
+  const nlohmann::json small = nlohmann::json::parse(DataJsonOf(HtmlReport(run->report, run->scene, options)));
+  const std::string indices = small["meshes"][0]["indices"];
+  EXPECT_LE(indices.size() * 3 / 4 / 12, 400u);
+  EXPECT_GT(indices.size() * 3 / 4 / 12, 50u);
+  EXPECT_NE(small["notes"].dump().find("simplified from"), std::string::npos);
+}
+
+// Chromium from PATH (or $VANTAGE_CHROMIUM); "" when there is none.
+std::string FindChromium() {
+  if (const char* env = std::getenv("VANTAGE_CHROMIUM"); env != nullptr && *env) return env;
+  for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
+    const std::string command = std::string("command -v ") + name + " 2>/dev/null";
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (pipe == nullptr) continue;
+    char buffer[512] = {};
+    const bool found = std::fgets(buffer, sizeof buffer, pipe) != nullptr;
+    ::pclose(pipe);
+    if (found) {
+      std::string path(buffer);
+      while (!path.empty() && (path.back() == '\n' || path.back() == '\r')) path.pop_back();
+      if (!path.empty()) return path;
+    }
+  }
+  return "";
+}
+
+// Headless Chromium, isolated and offline: its own profile, background traffic off, every host
+// unresolvable (debian-deps.md: swiftshader gives WebGL).
+int RunChromium(const std::string& chromium, const std::string& profile, const std::string& args,
+                const std::string& out, const std::string& err, double* seconds) {
+  const std::string command =
+      "timeout 90 '" + chromium + "' --headless --no-sandbox --enable-unsafe-swiftshader --user-data-dir='" + profile +
+      "' --no-first-run --disable-background-networking --disable-component-update --disable-sync "
+      "--disable-default-apps --disable-extensions --no-pings '--host-resolver-rules=MAP * ~NOTFOUND' "
+      "--virtual-time-budget=3000 " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
+  const auto start = std::chrono::steady_clock::now();
+  const int status = std::system(command.c_str());
+  *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return status;
+}
+
+// URLs of the network requests that the page itself made (Chromium's own background requests
+// have no file:// isolation key).
+std::vector<std::string> PageNetworkRequests(const std::string& net_log_path) {
+  std::vector<std::string> urls;
+  const nlohmann::json log = nlohmann::json::parse(test::ReadText(net_log_path), nullptr, false);
+  if (log.is_discarded() || !log.contains("constants") || !log.contains("events")) {
+    urls.push_back("(net log unreadable)");
+    return urls;
+  }
+  const auto& types = log["constants"]["logEventTypes"];
+  if (!types.contains("URL_REQUEST_START_JOB")) return urls;
+  const int start_job = types["URL_REQUEST_START_JOB"].get<int>();
+  for (const auto& event : log["events"]) {
+    if (!event.contains("type") || event["type"] != start_job || !event.contains("params")) continue;
+    const auto& params = event["params"];
+    const std::string url = params.value("url", "");
+    const std::string key = params.value("network_isolation_key", "");
+    if (key.find("file://") != std::string::npos && url.rfind("file:", 0) != 0 && url.rfind("data:", 0) != 0)
+      urls.push_back(url);
+  }
+  return urls;
+}
+
+// A page as large as the issue asks to keep fast: 450 candidates, ~100,000 voxels.
+TEST(HtmlReport, OpensInHeadlessChromiumOfflineWithA3dViewAndAChart) {
+  const std::string chromium = FindChromium();
+  if (chromium.empty()) GTEST_SKIP() << "Chromium not found (install Debian's chromium: scripts/install-deps.sh)";
+  ASSERT_TRUE(HasThreeJs()) << "three.js r111 missing under " << HtmlReportOptions{}.three_js_dir
+                            << " — install Debian's libjs-three (scripts/install-deps.sh)";
+
+  auto run = std::make_unique<Run>();
+  run->scene.objects.push_back({"ball", Role::kTarget, MakeSphere(0.36, kCell / 10)});
+  TriangleMesh floor = MakeBox(Vec3(2.0, 2.0, 0.05));
+  floor.Transform(Pose{Vec3(0, 0, -0.45), Quat::Identity()});
+  run->scene.objects.push_back({"floor", Role::kOccluder, std::move(floor)});
+  VisibilityFile& data = run->data;
+  data.scene = "synthetic";
+  data.reference = BuildReference(run->scene, ReferenceOptions{kCell});
+  ASSERT_GT(data.reference.size(), 80000u);
+  // Candidates on a ring of latitudes above; each "observes" the cap facing it (synthetic sets,
+  // enough for the page).
+  std::vector<Vec3> centres;
+  for (uint64_t key : data.reference.keys) centres.push_back(VoxelCenter(key, kCell));
+  for (int i = 0; i < 450; ++i) {
+    const double azimuth = 2 * kPi * i / 450.0 * 7.0, elevation = 0.15 + 1.2 * (i % 45) / 45.0;
+    const Vec3 eye = 1.3 * Vec3(std::cos(azimuth) * std::cos(elevation), std::sin(azimuth) * std::cos(elevation),
+                                std::sin(elevation));
+    data.candidates.push_back(Camera("cand_" + std::to_string(i), eye, Vec3::Zero(), 320, 0.8));
+    Observation o;
+    const Vec3 towards = eye.normalized();
+    for (uint32_t r = 0; r < centres.size(); ++r) {
+      if (centres[r].normalized().dot(towards) > 0.3 + 0.4 * (i % 7) / 7.0) o.reference_indices.push_back(r);
+    }
+    data.observations.push_back(std::move(o));
+  }
+  run->report.data = &data;
+  run->report.scene = data.scene;
+  SelectOptions options;
+  options.method = Method::kGreedy;
+  for (int n = 1; n <= 4; ++n) {
+    options.n = n;
+    std::vector<Selection> s = Select(data.observations, data.reference.size(), options);
+    run->report.results.insert(run->report.results.end(), s.begin(), s.end());
+  }
+  Selection bounded = run->report.results.back();  // a result with a proven bound, for the chart
+  bounded.method = "exact";
+  bounded.upper_bound = std::min(1.0, bounded.coverage + 0.02);
+  run->report.results.push_back(bounded);
+
+  test::TempDir dir;
+  const std::string page = dir.File("report.html");
+  test::WriteText(page, HtmlReport(run->report, run->scene));
+
+  // 1. The DOM after the scripts ran, the console and the network log.
+  double seconds = 0;
+  RunChromium(chromium, dir.File("profile"),
+              "--enable-logging=stderr --v=0 '--log-net-log=" + dir.File("net.json") + "' --dump-dom 'file://" +
+                  page + "'",
+              dir.File("dom.html"), dir.File("dom.err"), &seconds);
+  const std::string dom = test::ReadText(dir.File("dom.html"));
+  const std::string console = test::ReadText(dir.File("dom.err"));
+  std::smatch status;
+  ASSERT_TRUE(std::regex_search(dom, status, std::regex(R"(id="vantage-status"[^>]*>([^<]*)<)")))
+      << "no status element in the DOM; stderr:\n" << console.substr(0, 4000);
+  EXPECT_EQ(status[1].str(), "ok") << console.substr(0, 4000);
+  EXPECT_EQ(console.find("Uncaught"), std::string::npos) << console.substr(0, 4000);
+  EXPECT_NE(dom.find("<canvas"), std::string::npos);  // the 3D view was built
+  EXPECT_NE(dom.find("id=\"chart\""), std::string::npos);
+  EXPECT_EQ(CountOf(dom, "class=\"series\""), 2u);  // greedy and exact
+  EXPECT_GE(CountOf(dom, "<tr"), 450u + 1 + 4 + 1);
+  EXPECT_EQ(PageNetworkRequests(dir.File("net.json")), std::vector<std::string>{});
+  EXPECT_LT(seconds, 60.0);
+  std::printf("chromium --dump-dom: %.1f s\n", seconds);
+
+  // 2. A screenshot: the 3D view (below the 42 px header, 480 px high) is not blank.
+  RunChromium(chromium, dir.File("profile"),
+              "--window-size=800,600 '--screenshot=" + dir.File("shot.png") + "' 'file://" + page + "'",
+              dir.File("shot.out"), dir.File("shot.err"), &seconds);
+  std::printf("chromium --screenshot: %.1f s\n", seconds);
+  const Image shot = ReadPng(dir.File("shot.png"));
+  ASSERT_EQ(shot.width, 800) << test::ReadText(dir.File("shot.err")).substr(0, 4000);
+  ASSERT_EQ(shot.height, 600);
+  double sum = 0, sum2 = 0;
+  int n = 0, target_pixels = 0;
+  for (int y = 60; y < 500; ++y) {
+    for (int x = 200; x < 800; ++x) {  // right of the layer panel
+      const Rgb p = shot.At(x, y);
+      const double luminance = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+      sum += luminance;
+      sum2 += luminance * luminance;
+      ++n;
+      if (Classify(p) >= 0) ++target_pixels;
+    }
+  }
+  const double variance = sum2 / n - (sum / n) * (sum / n);
+  EXPECT_GT(variance, 100.0) << "the 3D view looks blank";
+  EXPECT_GT(target_pixels, 2000) << "no voxel colours in the 3D view";
+  if (const char* keep = std::getenv("VANTAGE_KEEP_SCREENSHOT"); keep != nullptr && *keep)
+    std::filesystem::copy_file(dir.File("shot.png"), keep, std::filesystem::copy_options::overwrite_existing);
+}
+
+// --------------------------------------------------------------------------------------------
+// The CLI: every output folder gets report.html and static_transforms.yaml; `vantage render`.
+
+TEST(RenderCli, OptimizeWritesThePageAndRenderWritesAPng) {
+  test::TempDir dir;
+  const std::string scene = std::string(VANTAGE_SOURCE_DIR) + "/examples/scenes/bin_picking_cell.yaml";
+  const test::CommandResult optimize =
+      test::RunVantage("optimize '" + scene + "' -n 2 --method greedy --out '" + dir.File("out") + "'");
+  ASSERT_EQ(optimize.exit_code, 0) << optimize.err;
+  EXPECT_TRUE(std::filesystem::exists(dir.File("out/report.html")));
+  const YAML::Node transforms = YAML::LoadFile(dir.File("out/static_transforms.yaml"));
+  EXPECT_EQ(transforms["transforms"].size(), 4u);
+
+  const test::CommandResult render = test::RunVantage("render '" + dir.File("out") + "' --png '" +
+                                                      dir.File("view.png") + "' --width 320 --height 240");
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  const Image image = ReadPng(dir.File("view.png"));
+  EXPECT_EQ(image.width, 320);
+  EXPECT_EQ(image.height, 240);
+  EXPECT_GT(CountPixels(image).observed, 100);
+
+  const test::CommandResult missing = test::RunVantage("render '" + dir.File("nowhere") + "'");
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find(dir.File("nowhere") + ":"), std::string::npos) << missing.err;
+  const test::CommandResult same_point = test::RunVantage("render '" + dir.File("out") + "' --png '" +
+                                                          dir.File("x.png") + "' --eye 0 0 1 --look-at 0 0 1");
+  EXPECT_EQ(same_point.exit_code, 2) << same_point.err;
+}
+
+}  // namespace
+}  // namespace vantage
