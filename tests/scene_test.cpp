@@ -496,7 +496,7 @@ TEST(YamlScene, ReadsPopulations) {
   EXPECT_TRUE((above.pose.rotation * Vec3::UnitX())
                   .isApprox(Vec3(std::cos(0.3), std::sin(0.3), 0), 1e-12));
   EXPECT_EQ(above.file, dir.File("scene.yaml"));
-  EXPECT_EQ(above.line, 52);
+  EXPECT_EQ(above.line, 41);  // the line of `- name: above`
 
   const Population& ring = p.populations[1];
   EXPECT_EQ(ring.region, RegionShape::kCylinder);
@@ -528,7 +528,7 @@ TEST(YamlScene, ReadsExplicitSensors) {
   EXPECT_TRUE(fixed.pose.position.isApprox(Vec3(0, 0, 2)));
   // Pitch 90° turns the body's x (forward) down to −z.
   EXPECT_TRUE((fixed.pose.rotation * Vec3::UnitX()).isApprox(Vec3(0, 0, -1), 1e-12));
-  EXPECT_EQ(fixed.line, 73);
+  EXPECT_EQ(fixed.line, 64);  // the line of `- name: fixed`
   EXPECT_TRUE(p.sensors[1].look_at);
 }
 

@@ -47,14 +47,14 @@ Scene SphereScene(double radius) {
 
 // A scene, its observed data and a report of one greedy selection of n sensors; not movable
 // (the report points at the data).
-struct Run {
+struct SceneRun {
   Scene scene;
   VisibilityFile data;
   Report report;
 };
 
-std::unique_ptr<Run> MakeRun(Scene scene, std::vector<Candidate> cameras, int n) {
-  auto run = std::make_unique<Run>();
+std::unique_ptr<SceneRun> MakeRun(Scene scene, std::vector<Candidate> cameras, int n) {
+  auto run = std::make_unique<SceneRun>();
   run->scene = std::move(scene);
   run->data.scene = "sphere (built in code)";
   run->data.reference = BuildReference(run->scene, ReferenceOptions{kCell});
@@ -170,7 +170,7 @@ TEST(Render, VisibleCapIsColouredObservedAsTheReportCounts) {
   const double s = kRadius / d;
   const double expected = (std::acos(s) - s * std::sqrt(1 - s * s)) / kPi;
   const Counts counts = CountPixels(side);
-  EXPECT_GT(counts.observed + counts.unobserved, 20000);
+  EXPECT_GT(counts.observed + counts.unobserved, 10000);
   EXPECT_NEAR(counts.ObservedShare(), expected, 0.03);
 }
 
@@ -303,7 +303,7 @@ TEST(HtmlReport, SelfContainedEscapedAndWithoutNetworkUrls) {
   HtmlReportOptions options;
   options.three_js_dir = "/nonexistent/three";
   const std::string bare = HtmlReport(run->report, run->scene, options);
-  EXPECT_EQ(bare.find("OrbitControls"), std::string::npos);
+  EXPECT_EQ(bare.find("REVISION"), std::string::npos);
   EXPECT_NE(DataJsonOf(bare).find("three.js r111 was not found"), std::string::npos);
 
   // Huge meshes are simplified for the page, and the page says so.
@@ -381,7 +381,7 @@ TEST(HtmlReport, OpensInHeadlessChromiumOfflineWithA3dViewAndAChart) {
   ASSERT_TRUE(HasThreeJs()) << "three.js r111 missing under " << HtmlReportOptions{}.three_js_dir
                             << " — install Debian's libjs-three (scripts/install-deps.sh)";
 
-  auto run = std::make_unique<Run>();
+  auto run = std::make_unique<SceneRun>();
   run->scene.objects.push_back({"ball", Role::kTarget, MakeSphere(0.36, kCell / 10)});
   TriangleMesh floor = MakeBox(Vec3(2.0, 2.0, 0.05));
   floor.Transform(Pose{Vec3(0, 0, -0.45), Quat::Identity()});

@@ -152,6 +152,7 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix, size_t n, const std::vector<uint
   std::vector<int> indices;
   std::vector<double> values;
   std::vector<double> objective;
+  const bool cover_form = std::getenv("VANTAGE_COVER_FORM") != nullptr;
   for (int q = 0; q < x_count; ++q) {
     double own = 0;
     std::vector<int> rows;
@@ -165,12 +166,12 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix, size_t n, const std::vector<uint
     std::sort(rows.begin(), rows.end());
     for (const int r : rows) {
       indices.push_back(r);
-      values.push_back(-1.0);
+      values.push_back(cover_form ? 1.0 : -1.0);
     }
     indices.push_back(y_count);
     values.push_back(1.0);
     starts.push_back(static_cast<CoinBigIndex>(indices.size()));
-    objective.push_back(own);
+    objective.push_back(cover_form ? -own : own);
   }
   for (int r = 0; r < y_count; ++r) {
     indices.push_back(r);
@@ -182,6 +183,11 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix, size_t n, const std::vector<uint
   const std::vector<double> column_upper(x_count + y_count, 1.0);
   std::vector<double> row_lower(row_count, -std::numeric_limits<double>::max());
   std::vector<double> row_upper(row_count, 0.0);
+  if (cover_form) {
+    std::fill(row_lower.begin(), row_lower.end(), 1.0);
+    std::fill(row_upper.begin(), row_upper.end(), std::numeric_limits<double>::max());
+    row_lower[y_count] = -std::numeric_limits<double>::max();
+  }
   row_upper[y_count] = static_cast<double>(n);
 
   CbcModelPtr model(Cbc_newModel());
@@ -194,7 +200,7 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix, size_t n, const std::vector<uint
                   column_lower.data(), column_upper.data(), objective.data(), row_lower.data(),
                   row_upper.data());
   for (int q = 0; q < x_count; ++q) Cbc_setInteger(cbc, q);
-  Cbc_setObjSense(cbc, -1);  // maximise
+  Cbc_setObjSense(cbc, cover_form ? 1 : -1);  // maximise
   Cbc_setLogLevel(cbc, 0);
   Cbc_setParameter(cbc, "timeMode", "elapsed");  // wall clock, as options.time_limit means
   Cbc_setMaximumSeconds(cbc, time_limit);
@@ -222,7 +228,10 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix, size_t n, const std::vector<uint
   if (!std::getenv("VANTAGE_NO_MIPSTART")) Cbc_setMIPStartI(cbc, static_cast<int>(start_columns.size()), start_columns.data(), ones.data());
 
   Cbc_solve(cbc);
-  const double bound = Cbc_getBestPossibleObjValue(cbc);
+  double bound = Cbc_getBestPossibleObjValue(cbc);
+  double y_total = 0; for (double w : y_weight) y_total += w;
+  if (cover_form) bound = y_total - bound;
+  fprintf(stderr, "bound %g obj %g\n", bound, Cbc_getObjValue(cbc));
   if (std::isfinite(bound)) outcome.bound = bound;
   const double* solution = Cbc_bestSolution(cbc);
   if (solution == nullptr) {

@@ -1,0 +1,148 @@
+// The `vantage` binary as users run it: exit codes 0/2/1, the file:line prefix of input errors,
+// the two halves of the pipeline agreeing with the whole, determinism across thread counts, and
+// outputs left untouched by a failed run.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <regex>
+
+#include "test_util.hpp"
+
+namespace vantage {
+namespace {
+
+using nlohmann::json;
+using test::RunVantage;
+
+std::string Scene() { return test::DataPath("cli/cube_cell.yaml"); }
+
+// report.json without the wall-clock fields, which legitimately differ between runs.
+json WithoutTimings(json report) {
+  report.erase("timings");
+  for (json& r : report["results"]) r.erase("seconds");
+  return report;
+}
+
+TEST(Cli, SensorsListsTheCatalog) {
+  const auto table = RunVantage("sensors");
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  for (const char* id : {"kinect_xbox_360", "photoneo_phoxi_s", "azure_kinect_wfov", "zed"})
+    EXPECT_NE(table.out.find(id), std::string::npos) << id;
+  const auto listed = RunVantage("sensors --json");
+  ASSERT_EQ(listed.exit_code, 0);
+  const json catalog = json::parse(listed.out);
+  ASSERT_EQ(catalog.size(), 14u);
+  // SR300 (SENSORS.md): 640 px over 1.24791 rad -> fx = 320 / tan(0.623955).
+  for (const json& t : catalog)
+    if (t["id"] == "intel_realsense_sr300") EXPECT_NEAR(t["fx"].get<double>(), 320 / std::tan(0.623955), 1e-9);
+}
+
+TEST(Cli, HelpAndUsageErrors) {
+  EXPECT_EQ(RunVantage("help optimize").exit_code, 0);
+  EXPECT_NE(RunVantage("help optimize").out.find("--method"), std::string::npos);
+  EXPECT_EQ(RunVantage("").exit_code, 2);
+  EXPECT_EQ(RunVantage("optimize").exit_code, 2);
+  EXPECT_EQ(RunVantage("frobnicate").exit_code, 2);
+  EXPECT_EQ(RunVantage("optimize " + Scene() + " --no-such-option").exit_code, 2);
+}
+
+TEST(Cli, OptimizeWritesEveryOutput) {
+  test::TempDir dir;
+  const auto run = RunVantage("optimize " + Scene() + " --out " + dir.File("out"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  for (const char* name : {"report.json", "candidates.csv", "reference.ply", "observed.ply"})
+    EXPECT_TRUE(std::filesystem::exists(dir.File("out/") + name)) << name;
+  const json report = json::parse(test::ReadText(dir.File("out/report.json")));
+  // The 10 cm cube's faces lie on 1 cm grid planes: cells -5..5, 11³ - 9³ = 602.
+  EXPECT_EQ(report["reference_voxels"], 602);
+  EXPECT_EQ(report["candidates"].size(), 16u);  // 10 random + 2 x 3 grid
+  EXPECT_EQ(report["seed"], 3);
+  std::set<std::string> methods;
+  for (const json& r : report["results"]) {
+    methods.insert(r["method"].get<std::string>());
+    EXPECT_LE(r["coverage"].get<double>(), 1.0);
+    EXPECT_LE(r["coverage"].get<double>(), r["paper_coverage"].get<double>() + 1e-12);
+  }
+  for (const char* m : {"best", "ransac", "greedy"}) EXPECT_TRUE(methods.count(m)) << m;
+  // The summary names the per-method results.
+  EXPECT_NE(run.out.find("greedy"), std::string::npos);
+  EXPECT_NE(run.out.find("reference        602 voxels"), std::string::npos);
+}
+
+TEST(Cli, ObserveThenSelectEqualsOptimize) {
+  test::TempDir dir;
+  ASSERT_EQ(RunVantage("optimize " + Scene() + " --method greedy --out " + dir.File("whole")).exit_code, 0);
+  const auto observe = RunVantage("observe " + Scene() + " --out " + dir.File("m.vis"));
+  ASSERT_EQ(observe.exit_code, 0) << observe.err;
+  const auto select = RunVantage("select " + dir.File("m.vis") + " --method greedy --out " + dir.File("halves"));
+  ASSERT_EQ(select.exit_code, 0) << select.err;
+  const json whole = json::parse(test::ReadText(dir.File("whole/report.json")));
+  const json halves = json::parse(test::ReadText(dir.File("halves/report.json")));
+  EXPECT_EQ(whole["results"][0]["sensors"], halves["results"][0]["sensors"]);
+  EXPECT_EQ(whole["results"][0]["coverage"], halves["results"][0]["coverage"]);
+  EXPECT_EQ(whole["candidates"], halves["candidates"]);
+}
+
+TEST(Cli, EvaluateReproducesTheChosenCoverage) {
+  test::TempDir dir;
+  ASSERT_EQ(RunVantage("optimize " + Scene() + " -n 3 --method greedy --out " + dir.File("o")).exit_code, 0);
+  const json report = json::parse(test::ReadText(dir.File("o/report.json")));
+  const auto eval = RunVantage("evaluate " + Scene() + " --constellation " + dir.File("o/report.json") +
+                               " --out " + dir.File("e"));
+  ASSERT_EQ(eval.exit_code, 0) << eval.err;
+  const json evaluated = json::parse(test::ReadText(dir.File("e/report.json")));
+  EXPECT_DOUBLE_EQ(evaluated["results"][0]["coverage"].get<double>(), report["results"][0]["coverage"].get<double>());
+  EXPECT_EQ(evaluated["results"][0]["sensors"], report["results"][0]["sensors"]);
+}
+
+TEST(Cli, SameSeedSameReportWhateverTheThreadCount) {
+  test::TempDir dir;
+  ASSERT_EQ(RunVantage("--threads 1 optimize " + Scene() + " --out " + dir.File("t1")).exit_code, 0);
+  ASSERT_EQ(RunVantage("--threads 2 optimize " + Scene() + " --out " + dir.File("t2")).exit_code, 0);
+  ASSERT_EQ(RunVantage("optimize " + Scene() + " --threads 2 --out " + dir.File("t2b")).exit_code, 0);
+  const json t1 = WithoutTimings(json::parse(test::ReadText(dir.File("t1/report.json"))));
+  EXPECT_EQ(t1, WithoutTimings(json::parse(test::ReadText(dir.File("t2/report.json")))));
+  EXPECT_EQ(t1, WithoutTimings(json::parse(test::ReadText(dir.File("t2b/report.json")))));
+  EXPECT_EQ(test::ReadText(dir.File("t1/observed.ply")), test::ReadText(dir.File("t2/observed.ply")));
+  // Another seed moves the random population.
+  ASSERT_EQ(RunVantage("optimize " + Scene() + " --seed 4 --out " + dir.File("s4")).exit_code, 0);
+  const json s4 = json::parse(test::ReadText(dir.File("s4/report.json")));
+  EXPECT_NE(t1["candidates"][0]["position"], s4["candidates"][0]["position"]);
+}
+
+TEST(Cli, BadInputExitsTwoAndLeavesThePreviousOutputs) {
+  test::TempDir dir;
+  const std::string out = dir.File("out");
+  ASSERT_EQ(RunVantage("optimize " + Scene() + " --out " + out).exit_code, 0);
+  const std::string before = test::ReadText(out + "/report.json");
+
+  test::WriteText(dir.File("broken.yaml"), "settings:\n  cell_size: 0.01\nobjects: [\n");
+  test::WriteText(dir.File("negative.yaml"), test::ReadText(Scene()) + "\n");
+  std::string negative = test::ReadText(Scene());
+  negative.replace(negative.find("cell_size: 0.01"), 15, "cell_size: -0.01");
+  test::WriteText(dir.File("negative.yaml"), negative);
+
+  struct Case {
+    std::string args;
+    std::string place;  // expected prefix of the error, "" when no file applies
+  };
+  const std::vector<Case> cases = {
+      {"optimize " + dir.File("missing.yaml"), dir.File("missing.yaml")},
+      {"optimize " + dir.File("broken.yaml"), dir.File("broken.yaml") + ":"},
+      {"optimize " + dir.File("negative.yaml"), dir.File("negative.yaml") + ":4:"},
+      {"optimize " + Scene() + " -n 99", Scene()},
+      {"optimize " + Scene() + " --method magic", ""},
+      {"optimize " + Scene() + " --cell-size 0", ""},
+  };
+  for (const Case& c : cases) {
+    const auto run = RunVantage(c.args + " --out " + out);
+    EXPECT_EQ(run.exit_code, 2) << c.args << "\n" << run.err;
+    EXPECT_EQ(run.err.find("internal"), std::string::npos) << run.err;
+    if (!c.place.empty()) EXPECT_NE(run.err.find(c.place), std::string::npos) << c.args << "\n" << run.err;
+    EXPECT_EQ(test::ReadText(out + "/report.json"), before) << c.args;
+  }
+}
+
+}  // namespace
+}  // namespace vantage
