@@ -8,7 +8,6 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
 #include <gtest/gtest.h>
-#include <sdf/sdf.hh>
 #include <stdlib.h>
 
 #include <algorithm>
@@ -16,6 +15,7 @@
 #include <filesystem>
 #include <map>
 #include <numbers>
+#include <sdf/sdf.hh>
 #include <set>
 #include <string>
 #include <vector>
@@ -36,7 +36,8 @@ constexpr double kTol = 1e-9;
 
 /// The loader with a clean environment (GAZEBO_MODEL_PATH / GAZEBO_RESOURCE_PATH unset), so that
 /// only the options and the models/ folder beside the world count.
-Problem Load(const std::string& path, const LoadOptions& options = {},
+Problem Load(const std::string& path,
+             const LoadOptions& options = {},
              std::vector<GazeboVisual>* visuals = nullptr) {
   ::unsetenv("GAZEBO_MODEL_PATH");
   ::unsetenv("GAZEBO_RESOURCE_PATH");
@@ -58,8 +59,10 @@ const SceneObject* FindObject(const Problem& problem, const std::string& name) {
   return nullptr;
 }
 
-const GazeboVisual* FindVisual(const std::vector<GazeboVisual>& visuals, const std::string& model,
-                               const std::string& link, const std::string& name) {
+const GazeboVisual* FindVisual(const std::vector<GazeboVisual>& visuals,
+                               const std::string& model,
+                               const std::string& link,
+                               const std::string& name) {
   for (const GazeboVisual& v : visuals)
     if (v.model == model && v.link == link && v.name == name) return &v;
   return nullptr;
@@ -107,12 +110,14 @@ std::string LoadError(const std::string& path, const LoadOptions& options = {}) 
 }
 
 /// The message's first line starts with "path:line:" and the message names `fragment`.
-void ExpectErrorAt(const std::string& message, const std::string& path, int line,
+void ExpectErrorAt(const std::string& message,
+                   const std::string& path,
+                   int line,
                    const std::string& fragment) {
   const std::string prefix = path + ":" + std::to_string(line) + ":";
   EXPECT_EQ(message.rfind(prefix, 0), 0u) << "expected prefix " << prefix << " in:\n" << message;
-  EXPECT_NE(message.find(fragment), std::string::npos)
-      << "expected '" << fragment << "' in:\n" << message;
+  EXPECT_NE(message.find(fragment), std::string::npos) << "expected '" << fragment << "' in:\n"
+                                                       << message;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -144,8 +149,7 @@ TEST(Gazebo, BinPickingWorld) {
 
   // The alternator: a 0.1816 x 0.118 x 0.1555 box, visual 0.07775 up, include at
   // (0.090696, 0.054119, 0), no rotation.
-  ExpectBounds(FindObject(problem, "alternator"),
-               Vec3(0.090696 - 0.0908, 0.054119 - 0.059, 0.0),
+  ExpectBounds(FindObject(problem, "alternator"), Vec3(0.090696 - 0.0908, 0.054119 - 0.059, 0.0),
                Vec3(0.090696 + 0.0908, 0.054119 + 0.059, 0.1555), 1e-12);
   // The trolley: 0.8794 x 0.5004 trays turned by yaw 1.5707 (≈ 90°), floor at z = -0.81, top
   // tray 0.78..0.80 above it; the legs (±0.4247 ± 0.015, ±0.2352 ± 0.015) stay inside.
@@ -233,9 +237,9 @@ TEST(Gazebo, BinPickingWithOcclusionsWorld) {
   ExpectVec(problem.populations[1].pose.position, Vec3(0, 0, 0.65));
   ASSERT_TRUE(problem.expected_candidates.has_value());
   EXPECT_EQ(*problem.expected_candidates, 300);
-  EXPECT_EQ(problem.populations[0].count + problem.populations[1].count +
-                problem.populations[2].count,
-            300);
+  EXPECT_EQ(
+      problem.populations[0].count + problem.populations[1].count + problem.populations[2].count,
+      300);
   // The first gearbox: its include pose replaces the model's own <pose>0 0 0.047</pose>, so the
   // 0.094 m high box (visual at the model origin) is centred at z = 0.047.
   const Aabb gearbox = FindObject(problem, "differential_gearbox_1")->mesh.Bounds();
@@ -341,8 +345,10 @@ Pose FromIgnition(const ignition::math::Pose3d& p) {
               Quat(p.Rot().W(), p.Rot().X(), p.Rot().Y(), p.Rot().Z())};
 }
 
-void CollectDomVisuals(const sdf::Model& model, const Pose& world_from_model,
-                       const std::string& scoped, std::map<std::string, Pose>* out) {
+void CollectDomVisuals(const sdf::Model& model,
+                       const Pose& world_from_model,
+                       const std::string& scoped,
+                       std::map<std::string, Pose>* out) {
   for (uint64_t l = 0; l < model.LinkCount(); ++l) {
     const sdf::Link* link = model.LinkByIndex(l);
     for (uint64_t v = 0; v < link->VisualCount(); ++v) {
@@ -365,7 +371,8 @@ void CollectDomVisuals(const sdf::Model& model, const Pose& world_from_model,
   }
 }
 
-void ExpectSameAsSdformat(const std::string& path, const LoadOptions& options,
+void ExpectSameAsSdformat(const std::string& path,
+                          const LoadOptions& options,
                           const std::string& model_dir) {
   sdf::Console::Instance()->SetQuiet(true);
   sdf::ParserConfig config;
@@ -416,8 +423,8 @@ TEST(Gazebo, TargetsByColour) {
   EXPECT_EQ(Names(problem, Role::kTarget),
             (std::set<std::string>{"green_script", "glow_green", "inline_diffuse", "mixed"}));
   EXPECT_EQ(Names(problem, Role::kOccluder),
-            (std::set<std::string>{"glow_red", "inline_override", "ambient_only",
-                                   "mixed/occluder", "unknown_material"}));
+            (std::set<std::string>{"glow_red", "inline_override", "ambient_only", "mixed/occluder",
+                                   "unknown_material"}));
   // The mixed model: the green cube is the target, the grey one above it an occluder.
   ExpectBounds(FindObject(problem, "mixed"), Vec3(5.95, -0.05, -0.05), Vec3(6.05, 0.05, 0.05));
   ExpectBounds(FindObject(problem, "mixed/occluder"), Vec3(5.95, -0.05, 0.15),
@@ -450,8 +457,7 @@ TEST(Gazebo, CommandLineTargetsOverride) {
 
   options.targets = {"no_such_model"};
   const std::string message = LoadError(World("colours.world"), options);
-  EXPECT_EQ(message.rfind(World("colours.world") + ": --target 'no_such_model'", 0), 0u)
-      << message;
+  EXPECT_EQ(message.rfind(World("colours.world") + ": --target 'no_such_model'", 0), 0u) << message;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -528,8 +534,8 @@ TEST(Gazebo, PopulationsAndSensors) {
   EXPECT_EQ(grid.cols, 7);
   ExpectVec(grid.step, Vec3(0.3636, 0.3636, 0));
   ExpectVec(grid.pose.position, Vec3(3.341, 0, -0.35));
-  EXPECT_NEAR(AngleBetween(grid.pose.rotation,
-                           Quat(Eigen::AngleAxisd(-1.5707, Vec3::UnitY()))), 0, kTol);
+  EXPECT_NEAR(AngleBetween(grid.pose.rotation, Quat(Eigen::AngleAxisd(-1.5707, Vec3::UnitY()))), 0,
+              kTol);
 
   const Population& line = problem.populations[3];
   EXPECT_EQ(line.sensor_type, "inline_camera");
@@ -685,6 +691,9 @@ TEST(Gazebo, UnknownPopulationForms) {
   std::string path = World("bad/unknown_population.world");
   ExpectErrorAt(LoadError(path), path, 20,
                 "population 'ring': unknown <distribution><type> 'spiral'");
+  path = World("bad/unknown_region.world");
+  ExpectErrorAt(LoadError(path), path, 14,
+                "population 'ball': <sphere> is not a population region");
   path = World("bad/unsupported_region.world");
   ExpectErrorAt(LoadError(path), path, 14,
                 "population 'row': distribution 'linear-x' works in a <box> region only");
@@ -705,8 +714,7 @@ TEST(Gazebo, NanAndNegativeValues) {
   ExpectErrorAt(message, path, 32, "<voxelGridFilterLeafSize> -0.005 must be positive");
   EXPECT_NE(message.find(path + ":33: <ransacNumberOfIterations> 'many'"), std::string::npos)
       << message;
-  EXPECT_NE(message.find(path + ":34: <observationPoint> '0 NaN 0'"), std::string::npos)
-      << message;
+  EXPECT_NE(message.find(path + ":34: <observationPoint> '0 NaN 0'"), std::string::npos) << message;
   EXPECT_NE(message.find(path + ":23: <radius> -0.3 must be positive"), std::string::npos)
       << message;
 
@@ -719,7 +727,8 @@ TEST(Gazebo, NanAndNegativeValues) {
 
 TEST(GazeboXml, LinesEntitiesAndStructure) {
   const detail::XmlDocument doc = detail::ParseXml(
-      "\xEF\xBB\xBF<?xml version=\"1.0\"?>\n<!-- c -->\n<!DOCTYPE sdf>\n<a x='1' y=\"&lt;&amp;&#65;\">\n"
+      "\xEF\xBB\xBF<?xml version=\"1.0\"?>\n<!-- c -->\n<!DOCTYPE sdf>\n<a x='1' "
+      "y=\"&lt;&amp;&#65;\">\n"
       "  <b/>\n  <c>t&gt;<![CDATA[<raw>]]></c>\n</a>\n",
       "mem.xml");
   EXPECT_EQ(doc.root.name, "a");
@@ -739,8 +748,9 @@ TEST(GazeboXml, LinesEntitiesAndStructure) {
     }
     return std::string("no error");
   };
-  EXPECT_EQ(error("<a>\n<b>\n</a>"), "mem.xml:3: malformed XML: </a> closes <b> opened at line 2 "
-                                     "— the tags must match");
+  EXPECT_EQ(error("<a>\n<b>\n</a>"),
+            "mem.xml:3: malformed XML: </a> closes <b> opened at line 2 "
+            "— the tags must match");
   EXPECT_EQ(error("<a>\n  <b x=1/>\n</a>").rfind("mem.xml:2: malformed XML:", 0), 0u);
   EXPECT_EQ(error("<a>&nbsp;</a>").rfind("mem.xml:1: malformed XML: unknown entity", 0), 0u);
   EXPECT_EQ(error("<a>\n<b>\n").rfind("mem.xml:2: malformed XML: <b> is never closed", 0), 0u);

@@ -1,5 +1,7 @@
 // Scene module: primitives against analytic areas and bounds, mesh files through Assimp, the
 // YAML scene format (docs/scene-format.md) and its error messages.
+#include "vantage/scene.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,7 +15,6 @@
 #include "test_util.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
-#include "vantage/scene.hpp"
 
 namespace vantage {
 namespace {
@@ -493,8 +494,8 @@ TEST(YamlScene, ReadsPopulations) {
   EXPECT_EQ(above.count, 5);
   EXPECT_TRUE(above.box_size.isApprox(Vec3(1, 2, 0.5)));
   EXPECT_TRUE(above.pose.position.isApprox(Vec3(0, 0, 2)));
-  EXPECT_TRUE((above.pose.rotation * Vec3::UnitX())
-                  .isApprox(Vec3(std::cos(0.3), std::sin(0.3), 0), 1e-12));
+  EXPECT_TRUE(
+      (above.pose.rotation * Vec3::UnitX()).isApprox(Vec3(std::cos(0.3), std::sin(0.3), 0), 1e-12));
   EXPECT_EQ(above.file, dir.File("scene.yaml"));
   EXPECT_EQ(above.line, 41);  // the line of `- name: above`
 
@@ -572,9 +573,8 @@ TEST(YamlScene, ExampleSceneLoads) {
   EXPECT_DOUBLE_EQ(p.cell_size, 0.005);
   int candidates = static_cast<int>(p.sensors.size());
   for (const Population& population : p.populations) {
-    candidates += population.distribution == Distribution::kGrid
-                      ? population.rows * population.cols
-                      : population.count;
+    candidates += population.distribution == Distribution::kGrid ? population.rows * population.cols
+                                                                 : population.count;
   }
   EXPECT_GE(candidates, 60);
   EXPECT_LE(candidates, 100);
@@ -582,6 +582,30 @@ TEST(YamlScene, ExampleSceneLoads) {
   const Aabb target = p.scene.TargetBounds();
   EXPECT_FALSE(target.IsEmpty());
   EXPECT_LT((target.max - target.min).maxCoeff(), 0.2);
+}
+
+TEST(YamlScene, DocumentedFullExampleLoads) {
+  // docs/scene-format.md's "Full example" must stay a valid scene.
+  const std::string docs =
+      test::ReadText(std::string(VANTAGE_SOURCE_DIR) + "/docs/scene-format.md");
+  const size_t section = docs.find("## Full example");
+  ASSERT_NE(section, std::string::npos);
+  const size_t begin = docs.find("```yaml\n", section);
+  ASSERT_NE(begin, std::string::npos);
+  const size_t end = docs.find("```", begin + 8);
+  ASSERT_NE(end, std::string::npos);
+  TempDir dir;
+  WriteText(dir.File("scenes/example.yaml"), docs.substr(begin + 8, end - begin - 8));
+  WriteText(dir.File("meshes/small_motor.obj"),
+            test::ReadText(std::string(VANTAGE_SOURCE_DIR) + "/examples/meshes/small_motor.obj"));
+  const Problem p = LoadYamlScene(dir.File("scenes/example.yaml"));
+  EXPECT_EQ(p.scene.TargetCount(), 1u);
+  EXPECT_EQ(p.populations.size(), 3u);
+  EXPECT_EQ(p.sensors.size(), 2u);
+  // The gear block's quaternion is a yaw of 0.4 rad, as in examples/scenes/bin_picking_cell.yaml.
+  const Aabb gear = ObjectNamed(p, "gear_block").mesh.Bounds();
+  const double half_extent = 0.025 * (std::cos(0.4) + std::sin(0.4));
+  EXPECT_NEAR(gear.max.x() - 0.10, half_extent, 1e-5);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -626,18 +650,22 @@ const BadScene kBadScenes[] = {
     {"object_without_name", "objects:\n  - {role: target, box: {size: [1, 1, 1]}}\n", 2,
      "has no 'name'"},
     {"object_without_shape", "objects:\n  - name: a\n    role: target\n", 2, "exactly one shape"},
-    {"object_two_shapes", "objects:\n  - name: a\n    role: target\n    box: {size: [1, 1, 1]}\n"
-     "    sphere: {radius: 1}\n", 5, "exactly one shape"},
+    {"object_two_shapes",
+     "objects:\n  - name: a\n    role: target\n    box: {size: [1, 1, 1]}\n"
+     "    sphere: {radius: 1}\n",
+     5, "exactly one shape"},
     {"object_bad_role", "objects:\n  - name: a\n    role: targt\n    box: {size: [1, 1, 1]}\n", 3,
      "did you mean 'target'?"},
-    {"duplicate_object", "objects:\n  - {name: a, role: target, box: {size: [1, 1, 1]}}\n"
-     "  - {name: a, box: {size: [1, 1, 1]}}\n", 3, "used twice"},
+    {"duplicate_object",
+     "objects:\n  - {name: a, role: target, box: {size: [1, 1, 1]}}\n"
+     "  - {name: a, box: {size: [1, 1, 1]}}\n",
+     3, "used twice"},
     {"box_zero_size", "objects:\n  - name: a\n    role: target\n    box: {size: [1, 0, 1]}\n", 4,
      "positive"},
-    {"box_nan_size", "objects:\n  - name: a\n    role: target\n    box:\n      size: [1, .nan, 1]\n",
-     5, "finite"},
-    {"sphere_negative_radius", "objects:\n  - name: a\n    role: target\n    sphere: {radius: -1}\n",
-     4, "must be positive"},
+    {"box_nan_size",
+     "objects:\n  - name: a\n    role: target\n    box:\n      size: [1, .nan, 1]\n", 5, "finite"},
+    {"sphere_negative_radius",
+     "objects:\n  - name: a\n    role: target\n    sphere: {radius: -1}\n", 4, "must be positive"},
     {"cylinder_without_length",
      "objects:\n  - name: a\n    role: target\n    cylinder: {radius: 1}\n", 4, "has no 'length'"},
     {"missing_mesh_file",
@@ -648,47 +676,52 @@ const BadScene kBadScenes[] = {
      "must be positive"},
     {"pose_rpy_and_quaternion",
      "objects:\n  - name: a\n    role: target\n    box: {size: [1, 1, 1]}\n    pose:\n"
-     "      rpy: [0, 0, 0]\n      quaternion: [1, 0, 0, 0]\n", 7, "keep one"},
+     "      rpy: [0, 0, 0]\n      quaternion: [1, 0, 0, 0]\n",
+     7, "keep one"},
     {"pose_zero_quaternion",
      "objects:\n  - name: a\n    role: target\n    box: {size: [1, 1, 1]}\n"
-     "    pose: {quaternion: [0, 0, 0, 0]}\n", 5, "zero"},
+     "    pose: {quaternion: [0, 0, 0, 0]}\n",
+     5, "zero"},
     {"pose_unknown_key",
      "objects:\n  - name: a\n    role: target\n    box: {size: [1, 1, 1]}\n"
-     "    pose: {xzy: [0, 0, 0]}\n", 5, "did you mean 'xyz'?"},
+     "    pose: {xzy: [0, 0, 0]}\n",
+     5, "did you mean 'xyz'?"},
     {"unknown_sensor_id",
      "populations:\n  - name: p\n    type: kinect_xbox_361\n    count: 3\n"
-     "    box: {size: [1, 1, 1]}\n", 3, "did you mean 'kinect_xbox_360'?"},
-    {"unknown_sensor_id_far",
-     "sensors:\n  - name: s\n    type: lidar\n    position: [0, 0, 1]\n", 3, "kinect_xbox_360"},
+     "    box: {size: [1, 1, 1]}\n",
+     3, "did you mean 'kinect_xbox_360'?"},
+    {"unknown_sensor_id_far", "sensors:\n  - name: s\n    type: lidar\n    position: [0, 0, 1]\n",
+     3, "kinect_xbox_360"},
     {"hfov_too_wide",
      "sensor_types:\n  - id: t\n    resolution: [640, 480]\n    hfov_deg: 180\n"
-     "    range: [0.3, 3]\n", 4, "(0, 180)"},
+     "    range: [0.3, 3]\n",
+     4, "(0, 180)"},
     {"hfov_radians_too_wide",
      "sensor_types:\n  - id: t\n    resolution: [640, 480]\n    hfov: 3.5\n"
-     "    range: [0.3, 3]\n", 4, "hfov_deg"},
+     "    range: [0.3, 3]\n",
+     4, "hfov_deg"},
     {"hfov_zero",
-     "sensor_types:\n  - id: t\n    resolution: [640, 480]\n    hfov: 0\n    range: [0.3, 3]\n",
-     4, "(0, π)"},
+     "sensor_types:\n  - id: t\n    resolution: [640, 480]\n    hfov: 0\n    range: [0.3, 3]\n", 4,
+     "(0, π)"},
     {"near_above_far",
-     "sensor_types:\n  - id: t\n    resolution: [640, 480]\n    hfov: 1\n    range: [3, 0.3]\n",
-     5, "near < far"},
+     "sensor_types:\n  - id: t\n    resolution: [640, 480]\n    hfov: 1\n    range: [3, 0.3]\n", 5,
+     "near < far"},
     {"resolution_zero",
      "sensor_types:\n  - id: t\n    resolution: [0, 480]\n    hfov: 1\n    range: [0.3, 3]\n", 3,
      "resolution width"},
-    {"type_without_range", "sensor_types:\n  - id: t\n    resolution: [640, 480]\n    hfov: 1\n",
-     2, "has no 'range'"},
+    {"type_without_range", "sensor_types:\n  - id: t\n    resolution: [640, 480]\n    hfov: 1\n", 2,
+     "has no 'range'"},
     {"type_intrinsics_and_fov",
      "sensor_types:\n  - id: t\n    resolution: [640, 480]\n    hfov: 1\n"
-     "    intrinsics: [500, 500, 320, 240]\n    range: [0.3, 3]\n", 5, "keep one"},
+     "    intrinsics: [500, 500, 320, 240]\n    range: [0.3, 3]\n",
+     5, "keep one"},
     {"type_shadows_catalog", "sensor_types:\n  - id: zed\n    base: zed\n    cost: 1\n", 2,
      "catalog id"},
     {"type_unknown_base", "sensor_types:\n  - id: mine\n    base: zedd\n", 3,
      "did you mean 'zed'?"},
-    {"type_negative_cost", "sensor_types:\n  - id: mine\n    base: zed\n    cost: -5\n", 4,
-     ">= 0"},
+    {"type_negative_cost", "sensor_types:\n  - id: mine\n    base: zed\n    cost: -5\n", 4, ">= 0"},
     {"population_without_count",
-     "populations:\n  - name: p\n    type: zed\n    box: {size: [1, 1, 1]}\n", 2,
-     "has no 'count'"},
+     "populations:\n  - name: p\n    type: zed\n    box: {size: [1, 1, 1]}\n", 2, "has no 'count'"},
     {"population_count_zero",
      "populations:\n  - name: p\n    type: zed\n    count: 0\n    box: {size: [1, 1, 1]}\n", 4,
      "count"},
@@ -699,25 +732,29 @@ const BadScene kBadScenes[] = {
      "positive"},
     {"population_bad_distribution",
      "populations:\n  - name: p\n    type: zed\n    distribution: randm\n    count: 3\n"
-     "    box: {size: [1, 1, 1]}\n", 4, "did you mean 'random'?"},
+     "    box: {size: [1, 1, 1]}\n",
+     4, "did you mean 'random'?"},
     {"cylinder_linear",
      "populations:\n  - name: rail\n    type: zed\n    distribution: linear-x\n    count: 3\n"
-     "    cylinder: {radius: 1, length: 1}\n", 6, "population 'rail'"},
+     "    cylinder: {radius: 1, length: 1}\n",
+     6, "population 'rail'"},
     {"cylinder_grid",
      "populations:\n  - name: wall\n    type: zed\n    distribution: grid\n    rows: 2\n"
-     "    cols: 2\n    step: [1, 1, 0]\n    cylinder: {radius: 1, length: 1}\n", 8,
-     "population 'wall'"},
+     "    cols: 2\n    step: [1, 1, 0]\n    cylinder: {radius: 1, length: 1}\n",
+     8, "population 'wall'"},
     {"grid_without_rows",
      "populations:\n  - name: g\n    type: zed\n    distribution: grid\n    cols: 2\n"
-     "    step: [1, 1, 0]\n", 2, "has no 'rows'"},
+     "    step: [1, 1, 0]\n",
+     2, "has no 'rows'"},
     {"grid_zero_cols",
      "populations:\n  - name: g\n    type: zed\n    distribution: grid\n    rows: 2\n    cols: 0\n"
-     "    step: [1, 1, 0]\n", 6, "cols"},
+     "    step: [1, 1, 0]\n",
+     6, "cols"},
     {"rows_without_grid",
      "populations:\n  - name: p\n    type: zed\n    count: 3\n    rows: 2\n"
-     "    box: {size: [1, 1, 1]}\n", 5, "grid"},
-    {"sensor_without_position", "sensors:\n  - name: s\n    type: zed\n", 2,
-     "has no 'position'"},
+     "    box: {size: [1, 1, 1]}\n",
+     5, "grid"},
+    {"sensor_without_position", "sensors:\n  - name: s\n    type: zed\n", 2, "has no 'position'"},
     {"sensor_position_string", "sensors:\n  - name: s\n    type: zed\n    position: here\n", 4,
      "3 numbers"},
     {"sensor_empty_orientation",
@@ -747,11 +784,14 @@ TEST_P(BadYaml, ThrowsWithFileAndLine) {
     const std::string prefix = path + ":" + std::to_string(bad.line) + ": ";
     EXPECT_EQ(message.rfind(prefix, 0), 0u) << bad.name << ": " << message;
     EXPECT_NE(message.find(bad.fragment), std::string::npos) << bad.name << ": " << message;
-    EXPECT_NE(message.find(" — "), std::string::npos) << bad.name << ": says how to fix: " << message;
+    EXPECT_NE(message.find(" — "), std::string::npos)
+        << bad.name << ": says how to fix: " << message;
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Scene, BadYaml, ::testing::ValuesIn(kBadScenes),
+INSTANTIATE_TEST_SUITE_P(Scene,
+                         BadYaml,
+                         ::testing::ValuesIn(kBadScenes),
                          [](const ::testing::TestParamInfo<BadScene>& info) {
                            return std::string(info.param.name);
                          });
@@ -774,8 +814,9 @@ TEST(YamlScene, CollectsEveryProblemBeforeThrowing) {
 TEST(YamlScene, BrokenMeshFileIsReportedAtItsLine) {
   TempDir dir;
   WriteText(dir.File("flat.obj"), "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
-  WriteText(dir.File("s.yaml"), "objects:\n  - name: a\n    role: target\n"
-                                "    mesh: {file: flat.obj}\n");
+  WriteText(dir.File("s.yaml"),
+            "objects:\n  - name: a\n    role: target\n"
+            "    mesh: {file: flat.obj}\n");
   try {
     LoadYamlScene(dir.File("s.yaml"));
     FAIL();
@@ -794,7 +835,7 @@ TEST(YamlScene, NeverCrashesOnMutatedInput) {
   const std::string original = kCompleteScene;
   const std::string replacements = "[]{}:-,#&*!|>'\"%@` \t\n0";
   size_t errors = 0, loads = 0;
-  for (size_t i = 0; i < original.size(); i += 3) {
+  for (size_t i = 0; i < original.size(); i += 4) {
     for (int variant = 0; variant < 2; ++variant) {
       std::string text = original;
       if (variant == 0) {

@@ -1,5 +1,7 @@
 // Selection methods against answers derived here: hand-worked instances, and brute force over
 // every n-subset of tiny random instances (SYSTEM.md, Select and the coverage metric).
+#include "vantage/select.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,7 +13,6 @@
 #include "select/coverage_matrix.hpp"
 #include "vantage/error.hpp"
 #include "vantage/rng.hpp"
-#include "vantage/select.hpp"
 
 namespace vantage {
 namespace {
@@ -42,7 +43,8 @@ std::vector<Observation> RandomInstance(uint64_t seed, size_t candidates, size_t
 // |∪ reference_indices| computed independently of the library.
 size_t UnionSize(const std::vector<Observation>& obs, const std::vector<uint32_t>& chosen) {
   std::set<uint32_t> cells;
-  for (uint32_t c : chosen) cells.insert(obs[c].reference_indices.begin(), obs[c].reference_indices.end());
+  for (uint32_t c : chosen)
+    cells.insert(obs[c].reference_indices.begin(), obs[c].reference_indices.end());
   return cells.size();
 }
 
@@ -98,7 +100,9 @@ SelectOptions Options(Method method, int n) {
   return options;
 }
 
-Selection SelectOne(const std::vector<Observation>& obs, size_t reference_size, Method method,
+Selection SelectOne(const std::vector<Observation>& obs,
+                    size_t reference_size,
+                    Method method,
                     int n) {
   const std::vector<Selection> results = Select(obs, reference_size, Options(method, n));
   EXPECT_EQ(results.size(), 1u);
@@ -305,9 +309,8 @@ TEST(Select, ExactNeedsTheSolverWhenLocalSearchIsStuck) {
   // Greedy: c0, then c1, c2, c3, c4 all add 2 -> c1: 10 cells. From [c0, c1] no swap helps:
   // dropping c0 loses 8 and the best newcomer (c4) brings back 6; dropping c1 loses 2 and any
   // newcomer adds 2. So local = greedy = 10, while {c3, c4} covers all 12.
-  const std::vector<Observation> obs = {Obs({0, 1, 2, 3, 6, 7, 8, 9}), Obs({4, 5}),
-                                        Obs({10, 11}), Obs({0, 1, 2, 3, 4, 5}),
-                                        Obs({6, 7, 8, 9, 10, 11})};
+  const std::vector<Observation> obs = {Obs({0, 1, 2, 3, 6, 7, 8, 9}), Obs({4, 5}), Obs({10, 11}),
+                                        Obs({0, 1, 2, 3, 4, 5}), Obs({6, 7, 8, 9, 10, 11})};
   const Selection greedy = SelectOne(obs, 12, Method::kGreedy, 2);
   EXPECT_EQ(greedy.chosen, (std::vector<uint32_t>{0, 1}));
   const Selection local = SelectOne(obs, 12, Method::kLocal, 2);
@@ -477,8 +480,7 @@ TEST(Select, RansacKeepsTheBestDrawAndStopsAtTheThreshold) {
   many.ransac_iterations = 300;
   const Selection best_of_many = SelectRansac(evaluator, many);
   EXPECT_GE(best_of_many.coverage, first_draw.coverage);
-  EXPECT_LE(best_of_many.coverage,
-            static_cast<double>(BruteForceOptimum(obs, 2)) / 200 + 1e-12);
+  EXPECT_LE(best_of_many.coverage, static_cast<double>(BruteForceOptimum(obs, 2)) / 200 + 1e-12);
 
   // A threshold the first draw already meets stops the search after it.
   SelectOptions stop = many;

@@ -1,6 +1,8 @@
 // Results people can look at (issue #7): the ray-traced PNG against analytic answers (a sphere
 // seen from one side), the ROS static transforms, and report.html — self-contained, and opened in
 // headless Chromium (no script error, no network request, a 3D view that is not blank, a chart).
+#include "vantage/visualize.hpp"
+
 #include <gtest/gtest.h>
 #include <stb_image.h>
 #include <yaml-cpp/yaml.h>
@@ -20,7 +22,6 @@
 #include "vantage/observe.hpp"
 #include "vantage/reference.hpp"
 #include "vantage/select.hpp"
-#include "vantage/visualize.hpp"
 
 namespace vantage {
 namespace {
@@ -30,7 +31,8 @@ constexpr double kCell = 0.005;
 constexpr double kRadius = 0.1;
 
 // A camera at `eye` looking at `target`, square image, fine pixels (well below a cell at 1 m).
-Candidate Camera(const std::string& name, const Vec3& eye, const Vec3& target, int pixels, double hfov) {
+Candidate Camera(
+    const std::string& name, const Vec3& eye, const Vec3& target, int pixels, double hfov) {
   Candidate c;
   c.name = name;
   c.sensor = SensorType::FromFov("test", pixels, pixels, hfov, std::nullopt, 0.05, 3.0);
@@ -76,7 +78,8 @@ int Classify(const Rgb& p) {
   if (v.norm() < 30) return -1;
   int best = -1;
   double best_cos = 0.995;
-  const std::array<Rgb, 4> palette = {kUnobservedColor, kObservedColors[0], kObservedColors[1], kObservedColors[2]};
+  const std::array<Rgb, 4> palette = {kUnobservedColor, kObservedColors[0], kObservedColors[1],
+                                      kObservedColors[2]};
   for (int k = 0; k < 4; ++k) {
     const Eigen::Vector3d c(palette[k][0], palette[k][1], palette[k][2]);
     const double cos = v.dot(c) / (v.norm() * c.norm());
@@ -144,18 +147,21 @@ RenderOptions View(const Vec3& eye, int size, double fov) {
 TEST(Render, VisibleCapIsColouredObservedAsTheReportCounts) {
   const double d = 1.0;
   const double hfov = 15.0 * kPi / 180.0;
-  auto run = MakeRun(SphereScene(kRadius), {Camera("cam", Vec3(d, 0, 0), Vec3::Zero(), 600, hfov)}, 1);
+  auto run =
+      MakeRun(SphereScene(kRadius), {Camera("cam", Vec3(d, 0, 0), Vec3::Zero(), 600, hfov)}, 1);
   ASSERT_EQ(run->report.results.size(), 1u);
   const double coverage = run->report.results[0].coverage;
   EXPECT_NEAR(coverage, 0.5 * (1 - kRadius / d), 0.03);
 
   // From the camera itself: every target pixel observed.
-  const Counts own = CountPixels(RenderView(run->scene, run->report, View(Vec3(d, 0, 0), 200, hfov)));
+  const Counts own =
+      CountPixels(RenderView(run->scene, run->report, View(Vec3(d, 0, 0), 200, hfov)));
   EXPECT_GT(own.observed, 5000);
   EXPECT_GE(own.ObservedShare(), 0.98) << own.observed << " observed, " << own.unobserved << " not";
 
   // From behind: nothing observed.
-  const Counts behind = CountPixels(RenderView(run->scene, run->report, View(Vec3(-d, 0, 0), 200, hfov)));
+  const Counts behind =
+      CountPixels(RenderView(run->scene, run->report, View(Vec3(-d, 0, 0), 200, hfov)));
   EXPECT_GT(behind.unobserved, 5000);
   EXPECT_LE(behind.ObservedShare(), 0.02);
 
@@ -185,9 +191,9 @@ TEST(Render, CountsColoursAndFrustaOfTwoSensors) {
   options.width = 400;
   options.height = 300;
   const Counts counts = CountPixels(RenderView(run->scene, run->report, options));  // default view
-  EXPECT_GT(counts.by_class[1], 500);   // seen by one sensor
-  EXPECT_GT(counts.by_class[2], 100);   // the band both see
-  EXPECT_EQ(counts.by_class[3], 0);     // no third sensor
+  EXPECT_GT(counts.by_class[1], 500);             // seen by one sensor
+  EXPECT_GT(counts.by_class[2], 100);             // the band both see
+  EXPECT_EQ(counts.by_class[3], 0);               // no third sensor
   EXPECT_GT(counts.observed, counts.unobserved);  // the default view looks from the sensors' side
   EXPECT_GT(counts.frustum, 50);
   options.draw_frusta = false;
@@ -195,7 +201,8 @@ TEST(Render, CountsColoursAndFrustaOfTwoSensors) {
 }
 
 TEST(Render, BadOptionsAndUnwritablePathsAreInputErrors) {
-  auto run = MakeRun(SphereScene(kRadius), {Camera("cam", Vec3(1, 0, 0), Vec3::Zero(), 64, 0.3)}, 1);
+  auto run =
+      MakeRun(SphereScene(kRadius), {Camera("cam", Vec3(1, 0, 0), Vec3::Zero(), 64, 0.3)}, 1);
   RenderOptions options;
   options.width = 0;
   EXPECT_THROW(RenderView(run->scene, run->report, options), InputError);
@@ -209,7 +216,8 @@ TEST(Render, BadOptionsAndUnwritablePathsAreInputErrors) {
     WritePng("/nonexistent-folder/x/view.png", image);
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("/nonexistent-folder/x/view.png:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("/nonexistent-folder/x/view.png:"), std::string::npos)
+        << e.what();
   }
 }
 
@@ -219,7 +227,8 @@ TEST(Render, BadOptionsAndUnwritablePathsAreInputErrors) {
 TEST(StaticTransforms, ChosenSensorsWithRosQuaternionsAndOpticalFrames) {
   const Vec3 eye(0.8, 0.3, 0.5);
   auto run = MakeRun(SphereScene(kRadius),
-                     {Camera("cam_a", eye, Vec3::Zero(), 64, 0.5), Camera("cam_b", Vec3(-0.9, 0, 0.1), Vec3::Zero(), 64, 0.5)},
+                     {Camera("cam_a", eye, Vec3::Zero(), 64, 0.5),
+                      Camera("cam_b", Vec3(-0.9, 0, 0.1), Vec3::Zero(), 64, 0.5)},
                      2);
   const YAML::Node yaml = YAML::Load(StaticTransformsYaml(run->report, "base_link"));
   EXPECT_EQ(yaml["schema"].as<std::string>(), "vantage.static_transforms/1");
@@ -245,8 +254,10 @@ TEST(StaticTransforms, ChosenSensorsWithRosQuaternionsAndOpticalFrames) {
     const Mat3 world_from_optical = (world_from_body * body_from_optical).toRotationMatrix();
     const Vec3 forward = (Vec3::Zero() - c.world_from_body.position).normalized();
     EXPECT_TRUE(world_from_optical.col(2).isApprox(forward, 1e-6));
-    EXPECT_TRUE(world_from_optical.col(0).isApprox(-(c.world_from_body.rotation * Vec3::UnitY()), 1e-6));
-    EXPECT_TRUE(world_from_optical.col(1).isApprox(-(c.world_from_body.rotation * Vec3::UnitZ()), 1e-6));
+    EXPECT_TRUE(
+        world_from_optical.col(0).isApprox(-(c.world_from_body.rotation * Vec3::UnitY()), 1e-6));
+    EXPECT_TRUE(
+        world_from_optical.col(1).isApprox(-(c.world_from_body.rotation * Vec3::UnitZ()), 1e-6));
   }
   run->report.results.clear();
   const YAML::Node empty = YAML::Load(StaticTransformsYaml(run->report));
@@ -272,17 +283,20 @@ size_t CountOf(const std::string& text, const std::string& what) {
 
 bool HasThreeJs() {
   return std::filesystem::exists(HtmlReportOptions{}.three_js_dir + "/three.min.js") &&
-         std::filesystem::exists(HtmlReportOptions{}.three_js_dir + "/examples/js/controls/OrbitControls.js");
+         std::filesystem::exists(HtmlReportOptions{}.three_js_dir +
+                                 "/examples/js/controls/OrbitControls.js");
 }
 
 TEST(HtmlReport, SelfContainedEscapedAndWithoutNetworkUrls) {
-  auto run = MakeRun(SphereScene(kRadius),
-                     {Camera("cam</script><img src=x onerror=alert(1)>", Vec3(1, 0, 0), Vec3::Zero(), 64, 0.5),
-                      Camera("plain", Vec3(0, 1, 0), Vec3::Zero(), 64, 0.5)},
-                     2);
+  auto run = MakeRun(
+      SphereScene(kRadius),
+      {Camera("cam</script><img src=x onerror=alert(1)>", Vec3(1, 0, 0), Vec3::Zero(), 64, 0.5),
+       Camera("plain", Vec3(0, 1, 0), Vec3::Zero(), 64, 0.5)},
+      2);
   const std::string html = HtmlReport(run->report, run->scene);
   // No element loads anything from elsewhere: no src/href to a network (or protocol-relative) URL.
-  EXPECT_FALSE(std::regex_search(html, std::regex(R"((src|href)\s*=\s*["']?\s*(https?:)?//)", std::regex::icase)));
+  EXPECT_FALSE(std::regex_search(
+      html, std::regex(R"((src|href)\s*=\s*["']?\s*(https?:)?//)", std::regex::icase)));
   EXPECT_EQ(html.find("<link"), std::string::npos);
   // Every <script> is closed once: the hostile name did not end one early.
   EXPECT_EQ(CountOf(html, "<script"), CountOf(html, "</script>"));
@@ -310,7 +324,8 @@ TEST(HtmlReport, SelfContainedEscapedAndWithoutNetworkUrls) {
   options = HtmlReportOptions{};
   options.max_mesh_triangles = 400;
   ASSERT_GT(run->scene.TriangleCount(), 400u);
-  const nlohmann::json small = nlohmann::json::parse(DataJsonOf(HtmlReport(run->report, run->scene, options)));
+  const nlohmann::json small =
+      nlohmann::json::parse(DataJsonOf(HtmlReport(run->report, run->scene, options)));
   const std::string indices = small["meshes"][0]["indices"];
   EXPECT_LE(indices.size() * 3 / 4 / 12, 400u);
   EXPECT_GT(indices.size() * 3 / 4 / 12, 50u);
@@ -338,13 +353,20 @@ std::string FindChromium() {
 
 // Headless Chromium, isolated and offline: its own profile, background traffic off, every host
 // unresolvable (debian-deps.md: swiftshader gives WebGL).
-int RunChromium(const std::string& chromium, const std::string& profile, const std::string& args,
-                const std::string& out, const std::string& err, double* seconds) {
+int RunChromium(const std::string& chromium,
+                const std::string& profile,
+                const std::string& args,
+                const std::string& out,
+                const std::string& err,
+                double* seconds) {
   const std::string command =
-      "timeout 90 '" + chromium + "' --headless --no-sandbox --enable-unsafe-swiftshader --user-data-dir='" + profile +
+      "timeout 90 '" + chromium +
+      "' --headless --no-sandbox --enable-unsafe-swiftshader --user-data-dir='" + profile +
       "' --no-first-run --disable-background-networking --disable-component-update --disable-sync "
-      "--disable-default-apps --disable-extensions --no-pings '--host-resolver-rules=MAP * ~NOTFOUND' "
-      "--virtual-time-budget=3000 " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
+      "--disable-default-apps --disable-extensions --no-pings '--host-resolver-rules=MAP * "
+      "~NOTFOUND' "
+      "--virtual-time-budget=3000 " +
+      args + " >'" + out + "' 2>'" + err + "' </dev/null";
   const auto start = std::chrono::steady_clock::now();
   const int status = std::system(command.c_str());
   *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -364,11 +386,13 @@ std::vector<std::string> PageNetworkRequests(const std::string& net_log_path) {
   if (!types.contains("URL_REQUEST_START_JOB")) return urls;
   const int start_job = types["URL_REQUEST_START_JOB"].get<int>();
   for (const auto& event : log["events"]) {
-    if (!event.contains("type") || event["type"] != start_job || !event.contains("params")) continue;
+    if (!event.contains("type") || event["type"] != start_job || !event.contains("params"))
+      continue;
     const auto& params = event["params"];
     const std::string url = params.value("url", "");
     const std::string key = params.value("network_isolation_key", "");
-    if (key.find("file://") != std::string::npos && url.rfind("file:", 0) != 0 && url.rfind("data:", 0) != 0)
+    if (key.find("file://") != std::string::npos && url.rfind("file:", 0) != 0 &&
+        url.rfind("data:", 0) != 0)
       urls.push_back(url);
   }
   return urls;
@@ -377,7 +401,8 @@ std::vector<std::string> PageNetworkRequests(const std::string& net_log_path) {
 // A page as large as the issue asks to keep fast: 450 candidates, ~100,000 voxels.
 TEST(HtmlReport, OpensInHeadlessChromiumOfflineWithA3dViewAndAChart) {
   const std::string chromium = FindChromium();
-  if (chromium.empty()) GTEST_SKIP() << "Chromium not found (install Debian's chromium: scripts/install-deps.sh)";
+  if (chromium.empty())
+    GTEST_SKIP() << "Chromium not found (install Debian's chromium: scripts/install-deps.sh)";
   ASSERT_TRUE(HasThreeJs()) << "three.js r111 missing under " << HtmlReportOptions{}.three_js_dir
                             << " — install Debian's libjs-three (scripts/install-deps.sh)";
 
@@ -396,13 +421,14 @@ TEST(HtmlReport, OpensInHeadlessChromiumOfflineWithA3dViewAndAChart) {
   for (uint64_t key : data.reference.keys) centres.push_back(VoxelCenter(key, kCell));
   for (int i = 0; i < 450; ++i) {
     const double azimuth = 2 * kPi * i / 450.0 * 7.0, elevation = 0.15 + 1.2 * (i % 45) / 45.0;
-    const Vec3 eye = 1.3 * Vec3(std::cos(azimuth) * std::cos(elevation), std::sin(azimuth) * std::cos(elevation),
-                                std::sin(elevation));
+    const Vec3 eye = 1.3 * Vec3(std::cos(azimuth) * std::cos(elevation),
+                                std::sin(azimuth) * std::cos(elevation), std::sin(elevation));
     data.candidates.push_back(Camera("cand_" + std::to_string(i), eye, Vec3::Zero(), 320, 0.8));
     Observation o;
     const Vec3 towards = eye.normalized();
     for (uint32_t r = 0; r < centres.size(); ++r) {
-      if (centres[r].normalized().dot(towards) > 0.3 + 0.4 * (i % 7) / 7.0) o.reference_indices.push_back(r);
+      if (centres[r].normalized().dot(towards) > 0.3 + 0.4 * (i % 7) / 7.0)
+        o.reference_indices.push_back(r);
     }
     data.observations.push_back(std::move(o));
   }
@@ -422,19 +448,25 @@ TEST(HtmlReport, OpensInHeadlessChromiumOfflineWithA3dViewAndAChart) {
 
   test::TempDir dir;
   const std::string page = dir.File("report.html");
-  test::WriteText(page, HtmlReport(run->report, run->scene));
+  const auto build_start = std::chrono::steady_clock::now();
+  const std::string html = HtmlReport(run->report, run->scene);
+  std::printf(
+      "report.html: %.1f MB in %.2f s\n", html.size() / 1e6,
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count());
+  test::WriteText(page, html);
 
   // 1. The DOM after the scripts ran, the console and the network log.
   double seconds = 0;
   RunChromium(chromium, dir.File("profile"),
-              "--enable-logging=stderr --v=0 '--log-net-log=" + dir.File("net.json") + "' --dump-dom 'file://" +
-                  page + "'",
+              "--enable-logging=stderr --v=0 '--log-net-log=" + dir.File("net.json") +
+                  "' --dump-dom 'file://" + page + "'",
               dir.File("dom.html"), dir.File("dom.err"), &seconds);
   const std::string dom = test::ReadText(dir.File("dom.html"));
   const std::string console = test::ReadText(dir.File("dom.err"));
   std::smatch status;
   ASSERT_TRUE(std::regex_search(dom, status, std::regex(R"(id="vantage-status"[^>]*>([^<]*)<)")))
-      << "no status element in the DOM; stderr:\n" << console.substr(0, 4000);
+      << "no status element in the DOM; stderr:\n"
+      << console.substr(0, 4000);
   EXPECT_EQ(status[1].str(), "ok") << console.substr(0, 4000);
   EXPECT_EQ(console.find("Uncaught"), std::string::npos) << console.substr(0, 4000);
   EXPECT_NE(dom.find("<canvas"), std::string::npos);  // the 3D view was built
@@ -446,9 +478,10 @@ TEST(HtmlReport, OpensInHeadlessChromiumOfflineWithA3dViewAndAChart) {
   std::printf("chromium --dump-dom: %.1f s\n", seconds);
 
   // 2. A screenshot: the 3D view (below the 42 px header, 480 px high) is not blank.
-  RunChromium(chromium, dir.File("profile"),
-              "--window-size=800,600 '--screenshot=" + dir.File("shot.png") + "' 'file://" + page + "'",
-              dir.File("shot.out"), dir.File("shot.err"), &seconds);
+  RunChromium(
+      chromium, dir.File("profile"),
+      "--window-size=800,600 '--screenshot=" + dir.File("shot.png") + "' 'file://" + page + "'",
+      dir.File("shot.out"), dir.File("shot.err"), &seconds);
   std::printf("chromium --screenshot: %.1f s\n", seconds);
   const Image shot = ReadPng(dir.File("shot.png"));
   ASSERT_EQ(shot.width, 800) << test::ReadText(dir.File("shot.err")).substr(0, 4000);
@@ -469,7 +502,8 @@ TEST(HtmlReport, OpensInHeadlessChromiumOfflineWithA3dViewAndAChart) {
   EXPECT_GT(variance, 100.0) << "the 3D view looks blank";
   EXPECT_GT(target_pixels, 2000) << "no voxel colours in the 3D view";
   if (const char* keep = std::getenv("VANTAGE_KEEP_SCREENSHOT"); keep != nullptr && *keep)
-    std::filesystem::copy_file(dir.File("shot.png"), keep, std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::copy_file(dir.File("shot.png"), keep,
+                               std::filesystem::copy_options::overwrite_existing);
 }
 
 // --------------------------------------------------------------------------------------------
@@ -477,16 +511,18 @@ TEST(HtmlReport, OpensInHeadlessChromiumOfflineWithA3dViewAndAChart) {
 
 TEST(RenderCli, OptimizeWritesThePageAndRenderWritesAPng) {
   test::TempDir dir;
-  const std::string scene = std::string(VANTAGE_SOURCE_DIR) + "/examples/scenes/bin_picking_cell.yaml";
-  const test::CommandResult optimize =
-      test::RunVantage("optimize '" + scene + "' -n 2 --method greedy --out '" + dir.File("out") + "'");
+  const std::string scene =
+      std::string(VANTAGE_SOURCE_DIR) + "/examples/scenes/bin_picking_cell.yaml";
+  const test::CommandResult optimize = test::RunVantage(
+      "optimize '" + scene + "' -n 2 --method greedy --out '" + dir.File("out") + "'");
   ASSERT_EQ(optimize.exit_code, 0) << optimize.err;
   EXPECT_TRUE(std::filesystem::exists(dir.File("out/report.html")));
   const YAML::Node transforms = YAML::LoadFile(dir.File("out/static_transforms.yaml"));
   EXPECT_EQ(transforms["transforms"].size(), 4u);
 
-  const test::CommandResult render = test::RunVantage("render '" + dir.File("out") + "' --png '" +
-                                                      dir.File("view.png") + "' --width 320 --height 240");
+  const test::CommandResult render =
+      test::RunVantage("render '" + dir.File("out") + "' --png '" + dir.File("view.png") +
+                       "' --width 320 --height 240");
   ASSERT_EQ(render.exit_code, 0) << render.err;
   const Image image = ReadPng(dir.File("view.png"));
   EXPECT_EQ(image.width, 320);
@@ -496,8 +532,9 @@ TEST(RenderCli, OptimizeWritesThePageAndRenderWritesAPng) {
   const test::CommandResult missing = test::RunVantage("render '" + dir.File("nowhere") + "'");
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_NE(missing.err.find(dir.File("nowhere") + ":"), std::string::npos) << missing.err;
-  const test::CommandResult same_point = test::RunVantage("render '" + dir.File("out") + "' --png '" +
-                                                          dir.File("x.png") + "' --eye 0 0 1 --look-at 0 0 1");
+  const test::CommandResult same_point =
+      test::RunVantage("render '" + dir.File("out") + "' --png '" + dir.File("x.png") +
+                       "' --eye 0 0 1 --look-at 0 0 1");
   EXPECT_EQ(same_point.exit_code, 2) << same_point.err;
 }
 

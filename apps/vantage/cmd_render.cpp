@@ -45,8 +45,10 @@ struct ReportHeader {
 ReportHeader ReadReportHeader(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in)
-    throw InputError(AtPlace(path, 0, "cannot open report.json — give an output folder of `vantage optimize`, "
-                                      "`select` or `evaluate`"));
+    throw InputError(
+        AtPlace(path, 0,
+                "cannot open report.json — give an output folder of `vantage optimize`, "
+                "`select` or `evaluate`"));
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded() || !j.is_object())
@@ -55,8 +57,10 @@ ReportHeader ReadReportHeader(const std::string& path) {
   if (!j.contains("scene") || !j["scene"].is_string() || j["scene"].get<std::string>().empty())
     throw InputError(AtPlace(path, 0, "no 'scene' path — give the scene with --scene PATH"));
   header.scene = j["scene"].get<std::string>();
-  if (!j.contains("cell_size") || !j["cell_size"].is_number() || !(j["cell_size"].get<double>() > 0))
-    throw InputError(AtPlace(path, 0, "'cell_size' must be a positive number — give a report.json written by vantage"));
+  if (!j.contains("cell_size") || !j["cell_size"].is_number() ||
+      !(j["cell_size"].get<double>() > 0))
+    throw InputError(AtPlace(
+        path, 0, "'cell_size' must be a positive number — give a report.json written by vantage"));
   header.cell_size = j["cell_size"].get<double>();
   if (j.contains("results") && j["results"].is_array() && !j["results"].empty()) {
     size_t which = 0;
@@ -77,16 +81,18 @@ std::optional<Vec3> PointOption(const std::vector<double>& values) {
 
 void RunRender(const RenderCommandOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  const std::string report_path =
-      fs::is_directory(options.dir) ? (fs::path(options.dir) / "report.json").string() : options.dir;
+  const std::string report_path = fs::is_directory(options.dir)
+                                      ? (fs::path(options.dir) / "report.json").string()
+                                      : options.dir;
   const ReportHeader header = ReadReportHeader(report_path);
   const Constellation constellation = LoadConstellation(report_path);
 
   const std::string scene_path = options.scene.empty() ? header.scene : options.scene;
   if (!fs::exists(scene_path))
-    throw InputError(AtPlace(report_path, 0, fmt::format("its scene '{}' is not found from here — run from the "
-                                                         "folder the run started in, or give --scene PATH",
-                                                         scene_path)));
+    throw InputError(AtPlace(report_path, 0,
+                             fmt::format("its scene '{}' is not found from here — run from the "
+                                         "folder the run started in, or give --scene PATH",
+                                         scene_path)));
   LoadOptions load;
   load.model_paths = options.model_paths;
   load.resource_paths = options.resource_paths;
@@ -124,10 +130,11 @@ void RunRender(const RenderCommandOptions& options) {
   render.eye = PointOption(options.eye);
   render.look_at = PointOption(options.look_at);
   render.draw_frusta = !options.no_frusta;
-  const std::string png = options.png.empty() ? (fs::path(options.dir) / "view.png").string() : options.png;
+  const std::string png =
+      options.png.empty() ? (fs::path(options.dir) / "view.png").string() : options.png;
   WritePng(png, RenderView(problem.scene, report, render));
-  fmt::print("render  {}  {}x{}  {} sensors, coverage {:.2f} %  {:.3f} s\n", png, render.width, render.height,
-             data.candidates.size(), 100.0 * given.coverage, SecondsSince(start));
+  fmt::print("render  {}  {}x{}  {} sensors, coverage {:.2f} %  {:.3f} s\n", png, render.width,
+             render.height, data.candidates.size(), 100.0 * given.coverage, SecondsSince(start));
 }
 
 }  // namespace
@@ -135,22 +142,34 @@ void RunRender(const RenderCommandOptions& options) {
 void SetupRender(CLI::App* parent) {
   auto options = std::make_shared<RenderCommandOptions>();
   CLI::App* app = parent->add_subcommand(
-      "render", "ray-trace a PNG of a finished run: targets coloured observed / unobserved, sensors' frusta");
-  app->add_option("dir", options->dir, "output folder of optimize/select/evaluate (or its report.json)")
+      "render",
+      "ray-trace a PNG of a finished run: targets coloured observed / unobserved, sensors' frusta");
+  app->add_option("dir", options->dir,
+                  "output folder of optimize/select/evaluate (or its report.json)")
       ->required();
   app->add_option("--png", options->png, "PNG file to write (default: DIR/view.png)");
-  app->add_option("--eye", options->eye, "viewpoint x y z [m] (default: framing targets and sensors)")
+  app->add_option("--eye", options->eye,
+                  "viewpoint x y z [m] (default: framing targets and sensors)")
       ->expected(3);
-  app->add_option("--look-at", options->look_at, "point looked at x y z [m] (default: the targets' centre)")
+  app->add_option("--look-at", options->look_at,
+                  "point looked at x y z [m] (default: the targets' centre)")
       ->expected(3);
-  app->add_option("--width", options->width, "picture width [px]")->check(CLI::Range(16, 8192))->capture_default_str();
-  app->add_option("--height", options->height, "picture height [px]")->check(CLI::Range(16, 8192))->capture_default_str();
-  app->add_option("--fov", options->fov_deg, "vertical field of view [deg]")->check(CLI::Range(1.0, 170.0))->capture_default_str();
+  app->add_option("--width", options->width, "picture width [px]")
+      ->check(CLI::Range(16, 8192))
+      ->capture_default_str();
+  app->add_option("--height", options->height, "picture height [px]")
+      ->check(CLI::Range(16, 8192))
+      ->capture_default_str();
+  app->add_option("--fov", options->fov_deg, "vertical field of view [deg]")
+      ->check(CLI::Range(1.0, 170.0))
+      ->capture_default_str();
   app->add_flag("--no-frusta", options->no_frusta, "do not draw the sensors' frusta");
   app->add_option("--scene", options->scene, "scene file (default: the one named in report.json)");
   app->add_option("--model-path", options->model_paths, "folder of Gazebo models (repeatable)");
-  app->add_option("--resource-path", options->resource_paths, "folder of Gazebo resources (repeatable)");
-  app->add_option("--target", options->targets, "target object/model name, as given to the run (repeatable)");
+  app->add_option("--resource-path", options->resource_paths,
+                  "folder of Gazebo resources (repeatable)");
+  app->add_option("--target", options->targets,
+                  "target object/model name, as given to the run (repeatable)");
   app->callback([options] { RunRender(*options); });
 }
 

@@ -28,6 +28,8 @@ struct ObserveOptions {
 };
 
 /// One Observation per candidate, in candidate order. Deterministic whatever the thread count.
+/// `reference` must be BuildReference of the same scene: culling traces only the pixels whose
+/// rays can reach its cells.
 std::vector<Observation> Observe(const Scene& scene, const Reference& reference,
                                  std::span<const Candidate> candidates,
                                  const ObserveOptions& options = {});

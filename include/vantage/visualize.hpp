@@ -45,7 +45,9 @@ struct HtmlReportOptions {
 /// page then shows no meshes). When the page's script runs to the end it sets the text of the
 /// element `#vantage-status` to "ok"; on a script error, to "error: <message>".
 /// Requires report.data; InternalError otherwise.
-std::string HtmlReport(const Report& report, const Scene& scene, const HtmlReportOptions& options = {});
+std::string HtmlReport(const Report& report,
+                       const Scene& scene,
+                       const HtmlReportOptions& options = {});
 
 /// The chosen sensors of report.primary (or PrimaryResult()) as ROS-style static transforms YAML
 /// (schema vantage.static_transforms/1, docs/outputs.md): per sensor its name, parent frame,
@@ -62,15 +64,16 @@ struct Image {
   std::vector<uint8_t> rgb;  ///< 3 * width * height bytes
 
   Rgb At(int x, int y) const {
-    const size_t i = 3 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x));
+    const size_t i =
+        3 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x));
     return {rgb[i], rgb[i + 1], rgb[i + 2]};
   }
 };
 
 /// Options of RenderView.
 struct RenderOptions {
-  int width = 1280;   ///< pixels, 16..8192
-  int height = 960;   ///< pixels, 16..8192
+  int width = 1280;                          ///< pixels, 16..8192
+  int height = 960;                          ///< pixels, 16..8192
   double vertical_fov = 0.7853981633974483;  ///< [rad], in (0, pi); default 45°
   /// Viewpoint [m, world]. Default: outside the targets and the chosen sensors, on the side the
   /// chosen sensors look from, framing all of them.

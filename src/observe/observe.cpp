@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include "observe/ray_scene.hpp"
 #include "vantage/error.hpp"
@@ -60,39 +61,63 @@ PixelRect RectOfBounds(const SensorType& s, const Pose& body_from_world, const A
   return r;
 }
 
-// Rectangles to trace for one camera: one per target object, overlapping ones merged so that no
-// pixel is traced twice.
-std::vector<PixelRect> RectsToTrace(const Candidate& candidate, const std::vector<Aabb>& targets,
-                                    bool cull) {
-  const SensorType& s = candidate.sensor;
-  if (!cull) return {FullImage(s)};
-  const Pose body_from_world = candidate.world_from_body.Inverse();
-  std::vector<PixelRect> rects;
-  for (const Aabb& bounds : targets) {
-    const PixelRect r = RectOfBounds(s, body_from_world, bounds);
-    if (!r.IsEmpty()) rects.push_back(r);
+// Blocks of kCullBlockCells³ reference cells: their bounds cover every target surface point,
+// because R holds every cell the targets' surface passes through.
+constexpr int64_t kCullBlockCells = 4;
+
+std::vector<Aabb> ReferenceBlocks(const Reference& reference) {
+  std::map<std::array<int64_t, 3>, Aabb> blocks;
+  const double f = reference.cell_size;
+  for (uint64_t key : reference.keys) {
+    const VoxelIndex i = UnpackVoxel(key);
+    const std::array<int64_t, 3> block{i[0] >= 0 ? i[0] / kCullBlockCells : (i[0] + 1) / kCullBlockCells - 1,
+                                       i[1] >= 0 ? i[1] / kCullBlockCells : (i[1] + 1) / kCullBlockCells - 1,
+                                       i[2] >= 0 ? i[2] / kCullBlockCells : (i[2] + 1) / kCullBlockCells - 1};
+    Aabb& bounds = blocks[block];
+    const Vec3 lo(static_cast<double>(i[0]) * f, static_cast<double>(i[1]) * f, static_cast<double>(i[2]) * f);
+    bounds.Extend(lo);
+    bounds.Extend(lo + Vec3::Constant(f));
   }
-  bool merged = true;
-  while (merged) {
-    merged = false;
-    for (size_t i = 0; i < rects.size() && !merged; ++i) {
-      for (size_t j = i + 1; j < rects.size() && !merged; ++j) {
-        const PixelRect& a = rects[i];
-        const PixelRect& b = rects[j];
-        if (a.u0 <= b.u1 && b.u0 <= a.u1 && a.v0 <= b.v1 && b.v0 <= a.v1) {
-          rects[i] = {std::min(a.u0, b.u0), std::min(a.v0, b.v0), std::max(a.u1, b.u1),
-                      std::max(a.v1, b.v1)};
-          rects.erase(rects.begin() + static_cast<std::ptrdiff_t>(j));
-          merged = true;
-        }
-      }
+  std::vector<Aabb> out;
+  out.reserve(blocks.size());
+  for (const auto& [block, bounds] : blocks) out.push_back(bounds);
+  return out;
+}
+
+/// Pixel spans [u0, u1] of one image row.
+struct RowSpan {
+  int v, u0, u1;
+};
+
+// The pixels to trace for one camera, row by row, each pixel once: the union of the projected
+// rectangles of the blocks (exact culling), or the whole image.
+std::vector<RowSpan> SpansToTrace(const Candidate& candidate, const std::vector<Aabb>& blocks, bool cull) {
+  const SensorType& s = candidate.sensor;
+  std::vector<RowSpan> spans;
+  if (!cull) {
+    for (int v = 0; v < s.height; ++v) spans.push_back({v, 0, s.width - 1});
+    return spans;
+  }
+  const Pose body_from_world = candidate.world_from_body.Inverse();
+  std::vector<std::vector<std::pair<int, int>>> rows(static_cast<size_t>(s.height));
+  for (const Aabb& bounds : blocks) {
+    const PixelRect r = RectOfBounds(s, body_from_world, bounds);
+    for (int v = r.v0; v <= r.v1 && !r.IsEmpty(); ++v) rows[static_cast<size_t>(v)].emplace_back(r.u0, r.u1);
+  }
+  for (int v = 0; v < s.height; ++v) {
+    auto& row = rows[static_cast<size_t>(v)];
+    std::sort(row.begin(), row.end());
+    for (size_t i = 0; i < row.size();) {
+      int u0 = row[i].first, u1 = row[i].second;
+      for (++i; i < row.size() && row[i].first <= u1 + 1; ++i) u1 = std::max(u1, row[i].second);
+      spans.push_back({v, u0, u1});
     }
   }
-  return rects;
+  return spans;
 }
 
 Observation ObserveOne(const RayScene& rays, const Reference& reference, const Candidate& candidate,
-                       const std::vector<Aabb>& targets, bool cull) {
+                       const std::vector<Aabb>& blocks, bool cull) {
   const SensorType& s = candidate.sensor;
   const Mat3 world_from_body = candidate.world_from_body.rotation.toRotationMatrix();
   const Vec3 origin = candidate.world_from_body.position;
@@ -105,10 +130,11 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
   // The direction's body-x component is 1, so the hit parameter t is the depth itself.
   batch.tfar = std::nextafter(static_cast<float>(s.far), std::numeric_limits<float>::infinity());
 
-  for (const PixelRect& rect : RectsToTrace(candidate, targets, cull)) {
-    for (int v = rect.v0; v <= rect.v1; ++v) {
-      for (int u_start = rect.u0; u_start <= rect.u1; u_start += RayBatch::kWidth) {
-        batch.active = std::min(RayBatch::kWidth, rect.u1 - u_start + 1);
+  for (const RowSpan& span : SpansToTrace(candidate, blocks, cull)) {
+    const int v = span.v;
+    {
+      for (int u_start = span.u0; u_start <= span.u1; u_start += RayBatch::kWidth) {
+        batch.active = std::min(RayBatch::kWidth, span.u1 - u_start + 1);
         for (int lane = 0; lane < batch.active; ++lane) {
           const Vec3 d = world_from_body * PixelRayInBody(s, u_start + lane, v);
           for (int a = 0; a < 3; ++a) batch.dir[a][lane] = static_cast<float>(d[a]);
@@ -148,17 +174,14 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
 std::vector<Observation> Observe(const Scene& scene, const Reference& reference,
                                  std::span<const Candidate> candidates, const ObserveOptions& options) {
   for (const Candidate& c : candidates) c.sensor.Validate(c.name);
-  std::vector<Aabb> targets;
-  for (const SceneObject& object : scene.objects) {
-    if (object.is_target() && !object.mesh.IsEmpty()) targets.push_back(object.mesh.Bounds());
-  }
+  const std::vector<Aabb> blocks = ReferenceBlocks(reference);
   const RayScene rays(scene);
   std::vector<Observation> observations(candidates.size());
   std::atomic<size_t> done{0};
   // Candidates are independent; each fills its own slot, so the result does not depend on the
   // thread count or the order of completion.
   tbb::parallel_for(size_t{0}, candidates.size(), [&](size_t i) {
-    observations[i] = ObserveOne(rays, reference, candidates[i], targets, options.cull);
+    observations[i] = ObserveOne(rays, reference, candidates[i], blocks, options.cull);
     const size_t finished = ++done;
     if (options.progress) options.progress(finished, candidates.size());
   });

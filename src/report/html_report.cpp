@@ -545,7 +545,8 @@ std::vector<uint32_t> PrimaryChosen(const Report& report, int* primary_index) {
 }
 
 std::string Base64(const void* bytes, size_t size) {
-  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  static constexpr char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   const auto* in = static_cast<const uint8_t*>(bytes);
   std::string out;
   out.reserve((size + 2) / 3 * 4);
@@ -581,11 +582,20 @@ std::string HtmlEscape(const std::string& text) {
   std::string out;
   for (const char ch : text) {
     switch (ch) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += ch;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += ch;
     }
   }
   return out;
@@ -601,10 +611,10 @@ std::string ScriptSafe(const std::string& text) {
     out += text[i];
     if (text[i] != '<') continue;
     const std::string_view rest = std::string_view(text).substr(i + 1);
-    const bool is_close = rest.size() >= 7 && rest[0] == '/' &&
-                          std::equal(rest.begin() + 1, rest.begin() + 7, "script", [](char a, char b) {
-                            return std::tolower(static_cast<unsigned char>(a)) == b;
-                          });
+    const bool is_close =
+        rest.size() >= 7 && rest[0] == '/' &&
+        std::equal(rest.begin() + 1, rest.begin() + 7, "script",
+                   [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
     if (is_close || rest.substr(0, 3) == "!--") out += '\\';
   }
   return out;
@@ -696,9 +706,10 @@ std::vector<TriangleMesh> PageMeshes(const Scene& scene, size_t max_triangles, s
       count += simplified.back().triangles.size();
     }
     if (count <= max_triangles || round == 39) {
-      *note = fmt::format("The 3D view shows the meshes simplified from {} to {} triangles "
-                          "(vertex clustering, {:.3g} m cells); pictures and numbers use the full meshes.",
-                          total, count, cell);
+      *note = fmt::format(
+          "The 3D view shows the meshes simplified from {} to {} triangles "
+          "(vertex clustering, {:.3g} m cells); pictures and numbers use the full meshes.",
+          total, count, cell);
       return simplified;
     }
   }
@@ -731,29 +742,34 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
     const Observation& o = data.observations.at(i);
     const Quat q = c.world_from_body.rotation.normalized();
     const SensorType& s = c.sensor;
-    candidates.push_back({{"name", c.name},
-                          {"type", c.type_id.empty() ? s.id : c.type_id},
-                          {"population", c.population},
-                          {"p", Vec3Json(c.world_from_body.position)},
-                          {"q", ordered_json::array({q.w(), q.x(), q.y(), q.z()})},
-                          {"w", s.width},
-                          {"h", s.height},
-                          {"fx", s.fx},
-                          {"fy", s.fy},
-                          {"cx", s.cx},
-                          {"cy", s.cy},
-                          {"near", s.near},
-                          {"far", s.far},
-                          {"observed", o.reference_indices.size()},
-                          {"coverage", fraction(o.reference_indices.size())},
-                          {"paper_coverage", fraction(o.reference_indices.size() + o.outside_keys.size())}});
+    candidates.push_back(
+        {{"name", c.name},
+         {"type", c.type_id.empty() ? s.id : c.type_id},
+         {"population", c.population},
+         {"p", Vec3Json(c.world_from_body.position)},
+         {"q", ordered_json::array({q.w(), q.x(), q.y(), q.z()})},
+         {"w", s.width},
+         {"h", s.height},
+         {"fx", s.fx},
+         {"fy", s.fy},
+         {"cx", s.cx},
+         {"cy", s.cy},
+         {"near", s.near},
+         {"far", s.far},
+         {"observed", o.reference_indices.size()},
+         {"coverage", fraction(o.reference_indices.size())},
+         {"paper_coverage", fraction(o.reference_indices.size() + o.outside_keys.size())}});
   }
 
   // Results.
   ordered_json results = ordered_json::array();
   for (const Selection& s : report.results) {
-    ordered_json r = {{"method", s.method}, {"n", s.n}, {"sensors", s.chosen},
-                      {"coverage", s.coverage}, {"paper_coverage", s.paper_coverage}, {"seconds", s.seconds}};
+    ordered_json r = {{"method", s.method},
+                      {"n", s.n},
+                      {"sensors", s.chosen},
+                      {"coverage", s.coverage},
+                      {"paper_coverage", s.paper_coverage},
+                      {"seconds", s.seconds}};
     if (s.upper_bound) {
       r["upper_bound"] = *s.upper_bound;
       r["optimal"] = s.proven_optimal;
@@ -774,7 +790,8 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
       if (seen[r] < 255) ++seen[r];
     }
     covered += gained;
-    const Vec3 rpy = RpyFromRotation(data.candidates[index].world_from_body.rotation.normalized().toRotationMatrix());
+    const Vec3 rpy = RpyFromRotation(
+        data.candidates[index].world_from_body.rotation.normalized().toRotationMatrix());
     chosen_json.push_back({{"index", index},
                            {"marginal_gain", fraction(gained)},
                            {"cumulative", fraction(covered)},
@@ -817,11 +834,13 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
 
   // Meshes.
   std::string mesh_note;
-  const std::vector<TriangleMesh> meshes = PageMeshes(scene, options.max_mesh_triangles, &mesh_note);
+  const std::vector<TriangleMesh> meshes =
+      PageMeshes(scene, options.max_mesh_triangles, &mesh_note);
   if (!mesh_note.empty()) notes.push_back(mesh_note);
   if (scene.objects.empty())
-    notes.push_back("The scene's meshes were not available when this page was written; the 3D view shows "
-                    "voxels and sensors only.");
+    notes.push_back(
+        "The scene's meshes were not available when this page was written; the 3D view shows "
+        "voxels and sensors only.");
   ordered_json meshes_json = ordered_json::array();
   for (size_t i = 0; i < meshes.size() && i < scene.objects.size(); ++i) {
     const TriangleMesh& mesh = meshes[i];
@@ -843,12 +862,14 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   std::string three, orbit;
   const std::string three_path = options.three_js_dir + "/three.min.js";
   const std::string orbit_path = options.three_js_dir + "/examples/js/controls/OrbitControls.js";
-  const bool has_three = ReadFile(three_path, &three) && ReadFile(orbit_path, &orbit) && !three.empty();
+  const bool has_three =
+      ReadFile(three_path, &three) && ReadFile(orbit_path, &orbit) && !three.empty();
   std::string three_note;
   if (!has_three)
-    three_note = fmt::format("The 3D view is not available: three.js r111 was not found at {} and {} when this "
-                             "page was written. Install Debian's libjs-three and run vantage again.",
-                             three_path, orbit_path);
+    three_note = fmt::format(
+        "The 3D view is not available: three.js r111 was not found at {} and {} when this "
+        "page was written. Install Debian's libjs-three and run vantage again.",
+        three_path, orbit_path);
 
   const double fov = 0.7853981633974483;
   const View view = DefaultView(scene, report, fov);
@@ -860,16 +881,19 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
                   {"reference_voxels", reference_size}};
   if (primary >= 0) {
     const Selection& s = report.results[static_cast<size_t>(primary)];
-    page["primary"] = {{"index", primary}, {"method", s.method}, {"n", s.n}, {"coverage", s.coverage}};
+    page["primary"] = {
+        {"index", primary}, {"method", s.method}, {"n", s.n}, {"coverage", s.coverage}};
   } else {
     page["primary"] = nullptr;
   }
-  page["view"] = {{"eye", Vec3Json(view.eye)}, {"look_at", Vec3Json(view.look_at)}, {"fov_deg", 45.0}};
-  page["colors"] = {{"unobserved", RgbJson(kUnobservedColor)},
-                    {"observed", ordered_json::array({RgbJson(kObservedColors[0]), RgbJson(kObservedColors[1]),
-                                                      RgbJson(kObservedColors[2])})},
-                    {"occluder", RgbJson(kOccluderColor)},
-                    {"frustum", RgbJson(kFrustumColor)}};
+  page["view"] = {
+      {"eye", Vec3Json(view.eye)}, {"look_at", Vec3Json(view.look_at)}, {"fov_deg", 45.0}};
+  page["colors"] = {
+      {"unobserved", RgbJson(kUnobservedColor)},
+      {"observed", ordered_json::array({RgbJson(kObservedColors[0]), RgbJson(kObservedColors[1]),
+                                        RgbJson(kObservedColors[2])})},
+      {"occluder", RgbJson(kOccluderColor)},
+      {"frustum", RgbJson(kFrustumColor)}};
   page["notes"] = notes;
   page["three_note"] = three_note;
   page["candidates"] = std::move(candidates);
@@ -878,8 +902,9 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   page["voxels"] = std::move(voxels);
   page["meshes"] = std::move(meshes_json);
 
-  std::string subtitle = fmt::format("{} · {} reference voxels of {} m · {} candidates", report.scene,
-                                     reference_size, data.reference.cell_size, data.candidates.size());
+  std::string subtitle =
+      fmt::format("{} · {} reference voxels of {} m · {} candidates", report.scene, reference_size,
+                  data.reference.cell_size, data.candidates.size());
   if (primary >= 0) {
     const Selection& s = report.results[static_cast<size_t>(primary)];
     subtitle += fmt::format(" · {} N = {}: {:.2f} %", s.method, s.n, 100.0 * s.coverage);
@@ -900,7 +925,8 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
     html += "<script>\n" + ScriptSafe(three) + "\n</script>\n";
     html += "<script>\n" + ScriptSafe(orbit) + "\n</script>\n";
   }
-  html += "<script id=\"vantage-data\" type=\"application/json\">" + JsonScriptSafe(page.dump()) + "</script>\n";
+  html += "<script id=\"vantage-data\" type=\"application/json\">" + JsonScriptSafe(page.dump()) +
+          "</script>\n";
   html += "<script>";
   html += kPageScript;
   html += "</script>\n</body>\n</html>\n";

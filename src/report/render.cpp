@@ -90,7 +90,8 @@ class Overlay {
   void Segment(const Vec3& a, const Vec3& b) {
     // Clip to the half-space in front of the eye, then sample at about two samples per pixel.
     Vec3 p = a, q = b;
-    const double za = (p - camera_.eye).dot(camera_.forward), zb = (q - camera_.eye).dot(camera_.forward);
+    const double za = (p - camera_.eye).dot(camera_.forward),
+                 zb = (q - camera_.eye).dot(camera_.forward);
     constexpr double kMinDepth = 1e-6;
     if (za <= kMinDepth && zb <= kMinDepth) return;
     if (za <= kMinDepth) p = p + (q - p) * ((kMinDepth - za) / (zb - za));
@@ -135,7 +136,8 @@ class Overlay {
   void Mark(double x, double y, double distance) {
     const int xi = static_cast<int>(std::floor(x)), yi = static_cast<int>(std::floor(y));
     if (xi < 0 || yi < 0 || xi >= camera_.width || yi >= camera_.height) return;
-    const size_t i = static_cast<size_t>(yi) * static_cast<size_t>(camera_.width) + static_cast<size_t>(xi);
+    const size_t i =
+        static_cast<size_t>(yi) * static_cast<size_t>(camera_.width) + static_cast<size_t>(xi);
     // Hidden behind the surface this pixel shows: drawn faintly.
     const bool is_visible = distance <= static_cast<double>(depth_[i]) * 1.002 + 1e-6;
     alpha_[i] = std::max(alpha_[i], is_visible ? 1.0f : 0.3f);
@@ -157,11 +159,13 @@ Vec3 FarCorner(const Candidate& c, double u, double v) {
 }  // namespace
 
 void RenderOptions::Validate() const {
-  if (width < 16 || width > 8192) throw InputError(fmt::format("render: width {} must be within 16..8192", width));
+  if (width < 16 || width > 8192)
+    throw InputError(fmt::format("render: width {} must be within 16..8192", width));
   if (height < 16 || height > 8192)
     throw InputError(fmt::format("render: height {} must be within 16..8192", height));
   if (!(vertical_fov > 0 && vertical_fov < kPi))
-    throw InputError(fmt::format("render: vertical_fov {} rad must be within (0, pi)", vertical_fov));
+    throw InputError(
+        fmt::format("render: vertical_fov {} rad must be within (0, pi)", vertical_fov));
   if (eye && !eye->allFinite()) throw InputError("render: eye must be finite numbers");
   if (look_at && !look_at->allFinite()) throw InputError("render: look_at must be finite numbers");
 }
@@ -227,14 +231,16 @@ Image RenderView(const Scene& scene, const Report& report, const RenderOptions& 
   if (options.look_at) view.look_at = *options.look_at;
   if (options.eye) view.eye = *options.eye;
   if ((view.eye - view.look_at).norm() < 1e-9)
-    throw InputError(fmt::format("render: the eye ({}, {}, {}) is the point looked at — give two different points",
-                                 view.eye.x(), view.eye.y(), view.eye.z()));
+    throw InputError(fmt::format(
+        "render: the eye ({}, {}, {}) is the point looked at — give two different points",
+        view.eye.x(), view.eye.y(), view.eye.z()));
   const ViewCamera camera = MakeCamera(view, options);
 
   Image image;
   image.width = options.width;
   image.height = options.height;
-  const size_t pixel_count = static_cast<size_t>(options.width) * static_cast<size_t>(options.height);
+  const size_t pixel_count =
+      static_cast<size_t>(options.width) * static_cast<size_t>(options.height);
   image.rgb.assign(3 * pixel_count, 0);
   std::vector<float> depth(pixel_count, std::numeric_limits<float>::infinity());
 
@@ -244,52 +250,58 @@ Image RenderView(const Scene& scene, const Report& report, const RenderOptions& 
   const float origin[3] = {static_cast<float>(view.eye.x()), static_cast<float>(view.eye.y()),
                            static_cast<float>(view.eye.z())};
   // Rows fill preallocated slots by index: the picture does not depend on the thread count.
-  tbb::parallel_for(tbb::blocked_range<int>(0, options.height), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y < rows.end(); ++y) {
-      for (int x = 0; x < options.width; ++x) {
-        const size_t i = static_cast<size_t>(y) * static_cast<size_t>(options.width) + static_cast<size_t>(x);
-        const Vec3 dir = camera.RayThrough(x + 0.5, y + 0.5);
-        const float dir_f[3] = {static_cast<float>(dir.x()), static_cast<float>(dir.y()),
-                                static_cast<float>(dir.z())};
-        const detail::RayHit hit = rays.IntersectHit(origin, dir_f, std::numeric_limits<float>::infinity());
-        Rgb color{};
-        double shade = 1.0;
-        if (hit.object < 0) {
-          // Background: a soft vertical gradient.
-          const double s = static_cast<double>(y) / options.height;
-          color = {static_cast<uint8_t>(236 - 36 * s), static_cast<uint8_t>(239 - 33 * s),
-                   static_cast<uint8_t>(243 - 25 * s)};
-        } else {
-          depth[i] = hit.t;
-          Vec3 normal(hit.normal[0], hit.normal[1], hit.normal[2]);
-          if (normal.norm() > 0) normal.normalize();
-          if (normal.dot(dir) > 0) normal = -normal;  // two-sided: the side facing the eye
-          // A headlight (every visible face lit) plus a key light from the upper left of the view,
-          // so that faces of different orientation differ.
-          const double facing = normal.norm() > 0 ? -normal.dot(dir) : 1.0;
-          const double key = std::max(0.0, normal.dot(key_light));
-          shade = 0.3 + 0.45 * facing + 0.3 * key;
-          if (hit.is_target) {
-            const Vec3 point = view.eye + static_cast<double>(hit.t) * dir;
-            const VoxelIndex key = VoxelKeyOf(point, cell_size);
-            int seeing = 0;
-            if (VoxelIndexFits(key)) {
-              const auto it = counts.find(PackVoxel(key));
-              if (it != counts.end()) seeing = it->second;
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, options.height), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y < rows.end(); ++y) {
+          for (int x = 0; x < options.width; ++x) {
+            const size_t i = static_cast<size_t>(y) * static_cast<size_t>(options.width) +
+                             static_cast<size_t>(x);
+            const Vec3 dir = camera.RayThrough(x + 0.5, y + 0.5);
+            const float dir_f[3] = {static_cast<float>(dir.x()), static_cast<float>(dir.y()),
+                                    static_cast<float>(dir.z())};
+            const detail::RayHit hit =
+                rays.IntersectHit(origin, dir_f, std::numeric_limits<float>::infinity());
+            Rgb color{};
+            double shade = 1.0;
+            if (hit.object < 0) {
+              // Background: a soft vertical gradient.
+              const double s = static_cast<double>(y) / options.height;
+              color = {static_cast<uint8_t>(236 - 36 * s), static_cast<uint8_t>(239 - 33 * s),
+                       static_cast<uint8_t>(243 - 25 * s)};
+            } else {
+              depth[i] = hit.t;
+              Vec3 normal(hit.normal[0], hit.normal[1], hit.normal[2]);
+              if (normal.norm() > 0) normal.normalize();
+              if (normal.dot(dir) > 0) normal = -normal;  // two-sided: the side facing the eye
+              // A headlight (every visible face lit) plus a key light from the upper left of the
+              // view, so that faces of different orientation differ.
+              const double facing = normal.norm() > 0 ? -normal.dot(dir) : 1.0;
+              const double key = std::max(0.0, normal.dot(key_light));
+              shade = 0.3 + 0.45 * facing + 0.3 * key;
+              if (hit.is_target) {
+                const Vec3 point = view.eye + static_cast<double>(hit.t) * dir;
+                const VoxelIndex key = VoxelKeyOf(point, cell_size);
+                int seeing = 0;
+                if (VoxelIndexFits(key)) {
+                  const auto it = counts.find(PackVoxel(key));
+                  if (it != counts.end()) seeing = it->second;
+                }
+                color = TargetColor(seeing);
+              } else {
+                // Neighbouring occluders (a table on a floor) differ a little in lightness.
+                const double tint =
+                    0.86 + 0.07 * static_cast<double>(static_cast<uint32_t>(hit.object) % 5) / 2.0;
+                for (int c = 0; c < 3; ++c)
+                  color[c] =
+                      static_cast<uint8_t>(std::lround(std::min(255.0, tint * kOccluderColor[c])));
+              }
             }
-            color = TargetColor(seeing);
-          } else {
-            // Neighbouring occluders (a table on a floor) differ a little in lightness.
-            const double tint = 0.86 + 0.07 * static_cast<double>(static_cast<uint32_t>(hit.object) % 5) / 2.0;
             for (int c = 0; c < 3; ++c)
-              color[c] = static_cast<uint8_t>(std::lround(std::min(255.0, tint * kOccluderColor[c])));
+              image.rgb[3 * i + c] =
+                  static_cast<uint8_t>(std::lround(std::clamp(shade * color[c], 0.0, 255.0)));
           }
         }
-        for (int c = 0; c < 3; ++c)
-          image.rgb[3 * i + c] = static_cast<uint8_t>(std::lround(std::clamp(shade * color[c], 0.0, 255.0)));
-      }
-    }
-  });
+      });
 
   if (options.draw_frusta) {
     Overlay overlay(camera, depth);
@@ -297,7 +309,8 @@ Image RenderView(const Scene& scene, const Report& report, const RenderOptions& 
       const Candidate& c = data.candidates.at(index);
       const Vec3 apex = c.world_from_body.position;
       const double w = c.sensor.width, h = c.sensor.height;
-      const Vec3 corners[4] = {FarCorner(c, 0, 0), FarCorner(c, w, 0), FarCorner(c, w, h), FarCorner(c, 0, h)};
+      const Vec3 corners[4] = {FarCorner(c, 0, 0), FarCorner(c, w, 0), FarCorner(c, w, h),
+                               FarCorner(c, 0, h)};
       for (int k = 0; k < 4; ++k) {
         overlay.Segment(apex, corners[k]);
         overlay.Segment(corners[k], corners[(k + 1) % 4]);
@@ -311,9 +324,12 @@ Image RenderView(const Scene& scene, const Report& report, const RenderOptions& 
 
 void WritePng(const std::string& path, const Image& image) {
   VANTAGE_CHECK(image.width > 0 && image.height > 0 &&
-                image.rgb.size() == 3 * static_cast<size_t>(image.width) * static_cast<size_t>(image.height));
-  if (stbi_write_png(path.c_str(), image.width, image.height, 3, image.rgb.data(), 3 * image.width) == 0)
-    throw InputError(AtPlace(path, 0, "cannot write the PNG file — check that its folder exists and is writable"));
+                image.rgb.size() ==
+                    3 * static_cast<size_t>(image.width) * static_cast<size_t>(image.height));
+  if (stbi_write_png(path.c_str(), image.width, image.height, 3, image.rgb.data(),
+                     3 * image.width) == 0)
+    throw InputError(AtPlace(
+        path, 0, "cannot write the PNG file — check that its folder exists and is writable"));
 }
 
 }  // namespace vantage

@@ -48,11 +48,15 @@ Quat BodyFromOptical() {
 std::string QuaternionXyzw(Quat q) {
   q.normalize();
   if (q.w() < 0) q.coeffs() *= -1.0;
-  return fmt::format("[{}, {}, {}, {}]", Number(q.x()), Number(q.y()), Number(q.z()), Number(q.w()));
+  return fmt::format("[{}, {}, {}, {}]", Number(q.x()), Number(q.y()), Number(q.z()),
+                     Number(q.w()));
 }
 
-void AppendTransform(const std::string& name, const std::string& parent, const Pose& parent_from_child,
-                     const std::string& extra, std::string* yaml) {
+void AppendTransform(const std::string& name,
+                     const std::string& parent,
+                     const Pose& parent_from_child,
+                     const std::string& extra,
+                     std::string* yaml) {
   const Vec3& p = parent_from_child.position;
   *yaml += fmt::format("  - name: {}\n", Quoted(name));
   *yaml += extra;
@@ -67,13 +71,16 @@ std::string StaticTransformsYaml(const Report& report, const std::string& parent
   VANTAGE_CHECK(report.data != nullptr);
   const VisibilityFile& data = *report.data;
   const int primary = report.primary >= 0 ? report.primary : PrimaryResult(report.results);
-  const Selection* result =
-      primary >= 0 && primary < static_cast<int>(report.results.size()) ? &report.results[primary] : nullptr;
+  const Selection* result = primary >= 0 && primary < static_cast<int>(report.results.size())
+                                ? &report.results[primary]
+                                : nullptr;
 
   std::string yaml =
-      "# vantage: the chosen sensors as static transforms (docs/outputs.md, static_transforms.yaml).\n"
+      "# vantage: the chosen sensors as static transforms (docs/outputs.md, "
+      "static_transforms.yaml).\n"
       "# Each entry places child_frame in parent_frame: xyz [m], quaternion_xyzw in ROS order.\n"
-      "# Body frames: x forward, y left, z up (ROS, Gazebo). Optical frames (<name>_optical_frame,\n"
+      "# Body frames: x forward, y left, z up (ROS, Gazebo). Optical frames "
+      "(<name>_optical_frame,\n"
       "# where depth images live): z forward, x right, y down. ROS 2, one entry:\n"
       "#   ros2 run tf2_ros static_transform_publisher --x X --y Y --z Z --qx QX --qy QY --qz QZ\n"
       "#     --qw QW --frame-id PARENT_FRAME --child-frame-id CHILD_FRAME\n"
@@ -83,8 +90,8 @@ std::string StaticTransformsYaml(const Report& report, const std::string& parent
     yaml += "result: null\ntransforms: []\n";
     return yaml;
   }
-  yaml += fmt::format("result: {{method: {}, n: {}, coverage: {}}}\n", Quoted(result->method), result->n,
-                      Number(result->coverage));
+  yaml += fmt::format("result: {{method: {}, n: {}, coverage: {}}}\n", Quoted(result->method),
+                      result->n, Number(result->coverage));
   if (result->chosen.empty()) {
     yaml += "transforms: []\n";
     return yaml;
@@ -95,10 +102,12 @@ std::string StaticTransformsYaml(const Report& report, const std::string& parent
   for (uint32_t index : result->chosen) {
     const Candidate& c = data.candidates.at(index);
     const Observation& o = data.observations.at(index);
-    const double coverage =
-        reference_size ? static_cast<double>(o.reference_indices.size()) / static_cast<double>(reference_size) : 0.0;
-    const std::string extra = fmt::format("    type: {}\n    coverage: {}\n",
-                                          Quoted(c.type_id.empty() ? c.sensor.id : c.type_id), Number(coverage));
+    const double coverage = reference_size ? static_cast<double>(o.reference_indices.size()) /
+                                                 static_cast<double>(reference_size)
+                                           : 0.0;
+    const std::string extra =
+        fmt::format("    type: {}\n    coverage: {}\n",
+                    Quoted(c.type_id.empty() ? c.sensor.id : c.type_id), Number(coverage));
     AppendTransform(c.name, parent_frame, c.world_from_body, extra, &yaml);
     AppendTransform(c.name + "_optical_frame", c.name, body_from_optical, "", &yaml);
   }

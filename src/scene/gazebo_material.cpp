@@ -187,8 +187,8 @@ void MaterialLibrary::ParseScript(std::string_view text, const std::string& path
       if (parent) {
         colours = *parent;
       } else {
-        problems.push_back(fmt::format("{}:{}: material '{}' inherits unknown material '{}'",
-                                       path, node.line, name, node.words[3].text));
+        problems.push_back(fmt::format("{}:{}: material '{}' inherits unknown material '{}'", path,
+                                       node.line, name, node.words[3].text));
       }
     }
     const Node* technique = FirstBlock(node.children, "technique");
@@ -213,8 +213,8 @@ void MaterialLibrary::ParseScript(std::string_view text, const std::string& path
           if (ok) rgb[i] = *v;
         }
         if (!ok) {
-          problems.push_back(fmt::format("{}:{}: '{}' of material '{}' is not 3 or 4 numbers",
-                                         path, entry.line, key, name));
+          problems.push_back(fmt::format("{}:{}: '{}' of material '{}' is not 3 or 4 numbers", path,
+                                         entry.line, key, name));
           continue;
         }
         *slot = rgb;

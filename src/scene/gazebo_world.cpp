@@ -280,14 +280,19 @@ class Loader {
   }
 
   // Values. Each returns nullopt after recording an error naming the element.
-  std::optional<std::vector<double>> Numbers(const Doc& doc, const XmlElement& e, size_t count,
+  std::optional<std::vector<double>> Numbers(const Doc& doc,
+                                             const XmlElement& e,
+                                             size_t count,
                                              std::string_view example);
   std::optional<double> Number(const Doc& doc, const XmlElement& e, std::string_view example);
-  std::optional<double> PositiveNumber(const Doc& doc, const XmlElement& e,
+  std::optional<double> PositiveNumber(const Doc& doc,
+                                       const XmlElement& e,
                                        std::string_view unit_example);
   std::optional<int64_t> Integer(const Doc& doc, const XmlElement& e, int64_t min, int64_t max);
   std::optional<bool> Boolean(const Doc& doc, const XmlElement& e);
-  std::optional<Vec3> Vector(const Doc& doc, const XmlElement& e, bool positive,
+  std::optional<Vec3> Vector(const Doc& doc,
+                             const XmlElement& e,
+                             bool positive,
                              std::string_view example);
   /// The pose value of a <pose> (identity when null or wrong; errors recorded).
   Pose PoseValue(const Doc& doc, const XmlElement* pose);
@@ -295,13 +300,17 @@ class Loader {
   /// A pose at world level: relative_to must be empty or "world".
   Pose WorldPose(const Doc& doc, const XmlElement* pose);
   /// Child value of `parent` or `fallback` when the child is absent.
-  double NumberOr(const Doc& doc, const XmlElement* parent, std::string_view child,
-                  double fallback, bool positive);
+  double NumberOr(const Doc& doc,
+                  const XmlElement* parent,
+                  std::string_view child,
+                  double fallback,
+                  bool positive);
 
   // Files.
   const Doc* LoadSdf(const std::string& path, const std::string& model_dir);
   std::string ModelFileInDir(const std::string& dir, const Doc& from, int line);
-  std::optional<std::string> ResolveModelUri(const std::string& uri, const Doc& from,
+  std::optional<std::string> ResolveModelUri(const std::string& uri,
+                                             const Doc& from,
                                              std::vector<std::string>* searched);
   std::optional<std::string> ResolveResourceUri(const std::string& uri, const Doc& from);
   IncludeResult ResolveInclude(const Doc& doc, const XmlElement& include);
@@ -309,9 +318,13 @@ class Loader {
   // Walk.
   void VisitWorldEntity(const Doc& doc, const XmlElement& e);
   void VisitModel(const Doc& doc, const XmlElement& model, const ModelContext& context);
-  Pose FrameInModel(const std::string& name, std::map<std::string, FrameEntry>& entries,
-                    std::map<std::string, Pose>& resolved, std::set<std::string>& visiting,
-                    const std::string& model, const Doc& doc, int line);
+  Pose FrameInModel(const std::string& name,
+                    std::map<std::string, FrameEntry>& entries,
+                    std::map<std::string, Pose>& resolved,
+                    std::set<std::string>& visiting,
+                    const std::string& model,
+                    const Doc& doc,
+                    int line);
   void ReadPlugin();
   void ReadSegmentationColour(const Doc& doc, const XmlElement& e);
   void ReadPopulation(const Doc& doc, const XmlElement& e);
@@ -343,7 +356,8 @@ class Loader {
 
   // Plugin parameters that later steps need.
   std::array<int, 3> segmentation_colour_ = kDefaultSegmentationColour;
-  Site segmentation_site_;
+  Site segmentation_site_;  ///< the colour's element, else the first plugin, else no line
+  bool is_segmentation_given_ = false;
   std::optional<std::vector<std::string>> scene_model_names_;
   Site scene_model_site_;
 
@@ -355,8 +369,10 @@ class Loader {
 // ---------------------------------------------------------------------------------------------
 // Values.
 
-std::optional<std::vector<double>> Loader::Numbers(const Doc& doc, const XmlElement& e,
-                                                   size_t count, std::string_view example) {
+std::optional<std::vector<double>> Loader::Numbers(const Doc& doc,
+                                                   const XmlElement& e,
+                                                   size_t count,
+                                                   std::string_view example) {
   const std::vector<std::string> words = SplitWords(e.text);
   std::vector<double> values;
   bool ok = words.size() == count;
@@ -374,26 +390,31 @@ std::optional<std::vector<double>> Loader::Numbers(const Doc& doc, const XmlElem
   return values;
 }
 
-std::optional<double> Loader::Number(const Doc& doc, const XmlElement& e,
+std::optional<double> Loader::Number(const Doc& doc,
+                                     const XmlElement& e,
                                      std::string_view example) {
   const auto values = Numbers(doc, e, 1, example);
   if (!values) return std::nullopt;
   return (*values)[0];
 }
 
-std::optional<double> Loader::PositiveNumber(const Doc& doc, const XmlElement& e,
+std::optional<double> Loader::PositiveNumber(const Doc& doc,
+                                             const XmlElement& e,
                                              std::string_view unit_example) {
   const auto value = Number(doc, e, unit_example);
   if (!value) return std::nullopt;
   if (*value <= 0) {
-    Error(doc, e.line, fmt::format("<{}> {} must be positive — write e.g. <{}>{}</{}>", e.name,
-                                   e.Trimmed(), e.name, unit_example, e.name));
+    Error(doc, e.line,
+          fmt::format("<{}> {} must be positive — write e.g. <{}>{}</{}>", e.name, e.Trimmed(),
+                      e.name, unit_example, e.name));
     return std::nullopt;
   }
   return value;
 }
 
-std::optional<int64_t> Loader::Integer(const Doc& doc, const XmlElement& e, int64_t min,
+std::optional<int64_t> Loader::Integer(const Doc& doc,
+                                       const XmlElement& e,
+                                       int64_t min,
                                        int64_t max) {
   const std::optional<int64_t> value = ParseInteger(e.Trimmed());
   if (!value || *value < min || *value > max) {
@@ -407,23 +428,27 @@ std::optional<int64_t> Loader::Integer(const Doc& doc, const XmlElement& e, int6
 
 std::optional<bool> Loader::Boolean(const Doc& doc, const XmlElement& e) {
   std::string text = e.Trimmed();
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); });
+  std::transform(text.begin(), text.end(), text.begin(), [](char c) {
+    return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  });
   if (text == "true" || text == "1") return true;
   if (text == "false" || text == "0") return false;
   Error(doc, e.line, fmt::format("<{}> '{}' must be true or false", e.name, e.Trimmed()));
   return std::nullopt;
 }
 
-std::optional<Vec3> Loader::Vector(const Doc& doc, const XmlElement& e, bool positive,
+std::optional<Vec3> Loader::Vector(const Doc& doc,
+                                   const XmlElement& e,
+                                   bool positive,
                                    std::string_view example) {
   const auto values = Numbers(doc, e, 3, example);
   if (!values) return std::nullopt;
   const Vec3 v((*values)[0], (*values)[1], (*values)[2]);
   if (positive && (v.array() <= 0).any()) {
-    Error(doc, e.line, fmt::format("<{}> '{}' must be three positive lengths [m] — write e.g. "
-                                   "<{}>{}</{}>",
-                                   e.name, e.Trimmed(), e.name, example, e.name));
+    Error(doc, e.line,
+          fmt::format("<{}> '{}' must be three positive numbers — write e.g. "
+                      "<{}>{}</{}>",
+                      e.name, e.Trimmed(), e.name, example, e.name));
     return std::nullopt;
   }
   return v;
@@ -434,8 +459,10 @@ Pose Loader::PoseValue(const Doc& doc, const XmlElement* pose) {
   const std::string* format = pose->Attribute("rotation_format");
   const bool is_quaternion = format && *format == "quat_xyzw";
   if (format && !is_quaternion && *format != "euler_rpy") {
-    Error(doc, pose->line, fmt::format("<pose rotation_format='{}'> is unknown — use euler_rpy "
-                                       "or quat_xyzw", *format));
+    Error(doc, pose->line,
+          fmt::format("<pose rotation_format='{}'> is unknown — use euler_rpy "
+                      "or quat_xyzw",
+                      *format));
     return Pose{};
   }
   const auto values = Numbers(doc, *pose, is_quaternion ? 7 : 6,
@@ -451,9 +478,8 @@ Pose Loader::PoseValue(const Doc& doc, const XmlElement* pose) {
     return Pose{Vec3(v[0], v[1], v[2]), q.normalized()};
   }
   const std::string* degrees = pose->Attribute("degrees");
-  const double scale = degrees && (*degrees == "true" || *degrees == "1")
-                           ? std::numbers::pi / 180.0
-                           : 1.0;
+  const double scale =
+      degrees && (*degrees == "true" || *degrees == "1") ? std::numbers::pi / 180.0 : 1.0;
   return Pose::FromXyzRpy(v[0], v[1], v[2], v[3] * scale, v[4] * scale, v[5] * scale);
 }
 
@@ -463,7 +489,8 @@ std::string Loader::RelativeTo(const Doc& doc, const XmlElement* pose) {
   if (frame && !Trim(*frame).empty()) {
     Note(AtPlace(doc.xml.path, pose->line,
                  fmt::format("<pose frame='{}'>: the frame attribute is ignored, as Gazebo "
-                             "classic ignores it", *frame)));
+                             "classic ignores it",
+                             *frame)));
   }
   const std::string* relative_to = pose->Attribute("relative_to");
   return relative_to ? Trim(*relative_to) : "";
@@ -474,13 +501,17 @@ Pose Loader::WorldPose(const Doc& doc, const XmlElement* pose) {
   if (!relative_to.empty() && relative_to != "world") {
     Error(doc, pose->line,
           fmt::format("<pose relative_to='{}'> at world level is not supported — give the pose "
-                      "in world coordinates", relative_to));
+                      "in world coordinates",
+                      relative_to));
   }
   return PoseValue(doc, pose);
 }
 
-double Loader::NumberOr(const Doc& doc, const XmlElement* parent, std::string_view child,
-                        double fallback, bool positive) {
+double Loader::NumberOr(const Doc& doc,
+                        const XmlElement* parent,
+                        std::string_view child,
+                        double fallback,
+                        bool positive) {
   const XmlElement* e = parent ? parent->Child(child) : nullptr;
   if (!e) return fallback;
   const auto value = positive ? PositiveNumber(doc, *e, fmt::format("{}", fallback))
@@ -510,17 +541,22 @@ const Doc* Loader::LoadSdf(const std::string& path, const std::string& model_dir
     const std::string* version = root.Attribute("version");
     const auto parsed = version ? ParseVersion(Trim(*version)) : std::nullopt;
     if (root.name != "sdf") {
-      Error(*doc, root.line, fmt::format("root element is <{}> — an SDF file starts with "
-                                         "<sdf version=\"1.6\">", root.name));
+      Error(*doc, root.line,
+            fmt::format("root element is <{}> — an SDF file starts with "
+                        "<sdf version=\"1.6\">",
+                        root.name));
       doc.reset();
     } else if (!parsed || parsed->first != 1) {
-      Error(*doc, root.line, fmt::format("<sdf> needs a version attribute 1.4 to 1.7 (got '{}') — "
-                                         "write <sdf version=\"1.6\">",
-                                         version ? *version : ""));
+      Error(*doc, root.line,
+            fmt::format("<sdf> needs a version attribute 1.4 to 1.7 (got '{}') — "
+                        "write <sdf version=\"1.6\">",
+                        version ? *version : ""));
       doc.reset();
     } else if (parsed->second < 4 || parsed->second > 7) {
-      Note(AtPlace(path, root.line, fmt::format("SDF version {} is read as 1.4–1.7 (vantage "
-                                                "implements those)", *version)));
+      Note(AtPlace(path, root.line,
+                   fmt::format("SDF version {} is read as 1.4–1.7 (vantage "
+                               "implements those)",
+                               *version)));
     }
   }
   const Doc* result = doc.get();
@@ -557,14 +593,17 @@ std::string Loader::ModelFileInDir(const std::string& dir, const Doc& from, int 
   }
   if (chosen.empty()) chosen = (fs::path(dir) / "model.sdf").string();
   if (!IsFile(chosen)) {
-    Error(from, line, fmt::format("model folder '{}' has no model.sdf and no model.config naming "
-                                  "its SDF file", dir));
+    Error(from, line,
+          fmt::format("model folder '{}' has no model.sdf and no model.config naming "
+                      "its SDF file",
+                      dir));
     return "";
   }
   return chosen;
 }
 
-std::optional<std::string> Loader::ResolveModelUri(const std::string& uri, const Doc& from,
+std::optional<std::string> Loader::ResolveModelUri(const std::string& uri,
+                                                   const Doc& from,
                                                    std::vector<std::string>* searched) {
   std::string rest;
   if (uri.rfind("model://", 0) == 0) {
@@ -643,8 +682,9 @@ IncludeResult Loader::ResolveInclude(const Doc& doc, const XmlElement& include) 
   const std::optional<std::string> location = ResolveModelUri(uri, doc, &searched);
   if (!location) {
     if (IsLightModelName(base)) {
-      Note(AtPlace(doc.xml.path, line,
-                   fmt::format("{} is not on the model path: skipped (a light, no geometry)", uri)));
+      Note(
+          AtPlace(doc.xml.path, line,
+                  fmt::format("{} is not on the model path: skipped (a light, no geometry)", uri)));
       result.kind = IncludeResult::Kind::kSkipped;
       return result;
     }
@@ -695,7 +735,8 @@ IncludeResult Loader::ResolveInclude(const Doc& doc, const XmlElement& include) 
     }
     Error(*model_doc, model_doc->xml.root.line,
           fmt::format("no <model> element (included from {}:{}) — an included file holds one "
-                      "<model>", doc.xml.path, line));
+                      "<model>",
+                      doc.xml.path, line));
     return result;
   }
   if (models.size() > 1) {
@@ -718,9 +759,13 @@ IncludeResult Loader::ResolveInclude(const Doc& doc, const XmlElement& include) 
 // ---------------------------------------------------------------------------------------------
 // Walk.
 
-Pose Loader::FrameInModel(const std::string& name, std::map<std::string, FrameEntry>& entries,
-                          std::map<std::string, Pose>& resolved, std::set<std::string>& visiting,
-                          const std::string& model, const Doc& doc, int line) {
+Pose Loader::FrameInModel(const std::string& name,
+                          std::map<std::string, FrameEntry>& entries,
+                          std::map<std::string, Pose>& resolved,
+                          std::set<std::string>& visiting,
+                          const std::string& model,
+                          const Doc& doc,
+                          int line) {
   if (name.empty() || name == "__model__" || name == model) return Pose{};
   if (const auto it = resolved.find(name); it != resolved.end()) return it->second;
   const auto entry_it = entries.find(name);
@@ -735,7 +780,8 @@ Pose Loader::FrameInModel(const std::string& name, std::map<std::string, FrameEn
   if (!visiting.insert(name).second) {
     Error(*entry.doc, entry.line,
           fmt::format("frame '{}' of model '{}' is placed relative to itself (a relative_to "
-                      "cycle) — break the cycle", name, model));
+                      "cycle) — break the cycle",
+                      name, model));
     return Pose{};
   }
   std::string parent = entry.default_parent;
@@ -743,9 +789,8 @@ Pose Loader::FrameInModel(const std::string& name, std::map<std::string, FrameEn
     const std::string relative_to = RelativeTo(*entry.doc, entry.pose);
     if (!relative_to.empty()) parent = relative_to;
   }
-  const Pose parent_pose =
-      FrameInModel(parent, entries, resolved, visiting, model, *entry.doc,
-                   entry.pose ? entry.pose->line : entry.line);
+  const Pose parent_pose = FrameInModel(parent, entries, resolved, visiting, model, *entry.doc,
+                                        entry.pose ? entry.pose->line : entry.line);
   const Pose pose = parent_pose * PoseValue(*entry.doc, entry.pose);
   visiting.erase(name);
   resolved[name] = pose;
@@ -924,7 +969,8 @@ void Loader::VisitWorldEntity(const Doc& doc, const XmlElement& e) {
   if (!top_names_.insert(context.scoped).second) {
     Error(doc, e.line,
           fmt::format("a second model named '{}' — give each model a unique name (<include> "
-                      "takes <name>)", context.scoped));
+                      "takes <name>)",
+                      context.scoped));
     return;
   }
   if (model == &e && e.name == "include") {  // ground plane stand-in
@@ -940,12 +986,15 @@ void Loader::VisitWorldEntity(const Doc& doc, const XmlElement& e) {
 // Plugin parameters (GAZEBO.md, "The plugin's parameters").
 
 void Loader::ReadPlugin() {
-  static const std::set<std::string> kKnown = {
-      "numberOfIntendedSensors",       "ransacNumberOfIterations",
-      "ransacSurfacePercentageStopThreshold", "voxelGridFilterLeafSize",
-      "sensorOrientationRandomRoll",   "sensorDataSegmentationColorRGB",
-      "sceneModelPath",                "observationPoint",
-      "numberOfSamplingSensors"};
+  static const std::set<std::string> kKnown = {"numberOfIntendedSensors",
+                                               "ransacNumberOfIterations",
+                                               "ransacSurfacePercentageStopThreshold",
+                                               "voxelGridFilterLeafSize",
+                                               "sensorOrientationRandomRoll",
+                                               "sensorDataSegmentationColorRGB",
+                                               "sceneModelPath",
+                                               "observationPoint",
+                                               "numberOfSamplingSensors"};
   const Doc& doc = *world_doc_;
   // Any <plugin> of the world file, at any depth, with these children.
   std::vector<const XmlElement*> stack = {world_};
@@ -1019,6 +1068,7 @@ void Loader::ReadPlugin() {
 
 void Loader::ReadSegmentationColour(const Doc& doc, const XmlElement& e) {
   segmentation_site_ = Site{doc.xml.path, e.line};
+  is_segmentation_given_ = true;
   const auto v = Numbers(doc, e, 3, "0 255 0");
   if (!v) return;
   bool ok = true;
@@ -1047,7 +1097,8 @@ std::optional<std::string> Loader::AddSensorType(const SensorRecord& record,
   if (!camera) {
     Error(doc, sensor.line,
           fmt::format("depth <sensor name='{}'> has no <camera> — add <camera> with "
-                      "<horizontal_fov>, <image> and <clip>", record.sensor_name));
+                      "<horizontal_fov>, <image> and <clip>",
+                      record.sensor_name));
     return std::nullopt;
   }
   // SDF's defaults where an element is absent (Gazebo uses them too).
@@ -1084,9 +1135,9 @@ std::optional<std::string> Loader::AddSensorType(const SensorRecord& record,
   }
   // One type per distinct sensor model; a different model of the same name gets a suffix.
   const auto same = [&](const SensorType& t) {
-    return t.width == type.width && t.height == type.height && t.fx == type.fx &&
-           t.fy == type.fy && t.cx == type.cx && t.cy == type.cy && t.near == type.near &&
-           t.far == type.far && t.fps == type.fps;
+    return t.width == type.width && t.height == type.height && t.fx == type.fx && t.fy == type.fy &&
+           t.cx == type.cx && t.cy == type.cy && t.near == type.near && t.far == type.far &&
+           t.fps == type.fps;
   };
   for (int suffix = 1;; ++suffix) {
     const std::string candidate = suffix == 1 ? id : fmt::format("{}_{}", id, suffix);
@@ -1099,7 +1150,8 @@ std::optional<std::string> Loader::AddSensorType(const SensorRecord& record,
       if (suffix > 1) {
         Note(AtPlace(doc.xml.path, sensor.line,
                      fmt::format("sensor model '{}' differs from another of the same name: its "
-                                 "type is called '{}'", id, candidate)));
+                                 "type is called '{}'",
+                                 id, candidate)));
       }
       problem_.sensor_types.push_back(type);
       return candidate;
@@ -1130,6 +1182,15 @@ void Loader::ReadPopulation(const Doc& doc, const XmlElement& e) {
   };
 
   population.pose = WorldPose(doc, e.Child("pose"));
+  // Gazebo's regions are <box> and <cylinder>; another shape is a mistake, not "no region".
+  for (const XmlElement& child : e.children) {
+    static const std::set<std::string> kOtherShapes = {
+        "sphere", "plane", "mesh", "capsule", "ellipsoid", "polyline", "heightmap"};
+    if (kOtherShapes.contains(child.name)) {
+      fail(child.line,
+           fmt::format("<{}> is not a population region — use <box> or <cylinder>", child.name));
+    }
+  }
   const XmlElement* box = e.Child("box");
   const XmlElement* cylinder = e.Child("cylinder");
   if (box && cylinder) fail(cylinder->line, "has both <box> and <cylinder> — keep one region");
@@ -1171,8 +1232,8 @@ void Loader::ReadPopulation(const Doc& doc, const XmlElement& e) {
          "linear-z");
   } else {
     static const std::map<std::string, Distribution> kTypes = {
-        {"random", Distribution::kRandom},   {"uniform", Distribution::kUniform},
-        {"grid", Distribution::kGrid},       {"linear-x", Distribution::kLinearX},
+        {"random", Distribution::kRandom},    {"uniform", Distribution::kUniform},
+        {"grid", Distribution::kGrid},        {"linear-x", Distribution::kLinearX},
         {"linear-y", Distribution::kLinearY}, {"linear-z", Distribution::kLinearZ}};
     const auto it = kTypes.find(type->Trimmed());
     if (it == kTypes.end()) {
@@ -1193,20 +1254,27 @@ void Loader::ReadPopulation(const Doc& doc, const XmlElement& e) {
     population.cols = 1;
     population.step = Vec3(0.5, 0.5, 0);
     if (const XmlElement* rows = distribution->Child("rows")) {
-      if (const auto v = Integer(doc, *rows, 1, 1'000'000)) population.rows = static_cast<int>(*v);
-      else ok = false;
+      if (const auto v = Integer(doc, *rows, 1, 1'000'000))
+        population.rows = static_cast<int>(*v);
+      else
+        ok = false;
     }
     if (const XmlElement* cols = distribution->Child("cols")) {
-      if (const auto v = Integer(doc, *cols, 1, 1'000'000)) population.cols = static_cast<int>(*v);
-      else ok = false;
+      if (const auto v = Integer(doc, *cols, 1, 1'000'000))
+        population.cols = static_cast<int>(*v);
+      else
+        ok = false;
     }
     if (const XmlElement* step = distribution->Child("step")) {
-      if (const auto v = Vector(doc, *step, false, "0.5 0.5 0")) population.step = *v;
-      else ok = false;
+      if (const auto v = Vector(doc, *step, false, "0.5 0.5 0"))
+        population.step = *v;
+      else
+        ok = false;
     }
     if (cylinder) {
-      fail(cylinder->line, "distribution 'grid' takes no region — remove the <cylinder> "
-                           "(rows, cols and step place the grid)");
+      fail(cylinder->line,
+           "distribution 'grid' takes no region — remove the <cylinder> "
+           "(rows, cols and step place the grid)");
     }
   } else if (ok) {
     // Supported combinations: Gazebo's Population.cc (and PopulationPositions).
@@ -1215,8 +1283,8 @@ void Loader::ReadPopulation(const Doc& doc, const XmlElement& e) {
                                "or <cylinder>…</cylinder>",
                                type->Trimmed()));
     } else if (is_linear && cylinder) {
-      fail(cylinder->line, fmt::format("distribution '{}' works in a <box> region only",
-                                       type->Trimmed()));
+      fail(cylinder->line,
+           fmt::format("distribution '{}' works in a <box> region only", type->Trimmed()));
     }
     const XmlElement* count = e.Child("model_count");
     if (!count) {
@@ -1296,7 +1364,8 @@ MaterialColours Loader::ColoursOf(const VisualRecord& visual) {
       if (!location) {
         Note(AtPlace(doc.xml.path, uri->line,
                      fmt::format("material script {} not found on the resource path (--resource-"
-                                 "path, GAZEBO_RESOURCE_PATH)", text)));
+                                 "path, GAZEBO_RESOURCE_PATH)",
+                                 text)));
         continue;
       }
       std::vector<std::string> files;
@@ -1420,8 +1489,8 @@ std::optional<TriangleMesh> Loader::GeometryOf(const VisualRecord& visual) {
       const auto v = Numbers(doc, *e, 2, "100 100");
       if (!v) return std::nullopt;
       if ((*v)[0] <= 0 || (*v)[1] <= 0) {
-        Error(doc, e->line, fmt::format("<size> '{}' of <plane> must be two positive lengths [m]",
-                                        e->Trimmed()));
+        Error(doc, e->line,
+              fmt::format("<size> '{}' of <plane> must be two positive lengths [m]", e->Trimmed()));
         return std::nullopt;
       }
       sx = (*v)[0];
@@ -1476,12 +1545,10 @@ void Loader::BuildScene(std::vector<GazeboVisual>* visuals_out) {
                                               segmentation_colour_[1], segmentation_colour_[2]);
   if (!options_.targets.empty()) {
     for (const std::string& name : options_.targets) {
-      const bool exists = std::any_of(models_.begin(), models_.end(), [&](const auto& m) {
-        return NameSelects(name, m.first);
-      });
-      const bool visible = std::any_of(visuals_.begin(), visuals_.end(), [&](const auto& v) {
-        return NameSelects(name, v.model);
-      });
+      const bool exists = std::any_of(models_.begin(), models_.end(),
+                                      [&](const auto& m) { return NameSelects(name, m.first); });
+      const bool visible = std::any_of(visuals_.begin(), visuals_.end(),
+                                       [&](const auto& v) { return NameSelects(name, v.model); });
       std::vector<std::string> names;
       for (const auto& m : models_) names.push_back(m.first);
       if (!exists) {
@@ -1491,7 +1558,8 @@ void Loader::BuildScene(std::vector<GazeboVisual>* visuals_out) {
       } else if (!visible) {
         Error(path_, 0,
               fmt::format("--target '{}' has no visible geometry (a sensor model, or a model "
-                          "without <visual>) — name a model with visuals", name));
+                          "without <visual>) — name a model with visuals",
+                          name));
       }
     }
     for (size_t i = 0; i < visuals_.size(); ++i) {
@@ -1517,10 +1585,9 @@ void Loader::BuildScene(std::vector<GazeboVisual>* visuals_out) {
     const VisualRecord& visual = visuals_[i];
     std::optional<TriangleMesh> mesh = GeometryOf(visual);
     if (visuals_out) {
-      visuals_out->push_back(GazeboVisual{visual.model, visual.link, visual.name,
-                                          visual.world_from_visual, is_target[i],
-                                          visual.doc->xml.path,
-                                          visual.element ? visual.element->line : visual.site.line});
+      visuals_out->push_back(GazeboVisual{
+          visual.model, visual.link, visual.name, visual.world_from_visual, is_target[i],
+          visual.doc->xml.path, visual.element ? visual.element->line : visual.site.line});
     }
     if (!mesh || mesh->IsEmpty()) continue;
     mesh->Transform(visual.world_from_visual);
@@ -1538,8 +1605,8 @@ void Loader::BuildScene(std::vector<GazeboVisual>* visuals_out) {
     const bool is_split = group_index.contains(std::make_pair(group.model, Role::kTarget)) &&
                           group_index.contains(std::make_pair(group.model, Role::kOccluder));
     SceneObject object;
-    object.name = is_split && group.role == Role::kOccluder ? group.model + "/occluder"
-                                                            : group.model;
+    object.name =
+        is_split && group.role == Role::kOccluder ? group.model + "/occluder" : group.model;
     object.role = group.role;
     object.mesh = std::move(group.mesh);
     problem_.scene.objects.push_back(std::move(object));
@@ -1555,9 +1622,10 @@ void Loader::BuildScene(std::vector<GazeboVisual>* visuals_out) {
       listed = fmt::format(" (sceneModelPath lists {})", Join(*scene_model_names_, ", "));
     Error(segmentation_site_.file.empty() ? path_ : segmentation_site_.file,
           segmentation_site_.line,
-          fmt::format("<sensorDataSegmentationColorRGB> {} matches no visual's material colour "
-                      "(emissive where set, else diffuse){} — colour the targets so, or pass "
-                      "--target NAME",
+          fmt::format("{} {} matches no visual's material colour (emissive where set, else "
+                      "diffuse){} — colour the targets so, or pass --target NAME",
+                      is_segmentation_given_ ? "<sensorDataSegmentationColorRGB>"
+                                             : "the plugin's default segmentation colour",
                       colour_text, listed));
     return;
   }
@@ -1571,18 +1639,20 @@ void Loader::BuildScene(std::vector<GazeboVisual>* visuals_out) {
     if (!exists) {
       Note(fmt::format("{}sceneModelPath lists '{}', which is no model of the world", place, name));
     } else if (!coloured) {
-      Note(fmt::format("{}sceneModelPath lists '{}', which has no visual of colour {}: it is "
-                       "not a target (the plugin segments by colour)",
-                       place, name, colour_text));
+      Note(
+          fmt::format("{}sceneModelPath lists '{}', which has no visual of colour {}: it is "
+                      "not a target (the plugin segments by colour)",
+                      place, name, colour_text));
     }
   }
   for (const std::string& model : target_models) {
     const bool listed = std::any_of(scene_model_names_->begin(), scene_model_names_->end(),
                                     [&](const std::string& n) { return NameSelects(n, model); });
     if (!listed) {
-      Note(fmt::format("{}model '{}' has colour {} but sceneModelPath does not list it: it is a "
-                       "target (the plugin segments by colour)",
-                       place, model, colour_text));
+      Note(
+          fmt::format("{}model '{}' has colour {} but sceneModelPath does not list it: it is a "
+                      "target (the plugin segments by colour)",
+                      place, model, colour_text));
     }
   }
 }
@@ -1641,7 +1711,8 @@ Problem Loader::Load(std::vector<GazeboVisual>* visuals_out) {
 }  // namespace
 }  // namespace detail
 
-Problem detail::LoadGazeboWorld(const std::string& path, const LoadOptions& options,
+Problem detail::LoadGazeboWorld(const std::string& path,
+                                const LoadOptions& options,
                                 std::vector<GazeboVisual>* visuals) {
   return Loader(path, options).Load(visuals);
 }

@@ -11,9 +11,9 @@ namespace vantage::detail {
 
 /// One visual that the loader rendered into the scene.
 struct GazeboVisual {
-  std::string model;  ///< scoped instance name: "outer::inner" for nested models
-  std::string link;   ///< link name ("" for the synthetic ground plane)
-  std::string name;   ///< the <visual>'s name
+  std::string model;       ///< scoped instance name: "outer::inner" for nested models
+  std::string link;        ///< link name ("" for the synthetic ground plane)
+  std::string name;        ///< the <visual>'s name
   Pose world_from_visual;  ///< model · link · visual
   bool is_target = false;
   std::string file;  ///< file declaring the <visual>
@@ -22,7 +22,8 @@ struct GazeboVisual {
 
 /// LoadGazeboWorld, also listing the visuals it rendered (in declaration order) when `visuals`
 /// is not null.
-Problem LoadGazeboWorld(const std::string& path, const LoadOptions& options,
+Problem LoadGazeboWorld(const std::string& path,
+                        const LoadOptions& options,
                         std::vector<GazeboVisual>* visuals);
 
 }  // namespace vantage::detail

@@ -24,9 +24,7 @@ bool IsNameStart(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == ':' || u >= 0x80;
 }
 
-bool IsNameChar(char c) {
-  return IsNameStart(c) || (c >= '0' && c <= '9') || c == '-' || c == '.';
-}
+bool IsNameChar(char c) { return IsNameStart(c) || (c >= '0' && c <= '9') || c == '-' || c == '.'; }
 
 void AppendUtf8(uint32_t code, std::string* out) {
   if (code < 0x80) {
@@ -218,8 +216,8 @@ class Parser {
     // Content.
     while (true) {
       if (AtEnd())
-        FailAt(element.line, fmt::format("<{}> is never closed — add </{}>", element.name,
-                                          element.name));
+        FailAt(element.line,
+               fmt::format("<{}> is never closed — add </{}>", element.name, element.name));
       const char c = Peek();
       if (c == '&') {
         ParseReference(&element.text);
@@ -234,8 +232,9 @@ class Parser {
         if (AtEnd() || Peek() != '>') Fail(fmt::format("expected '>' after </{}", name));
         Advance();
         if (name != element.name) {
-          FailAt(close_line, fmt::format("</{}> closes <{}> opened at line {} — the tags must match",
-                                         name, element.name, element.line));
+          FailAt(close_line,
+                 fmt::format("</{}> closes <{}> opened at line {} — the tags must match", name,
+                             element.name, element.line));
         }
         return element;
       } else if (StartsWith("<!--")) {

@@ -148,7 +148,9 @@ void AppendAssimpMesh(const aiMesh& mesh, const aiMatrix4x4& world_from_mesh, Tr
 }
 
 /// Walks the node tree, composing each node's transform onto its parent's.
-void Flatten(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent,
+void Flatten(const aiScene& scene,
+             const aiNode& node,
+             const aiMatrix4x4& parent,
              TriangleMesh* out) {
   const aiMatrix4x4 world_from_node = parent * node.mTransformation;
   for (unsigned i = 0; i < node.mNumMeshes; ++i) {
@@ -177,7 +179,8 @@ Aabb TriangleMesh::Bounds() const {
 
 double TriangleMesh::Area() const {
   double area = 0;
-  for (const auto& t : triangles) area += TriangleArea(vertices[t[0]], vertices[t[1]], vertices[t[2]]);
+  for (const auto& t : triangles)
+    area += TriangleArea(vertices[t[0]], vertices[t[1]], vertices[t[2]]);
   return area;
 }
 
@@ -185,7 +188,8 @@ void TriangleMesh::Append(const TriangleMesh& other) {
   const auto shift = static_cast<uint32_t>(vertices.size());
   vertices.insert(vertices.end(), other.vertices.begin(), other.vertices.end());
   triangles.reserve(triangles.size() + other.triangles.size());
-  for (const auto& t : other.triangles) triangles.push_back({t[0] + shift, t[1] + shift, t[2] + shift});
+  for (const auto& t : other.triangles)
+    triangles.push_back({t[0] + shift, t[1] + shift, t[2] + shift});
 }
 
 void TriangleMesh::Transform(const Pose& pose) {
@@ -248,9 +252,10 @@ TriangleMesh MakeSphere(double radius, double max_chord_error) {
     slices += std::max(1, slices / 8);
     rings = std::max(2, (slices + 1) / 2);
     if (slices > kMaxSegments) {
-      throw InputError(fmt::format("sphere of radius {} m needs more than {} segments for a chord "
-                                   "error of {} m — check the radius and the cell size",
-                                   radius, kMaxSegments, max_chord_error));
+      throw InputError(
+          fmt::format("sphere of radius {} m needs more than {} segments for a chord "
+                      "error of {} m — check the radius and the cell size",
+                      radius, kMaxSegments, max_chord_error));
     }
   }
   TriangleMesh mesh;
@@ -319,7 +324,8 @@ TriangleMesh LoadMeshFile(const std::string& path) {
   // Gazebo uses a Collada file's coordinates as they are (Z up in practice), with only the
   // <unit> scale applied; Assimp would otherwise rotate Z_UP files to Y up.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
-  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* scene = importer.ReadFile(
       path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
   if (!scene || !scene->mRootNode) FailMesh(path, importer.GetErrorString());

@@ -121,18 +121,19 @@ class Reporter {
 
 class Fields {
  public:
-  /// Records an error when `node` is not a mapping, or holds unknown or repeated keys.
+  /// Records an error when `input` is not a mapping (null counts as empty), or holds unknown or
+  /// repeated keys.
   Fields(const Value& input,
          std::string context,
          std::initializer_list<std::string_view> allowed,
-         Reporter* diag)
+         Reporter* reporter)
       : context_(std::move(context)), line_(input.line) {
     const YAML::Node& node = input.node;
     if (node.IsNull()) return;  // an empty section: every key absent
     if (!node.IsMap()) {
-      diag->Error(line_, fmt::format("{} must be a mapping of `key: value` lines, got {} — see "
-                                     "docs/scene-format.md",
-                                     context_, TextOf(node)));
+      reporter->Error(line_, fmt::format("{} must be a mapping of `key: value` lines, got {} — see "
+                                         "docs/scene-format.md",
+                                         context_, TextOf(node)));
       return;
     }
     const std::vector<std::string> valid(allowed.begin(), allowed.end());
@@ -140,11 +141,11 @@ class Fields {
       const YAML::Node& key = entry.first;
       const std::string name = key.IsScalar() ? key.Scalar() : "";
       if (std::find(valid.begin(), valid.end(), name) == valid.end()) {
-        diag->Error(LineOf(key), fmt::format("unknown key '{}' in {} — {}", name, context_,
-                                             Suggest(name, valid)));
+        reporter->Error(LineOf(key), fmt::format("unknown key '{}' in {} — {}", name, context_,
+                                                 Suggest(name, valid)));
       } else if (Get(name)) {
-        diag->Error(LineOf(key), fmt::format("key '{}' appears twice in {} — keep one", name,
-                                             context_));
+        reporter->Error(LineOf(key),
+                        fmt::format("key '{}' appears twice in {} — keep one", name, context_));
       } else {
         const YAML::Node& item = entry.second;
         entries_.emplace_back(name, Value{item, LineOf(key)});
@@ -173,12 +174,13 @@ class Fields {
 
 class SceneReader {
  public:
-  SceneReader(const std::string& path, const LoadOptions& options, Diagnostics* diag,
+  SceneReader(const std::string& path,
+              const LoadOptions& options,
+              Diagnostics* diag,
               Problem* problem)
       : folder_(fs::path(path).parent_path()),
         options_(options),
         reporter_(diag),
-        diag_(&reporter_),
         problem_(problem) {}
 
   void Read(const YAML::Node& root);
@@ -187,11 +189,14 @@ class SceneReader {
   // Values. Each records an error naming `what` and returns nullopt when the value is wrong.
   std::optional<double> Number(const Value& input, const std::string& what);
   std::optional<double> Positive(const Value& input, const std::string& what);
-  std::optional<int64_t> Integer(const Value& input, const std::string& what, int64_t min,
+  std::optional<int64_t> Integer(const Value& input,
+                                 const std::string& what,
+                                 int64_t min,
                                  int64_t max);
   std::optional<bool> Boolean(const Value& input, const std::string& what);
   std::optional<std::string> Text(const Value& input, const std::string& what);
-  std::optional<std::vector<double>> Numbers(const Value& input, size_t count,
+  std::optional<std::vector<double>> Numbers(const Value& input,
+                                             size_t count,
                                              const std::string& what);
   std::optional<Vec3> Vector(const Value& input, const std::string& what);
   std::optional<Quat> Rotation(const Fields& fields, const std::string& what);
@@ -206,17 +211,24 @@ class SceneReader {
   void ReadSensorTypes(const Value& input);
   std::optional<SensorType> ReadSensorType(const Value& input);
   const SensorType* ReadBase(const Fields& fields, const std::string& what);
-  void ReadIntrinsics(const Fields& fields, const std::string& what, const SensorType* base,
-                      bool resolution_changed, SensorType* type);
+  void ReadIntrinsics(const Fields& fields,
+                      const std::string& what,
+                      const SensorType* base,
+                      bool resolution_changed,
+                      SensorType* type);
   void ReadRangeAndCost(const Fields& fields, const std::string& what, SensorType* type);
-  void ReadResolution(const Fields& fields, const std::string& what, SensorType* type,
+  void ReadResolution(const Fields& fields,
+                      const std::string& what,
+                      SensorType* type,
                       bool* changed);
-  std::optional<double> ReadFov(const Fields& fields, const std::string& key,
+  std::optional<double> ReadFov(const Fields& fields,
+                                const std::string& key,
                                 const std::string& what);
   void ReadObjects(const Value& input);
   std::optional<SceneObject> ReadObject(const Value& input);
   std::optional<TriangleMesh> ReadShape(const Fields& fields, const std::string& what);
-  std::optional<TriangleMesh> ReadPrimitive(const std::string& shape, const Value& input,
+  std::optional<TriangleMesh> ReadPrimitive(const std::string& shape,
+                                            const Value& input,
                                             const std::string& what);
   std::optional<TriangleMesh> ReadMesh(const Value& input, const std::string& what);
   std::optional<Vec3> ReadScale(const Value& input, const std::string& what);
@@ -237,7 +249,6 @@ class SceneReader {
   fs::path folder_;
   const LoadOptions& options_;
   Reporter reporter_;
-  Reporter* diag_;  ///< what Fields report to
   Problem* problem_;
   int objects_line_ = 0;
   std::map<std::string, TriangleMesh> mesh_cache_;  ///< by resolved path
@@ -279,8 +290,10 @@ std::optional<double> SceneReader::Positive(const Value& input, const std::strin
   return number;
 }
 
-std::optional<int64_t> SceneReader::Integer(const Value& input, const std::string& what,
-                                            int64_t min, int64_t max) {
+std::optional<int64_t> SceneReader::Integer(const Value& input,
+                                            const std::string& what,
+                                            int64_t min,
+                                            int64_t max) {
   std::optional<int64_t> number;
   if (input.node.IsScalar()) {
     try {
@@ -294,9 +307,12 @@ std::optional<int64_t> SceneReader::Integer(const Value& input, const std::strin
                                   Shown(input.node)));
     return std::nullopt;
   }
-  if (*number < min || *number > max) {
-    Error(input.line, fmt::format("{} = {} is out of range — give a value in [{}, {}]", what,
-                                  *number, min, max));
+  if (*number < min) {
+    Error(input.line, fmt::format("{} = {} is too small — give at least {}", what, *number, min));
+    return std::nullopt;
+  }
+  if (*number > max) {
+    Error(input.line, fmt::format("{} = {} is too large — give at most {}", what, *number, max));
     return std::nullopt;
   }
   return number;
@@ -310,14 +326,15 @@ std::optional<bool> SceneReader::Boolean(const Value& input, const std::string& 
       // reported below
     }
   }
-  Error(input.line,
-        fmt::format("{}: expected true or false, got {} — write true or false", what, Shown(input.node)));
+  Error(input.line, fmt::format("{}: expected true or false, got {} — write true or false", what,
+                                Shown(input.node)));
   return std::nullopt;
 }
 
 std::optional<std::string> SceneReader::Text(const Value& input, const std::string& what) {
   if (input.node.IsScalar() && !input.node.Scalar().empty()) return input.node.Scalar();
-  Error(input.line, fmt::format("{}: expected a word, got {} — write a plain word, e.g. part_1", what, TextOf(input.node)));
+  Error(input.line, fmt::format("{}: expected a word, got {} — write a plain word, e.g. part_1",
+                                what, TextOf(input.node)));
   return std::nullopt;
 }
 
@@ -328,21 +345,22 @@ Value ElementOf(const Value& list, size_t i) {
   return Value{element, line > 0 ? line : list.line};
 }
 
-std::optional<std::vector<double>> SceneReader::Numbers(const Value& input, size_t count,
+std::optional<std::vector<double>> SceneReader::Numbers(const Value& input,
+                                                        size_t count,
                                                         const std::string& what) {
   const YAML::Node& node = input.node;
   if (!node.IsSequence() || node.size() != count) {
     const char* example = count == 2 ? "0.5, 2.0" : count == 3 ? "0, 0, 1" : "1, 0, 0, 0";
-    Error(input.line, fmt::format("{}: expected a list of {} numbers, got {} — write e.g. [{}]",
-                                  what, count,
-                                  node.IsSequence() ? fmt::format("{} items", node.size())
-                                                    : Shown(node),
-                                  example));
+    Error(input.line,
+          fmt::format("{}: expected a list of {} numbers, got {} — write e.g. [{}]", what, count,
+                      node.IsSequence() ? fmt::format("{} items", node.size()) : Shown(node),
+                      example));
     return std::nullopt;
   }
   std::vector<double> numbers;
   for (size_t i = 0; i < count; ++i) {
-    const std::optional<double> number = Number(ElementOf(input, i), fmt::format("{}[{}]", what, i));
+    const std::optional<double> number =
+        Number(ElementOf(input, i), fmt::format("{}[{}]", what, i));
     if (!number) return std::nullopt;
     numbers.push_back(*number);
   }
@@ -385,7 +403,7 @@ std::optional<Quat> SceneReader::Rotation(const Fields& fields, const std::strin
 }
 
 std::optional<Pose> SceneReader::PoseOf(const Value& input, const std::string& what) {
-  const Fields fields(input, what, {"xyz", "rpy", "quaternion"}, diag_);
+  const Fields fields(input, what, {"xyz", "rpy", "quaternion"}, &reporter_);
   Pose pose;
   bool ok = true;
   if (const auto xyz = fields.Get("xyz")) {
@@ -412,17 +430,20 @@ std::vector<Value> SceneReader::Items(const Value& input, const std::string& sec
   std::vector<Value> items;
   if (input.node.IsNull()) return items;
   if (!input.node.IsSequence()) {
-    Error(input.line, fmt::format("{} must be a list, got {} — write one `- name: ...` entry per item",
-                                  section, Shown(input.node)));
+    Error(input.line,
+          fmt::format("{} must be a list, got {} — write one `- name: ...` entry per item", section,
+                      Shown(input.node)));
     return items;
   }
   for (size_t i = 0; i < input.node.size(); ++i) items.push_back(ElementOf(input, i));
   return items;
 }
 
-void SceneReader::Missing(const Fields& fields, const std::string& key,
+void SceneReader::Missing(const Fields& fields,
+                          const std::string& key,
                           const std::string& example) {
-  Error(fields.line(), fmt::format("{} has no '{}' — add e.g. `{}`", fields.context(), key, example));
+  Error(fields.line(),
+        fmt::format("{} has no '{}' — add e.g. `{}`", fields.context(), key, example));
 }
 
 // ----- settings ------------------------------------------------------------------------------
@@ -431,7 +452,7 @@ void SceneReader::ReadSettings(const Value& input) {
   const Fields fields(input, "settings",
                       {"cell_size", "n", "method", "observation_point", "random_roll", "seed",
                        "ransac", "expected_candidates"},
-                      diag_);
+                      &reporter_);
   Problem& p = *problem_;
   if (const auto v = fields.Get("cell_size")) {
     if (const auto f = Positive(*v, "settings.cell_size")) p.cell_size = *f;
@@ -445,9 +466,9 @@ void SceneReader::ReadSettings(const Value& input) {
       try {
         p.method = MethodName(ParseMethod(*method));
       } catch (const InputError&) {
-        Error(v->line, fmt::format("settings.method '{}' is unknown — {}", *method,
-                                   Suggest(*method, {"best", "ransac", "greedy", "local", "exact",
-                                                     "all"})));
+        Error(v->line,
+              fmt::format("settings.method '{}' is unknown — {}", *method,
+                          Suggest(*method, {"best", "ransac", "greedy", "local", "exact", "all"})));
       }
     }
   }
@@ -463,24 +484,25 @@ void SceneReader::ReadSettings(const Value& input) {
   }
   if (const auto v = fields.Get("ransac")) ReadRansac(*v);
   if (const auto v = fields.Get("expected_candidates")) {
-    if (const auto count = Integer(*v, "settings.expected_candidates", 1,
-                                   std::numeric_limits<int>::max()))
+    if (const auto count =
+            Integer(*v, "settings.expected_candidates", 1, std::numeric_limits<int>::max()))
       p.expected_candidates = static_cast<int>(*count);
   }
 }
 
 void SceneReader::ReadRansac(const Value& input) {
-  const Fields fields(input, "settings.ransac", {"iterations", "stop_coverage"}, diag_);
+  const Fields fields(input, "settings.ransac", {"iterations", "stop_coverage"}, &reporter_);
   if (const auto v = fields.Get("iterations")) {
-    if (const auto n = Integer(*v, "settings.ransac.iterations", 1, std::numeric_limits<int>::max()))
+    if (const auto n =
+            Integer(*v, "settings.ransac.iterations", 1, std::numeric_limits<int>::max()))
       problem_->ransac_iterations = static_cast<int>(*n);
   }
   if (const auto v = fields.Get("stop_coverage")) {
     const auto c = Number(*v, "settings.ransac.stop_coverage");
     if (c && (*c < 0 || *c > 1)) {
       Error(v->line, fmt::format("settings.ransac.stop_coverage = {} is a fraction — give a "
-                                    "value in [0, 1] (e.g. 0.8 for 80 %)",
-                                    *c));
+                                 "value in [0, 1] (e.g. 0.8 for 80 %)",
+                                 *c));
     } else if (c) {
       problem_->ransac_stop_coverage = *c;
     }
@@ -495,8 +517,8 @@ void SceneReader::ReadSensorTypes(const Value& input) {
     if (!type) continue;
     if (FindCatalogType(type->id)) {
       Error(item.line, fmt::format("sensor type id '{}' is a catalog id — choose another id "
-                                      "(derive with `base: {}` to change its fields)",
-                                      type->id, type->id));
+                                   "(derive with `base: {}` to change its fields)",
+                                   type->id, type->id));
     } else if (IsCustomType(type->id)) {
       Error(item.line, fmt::format("sensor type '{}' is declared twice — rename one", type->id));
     } else {
@@ -506,13 +528,14 @@ void SceneReader::ReadSensorTypes(const Value& input) {
 }
 
 /// `hfov`/`vfov` in radians or `hfov_deg`/`vfov_deg` in degrees; the angle must lie in (0, π).
-std::optional<double> SceneReader::ReadFov(const Fields& fields, const std::string& key,
+std::optional<double> SceneReader::ReadFov(const Fields& fields,
+                                           const std::string& key,
                                            const std::string& what) {
   const auto radians = fields.Get(key);
   const auto degrees = fields.Get(key + "_deg");
   if (radians && degrees) {
-    Error(degrees->line, fmt::format("{}: both {} and {}_deg are given — keep one", what, key,
-                                        key));
+    Error(degrees->line,
+          fmt::format("{}: both {} and {}_deg are given — keep one", what, key, key));
     return std::nullopt;
   }
   if (!radians && !degrees) return std::nullopt;
@@ -522,23 +545,26 @@ std::optional<double> SceneReader::ReadFov(const Fields& fields, const std::stri
   if (!value) return std::nullopt;
   const double angle = radians ? *value : *value * kDegree;
   if (angle <= 0 || angle >= kPi) {
-    Error(input.line, fmt::format("{} = {} must lie in (0, {}) — {}", name, *value,
-                                    radians ? "π" : "180",
-                                    radians ? "give radians, or use " + key + "_deg for degrees"
-                                            : "give degrees"));
+    Error(
+        input.line,
+        fmt::format("{} = {} must lie in (0, {}) — {}", name, *value, radians ? "π" : "180",
+                    radians ? "give radians, or use " + key + "_deg for degrees" : "give degrees"));
     return std::nullopt;
   }
   return angle;
 }
 
-void SceneReader::ReadResolution(const Fields& fields, const std::string& what, SensorType* type,
+void SceneReader::ReadResolution(const Fields& fields,
+                                 const std::string& what,
+                                 SensorType* type,
                                  bool* changed) {
   const auto resolution = fields.Get("resolution");
   if (!resolution) return;
   if (!resolution->node.IsSequence() || resolution->node.size() != 2) {
-    Error(resolution->line, fmt::format("{}.resolution: expected [width, height] in pixels — write e.g. "
-                                     "[640, 480]",
-                                     what));
+    Error(resolution->line,
+          fmt::format("{}.resolution: expected [width, height] in pixels — write e.g. "
+                      "[640, 480]",
+                      what));
     return;
   }
   constexpr int64_t kMaxSide = 100'000;
@@ -567,8 +593,10 @@ const SensorType* SceneReader::ReadBase(const Fields& fields, const std::string&
 /// fx, fy, cx, cy from `intrinsics`, or from the fields of view (Gazebo's model, SENSORS.md); a
 /// field of view not given keeps the base's, and vfov follows from the aspect ratio when the
 /// base has square pixels.
-void SceneReader::ReadIntrinsics(const Fields& fields, const std::string& what,
-                                 const SensorType* base, bool resolution_changed,
+void SceneReader::ReadIntrinsics(const Fields& fields,
+                                 const std::string& what,
+                                 const SensorType* base,
+                                 bool resolution_changed,
                                  SensorType* type) {
   const auto hfov = ReadFov(fields, "hfov", what);
   const auto vfov = ReadFov(fields, "vfov", what);
@@ -583,7 +611,9 @@ void SceneReader::ReadIntrinsics(const Fields& fields, const std::string& what,
   if (intrinsics) {
     const auto k = Numbers(*intrinsics, 4, what + ".intrinsics");
     if (k && ((*k)[0] <= 0 || (*k)[1] <= 0)) {
-      Error(intrinsics->line, fmt::format("{}.intrinsics: fx and fy must be positive [px] — write [fx, fy, cx, cy]", what));
+      Error(intrinsics->line,
+            fmt::format("{}.intrinsics: fx and fy must be positive [px] — write [fx, fy, cx, cy]",
+                        what));
     } else if (k) {
       type->fx = (*k)[0];
       type->fy = (*k)[1];
@@ -607,7 +637,8 @@ void SceneReader::ReadIntrinsics(const Fields& fields, const std::string& what,
   type->cy = fov.cy;
 }
 
-void SceneReader::ReadRangeAndCost(const Fields& fields, const std::string& what,
+void SceneReader::ReadRangeAndCost(const Fields& fields,
+                                   const std::string& what,
                                    SensorType* type) {
   if (const auto v = fields.Get("range")) {
     if (const auto range = Numbers(*v, 2, what + ".range")) {
@@ -640,7 +671,7 @@ std::optional<SensorType> SceneReader::ReadSensorType(const Value& input) {
   const Fields fields(input, "sensor type",
                       {"id", "base", "name", "technology", "resolution", "hfov", "hfov_deg", "vfov",
                        "vfov_deg", "intrinsics", "range", "fps", "cost"},
-                      diag_);
+                      &reporter_);
   const auto id_node = fields.Get("id");
   if (!id_node) {
     Missing(fields, "id", "id: my_camera");
@@ -675,7 +706,9 @@ std::optional<SensorType> SceneReader::ReadSensorType(const Value& input) {
   try {
     type.Validate();
   } catch (const InputError& e) {
-    Error(fields.line(), fmt::format("{} — fix the type's fields", e.what()));
+    std::string message = e.what();
+    if (message.find(" — ") == std::string::npos) message += " — fix the type's fields";
+    Error(fields.line(), message);
     return std::nullopt;
   }
   return type;
@@ -694,8 +727,8 @@ void SceneReader::ReadObjects(const Value& input) {
     if (!object) continue;
     const auto same = [&](const SceneObject& o) { return o.name == object->name; };
     if (std::any_of(problem_->scene.objects.begin(), problem_->scene.objects.end(), same)) {
-      Error(item.line, fmt::format("object name '{}' is used twice — names must be unique",
-                                      object->name));
+      Error(item.line,
+            fmt::format("object name '{}' is used twice — names must be unique", object->name));
       continue;
     }
     problem_->scene.objects.push_back(std::move(*object));
@@ -705,7 +738,7 @@ void SceneReader::ReadObjects(const Value& input) {
 std::optional<SceneObject> SceneReader::ReadObject(const Value& input) {
   const Fields fields(input, "object",
                       {"name", "role", "pose", "mesh", "box", "cylinder", "sphere", "plane"},
-                      diag_);
+                      &reporter_);
   const size_t errors_before = ErrorCount();
   const auto name = Name(fields, "object");
   const std::string what = fmt::format("object '{}'", name.value_or("?"));
@@ -717,7 +750,7 @@ std::optional<SceneObject> SceneReader::ReadObject(const Value& input) {
         object.role = Role::kTarget;
       } else if (*role != "occluder") {
         Error(v->line, fmt::format("{}: role '{}' is unknown — {}", what, *role,
-                                      Suggest(*role, {"target", "occluder"})));
+                                   Suggest(*role, {"target", "occluder"})));
       }
     }
   }
@@ -754,10 +787,9 @@ std::optional<TriangleMesh> SceneReader::ReadPrimitive(const std::string& shape,
   // SYSTEM.md: primitives are tessellated with a chord error below F / 10.
   const double chord = problem_->cell_size / 10.0;
   const bool is_box = shape == "box", is_plane = shape == "plane";
-  const Fields fields =
-      is_box || is_plane ? Fields(input, what, {"size"}, diag_)
-      : shape == "sphere" ? Fields(input, what, {"radius"}, diag_)
-                          : Fields(input, what, {"radius", "length"}, diag_);
+  const Fields fields = is_box || is_plane  ? Fields(input, what, {"size"}, &reporter_)
+                        : shape == "sphere" ? Fields(input, what, {"radius"}, &reporter_)
+                                            : Fields(input, what, {"radius", "length"}, &reporter_);
   const size_t errors_before = ErrorCount();
   const auto get = [&](const char* key, const char* example) {
     const auto v = fields.Get(key);
@@ -799,15 +831,14 @@ std::optional<Vec3> SceneReader::ReadScale(const Value& input, const std::string
     scale = Vec3::Constant(*s);
   }
   if (scale && (scale->array() <= 0).any()) {
-    Error(input.line, fmt::format("{} must be positive — give a number or [sx, sy, sz] > 0",
-                                    what));
+    Error(input.line, fmt::format("{} must be positive — give a number or [sx, sy, sz] > 0", what));
     return std::nullopt;
   }
   return scale;
 }
 
 std::optional<TriangleMesh> SceneReader::ReadMesh(const Value& input, const std::string& what) {
-  const Fields fields(input, what, {"file", "scale"}, diag_);
+  const Fields fields(input, what, {"file", "scale"}, &reporter_);
   const auto file_node = fields.Get("file");
   if (!file_node) {
     Missing(fields, "file", "file: ../meshes/part.stl");
@@ -862,8 +893,8 @@ std::optional<std::string> SceneReader::TypeReference(const Fields& fields,
   std::vector<std::string> ids = CatalogIds();
   for (const SensorType& type : problem_->sensor_types) ids.push_back(type.id);
   Error(node->line, fmt::format("{}: unknown sensor type '{}' — {} (declare your own under "
-                                   "sensor_types; `vantage sensors` lists the catalog)",
-                                   what, *id, Suggest(*id, ids)));
+                                "sensor_types; `vantage sensors` lists the catalog)",
+                                what, *id, Suggest(*id, ids)));
   return std::nullopt;
 }
 
@@ -874,7 +905,7 @@ void SceneReader::ReadPopulations(const Value& input) {
     const auto same = [&](const Population& p) { return p.name == population->name; };
     if (std::any_of(problem_->populations.begin(), problem_->populations.end(), same)) {
       Error(item.line, fmt::format("population name '{}' is used twice — names must be unique",
-                                      population->name));
+                                   population->name));
       continue;
     }
     problem_->populations.push_back(std::move(*population));
@@ -895,7 +926,7 @@ std::optional<Population> SceneReader::ReadPopulation(const Value& input) {
   const Fields fields(input, "population",
                       {"name", "type", "pose", "distribution", "box", "cylinder", "count", "rows",
                        "cols", "step", "mount"},
-                      diag_);
+                      &reporter_);
   const size_t errors_before = ErrorCount();
   Population population;
   population.name = Name(fields, "population").value_or("?");
@@ -903,7 +934,8 @@ std::optional<Population> SceneReader::ReadPopulation(const Value& input) {
   population.line = fields.line();
   const std::string what = fmt::format("population '{}'", population.name);
   population.sensor_type = TypeReference(fields, what).value_or("");
-  if (const auto v = fields.Get("pose")) population.pose = PoseOf(*v, what + ".pose").value_or(Pose{});
+  if (const auto v = fields.Get("pose"))
+    population.pose = PoseOf(*v, what + ".pose").value_or(Pose{});
   if (const auto v = fields.Get("mount"))
     population.model_from_camera = PoseOf(*v, what + ".mount").value_or(Pose{});
   if (const auto v = fields.Get("distribution")) {
@@ -912,8 +944,8 @@ std::optional<Population> SceneReader::ReadPopulation(const Value& input) {
         population.distribution = *distribution;
       } else {
         Error(v->line, fmt::format("{}: distribution '{}' is unknown — {}", what, *name,
-                                      Suggest(*name, {"random", "uniform", "grid", "linear-x",
-                                                      "linear-y", "linear-z"})));
+                                   Suggest(*name, {"random", "uniform", "grid", "linear-x",
+                                                   "linear-y", "linear-z"})));
         return std::nullopt;
       }
     }
@@ -930,8 +962,8 @@ bool SceneReader::ReadRegion(const Fields& fields, const std::string& what, Popu
   for (const char* key : {"rows", "cols", "step"}) {
     if (const auto v = fields.Get(key)) {
       Error(v->line, fmt::format("{}: '{}' belongs to the grid distribution — remove it or set "
-                                    "`distribution: grid`",
-                                    what, key));
+                                 "`distribution: grid`",
+                                 what, key));
     }
   }
   const auto box = fields.Get("box");
@@ -942,27 +974,28 @@ bool SceneReader::ReadRegion(const Fields& fields, const std::string& what, Popu
                                      what));
     return false;
   }
-  const bool is_linear = p->distribution != Distribution::kRandom &&
-                         p->distribution != Distribution::kUniform;
+  const bool is_linear =
+      p->distribution != Distribution::kRandom && p->distribution != Distribution::kUniform;
   if (cylinder && is_linear) {
     Error(cylinder->line, fmt::format("{}: linear distributions need a box region (GAZEBO.md "
-                                         "defines no linear cylinder) — use a box",
-                                         what));
+                                      "defines no linear cylinder) — use a box",
+                                      what));
     return false;
   }
   if (box) {
-    const Fields region(*box, what + ".box", {"size"}, diag_);
+    const Fields region(*box, what + ".box", {"size"}, &reporter_);
     p->region = RegionShape::kBox;
     if (const auto size = region.Get("size")) {
       const auto v = Vector(*size, what + ".box.size");
       if (v && (v->array() <= 0).any())
-        Error(size->line, fmt::format("{}.box.size must be three positive lengths [m] — fix the size", what));
+        Error(size->line,
+              fmt::format("{}.box.size must be three positive lengths [m] — fix the size", what));
       if (v) p->box_size = *v;
     } else {
       Missing(region, "size", "size: [1.0, 1.0, 0.5]");
     }
   } else {
-    const Fields region(*cylinder, what + ".cylinder", {"radius", "length"}, diag_);
+    const Fields region(*cylinder, what + ".cylinder", {"radius", "length"}, &reporter_);
     p->region = RegionShape::kCylinder;
     const auto radius = region.Get("radius");
     const auto length = region.Get("length");
@@ -987,8 +1020,8 @@ bool SceneReader::ReadGrid(const Fields& fields, const std::string& what, Popula
   for (const char* key : {"box", "cylinder", "count"}) {
     if (const auto v = fields.Get(key)) {
       Error(v->line, fmt::format("{}: a grid takes no '{}' (it places rows × cols sensors) — "
-                                    "remove it",
-                                    what, key));
+                                 "remove it",
+                                 what, key));
     }
   }
   p->region = RegionShape::kNone;
@@ -1020,8 +1053,8 @@ void SceneReader::ReadSensors(const Value& input) {
     if (std::any_of(problem_->sensors.begin(), problem_->sensors.end(), same) ||
         std::any_of(problem_->populations.begin(), problem_->populations.end(), clone_of)) {
       Error(item.line, fmt::format("sensor name '{}' is already used (by a sensor, or by a "
-                                      "population's clones NAME_i) — rename it",
-                                      sensor->name));
+                                   "population's clones NAME_i) — rename it",
+                                   sensor->name));
       continue;
     }
     problem_->sensors.push_back(std::move(*sensor));
@@ -1029,7 +1062,8 @@ void SceneReader::ReadSensors(const Value& input) {
 }
 
 std::optional<ExplicitSensor> SceneReader::ReadSensor(const Value& input) {
-  const Fields fields(input, "sensor", {"name", "type", "position", "orientation", "mount"}, diag_);
+  const Fields fields(input, "sensor", {"name", "type", "position", "orientation", "mount"},
+                      &reporter_);
   const size_t errors_before = ErrorCount();
   ExplicitSensor sensor;
   sensor.name = Name(fields, "sensor").value_or("?");
@@ -1045,7 +1079,7 @@ std::optional<ExplicitSensor> SceneReader::ReadSensor(const Value& input) {
   // Without an orientation the sensor looks at the observation point, as the plugin re-orients
   // every sensor (GAZEBO.md, "Sensor orientation").
   if (const auto v = fields.Get("orientation")) {
-    const Fields orientation(*v, what + ".orientation", {"rpy", "quaternion"}, diag_);
+    const Fields orientation(*v, what + ".orientation", {"rpy", "quaternion"}, &reporter_);
     if (!orientation.Has("rpy") && !orientation.Has("quaternion"))
       Missing(orientation, "rpy", "rpy: [0, 0.5, 3.14]");
     sensor.pose.rotation = Rotation(orientation, what + ".orientation").value_or(Quat::Identity());
@@ -1092,9 +1126,8 @@ void SceneReader::Read(const YAML::Node& root) {
     Error(1, "the scene file is empty — see docs/scene-format.md for an example");
     return;
   }
-  const Fields top(ValueOf(root), "the scene", {"settings", "sensor_types", "objects", "populations",
-                                       "sensors"},
-                   diag_);
+  const Fields top(ValueOf(root), "the scene",
+                   {"settings", "sensor_types", "objects", "populations", "sensors"}, &reporter_);
   if (!root.IsMap()) return;
   // Settings first: the cell size sets the primitives' tessellation.
   if (const auto v = top.Get("settings")) ReadSettings(*v);
@@ -1110,8 +1143,9 @@ void SceneReader::Read(const YAML::Node& root) {
   AddReferencedCatalogTypes();
   ApplyTargetOverride();
   if (ErrorCount() == 0 && problem_->scene.TargetCount() == 0) {
-    Error(objects_line_, "no object is a target — set `role: target` on at least one object, or "
-                         "pass --target NAME");
+    Error(objects_line_,
+          "no object is a target — set `role: target` on at least one object, or "
+          "pass --target NAME");
   }
 }
 
@@ -1151,9 +1185,9 @@ Problem LoadYamlScene(const std::string& path, const LoadOptions& options) {
   try {
     root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
-    diag.Error(e.mark.is_null() ? 0 : e.mark.line + 1,
-               fmt::format("malformed YAML: {} — fix the syntax (indentation, colons, brackets)",
-                           e.msg));
+    diag.Error(
+        e.mark.is_null() ? 0 : e.mark.line + 1,
+        fmt::format("malformed YAML: {} — fix the syntax (indentation, colons, brackets)", e.msg));
     diag.ThrowIfAny();
   }
   SceneReader reader(path, options, &diag, &problem);
@@ -1172,10 +1206,11 @@ Problem LoadProblem(const std::string& path, const LoadOptions& options) {
   const std::string extension = LowerExtension(path);
   if (extension == ".yaml" || extension == ".yml") return LoadYamlScene(path, options);
   if (extension == ".world" || extension == ".sdf") return LoadGazeboWorld(path, options);
-  throw InputError(AtPlace(path, 0, fmt::format("unknown scene extension '{}' — give a .yaml/.yml "
-                                                "scene (docs/scene-format.md) or a Gazebo "
-                                                ".world/.sdf",
-                                                extension)));
+  throw InputError(AtPlace(path, 0,
+                           fmt::format("unknown scene extension '{}' — give a .yaml/.yml "
+                                       "scene (docs/scene-format.md) or a Gazebo "
+                                       ".world/.sdf",
+                                       extension)));
 }
 
 }  // namespace vantage

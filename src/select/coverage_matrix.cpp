@@ -198,7 +198,8 @@ uint64_t CoverageMatrix::CoveredWeight(std::span<const uint32_t> chosen) const {
 
 bool CoverageMatrix::IsSubset(uint32_t a, uint32_t b) const {
   if (rows_[a].size() > rows_[b].size()) return false;
-  if (!is_dense()) return std::includes(rows_[b].begin(), rows_[b].end(), rows_[a].begin(), rows_[a].end());
+  if (!is_dense())
+    return std::includes(rows_[b].begin(), rows_[b].end(), rows_[a].begin(), rows_[a].end());
   const uint64_t* row_b = Bits(b);
   for (const uint32_t e : rows_[a]) {
     if (!((row_b[e >> 6] >> (e & 63)) & 1)) return false;

@@ -17,7 +17,8 @@ uint32_t BestCandidate(const CoverageMatrix& matrix) {
   return best;
 }
 
-std::vector<uint32_t> GreedyComplete(const CoverageMatrix& matrix, std::vector<uint32_t> chosen,
+std::vector<uint32_t> GreedyComplete(const CoverageMatrix& matrix,
+                                     std::vector<uint32_t> chosen,
                                      size_t n) {
   const size_t m = matrix.candidate_count();
   VANTAGE_CHECK(n <= m && chosen.size() <= n);
@@ -47,8 +48,8 @@ std::vector<uint32_t> GreedyComplete(const CoverageMatrix& matrix, std::vector<u
     if (is_chosen[i]) continue;
     entries.push_back({chosen.empty() ? matrix.RowWeight(i) : matrix.Gain(i, covered), i, round});
   }
-  std::priority_queue<Entry, std::vector<Entry>, decltype(lower_priority)> heap(
-      lower_priority, std::move(entries));
+  std::priority_queue<Entry, std::vector<Entry>, decltype(lower_priority)> heap(lower_priority,
+                                                                                std::move(entries));
   while (chosen.size() < n && !heap.empty()) {
     Entry top = heap.top();
     heap.pop();
@@ -73,7 +74,8 @@ std::vector<uint32_t> GreedyComplete(const CoverageMatrix& matrix, std::vector<u
   return chosen;
 }
 
-uint64_t SimpleUpperBound(const CoverageMatrix& matrix, std::span<const uint32_t> chosen,
+uint64_t SimpleUpperBound(const CoverageMatrix& matrix,
+                          std::span<const uint32_t> chosen,
                           size_t n) {
   // f(OPT) <= f(S) + sum over OPT \ S of gain(j | S) <= f(S) + the n largest gains (submodular).
   Bitset covered = matrix.EmptySet();

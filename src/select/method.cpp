@@ -47,21 +47,21 @@ void SelectOptions::Validate(size_t candidate_count) const {
     throw InputError(fmt::format("n = {} but there are no candidates to select from", n));
   }
   if (n < 1 || static_cast<size_t>(n) > candidate_count) {
-    throw InputError(fmt::format("n = {} is out of range: there are {} candidates, so n must be "
-                                 "between 1 and {}",
-                                 n, candidate_count, candidate_count));
+    throw InputError(
+        fmt::format("n = {} is out of range: there are {} candidates, so n must be "
+                    "between 1 and {}",
+                    n, candidate_count, candidate_count));
   }
   if (ransac_iterations < 1) {
-    throw InputError(
-        fmt::format("ransac_iterations = {} must be at least 1", ransac_iterations));
+    throw InputError(fmt::format("ransac_iterations = {} must be at least 1", ransac_iterations));
   }
   if (!(ransac_stop_coverage >= 0.0 && ransac_stop_coverage <= 1.0)) {
     throw InputError(fmt::format("ransac_stop_coverage = {} must be a fraction in [0, 1]",
                                  ransac_stop_coverage));
   }
   if (!(time_limit > 0.0) || !std::isfinite(time_limit)) {
-    throw InputError(fmt::format("time_limit = {} s must be a positive number of seconds",
-                                 time_limit));
+    throw InputError(
+        fmt::format("time_limit = {} s must be a positive number of seconds", time_limit));
   }
 }
 

@@ -18,13 +18,14 @@ uint32_t BestCandidate(const CoverageMatrix& matrix);
 /// Rng(seed, Stream::kRansac, i); keeps a subset only when strictly better; stops once the best
 /// reaches `stop_coverage` (a fraction of |R|). The first draw is always kept, so the answer has
 /// n sensors even when every draw covers nothing.
-std::vector<uint32_t> RansacChoice(const CoverageMatrix& matrix, size_t n, int iterations,
-                                   double stop_coverage, uint64_t seed);
+std::vector<uint32_t> RansacChoice(
+    const CoverageMatrix& matrix, size_t n, int iterations, double stop_coverage, uint64_t seed);
 
 /// Lazy greedy maximum coverage from the start set `chosen` up to n sensors: each step adds the
 /// candidate of largest gain (ties: lower index); once nothing adds anything, the lowest-index
 /// unused candidates fill up to n.
-std::vector<uint32_t> GreedyComplete(const CoverageMatrix& matrix, std::vector<uint32_t> chosen,
+std::vector<uint32_t> GreedyComplete(const CoverageMatrix& matrix,
+                                     std::vector<uint32_t> chosen,
                                      size_t n);
 
 /// Best-improvement 1-swap local search from `chosen`: repeatedly makes the swap (one chosen out,
@@ -34,8 +35,7 @@ std::vector<uint32_t> LocalSearch(const CoverageMatrix& matrix, std::vector<uint
 
 /// Cheap upper bound on the cells any n sensors can cover (submodularity): the cells of `chosen`
 /// plus the n largest gains over them, at most the cells seen by anyone.
-uint64_t SimpleUpperBound(const CoverageMatrix& matrix, std::span<const uint32_t> chosen,
-                          size_t n);
+uint64_t SimpleUpperBound(const CoverageMatrix& matrix, std::span<const uint32_t> chosen, size_t n);
 
 struct ExactResult {
   std::vector<uint32_t> chosen;
@@ -49,7 +49,9 @@ struct ExactResult {
 /// the answer is padded back to n), elements are re-merged over the remaining candidates, and
 /// elements that only one candidate sees go into that candidate's objective. If CBC fails the
 /// answer is `start` with SimpleUpperBound. Never returns fewer cells than `start` covers.
-ExactResult SolveExact(const CoverageMatrix& matrix, size_t n, const std::vector<uint32_t>& start,
+ExactResult SolveExact(const CoverageMatrix& matrix,
+                       size_t n,
+                       const std::vector<uint32_t>& start,
                        double time_limit);
 
 }  // namespace vantage::detail

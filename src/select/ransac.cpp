@@ -8,8 +8,8 @@
 
 namespace vantage::detail {
 
-std::vector<uint32_t> RansacChoice(const CoverageMatrix& matrix, size_t n, int iterations,
-                                   double stop_coverage, uint64_t seed) {
+std::vector<uint32_t> RansacChoice(
+    const CoverageMatrix& matrix, size_t n, int iterations, double stop_coverage, uint64_t seed) {
   const size_t m = matrix.candidate_count();
   VANTAGE_CHECK(n >= 1 && n <= m);
   const auto coverage = [&](uint64_t cells) {

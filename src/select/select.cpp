@@ -5,6 +5,8 @@
 // sees are dropped, which keeps coverage exact and shrinks typical instances by orders of
 // magnitude. Coverage and paper_coverage of every answer are then recomputed by
 // CoverageEvaluator from the observations themselves, never taken from a method's bookkeeping.
+#include "vantage/select.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -13,7 +15,6 @@
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
 #include "vantage/error.hpp"
-#include "vantage/select.hpp"
 
 namespace vantage {
 namespace {
@@ -39,7 +40,9 @@ std::shared_ptr<spdlog::logger> Logger() {
   return logger ? logger : spdlog::default_logger();
 }
 
-Selection Scored(const CoverageEvaluator& evaluator, Method method, std::vector<uint32_t> chosen,
+Selection Scored(const CoverageEvaluator& evaluator,
+                 Method method,
+                 std::vector<uint32_t> chosen,
                  double seconds) {
   Selection s;
   s.method = MethodName(method);
@@ -56,7 +59,8 @@ Selection Scored(const CoverageEvaluator& evaluator, Method method, std::vector<
 // earlier steps it needed, as if it had run alone.
 class Pipeline {
  public:
-  Pipeline(const CoverageEvaluator& evaluator, const detail::CoverageMatrix& matrix,
+  Pipeline(const CoverageEvaluator& evaluator,
+           const detail::CoverageMatrix& matrix,
            double setup_seconds)
       : evaluator_(evaluator), matrix_(matrix), setup_seconds_(setup_seconds) {}
 
@@ -89,7 +93,12 @@ class Pipeline {
     const Clock::time_point start = Clock::now();
     const detail::ExactResult exact =
         detail::SolveExact(matrix_, local_.size(), local_, time_limit);
-    if (!exact.note.empty()) Logger()->debug("exact, n = {}: {}", local_.size(), exact.note);
+    if (!exact.proven_optimal && !exact.note.empty()) {
+      Logger()->warn("exact, n = {}: {}; reporting the best answer found and an upper bound",
+                     local_.size(), exact.note);
+    } else if (!exact.note.empty()) {
+      Logger()->debug("exact, n = {}: {}", local_.size(), exact.note);
+    }
     Selection s =
         Scored(evaluator_, Method::kExact, exact.chosen, local_seconds_ + SecondsSince(start));
     s.upper_bound = std::max(Fraction(exact.upper_bound, matrix_.reference_size()), s.coverage);
@@ -151,7 +160,8 @@ Selection SelectGreedy(const CoverageEvaluator& evaluator, int n) {
   return s;
 }
 
-std::vector<Selection> Select(std::span<const Observation> observations, size_t reference_size,
+std::vector<Selection> Select(std::span<const Observation> observations,
+                              size_t reference_size,
                               const SelectOptions& options) {
   options.Validate(observations.size());
   const CoverageEvaluator evaluator(observations, reference_size);
@@ -192,7 +202,8 @@ std::vector<Selection> Select(std::span<const Observation> observations, size_t 
     results.push_back(pipeline.Ransac(options, n));
     results.push_back(pipeline.Greedy(n));
     results.push_back(pipeline.Local());
-    if (run_exact) results.push_back(pipeline.Exact(std::min(options.time_limit, kAllExactSeconds)));
+    if (run_exact)
+      results.push_back(pipeline.Exact(std::min(options.time_limit, kAllExactSeconds)));
   }
   return results;
 }
