@@ -8,10 +8,10 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
 #include <gtest/gtest.h>
-#include <stdlib.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <numbers>
@@ -34,13 +34,21 @@ using detail::GazeboVisual;
 constexpr double kPi = std::numbers::pi;
 constexpr double kTol = 1e-9;
 
+// The tests run on one thread: changing the environment is safe here.
+void SetEnv(const char* name, const std::string& value) {
+  ::setenv(name, value.c_str(), 1);  // NOLINT(concurrency-mt-unsafe)
+}
+void UnsetEnv(const char* name) {
+  ::unsetenv(name);  // NOLINT(concurrency-mt-unsafe)
+}
+
 /// The loader with a clean environment (GAZEBO_MODEL_PATH / GAZEBO_RESOURCE_PATH unset), so that
 /// only the options and the models/ folder beside the world count.
 Problem Load(const std::string& path,
              const LoadOptions& options = {},
              std::vector<GazeboVisual>* visuals = nullptr) {
-  ::unsetenv("GAZEBO_MODEL_PATH");
-  ::unsetenv("GAZEBO_RESOURCE_PATH");
+  UnsetEnv("GAZEBO_MODEL_PATH");
+  UnsetEnv("GAZEBO_RESOURCE_PATH");
   return detail::LoadGazeboWorld(path, options, visuals);
 }
 
@@ -592,9 +600,9 @@ TEST(Gazebo, ModelPathOrder) {
                 "model://block");
 
   // GAZEBO_MODEL_PATH (second of three entries).
-  ::setenv("GAZEBO_MODEL_PATH", ("/nonexistent:" + World("models") + ":/also/none").c_str(), 1);
+  SetEnv("GAZEBO_MODEL_PATH", "/nonexistent:" + World("models") + ":/also/none");
   const Problem from_env = detail::LoadGazeboWorld(dir.File("world/w.world"), options, nullptr);
-  ::unsetenv("GAZEBO_MODEL_PATH");
+  UnsetEnv("GAZEBO_MODEL_PATH");
   ExpectBounds(FindObject(from_env, "block"), Vec3(4.5, 4.5, 5), Vec3(5.5, 5.5, 6));
 
   // --model-path comes before GAZEBO_MODEL_PATH: a 3 m "block" there wins.
@@ -610,9 +618,9 @@ TEST(Gazebo, ModelPathOrder) {
 </sdf>
 )");
   options.model_paths = {dir.File("mine")};
-  ::setenv("GAZEBO_MODEL_PATH", World("models").c_str(), 1);
+  SetEnv("GAZEBO_MODEL_PATH", World("models"));
   const Problem mine = detail::LoadGazeboWorld(dir.File("world/w.world"), options, nullptr);
-  ::unsetenv("GAZEBO_MODEL_PATH");
+  UnsetEnv("GAZEBO_MODEL_PATH");
   ExpectBounds(FindObject(mine, "block"), Vec3(-1.5, -1.5, -1.5), Vec3(1.5, 1.5, 1.5));
 
   // A models/ folder beside the world comes last but works alone.

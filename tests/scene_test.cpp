@@ -202,6 +202,17 @@ TEST(Scene, LoadsAsciiStl) {
   EXPECT_NEAR(mesh.Area(), 3.0, 1e-6);
 }
 
+TEST(Scene, LoadsAsciiPly) {
+  TempDir dir;
+  WriteText(dir.File("square.ply"),
+            "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+            "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+            "end_header\n0 0 0\n2 0 0\n2 2 0\n0 2 0\n4 0 1 2 3\n");
+  const TriangleMesh mesh = LoadMeshFile(dir.File("square.ply"));
+  EXPECT_EQ(mesh.triangles.size(), 2u);  // the quad, triangulated
+  EXPECT_NEAR(mesh.Area(), 4.0, 1e-6);
+}
+
 TEST(Scene, DropsDegenerateTriangles) {
   TempDir dir;
   // The second face is collinear (zero area).
@@ -230,6 +241,10 @@ TEST(Scene, MeshErrorsNameTheFile) {
   ExpectMeshError(dir.File("points.obj"));
   WriteText(dir.File("garbage.stl"), "this is not a mesh\n");
   ExpectMeshError(dir.File("garbage.stl"));
+  WriteText(dir.File("nan.obj"), "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  ExpectMeshError(dir.File("nan.obj"));
+  WriteText(dir.File("empty.stl"), "");
+  ExpectMeshError(dir.File("empty.stl"));
 }
 
 /// One triangle in centimetres, Z_UP, under a node translated by 10 cm along z.

@@ -366,9 +366,9 @@ TEST(Select, ExactReturnsNSensorsWhenFewerSuffice) {
 TEST(Select, EveryMethodAgainstBruteForce) {
   const double greedy_factor = 1.0 - 1.0 / std::exp(1.0);
   for (uint64_t trial = 0; trial < 24; ++trial) {
-    const size_t m = 6 + trial % 8;             // 6-13 candidates
-    const size_t r = 20 + 5 * (trial % 5);      // 20-40 cells
-    const double p = 0.1 + 0.05 * (trial % 4);  // sparse to dense
+    const size_t m = 6 + trial % 8;                                // 6-13 candidates
+    const size_t r = 20 + 5 * (trial % 5);                         // 20-40 cells
+    const double p = 0.1 + 0.05 * static_cast<double>(trial % 4);  // sparse to dense
     const std::vector<Observation> obs = RandomInstance(100 + trial, m, r, p);
     SelectOptions options;
     options.n = static_cast<int>(std::min<size_t>(4, m));

@@ -171,6 +171,11 @@ TEST(Render, VisibleCapIsColouredObservedAsTheReportCounts) {
   const std::string png = dir.File("side.png");
   WritePng(png, RenderView(run->scene, run->report, View(Vec3(0, -3, 0), 300, 8.0 * kPi / 180.0)));
   const Image side = ReadPng(png);
+  if (const char* keep = std::getenv("VANTAGE_KEEP_RENDER"); keep != nullptr && *keep) {
+    RenderOptions with_frusta = View(Vec3(0.35, -0.9, 0.45), 640, 30.0 * kPi / 180.0);
+    with_frusta.draw_frusta = true;
+    WritePng(keep, RenderView(run->scene, run->report, with_frusta));
+  }
   ASSERT_EQ(side.width, 300);
   ASSERT_EQ(side.height, 300);
   const double s = kRadius / d;

@@ -252,7 +252,7 @@ constexpr const char* kPageScript = R"JS(
   // ------------------------------------------------------------------ chart
   guarded('chart', function () {
     var SVG = 'http://www.w3.org/2000/svg';
-    var W = 720, H = 340, L = 56, R = 170, T = 16, B = 44;
+    var W = 760, H = 340, L = 56, R = 200, T = 16, B = 44;
     var series = {}, order = [];
     D.results.forEach(function (r) {
       if (!series[r.method]) { series[r.method] = []; order.push(r.method); }
@@ -321,6 +321,20 @@ constexpr const char* kPageScript = R"JS(
       el('circle', {cx: W - R + 26, cy: ly, r: 4, fill: color}, svg);
       el('text', {x: W - R + 44, y: ly + 4, fill: '#1d232b'}, svg, method + (bounds.length ? ' (◇ bound)' : ''));
     });
+    // The primary result's coverage after each of its sensors, in the order chosen.
+    if (D.chosen.length > 1) {
+      var cum = el('g', {'class': 'cumulative'}, svg);
+      el('polyline', {points: D.chosen.map(function (s, k) { return X(k + 1) + ',' + Y(s.cumulative); }).join(' '),
+                      fill: 'none', stroke: '#5d6875', 'stroke-width': 1.5, 'stroke-dasharray': '2 3'}, cum);
+      D.chosen.forEach(function (s, k) {
+        var r = el('rect', {x: X(k + 1) - 3, y: Y(s.cumulative) - 3, width: 6, height: 6, fill: '#5d6875'}, cum);
+        el('title', {}, r, 'primary result, first ' + (k + 1) + ' sensor' + (k ? 's' : '') + ' in the order chosen: ' + pct(s.cumulative));
+      });
+      var cy = T + 8 + order.length * 20;
+      el('line', {x1: W - R + 14, x2: W - R + 38, y1: cy, y2: cy, stroke: '#5d6875', 'stroke-width': 1.5,
+                  'stroke-dasharray': '2 3'}, svg);
+      el('text', {x: W - R + 44, y: cy + 4, fill: '#1d232b'}, svg, 'primary, in order chosen');
+    }
     if (!D.results.length) el('text', {x: (L + W - R) / 2, y: (T + H - B) / 2, 'text-anchor': 'middle'}, svg, 'no results');
     document.getElementById('chart-box').appendChild(svg);
   });
@@ -410,19 +424,31 @@ constexpr const char* kPageScript = R"JS(
     ctx.beginPath(); ctx.arc(32, 32, 29, 0, 2 * Math.PI); ctx.fillStyle = '#fff'; ctx.fill();
     ctx.lineWidth = 5; ctx.strokeStyle = '#333'; ctx.stroke();
     var discTexture = new THREE.CanvasTexture(disc);
-    function points(pos, colors, size, attenuate, round) {
+    function points(pos, colors, size, attenuate, round, pull) {
       var g = new THREE.BufferGeometry();
       g.setAttribute('position', new THREE.BufferAttribute(pos, 3));
       g.setAttribute('color', new THREE.BufferAttribute(colors, 3));
       var options = {size: size, sizeAttenuation: attenuate, vertexColors: THREE.VertexColors};
       if (round) { options.map = discTexture; options.alphaTest = 0.5; }
-      return new THREE.Points(g, new THREE.PointsMaterial(options));
+      var material = new THREE.PointsMaterial(options);
+      if (pull) {
+        // A voxel centre lies up to 0.87 cell behind the surface it stands for, where the target
+        // mesh would hide it: drawn `pull` metres nearer the eye, the front voxels show and the
+        // back ones stay hidden.
+        material.onBeforeCompile = function (shader) {
+          shader.vertexShader = shader.vertexShader.replace('#include <project_vertex>',
+            'vec4 mvPosition = modelViewMatrix * vec4( transformed, 1.0 );\n' +
+            'mvPosition.xyz -= normalize( mvPosition.xyz ) * ' + pull.toExponential(6) + ';\n' +
+            'gl_Position = projectionMatrix * mvPosition;');
+        };
+      }
+      return new THREE.Points(g, material);
     }
     // three.js r111 draws attenuated points `size` x (half the canvas height) / depth pixels wide,
     // tan(fov/2) times a world length: scaled so that a point spans about one and a half cells.
     var voxelSize = 1.5 * F / Math.tan(D.view.fov_deg * Math.PI / 360);
-    layer('observed voxels', points(posO, colO, voxelSize, true), true);
-    layer('unobserved voxels', points(posU, colU, voxelSize, true), true);
+    layer('observed voxels', points(posO, colO, voxelSize, true, false, F), true);
+    layer('unobserved voxels', points(posU, colU, voxelSize, true, false, F), true);
 
     // Candidates: points coloured by their own coverage.
     var cpos = new Float32Array(3 * D.candidates.length), ccol = new Float32Array(3 * D.candidates.length);

@@ -114,7 +114,8 @@ std::optional<std::pair<int, int>> ParseVersion(std::string_view s) {
 }
 
 std::vector<std::string> PathListFromEnv(const char* variable) {
-  const char* value = std::getenv(variable);
+  // Read while loading only; vantage never sets the environment.
+  const char* value = std::getenv(variable);  // NOLINT(concurrency-mt-unsafe)
   return value ? SplitList(value, ':') : std::vector<std::string>{};
 }
 
@@ -268,9 +269,12 @@ class Loader {
 
  private:
   // Problems.
-  void Error(const std::string& file, int line, const std::string& message) {
-    std::string text = AtPlace(file, line, message);
+  /// Records an already placed message ("file:line: ..."), once.
+  void AddError(const std::string& text) {
     if (errors_seen_.insert(text).second) diag_.Error(0, text);
+  }
+  void Error(const std::string& file, int line, const std::string& message) {
+    AddError(AtPlace(file, line, message));
   }
   void Error(const Doc& doc, int line, const std::string& message) {
     Error(doc.xml.path, line, message);
@@ -533,7 +537,7 @@ const Doc* Loader::LoadSdf(const std::string& path, const std::string& model_dir
     doc->dir = ParentDir(path);
     doc->model_dir = model_dir;
   } catch (const InputError& e) {
-    diag_.Error(0, e.what());
+    AddError(e.what());
     doc.reset();
   }
   if (doc) {
@@ -587,7 +591,7 @@ std::string Loader::ModelFileInDir(const std::string& dir, const Doc& from, int 
         return "";
       }
     } catch (const InputError& e) {
-      diag_.Error(0, e.what());
+      AddError(e.what());
       return "";
     }
   }
@@ -627,7 +631,7 @@ std::optional<std::string> Loader::ResolveModelUri(const std::string& uri,
   if (rest.empty()) return std::nullopt;
   std::vector<std::string> bases;
   if (fs::path(rest).is_absolute()) {
-    bases.push_back("");
+    bases.emplace_back();
   } else {
     bases.push_back(from.dir);
     if (!from.model_dir.empty()) bases.push_back(from.model_dir);
@@ -791,7 +795,7 @@ Pose Loader::FrameInModel(const std::string& name,
   }
   const Pose parent_pose = FrameInModel(parent, entries, resolved, visiting, model, *entry.doc,
                                         entry.pose ? entry.pose->line : entry.line);
-  const Pose pose = parent_pose * PoseValue(*entry.doc, entry.pose);
+  Pose pose = parent_pose * PoseValue(*entry.doc, entry.pose);
   visiting.erase(name);
   resolved[name] = pose;
   return pose;
@@ -864,7 +868,7 @@ void Loader::VisitModel(const Doc& doc, const XmlElement& model, const ModelCont
   // Pose of a link's child (visual, sensor) in the link: relative_to defaults to the link.
   const auto link_from_child = [&](const std::string& link, const XmlElement* pose) {
     const std::string relative_to = RelativeTo(doc, pose);
-    const Pose value = PoseValue(doc, pose);
+    Pose value = PoseValue(doc, pose);
     if (relative_to.empty() || relative_to == link) return value;
     return in_model(link, pose->line).Inverse() * in_model(relative_to, pose->line) * value;
   };
@@ -1002,11 +1006,11 @@ void Loader::ReadPlugin() {
   while (!stack.empty()) {
     const XmlElement* e = stack.back();
     stack.pop_back();
-    for (auto it = e->children.rbegin(); it != e->children.rend(); ++it) {
-      if (it->name == "plugin") {
-        plugins.push_back(&*it);
+    for (const XmlElement& child : e->children) {
+      if (child.name == "plugin") {
+        plugins.push_back(&child);
       } else {
-        stack.push_back(&*it);
+        stack.push_back(&child);
       }
     }
   }
@@ -1130,7 +1134,7 @@ std::optional<std::string> Loader::AddSensorType(const SensorRecord& record,
   try {
     type.Validate(fmt::format("{}:{}", doc.xml.path, sensor.line));
   } catch (const InputError& e) {
-    diag_.Error(0, e.what());
+    AddError(e.what());
     return std::nullopt;
   }
   // One type per distinct sensor model; a different model of the same name gets a suffix.

@@ -122,6 +122,7 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
 
   // Re-merge the elements over the kept candidates only.
   std::vector<std::span<const uint32_t>> kept_rows;
+  kept_rows.reserve(kept.size());
   for (const uint32_t i : kept) kept_rows.emplace_back(matrix.Row(i));
   const std::vector<int64_t> class_of = RefinePartition(matrix.element_count(), kept_rows);
   int64_t class_count = 0;
@@ -221,6 +222,7 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
   Cbc_setAllowableGap(cbc, 0.99);
   // Warm start: the start set, each dominated candidate replaced by a kept superset.
   std::vector<int> start_columns;
+  start_columns.reserve(start.size());
   for (const uint32_t c : start) {
     start_columns.push_back(column_of[Dominator(matrix, columns, dominated, c)]);
   }

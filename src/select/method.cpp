@@ -1,6 +1,7 @@
 // Method names and SelectOptions::Validate (SYSTEM.md, Select).
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
 
 #include "vantage/error.hpp"
@@ -9,8 +10,8 @@
 namespace vantage {
 namespace {
 
-constexpr Method kMethods[] = {Method::kBest,  Method::kRansac, Method::kGreedy,
-                               Method::kLocal, Method::kExact,  Method::kAll};
+constexpr std::array<Method, 6> kMethods = {Method::kBest,  Method::kRansac, Method::kGreedy,
+                                            Method::kLocal, Method::kExact,  Method::kAll};
 
 }  // namespace
 

@@ -13,7 +13,9 @@ std::vector<uint32_t> RansacChoice(
   const size_t m = matrix.candidate_count();
   VANTAGE_CHECK(n >= 1 && n <= m);
   const auto coverage = [&](uint64_t cells) {
-    return matrix.reference_size() ? static_cast<double>(cells) / matrix.reference_size() : 0.0;
+    return matrix.reference_size()
+               ? static_cast<double>(cells) / static_cast<double>(matrix.reference_size())
+               : 0.0;
   };
   // SelectSensorsRandomly: a partial Fisher–Yates shuffle of the identity, undone after each draw
   // so that iteration i's subset depends on its own stream only.
