@@ -11,6 +11,7 @@
 #include <set>
 
 #include "select/coverage_matrix.hpp"
+#include "select/methods.hpp"
 #include "vantage/error.hpp"
 #include "vantage/rng.hpp"
 
@@ -502,6 +503,36 @@ TEST(Select, RansacWhenNothingIsSeenStillReturnsNSensors) {
   const Selection s = SelectOne(obs, 4, Method::kRansac, 2);
   EXPECT_EQ(s.chosen.size(), 2u);
   EXPECT_EQ(s.coverage, 0.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bounds and the solver's fallback
+
+TEST(Select, SimpleUpperBoundIsAtLeastTheOptimum) {
+  for (uint64_t trial = 0; trial < 10; ++trial) {
+    const std::vector<Observation> obs = RandomInstance(200 + trial, 9, 30, 0.15);
+    const detail::CoverageMatrix matrix(obs, 30);
+    for (size_t n = 1; n <= 4; ++n) {
+      const std::vector<uint32_t> greedy = detail::GreedyComplete(matrix, {}, n);
+      EXPECT_GE(detail::SimpleUpperBound(matrix, greedy, n), BruteForceOptimum(obs, n));
+      EXPECT_LE(detail::SimpleUpperBound(matrix, greedy, n), 30u);
+    }
+  }
+}
+
+TEST(Select, ExactFallsBackToItsStartWhenTheModelIsTooLargeForTheTimeLimit) {
+  // 60 random candidates over 2,000 cells: nearly every cell has its own set of seers, so the
+  // MILP has tens of thousands of nonzeros, beyond what a 1 ms time limit allows.
+  const std::vector<Observation> obs = RandomInstance(17, 60, 2000, 0.3);
+  const detail::CoverageMatrix matrix(obs, 2000);
+  const std::vector<uint32_t> start = detail::GreedyComplete(matrix, {}, 3);
+  const detail::ExactResult result = detail::SolveExact(matrix, 3, start, 0.001);
+  EXPECT_EQ(result.chosen, start);
+  EXPECT_FALSE(result.note.empty());
+  EXPECT_GE(result.upper_bound, matrix.CoveredWeight(start));
+  EXPECT_EQ(result.upper_bound,
+            std::max(detail::SimpleUpperBound(matrix, start, 3), matrix.CoveredWeight(start)));
+  EXPECT_FALSE(result.proven_optimal);
 }
 
 }  // namespace

@@ -273,7 +273,7 @@ TEST(StaticTransforms, ChosenSensorsWithRosQuaternionsAndOpticalFrames) {
 // report.html
 
 std::string DataJsonOf(const std::string& html) {
-  const std::string open = "<script id=\"vantage-data\" type=\"application/json\">";
+  const std::string open = R"(<script id="vantage-data" type="application/json">)";
   const size_t begin = html.find(open);
   if (begin == std::string::npos) return "";
   const size_t end = html.find("</script>", begin);
@@ -344,11 +344,11 @@ std::string FindChromium() {
     const std::string command = std::string("command -v ") + name + " 2>/dev/null";
     FILE* pipe = ::popen(command.c_str(), "r");
     if (pipe == nullptr) continue;
-    char buffer[512] = {};
-    const bool found = std::fgets(buffer, sizeof buffer, pipe) != nullptr;
+    std::array<char, 512> buffer = {};
+    const bool found = std::fgets(buffer.data(), static_cast<int>(buffer.size()), pipe) != nullptr;
     ::pclose(pipe);
     if (found) {
-      std::string path(buffer);
+      std::string path(buffer.data());
       while (!path.empty() && (path.back() == '\n' || path.back() == '\r')) path.pop_back();
       if (!path.empty()) return path;
     }
@@ -384,7 +384,7 @@ std::vector<std::string> PageNetworkRequests(const std::string& net_log_path) {
   std::vector<std::string> urls;
   const nlohmann::json log = nlohmann::json::parse(test::ReadText(net_log_path), nullptr, false);
   if (log.is_discarded() || !log.contains("constants") || !log.contains("events")) {
-    urls.push_back("(net log unreadable)");
+    urls.emplace_back("(net log unreadable)");
     return urls;
   }
   const auto& types = log["constants"]["logEventTypes"];
@@ -456,7 +456,7 @@ TEST(HtmlReport, OpensInHeadlessChromiumOfflineWithA3dViewAndAChart) {
   const auto build_start = std::chrono::steady_clock::now();
   const std::string html = HtmlReport(run->report, run->scene);
   std::printf(
-      "report.html: %.1f MB in %.2f s\n", html.size() / 1e6,
+      "report.html: %.1f MB in %.2f s\n", static_cast<double>(html.size()) / 1e6,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count());
   test::WriteText(page, html);
 

@@ -571,7 +571,7 @@ std::vector<uint32_t> PrimaryChosen(const Report& report, int* primary_index) {
 }
 
 std::string Base64(const void* bytes, size_t size) {
-  static constexpr char kAlphabet[] =
+  static constexpr std::string_view kAlphabet =
       "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   const auto* in = static_cast<const uint8_t*>(bytes);
   std::string out;
@@ -690,7 +690,7 @@ TriangleMesh ClusterVertices(const TriangleMesh& mesh, double cell) {
                                         static_cast<int64_t>(std::floor(v.z() / cell))};
     const auto [it, is_new] = cluster_of_cell.try_emplace(key, static_cast<uint32_t>(sums.size()));
     if (is_new) {
-      sums.push_back(Vec3::Zero());
+      sums.emplace_back(Vec3::Zero());
       counts.push_back(0);
     }
     cluster[i] = it->second;
@@ -864,7 +864,7 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
       PageMeshes(scene, options.max_mesh_triangles, &mesh_note);
   if (!mesh_note.empty()) notes.push_back(mesh_note);
   if (scene.objects.empty())
-    notes.push_back(
+    notes.emplace_back(
         "The scene's meshes were not available when this page was written; the 3D view shows "
         "voxels and sensors only.");
   ordered_json meshes_json = ordered_json::array();
@@ -951,7 +951,7 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
     html += "<script>\n" + ScriptSafe(three) + "\n</script>\n";
     html += "<script>\n" + ScriptSafe(orbit) + "\n</script>\n";
   }
-  html += "<script id=\"vantage-data\" type=\"application/json\">" + JsonScriptSafe(page.dump()) +
+  html += R"(<script id="vantage-data" type="application/json">)" + JsonScriptSafe(page.dump()) +
           "</script>\n";
   html += "<script>";
   html += kPageScript;

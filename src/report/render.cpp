@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -126,7 +127,8 @@ class Overlay {
     for (size_t i = 0; i < alpha_.size(); ++i) {
       if (alpha_[i] <= 0.0f) continue;
       for (int c = 0; c < 3; ++c) {
-        const float mixed = (1.0f - alpha_[i]) * image->rgb[3 * i + c] + alpha_[i] * color[c];
+        const float mixed = (1.0f - alpha_[i]) * static_cast<float>(image->rgb[3 * i + c]) +
+                            alpha_[i] * static_cast<float>(color[c]);
         image->rgb[3 * i + c] = static_cast<uint8_t>(std::lround(std::clamp(mixed, 0.0f, 255.0f)));
       }
     }
@@ -247,8 +249,9 @@ Image RenderView(const Scene& scene, const Report& report, const RenderOptions& 
   const Vec3 key_light = (-camera.forward + 0.8 * camera.up - 0.5 * camera.right).normalized();
   const detail::RayScene rays(scene);
   const double cell_size = data.reference.cell_size;
-  const float origin[3] = {static_cast<float>(view.eye.x()), static_cast<float>(view.eye.y()),
-                           static_cast<float>(view.eye.z())};
+  const std::array<float, 3> origin = {static_cast<float>(view.eye.x()),
+                                       static_cast<float>(view.eye.y()),
+                                       static_cast<float>(view.eye.z())};
   // Rows fill preallocated slots by index: the picture does not depend on the thread count.
   tbb::parallel_for(
       tbb::blocked_range<int>(0, options.height), [&](const tbb::blocked_range<int>& rows) {
@@ -257,10 +260,11 @@ Image RenderView(const Scene& scene, const Report& report, const RenderOptions& 
             const size_t i = static_cast<size_t>(y) * static_cast<size_t>(options.width) +
                              static_cast<size_t>(x);
             const Vec3 dir = camera.RayThrough(x + 0.5, y + 0.5);
-            const float dir_f[3] = {static_cast<float>(dir.x()), static_cast<float>(dir.y()),
-                                    static_cast<float>(dir.z())};
-            const detail::RayHit hit =
-                rays.IntersectHit(origin, dir_f, std::numeric_limits<float>::infinity());
+            const std::array<float, 3> dir_f = {static_cast<float>(dir.x()),
+                                                static_cast<float>(dir.y()),
+                                                static_cast<float>(dir.z())};
+            const detail::RayHit hit = rays.IntersectHit(origin.data(), dir_f.data(),
+                                                         std::numeric_limits<float>::infinity());
             Rgb color{};
             double shade = 1.0;
             if (hit.object < 0) {
@@ -309,8 +313,8 @@ Image RenderView(const Scene& scene, const Report& report, const RenderOptions& 
       const Candidate& c = data.candidates.at(index);
       const Vec3 apex = c.world_from_body.position;
       const double w = c.sensor.width, h = c.sensor.height;
-      const Vec3 corners[4] = {FarCorner(c, 0, 0), FarCorner(c, w, 0), FarCorner(c, w, h),
-                               FarCorner(c, 0, h)};
+      const std::array<Vec3, 4> corners = {FarCorner(c, 0, 0), FarCorner(c, w, 0),
+                                           FarCorner(c, w, h), FarCorner(c, 0, h)};
       for (int k = 0; k < 4; ++k) {
         overlay.Segment(apex, corners[k]);
         overlay.Segment(corners[k], corners[(k + 1) % 4]);

@@ -12,6 +12,19 @@
 // "a::b", relative_to between top-level models) is an error. The SDF 1.5/1.6 `frame` attribute
 // is ignored, as Gazebo classic ignored it. `placement_frame`, `<state>` and merge-includes are
 // not applied (a note says so).
+//
+// Targets: a visual is a target when its colour rounds (round(255·v)) to the plugin's
+// sensorDataSegmentationColorRGB. Its colour is the emissive one where the Ogre script or the
+// inline <material> sets it (even 0 0 0), else the diffuse one; inline colours replace the
+// script's channel by channel (Gazebo applies them after the script); ambient never counts; a
+// visual with neither, or with a material that cannot be found (a note), is never a target.
+// Objects: one SceneObject per model instance (scoped name) and role; a model with visuals of
+// both roles gives "NAME" (target part) and "NAME/occluder". sceneModelPath's names are only
+// cross-checked (each disagreement is a note: the plugin segmented by colour); no target at all
+// is an error at <sensorDataSegmentationColorRGB>. --target NAME (LoadOptions::targets) makes
+// exactly those models, with everything they nest, targets; an unknown name is an error.
+// Sensor models: a model with a <sensor type="depth"> in one of its links (and what it nests)
+// adds no geometry; outside populations it becomes an ExplicitSensor named after the instance.
 #include "scene/gazebo_world.hpp"
 
 #include <fmt/format.h>

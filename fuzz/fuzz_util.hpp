@@ -1,0 +1,51 @@
+#pragma once
+/// Shared by the libFuzzer targets: a scratch folder per process in which the fuzzed bytes are
+/// written as a file (the loaders read paths), laid out so that the relative paths of the seed
+/// corpus resolve (`../meshes/…` of the example scenes, `materials/…` and `model://…` of the test
+/// worlds).
+#include <unistd.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace vantage::fuzz {
+
+/// Absolute path of a folder of the source tree (VANTAGE_SOURCE_DIR is set by fuzz/CMakeLists.txt).
+inline std::string SourcePath(const std::string& relative) {
+  return std::string(VANTAGE_SOURCE_DIR) + "/" + relative;
+}
+
+/// /tmp/vantage_fuzz_<pid>, created with `links` (name -> target) the first time, removed at exit.
+inline const std::string& ScratchDir() {
+  static const std::string dir = [] {
+    namespace fs = std::filesystem;
+    const fs::path path = fs::temp_directory_path() / ("vantage_fuzz_" + std::to_string(::getpid()));
+    fs::remove_all(path);
+    fs::create_directories(path / "scenes");
+    // YAML scenes of examples/scenes name meshes as ../meshes/NAME.
+    fs::create_directory_symlink(SourcePath("examples/meshes"), path / "meshes");
+    // Test worlds name file://materials/… and model folders beside them.
+    fs::create_directory_symlink(SourcePath("tests/data/worlds/materials"), path / "materials");
+    fs::create_directory_symlink(SourcePath("tests/data/worlds/models"), path / "models");
+    std::atexit([] {
+      std::error_code ec;
+      fs::remove_all(ScratchDir(), ec);
+    });
+    return path.string();
+  }();
+  return dir;
+}
+
+/// Writes the fuzzed bytes to ScratchDir()/relative and returns the file's path.
+inline std::string WriteInput(const std::string& relative, const uint8_t* data, size_t size) {
+  const std::string path = ScratchDir() + "/" + relative;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  return path;
+}
+
+}  // namespace vantage::fuzz

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets into $FUZZ_BUILD (default fuzz/build) with clang and runs each for
+# $FUZZ_SECONDS seconds (default 60), one after the other. `make fuzz` calls this.
+#   FUZZ_TARGETS="yaml_scene constellation" FUZZ_SECONDS=300 bash fuzz/run.sh
+# New inputs go to $FUZZ_BUILD/corpus/<target> (the seeds in fuzz/corpus/<target> are only read);
+# a crash, leak, timeout or out-of-memory leaves its input in $FUZZ_BUILD/artifacts/<target>/ and
+# makes the script exit 1 after all targets ran.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+FUZZ_BUILD=${FUZZ_BUILD:-fuzz/build}
+FUZZ_SECONDS=${FUZZ_SECONDS:-60}
+FUZZ_TARGETS=${FUZZ_TARGETS:-yaml_scene gazebo_world visibility_file constellation}
+JOBS=${JOBS:-2}
+
+CXX=${FUZZ_CXX:-clang++} cmake -S fuzz -B "$FUZZ_BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+cmake --build "$FUZZ_BUILD" -j"$JOBS"
+
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+failed=()
+for target in $FUZZ_TARGETS; do
+  corpus="$FUZZ_BUILD/corpus/$target"
+  artifacts="$FUZZ_BUILD/artifacts/$target"
+  mkdir -p "$corpus" "$artifacts"
+  dict=()
+  if [ -f "fuzz/$target.dict" ]; then dict=(-dict="fuzz/$target.dict"); fi
+  echo "== $target: ${FUZZ_SECONDS} s"
+  if ! "$FUZZ_BUILD/${target}_fuzzer" "$corpus" "fuzz/corpus/$target" "${dict[@]}" \
+      -max_total_time="$FUZZ_SECONDS" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+      -print_final_stats=1 -artifact_prefix="$artifacts/" 2>"$FUZZ_BUILD/$target.log"; then
+    failed+=("$target")
+    tail -n 60 "$FUZZ_BUILD/$target.log"
+  fi
+  grep -E "^(#[0-9]+ +DONE|stat::number_of_executed_units|stat::peak_rss_mb)" "$FUZZ_BUILD/$target.log" || true
+done
+if [ "${#failed[@]}" -gt 0 ]; then
+  echo "fuzz: failures in ${failed[*]} (inputs in $FUZZ_BUILD/artifacts/)"
+  exit 1
+fi
+echo "fuzz: no failure in $FUZZ_TARGETS"
