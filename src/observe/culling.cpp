@@ -1,0 +1,107 @@
+#include "observe/culling.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+namespace vantage::detail {
+namespace {
+
+/// Inclusive pixel rectangle.
+struct PixelRect {
+  int u0, v0, u1, v1;
+  bool IsEmpty() const { return u0 > u1 || v0 > v1; }
+};
+
+PixelRect FullImage(const SensorType& s) { return {0, 0, s.width - 1, s.height - 1}; }
+
+// Pixels whose centre ray can reach a point of `bounds` within [near, far]. Exact culling: a ray
+// through pixel centre c hits p only if p projects to c, and the projection of a box lying in
+// front of the camera is inside the bounding rectangle of its projected corners. One pixel of
+// padding absorbs the float rounding of the traced rays.
+PixelRect RectOfBounds(const SensorType& s, const Pose& body_from_world, const Aabb& bounds) {
+  double depth_min = std::numeric_limits<double>::infinity();
+  double depth_max = -depth_min;
+  double u_min = depth_min, u_max = -depth_min, v_min = depth_min, v_max = -depth_min;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 world((corner & 1) ? bounds.max.x() : bounds.min.x(),
+                     (corner & 2) ? bounds.max.y() : bounds.min.y(),
+                     (corner & 4) ? bounds.max.z() : bounds.min.z());
+    const Vec3 body = body_from_world * world;
+    depth_min = std::min(depth_min, body.x());
+    depth_max = std::max(depth_max, body.x());
+    if (const auto uv = ProjectBodyPoint(s, body)) {
+      u_min = std::min(u_min, uv->x());
+      u_max = std::max(u_max, uv->x());
+      v_min = std::min(v_min, uv->y());
+      v_max = std::max(v_max, uv->y());
+    }
+  }
+  // Depth is linear, so the box's depths lie between its corners' depths.
+  const double slack = 1e-6 * (1.0 + s.far);
+  if (depth_max < s.near - slack || depth_min > s.far + slack) return {0, 0, -1, -1};
+  if (depth_min <= 1e-9) return FullImage(s);  // the box straddles the camera plane
+  const auto lo = [](double x) { return static_cast<int>(std::max(-1.0, std::ceil(x - 0.5) - 1)); };
+  const auto hi = [](double x) { return static_cast<int>(std::min(1e9, std::floor(x - 0.5) + 1)); };
+  PixelRect r{lo(u_min), lo(v_min), hi(u_max), hi(v_max)};
+  r.u0 = std::max(r.u0, 0);
+  r.v0 = std::max(r.v0, 0);
+  r.u1 = std::min(r.u1, s.width - 1);
+  r.v1 = std::min(r.v1, s.height - 1);
+  return r;
+}
+
+// Blocks of kCullBlockCells³ reference cells: their bounds cover every target surface point,
+// because R holds every cell the targets' surface passes through.
+constexpr int64_t kCullBlockCells = 4;
+
+}  // namespace
+
+std::vector<Aabb> ReferenceBlocks(const Reference& reference) {
+  std::map<std::array<int64_t, 3>, Aabb> blocks;
+  const double f = reference.cell_size;
+  for (uint64_t key : reference.keys) {
+    const VoxelIndex i = UnpackVoxel(key);
+    const std::array<int64_t, 3> block{i[0] >= 0 ? i[0] / kCullBlockCells : (i[0] + 1) / kCullBlockCells - 1,
+                                       i[1] >= 0 ? i[1] / kCullBlockCells : (i[1] + 1) / kCullBlockCells - 1,
+                                       i[2] >= 0 ? i[2] / kCullBlockCells : (i[2] + 1) / kCullBlockCells - 1};
+    Aabb& bounds = blocks[block];
+    const Vec3 lo(static_cast<double>(i[0]) * f, static_cast<double>(i[1]) * f, static_cast<double>(i[2]) * f);
+    bounds.Extend(lo);
+    bounds.Extend(lo + Vec3::Constant(f));
+  }
+  std::vector<Aabb> out;
+  out.reserve(blocks.size());
+  for (const auto& [block, bounds] : blocks) out.push_back(bounds);
+  return out;
+}
+
+// The pixels to trace for one camera, row by row, each pixel once: the union of the projected
+// rectangles of the blocks (exact culling), or the whole image.
+std::vector<RowSpan> SpansToTrace(const Candidate& candidate, const std::vector<Aabb>& blocks, bool cull) {
+  const SensorType& s = candidate.sensor;
+  std::vector<RowSpan> spans;
+  if (!cull) {
+    for (int v = 0; v < s.height; ++v) spans.push_back({v, 0, s.width - 1});
+    return spans;
+  }
+  const Pose body_from_world = candidate.world_from_body.Inverse();
+  std::vector<std::vector<std::pair<int, int>>> rows(static_cast<size_t>(s.height));
+  for (const Aabb& bounds : blocks) {
+    const PixelRect r = RectOfBounds(s, body_from_world, bounds);
+    for (int v = r.v0; v <= r.v1 && !r.IsEmpty(); ++v) rows[static_cast<size_t>(v)].emplace_back(r.u0, r.u1);
+  }
+  for (int v = 0; v < s.height; ++v) {
+    auto& row = rows[static_cast<size_t>(v)];
+    std::sort(row.begin(), row.end());
+    for (size_t i = 0; i < row.size();) {
+      int u0 = row[i].first, u1 = row[i].second;
+      for (++i; i < row.size() && row[i].first <= u1 + 1; ++i) u1 = std::max(u1, row[i].second);
+      spans.push_back({v, u0, u1});
+    }
+  }
+  return spans;
+}
+
+}  // namespace vantage::detail
