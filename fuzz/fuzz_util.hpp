@@ -19,9 +19,10 @@ inline std::string SourcePath(const std::string& relative) {
   return std::string(VANTAGE_SOURCE_DIR) + "/" + relative;
 }
 
-/// /tmp/vantage_fuzz_<pid>, created with `links` (name -> target) the first time, removed at exit.
+/// /tmp/vantage_fuzz_<pid>, created with its links the first time and removed at exit. Held by a
+/// pointer that is never freed: the exit handler runs after function-local statics are destroyed.
 inline const std::string& ScratchDir() {
-  static const std::string dir = [] {
+  static const std::string* const dir = [] {
     namespace fs = std::filesystem;
     const fs::path path = fs::temp_directory_path() / ("vantage_fuzz_" + std::to_string(::getpid()));
     fs::remove_all(path);
@@ -31,13 +32,14 @@ inline const std::string& ScratchDir() {
     // Test worlds name file://materials/… and model folders beside them.
     fs::create_directory_symlink(SourcePath("tests/data/worlds/materials"), path / "materials");
     fs::create_directory_symlink(SourcePath("tests/data/worlds/models"), path / "models");
+    auto* created = new std::string(path.string());  // NOLINT(cppcoreguidelines-owning-memory)
     std::atexit([] {
       std::error_code ec;
       fs::remove_all(ScratchDir(), ec);
     });
-    return path.string();
+    return created;
   }();
-  return dir;
+  return *dir;
 }
 
 /// Writes the fuzzed bytes to ScratchDir()/relative and returns the file's path.

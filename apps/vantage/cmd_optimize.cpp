@@ -1,8 +1,10 @@
 #include <spdlog/spdlog.h>
 
+#include <map>
 #include <memory>
 
 #include "commands.hpp"
+#include "vantage/gazebo_export.hpp"
 
 namespace vantage::cli {
 namespace {
@@ -31,9 +33,22 @@ void RunOptimize(const OptimizeOptions& options) {
   report.results = std::move(results);
   report.timings = observed.timings;
   report.notes = observed.notes;
-  WriteOutputs(options.out, report,
-               {{"report.html", HtmlReport(report, observed.scene)},
-                {"static_transforms.yaml", StaticTransformsYaml(report)}});
+  // constellation.world: the input world with only the primary result's sensors (SYSTEM.md).
+  std::map<std::string, std::string> extra_files;
+  const int primary = report.primary >= 0 ? report.primary : PrimaryResult(report.results);
+  if (IsGazeboWorldPath(options.scene.scene) && primary >= 0) {
+    std::vector<Candidate> chosen;
+    for (uint32_t i : report.results[static_cast<size_t>(primary)].chosen)
+      chosen.push_back(observed.data.candidates[i]);
+    std::vector<std::string> notes;
+    extra_files["constellation.world"] = ConstellationWorld(
+        options.scene.scene, chosen, observed.populations, observed.sensors, &notes);
+    for (const std::string& note : notes) spdlog::warn("{}", note);
+    report.notes.insert(report.notes.end(), notes.begin(), notes.end());
+  }
+  extra_files["report.html"] = HtmlReport(report, observed.scene);
+  extra_files["static_transforms.yaml"] = StaticTransformsYaml(report);
+  WriteOutputs(options.out, report, extra_files);
   PrintSummary(observed.data, report.results, report.timings, options.out);
 }
 

@@ -20,7 +20,10 @@ struct SceneOptions {
   std::vector<std::string> targets;
   std::optional<double> cell_size;
   std::optional<uint64_t> seed;
+  std::vector<double> observation_point;  ///< x y z, or empty = the scene's
+  std::optional<bool> random_roll;        ///< unset = the scene's
   bool no_cull = false;
+  double max_memory_mib = 0;  ///< 0 = 75 % of the machine's RAM
 };
 
 /// Options of selection, given on the command line (unset = the scene's value).
@@ -44,6 +47,9 @@ struct ObservedScene {
   Timings timings;
   std::vector<std::string> notes;
   Scene scene;  ///< the loaded geometry, for report.html
+  /// Where the candidates came from, for constellation.world.
+  std::vector<Population> populations;
+  std::vector<ExplicitSensor> sensors;
 };
 /// Load -> reference -> candidates -> observe, logging each stage.
 ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* selection);

@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <tbb/task_arena.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -32,6 +33,23 @@ std::function<void(size_t, size_t)> ProgressBar(const std::string& label) {
   };
 }
 
+// Refuses a run whose estimate exceeds the limit, before any ray is cast (issue #8).
+void CheckMemory(const MemoryEstimate& estimate, double limit_mib, const std::string& source) {
+  const double mib = 1024.0 * 1024.0;
+  spdlog::info("memory estimate: {:.0f} MiB (scene {:.0f}, images {:.0f}, visibility {:.0f}, selection {:.0f})",
+               estimate.Total() / mib, estimate.scene / mib, estimate.hit_buffers / mib,
+               estimate.observations / mib, estimate.selection / mib);
+  if (limit_mib <= 0) {
+    const double ram = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+    limit_mib = 0.75 * ram / mib;
+  }
+  if (estimate.Total() / mib > limit_mib)
+    throw InputError(AtPlace(source, 0, fmt::format(
+        "this run needs about {:.0f} MiB, above the {:.0f} MiB limit — use fewer candidates, lower "
+        "resolutions, a larger --cell-size, fewer --threads, or raise --max-memory",
+        estimate.Total() / mib, limit_mib)));
+}
+
 }  // namespace
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
@@ -48,7 +66,14 @@ void AddSceneOptions(CLI::App* app, SceneOptions* options, bool with_positional)
   app->add_option("--target", options->targets, "target object/model name, overrides the scene (repeatable)");
   app->add_option("--cell-size", options->cell_size, "voxel cell size F in metres (default: the scene's)");
   app->add_option("--seed", options->seed, "random seed (default: the scene's, else 1)");
+  app->add_option("--observation-point", options->observation_point,
+                  "x y z [m] every candidate looks at (default: the scene's)")
+      ->expected(3);
+  app->add_option("--random-roll", options->random_roll,
+                  "true|false: random roll after the look-at (default: the scene's)");
   app->add_flag("--no-cull", options->no_cull, "trace every pixel (slower; same result)");
+  app->add_option("--max-memory", options->max_memory_mib,
+                  "refuse runs estimated above this many MiB (default: 75 % of RAM)");
 }
 
 void AddSelectionOptions(CLI::App* app, SelectionOptions* options) {
@@ -68,6 +93,12 @@ Problem LoadScene(const SceneOptions& options) {
   Problem problem = LoadProblem(options.scene, load);
   if (options.cell_size) problem.cell_size = *options.cell_size;
   if (options.seed) problem.seed = *options.seed;
+  // Command-line options override the scene's (the Gazebo plugin's parameters, GAZEBO.md).
+  if (options.observation_point.size() == 3) {
+    problem.observation_point =
+        Vec3(options.observation_point[0], options.observation_point[1], options.observation_point[2]);
+  }
+  if (options.random_roll) problem.random_roll = *options.random_roll;
   for (const std::string& note : problem.notes) spdlog::info("{}", note);
   return problem;
 }
@@ -109,6 +140,9 @@ ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* 
   int64_t pixels = 0;
   for (const Candidate& c : candidates) pixels += c.sensor.PixelCount();
   spdlog::info("observe: {} candidates, {:.1f} Mpx in all images", candidates.size(), pixels / 1e6);
+  CheckMemory(EstimateMemory(problem.scene, reference.size(), candidates,
+                             static_cast<size_t>(tbb::this_task_arena::max_concurrency())),
+              options.max_memory_mib, problem.source);
   start = std::chrono::steady_clock::now();
   ObserveOptions observe_options;
   observe_options.cull = !options.no_cull;
@@ -130,6 +164,8 @@ ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* 
   data.observations = std::move(observations);
   result.notes.insert(result.notes.end(), problem.notes.begin(), problem.notes.end());
   result.scene = std::move(problem.scene);
+  result.populations = std::move(problem.populations);
+  result.sensors = std::move(problem.sensors);
   return result;
 }
 

@@ -52,3 +52,19 @@ void SaveVisibilityFile(const std::string& path, const VisibilityFile& file);
 VisibilityFile LoadVisibilityFile(const std::string& path);
 
 }  // namespace vantage
+
+namespace vantage {
+
+/// Peak memory that Observe and selection will need, estimated before any ray is cast (upper
+/// bounds where cheap to know, else typical sizes). Bytes.
+struct MemoryEstimate {
+  uint64_t scene = 0;         ///< Embree BVH and vertex copies
+  uint64_t hit_buffers = 0;   ///< per-thread voxel keys of one image
+  uint64_t observations = 0;  ///< the visibility matrix (sorted index lists)
+  uint64_t selection = 0;     ///< selection's bitset matrix
+  uint64_t Total() const { return scene + hit_buffers + observations + selection; }
+};
+MemoryEstimate EstimateMemory(const Scene& scene, size_t reference_size,
+                              std::span<const Candidate> candidates, size_t threads);
+
+}  // namespace vantage

@@ -16,14 +16,43 @@ enum class Method { kBest, kRansac, kGreedy, kLocal, kExact, kAll };
 std::string MethodName(Method method);
 Method ParseMethod(const std::string& name);
 
+/// What selection optimises (SYSTEM.md, Select: further objectives). At most one of the
+/// non-default objectives is active; SelectOptions::objective() says which.
+enum class Objective {
+  kCoverage,   ///< maximum coverage with n sensors (the default)
+  kSetCover,   ///< the fewest sensors whose coverage reaches SelectOptions::goal
+  kKCoverage,  ///< maximum k-coverage with n sensors: a cell counts once k chosen sensors see it
+  kBudget,     ///< maximum coverage with a total sensor cost within SelectOptions::budget
+};
+
+/// "coverage", "set-cover", "k-coverage", "budget" (the `objective` key of report.json).
+std::string ObjectiveName(Objective objective);
+
 struct SelectOptions {
-  int n = 1;  ///< sensors wanted, 1 <= n <= candidates
+  int n = 1;  ///< sensors wanted, 1 <= n <= candidates (ignored by set-cover and budget)
   Method method = Method::kAll;
   int ransac_iterations = 1000;       ///< I of Algorithm 2
   double ransac_stop_coverage = 1.0;  ///< C of Algorithm 2, fraction
   uint64_t seed = 1;
   double time_limit = 60;  ///< seconds, for exact
-  /// Throws InputError naming the field.
+  /// Set cover: choose the fewest sensors whose coverage reaches this fraction, in (0, 1].
+  /// Methods greedy, exact, all. Above what all candidates reach together: InputError from Select.
+  std::optional<double> goal;
+  /// k-coverage when >= 2: a cell counts only when at least k chosen sensors see it (stereo,
+  /// redundancy); needs n >= k. Methods ransac, greedy, local, exact, all. 1 = plain coverage.
+  int k = 1;
+  /// Cost budget: the most coverage for a total cost (sum of `costs` of the chosen) <= budget;
+  /// n is ignored. Methods greedy, local, exact, all. Needs `costs`.
+  std::optional<double> budget;
+  /// Unit cost of every candidate (SensorType::cost), in candidate order, each >= 0; used only
+  /// with `budget`, which must afford the cheapest candidate.
+  std::vector<double> costs;
+
+  /// The objective these options select: goal -> set cover, k >= 2 -> k-coverage, budget ->
+  /// budget, none -> coverage.
+  Objective objective() const;
+  /// Throws InputError naming the field: out-of-range values, more than one objective, or a
+  /// method that does not apply to the objective.
   void Validate(size_t candidate_count) const;
 };
 
@@ -31,21 +60,33 @@ struct Selection {
   std::string method;
   int n = 0;
   std::vector<uint32_t> chosen;  ///< candidate indices, in the order chosen
-  double coverage = 0;           ///< |∪O ∩ R| / |R|
-  double paper_coverage = 0;     ///< |∪O| / |R|
+  /// |∪O ∩ R| / |R|; for k-coverage the share of R seen by at least k of the chosen.
+  double coverage = 0;
+  /// |∪O| / |R|; for k-coverage the cells in R and keys outside R seen at least k times.
+  double paper_coverage = 0;
+  /// Proven bound on the best `coverage` under the same objective and constraint (n, or budget).
   std::optional<double> upper_bound;
+  /// Proven optimal: coverage == upper_bound, or (set cover) n == n_lower_bound.
   bool proven_optimal = false;
   double seconds = 0;
+  std::string objective = "coverage";  ///< ObjectiveName of what was optimised
+  std::optional<double> goal;          ///< set cover: the coverage goal, fraction
+  int k = 1;                           ///< k of k-coverage (1 otherwise)
+  std::optional<double> budget;        ///< budget: the budget
+  std::optional<double> cost;          ///< budget: total cost of the chosen sensors
+  std::optional<int> n_lower_bound;    ///< set cover: proven least number of sensors
 };
 
 /// Coverage of unions of observation sets.
 class CoverageEvaluator {
  public:
   CoverageEvaluator(std::span<const Observation> observations, size_t reference_size);
-  /// Number of reference cells seen by the union of `chosen`.
-  size_t CoveredCount(std::span<const uint32_t> chosen) const;
-  double Coverage(std::span<const uint32_t> chosen) const;
-  double PaperCoverage(std::span<const uint32_t> chosen) const;
+  /// Number of reference cells seen by the union of `chosen` (k = 1), or by at least k of them
+  /// (k-coverage; a candidate listed twice counts twice).
+  size_t CoveredCount(std::span<const uint32_t> chosen, int k = 1) const;
+  double Coverage(std::span<const uint32_t> chosen, int k = 1) const;
+  /// Cells of R plus distinct keys outside R seen by at least k of `chosen`, over |R|.
+  double PaperCoverage(std::span<const uint32_t> chosen, int k = 1) const;
   size_t reference_size() const { return reference_size_; }
   /// The observation sets it evaluates (one per candidate, in candidate order).
   std::span<const Observation> observations() const { return observations_; }
@@ -55,8 +96,11 @@ class CoverageEvaluator {
   size_t reference_size_;
 };
 
-/// Runs `options.method`; kAll gives best (n = 1), then ransac and greedy (and the other
-/// methods) for every n from 1 to options.n. Deterministic for a seed.
+/// Runs `options.method` for `options.objective()`. kAll gives, for coverage: best (n = 1), then
+/// ransac, greedy, local, exact for every n from 1 to options.n; for k-coverage: ransac, greedy,
+/// local, exact for every n from k to options.n; for set cover: greedy, exact; for budget:
+/// greedy, local, exact. Deterministic for a seed. InputError for invalid options and for a goal
+/// above what all candidates reach together (the message names that maximum).
 std::vector<Selection> Select(std::span<const Observation> observations, size_t reference_size,
                               const SelectOptions& options);
 

@@ -169,6 +169,7 @@ class Parser {
     if (depth >= kMaxDepth) Fail(fmt::format("elements nested deeper than {} levels", kMaxDepth));
     XmlElement element;
     element.line = line_;
+    element.begin = pos_;
     Advance();  // '<'
     element.name = ParseName("element");
     // Attributes.
@@ -210,9 +211,11 @@ class Parser {
     }
     if (StartsWith("/>")) {
       Advance(2);
+      element.content_begin = element.end = pos_;
       return element;
     }
     Advance();  // '>'
+    element.content_begin = pos_;
     // Content.
     while (true) {
       if (AtEnd())
@@ -236,6 +239,7 @@ class Parser {
                  fmt::format("</{}> closes <{}> opened at line {} — the tags must match", name,
                              element.name, element.line));
         }
+        element.end = pos_;
         return element;
       } else if (StartsWith("<!--")) {
         SkipComment();

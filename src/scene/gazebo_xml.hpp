@@ -6,6 +6,7 @@
 /// number (or the model file's), and malformed XML is only printed to the console, without an
 /// Errors entry. vantage must point at the offending line in each of those cases (GAZEBO.md,
 /// STYLE.md "Errors"), so it reads the XML itself and keeps each element's file line.
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -20,6 +21,12 @@ struct XmlElement {
   std::string text;  ///< character data directly inside (entities decoded, CDATA included)
   std::vector<XmlElement> children;
   int line = 0;  ///< 1-based line of the element's '<'
+  /// Byte offsets in the parsed text: `begin` at the '<' of the start tag, `content_begin` just
+  /// after the start tag's '>' (== `end` for an empty element `<a/>`), `end` just after the
+  /// element's last '>'. They let a writer copy or cut the element's exact text.
+  size_t begin = 0;
+  size_t content_begin = 0;
+  size_t end = 0;
 
   /// First child named `child_name`, or nullptr.
   const XmlElement* Child(std::string_view child_name) const;

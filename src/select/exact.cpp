@@ -1,10 +1,16 @@
-// Maximum coverage as a mixed-integer program, solved by CBC (SYSTEM.md, Select: `exact`).
+// Exact selection as mixed-integer programs, solved by CBC (SYSTEM.md, Select: `exact`).
+//
+// Maximum coverage, with x_i = candidate i chosen and y_e = element e covered:
 //
 //   max  sum_i a_i x_i + sum_e w_e y_e
 //   s.t. y_e <= sum_{i sees e} x_i   for every element e seen by two or more candidates
 //        sum_i x_i <= n,  x_i in {0, 1},  y_e in [0, 1]
 //
-// where a_i is the weight of the elements that only candidate i sees.
+// where a_i is the weight of the elements that only candidate i sees. The other objectives
+// change one part each: budget replaces the cardinality row by sum_i cost_i x_i <= budget;
+// k-coverage uses k y_e <= sum_{i sees e} x_i with y binary (elements seen by fewer than k
+// candidates dropped, none folded into a_i); set cover minimises sum_i x_i subject to
+// sum_i a_i x_i + sum_e w_e y_e >= goal.
 #include <coin/Cbc_C_Interface.h>
 #include <fmt/format.h>
 
@@ -48,11 +54,13 @@ uint32_t RarestElement(const CoverageMatrix& matrix,
   });
 }
 
-// Candidate i is dominated when another sees a strict superset, or the same set at a lower index.
-// Dominance is a strict partial order, so every dominated candidate sits below a kept one and
-// dropping all of them at once keeps an optimum of "at most n sensors".
+// Candidate i is dominated when another sees a superset at no higher cost, and is strictly better
+// (a strict superset, or cheaper) or equal at a lower index. Dominance is then a strict partial
+// order, so every dominated candidate sits below a kept one, and dropping all of them at once
+// keeps an optimum of "at most n sensors", of a budget, and of set cover. `costs` empty: unit.
 std::vector<bool> Dominated(const CoverageMatrix& matrix,
-                            const std::vector<std::vector<uint32_t>>& columns) {
+                            const std::vector<std::vector<uint32_t>>& columns,
+                            std::span<const double> costs) {
   const size_t m = matrix.candidate_count();
   std::vector<bool> dominated(m, false);
   for (uint32_t i = 0; i < m; ++i) {
@@ -64,7 +72,14 @@ std::vector<bool> Dominated(const CoverageMatrix& matrix,
     for (const uint32_t j : columns[RarestElement(matrix, columns, i)]) {
       if (j == i) continue;
       const size_t size_j = matrix.Row(j).size();
-      if ((size_j > row.size() || (size_j == row.size() && j < i)) && matrix.IsSubset(i, j)) {
+      if (size_j < row.size()) continue;
+      bool is_better = size_j > row.size() || j < i;
+      if (!costs.empty()) {
+        if (costs[j] > costs[i]) continue;
+        // Equal rows and costs: the lower index wins; equal rows, j cheaper: j wins.
+        is_better = size_j > row.size() || costs[j] < costs[i] || j < i;
+      }
+      if (is_better && matrix.IsSubset(i, j)) {
         dominated[i] = true;
         break;
       }
@@ -73,48 +88,81 @@ std::vector<bool> Dominated(const CoverageMatrix& matrix,
   return dominated;
 }
 
-// A kept candidate that sees everything `candidate` sees (itself when kept).
+// A kept candidate that sees everything `candidate` sees at no higher cost (itself when kept).
 uint32_t Dominator(const CoverageMatrix& matrix,
                    const std::vector<std::vector<uint32_t>>& columns,
-                   const std::vector<bool>& dominated,
+                   const std::vector<bool>& excluded,
+                   std::span<const double> costs,
                    uint32_t candidate) {
-  if (!dominated[candidate]) return candidate;
+  if (!excluded[candidate]) return candidate;
+  const auto cheap_enough = [&](uint32_t j) {
+    return costs.empty() || costs[j] <= costs[candidate];
+  };
   if (matrix.Row(candidate).empty()) {
     for (uint32_t j = 0; j < matrix.candidate_count(); ++j) {
-      if (!dominated[j]) return j;
+      if (!excluded[j] && cheap_enough(j)) return j;
     }
+    return candidate;  // nothing to map to: the caller leaves it out of the warm start
   }
   for (const uint32_t j : columns[RarestElement(matrix, columns, candidate)]) {
-    if (!dominated[j] && matrix.IsSubset(candidate, j)) return j;
+    if (!excluded[j] && cheap_enough(j) && matrix.IsSubset(candidate, j)) return j;
   }
-  VANTAGE_CHECK(false);
   return candidate;
 }
 
+// Which MILP to build (see the top of this file).
+struct MilpSpec {
+  bool is_set_cover = false;      // min sensors reaching goal_cells, else max coverage
+  int k = 1;                      // k-coverage when >= 2 (max coverage only)
+  std::span<const double> costs;  // budget row coefficients; empty = cardinality (unit)
+  double capacity = 0;            // n, or the budget
+  uint64_t goal_cells = 0;        // set cover
+};
+
 struct CbcOutcome {
   std::vector<uint32_t> chosen;  // candidate indices (empty when CBC found no solution)
-  double bound = std::numeric_limits<double>::infinity();
+  // CBC's bound on the objective: an upper bound (max) or a lower bound (set cover); NaN if none.
+  double bound = std::numeric_limits<double>::quiet_NaN();
   bool proven_optimal = false;
   std::string note;
 };
 
 CbcOutcome RunCbc(const CoverageMatrix& matrix,
-                  size_t n,
+                  const MilpSpec& spec,
                   const std::vector<uint32_t>& start,
                   double time_limit) {
   CbcOutcome outcome;
+  const size_t m = matrix.candidate_count();
+  const bool has_costs = !spec.costs.empty();
+  const auto resource = [&](uint32_t i) { return has_costs ? spec.costs[i] : 1.0; };
   const std::vector<std::vector<uint32_t>> columns = Columns(matrix);
-  const std::vector<bool> dominated = Dominated(matrix, columns);
+  // k-coverage: a dominated candidate can still be the k-th seer, so only empty rows go.
+  std::vector<bool> excluded(m, false);
+  if (spec.k == 1) {
+    excluded = Dominated(matrix, columns, spec.costs);
+  } else {
+    for (uint32_t i = 0; i < m; ++i) excluded[i] = matrix.Row(i).empty();
+  }
+  for (uint32_t i = 0; i < m; ++i) {
+    if (!spec.is_set_cover && resource(i) > spec.capacity) excluded[i] = true;  // unaffordable
+  }
   std::vector<uint32_t> kept;
-  std::vector<int> column_of(matrix.candidate_count(), -1);
-  for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
-    if (dominated[i]) continue;
+  std::vector<int> column_of(m, -1);
+  double kept_resource = 0;
+  for (uint32_t i = 0; i < m; ++i) {
+    if (excluded[i]) continue;
     column_of[i] = static_cast<int>(kept.size());
     kept.push_back(i);
+    kept_resource += resource(i);
   }
-  if (kept.size() <= n) {  // all undominated candidates together see every seen cell
+  if (kept.empty()) {
+    outcome.note = "no candidate left after the reduction";
+    return outcome;
+  }
+  if (!spec.is_set_cover && kept_resource <= spec.capacity) {
+    // All kept candidates fit together: nothing can cover more.
     outcome.chosen = kept;
-    outcome.bound = static_cast<double>(matrix.seen_weight());
+    outcome.bound = static_cast<double>(KCoveredWeight(matrix, kept, spec.k));
     outcome.proven_optimal = true;
     outcome.note = "solved by dominance reduction";
     return outcome;
@@ -132,8 +180,8 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
   std::vector<std::vector<uint32_t>> classes_of_column(kept.size());
   std::vector<int64_t> last_column(class_count, -1);
   for (size_t e = 0; e < class_of.size(); ++e) {
-    VANTAGE_CHECK(class_of[e] >= 0);  // every element is seen by a kept candidate
-    class_weight[class_of[e]] += matrix.Weight(static_cast<uint32_t>(e));
+    // -1: seen only by unaffordable candidates (budget); never coverable.
+    if (class_of[e] >= 0) class_weight[class_of[e]] += matrix.Weight(static_cast<uint32_t>(e));
   }
   for (size_t q = 0; q < kept.size(); ++q) {
     for (const uint32_t e : matrix.Row(kept[q])) {
@@ -144,18 +192,20 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
       ++class_seers[c];
     }
   }
-  // y variables for classes seen by >= 2 kept candidates; the others fold into a_i.
+  // y variables: k = 1, classes seen by >= 2 kept candidates (the others fold into a_i);
+  // k >= 2, classes seen by >= k (the others can never count).
+  const auto min_seers = static_cast<uint32_t>(std::max(2, spec.k));
   std::vector<int> y_of_class(class_count, -1);
   std::vector<double> y_weight;
   for (int64_t c = 0; c < class_count; ++c) {
-    if (class_seers[c] >= 2) {
+    if (class_seers[c] >= min_seers) {
       y_of_class[c] = static_cast<int>(y_weight.size());
       y_weight.push_back(class_weight[c]);
     }
   }
   const int x_count = static_cast<int>(kept.size());
   const int y_count = static_cast<int>(y_weight.size());
-  const int row_count = y_count + 1;  // coupling rows, then the cardinality row
+  const int row_count = y_count + 1;  // coupling rows, then the budget/cardinality/goal row
   std::vector<CoinBigIndex> starts{0};
   std::vector<int> indices;
   std::vector<double> values;
@@ -166,7 +216,7 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
     for (const uint32_t c : classes_of_column[q]) {
       if (y_of_class[c] >= 0) {
         rows.push_back(y_of_class[c]);
-      } else {
+      } else if (spec.k == 1) {
         own += class_weight[c];
       }
     }
@@ -175,22 +225,34 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
       indices.push_back(r);
       values.push_back(-1.0);
     }
-    indices.push_back(y_count);
-    values.push_back(1.0);
+    const double last_row = spec.is_set_cover ? own : resource(kept[q]);
+    if (last_row != 0) {
+      indices.push_back(y_count);
+      values.push_back(last_row);
+    }
     starts.push_back(static_cast<CoinBigIndex>(indices.size()));
-    objective.push_back(own);
+    objective.push_back(spec.is_set_cover ? 1.0 : own);
   }
   for (int r = 0; r < y_count; ++r) {
     indices.push_back(r);
-    values.push_back(1.0);
+    values.push_back(static_cast<double>(spec.k));
+    if (spec.is_set_cover) {
+      indices.push_back(y_count);
+      values.push_back(y_weight[r]);
+    }
     starts.push_back(static_cast<CoinBigIndex>(indices.size()));
-    objective.push_back(y_weight[r]);
+    objective.push_back(spec.is_set_cover ? 0.0 : y_weight[r]);
   }
   const std::vector<double> column_lower(x_count + y_count, 0.0);
   const std::vector<double> column_upper(x_count + y_count, 1.0);
   std::vector<double> row_lower(row_count, -std::numeric_limits<double>::max());
   std::vector<double> row_upper(row_count, 0.0);
-  row_upper[y_count] = static_cast<double>(n);
+  if (spec.is_set_cover) {
+    row_lower[y_count] = static_cast<double>(spec.goal_cells);
+    row_upper[y_count] = std::numeric_limits<double>::max();
+  } else {
+    row_upper[y_count] = spec.capacity;
+  }
 
   // CBC checks its time limit only between steps: the root LP alone runs to the end, about
   // 5-15 µs per nonzero here (1.3 M nonzeros: 20 s). Larger models than the time limit allows
@@ -214,22 +276,40 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
                   column_lower.data(), column_upper.data(), objective.data(), row_lower.data(),
                   row_upper.data());
   for (int q = 0; q < x_count; ++q) Cbc_setInteger(cbc, q);
-  Cbc_setObjSense(cbc, -1);  // maximise
+  if (spec.k >= 2) {
+    for (int r = 0; r < y_count; ++r) Cbc_setInteger(cbc, x_count + r);
+  }
+  Cbc_setObjSense(cbc, spec.is_set_cover ? 1 : -1);  // minimise sensors, or maximise cells
   Cbc_setLogLevel(cbc, 0);
   Cbc_setParameter(cbc, "timeMode", "elapsed");  // wall clock, as options.time_limit means
   Cbc_setMaximumSeconds(cbc, time_limit);
-  // Weights are whole cells, so an incumbent within 1 of the bound is optimal.
+  // Objectives are whole cells or whole sensors, so an incumbent within 1 of the bound is optimal.
   Cbc_setAllowableGap(cbc, 0.99);
-  // Warm start: the start set, each dominated candidate replaced by a kept superset.
+  // Warm start: the start set, each dominated candidate replaced by a kept superset (k = 1), and
+  // for k >= 2 the y of every class the start k-covers.
   std::vector<int> start_columns;
   start_columns.reserve(start.size());
   for (const uint32_t c : start) {
-    start_columns.push_back(column_of[Dominator(matrix, columns, dominated, c)]);
+    const int q = column_of[Dominator(matrix, columns, excluded, spec.costs, c)];
+    if (q >= 0) start_columns.push_back(q);
   }
   std::sort(start_columns.begin(), start_columns.end());
   start_columns.erase(std::unique(start_columns.begin(), start_columns.end()), start_columns.end());
-  const std::vector<double> ones(start_columns.size(), 1.0);
-  Cbc_setMIPStartI(cbc, static_cast<int>(start_columns.size()), start_columns.data(), ones.data());
+  std::vector<double> start_values(start_columns.size(), 1.0);
+  if (spec.k >= 2) {
+    std::vector<uint32_t> start_seers(class_count, 0);
+    for (const int q : start_columns) {
+      for (const uint32_t c : classes_of_column[q]) ++start_seers[c];
+    }
+    for (int64_t c = 0; c < class_count; ++c) {
+      if (y_of_class[c] >= 0 && start_seers[c] >= static_cast<uint32_t>(spec.k)) {
+        start_columns.push_back(x_count + y_of_class[c]);
+        start_values.push_back(1.0);
+      }
+    }
+  }
+  Cbc_setMIPStartI(cbc, static_cast<int>(start_columns.size()), start_columns.data(),
+                   start_values.data());
 
   Cbc_solve(cbc);
   const double bound = Cbc_getBestPossibleObjValue(cbc);
@@ -243,17 +323,46 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
   for (int q = 0; q < x_count; ++q) {
     if (solution[q] > 0.5) outcome.chosen.push_back(kept[q]);
   }
-  if (outcome.chosen.size() > n) {
-    outcome.chosen.clear();
-    outcome.note = "CBC returned more than n sensors";
-    return outcome;
-  }
   outcome.proven_optimal = Cbc_isProvenOptimal(cbc) != 0;
   if (!outcome.proven_optimal) {
     outcome.note = fmt::format("CBC stopped before proving optimality (secondary status {})",
                                Cbc_secondaryStatus(cbc));
   }
   return outcome;
+}
+
+CbcOutcome GuardedCbc(const CoverageMatrix& matrix,
+                      const MilpSpec& spec,
+                      const std::vector<uint32_t>& start,
+                      double time_limit) {
+  try {
+    return RunCbc(matrix, spec, start, time_limit);
+  } catch (const std::exception& e) {
+    CbcOutcome outcome;
+    outcome.note = fmt::format("CBC failed: {}", e.what());
+    return outcome;
+  } catch (...) {
+    CbcOutcome outcome;
+    outcome.note = "CBC failed";
+    return outcome;
+  }
+}
+
+// The final upper bound of a maximisation from the cheap bound already in `result` and CBC's.
+// Whole cells: the optimum is at most CBC's bound rounded down (the tolerance absorbs the
+// solver's round-off). A bound below what we hold cannot be one (CBC stopped early): ignored.
+// `is_cbc_optimal`: CBC proved its own answer optimal, and `cells` is at least that answer.
+void SettleUpperBound(uint64_t cells, double cbc_bound, bool is_cbc_optimal, ExactResult* result) {
+  if (std::isfinite(cbc_bound)) {
+    const double bound_cells = std::floor(cbc_bound + 1e-6);
+    if (bound_cells >= static_cast<double>(cells) &&
+        bound_cells < static_cast<double>(result->upper_bound)) {
+      result->upper_bound = static_cast<uint64_t>(bound_cells);
+    }
+  }
+  if (is_cbc_optimal) result->upper_bound = cells;
+  result->upper_bound = std::max(result->upper_bound, cells);
+  result->proven_optimal = cells == result->upper_bound;
 }
 
 }  // namespace
@@ -279,32 +388,129 @@ ExactResult SolveExact(const CoverageMatrix& matrix,
     result.proven_optimal = true;
     return result;
   }
-  CbcOutcome outcome;
-  try {
-    outcome = RunCbc(matrix, n, start, time_limit);
-  } catch (const std::exception& e) {
+  MilpSpec spec;
+  spec.capacity = static_cast<double>(n);
+  CbcOutcome outcome = GuardedCbc(matrix, spec, start, time_limit);
+  if (outcome.chosen.size() > n) {
     outcome = CbcOutcome{};
-    outcome.note = fmt::format("CBC failed: {}", e.what());
-  } catch (...) {
-    outcome = CbcOutcome{};
-    outcome.note = "CBC failed";
+    outcome.note = "CBC returned more than n sensors";
   }
   result.note = outcome.note;
   if (!outcome.chosen.empty()) {
     std::vector<uint32_t> padded = GreedyComplete(matrix, outcome.chosen, n);
     if (matrix.CoveredWeight(padded) > start_cells) result.chosen = std::move(padded);
   }
-  const uint64_t cells = matrix.CoveredWeight(result.chosen);
-  // Whole cells: the optimum is at most the bound rounded down (the tolerance absorbs the
-  // solver's round-off). A bound below what we hold cannot be one (CBC stopped early): ignored.
-  const double bound_cells = std::floor(outcome.bound + 1e-6);
-  if (bound_cells >= static_cast<double>(cells) &&
-      bound_cells < static_cast<double>(result.upper_bound)) {
-    result.upper_bound = static_cast<uint64_t>(bound_cells);
+  SettleUpperBound(matrix.CoveredWeight(result.chosen), outcome.bound, outcome.proven_optimal,
+                   &result);
+  return result;
+}
+
+ExactResult SolveExactK(const CoverageMatrix& matrix,
+                        size_t n,
+                        int k,
+                        const std::vector<uint32_t>& start,
+                        double time_limit) {
+  VANTAGE_CHECK(k >= 1 && n >= 1 && n <= matrix.candidate_count() && start.size() == n);
+  if (k == 1) return SolveExact(matrix, n, start, time_limit);
+  ExactResult result;
+  result.chosen = start;
+  const uint64_t start_cells = KCoveredWeight(matrix, start, k);
+  result.upper_bound = std::max(KUpperBound(matrix, start, n, k), start_cells);
+  if (start_cells == result.upper_bound) {
+    result.proven_optimal = true;
+    result.note = "start meets the simple bound";
+    return result;
   }
-  if (outcome.proven_optimal) result.upper_bound = cells;  // cells >= CBC's own optimum
-  result.upper_bound = std::max(result.upper_bound, cells);
-  result.proven_optimal = cells == result.upper_bound;
+  MilpSpec spec;
+  spec.k = k;
+  spec.capacity = static_cast<double>(n);
+  CbcOutcome outcome = GuardedCbc(matrix, spec, start, time_limit);
+  if (outcome.chosen.size() > n) {
+    outcome = CbcOutcome{};
+    outcome.note = "CBC returned more than n sensors";
+  }
+  result.note = outcome.note;
+  if (!outcome.chosen.empty()) {
+    std::vector<uint32_t> padded = KGreedyComplete(matrix, outcome.chosen, n, k);
+    if (KCoveredWeight(matrix, padded, k) > start_cells) result.chosen = std::move(padded);
+  }
+  SettleUpperBound(KCoveredWeight(matrix, result.chosen, k), outcome.bound,
+                   outcome.proven_optimal, &result);
+  return result;
+}
+
+ExactResult SolveExactBudget(const CoverageMatrix& matrix,
+                             std::span<const double> costs,
+                             double budget,
+                             const std::vector<uint32_t>& start,
+                             double time_limit) {
+  VANTAGE_CHECK(costs.size() == matrix.candidate_count() && !start.empty() &&
+                TotalCost(costs, start) <= budget);
+  ExactResult result;
+  result.chosen = start;
+  const uint64_t start_cells = matrix.CoveredWeight(start);
+  result.upper_bound = std::max(BudgetUpperBound(matrix, start, costs, budget), start_cells);
+  if (start_cells == result.upper_bound) {
+    result.proven_optimal = true;
+    result.note = "start meets the simple bound";
+    return result;
+  }
+  MilpSpec spec;
+  spec.costs = costs;
+  spec.capacity = budget;
+  CbcOutcome outcome = GuardedCbc(matrix, spec, start, time_limit);
+  if (!outcome.chosen.empty() && TotalCost(costs, outcome.chosen) > budget) {
+    // CBC's feasibility tolerance let the costs exceed the budget by round-off: not an answer.
+    const double bound = outcome.bound;
+    outcome = CbcOutcome{};
+    outcome.bound = bound;
+    outcome.note = "CBC's answer exceeds the budget by round-off; kept the start";
+  }
+  result.note = outcome.note;
+  if (!outcome.chosen.empty() && matrix.CoveredWeight(outcome.chosen) > start_cells)
+    result.chosen = outcome.chosen;
+  SettleUpperBound(matrix.CoveredWeight(result.chosen), outcome.bound, outcome.proven_optimal,
+                   &result);
+  return result;
+}
+
+SetCoverResult SolveSetCover(const CoverageMatrix& matrix,
+                             uint64_t goal_cells,
+                             const std::vector<uint32_t>& start,
+                             double time_limit) {
+  VANTAGE_CHECK(goal_cells >= 1 && !start.empty() && matrix.CoveredWeight(start) >= goal_cells);
+  SetCoverResult result;
+  result.chosen = start;
+  result.lower_bound = std::min(SetCoverLowerBound(matrix, goal_cells), start.size());
+  if (result.lower_bound == start.size()) {
+    result.proven_optimal = true;
+    result.note = "start meets the simple bound";
+    return result;
+  }
+  MilpSpec spec;
+  spec.is_set_cover = true;
+  spec.goal_cells = goal_cells;
+  CbcOutcome outcome = GuardedCbc(matrix, spec, start, time_limit);
+  if (!outcome.chosen.empty() && matrix.CoveredWeight(outcome.chosen) < goal_cells) {
+    // Round-off within CBC's tolerance: not an answer (its bound still holds).
+    const double bound = outcome.bound;
+    outcome = CbcOutcome{};
+    outcome.bound = bound;
+    outcome.note = "CBC's answer falls short of the goal by round-off; kept the start";
+  }
+  result.note = outcome.note;
+  if (!outcome.chosen.empty() && outcome.chosen.size() < result.chosen.size())
+    result.chosen = outcome.chosen;
+  const size_t count = result.chosen.size();
+  if (std::isfinite(outcome.bound)) {
+    // Whole sensors: at least CBC's bound rounded up.
+    const double bound = std::ceil(outcome.bound - 1e-6);
+    if (bound > static_cast<double>(result.lower_bound) && bound <= static_cast<double>(count))
+      result.lower_bound = static_cast<size_t>(bound);
+  }
+  if (outcome.proven_optimal) result.lower_bound = count;  // count <= CBC's own optimum
+  result.lower_bound = std::min(result.lower_bound, count);
+  result.proven_optimal = result.lower_bound == count;
   return result;
 }
 

@@ -1,27 +1,28 @@
-// Best single candidate, lazy greedy and the greedy-based upper bound (SYSTEM.md, Select).
+// Best single candidate, the greedy methods of every objective and their cheap bounds
+// (SYSTEM.md, Select).
 #include <algorithm>
 #include <functional>
+#include <limits>
+#include <numeric>
 #include <queue>
 
 #include "select/methods.hpp"
 #include "vantage/error.hpp"
 
 namespace vantage::detail {
+namespace {
 
-uint32_t BestCandidate(const CoverageMatrix& matrix) {
-  VANTAGE_CHECK(matrix.candidate_count() > 0);
-  uint32_t best = 0;
-  for (uint32_t i = 1; i < matrix.candidate_count(); ++i) {
-    if (matrix.RowWeight(i) > matrix.RowWeight(best)) best = i;  // strict: ties keep the lower
-  }
-  return best;
-}
-
-std::vector<uint32_t> GreedyComplete(const CoverageMatrix& matrix,
-                                     std::vector<uint32_t> chosen,
-                                     size_t n) {
+// Lazy greedy (Minoux) from `chosen`: adds the candidate of largest gain until n sensors are
+// chosen, or the covered cells reach `goal_cells`, or nothing adds anything. Gains only shrink as
+// the cover grows (submodularity), so a gain computed in an earlier round is an upper bound. An
+// entry whose gain is fresh (computed this round) and on top of the heap is the true maximum; the
+// heap's order (gain, then lower index first) makes it the lowest-index maximum, as plain greedy
+// would choose.
+std::vector<uint32_t> LazyGreedy(const CoverageMatrix& matrix,
+                                 std::vector<uint32_t> chosen,
+                                 size_t n,
+                                 uint64_t goal_cells) {
   const size_t m = matrix.candidate_count();
-  VANTAGE_CHECK(n <= m && chosen.size() <= n);
   std::vector<bool> is_chosen(m, false);
   Bitset covered = matrix.EmptySet();
   for (const uint32_t c : chosen) {
@@ -29,10 +30,7 @@ std::vector<uint32_t> GreedyComplete(const CoverageMatrix& matrix,
     is_chosen[c] = true;
     matrix.AddTo(c, &covered);
   }
-  // Lazy greedy (Minoux): gains only shrink as the cover grows (submodularity), so a gain computed
-  // in an earlier round is an upper bound. An entry whose gain is fresh (computed this round) and
-  // on top of the heap is the true maximum; the heap's order (gain, then lower index first) makes
-  // it the lowest-index maximum, as plain greedy would choose.
+  uint64_t covered_cells = matrix.SetWeight(covered);
   struct Entry {
     uint64_t gain;
     uint32_t candidate;
@@ -50,13 +48,184 @@ std::vector<uint32_t> GreedyComplete(const CoverageMatrix& matrix,
   }
   std::priority_queue<Entry, std::vector<Entry>, decltype(lower_priority)> heap(lower_priority,
                                                                                 std::move(entries));
-  while (chosen.size() < n && !heap.empty()) {
+  while (chosen.size() < n && covered_cells < goal_cells && !heap.empty()) {
     Entry top = heap.top();
     heap.pop();
     if (top.round == round) {
-      if (top.gain == 0) break;  // nothing adds anything any more: fill by index below
+      if (top.gain == 0) break;  // nothing adds anything any more
       chosen.push_back(top.candidate);
       is_chosen[top.candidate] = true;
+      matrix.AddTo(top.candidate, &covered);
+      covered_cells += top.gain;
+      ++round;
+    } else {
+      top.gain = matrix.Gain(top.candidate, covered);
+      top.round = round;
+      heap.push(top);
+    }
+  }
+  return chosen;
+}
+
+// Appends the lowest-index candidates not in `chosen` until it has n.
+void FillByIndex(size_t candidate_count, size_t n, std::vector<uint32_t>* chosen) {
+  std::vector<bool> is_chosen(candidate_count, false);
+  for (const uint32_t c : *chosen) is_chosen[c] = true;
+  for (uint32_t i = 0; i < candidate_count && chosen->size() < n; ++i) {
+    if (!is_chosen[i]) chosen->push_back(i);
+  }
+}
+
+}  // namespace
+
+uint32_t BestCandidate(const CoverageMatrix& matrix) {
+  VANTAGE_CHECK(matrix.candidate_count() > 0);
+  uint32_t best = 0;
+  for (uint32_t i = 1; i < matrix.candidate_count(); ++i) {
+    if (matrix.RowWeight(i) > matrix.RowWeight(best)) best = i;  // strict: ties keep the lower
+  }
+  return best;
+}
+
+double TotalCost(std::span<const double> costs, std::span<const uint32_t> chosen) {
+  double total = 0;
+  for (const uint32_t c : chosen) total += costs[c];
+  return total;
+}
+
+uint64_t KCoveredWeight(const CoverageMatrix& matrix, std::span<const uint32_t> chosen, int k) {
+  VANTAGE_CHECK(k >= 1);
+  if (k == 1) return matrix.CoveredWeight(chosen);
+  std::vector<uint32_t> count(matrix.element_count(), 0);
+  uint64_t weight = 0;
+  for (const uint32_t c : chosen) {
+    for (const uint32_t e : matrix.Row(c)) {
+      if (++count[e] == static_cast<uint32_t>(k)) weight += matrix.Weight(e);
+    }
+  }
+  return weight;
+}
+
+std::vector<uint32_t> GreedyComplete(const CoverageMatrix& matrix,
+                                     std::vector<uint32_t> chosen,
+                                     size_t n) {
+  VANTAGE_CHECK(n <= matrix.candidate_count() && chosen.size() <= n);
+  chosen = LazyGreedy(matrix, std::move(chosen), n, std::numeric_limits<uint64_t>::max());
+  FillByIndex(matrix.candidate_count(), n, &chosen);
+  return chosen;
+}
+
+std::vector<uint32_t> GreedyToGoal(const CoverageMatrix& matrix, uint64_t goal_cells) {
+  VANTAGE_CHECK(goal_cells >= 1 && goal_cells <= matrix.seen_weight());
+  std::vector<uint32_t> chosen = LazyGreedy(matrix, {}, matrix.candidate_count(), goal_cells);
+  VANTAGE_CHECK(matrix.CoveredWeight(chosen) >= goal_cells);
+  return chosen;
+}
+
+std::vector<uint32_t> KGreedyComplete(const CoverageMatrix& matrix,
+                                      std::vector<uint32_t> chosen,
+                                      size_t n,
+                                      int k) {
+  const size_t m = matrix.candidate_count();
+  VANTAGE_CHECK(k >= 1 && n <= m && chosen.size() <= n);
+  const auto levels = static_cast<size_t>(k);
+  // level[c]: the elements that exactly c chosen sensors see, for c < k.
+  std::vector<uint32_t> count(matrix.element_count(), 0);
+  std::vector<Bitset> level(levels, matrix.EmptySet());
+  for (uint32_t e = 0; e < matrix.element_count(); ++e) level[0][e >> 6] |= uint64_t{1} << (e & 63);
+  std::vector<bool> is_chosen(m, false);
+  const auto add = [&](uint32_t candidate) {
+    VANTAGE_CHECK(candidate < m && !is_chosen[candidate]);
+    is_chosen[candidate] = true;
+    for (const uint32_t e : matrix.Row(candidate)) {
+      const uint32_t c = count[e]++;
+      if (c >= levels) continue;
+      level[c][e >> 6] &= ~(uint64_t{1} << (e & 63));
+      if (c + 1 < levels) level[c + 1][e >> 6] |= uint64_t{1} << (e & 63);
+    }
+  };
+  for (const uint32_t c : chosen) add(c);
+  std::vector<uint64_t> gains(levels), best_gains(levels);
+  while (chosen.size() < n) {
+    int64_t best = -1;
+    for (uint32_t i = 0; i < m; ++i) {
+      if (is_chosen[i]) continue;
+      // Gains from the top level down; stop as soon as this candidate is already behind.
+      bool is_better = best < 0;
+      bool is_decided = best < 0;
+      for (size_t l = levels; l-- > 0;) {
+        gains[l] = matrix.WeightIn(i, level[l]);
+        if (!is_decided && gains[l] != best_gains[l]) {
+          is_better = gains[l] > best_gains[l];
+          is_decided = true;
+          if (!is_better) break;
+        }
+      }
+      if (is_better) {
+        best = i;
+        best_gains = gains;
+      }
+    }
+    if (best < 0 || std::all_of(best_gains.begin(), best_gains.end(),
+                                [](uint64_t g) { return g == 0; })) {
+      break;  // nothing adds anything at any level: fill by index
+    }
+    chosen.push_back(static_cast<uint32_t>(best));
+    add(static_cast<uint32_t>(best));
+  }
+  FillByIndex(m, n, &chosen);
+  return chosen;
+}
+
+std::vector<uint32_t> GreedyBudget(const CoverageMatrix& matrix,
+                                   std::span<const double> costs,
+                                   double budget) {
+  const size_t m = matrix.candidate_count();
+  VANTAGE_CHECK(costs.size() == m);
+  // Single best affordable candidate (ties: lower index).
+  int64_t single = -1;
+  for (uint32_t i = 0; i < m; ++i) {
+    if (costs[i] <= budget && (single < 0 || matrix.RowWeight(i) > matrix.RowWeight(single)))
+      single = i;
+  }
+  VANTAGE_CHECK(single >= 0);
+
+  // Lazy greedy on gain / cost: gains only shrink, and the remaining budget only shrinks, so a
+  // stale ratio is an upper bound and a candidate that no longer fits never fits again.
+  struct Entry {
+    uint64_t gain;
+    uint32_t candidate;
+    size_t round;
+  };
+  // a before b: higher gain/cost (cross-multiplied; cost 0 is an infinite ratio), then higher
+  // gain, then lower index.
+  const auto lower_priority = [&](const Entry& a, const Entry& b) {
+    const double ca = costs[a.candidate], cb = costs[b.candidate];
+    const double ra = static_cast<double>(a.gain) * cb, rb = static_cast<double>(b.gain) * ca;
+    const bool a_free = ca == 0 && a.gain > 0, b_free = cb == 0 && b.gain > 0;
+    if (a_free != b_free) return b_free;
+    if (!a_free && ra != rb) return ra < rb;
+    if (a.gain != b.gain) return a.gain < b.gain;
+    return a.candidate > b.candidate;
+  };
+  std::vector<Entry> entries;
+  for (uint32_t i = 0; i < m; ++i) {
+    if (costs[i] <= budget) entries.push_back({matrix.RowWeight(i), i, 0});
+  }
+  std::priority_queue<Entry, std::vector<Entry>, decltype(lower_priority)> heap(lower_priority,
+                                                                                std::move(entries));
+  std::vector<uint32_t> chosen;
+  Bitset covered = matrix.EmptySet();
+  double spent = 0;
+  size_t round = 0;
+  while (!heap.empty()) {
+    Entry top = heap.top();
+    heap.pop();
+    if (spent + costs[top.candidate] > budget) continue;  // does not fit now, nor later
+    if (top.round == round) {
+      if (top.gain == 0) break;  // the best ratio adds nothing: nothing does
+      chosen.push_back(top.candidate);
+      spent += costs[top.candidate];
       matrix.AddTo(top.candidate, &covered);
       ++round;
     } else {
@@ -65,12 +234,8 @@ std::vector<uint32_t> GreedyComplete(const CoverageMatrix& matrix,
       heap.push(top);
     }
   }
-  for (uint32_t i = 0; i < m && chosen.size() < n; ++i) {
-    if (!is_chosen[i]) {
-      chosen.push_back(i);
-      is_chosen[i] = true;
-    }
-  }
+  if (chosen.empty() || matrix.RowWeight(static_cast<uint32_t>(single)) > matrix.SetWeight(covered))
+    return {static_cast<uint32_t>(single)};
   return chosen;
 }
 
@@ -89,6 +254,81 @@ uint64_t SimpleUpperBound(const CoverageMatrix& matrix,
   uint64_t bound = base;
   for (size_t i = 0; i < k; ++i) bound += gains[i];
   return std::min(bound, matrix.seen_weight());
+}
+
+uint64_t BudgetUpperBound(const CoverageMatrix& matrix,
+                          std::span<const uint32_t> chosen,
+                          std::span<const double> costs,
+                          double budget) {
+  // f(OPT) <= f(S) + sum over OPT \ S of gain(j | S), and OPT's costs add up to at most the
+  // budget: so at most f(S) + the fractional knapsack of the gains (an LP bound, rounded down
+  // because cells are whole).
+  const size_t m = matrix.candidate_count();
+  VANTAGE_CHECK(costs.size() == m);
+  Bitset covered = matrix.EmptySet();
+  for (const uint32_t c : chosen) matrix.AddTo(c, &covered);
+  const uint64_t base = matrix.SetWeight(covered);
+  Bitset affordable = matrix.EmptySet();
+  std::vector<uint32_t> order;
+  std::vector<uint64_t> gains(m, 0);
+  double free_gain = 0;
+  for (uint32_t i = 0; i < m; ++i) {
+    if (costs[i] > budget) continue;
+    matrix.AddTo(i, &affordable);
+    gains[i] = matrix.Gain(i, covered);
+    if (gains[i] == 0) continue;
+    if (costs[i] == 0) {
+      free_gain += static_cast<double>(gains[i]);
+    } else {
+      order.push_back(i);
+    }
+  }
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    const double ra = static_cast<double>(gains[a]) * costs[b];
+    const double rb = static_cast<double>(gains[b]) * costs[a];
+    return ra != rb ? ra > rb : a < b;
+  });
+  double bound = static_cast<double>(base) + free_gain;
+  double left = budget;
+  for (const uint32_t i : order) {
+    if (left <= 0) break;
+    const double share = std::min(1.0, left / costs[i]);
+    bound += share * static_cast<double>(gains[i]);
+    left -= costs[i];
+  }
+  // Candidates that cannot be afforded alone are in no feasible answer.
+  const uint64_t reachable = matrix.SetWeight(affordable);
+  const double rounded = std::floor(bound + 1e-6);
+  return rounded >= static_cast<double>(reachable) ? reachable : static_cast<uint64_t>(rounded);
+}
+
+uint64_t KUpperBound(const CoverageMatrix& matrix,
+                     std::span<const uint32_t> chosen,
+                     size_t n,
+                     int k) {
+  // A cell seen by k of the chosen is seen by one of them: the 1-coverage bound holds.
+  std::vector<uint32_t> seers(matrix.element_count(), 0);
+  for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
+    for (const uint32_t e : matrix.Row(i)) ++seers[e];
+  }
+  uint64_t seen_by_k = 0;
+  for (uint32_t e = 0; e < matrix.element_count(); ++e) {
+    if (seers[e] >= static_cast<uint32_t>(k)) seen_by_k += matrix.Weight(e);
+  }
+  return std::min(seen_by_k, SimpleUpperBound(matrix, chosen, n));
+}
+
+size_t SetCoverLowerBound(const CoverageMatrix& matrix, uint64_t goal_cells) {
+  // t sensors cover at most the sum of their row sizes, so at most the t largest rows' sum.
+  std::vector<uint64_t> sizes(matrix.candidate_count());
+  for (uint32_t i = 0; i < matrix.candidate_count(); ++i) sizes[i] = matrix.RowWeight(i);
+  std::sort(sizes.begin(), sizes.end(), std::greater<>());
+  uint64_t sum = 0;
+  for (size_t t = 0; t < sizes.size(); ++t) {
+    sum += sizes[t];
+    if (sum >= goal_cells) return t + 1;
+  }
+  return sizes.size();
 }
 
 }  // namespace vantage::detail

@@ -1,8 +1,11 @@
 // Method names and SelectOptions::Validate (SYSTEM.md, Select).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "vantage/error.hpp"
 #include "vantage/select.hpp"
@@ -12,6 +15,65 @@ namespace {
 
 constexpr std::array<Method, 6> kMethods = {Method::kBest,  Method::kRansac, Method::kGreedy,
                                             Method::kLocal, Method::kExact,  Method::kAll};
+
+// The objective's own fields, and whether the method applies to it.
+void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
+  const int objectives = (o.goal ? 1 : 0) + (o.budget ? 1 : 0) + (o.k >= 2 ? 1 : 0);
+  if (objectives > 1) {
+    throw InputError(
+        "goal, k >= 2 and budget are separate objectives — give only one of --goal, --k, --budget");
+  }
+  if (o.k < 1) throw InputError(fmt::format("k = {} must be at least 1", o.k));
+  if (o.goal && !(*o.goal > 0.0 && *o.goal <= 1.0)) {
+    throw InputError(fmt::format(
+        "goal = {} is a coverage fraction — give a value in (0, 1], e.g. 0.9 for 90 %", *o.goal));
+  }
+  if (o.budget) {
+    if (!(*o.budget >= 0.0) || !std::isfinite(*o.budget))
+      throw InputError(fmt::format("budget = {} must be a number >= 0", *o.budget));
+    if (o.costs.size() != candidate_count) {
+      throw InputError(fmt::format("budget needs one cost per candidate: {} costs for {} candidates",
+                                   o.costs.size(), candidate_count));
+    }
+    double cheapest = std::numeric_limits<double>::infinity();
+    for (const double c : o.costs) {
+      if (!(c >= 0.0) || !std::isfinite(c))
+        throw InputError(fmt::format("sensor cost {} must be a number >= 0", c));
+      cheapest = std::min(cheapest, c);
+    }
+    if (*o.budget < cheapest) {
+      throw InputError(fmt::format(
+          "budget {:g} is below the cheapest candidate's cost {:g} — raise --budget", *o.budget,
+          cheapest));
+    }
+  }
+  const Objective objective = o.objective();
+  if (objective == Objective::kKCoverage && o.n < o.k) {
+    throw InputError(fmt::format(
+        "n = {} is below k = {}: a cell counts only once k chosen sensors see it — raise -n to at "
+        "least {}",
+        o.n, o.k, o.k));
+  }
+  std::vector<Method> allowed;
+  switch (objective) {
+    case Objective::kCoverage:
+      return;
+    case Objective::kSetCover:
+      allowed = {Method::kGreedy, Method::kExact, Method::kAll};
+      break;
+    case Objective::kKCoverage:
+      allowed = {Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact, Method::kAll};
+      break;
+    case Objective::kBudget:
+      allowed = {Method::kGreedy, Method::kLocal, Method::kExact, Method::kAll};
+      break;
+  }
+  if (std::find(allowed.begin(), allowed.end(), o.method) != allowed.end()) return;
+  std::string names;
+  for (const Method m : allowed) names += (names.empty() ? "" : ", ") + MethodName(m);
+  throw InputError(fmt::format("method '{}' does not apply to the {} objective — use one of {}",
+                               MethodName(o.method), ObjectiveName(objective), names));
+}
 
 }  // namespace
 
@@ -32,6 +94,28 @@ std::string MethodName(Method method) {
   }
   VANTAGE_CHECK(false);
   return "";
+}
+
+std::string ObjectiveName(Objective objective) {
+  switch (objective) {
+    case Objective::kCoverage:
+      return "coverage";
+    case Objective::kSetCover:
+      return "set-cover";
+    case Objective::kKCoverage:
+      return "k-coverage";
+    case Objective::kBudget:
+      return "budget";
+  }
+  VANTAGE_CHECK(false);
+  return "";
+}
+
+Objective SelectOptions::objective() const {
+  if (goal) return Objective::kSetCover;
+  if (budget) return Objective::kBudget;
+  if (k >= 2) return Objective::kKCoverage;
+  return Objective::kCoverage;
 }
 
 Method ParseMethod(const std::string& name) {
@@ -64,6 +148,7 @@ void SelectOptions::Validate(size_t candidate_count) const {
     throw InputError(
         fmt::format("time_limit = {} s must be a positive number of seconds", time_limit));
   }
+  ValidateObjective(*this, candidate_count);
 }
 
 }  // namespace vantage

@@ -18,8 +18,19 @@ uint32_t BestCandidate(const CoverageMatrix& matrix);
 /// Rng(seed, Stream::kRansac, i); keeps a subset only when strictly better; stops once the best
 /// reaches `stop_coverage` (a fraction of |R|). The first draw is always kept, so the answer has
 /// n sensors even when every draw covers nothing.
-std::vector<uint32_t> RansacChoice(
-    const CoverageMatrix& matrix, size_t n, int iterations, double stop_coverage, uint64_t seed);
+/// With k >= 2 subsets are scored by k-coverage (KCoveredWeight) instead.
+std::vector<uint32_t> RansacChoice(const CoverageMatrix& matrix,
+                                   size_t n,
+                                   int iterations,
+                                   double stop_coverage,
+                                   uint64_t seed,
+                                   int k = 1);
+
+/// Cells of the elements that at least k of `chosen` see (a candidate listed twice counts twice).
+uint64_t KCoveredWeight(const CoverageMatrix& matrix, std::span<const uint32_t> chosen, int k);
+
+/// Sum of `costs` over `chosen`.
+double TotalCost(std::span<const double> costs, std::span<const uint32_t> chosen);
 
 /// Lazy greedy maximum coverage from the start set `chosen` up to n sensors: each step adds the
 /// candidate of largest gain (ties: lower index); once nothing adds anything, the lowest-index
@@ -28,14 +39,70 @@ std::vector<uint32_t> GreedyComplete(const CoverageMatrix& matrix,
                                      std::vector<uint32_t> chosen,
                                      size_t n);
 
-/// Best-improvement 1-swap local search from `chosen`: repeatedly makes the swap (one chosen out,
-/// one unused in, in place) that adds the most cells, until no swap adds any. Ties go to the
+/// Set cover: lazy greedy from nothing, adding the candidate of largest gain (ties: lower index)
+/// until the covered cells reach `goal_cells`. Needs 1 <= goal_cells <= seen_weight().
+std::vector<uint32_t> GreedyToGoal(const CoverageMatrix& matrix, uint64_t goal_cells);
+
+/// k-coverage greedy from `chosen` up to n sensors. Plain k-coverage gains are all zero until k
+/// sensors overlap, so each step compares gains level by level: first the cells the candidate
+/// brings to k seers, then (ties) those it brings to k - 1, ..., then to 1 seer: deepen what is
+/// partly seen before widening. Ties: lower index; once nothing adds anything at any level, the
+/// lowest-index unused candidates fill up to n. Not lazy (k-coverage is not submodular).
+std::vector<uint32_t> KGreedyComplete(const CoverageMatrix& matrix,
+                                      std::vector<uint32_t> chosen,
+                                      size_t n,
+                                      int k);
+
+/// Budgeted maximum coverage (Khuller, Moss, Naor 1999): lazy greedy on gain per cost among the
+/// candidates that still fit in the remaining budget (zero cost: infinite ratio; ties: larger
+/// gain, then lower index), until none adds anything; then the best single affordable candidate
+/// if it covers more (this comparison gives the (1 - 1/e)/2 guarantee). Never above `budget`;
+/// at least one sensor. Needs a candidate with cost <= budget.
+std::vector<uint32_t> GreedyBudget(const CoverageMatrix& matrix,
+                                   std::span<const double> costs,
+                                   double budget);
+
+/// Options of LocalSearch beyond the cardinality objective.
+struct LocalOptions {
+  int k = 1;                    ///< k-coverage when >= 2
+  std::span<const double> costs;  ///< with a budget: per-candidate costs, else empty
+  double budget = 0;            ///< total cost cap when `costs` is not empty
+  /// Also try 2-swaps (two out, two in) once no 1-swap helps: k = 1 without a budget only, and
+  /// only while the search stays cheap (a cap on pair evaluations per pass).
+  bool two_swap = true;
+};
+
+/// Best-improvement swap local search from `chosen`: repeatedly makes the swap (one chosen out,
+/// one unused in, in place) that adds the most cells (k-covered cells for k >= 2), until no swap
+/// adds any; with a budget, swaps must keep the total cost within it, and adding a sensor that
+/// fits is a move too. Then, where cheap, the best 2-swap, and back to 1-swaps. Ties go to the
 /// earlier position, then to the lower candidate index. Deterministic, never worse than `chosen`.
-std::vector<uint32_t> LocalSearch(const CoverageMatrix& matrix, std::vector<uint32_t> chosen);
+std::vector<uint32_t> LocalSearch(const CoverageMatrix& matrix,
+                                  std::vector<uint32_t> chosen,
+                                  const LocalOptions& options = {});
 
 /// Cheap upper bound on the cells any n sensors can cover (submodularity): the cells of `chosen`
 /// plus the n largest gains over them, at most the cells seen by anyone.
 uint64_t SimpleUpperBound(const CoverageMatrix& matrix, std::span<const uint32_t> chosen, size_t n);
+
+/// Cheap upper bound on the cells that any selection within `budget` covers: the cells of
+/// `chosen` plus the fractional knapsack of the gains over them (submodularity), at most the cells
+/// seen by the affordable candidates.
+uint64_t BudgetUpperBound(const CoverageMatrix& matrix,
+                          std::span<const uint32_t> chosen,
+                          std::span<const double> costs,
+                          double budget);
+
+/// Cheap upper bound on the k-covered cells of any n sensors: the 1-coverage bound of n sensors
+/// over `chosen`, at most the cells seen by k or more candidates.
+uint64_t KUpperBound(const CoverageMatrix& matrix,
+                     std::span<const uint32_t> chosen,
+                     size_t n,
+                     int k);
+
+/// Cheap lower bound on the sensors that reach `goal_cells`: the fewest largest rows whose
+/// sizes add up to the goal.
+size_t SetCoverLowerBound(const CoverageMatrix& matrix, uint64_t goal_cells);
 
 struct ExactResult {
   std::vector<uint32_t> chosen;
@@ -53,5 +120,39 @@ ExactResult SolveExact(const CoverageMatrix& matrix,
                        size_t n,
                        const std::vector<uint32_t>& start,
                        double time_limit);
+
+/// Maximum k-coverage (k >= 2) of n sensors: max sum_e w_e y_e s.t. k y_e <= sum_{i sees e} x_i,
+/// sum_i x_i <= n, x and y binary (the answer padded to n by KGreedyComplete). No dominance
+/// reduction (a subset can still be the k-th seer). Falls back to `start` with KUpperBound.
+ExactResult SolveExactK(const CoverageMatrix& matrix,
+                        size_t n,
+                        int k,
+                        const std::vector<uint32_t>& start,
+                        double time_limit);
+
+/// Budgeted maximum coverage: as SolveExact with sum_i cost_i x_i <= budget instead of the
+/// cardinality row; dominance needs a superset that costs no more. Falls back to `start` (which
+/// must fit the budget) with BudgetUpperBound. The answer never exceeds the budget.
+ExactResult SolveExactBudget(const CoverageMatrix& matrix,
+                             std::span<const double> costs,
+                             double budget,
+                             const std::vector<uint32_t>& start,
+                             double time_limit);
+
+struct SetCoverResult {
+  std::vector<uint32_t> chosen;
+  size_t lower_bound = 0;  ///< sensors; <= chosen.size()
+  bool proven_optimal = false;
+  std::string note;
+};
+
+/// Fewest sensors reaching `goal_cells`: min sum_i x_i s.t. sum_e w_e y_e >= goal_cells,
+/// y_e <= sum_{i sees e} x_i, x binary, y in [0, 1], after the same dominance reduction and
+/// merging as SolveExact; warm-started from `start` (which reaches the goal). Falls back to
+/// `start` with SetCoverLowerBound; never returns more sensors than `start`.
+SetCoverResult SolveSetCover(const CoverageMatrix& matrix,
+                             uint64_t goal_cells,
+                             const std::vector<uint32_t>& start,
+                             double time_limit);
 
 }  // namespace vantage::detail

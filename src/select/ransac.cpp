@@ -8,8 +8,12 @@
 
 namespace vantage::detail {
 
-std::vector<uint32_t> RansacChoice(
-    const CoverageMatrix& matrix, size_t n, int iterations, double stop_coverage, uint64_t seed) {
+std::vector<uint32_t> RansacChoice(const CoverageMatrix& matrix,
+                                   size_t n,
+                                   int iterations,
+                                   double stop_coverage,
+                                   uint64_t seed,
+                                   int k) {
   const size_t m = matrix.candidate_count();
   VANTAGE_CHECK(n >= 1 && n <= m);
   const auto coverage = [&](uint64_t cells) {
@@ -35,7 +39,8 @@ std::vector<uint32_t> RansacChoice(
       drawn[k] = order[k];
     }
     for (size_t k = n; k-- > 0;) std::swap(order[k], order[swapped_with[k]]);
-    const uint64_t cells = matrix.CoveredWeight(drawn);  // merge, filter, coverage
+    // Merge, filter, coverage (k-coverage: the cells at least k of the draw see).
+    const uint64_t cells = k == 1 ? matrix.CoveredWeight(drawn) : KCoveredWeight(matrix, drawn, k);
     ++i;
     if (best.empty() || cells > best_cells) {
       best = drawn;

@@ -1,5 +1,9 @@
 // Select: runs the methods on the merged matrix and scores their answers (SYSTEM.md, stage 5).
 //
+// The further objectives (set cover, k-coverage, budget) run the same methods on the same matrix
+// with their own greedy, local search and MILP (methods.hpp); their answers are scored under
+// their own metric (k-coverage counts a cell once k chosen sensors see it).
+//
 // Every method works on one detail::CoverageMatrix, built once per Select call: reference cells
 // that exactly the same candidates see are merged into one weighted element and cells nobody
 // sees are dropped, which keeps coverage exact and shrinks typical instances by orders of
@@ -7,10 +11,12 @@
 // CoverageEvaluator from the observations themselves, never taken from a method's bookkeeping.
 #include "vantage/select.hpp"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
@@ -40,75 +46,137 @@ std::shared_ptr<spdlog::logger> Logger() {
   return logger ? logger : spdlog::default_logger();
 }
 
-Selection Scored(const CoverageEvaluator& evaluator,
-                 Method method,
-                 std::vector<uint32_t> chosen,
-                 double seconds) {
-  Selection s;
-  s.method = MethodName(method);
-  s.n = static_cast<int>(chosen.size());
-  s.chosen = std::move(chosen);
-  s.coverage = evaluator.Coverage(s.chosen);
-  s.paper_coverage = evaluator.PaperCoverage(s.chosen);
-  s.seconds = seconds;
-  return s;
+// Goal of set cover in whole cells: the fewest cells whose share of R reaches the goal (at
+// least one, so that the answer has a sensor).
+uint64_t GoalCells(double goal, size_t reference_size) {
+  const double cells = std::ceil(goal * static_cast<double>(reference_size) - 1e-9);
+  return std::max<uint64_t>(1, static_cast<uint64_t>(std::max(0.0, cells)));
 }
 
-// Greedy, local search and exact for one n, each built on the one before (local starts from
-// greedy's answer, exact is warm-started from local's), so each one's seconds include the
-// earlier steps it needed, as if it had run alone.
+// Greedy, local search and exact for one n (or one goal, or one budget), each built on the one
+// before (local starts from greedy's answer, exact is warm-started from local's, or from greedy's
+// for set cover), so each one's seconds include the earlier steps it needed, as if it had run
+// alone. Scores are recomputed from the observations under the objective's metric.
 class Pipeline {
  public:
   Pipeline(const CoverageEvaluator& evaluator,
            const detail::CoverageMatrix& matrix,
+           const SelectOptions& options,
            double setup_seconds)
-      : evaluator_(evaluator), matrix_(matrix), setup_seconds_(setup_seconds) {}
+      : evaluator_(evaluator),
+        matrix_(matrix),
+        options_(options),
+        objective_(options.objective()),
+        k_(objective_ == Objective::kKCoverage ? options.k : 1),
+        setup_seconds_(setup_seconds) {}
 
-  Selection Ransac(const SelectOptions& options, int n) const {
+  Selection Ransac(int n) const {
     const Clock::time_point start = Clock::now();
     std::vector<uint32_t> chosen =
-        detail::RansacChoice(matrix_, static_cast<size_t>(n), options.ransac_iterations,
-                             options.ransac_stop_coverage, options.seed);
-    return Scored(evaluator_, Method::kRansac, std::move(chosen),
-                  setup_seconds_ + SecondsSince(start));
+        detail::RansacChoice(matrix_, static_cast<size_t>(n), options_.ransac_iterations,
+                             options_.ransac_stop_coverage, options_.seed, k_);
+    return Scored(Method::kRansac, std::move(chosen), setup_seconds_ + SecondsSince(start));
   }
 
   Selection Greedy(int n) {
     const Clock::time_point start = Clock::now();
-    greedy_ = detail::GreedyComplete(matrix_, {}, static_cast<size_t>(n));
+    switch (objective_) {
+      case Objective::kSetCover:
+        greedy_ = detail::GreedyToGoal(matrix_, GoalCells(*options_.goal, matrix_.reference_size()));
+        break;
+      case Objective::kBudget:
+        greedy_ = detail::GreedyBudget(matrix_, options_.costs, *options_.budget);
+        break;
+      case Objective::kKCoverage:
+        greedy_ = detail::KGreedyComplete(matrix_, {}, static_cast<size_t>(n), k_);
+        break;
+      case Objective::kCoverage:
+        greedy_ = detail::GreedyComplete(matrix_, {}, static_cast<size_t>(n));
+        break;
+    }
     greedy_seconds_ = setup_seconds_ + SecondsSince(start);
-    return Scored(evaluator_, Method::kGreedy, greedy_, greedy_seconds_);
+    local_ = greedy_;
+    local_seconds_ = greedy_seconds_;
+    return Scored(Method::kGreedy, greedy_, greedy_seconds_);
   }
 
   /// After Greedy(n).
   Selection Local() {
     const Clock::time_point start = Clock::now();
-    local_ = detail::LocalSearch(matrix_, greedy_);
+    detail::LocalOptions local;
+    local.k = k_;
+    if (objective_ == Objective::kBudget) {
+      local.costs = options_.costs;
+      local.budget = *options_.budget;
+    }
+    local_ = detail::LocalSearch(matrix_, greedy_, local);
     local_seconds_ = greedy_seconds_ + SecondsSince(start);
-    return Scored(evaluator_, Method::kLocal, local_, local_seconds_);
+    return Scored(Method::kLocal, local_, local_seconds_);
   }
 
-  /// After Local().
+  /// After Local() (or Greedy(n) for set cover, or when local was not asked for).
   Selection Exact(double time_limit) const {
     const Clock::time_point start = Clock::now();
-    const detail::ExactResult exact =
-        detail::SolveExact(matrix_, local_.size(), local_, time_limit);
-    if (!exact.proven_optimal && !exact.note.empty()) {
-      Logger()->warn("exact, n = {}: {}; reporting the best answer found and an upper bound",
-                     local_.size(), exact.note);
-    } else if (!exact.note.empty()) {
-      Logger()->debug("exact, n = {}: {}", local_.size(), exact.note);
+    const size_t n = local_.size();
+    if (objective_ == Objective::kSetCover) {
+      const detail::SetCoverResult exact = detail::SolveSetCover(
+          matrix_, GoalCells(*options_.goal, matrix_.reference_size()), local_, time_limit);
+      LogNote(exact.proven_optimal, exact.note);
+      Selection s = Scored(Method::kExact, exact.chosen, local_seconds_ + SecondsSince(start));
+      s.n_lower_bound = static_cast<int>(exact.lower_bound);
+      s.proven_optimal = exact.proven_optimal;
+      return s;
     }
-    Selection s =
-        Scored(evaluator_, Method::kExact, exact.chosen, local_seconds_ + SecondsSince(start));
+    detail::ExactResult exact;
+    if (objective_ == Objective::kBudget) {
+      exact = detail::SolveExactBudget(matrix_, options_.costs, *options_.budget, local_,
+                                       time_limit);
+    } else {
+      exact = detail::SolveExactK(matrix_, n, k_, local_, time_limit);
+    }
+    LogNote(exact.proven_optimal, exact.note);
+    Selection s = Scored(Method::kExact, exact.chosen, local_seconds_ + SecondsSince(start));
     s.upper_bound = std::max(Fraction(exact.upper_bound, matrix_.reference_size()), s.coverage);
     s.proven_optimal = exact.proven_optimal;
     return s;
   }
 
+  Selection Scored(Method method, std::vector<uint32_t> chosen, double seconds) const {
+    Selection s;
+    s.method = MethodName(method);
+    s.n = static_cast<int>(chosen.size());
+    s.chosen = std::move(chosen);
+    s.coverage = evaluator_.Coverage(s.chosen, k_);
+    s.paper_coverage = evaluator_.PaperCoverage(s.chosen, k_);
+    s.seconds = seconds;
+    s.objective = ObjectiveName(objective_);
+    s.k = k_;
+    if (objective_ == Objective::kSetCover) s.goal = options_.goal;
+    if (objective_ == Objective::kBudget) {
+      s.budget = options_.budget;
+      s.cost = detail::TotalCost(options_.costs, s.chosen);
+      VANTAGE_CHECK(*s.cost <= *s.budget);
+    }
+    return s;
+  }
+
  private:
+  void LogNote(bool proven_optimal, const std::string& note) const {
+    const std::string what = objective_ == Objective::kCoverage
+                                 ? fmt::format("exact, n = {}", local_.size())
+                                 : fmt::format("exact ({})", ObjectiveName(objective_));
+    if (!proven_optimal && !note.empty()) {
+      Logger()->warn("{}: {}; reporting the best answer found and a bound", what, note);
+    } else if (!note.empty()) {
+      Logger()->debug("{}: {}", what, note);
+    }
+  }
+
   const CoverageEvaluator& evaluator_;
   const detail::CoverageMatrix& matrix_;
+  const SelectOptions& options_;
+  Objective objective_;
+  int k_;
   double setup_seconds_;
   std::vector<uint32_t> greedy_;
   std::vector<uint32_t> local_;
@@ -134,7 +202,12 @@ Selection SelectBest(const CoverageEvaluator& evaluator) {
     if (observations[i].reference_indices.size() > observations[best].reference_indices.size())
       best = i;
   }
-  Selection s = Scored(evaluator, Method::kBest, {best}, 0);
+  Selection s;
+  s.method = MethodName(Method::kBest);
+  s.n = 1;
+  s.chosen = {best};
+  s.coverage = evaluator.Coverage(s.chosen);
+  s.paper_coverage = evaluator.PaperCoverage(s.chosen);
   // The best single candidate is the optimum for n = 1.
   s.upper_bound = s.coverage;
   s.proven_optimal = true;
@@ -146,7 +219,7 @@ Selection SelectRansac(const CoverageEvaluator& evaluator, const SelectOptions& 
   const Clock::time_point start = Clock::now();
   options.Validate(evaluator.observations().size());
   const detail::CoverageMatrix matrix(evaluator.observations(), evaluator.reference_size());
-  Selection s = Pipeline(evaluator, matrix, 0).Ransac(options, options.n);
+  Selection s = Pipeline(evaluator, matrix, options, 0).Ransac(options.n);
   s.seconds = SecondsSince(start);
   return s;
 }
@@ -155,7 +228,9 @@ Selection SelectGreedy(const CoverageEvaluator& evaluator, int n) {
   const Clock::time_point start = Clock::now();
   ValidateN(n, evaluator.observations().size());
   const detail::CoverageMatrix matrix(evaluator.observations(), evaluator.reference_size());
-  Selection s = Pipeline(evaluator, matrix, 0).Greedy(n);
+  SelectOptions options;
+  options.n = n;
+  Selection s = Pipeline(evaluator, matrix, options, 0).Greedy(n);
   s.seconds = SecondsSince(start);
   return s;
 }
@@ -173,11 +248,20 @@ std::vector<Selection> Select(std::span<const Observation> observations,
   Logger()->debug("select: {} candidates, {} of {} reference cells seen, merged into {} elements",
                   matrix.candidate_count(), matrix.seen_weight(), reference_size,
                   matrix.element_count());
-  Pipeline pipeline(evaluator, matrix, setup_seconds);
+  Pipeline pipeline(evaluator, matrix, options, setup_seconds);
+  const Objective objective = options.objective();
+  if (objective == Objective::kSetCover) {
+    const uint64_t goal_cells = GoalCells(*options.goal, reference_size);
+    if (goal_cells > matrix.seen_weight()) {
+      throw InputError(fmt::format(
+          "goal {:g} is above the {:.4f} that all {} candidates reach together — lower --goal",
+          *options.goal, Fraction(matrix.seen_weight(), reference_size), observations.size()));
+    }
+  }
 
   switch (options.method) {
     case Method::kRansac:
-      return {pipeline.Ransac(options, options.n)};
+      return {pipeline.Ransac(options.n)};
     case Method::kGreedy:
       return {pipeline.Greedy(options.n)};
     case Method::kLocal:
@@ -185,21 +269,40 @@ std::vector<Selection> Select(std::span<const Observation> observations,
       return {pipeline.Local()};
     case Method::kExact:
       pipeline.Greedy(options.n);
-      pipeline.Local();
+      if (objective != Objective::kSetCover) pipeline.Local();
       return {pipeline.Exact(options.time_limit)};
     case Method::kBest:
     case Method::kAll:
       break;
   }
 
-  std::vector<Selection> results{SelectBest(evaluator)};
+  // "all" for one goal or one budget: no n to vary.
+  if (objective == Objective::kSetCover) {
+    return {pipeline.Greedy(options.n), pipeline.Exact(options.time_limit)};
+  }
+  if (objective == Objective::kBudget) {
+    std::vector<Selection> results{pipeline.Greedy(options.n)};
+    results.push_back(pipeline.Local());
+    results.push_back(pipeline.Exact(options.time_limit));
+    return results;
+  }
+
+  // Per n: best (coverage only, n = 1), then ransac, greedy, local, exact. k-coverage needs
+  // n >= k (below it nothing counts).
+  std::vector<Selection> results;
+  int first_n = 1;
+  if (objective == Objective::kCoverage) {
+    results.push_back(SelectBest(evaluator));
+  } else {
+    first_n = options.k;
+  }
   const bool run_exact = observations.size() <= kAllExactMaxCandidates;
   if (!run_exact) {
     Logger()->info("select: exact skipped in 'all' ({} candidates > {}); use --method exact",
                    observations.size(), kAllExactMaxCandidates);
   }
-  for (int n = 1; n <= options.n; ++n) {
-    results.push_back(pipeline.Ransac(options, n));
+  for (int n = first_n; n <= options.n; ++n) {
+    results.push_back(pipeline.Ransac(n));
     results.push_back(pipeline.Greedy(n));
     results.push_back(pipeline.Local());
     if (run_exact)

@@ -1,0 +1,42 @@
+#pragma once
+/// constellation.world (SYSTEM.md, Outputs): the input Gazebo world with only the chosen sensors,
+/// as plain static models at their poses, ready to load in Gazebo or to evaluate again.
+#include <string>
+#include <vector>
+
+#include "vantage/candidates.hpp"
+
+namespace vantage {
+
+/// The text of `world_path` with every `<population>` and every depth-sensor model of the world
+/// replaced by one static model per chosen candidate, placed so that its camera frame lands
+/// exactly at the candidate's world_from_body: model pose = world_from_body ·
+/// model_from_camera⁻¹, written as `<pose>x y z roll pitch yaw</pose>` [m, rad].
+///
+/// - A candidate of a population whose model is an `<include>` becomes `<include>` with
+///   `<name>` = the candidate's name, the population's `<uri>`, `<static>1</static>` and the
+///   pose; one whose model is inline becomes a copy of that `<model>`, renamed, with the pose.
+///   An explicitly placed sensor is handled alike from its own element.
+/// - Everything else keeps its exact text (comments, plugins, physics, GUI), except the plugin's
+///   `numberOfSamplingSensors`, set to the number of sensors the new world holds so that it
+///   passes its own check. The new sensors go where the first removed element was (else just
+///   before `</world>`).
+/// - `populations` and `sensors` are those that LoadGazeboWorld returned for this world (they
+///   give each candidate's source element and model_from_camera); a candidate is found by its
+///   `population` name, else by its name among `sensors`.
+/// - A depth sensor nested inside an included model file cannot be cut without rewriting that
+///   file: it stays where it is, and a line in `notes` (when not null) says so.
+///
+/// URIs are copied as written: load the result with the same model path as the input (a
+/// `models/` folder beside the input world is not beside the output). Throws InputError when the
+/// world cannot be read or parsed, or when a candidate belongs to no population or sensor given.
+std::string ConstellationWorld(const std::string& world_path,
+                               const std::vector<Candidate>& chosen,
+                               const std::vector<Population>& populations,
+                               const std::vector<ExplicitSensor>& sensors,
+                               std::vector<std::string>* notes = nullptr);
+
+/// True when `path` names a Gazebo world by its extension (`.world` or `.sdf`, any case).
+bool IsGazeboWorldPath(const std::string& path);
+
+}  // namespace vantage

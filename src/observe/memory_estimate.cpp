@@ -1,0 +1,25 @@
+#include <algorithm>
+
+#include "vantage/observe.hpp"
+
+namespace vantage {
+
+MemoryEstimate EstimateMemory(const Scene& scene, size_t reference_size,
+                              std::span<const Candidate> candidates, size_t threads) {
+  MemoryEstimate estimate;
+  // Embree: float vertices and indices plus a BVH of about 64 bytes per triangle.
+  estimate.scene = scene.TriangleCount() * (12 + 64) + scene.TriangleCount() * 12;
+  uint64_t largest_image = 0;
+  for (const Candidate& c : candidates) {
+    const uint64_t pixels = static_cast<uint64_t>(std::max<int64_t>(c.sensor.PixelCount(), 0));
+    largest_image = std::max(largest_image, pixels);
+    // A candidate sees at most min(pixels, |R|) cells of R: 4 bytes each, plus outside keys.
+    estimate.observations += std::min<uint64_t>(pixels, reference_size) * 4 + 64;
+  }
+  // Each worker holds one image's 8-byte voxel keys (all pixels in the worst case).
+  estimate.hit_buffers = largest_image * 8 * std::max<size_t>(threads, 1);
+  estimate.selection = candidates.size() * ((reference_size + 63) / 64) * 8;
+  return estimate;
+}
+
+}  // namespace vantage

@@ -1,0 +1,496 @@
+// constellation.world: the input world, edited as text so that everything vantage does not
+// change keeps its exact bytes (comments, plugins, physics, GUI). The XML reader's byte offsets
+// (gazebo_xml.hpp) say what to cut and what to copy; the edits are collected as (begin, end,
+// replacement) and applied from the back.
+//
+// Frames (GAZEBO.md, "Sensor orientation and camera"): a candidate's world_from_body is the
+// camera frame = world_from_model · model_from_camera, so the model goes to
+// world_from_body · model_from_camera⁻¹. Gazebo then puts the camera exactly there; vantage, which
+// re-orients every explicit sensor towards the observation point, finds the same pose again when
+// the random roll is off (the position is unchanged, so is the look-at).
+#include "vantage/gazebo_export.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "scene/gazebo_xml.hpp"
+#include "vantage/error.hpp"
+#include "vantage/types.hpp"
+
+namespace vantage {
+namespace {
+
+using detail::XmlElement;
+
+bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(AtPlace(path, 0, "cannot open the world file — check the path"));
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  if (in.bad()) throw InputError(AtPlace(path, 0, "cannot read the world file"));
+  return buffer.str();
+}
+
+std::string XmlEscape(std::string_view s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out.push_back(c);
+    }
+  }
+  return out;
+}
+
+/// Shortest text that reads back as the same double; never "-0".
+std::string Number(double v) {
+  if (v == 0) return "0";
+  return fmt::format("{}", v);
+}
+
+/// `<pose>` text: x y z roll pitch yaw, R = Rz(yaw)·Ry(pitch)·Rx(roll) (GAZEBO.md).
+std::string PoseText(const Pose& pose) {
+  const Vec3 rpy = RpyFromRotation(pose.rotation.normalized().toRotationMatrix());
+  return fmt::format("{} {} {} {} {} {}", Number(pose.position.x()), Number(pose.position.y()),
+                     Number(pose.position.z()), Number(rpy.x()), Number(rpy.y()),
+                     Number(rpy.z()));
+}
+
+/// SDF 1.7+ reserves "::" in names; "/" is vantage's model/sensor separator.
+std::string ModelName(const std::string& name) {
+  std::string out;
+  for (size_t i = 0; i < name.size(); ++i) {
+    if (name.compare(i, 2, "::") == 0) {
+      out += "__";
+      ++i;
+    } else {
+      out.push_back(name[i] == '/' ? '_' : name[i]);
+    }
+  }
+  return out;
+}
+
+std::string Trimmed(std::string_view s) {
+  size_t begin = 0;
+  size_t end = s.size();
+  while (begin < end && IsSpace(s[begin])) ++begin;
+  while (end > begin && IsSpace(s[end - 1])) --end;
+  return std::string(s.substr(begin, end - begin));
+}
+
+/// The declared instance name of a world child or nested entity: the model's name attribute, or
+/// an include's <name> ("" when the include takes the model file's own name).
+std::string DeclaredName(const XmlElement& e) {
+  if (e.name == "model") {
+    const std::string* name = e.Attribute("name");
+    return name ? Trimmed(*name) : "";
+  }
+  const XmlElement* name = e.Child("name");
+  return name ? name->Trimmed() : "";
+}
+
+/// The model name that an include's URI points at ("model://a/b" -> "a", "/x/y/" -> "y").
+std::string UriBaseName(std::string uri) {
+  while (!uri.empty() && uri.back() == '/') uri.pop_back();
+  const size_t scheme = uri.find("://");
+  std::string rest = scheme == std::string::npos ? uri : uri.substr(scheme + 3);
+  if (uri.rfind("model://", 0) == 0) return rest.substr(0, rest.find('/'));
+  const size_t slash = rest.rfind('/');
+  return slash == std::string::npos ? rest : rest.substr(slash + 1);
+}
+
+/// Offset of the '<' of an element's closing tag (its `end` for an empty element).
+size_t ClosingTagBegin(std::string_view text, const XmlElement& e) {
+  if (e.content_begin == e.end) return e.end;
+  const size_t at = text.rfind("</", e.end - 1);
+  VANTAGE_CHECK(at != std::string_view::npos && at >= e.content_begin);
+  return at;
+}
+
+/// Start of the line holding `pos` when only white space precedes it there, else `pos`.
+size_t LineStartIfBlank(std::string_view text, size_t pos) {
+  size_t start = pos;
+  while (start > 0 && (text[start - 1] == ' ' || text[start - 1] == '\t')) --start;
+  return start == 0 || text[start - 1] == '\n' ? start : pos;
+}
+
+/// The range to cut for an element: its whole lines when it stands alone on them.
+std::pair<size_t, size_t> CutRange(std::string_view text, const XmlElement& e) {
+  const size_t begin = LineStartIfBlank(text, e.begin);
+  size_t end = e.end;
+  while (end < text.size() && (text[end] == ' ' || text[end] == '\t' || text[end] == '\r')) ++end;
+  if (begin != e.begin && (end == text.size() || text[end] == '\n'))
+    return {begin, std::min(end + 1, text.size())};
+  return {e.begin, e.end};
+}
+
+/// One text edit: replace [begin, end) by `text`.
+struct Edit {
+  size_t begin = 0;
+  size_t end = 0;
+  std::string text;
+};
+
+/// Where a depth sensor of the world is declared.
+struct SensorSite {
+  const XmlElement* element = nullptr;  ///< the sensor model's own element (world file), or null
+  const XmlElement* top = nullptr;      ///< its top-level world child
+  std::string scoped;                   ///< its model's scoped name
+  std::string blocked_by;               ///< when null: the include whose file holds it
+};
+
+class Exporter {
+ public:
+  Exporter(const std::string& path,
+           const std::vector<Population>& populations,
+           const std::vector<ExplicitSensor>& sensors,
+           std::vector<std::string>* notes)
+      : path_(path),
+        text_(ReadText(path)),
+        doc_(detail::ParseXml(text_, path)),
+        populations_(populations),
+        sensors_(sensors),
+        notes_(notes) {}
+
+  std::string Run(const std::vector<Candidate>& chosen);
+
+ private:
+  void Note(const std::string& note) {
+    if (notes_ && std::find(notes_->begin(), notes_->end(), note) == notes_->end())
+      notes_->push_back(note);
+  }
+  SensorSite Locate(const ExplicitSensor& sensor) const;
+  std::string IncludeText(const XmlElement& include,
+                          const std::string& name,
+                          const Pose& pose,
+                          const std::string& indent) const;
+  std::string ModelText(const XmlElement& model,
+                        const std::string& name,
+                        const Pose& pose,
+                        const std::string& indent) const;
+  std::string EntityText(const XmlElement& source,
+                         const std::string& name,
+                         const Pose& pose,
+                         const std::string& indent) const;
+
+  std::string path_;
+  std::string text_;
+  detail::XmlDocument doc_;
+  const std::vector<Population>& populations_;
+  const std::vector<ExplicitSensor>& sensors_;
+  std::vector<std::string>* notes_;
+  const XmlElement* world_ = nullptr;
+  std::string unit_ = "  ";  ///< one level of indentation, as the world writes it
+};
+
+SensorSite Exporter::Locate(const ExplicitSensor& sensor) const {
+  SensorSite site;
+  // "model/sensor" names one of several sensors of a model: the model is the element.
+  site.scoped = sensor.name.substr(0, sensor.name.find('/'));
+  std::vector<std::string> parts;
+  for (size_t start = 0;;) {
+    const size_t sep = site.scoped.find("::", start);
+    parts.push_back(site.scoped.substr(start, sep - start));
+    if (sep == std::string::npos) break;
+    start = sep + 2;
+  }
+  // The loader records the line of the sensor's top-level world child.
+  std::vector<const XmlElement*> on_line;
+  for (const XmlElement& child : world_->children) {
+    if ((child.name == "include" || child.name == "model") && child.line == sensor.line)
+      on_line.push_back(&child);
+  }
+  for (const XmlElement* e : on_line) {
+    if (!site.top || DeclaredName(*e) == parts[0]) site.top = e;
+  }
+  if (!site.top) return site;
+  const XmlElement* current = site.top;
+  for (size_t i = 1; i < parts.size(); ++i) {
+    if (current->name == "include") {
+      site.blocked_by = DeclaredName(*current).empty() ? parts[0] : DeclaredName(*current);
+      return site;
+    }
+    const XmlElement* next = nullptr;
+    for (const XmlElement& child : current->children) {
+      if (child.name != "model" && child.name != "include") continue;
+      std::string name = DeclaredName(child);
+      if (name.empty() && child.name == "include" && child.Child("uri"))
+        name = UriBaseName(child.Child("uri")->Trimmed());
+      if (name == parts[i]) {
+        next = &child;
+        break;
+      }
+    }
+    if (!next) return site;
+    current = next;
+  }
+  site.element = current;
+  return site;
+}
+
+std::string Exporter::IncludeText(const XmlElement& include,
+                                  const std::string& name,
+                                  const Pose& pose,
+                                  const std::string& indent) const {
+  const XmlElement* uri = include.Child("uri");
+  VANTAGE_CHECK(uri != nullptr);  // the loader resolved this include
+  const std::string inner = indent + unit_;
+  std::string out = indent + "<include>\n";
+  out += fmt::format("{}<name>{}</name>\n", inner, XmlEscape(name));
+  out += fmt::format("{}<uri>{}</uri>\n", inner, XmlEscape(uri->Trimmed()));
+  out += fmt::format("{}<static>1</static>\n", inner);
+  out += fmt::format("{}<pose>{}</pose>\n", inner, PoseText(pose));
+  // Anything else the include carries (a plugin, say) comes along as written.
+  static const std::set<std::string, std::less<>> kReplaced = {"name", "uri", "static", "pose",
+                                                               "placement_frame"};
+  for (const XmlElement& child : include.children) {
+    if (kReplaced.contains(child.name)) continue;
+    out += inner + text_.substr(child.begin, child.end - child.begin) + "\n";
+  }
+  out += indent + "</include>\n";
+  return out;
+}
+
+std::string Exporter::ModelText(const XmlElement& model,
+                                const std::string& name,
+                                const Pose& pose,
+                                const std::string& indent) const {
+  // The start tag, renamed; the content as written, without its own <pose> and <static>.
+  std::string out = indent + "<model name=\"" + XmlEscape(name) + "\"";
+  for (const auto& [key, value] : model.attributes) {
+    if (key == "name" || key == "placement_frame") continue;
+    out += fmt::format(" {}=\"{}\"", key, XmlEscape(value));
+  }
+  out += ">\n";
+  const std::string inner = indent + unit_;
+  out += fmt::format("{}<static>1</static>\n", inner);
+  out += fmt::format("{}<pose>{}</pose>", inner, PoseText(pose));
+  size_t pos = model.content_begin;
+  const size_t content_end = ClosingTagBegin(text_, model);
+  for (const XmlElement& child : model.children) {
+    if (child.name != "pose" && child.name != "static") continue;
+    const auto [cut_begin, cut_end] = CutRange(text_, child);
+    out += text_.substr(pos, cut_begin - pos);
+    pos = cut_end;
+  }
+  out += text_.substr(pos, content_end - pos);
+  if (!out.empty() && out.back() != '\n') {
+    // The closing tag gets its own line at the model's indentation.
+    while (!out.empty() && (out.back() == ' ' || out.back() == '\t')) out.pop_back();
+    if (out.back() != '\n') out += "\n";
+  }
+  out += indent + "</model>\n";
+  return out;
+}
+
+std::string Exporter::EntityText(const XmlElement& source,
+                                 const std::string& name,
+                                 const Pose& pose,
+                                 const std::string& indent) const {
+  return source.name == "include" ? IncludeText(source, name, pose, indent)
+                                  : ModelText(source, name, pose, indent);
+}
+
+std::string Exporter::Run(const std::vector<Candidate>& chosen) {
+  const XmlElement& root = doc_.root;
+  world_ = root.Child("world");
+  if (!world_) throw InputError(AtPlace(path_, root.line, "no <world> element"));
+
+  // Indentation: that of the world's first child, one level = what it adds to the world's.
+  std::string indent = "  ";
+  if (!world_->children.empty()) {
+    const size_t begin = world_->children.front().begin;
+    const size_t start = LineStartIfBlank(text_, begin);
+    if (start != begin) indent = text_.substr(start, begin - start);
+    const size_t world_start = LineStartIfBlank(text_, world_->begin);
+    const std::string world_indent = text_.substr(world_start, world_->begin - world_start);
+    if (indent.size() > world_indent.size() && indent.rfind(world_indent, 0) == 0)
+      unit_ = indent.substr(world_indent.size());
+  }
+
+  std::map<std::string, const XmlElement*> population_elements;
+  std::vector<const XmlElement*> cut_top;  // top-level elements removed entirely
+  for (const XmlElement& child : world_->children) {
+    if (child.name != "population") continue;
+    const std::string* name = child.Attribute("name");
+    if (name) population_elements[Trimmed(*name)] = &child;
+    cut_top.push_back(&child);
+  }
+
+  // Explicit sensors: cut their elements. One nested in an included file cannot be cut: it stays,
+  // unless its top-level element goes anyway (a sensor model nesting another).
+  std::vector<const XmlElement*> cut_nested;
+  std::map<std::string, SensorSite> sites;
+  std::map<const XmlElement*, int> sensors_per_element;
+  for (const ExplicitSensor& sensor : sensors_) {
+    SensorSite site = Locate(sensor);
+    if (site.element) {
+      ++sensors_per_element[site.element];
+      (site.element == site.top ? cut_top : cut_nested).push_back(site.element);
+    }
+    sites[sensor.name] = site;
+  }
+  const auto is_cut_top = [&](const XmlElement* e) {
+    return e && std::find(cut_top.begin(), cut_top.end(), e) != cut_top.end();
+  };
+  int sensors_kept = 0;
+  for (const ExplicitSensor& sensor : sensors_) {
+    const SensorSite& site = sites[sensor.name];
+    if (site.element) continue;
+    const std::string where = site.blocked_by.empty()
+                                  ? std::string("was not found in the world's text")
+                                  : fmt::format("is part of the included model '{}' (model files "
+                                                "are not rewritten)",
+                                                site.blocked_by);
+    if (is_cut_top(site.top)) {
+      Note(AtPlace(path_, sensor.line,
+                   fmt::format("constellation.world: sensor '{}' {} and goes with it", sensor.name,
+                               where)));
+    } else {
+      ++sensors_kept;
+      Note(AtPlace(path_, sensor.line,
+                   fmt::format("constellation.world: sensor '{}' {} and stays as it is",
+                               sensor.name, where)));
+    }
+  }
+
+  // The chosen sensors' new elements.
+  std::string added;
+  int sensors_added = 0;
+  for (const Candidate& candidate : chosen) {
+    const XmlElement* source = nullptr;
+    Pose model_from_camera;
+    int sensor_count = 1;
+    if (!candidate.population.empty()) {
+      const auto population =
+          std::find_if(populations_.begin(), populations_.end(),
+                       [&](const Population& p) { return p.name == candidate.population; });
+      const auto element = population_elements.find(candidate.population);
+      if (population == populations_.end() || element == population_elements.end()) {
+        throw InputError(AtPlace(path_, 0,
+                                 fmt::format("candidate '{}': population '{}' is not in the world",
+                                             candidate.name, candidate.population)));
+      }
+      model_from_camera = population->model_from_camera;
+      source = element->second->Child("include");
+      if (!source) source = element->second->Child("model");
+    } else {
+      const auto sensor =
+          std::find_if(sensors_.begin(), sensors_.end(),
+                       [&](const ExplicitSensor& s) { return s.name == candidate.name; });
+      if (sensor == sensors_.end()) {
+        throw InputError(AtPlace(
+            path_, 0,
+            fmt::format("candidate '{}' is no population clone and no sensor of the world",
+                        candidate.name)));
+      }
+      const SensorSite& site = sites[sensor->name];
+      if (!site.element) continue;  // it stays in place, or cannot be placed alone (noted)
+      model_from_camera = sensor->model_from_camera;
+      source = site.element;
+      sensor_count = sensors_per_element[site.element];
+      if (sensor_count > 1) {
+        Note(AtPlace(path_, sensor->line,
+                     fmt::format("constellation.world: sensor '{}' shares its model with {} other "
+                                 "depth sensor(s), which come along",
+                                 sensor->name, sensor_count - 1)));
+      }
+    }
+    VANTAGE_CHECK(source != nullptr);
+    const Pose world_from_model = candidate.world_from_body * model_from_camera.Inverse();
+    added += EntityText(*source, ModelName(candidate.name), world_from_model, indent);
+    sensors_added += sensor_count;
+  }
+
+  // Edits: cuts (a range inside another is dropped), the additions, numberOfSamplingSensors.
+  std::vector<Edit> edits;
+  std::vector<std::pair<size_t, size_t>> cuts;
+  std::sort(cut_top.begin(), cut_top.end(),
+            [](const XmlElement* a, const XmlElement* b) { return a->begin < b->begin; });
+  cut_top.erase(std::unique(cut_top.begin(), cut_top.end()), cut_top.end());
+  for (const XmlElement* e : cut_top) cuts.push_back(CutRange(text_, *e));
+  for (const XmlElement* e : cut_nested) {
+    const bool inside = std::any_of(cut_top.begin(), cut_top.end(), [&](const XmlElement* t) {
+      return t->begin <= e->begin && e->end <= t->end;
+    });
+    if (!inside) cuts.push_back(CutRange(text_, *e));
+  }
+  std::sort(cuts.begin(), cuts.end());
+  cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+  for (const auto& [begin, end] : cuts) edits.push_back(Edit{begin, end, ""});
+
+  const std::string header =
+      fmt::format("{}<!-- vantage: the {} chosen sensor{} -->\n", indent, chosen.size(),
+                  chosen.size() == 1 ? "" : "s");
+  if (!cut_top.empty()) {
+    const auto first = CutRange(text_, *cut_top.front());
+    edits.push_back(Edit{first.first, first.first, header + added});
+  } else {
+    const size_t closing = ClosingTagBegin(text_, *world_);
+    const size_t at = LineStartIfBlank(text_, closing);
+    edits.push_back(Edit{at, at, (at == closing ? "\n" : "") + header + added});
+  }
+
+  // numberOfSamplingSensors: a plugin's check of the sensor count, now that of the new world.
+  std::vector<const XmlElement*> stack = {world_};
+  while (!stack.empty()) {
+    const XmlElement* e = stack.back();
+    stack.pop_back();
+    const bool is_removed = std::any_of(cuts.begin(), cuts.end(), [&](const auto& cut) {
+      return cut.first <= e->begin && e->end <= cut.second;
+    });
+    if (is_removed) continue;
+    for (const XmlElement& child : e->children) {
+      if (e->name == "plugin" && child.name == "numberOfSamplingSensors") {
+        edits.push_back(Edit{child.content_begin, ClosingTagBegin(text_, child),
+                             std::to_string(sensors_added + sensors_kept)});
+      } else {
+        stack.push_back(&child);
+      }
+    }
+  }
+
+  // Apply from the back; an insertion sorts after a cut that ends where it begins.
+  std::stable_sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) {
+    return a.begin != b.begin ? a.begin > b.begin : a.end > b.end;
+  });
+  std::string out = text_;
+  for (const Edit& edit : edits) out.replace(edit.begin, edit.end - edit.begin, edit.text);
+  return out;
+}
+
+}  // namespace
+
+std::string ConstellationWorld(const std::string& world_path,
+                               const std::vector<Candidate>& chosen,
+                               const std::vector<Population>& populations,
+                               const std::vector<ExplicitSensor>& sensors,
+                               std::vector<std::string>* notes) {
+  return Exporter(world_path, populations, sensors, notes).Run(chosen);
+}
+
+bool IsGazeboWorldPath(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".world" || extension == ".sdf";
+}
+
+}  // namespace vantage

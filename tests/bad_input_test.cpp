@@ -1,0 +1,420 @@
+// Bad input through the `vantage` binary, as users meet it (issue #8): every broken scene, world,
+// option and file of vantage's own exits 2; stderr names the place (`file:line:` where the input
+// has lines, else the file, or the option) and says what is wrong; nothing is reported as
+// internal; and the outputs of an earlier successful run are left exactly as they were.
+// docs/errors.md lists the messages these cases produce.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "test_util.hpp"
+#include "util/binary_io.hpp"
+
+namespace vantage {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using test::ReadText;
+using test::RunVantage;
+using test::WriteText;
+
+std::string CubeCell() { return test::DataPath("cli/cube_cell.yaml"); }
+
+/// One broken input and what its error must say.
+struct Case {
+  std::string name;
+  std::string args;   ///< command line; " --out DIR" (the earlier run's folder) is appended
+  std::string place;  ///< expected in stderr: "file:line:", the file, or the option
+  std::string what;   ///< expected in stderr: what is wrong
+};
+
+/// cube_cell.yaml with one piece of text replaced (the piece must occur in it).
+std::string CubeCellWith(const std::string& from, const std::string& to) {
+  std::string text = ReadText(CubeCell());
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "cube_cell.yaml has no '" << from << "'";
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+/// A small valid Gazebo world: a green (target-coloured) cube and a population of inline depth
+/// cameras; the world cases each break one thing of it.
+constexpr const char* kWorld = R"(<?xml version="1.0"?>
+<sdf version="1.6">
+  <world name="cell">
+    <model name="cube">
+      <link name="link">
+        <visual name="visual">
+          <pose>0 0 0.05 0 0 0</pose>
+          <geometry><box><size>0.1 0.1 0.1</size></box></geometry>
+          <material><diffuse>0 1 0 1</diffuse></material>
+        </visual>
+      </link>
+    </model>
+    <population name="ring">
+      <model name="cam">
+        <link name="link">
+          <sensor name="depth" type="depth">
+            <camera>
+              <horizontal_fov>1.0</horizontal_fov>
+              <image><width>160</width><height>120</height></image>
+              <clip><near>0.1</near><far>3</far></clip>
+            </camera>
+          </sensor>
+        </link>
+      </model>
+      <pose>0 0 0.4 0 0 0</pose>
+      <cylinder><radius>0.6</radius><length>0.2</length></cylinder>
+      <model_count>6</model_count>
+      <distribution><type>random</type></distribution>
+    </population>
+    <plugin name="spo" filename="libsensor_placement_optimization.so">
+      <voxelGridFilterLeafSize>0.01</voxelGridFilterLeafSize>
+      <observationPoint>0 0 0.05</observationPoint>
+      <numberOfIntendedSensors>2</numberOfIntendedSensors>
+      <ransacNumberOfIterations>100</ransacNumberOfIterations>
+    </plugin>
+  </world>
+</sdf>
+)";
+
+std::string WorldWith(const std::string& from, const std::string& to) {
+  std::string text = kWorld;
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "the world has no '" << from << "'";
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+/// Names and contents of the files of a folder, sorted.
+std::vector<std::pair<std::string, std::string>> Contents(const std::string& dir) {
+  std::vector<std::pair<std::string, std::string>> files;
+  for (const auto& entry : fs::directory_iterator(dir))
+    files.emplace_back(entry.path().filename().string(), ReadText(entry.path().string()));
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+/// Runs one good `vantage optimize` into out/ first; every case must then leave out/ alone.
+class BadInput : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    out_ = dir_.File("out");
+    const auto run = RunVantage("optimize " + CubeCell() + " --out " + out_);
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    outputs_ = Contents(out_);
+    ASSERT_FALSE(outputs_.empty());
+  }
+
+  /// Writes `text` to a file of the test's folder and returns its path.
+  std::string Write(const std::string& name, const std::string& text) const {
+    WriteText(dir_.File(name), text);
+    return dir_.File(name);
+  }
+
+  /// A YAML scene case: cube_cell.yaml with `from` replaced by `to`, the error expected at `line`.
+  Case Yaml(const std::string& name,
+            const std::string& from,
+            const std::string& to,
+            int line,
+            const std::string& what) const {
+    const std::string path = Write(name + ".yaml", CubeCellWith(from, to));
+    return {name, "optimize " + path, path + ":" + std::to_string(line) + ":", what};
+  }
+
+  /// A Gazebo world case: kWorld with `from` replaced by `to`.
+  Case World(const std::string& name,
+             const std::string& from,
+             const std::string& to,
+             int line,
+             const std::string& what) const {
+    const std::string path = Write(name + ".world", WorldWith(from, to));
+    return {name, "optimize " + path, path + ":" + std::to_string(line) + ":", what};
+  }
+
+  void ExpectRejected(const std::vector<Case>& cases) const {
+    for (const Case& c : cases) {
+      SCOPED_TRACE(c.name + ": vantage " + c.args);
+      const auto run = RunVantage(c.args + " --out " + out_);
+      EXPECT_EQ(run.exit_code, 2) << run.err;
+      EXPECT_NE(run.err.find(c.place), std::string::npos) << "place '" << c.place << "' in:\n" << run.err;
+      EXPECT_NE(run.err.find(c.what), std::string::npos) << "'" << c.what << "' in:\n" << run.err;
+      EXPECT_EQ(run.err.find("internal"), std::string::npos) << run.err;
+      EXPECT_TRUE(Contents(out_) == outputs_) << "the earlier run's outputs changed";
+      // The atomic writer leaves no half-written sibling of out/ behind.
+      for (const auto& entry : fs::directory_iterator(dir_.path())) {
+        const std::string name = entry.path().filename().string();
+        EXPECT_FALSE(name != "out" && name.rfind("out", 0) == 0) << "left behind: " << name;
+      }
+    }
+  }
+
+  test::TempDir dir_;
+  std::string out_;
+  std::vector<std::pair<std::string, std::string>> outputs_;
+};
+
+TEST_F(BadInput, YamlScenes) {
+  Write("meshes/empty.obj", "");
+  Write("meshes/nan.obj", "v nan 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n");
+  Write("meshes/overflow.obj", "v 1e39 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n");  // inf as float
+  Write("meshes/flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+  Write("meshes/garbage.stl", "this is not a mesh\n");
+  const std::string cube = "box: {size: [0.1, 0.1, 0.1]}";
+  const auto mesh = [&](const std::string& name, const std::string& file, const std::string& what) {
+    return Yaml(name, cube, "mesh: {file: meshes/" + file + "}", 23, what);
+  };
+  const std::string empty = Write("empty.yaml", "");
+  const std::string txt = Write("scene.txt", ReadText(CubeCell()));
+  fs::create_directories(dir_.File("folder.yaml"));
+  ExpectRejected({
+      Yaml("malformed", "[0.6, 0.6, 0.02]}", "[0.6, 0.6, 0.02]", 20, "malformed YAML"),
+      Yaml("unknown_key", "cell_size: 0.01", "cel_size: 0.01", 4, "did you mean 'cell_size'?"),
+      Yaml("unknown_top_key", "objects:", "object:", 16, "did you mean 'objects'?"),
+      Yaml("word_for_integer", "  n: 2", "  n: two", 5, "expected a whole number, got 'two'"),
+      Yaml("word_for_number", "hfov: 1.0", "hfov: wide", 13, "expected a number, got 'wide'"),
+      Yaml("list_for_number", "cell_size: 0.01", "cell_size: [0.01]", 4, "expected a number"),
+      Yaml("nan_size", "size: [0.1, 0.1, 0.1]", "size: [0.1, .nan, 0.1]", 23, "finite"),
+      Yaml("negative_size", "size: [0.1, 0.1, 0.1]", "size: [0.1, -0.1, 0.1]", 23, "positive"),
+      Yaml("zero_radius", "radius: 0.03", "radius: 0", 27, "radius = 0 must be positive"),
+      Yaml("short_vector", "xyz: [0, 0, 0.05]", "xyz: [0, 0.05]", 24, "expected a list of 3 numbers"),
+      Yaml("fov_pi", "hfov: 1.0", "hfov: 3.1416", 13, "must lie in (0, π)"),
+      Yaml("fov_180_deg", "hfov: 1.0", "hfov_deg: 180", 13, "must lie in (0, 180)"),
+      Yaml("near_above_far", "range: [0.1, 3.0]", "range: [3.0, 0.1]", 14, "0 < near < far"),
+      Yaml("near_equals_far", "range: [0.1, 3.0]", "range: [1.0, 1.0]", 14, "0 < near < far"),
+      Yaml("zero_width", "resolution: [160, 120]", "resolution: [0, 120]", 12, "width = 0"),
+      Yaml("cell_size_zero", "cell_size: 0.01", "cell_size: 0", 4, "must be positive"),
+      Yaml("cell_size_infinite", "cell_size: 0.01", "cell_size: .inf", 4, "finite"),
+      Yaml("stop_as_percent", "stop_coverage: 1.0", "stop_coverage: 80", 8, "[0, 1]"),
+      Yaml("unknown_method", "  n: 2", "  n: 2\n  method: gredy", 6, "did you mean 'greedy'?"),
+      Yaml("unknown_sensor", "type: tiny_cam", "type: tiny_cm", 32, "did you mean 'tiny_cam'?"),
+      Yaml("catalog_id_reused", "- id: tiny_cam", "- id: zed", 11, "catalog id"),
+      mesh("missing_mesh", "nowhere.obj", "not found"),
+      mesh("empty_mesh", "empty.obj", "cannot read mesh"),
+      mesh("nan_vertex", "nan.obj", "not finite"),
+      mesh("overflowing_vertex", "overflow.obj", "not finite"),
+      mesh("degenerate_mesh", "flat.obj", "degenerate"),
+      mesh("not_a_mesh", "garbage.stl", "cannot read mesh"),
+      Yaml("no_target", "role: target", "role: occluder", 16, "no object is a target"),
+      Yaml("two_shapes", cube, cube + "\n    sphere: {radius: 0.1}", 24, "exactly one shape"),
+      Yaml("duplicate_object", "name: post", "name: cube", 25, "used twice"),
+      Yaml("zero_quaternion", "xyz: [0, 0, 0.05]}", "xyz: [0, 0, 0.05], quaternion: [0, 0, 0, 0]}",
+           24, "quaternion is zero"),
+      Yaml("count_zero", "count: 10", "count: 0", 34, "count = 0 is too small"),
+      Yaml("count_fraction", "count: 10", "count: 2.5", 34, "whole number"),
+      Yaml("linear_cylinder", "distribution: random", "distribution: linear-x", 35,
+           "linear distributions need a box region"),
+      Yaml("grid_with_count", "    rows: 2", "    count: 6\n    rows: 2", 40, "a grid takes no 'count'"),
+      Yaml("grid_without_step", "    step: [0.2, 0.2, 0]\n", "", 37, "has no 'step'"),
+      Yaml("unknown_distribution", "distribution: random", "distribution: spiral", 33,
+           "distribution 'spiral' is unknown"),
+      Yaml("sensor_named_like_clone", "populations:",
+           "sensors:\n  - {name: ring_3, type: tiny_cam, position: [1, 0, 1]}\npopulations:", 31,
+           "already used"),
+      {"empty_file", "optimize " + empty, empty + ":1:", "empty"},
+      {"unknown_extension", "optimize " + txt, txt, "unknown scene extension '.txt'"},
+      {"missing_scene_file", "optimize " + dir_.File("absent.yaml"), dir_.File("absent.yaml"),
+       "cannot open the scene file"},
+      {"scene_is_a_folder", "optimize " + dir_.File("folder.yaml"), dir_.File("folder.yaml"),
+       "cannot open the scene file"},
+      {"unknown_target_option", "optimize " + CubeCell() + " --target cbe", CubeCell(),
+       "--target 'cbe' names no object"},
+  });
+}
+
+TEST_F(BadInput, GazeboWorlds) {
+  // The base world itself is fine: each case below breaks exactly one thing of it.
+  const std::string good = Write("good.world", kWorld);
+  const auto run = RunVantage("optimize " + good + " --out " + dir_.File("world_out"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  fs::remove_all(dir_.File("world_out"));
+
+  const std::string box = "<box><size>0.1 0.1 0.1</size></box>";
+  const std::string empty = Write("empty.world", "");
+  const std::string not_sdf = Write(
+      "not_sdf.world", "<?xml version=\"1.0\"?>\n<gazebo version=\"1.6\"><world name=\"w\"/></gazebo>\n");
+  ExpectRejected({
+      World("malformed_xml", "</link>", "", 12, "malformed XML: </model> closes <link>"),
+      World("missing_model", "    <model name=\"cube\">",
+            "    <include><uri>model://no_such_model</uri></include>\n    <model name=\"cube\">", 4,
+            "'model://no_such_model' not found"),
+      World("missing_mesh", box, "<mesh><uri>meshes/nope.stl</uri></mesh>", 8,
+            "'meshes/nope.stl' of visual 'visual' of model 'cube' not found"),
+      World("unknown_population_form", "<type>random</type>", "<type>spiral</type>", 28,
+            "unknown <distribution><type> 'spiral'"),
+      World("linear_cylinder", "<type>random</type>", "<type>linear-x</type>", 26,
+            "works in a <box> region only"),
+      World("population_without_region", "<cylinder><radius>0.6</radius><length>0.2</length></cylinder>",
+            "", 13, "needs a region"),
+      World("population_without_depth_sensor", "type=\"depth\"", "type=\"camera\"", 14,
+            "has 0 depth sensors"),
+      World("colour_matches_nothing", "<diffuse>0 1 0 1</diffuse>", "<diffuse>1 0 0 1</diffuse>", 30,
+            "matches no visual's material colour"),
+      World("colour_out_of_range", "<observationPoint>",
+            "<sensorDataSegmentationColorRGB>0 300 0</sensorDataSegmentationColorRGB>\n      "
+            "<observationPoint>",
+            32, "three whole numbers from 0 to 255"),
+      World("nan_size", "<size>0.1 0.1 0.1</size>", "<size>0.1 nan 0.1</size>", 8, "finite"),
+      World("negative_size", "<size>0.1 0.1 0.1</size>", "<size>0.1 -0.1 0.1</size>", 8, "positive"),
+      World("negative_radius", "<radius>0.6</radius>", "<radius>-0.6</radius>", 26, "must be positive"),
+      World("nan_pose", "<pose>0 0 0.05 0 0 0</pose>", "<pose>0 0 nan 0 0 0</pose>", 7,
+            "6 finite numbers"),
+      World("short_pose", "<pose>0 0 0.05 0 0 0</pose>", "<pose>0 0 0.05 0 0</pose>", 7,
+            "6 finite numbers"),
+      World("count_zero", "<model_count>6</model_count>", "<model_count>0</model_count>", 27,
+            "<model_count> '0' must be a whole number"),
+      World("fov_beyond_pi", "<horizontal_fov>1.0</horizontal_fov>",
+            "<horizontal_fov>3.2</horizontal_fov>", 16, "field of view must lie in (0, pi)"),
+      World("near_above_far", "<near>0.1</near><far>3</far>", "<near>3</near><far>0.1</far>", 16,
+            "near = 3 must be below far = 0.1"),
+      World("zero_width", "<width>160</width>", "<width>0</width>", 19, "<width> '0'"),
+      World("negative_leaf_size", "<voxelGridFilterLeafSize>0.01", "<voxelGridFilterLeafSize>-0.01",
+            31, "must be positive"),
+      World("word_for_sensor_count", "<numberOfIntendedSensors>2", "<numberOfIntendedSensors>two",
+            33, "'two' must be a whole number"),
+      World("no_version", "<sdf version=\"1.6\">", "<sdf>", 2, "needs a version attribute"),
+      {"not_sdf", "optimize " + not_sdf, not_sdf + ":2:", "root element is <gazebo>"},
+      {"empty_world", "optimize " + empty, empty + ":1:", "malformed XML"},
+  });
+}
+
+TEST_F(BadInput, CommandLineOptions) {
+  const std::string scene = CubeCell();
+  ExpectRejected({
+      {"n_zero", "optimize " + scene + " -n 0", scene, "n = 0 is out of range"},
+      {"n_negative", "optimize " + scene + " -n -1", scene, "n = -1 is out of range"},
+      {"n_above_candidates", "optimize " + scene + " -n 17", scene,
+       "n = 17 is out of range: there are 16 candidates"},
+      {"n_word", "optimize " + scene + " -n abc", "--sensors", "abc"},
+      {"unknown_method", "optimize " + scene + " --method magic", "method", "unknown method 'magic'"},
+      {"negative_cell_size", "optimize " + scene + " --cell-size -1", "cell_size",
+       "cell_size = -1 must be a positive length"},
+      {"nan_cell_size", "optimize " + scene + " --cell-size nan", "cell_size", "cell_size = nan"},
+      {"tiny_cell_size", "optimize " + scene + " --cell-size 1e-300", "cell size of 1e-300",
+       "beyond the"},
+      {"negative_threads", "--threads -3 optimize " + scene, "--threads", "not in range"},
+      {"negative_threads_after", "optimize " + scene + " --threads -3", "--threads", "not in range"},
+      {"word_seed", "optimize " + scene + " --seed abc", "--seed", "abc"},
+      {"stop_above_one", "optimize " + scene + " --stop 1.5", scene, "ransac_stop_coverage = 1.5"},
+      {"zero_iterations", "optimize " + scene + " --iterations 0", scene, "ransac_iterations = 0"},
+      {"zero_time_limit", "optimize " + scene + " --time-limit 0", scene, "time_limit = 0"},
+      {"missing_scene", "optimize", "scene", "required"},
+      {"unknown_option", "optimize " + scene + " --frobnicate", "--frobnicate", "not expected"},
+      {"unknown_command", "frobnicate", "frobnicate", "not expected"},
+  });
+}
+
+TEST_F(BadInput, VisibilityFiles) {
+  const std::string good = dir_.File("good.vis");
+  const auto observe = RunVantage("observe " + CubeCell() + " --out " + good);
+  ASSERT_EQ(observe.exit_code, 0) << observe.err;
+  const std::string bytes = ReadText(good);
+  ASSERT_GT(bytes.size(), 1000u);
+
+  std::string flipped = bytes;
+  flipped[bytes.size() / 2] = static_cast<char>(~flipped[bytes.size() / 2]);
+  std::string version = bytes;
+  version[8] = 2;  // the u32 format version follows the 8-byte magic
+  // Cut in the middle but with a valid checksum: the payload reader itself must notice.
+  std::string cut = bytes.substr(0, bytes.size() / 2);
+  const uint64_t checksum = detail::Fnv1a64(cut);
+  cut.append(reinterpret_cast<const char*>(&checksum), 8);
+
+  const auto vis = [&](const std::string& name, const std::string& content) {
+    return Write(name + ".vis", content);
+  };
+  const std::string truncated = vis("truncated", bytes.substr(0, bytes.size() / 2));
+  const std::string corrupt = vis("corrupt", flipped);
+  const std::string foreign = vis("foreign", ReadText(CubeCell()));
+  const std::string empty = vis("empty", "");
+  const std::string newer = vis("newer", version);
+  const std::string short_payload = vis("short_payload", cut);
+  ExpectRejected({
+      {"vis_missing", "select " + dir_.File("absent.vis"), dir_.File("absent.vis"), "cannot open"},
+      {"vis_truncated", "select " + truncated, truncated, "checksum mismatch"},
+      {"vis_corrupt", "select " + corrupt, corrupt, "checksum mismatch"},
+      {"vis_foreign", "select " + foreign, foreign, "not a vantage visibility file"},
+      {"vis_empty", "select " + empty, empty, "not a vantage visibility file"},
+      {"vis_other_version", "select " + newer, newer, "format version 2"},
+      {"vis_short_payload", "select " + short_payload, short_payload, "the file is corrupt"},
+      {"vis_n_zero", "select " + good + " -n 0", CubeCell(), "n = 0 is out of range"},
+      {"vis_unknown_method", "select " + good + " --method magic", "method", "unknown method 'magic'"},
+  });
+  // A failed observe leaves an earlier matrix as it was.
+  const std::string broken = Write("broken.yaml", "objects: [\n");
+  const auto failed = RunVantage("observe " + broken + " --out " + good);
+  EXPECT_EQ(failed.exit_code, 2) << failed.err;
+  EXPECT_NE(failed.err.find(broken + ":"), std::string::npos) << failed.err;
+  EXPECT_EQ(ReadText(good), bytes);
+}
+
+TEST_F(BadInput, Constellations) {
+  const std::string scene = CubeCell();
+  const auto chosen = RunVantage("optimize " + scene + " -n 3 --method greedy --out " + dir_.File("o"));
+  ASSERT_EQ(chosen.exit_code, 0) << chosen.err;
+  const std::string text = ReadText(dir_.File("o/report.json"));
+  const json report = json::parse(text);
+  fs::remove_all(dir_.File("o"));
+
+  const auto variant = [&](const std::string& name, const auto& change) {
+    json changed = report;
+    change(changed);
+    return Write(name + ".json", changed.dump(2));
+  };
+  const auto evaluate = [&](const std::string& path) {
+    return "evaluate " + scene + " --constellation " + path;
+  };
+  const std::string truncated = Write("truncated.json", text.substr(0, text.size() / 2));
+  const std::string empty = Write("empty.json", "");
+  const std::string array = Write("array.json", "[1, 2, 3]\n");
+  const std::string schema = variant("schema", [](json& r) { r["schema"] = "vantage.report/9"; });
+  const std::string width = variant("width", [](json& r) { r["candidates"][0]["width"] = 0; });
+  const std::string range = variant("range", [](json& r) { r["candidates"][0]["near"] = 5.0; });
+  const std::string focal = variant("focal", [](json& r) { r["candidates"][0]["fx"] = -1.0; });
+  const std::string no_fx = variant("no_fx", [](json& r) { r["candidates"][0].erase("fx"); });
+  const std::string position = variant("position", [](json& r) { r["candidates"][0]["position"] = "here"; });
+  const std::string quaternion =
+      variant("quaternion", [](json& r) { r["candidates"][0]["quaternion"] = {0, 0, 0, 0}; });
+  const std::string duplicate =
+      variant("duplicate", [](json& r) { r["candidates"][1]["name"] = r["candidates"][0]["name"]; });
+  const std::string stranger =
+      variant("stranger", [](json& r) { r["results"][0]["sensors"].push_back("nobody"); });
+  const std::string nothing =
+      variant("nothing", [](json& r) { r["results"][0]["sensors"] = json::array(); });
+  const std::string numbers =
+      variant("numbers", [](json& r) { r["results"][0]["sensors"] = {1, 2}; });
+  ExpectRejected({
+      {"constellation_missing", evaluate(dir_.File("absent.json")), dir_.File("absent.json"),
+       "cannot open the constellation file"},
+      {"constellation_truncated", evaluate(truncated), truncated + ":", "not valid JSON"},
+      {"constellation_empty", evaluate(empty), empty + ":1:", "not valid JSON"},
+      {"constellation_not_a_report", evaluate(array), array + ":1:", "no 'candidates' array"},
+      {"constellation_other_schema", evaluate(schema), schema + ":1:", "is not vantage.report/1"},
+      {"constellation_zero_width", evaluate(width), width + ": candidates[0]", "width and height"},
+      {"constellation_near_above_far", evaluate(range), range + ": candidates[0]", "near = 5"},
+      {"constellation_negative_focal", evaluate(focal), focal + ": candidates[0]", "focal lengths"},
+      {"constellation_missing_fx", evaluate(no_fx), no_fx + ": candidates[0]", "'fx' must be a number"},
+      {"constellation_word_position", evaluate(position), position + ": candidates[0]",
+       "'position' must be an array of 3 numbers"},
+      {"constellation_zero_quaternion", evaluate(quaternion), quaternion + ": candidates[0]",
+       "zero length"},
+      {"constellation_duplicate_name", evaluate(duplicate), duplicate + ": candidates[1]",
+       "duplicate name"},
+      {"constellation_unknown_sensor", evaluate(stranger), stranger + ": results[0]",
+       "'nobody', which is not among the candidates"},
+      {"constellation_no_sensor", evaluate(nothing), nothing, "holds no sensor"},
+      {"constellation_numbers_for_names", evaluate(numbers), numbers + ": results",
+       "sensor names must be strings"},
+      {"constellation_bad_scene", "evaluate " + Write("bad.yaml", "objects: 3\n") +
+       " --constellation " + dir_.File("absent.json"), dir_.File("bad.yaml") + ":1:", "must be a list"},
+  });
+}
+
+}  // namespace
+}  // namespace vantage
