@@ -28,3 +28,12 @@ paper: build
 
 clean:
 	rm -rf $(BUILD) out
+
+# libFuzzer targets of the input readers (fuzz/), built with clang into fuzz/build; each runs for
+# FUZZ_SECONDS seconds. Fails when one finds a crash (inputs in fuzz/build/artifacts/).
+FUZZ_SECONDS ?= 60
+FUZZ_BUILD ?= fuzz/build
+
+.PHONY: fuzz
+fuzz: deps
+	FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_BUILD=$(FUZZ_BUILD) JOBS=$(JOBS) bash fuzz/run.sh

@@ -2,10 +2,9 @@
 // InputError is the expected outcome for bad input; anything else crashes.
 #include <spdlog/spdlog.h>
 
-#include <nlohmann/json.hpp>
-
 #include <cstddef>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 
 #include "fuzz_util.hpp"
 #include "vantage/error.hpp"

@@ -24,7 +24,8 @@ inline std::string SourcePath(const std::string& relative) {
 inline const std::string& ScratchDir() {
   static const std::string* const dir = [] {
     namespace fs = std::filesystem;
-    const fs::path path = fs::temp_directory_path() / ("vantage_fuzz_" + std::to_string(::getpid()));
+    const fs::path path =
+        fs::temp_directory_path() / ("vantage_fuzz_" + std::to_string(::getpid()));
     fs::remove_all(path);
     fs::create_directories(path / "scenes");
     // YAML scenes of examples/scenes name meshes as ../meshes/NAME.

@@ -29,8 +29,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   options.resource_paths = {vantage::fuzz::SourcePath("tests/data/worlds")};
   try {
     const vantage::Problem problem = vantage::LoadGazeboWorld(path, options);
-    for (const vantage::Population& p : problem.populations) VANTAGE_CHECK(problem.FindType(p.sensor_type));
-    for (const vantage::ExplicitSensor& s : problem.sensors) VANTAGE_CHECK(problem.FindType(s.sensor_type));
+    for (const vantage::Population& p : problem.populations)
+      VANTAGE_CHECK(problem.FindType(p.sensor_type));
+    for (const vantage::ExplicitSensor& s : problem.sensors)
+      VANTAGE_CHECK(problem.FindType(s.sensor_type));
     VANTAGE_CHECK(problem.cell_size > 0);
   } catch (const vantage::InputError&) {
     // rejected with a message: the expected outcome for bad input

@@ -22,8 +22,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     const vantage::Problem problem = vantage::LoadYamlScene(path);
     // A scene that loads must be usable: every population and sensor names a known type.
-    for (const vantage::Population& p : problem.populations) VANTAGE_CHECK(problem.FindType(p.sensor_type));
-    for (const vantage::ExplicitSensor& s : problem.sensors) VANTAGE_CHECK(problem.FindType(s.sensor_type));
+    for (const vantage::Population& p : problem.populations)
+      VANTAGE_CHECK(problem.FindType(p.sensor_type));
+    for (const vantage::ExplicitSensor& s : problem.sensors)
+      VANTAGE_CHECK(problem.FindType(s.sensor_type));
     VANTAGE_CHECK(problem.cell_size > 0);
     VANTAGE_CHECK(problem.scene.TargetCount() > 0);
   } catch (const vantage::InputError&) {

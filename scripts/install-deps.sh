@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs every Debian package vantage needs to build, test and benchmark.
-# Idempotent; run as root (or with sudo available). Chromium is for the HTML report test.
+# Idempotent; run as root (or with sudo available). Chromium is for the HTML report test; clang
+# and libclang-rt-14-dev (libFuzzer) for `make fuzz`.
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
@@ -9,6 +10,7 @@ PACKAGES=(
   libembree-dev libassimp-dev libeigen3-dev libtbb-dev libyaml-cpp-dev nlohmann-json3-dev
   libcli11-dev libfmt-dev libspdlog-dev libsdformat-dev coinor-libcbc-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpng-dev libstb-dev libjs-three chromium
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -143,7 +143,8 @@ class BadInput : public ::testing::Test {
       SCOPED_TRACE(c.name + ": vantage " + c.args);
       const auto run = RunVantage(c.args + " --out " + out_);
       EXPECT_EQ(run.exit_code, 2) << run.err;
-      EXPECT_NE(run.err.find(c.place), std::string::npos) << "place '" << c.place << "' in:\n" << run.err;
+      EXPECT_NE(run.err.find(c.place), std::string::npos) << "place '" << c.place << "' in:\n"
+                                                          << run.err;
       EXPECT_NE(run.err.find(c.what), std::string::npos) << "'" << c.what << "' in:\n" << run.err;
       EXPECT_EQ(run.err.find("internal"), std::string::npos) << run.err;
       EXPECT_TRUE(Contents(out_) == outputs_) << "the earlier run's outputs changed";
@@ -183,7 +184,8 @@ TEST_F(BadInput, YamlScenes) {
       Yaml("nan_size", "size: [0.1, 0.1, 0.1]", "size: [0.1, .nan, 0.1]", 23, "finite"),
       Yaml("negative_size", "size: [0.1, 0.1, 0.1]", "size: [0.1, -0.1, 0.1]", 23, "positive"),
       Yaml("zero_radius", "radius: 0.03", "radius: 0", 27, "radius = 0 must be positive"),
-      Yaml("short_vector", "xyz: [0, 0, 0.05]", "xyz: [0, 0.05]", 24, "expected a list of 3 numbers"),
+      Yaml("short_vector", "xyz: [0, 0, 0.05]", "xyz: [0, 0.05]", 24,
+           "expected a list of 3 numbers"),
       Yaml("fov_pi", "hfov: 1.0", "hfov: 3.1416", 13, "must lie in (0, π)"),
       Yaml("fov_180_deg", "hfov: 1.0", "hfov_deg: 180", 13, "must lie in (0, 180)"),
       Yaml("near_above_far", "range: [0.1, 3.0]", "range: [3.0, 0.1]", 14, "0 < near < far"),
@@ -210,7 +212,8 @@ TEST_F(BadInput, YamlScenes) {
       Yaml("count_fraction", "count: 10", "count: 2.5", 34, "whole number"),
       Yaml("linear_cylinder", "distribution: random", "distribution: linear-x", 35,
            "linear distributions need a box region"),
-      Yaml("grid_with_count", "    rows: 2", "    count: 6\n    rows: 2", 40, "a grid takes no 'count'"),
+      Yaml("grid_with_count", "    rows: 2", "    count: 6\n    rows: 2", 40,
+           "a grid takes no 'count'"),
       Yaml("grid_without_step", "    step: [0.2, 0.2, 0]\n", "", 37, "has no 'step'"),
       Yaml("unknown_distribution", "distribution: random", "distribution: spiral", 33,
            "distribution 'spiral' is unknown"),
@@ -237,8 +240,9 @@ TEST_F(BadInput, GazeboWorlds) {
 
   const std::string box = "<box><size>0.1 0.1 0.1</size></box>";
   const std::string empty = Write("empty.world", "");
-  const std::string not_sdf = Write(
-      "not_sdf.world", "<?xml version=\"1.0\"?>\n<gazebo version=\"1.6\"><world name=\"w\"/></gazebo>\n");
+  const std::string not_sdf =
+      Write("not_sdf.world",
+            "<?xml version=\"1.0\"?>\n<gazebo version=\"1.6\"><world name=\"w\"/></gazebo>\n");
   ExpectRejected({
       World("malformed_xml", "</link>", "", 12, "malformed XML: </model> closes <link>"),
       World("missing_model", "    <model name=\"cube\">",
@@ -250,19 +254,22 @@ TEST_F(BadInput, GazeboWorlds) {
             "unknown <distribution><type> 'spiral'"),
       World("linear_cylinder", "<type>random</type>", "<type>linear-x</type>", 26,
             "works in a <box> region only"),
-      World("population_without_region", "<cylinder><radius>0.6</radius><length>0.2</length></cylinder>",
-            "", 13, "needs a region"),
+      World("population_without_region",
+            "<cylinder><radius>0.6</radius><length>0.2</length></cylinder>", "", 13,
+            "needs a region"),
       World("population_without_depth_sensor", "type=\"depth\"", "type=\"camera\"", 14,
             "has 0 depth sensors"),
-      World("colour_matches_nothing", "<diffuse>0 1 0 1</diffuse>", "<diffuse>1 0 0 1</diffuse>", 30,
-            "matches no visual's material colour"),
+      World("colour_matches_nothing", "<diffuse>0 1 0 1</diffuse>", "<diffuse>1 0 0 1</diffuse>",
+            30, "matches no visual's material colour"),
       World("colour_out_of_range", "<observationPoint>",
             "<sensorDataSegmentationColorRGB>0 300 0</sensorDataSegmentationColorRGB>\n      "
             "<observationPoint>",
             32, "three whole numbers from 0 to 255"),
       World("nan_size", "<size>0.1 0.1 0.1</size>", "<size>0.1 nan 0.1</size>", 8, "finite"),
-      World("negative_size", "<size>0.1 0.1 0.1</size>", "<size>0.1 -0.1 0.1</size>", 8, "positive"),
-      World("negative_radius", "<radius>0.6</radius>", "<radius>-0.6</radius>", 26, "must be positive"),
+      World("negative_size", "<size>0.1 0.1 0.1</size>", "<size>0.1 -0.1 0.1</size>", 8,
+            "positive"),
+      World("negative_radius", "<radius>0.6</radius>", "<radius>-0.6</radius>", 26,
+            "must be positive"),
       World("nan_pose", "<pose>0 0 0.05 0 0 0</pose>", "<pose>0 0 nan 0 0 0</pose>", 7,
             "6 finite numbers"),
       World("short_pose", "<pose>0 0 0.05 0 0 0</pose>", "<pose>0 0 0.05 0 0</pose>", 7,
@@ -292,21 +299,22 @@ TEST_F(BadInput, CommandLineOptions) {
       {"n_above_candidates", "optimize " + scene + " -n 17", scene,
        "n = 17 is out of range: there are 16 candidates"},
       {"n_word", "optimize " + scene + " -n abc", "--sensors", "abc"},
-      {"unknown_method", "optimize " + scene + " --method magic", "method", "unknown method 'magic'"},
+      {"unknown_method", "optimize " + scene + " --method magic", "method",
+       "unknown method 'magic'"},
       {"negative_cell_size", "optimize " + scene + " --cell-size -1", "cell_size",
        "cell_size = -1 must be a positive length"},
       {"nan_cell_size", "optimize " + scene + " --cell-size nan", "cell_size", "cell_size = nan"},
       {"tiny_cell_size", "optimize " + scene + " --cell-size 1e-300", "cell size of 1e-300",
        "beyond the"},
       {"negative_threads", "--threads -3 optimize " + scene, "--threads", "not in range"},
-      {"negative_threads_after", "optimize " + scene + " --threads -3", "--threads", "not in range"},
+      {"negative_threads_after", "optimize " + scene + " --threads -3", "--threads",
+       "not in range"},
       {"word_seed", "optimize " + scene + " --seed abc", "--seed", "abc"},
       {"stop_above_one", "optimize " + scene + " --stop 1.5", scene, "ransac_stop_coverage = 1.5"},
       {"zero_iterations", "optimize " + scene + " --iterations 0", scene, "ransac_iterations = 0"},
       {"zero_time_limit", "optimize " + scene + " --time-limit 0", scene, "time_limit = 0"},
       {"missing_scene", "optimize", "scene", "required"},
       {"unknown_option", "optimize " + scene + " --frobnicate", "--frobnicate", "not expected"},
-      {"unknown_command", "frobnicate", "frobnicate", "not expected"},
   });
 }
 
@@ -320,7 +328,7 @@ TEST_F(BadInput, VisibilityFiles) {
   std::string flipped = bytes;
   flipped[bytes.size() / 2] = static_cast<char>(~flipped[bytes.size() / 2]);
   std::string version = bytes;
-  version[8] = 2;  // the u32 format version follows the 8-byte magic
+  version[8] = 99;  // the u32 format version follows the 8-byte magic
   // Cut in the middle but with a valid checksum: the payload reader itself must notice.
   std::string cut = bytes.substr(0, bytes.size() / 2);
   const uint64_t checksum = detail::Fnv1a64(cut);
@@ -341,10 +349,11 @@ TEST_F(BadInput, VisibilityFiles) {
       {"vis_corrupt", "select " + corrupt, corrupt, "checksum mismatch"},
       {"vis_foreign", "select " + foreign, foreign, "not a vantage visibility file"},
       {"vis_empty", "select " + empty, empty, "not a vantage visibility file"},
-      {"vis_other_version", "select " + newer, newer, "format version 2"},
+      {"vis_other_version", "select " + newer, newer, "format version 99"},
       {"vis_short_payload", "select " + short_payload, short_payload, "the file is corrupt"},
       {"vis_n_zero", "select " + good + " -n 0", CubeCell(), "n = 0 is out of range"},
-      {"vis_unknown_method", "select " + good + " --method magic", "method", "unknown method 'magic'"},
+      {"vis_unknown_method", "select " + good + " --method magic", "method",
+       "unknown method 'magic'"},
   });
   // A failed observe leaves an earlier matrix as it was.
   const std::string broken = Write("broken.yaml", "objects: [\n");
@@ -356,7 +365,8 @@ TEST_F(BadInput, VisibilityFiles) {
 
 TEST_F(BadInput, Constellations) {
   const std::string scene = CubeCell();
-  const auto chosen = RunVantage("optimize " + scene + " -n 3 --method greedy --out " + dir_.File("o"));
+  const auto chosen =
+      RunVantage("optimize " + scene + " -n 3 --method greedy --out " + dir_.File("o"));
   ASSERT_EQ(chosen.exit_code, 0) << chosen.err;
   const std::string text = ReadText(dir_.File("o/report.json"));
   const json report = json::parse(text);
@@ -378,17 +388,20 @@ TEST_F(BadInput, Constellations) {
   const std::string range = variant("range", [](json& r) { r["candidates"][0]["near"] = 5.0; });
   const std::string focal = variant("focal", [](json& r) { r["candidates"][0]["fx"] = -1.0; });
   const std::string no_fx = variant("no_fx", [](json& r) { r["candidates"][0].erase("fx"); });
-  const std::string position = variant("position", [](json& r) { r["candidates"][0]["position"] = "here"; });
-  const std::string quaternion =
-      variant("quaternion", [](json& r) { r["candidates"][0]["quaternion"] = {0, 0, 0, 0}; });
-  const std::string duplicate =
-      variant("duplicate", [](json& r) { r["candidates"][1]["name"] = r["candidates"][0]["name"]; });
+  const std::string position =
+      variant("position", [](json& r) { r["candidates"][0]["position"] = "here"; });
+  const std::string quaternion = variant("quaternion", [](json& r) {
+    r["candidates"][0]["quaternion"] = {0, 0, 0, 0};
+  });
+  const std::string duplicate = variant(
+      "duplicate", [](json& r) { r["candidates"][1]["name"] = r["candidates"][0]["name"]; });
   const std::string stranger =
       variant("stranger", [](json& r) { r["results"][0]["sensors"].push_back("nobody"); });
   const std::string nothing =
       variant("nothing", [](json& r) { r["results"][0]["sensors"] = json::array(); });
-  const std::string numbers =
-      variant("numbers", [](json& r) { r["results"][0]["sensors"] = {1, 2}; });
+  const std::string numbers = variant("numbers", [](json& r) {
+    r["results"][0]["sensors"] = {1, 2};
+  });
   ExpectRejected({
       {"constellation_missing", evaluate(dir_.File("absent.json")), dir_.File("absent.json"),
        "cannot open the constellation file"},
@@ -399,7 +412,8 @@ TEST_F(BadInput, Constellations) {
       {"constellation_zero_width", evaluate(width), width + ": candidates[0]", "width and height"},
       {"constellation_near_above_far", evaluate(range), range + ": candidates[0]", "near = 5"},
       {"constellation_negative_focal", evaluate(focal), focal + ": candidates[0]", "focal lengths"},
-      {"constellation_missing_fx", evaluate(no_fx), no_fx + ": candidates[0]", "'fx' must be a number"},
+      {"constellation_missing_fx", evaluate(no_fx), no_fx + ": candidates[0]",
+       "'fx' must be a number"},
       {"constellation_word_position", evaluate(position), position + ": candidates[0]",
        "'position' must be an array of 3 numbers"},
       {"constellation_zero_quaternion", evaluate(quaternion), quaternion + ": candidates[0]",
@@ -411,8 +425,10 @@ TEST_F(BadInput, Constellations) {
       {"constellation_no_sensor", evaluate(nothing), nothing, "holds no sensor"},
       {"constellation_numbers_for_names", evaluate(numbers), numbers + ": results",
        "sensor names must be strings"},
-      {"constellation_bad_scene", "evaluate " + Write("bad.yaml", "objects: 3\n") +
-       " --constellation " + dir_.File("absent.json"), dir_.File("bad.yaml") + ":1:", "must be a list"},
+      {"constellation_bad_scene",
+       "evaluate " + Write("bad.yaml", "objects: 3\n") + " --constellation " +
+           dir_.File("absent.json"),
+       dir_.File("bad.yaml") + ":1:", "must be a list"},
   });
 }
 

@@ -9,13 +9,17 @@
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
+#include "vantage/gazebo_export.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <sdf/sdf.hh>
 #include <set>
 #include <string>
@@ -25,7 +29,6 @@
 #include "scene/gazebo_xml.hpp"
 #include "test_util.hpp"
 #include "vantage/error.hpp"
-#include "vantage/gazebo_export.hpp"
 #include "vantage/problem.hpp"
 
 namespace vantage {
@@ -96,6 +99,10 @@ SdfWorld LoadWithSdformat(const std::string& path, const std::string& model_dir)
   config.SetFindCallback([model_dir](const std::string& uri) -> std::string {
     if (uri.rfind("model://", 0) != 0) return "";
     const std::string candidate = model_dir + "/" + uri.substr(8);
+    // sdformat wants a model.config in a model folder; the test models may have only model.sdf.
+    if (std::filesystem::is_directory(candidate) &&
+        !std::filesystem::exists(candidate + "/model.config"))
+      return candidate + "/model.sdf";
     return std::filesystem::exists(candidate) ? candidate : "";
   });
   SdfWorld result;
@@ -296,13 +303,12 @@ TEST(GazeboExportCli, OptimizeAWorldWithNoOptionRunsThePluginsExperiment) {
   SetEnv("GAZEBO_MODEL_PATH", costa + "/media/models");
   SetEnv("GAZEBO_RESOURCE_PATH", costa + "/media");
   test::TempDir dir;
-  const auto run = test::RunVantage("-q optimize " + world + " --method greedy --out " +
-                                    dir.File("out"));
+  const auto run =
+      test::RunVantage("-q optimize " + world + " --method greedy --out " + dir.File("out"));
   UnsetEnv("GAZEBO_MODEL_PATH");
   UnsetEnv("GAZEBO_RESOURCE_PATH");
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const nlohmann::json report =
-      nlohmann::json::parse(test::ReadText(dir.File("out/report.json")));
+  const nlohmann::json report = nlohmann::json::parse(test::ReadText(dir.File("out/report.json")));
   // The plugin's parameters: N = 1, F = 0.005, 100 sampling sensors.
   EXPECT_EQ(report["cell_size"].get<double>(), 0.005);
   EXPECT_EQ(report["candidates"].size(), 100u);
@@ -311,17 +317,89 @@ TEST(GazeboExportCli, OptimizeAWorldWithNoOptionRunsThePluginsExperiment) {
   EXPECT_TRUE(std::filesystem::exists(dir.File("out/constellation.world")));
 }
 
+/// The model frames of export.world's `box_random` clones in a report: test_camera's camera sits
+/// at (0.01, 0, 0.02), yaw 90°, in its model (tests/data/worlds/models/test_camera).
+std::vector<Pose> BoxRandomModels(const nlohmann::json& report) {
+  const Pose model_from_camera{Vec3(0.01, 0, 0.02),
+                               Quat(Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitZ()))};
+  std::vector<Pose> models;
+  for (const auto& c : report["candidates"]) {
+    if (c["name"].get<std::string>().rfind("box_random_", 0) != 0) continue;
+    const auto& p = c["position"];
+    const auto& q = c["quaternion"];
+    const Pose world_from_camera{
+        Vec3(p[0].get<double>(), p[1].get<double>(), p[2].get<double>()),
+        Quat(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>())};
+    models.push_back(world_from_camera * model_from_camera.Inverse());
+  }
+  return models;
+}
+
+TEST(GazeboExportCli, CommandLineOverridesThePluginsParameters) {
+  // export.world's models are in models/ beside it: no option is needed at all.
+  test::TempDir dir;
+  const std::string world = World("export.world");
+  UnsetEnv("GAZEBO_MODEL_PATH");
+  const auto plain =
+      test::RunVantage("-q optimize " + world + " --method greedy --out " + dir.File("plain"));
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  const auto same = test::RunVantage("-q optimize " + world +
+                                     " --method greedy -n 3 "
+                                     "--cell-size 0.005 --observation-point 0 0 0.1 "
+                                     "--random-roll true --out " +
+                                     dir.File("same"));
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  const auto other = test::RunVantage("-q optimize " + world +
+                                      " --method greedy -n 2 "
+                                      "--cell-size 0.01 --observation-point 0 0 0.2 "
+                                      "--random-roll false --out " +
+                                      dir.File("other"));
+  ASSERT_EQ(other.exit_code, 0) << other.err;
+  const auto read = [&](const std::string& name) {
+    nlohmann::json report = nlohmann::json::parse(test::ReadText(dir.File(name + "/report.json")));
+    report.erase("timings");
+    for (auto& r : report["results"]) r.erase("seconds");
+    return report;
+  };
+  const nlohmann::json a = read("plain");
+  const nlohmann::json b = read("same");
+  const nlohmann::json c = read("other");
+  // The plugin's values: N = 3, the observation point (0, 0, 0.1), random roll on.
+  EXPECT_EQ(a["results"][0]["n"].get<int>(), 3);
+  EXPECT_EQ(a["cell_size"].get<double>(), 0.005);
+  EXPECT_EQ(a["candidates"], b["candidates"]);
+  EXPECT_EQ(a["results"], b["results"]);
+  // Overridden: N = 2, F = 0.01, every model looking at (0, 0, 0.2) with roll 0.
+  EXPECT_EQ(c["results"][0]["n"].get<int>(), 2);
+  EXPECT_EQ(c["cell_size"].get<double>(), 0.01);
+  const std::vector<Pose> rolled = BoxRandomModels(a);
+  const std::vector<Pose> level = BoxRandomModels(c);
+  ASSERT_EQ(rolled.size(), 6u);
+  ASSERT_EQ(level.size(), 6u);
+  double max_tilt = 0;
+  for (const Pose& model : rolled) {
+    const Vec3 look = (Vec3(0, 0, 0.1) - model.position).normalized();
+    EXPECT_LT((model.rotation * Vec3::UnitX() - look).norm(), 1e-9);
+    max_tilt = std::max(max_tilt, std::abs((model.rotation * Vec3::UnitY()).z()));
+  }
+  EXPECT_GT(max_tilt, 0.1);  // random roll tilts the left axis
+  for (const Pose& model : level) {
+    const Vec3 look = (Vec3(0, 0, 0.2) - model.position).normalized();
+    EXPECT_LT((model.rotation * Vec3::UnitX() - look).norm(), 1e-9);
+    EXPECT_LT(std::abs((model.rotation * Vec3::UnitY()).z()), 1e-9);  // roll 0: left is level
+  }
+}
+
 TEST(GazeboExportCli, OptimizeWritesAConstellationWorldThatSdformatLoads) {
   const std::string costa = test::Costa2017Dir();
   const std::string world = costa + "/worlds/bin_picking.world";
   const std::string models = costa + "/media/models";
   test::TempDir dir;
-  const auto run = test::RunVantage("-q optimize " + world + " --model-path " + models +
-                                    " --resource-path " + costa + "/media" +
-                                    " -n 3 --method greedy --out " + dir.File("out"));
+  const auto run =
+      test::RunVantage("-q optimize " + world + " --model-path " + models + " --resource-path " +
+                       costa + "/media" + " -n 3 --method greedy --out " + dir.File("out"));
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const nlohmann::json report =
-      nlohmann::json::parse(test::ReadText(dir.File("out/report.json")));
+  const nlohmann::json report = nlohmann::json::parse(test::ReadText(dir.File("out/report.json")));
   ASSERT_EQ(report["results"].size(), 1u);
   std::set<std::string> chosen;
   for (const auto& name : report["results"][0]["sensors"]) chosen.insert(name.get<std::string>());
@@ -333,8 +411,8 @@ TEST(GazeboExportCli, OptimizeWritesAConstellationWorldThatSdformatLoads) {
     EXPECT_NE(error.find("model://sun"), std::string::npos) << error;
   EXPECT_TRUE(sdf.populations.empty());
   std::set<std::string> expected = chosen;
-  expected.insert({"tool_trolley", "stacking_box", "alternator", "differential_gearbox",
-                   "starter_motor"});
+  expected.insert(
+      {"tool_trolley", "stacking_box", "alternator", "differential_gearbox", "starter_motor"});
   EXPECT_EQ(sdf.models, expected);
   EXPECT_EQ(sdf.cameras.size(), 3u);
   // Each camera where report.json puts it (JSON numbers round-trip).

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <set>
 
@@ -303,24 +304,34 @@ TEST(Select, GreedyIsSuboptimalOnTheClassicInstance) {
   EXPECT_NEAR(*exact.upper_bound, 12.0 / 13, 1e-12);
 }
 
-TEST(Select, ExactNeedsTheSolverWhenLocalSearchIsStuck) {
+TEST(Select, TwoSwapsAndExactEscapeWhereOneSwapIsStuck) {
   // R = 12 cells, n = 2:
   //   c0 = {0,1,2,3,6,7,8,9}  (8)   c1 = {4,5}   c2 = {10,11}
   //   c3 = {0,...,5}          (6)   c4 = {6,...,11}  (6)
-  // Greedy: c0, then c1, c2, c3, c4 all add 2 -> c1: 10 cells. From [c0, c1] no swap helps:
+  // Greedy: c0, then c1, c2, c3, c4 all add 2 -> c1: 10 cells. From [c0, c1] no 1-swap helps:
   // dropping c0 loses 8 and the best newcomer (c4) brings back 6; dropping c1 loses 2 and any
-  // newcomer adds 2. So local = greedy = 10, while {c3, c4} covers all 12.
+  // newcomer adds 2. The 2-swap {c0, c1} -> {c3, c4} covers all 12 (c3 to position 0: on equal
+  // bring, 6 and 6, the lower index goes first). Exact from the stuck start finds it too.
   const std::vector<Observation> obs = {Obs({0, 1, 2, 3, 6, 7, 8, 9}), Obs({4, 5}), Obs({10, 11}),
                                         Obs({0, 1, 2, 3, 4, 5}), Obs({6, 7, 8, 9, 10, 11})};
   const Selection greedy = SelectOne(obs, 12, Method::kGreedy, 2);
   EXPECT_EQ(greedy.chosen, (std::vector<uint32_t>{0, 1}));
+  const detail::CoverageMatrix matrix(obs, 12);
+  detail::LocalOptions one_swap;
+  one_swap.two_swap = false;
+  EXPECT_EQ(detail::LocalSearch(matrix, greedy.chosen, one_swap), (std::vector<uint32_t>{0, 1}));
+  EXPECT_EQ(detail::LocalSearch(matrix, greedy.chosen), (std::vector<uint32_t>{3, 4}));
   const Selection local = SelectOne(obs, 12, Method::kLocal, 2);
-  EXPECT_EQ(local.chosen, (std::vector<uint32_t>{0, 1}));
-  EXPECT_DOUBLE_EQ(local.coverage, 10.0 / 12);
-  const Selection exact = SelectOne(obs, 12, Method::kExact, 2);
+  EXPECT_EQ(local.chosen, (std::vector<uint32_t>{3, 4}));
+  EXPECT_DOUBLE_EQ(local.coverage, 1.0);
+
+  const detail::ExactResult exact = detail::SolveExact(matrix, 2, {0, 1}, 60);
   EXPECT_EQ(Sorted(exact.chosen), (std::vector<uint32_t>{3, 4}));
-  EXPECT_DOUBLE_EQ(exact.coverage, 1.0);
   EXPECT_TRUE(exact.proven_optimal);
+  EXPECT_EQ(exact.upper_bound, 12u);
+  const Selection via_select = SelectOne(obs, 12, Method::kExact, 2);
+  EXPECT_EQ(Sorted(via_select.chosen), (std::vector<uint32_t>{3, 4}));
+  EXPECT_TRUE(via_select.proven_optimal);
 }
 
 TEST(Select, TiesGoToTheLowerIndex) {
@@ -533,6 +544,475 @@ TEST(Select, ExactFallsBackToItsStartWhenTheModelIsTooLargeForTheTimeLimit) {
   EXPECT_EQ(result.upper_bound,
             std::max(detail::SimpleUpperBound(matrix, start, 3), matrix.CoveredWeight(start)));
   EXPECT_FALSE(result.proven_optimal);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Further objectives: set cover, k-coverage, budget
+
+// Cells of R seen by at least k of `chosen`, counted independently of the library.
+size_t KUnionSize(const std::vector<Observation>& obs, const std::vector<uint32_t>& chosen,
+                  int k) {
+  std::map<uint32_t, int> seen;
+  for (uint32_t c : chosen) {
+    for (uint32_t cell : obs[c].reference_indices) ++seen[cell];
+  }
+  return static_cast<size_t>(
+      std::count_if(seen.begin(), seen.end(), [&](const auto& p) { return p.second >= k; }));
+}
+
+// Every subset of the m candidates, as index lists (m <= 14).
+std::vector<std::vector<uint32_t>> AllSubsets(size_t m) {
+  std::vector<std::vector<uint32_t>> subsets;
+  for (uint32_t mask = 1; mask < (1u << m); ++mask) {
+    std::vector<uint32_t> s;
+    for (uint32_t i = 0; i < m; ++i) {
+      if (mask & (1u << i)) s.push_back(i);
+    }
+    subsets.push_back(std::move(s));
+  }
+  return subsets;
+}
+
+double SumOfCosts(const std::vector<double>& costs, const std::vector<uint32_t>& chosen) {
+  double total = 0;
+  for (uint32_t c : chosen) total += costs[c];  // the order Selection::cost sums in
+  return total;
+}
+
+SelectOptions GoalOptions(Method method, double goal) {
+  SelectOptions options = Options(method, 1);
+  options.goal = goal;
+  return options;
+}
+
+SelectOptions KOptions(Method method, int n, int k) {
+  SelectOptions options = Options(method, n);
+  options.k = k;
+  return options;
+}
+
+SelectOptions BudgetOptions(Method method, double budget, std::vector<double> costs) {
+  SelectOptions options = Options(method, 1);
+  options.budget = budget;
+  options.costs = std::move(costs);
+  return options;
+}
+
+TEST(Objectives, NamesAndWhichObjectiveIsActive) {
+  SelectOptions o;
+  EXPECT_EQ(o.objective(), Objective::kCoverage);
+  o.k = 2;
+  EXPECT_EQ(o.objective(), Objective::kKCoverage);
+  o.k = 1;
+  o.goal = 0.5;
+  EXPECT_EQ(o.objective(), Objective::kSetCover);
+  o.goal.reset();
+  o.budget = 3;
+  EXPECT_EQ(o.objective(), Objective::kBudget);
+  EXPECT_EQ(ObjectiveName(Objective::kCoverage), "coverage");
+  EXPECT_EQ(ObjectiveName(Objective::kSetCover), "set-cover");
+  EXPECT_EQ(ObjectiveName(Objective::kKCoverage), "k-coverage");
+  EXPECT_EQ(ObjectiveName(Objective::kBudget), "budget");
+}
+
+TEST(Objectives, ValidateRejectsBadObjectives) {
+  const auto message = [](const SelectOptions& o, size_t m) {
+    try {
+      o.Validate(m);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no InputError");
+  };
+  for (double goal : {0.0, -0.5, 1.01, std::numeric_limits<double>::quiet_NaN()}) {
+    EXPECT_NE(message(GoalOptions(Method::kAll, goal), 4).find("goal"), std::string::npos) << goal;
+  }
+  EXPECT_NO_THROW(GoalOptions(Method::kAll, 1.0).Validate(4));
+  SelectOptions both = GoalOptions(Method::kAll, 0.5);
+  both.k = 2;
+  both.n = 2;
+  EXPECT_NE(message(both, 4).find("only one of"), std::string::npos);
+  EXPECT_NE(message(KOptions(Method::kAll, 1, 2), 4).find("raise -n to at least 2"),
+            std::string::npos);
+  EXPECT_NE(message(KOptions(Method::kAll, 2, 0), 4).find("k = 0"), std::string::npos);
+  EXPECT_NE(message(KOptions(Method::kBest, 2, 2), 4).find("method 'best' does not apply"),
+            std::string::npos);
+  EXPECT_NE(message(GoalOptions(Method::kLocal, 0.5), 4).find("use one of greedy, exact, all"),
+            std::string::npos);
+  EXPECT_NE(message(BudgetOptions(Method::kRansac, 5, {1, 1, 1, 1}), 4).find("ransac"),
+            std::string::npos);
+  EXPECT_NE(message(BudgetOptions(Method::kAll, 5, {1, 1}), 4).find("2 costs for 4"),
+            std::string::npos);
+  EXPECT_NE(message(BudgetOptions(Method::kAll, 5, {1, -1, 1, 1}), 4).find("cost -1"),
+            std::string::npos);
+  EXPECT_NE(message(BudgetOptions(Method::kAll, 2, {3, 4, 5, 6}), 4)
+                .find("budget 2 is below the cheapest candidate's cost 3"),
+            std::string::npos);
+  EXPECT_NO_THROW(BudgetOptions(Method::kAll, 3, {3, 4, 5, 6}).Validate(4));
+}
+
+TEST(CoverageEvaluator, KCoverageCountsCellsSeenKTimes) {
+  // A sees 0-2 and keys 100, 200; B sees 2-3 and 200, 300; C sees 0, 3 and 200.
+  const std::vector<Observation> obs = {Obs({0, 1, 2}, {100, 200}), Obs({2, 3}, {200, 300}),
+                                        Obs({0, 3}, {200})};
+  const CoverageEvaluator evaluator(obs, 10);
+  const std::vector<uint32_t> ab{0, 1}, abc{0, 1, 2};
+  EXPECT_EQ(evaluator.CoveredCount(ab, 2), 1u);   // cell 2
+  EXPECT_EQ(evaluator.CoveredCount(abc, 2), 3u);  // cells 0, 2, 3
+  EXPECT_EQ(evaluator.CoveredCount(abc, 3), 0u);
+  EXPECT_DOUBLE_EQ(evaluator.Coverage(abc, 2), 0.3);
+  // Cells 0, 2, 3 and key 200 (seen 3 times); 100 and 300 only once.
+  EXPECT_DOUBLE_EQ(evaluator.PaperCoverage(abc, 2), 0.4);
+  EXPECT_DOUBLE_EQ(evaluator.PaperCoverage(abc, 3), 0.1);
+  EXPECT_DOUBLE_EQ(evaluator.PaperCoverage(abc, 1), evaluator.PaperCoverage(abc));
+}
+
+// X = c0 = cells 0-5, Y = c1 = cells 6-11, G = c2 = {0, 1, 2, 3, 6, 7, 8}; R = 12 cells.
+std::vector<Observation> SetCoverInstance() {
+  return {Obs({0, 1, 2, 3, 4, 5}), Obs({6, 7, 8, 9, 10, 11}), Obs({0, 1, 2, 3, 6, 7, 8})};
+}
+
+TEST(Objectives, SetCoverByHand) {
+  const std::vector<Observation> obs = SetCoverInstance();
+  // Goal 1.0 = 12 cells. Greedy: G (7), then Y adds 9-11 (3) over X's 4-5 (2), then X adds 4, 5:
+  // three sensors [2, 1, 0]. X + Y alone cover all 12: two sensors, and no single row has 12
+  // cells, so at least two are needed: exact proves 2.
+  const std::vector<Selection> all = Select(obs, 12, GoalOptions(Method::kAll, 1.0));
+  ASSERT_EQ(all.size(), 2u);
+  const Selection& greedy = all[0];
+  EXPECT_EQ(greedy.method, "greedy");
+  EXPECT_EQ(greedy.objective, "set-cover");
+  EXPECT_EQ(greedy.goal, 1.0);
+  EXPECT_EQ(greedy.chosen, (std::vector<uint32_t>{2, 1, 0}));
+  EXPECT_EQ(greedy.n, 3);
+  EXPECT_DOUBLE_EQ(greedy.coverage, 1.0);
+  EXPECT_FALSE(greedy.n_lower_bound.has_value());
+  const Selection& exact = all[1];
+  EXPECT_EQ(exact.method, "exact");
+  EXPECT_EQ(Sorted(exact.chosen), (std::vector<uint32_t>{0, 1}));
+  EXPECT_EQ(exact.n, 2);
+  EXPECT_DOUBLE_EQ(exact.coverage, 1.0);
+  EXPECT_EQ(exact.n_lower_bound, 2);
+  EXPECT_TRUE(exact.proven_optimal);
+  EXPECT_FALSE(exact.upper_bound.has_value());
+
+  // Goal 0.75 = 9 cells: G (7) then Y (+3) = 10 >= 9: [2, 1]. One sensor sees at most 7 < 9.
+  const std::vector<Selection> q = Select(obs, 12, GoalOptions(Method::kAll, 0.75));
+  EXPECT_EQ(q[0].chosen, (std::vector<uint32_t>{2, 1}));
+  EXPECT_EQ(q[1].n, 2);
+  EXPECT_TRUE(q[1].proven_optimal);
+  // Goal 0.5 = 6 cells: G alone (7 cells).
+  const std::vector<Selection> half = Select(obs, 12, GoalOptions(Method::kGreedy, 0.5));
+  ASSERT_EQ(half.size(), 1u);
+  EXPECT_EQ(half[0].chosen, (std::vector<uint32_t>{2}));
+  EXPECT_DOUBLE_EQ(half[0].coverage, 7.0 / 12);
+  // A goal that is not a whole number of cells rounds up: 0.51 of 12 = 6.12 -> 7 cells.
+  EXPECT_EQ(Select(obs, 12, GoalOptions(Method::kGreedy, 0.51))[0].n, 1);
+  EXPECT_EQ(Select(obs, 12, GoalOptions(Method::kGreedy, 7.01 / 12))[0].n, 2);
+}
+
+TEST(Objectives, InfeasibleGoalIsInputErrorNamingTheReachableMaximum) {
+  // Three candidates see 9 of 12 cells together: 0.75 at most.
+  const std::vector<Observation> obs = {Obs({0, 1, 2}), Obs({3, 4, 5}), Obs({6, 7, 8})};
+  EXPECT_NO_THROW(Select(obs, 12, GoalOptions(Method::kAll, 0.75)));
+  for (const Method m : {Method::kGreedy, Method::kExact, Method::kAll}) {
+    try {
+      Select(obs, 12, GoalOptions(m, 0.8));
+      FAIL() << "no InputError for " << MethodName(m);
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()),
+                "goal 0.8 is above the 0.7500 that all 3 candidates reach together — lower --goal");
+    }
+  }
+  // Nothing seen at all: any goal is infeasible (and no empty answer is returned).
+  const std::vector<Observation> blind = {Obs({}), Obs({})};
+  EXPECT_THROW(Select(blind, 5, GoalOptions(Method::kAll, 0.01)), InputError);
+  EXPECT_THROW(Select(blind, 0, GoalOptions(Method::kAll, 0.01)), InputError);
+}
+
+// R = 10 cells. c0 = {0..5} is the largest but shares only cell 0 with c1 = {0, 6, 7, 8};
+// c2 = {6, 7, 8, 9}; c3 = {1}.
+std::vector<Observation> KCoverageInstance() {
+  return {Obs({0, 1, 2, 3, 4, 5}), Obs({0, 6, 7, 8}), Obs({6, 7, 8, 9}), Obs({1})};
+}
+
+TEST(Objectives, KCoverageByHand) {
+  const std::vector<Observation> obs = KCoverageInstance();
+  // k = 2, n = 2. Greedy, first step: no cell can reach 2 seers, so the level-1 gains decide:
+  // c0 (6 cells). Second step: cells brought to 2 seers: c1 {0} = 1, c2 0, c3 {1} = 1; the tie
+  // goes to level 1 (cells brought to 1 seer): c1 {6, 7, 8} = 3, c3 0 -> c1. [0, 1]: cell 0 only,
+  // 1/10. Local: swapping c0 out for c2 loses cell 0 (1) and completes 6, 7, 8 (3): [2, 1] = 3/10,
+  // the optimum (the best pair overlap: c1 and c2 share 6, 7, 8).
+  const std::vector<Selection> g = Select(obs, 10, KOptions(Method::kGreedy, 2, 2));
+  ASSERT_EQ(g.size(), 1u);
+  EXPECT_EQ(g[0].objective, "k-coverage");
+  EXPECT_EQ(g[0].k, 2);
+  EXPECT_EQ(g[0].chosen, (std::vector<uint32_t>{0, 1}));
+  EXPECT_DOUBLE_EQ(g[0].coverage, 0.1);
+  const Selection local = Select(obs, 10, KOptions(Method::kLocal, 2, 2)).at(0);
+  EXPECT_EQ(local.chosen, (std::vector<uint32_t>{2, 1}));
+  EXPECT_DOUBLE_EQ(local.coverage, 0.3);
+  const Selection exact = Select(obs, 10, KOptions(Method::kExact, 2, 2)).at(0);
+  EXPECT_EQ(Sorted(exact.chosen), (std::vector<uint32_t>{1, 2}));
+  EXPECT_DOUBLE_EQ(exact.coverage, 0.3);
+  EXPECT_TRUE(exact.proven_optimal);
+  ASSERT_TRUE(exact.upper_bound.has_value());
+  EXPECT_NEAR(*exact.upper_bound, 0.3, 1e-12);
+
+  // "all" runs n = k..N only: for N = 3, n = 2 and 3, four methods each, no `best`.
+  const std::vector<Selection> all = Select(obs, 10, KOptions(Method::kAll, 3, 2));
+  ASSERT_EQ(all.size(), 8u);
+  for (const Selection& s : all) {
+    EXPECT_GE(s.n, 2);
+    EXPECT_NE(s.method, "best");
+    EXPECT_EQ(s.k, 2);
+  }
+  // n = 3 (hand): {c0, c1, c2} 2-covers 0, 6, 7, 8 = 4 cells; {c0, c1, c3}: 0, 1 = 2;
+  // {c0, c2, c3}: 1 only; {c1, c2, c3}: 6, 7, 8 = 3. Optimum 4/10.
+  EXPECT_EQ(all.back().method, "exact");
+  EXPECT_DOUBLE_EQ(all.back().coverage, 0.4);
+}
+
+TEST(Objectives, KGreedyPrefersDeepeningAtEveryLevel) {
+  // k = 3, n = 3, R = 8. c0 = {0..4} (5) first. Second step, nothing reaches 3; cells brought to
+  // 2 seers: c1 {0, 1, 2} = 3, c2 {3, 4} = 2, c3 0 -> c1. Third: cells brought to 3: c2 {} = 0,
+  // c3 {0, 1} = 2 -> c3: [0, 1, 3], cells 0 and 1 seen 3 times.
+  const std::vector<Observation> obs = {Obs({0, 1, 2, 3, 4}), Obs({0, 1, 2, 5}), Obs({3, 4, 6}),
+                                        Obs({0, 1, 7})};
+  const Selection greedy = Select(obs, 8, KOptions(Method::kGreedy, 3, 3)).at(0);
+  EXPECT_EQ(greedy.chosen, (std::vector<uint32_t>{0, 1, 3}));
+  EXPECT_DOUBLE_EQ(greedy.coverage, 2.0 / 8);
+}
+
+// R = 10. c0 = {0..5} costs 10; c1 = {0, 1, 2} costs 2; c2 = {6, 7} costs 1; c3 = {3, 4, 5, 8, 9}
+// costs 8.
+std::vector<Observation> BudgetInstance() {
+  return {Obs({0, 1, 2, 3, 4, 5}), Obs({0, 1, 2}), Obs({6, 7}), Obs({3, 4, 5, 8, 9})};
+}
+const std::vector<double> kBudgetCosts = {10, 2, 1, 8};
+
+TEST(Objectives, BudgetByHand) {
+  const std::vector<Observation> obs = BudgetInstance();
+  // Budget 10. Gain per cost: c2 2/1 = 2 -> take (spent 1); then c1 3/2 = 1.5 (spent 3); then
+  // c0 (3 more for 10) and c3 (5 for 8) no longer fit. [2, 1] covers 5 cells; the best single
+  // affordable candidate, c0, covers 6: greedy answers [0]. Local: nothing fits beside c0, and
+  // swapping c0 for c3 (5 cells) or c1 or c2 loses. The optimum: c1 + c3 (cost exactly 10) cover
+  // 0-5, 8, 9 = 8 cells; {c2, c3} (cost 9) 7; {c1, c2} 5.
+  const std::vector<Selection> all = Select(obs, 10, BudgetOptions(Method::kAll, 10, kBudgetCosts));
+  ASSERT_EQ(all.size(), 3u);
+  EXPECT_EQ(all[0].method, "greedy");
+  EXPECT_EQ(all[0].objective, "budget");
+  EXPECT_EQ(all[0].chosen, (std::vector<uint32_t>{0}));
+  EXPECT_DOUBLE_EQ(all[0].coverage, 0.6);
+  EXPECT_EQ(all[0].budget, 10.0);
+  EXPECT_EQ(all[0].cost, 10.0);
+  EXPECT_EQ(all[1].method, "local");
+  EXPECT_EQ(all[1].chosen, (std::vector<uint32_t>{0}));
+  EXPECT_EQ(all[2].method, "exact");
+  EXPECT_EQ(Sorted(all[2].chosen), (std::vector<uint32_t>{1, 3}));
+  EXPECT_DOUBLE_EQ(all[2].coverage, 0.8);
+  EXPECT_EQ(all[2].cost, 10.0);
+  EXPECT_TRUE(all[2].proven_optimal);
+  EXPECT_NEAR(*all[2].upper_bound, 0.8, 1e-12);
+
+  // Budget 3: greedy's [2, 1] (5 cells, cost 3) beats the best single affordable (c1, 3 cells).
+  const Selection three = Select(obs, 10, BudgetOptions(Method::kGreedy, 3, kBudgetCosts)).at(0);
+  EXPECT_EQ(three.chosen, (std::vector<uint32_t>{2, 1}));
+  EXPECT_EQ(three.cost, 3.0);
+  // Budget 9: local starts from greedy's [2, 1] (cost 3; c3 no longer fits beside it), swaps c1
+  // for c3 (+5 -3 = +2, cost 9): [2, 3] = 7 cells.
+  const Selection nine = Select(obs, 10, BudgetOptions(Method::kLocal, 9, kBudgetCosts)).at(0);
+  EXPECT_EQ(nine.chosen, (std::vector<uint32_t>{2, 3}));
+  EXPECT_EQ(nine.cost, 9.0);
+  EXPECT_DOUBLE_EQ(nine.coverage, 0.7);
+}
+
+TEST(Objectives, ZeroCostSensorsComeFirstAndFreeOnesStillCount) {
+  // c1 costs nothing: the greedy takes it first, then the best ratio that fits.
+  const std::vector<Observation> obs = {Obs({0, 1, 2}), Obs({3}), Obs({4, 5})};
+  const Selection s = Select(obs, 6, BudgetOptions(Method::kGreedy, 1, {1, 0, 1})).at(0);
+  EXPECT_EQ(s.chosen, (std::vector<uint32_t>{1, 0}));
+  EXPECT_EQ(s.cost, 1.0);
+}
+
+TEST(Objectives, AgainstBruteForce) {
+  for (uint64_t trial = 0; trial < 18; ++trial) {
+    SCOPED_TRACE(testing::Message() << "trial " << trial);
+    const size_t m = 6 + trial % 6;                                // 6-11 candidates
+    const size_t r = 20 + 5 * (trial % 4);                         // 20-35 cells
+    const double p = 0.15 + 0.05 * static_cast<double>(trial % 3);
+    const std::vector<Observation> obs = RandomInstance(500 + trial, m, r, p);
+    const std::vector<std::vector<uint32_t>> subsets = AllSubsets(m);
+
+    // k-coverage, k = 2 and 3, n = k..4.
+    for (int k = 2; k <= 3; ++k) {
+      SelectOptions options = KOptions(Method::kAll, 4, k);
+      options.ransac_iterations = 30;
+      options.seed = trial;
+      std::map<int, size_t> optimum, greedy_cells;
+      for (const auto& s : subsets) {
+        const int n = static_cast<int>(s.size());
+        if (n > 4) continue;
+        optimum[n] = std::max(optimum[n], KUnionSize(obs, s, k));
+      }
+      const std::vector<Selection> results = Select(obs, r, options);
+      ASSERT_EQ(results.size(), 4u * (5 - k));
+      for (const Selection& s : results) {
+        SCOPED_TRACE(testing::Message() << "k=" << k << " " << s.method << " n=" << s.n);
+        ASSERT_EQ(static_cast<int>(s.chosen.size()), s.n);
+        EXPECT_EQ(std::set<uint32_t>(s.chosen.begin(), s.chosen.end()).size(), s.chosen.size());
+        const size_t cells = KUnionSize(obs, s.chosen, k);
+        EXPECT_DOUBLE_EQ(s.coverage, static_cast<double>(cells) / r);
+        EXPECT_LE(cells, optimum[s.n]);
+        if (s.method == "greedy") greedy_cells[s.n] = cells;
+        if (s.method == "local") EXPECT_GE(cells, greedy_cells[s.n]);
+        if (s.method == "exact") {
+          EXPECT_EQ(cells, optimum[s.n]);
+          EXPECT_TRUE(s.proven_optimal);
+          ASSERT_TRUE(s.upper_bound.has_value());
+          EXPECT_GE(*s.upper_bound, s.coverage);
+          EXPECT_NEAR(*s.upper_bound, static_cast<double>(optimum[s.n]) / r, 1e-12);
+        }
+      }
+    }
+
+    // Budget: costs 1-5, budgets from tight to loose.
+    std::vector<double> costs(m);
+    Rng rng(600 + trial, Stream::kTest, 0);
+    for (double& c : costs) c = 1.0 + static_cast<double>(rng.Below(5));
+    for (const double budget : {5.0, 8.0, 12.5}) {
+      SCOPED_TRACE(testing::Message() << "budget " << budget);
+      size_t best = 0;
+      for (const auto& s : subsets) {
+        if (SumOfCosts(costs, s) <= budget) best = std::max(best, UnionSize(obs, s));
+      }
+      const std::vector<Selection> results =
+          Select(obs, r, BudgetOptions(Method::kAll, budget, costs));
+      ASSERT_EQ(results.size(), 3u);
+      for (const Selection& s : results) {
+        SCOPED_TRACE(s.method);
+        ASSERT_TRUE(s.cost.has_value());
+        EXPECT_LE(SumOfCosts(costs, s.chosen), budget);  // never above the budget
+        EXPECT_EQ(*s.cost, SumOfCosts(costs, s.chosen));
+        EXPECT_GE(s.n, 1);
+        const size_t cells = UnionSize(obs, s.chosen);
+        EXPECT_DOUBLE_EQ(s.coverage, static_cast<double>(cells) / r);
+        EXPECT_LE(cells, best);
+      }
+      EXPECT_GE(results[1].coverage, results[0].coverage);  // local >= greedy
+      const Selection& exact = results[2];
+      EXPECT_EQ(UnionSize(obs, exact.chosen), best);
+      EXPECT_TRUE(exact.proven_optimal);
+      EXPECT_GE(*exact.upper_bound, exact.coverage);
+    }
+
+    // Set cover: goals as whole cells reachable by all candidates together.
+    const size_t reachable = UnionSize(obs, subsets.back());
+    for (const double share : {0.5, 0.8, 1.0}) {
+      const double goal = std::floor(share * static_cast<double>(reachable)) / r;
+      if (goal <= 0) continue;
+      SCOPED_TRACE(testing::Message() << "goal " << goal);
+      const size_t goal_cells = static_cast<size_t>(std::ceil(goal * r - 1e-9));
+      size_t fewest = m;
+      for (const auto& s : subsets) {
+        if (UnionSize(obs, s) >= goal_cells) fewest = std::min(fewest, s.size());
+      }
+      const std::vector<Selection> results = Select(obs, r, GoalOptions(Method::kAll, goal));
+      ASSERT_EQ(results.size(), 2u);
+      for (const Selection& s : results) {
+        EXPECT_GE(UnionSize(obs, s.chosen), goal_cells) << s.method;
+        EXPECT_GE(s.coverage + 1e-12, goal) << s.method;
+        EXPECT_GE(s.chosen.size(), fewest) << s.method;
+      }
+      EXPECT_EQ(results[1].chosen.size(), fewest);
+      EXPECT_LE(results[1].n, results[0].n);
+      EXPECT_TRUE(results[1].proven_optimal);
+      EXPECT_EQ(results[1].n_lower_bound, static_cast<int>(fewest));
+    }
+  }
+}
+
+TEST(Objectives, CheapBoundsHoldOnRandomInstances) {
+  for (uint64_t trial = 0; trial < 10; ++trial) {
+    const size_t m = 9;
+    const std::vector<Observation> obs = RandomInstance(700 + trial, m, 30, 0.2);
+    const detail::CoverageMatrix matrix(obs, 30);
+    const std::vector<std::vector<uint32_t>> subsets = AllSubsets(m);
+    std::vector<double> costs(m);
+    Rng rng(800 + trial, Stream::kTest, 0);
+    for (double& c : costs) c = 0.5 + static_cast<double>(rng.Below(4));
+    for (const double budget : {1.0, 4.0, 7.5}) {
+      size_t best = 0;
+      for (const auto& s : subsets) {
+        if (SumOfCosts(costs, s) <= budget) best = std::max(best, UnionSize(obs, s));
+      }
+      const std::vector<uint32_t> greedy = detail::GreedyBudget(matrix, costs, budget);
+      EXPECT_LE(detail::TotalCost(costs, greedy), budget);
+      EXPECT_GE(detail::BudgetUpperBound(matrix, greedy, costs, budget), best);
+    }
+    for (int k = 2; k <= 3; ++k) {
+      for (size_t n = static_cast<size_t>(k); n <= 4; ++n) {
+        size_t best = 0;
+        for (const auto& s : subsets) {
+          if (s.size() == n) best = std::max(best, KUnionSize(obs, s, k));
+        }
+        const std::vector<uint32_t> start = detail::KGreedyComplete(matrix, {}, n, k);
+        EXPECT_GE(detail::KUpperBound(matrix, start, n, k), best);
+      }
+    }
+    const uint64_t seen = matrix.seen_weight();
+    for (uint64_t goal = 1; goal <= seen; goal += 3) {
+      size_t fewest = m;
+      for (const auto& s : subsets) {
+        if (UnionSize(obs, s) >= goal) fewest = std::min(fewest, s.size());
+      }
+      EXPECT_LE(detail::SetCoverLowerBound(matrix, goal), fewest);
+    }
+  }
+}
+
+TEST(Objectives, FallBackToTheStartWhenTheModelIsTooLarge) {
+  // As ExactFallsBackToItsStart...: a 1 ms limit admits no MILP of this size.
+  const std::vector<Observation> obs = RandomInstance(17, 60, 2000, 0.3);
+  const detail::CoverageMatrix matrix(obs, 2000);
+  const std::vector<uint32_t> k_start = detail::KGreedyComplete(matrix, {}, 3, 2);
+  const detail::ExactResult k_result = detail::SolveExactK(matrix, 3, 2, k_start, 0.001);
+  EXPECT_EQ(k_result.chosen, k_start);
+  EXPECT_FALSE(k_result.note.empty());
+  EXPECT_GE(k_result.upper_bound, detail::KCoveredWeight(matrix, k_start, 2));
+
+  const std::vector<double> costs(60, 2.0);
+  const std::vector<uint32_t> b_start = detail::GreedyBudget(matrix, costs, 7);
+  EXPECT_EQ(b_start.size(), 3u);
+  const detail::ExactResult b_result = detail::SolveExactBudget(matrix, costs, 7, b_start, 0.001);
+  EXPECT_EQ(b_result.chosen, b_start);
+  EXPECT_GE(b_result.upper_bound, matrix.CoveredWeight(b_start));
+
+  const uint64_t goal = matrix.seen_weight() * 9 / 10;
+  const std::vector<uint32_t> s_start = detail::GreedyToGoal(matrix, goal);
+  const detail::SetCoverResult s_result = detail::SolveSetCover(matrix, goal, s_start, 0.001);
+  EXPECT_EQ(s_result.chosen, s_start);
+  EXPECT_LE(s_result.lower_bound, s_start.size());
+  EXPECT_GE(s_result.lower_bound, 1u);
+}
+
+TEST(Objectives, DeterministicForASeed) {
+  const std::vector<Observation> obs = RandomInstance(31, 14, 80, 0.2);
+  std::vector<double> costs(14);
+  for (size_t i = 0; i < costs.size(); ++i) costs[i] = 1.0 + static_cast<double>(i % 3);
+  const std::vector<SelectOptions> all_options = {
+      KOptions(Method::kAll, 4, 2), GoalOptions(Method::kAll, 0.6),
+      BudgetOptions(Method::kAll, 6, costs)};
+  for (const SelectOptions& options : all_options) {
+    const std::vector<Selection> a = Select(obs, 80, options);
+    const std::vector<Selection> b = Select(obs, 80, options);
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].chosen, b[i].chosen);
+      EXPECT_EQ(a[i].upper_bound, b[i].upper_bound);
+      EXPECT_EQ(a[i].n_lower_bound, b[i].n_lower_bound);
+    }
+  }
 }
 
 }  // namespace

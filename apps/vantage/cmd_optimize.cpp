@@ -56,10 +56,12 @@ void RunOptimize(const OptimizeOptions& options) {
 
 void SetupOptimize(CLI::App* parent) {
   auto options = std::make_shared<OptimizeOptions>();
-  CLI::App* app = parent->add_subcommand("optimize", "the whole pipeline: scene -> best constellation");
+  CLI::App* app =
+      parent->add_subcommand("optimize", "the whole pipeline: scene -> best constellation");
   AddSceneOptions(app, &options->scene);
   AddSelectionOptions(app, &options->selection);
-  app->add_option("-o,--out", options->out, "output folder (replaced atomically)")->capture_default_str();
+  app->add_option("-o,--out", options->out, "output folder (replaced atomically)")
+      ->capture_default_str();
   app->callback([options] { RunOptimize(*options); });
 }
 

@@ -33,6 +33,10 @@ struct SelectionOptions {
   std::optional<int> iterations;
   std::optional<double> stop_coverage;
   double time_limit = 60;
+  /// Objectives: any of these given replaces the scene's goal/k/budget altogether.
+  std::optional<double> goal;    ///< --goal: fewest sensors reaching this coverage
+  std::optional<int> k;          ///< --k: k-coverage
+  std::optional<double> budget;  ///< --budget: total sensor cost cap
 };
 
 void AddSceneOptions(CLI::App* app, SceneOptions* options, bool with_positional = true);

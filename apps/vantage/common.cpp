@@ -50,6 +50,40 @@ void CheckMemory(const MemoryEstimate& estimate, double limit_mib, const std::st
         estimate.Total() / mib, limit_mib)));
 }
 
+// `--method all`: the coverage-versus-N curve, one row per n, one column per method, and the
+// proven bound (exact's; "*" once proven optimal). Printed only when the results span several n.
+void PrintCoverageByN(const std::vector<Selection>& results) {
+  std::vector<int> ns;
+  for (const Selection& s : results) {
+    if (std::find(ns.begin(), ns.end(), s.n) == ns.end()) ns.push_back(s.n);
+  }
+  if (ns.size() < 2) return;
+  std::sort(ns.begin(), ns.end());
+  std::vector<std::string> methods;
+  for (const char* m : {"best", "ransac", "greedy", "local", "exact"}) {
+    if (std::any_of(results.begin(), results.end(), [&](const Selection& s) { return s.method == m; }))
+      methods.emplace_back(m);
+  }
+  const int k = results.front().k;
+  fmt::print("coverage by n{}\n", k >= 2 ? fmt::format(" ({}-coverage, %)", k) : std::string(" (%)"));
+  std::string header = fmt::format("{:>4}", "n");
+  for (const std::string& m : methods) header += fmt::format(" {:>8}", m);
+  fmt::print("{} {:>8}\n", header, "bound");
+  for (const int n : ns) {
+    std::string line = fmt::format("{:>4}", n);
+    std::string bound = fmt::format("{:>8}", "-");
+    for (const std::string& m : methods) {
+      const auto it = std::find_if(results.begin(), results.end(),
+                                   [&](const Selection& s) { return s.n == n && s.method == m; });
+      line += it == results.end() ? fmt::format(" {:>8}", "-") : fmt::format(" {:8.2f}", 100.0 * it->coverage);
+      if (it != results.end() && it->upper_bound)
+        bound = fmt::format("{:8.2f}{}", 100.0 * *it->upper_bound, it->proven_optimal ? "*" : "");
+    }
+    fmt::print("{} {}\n", line, bound);
+  }
+  fmt::print("(* = proven optimal)\n");
+}
+
 }  // namespace
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
@@ -83,6 +117,12 @@ void AddSelectionOptions(CLI::App* app, SelectionOptions* options) {
   app->add_option("--stop", options->stop_coverage,
                   "RANSAC stops at this coverage, fraction 0..1 (default: the scene's)");
   app->add_option("--time-limit", options->time_limit, "seconds for the exact solver")->capture_default_str();
+  app->add_option("--goal", options->goal,
+                  "objective: the fewest sensors whose coverage reaches this fraction 0..1 (set cover)");
+  app->add_option("--k", options->k,
+                  "objective: k-coverage, a cell counts once k chosen sensors see it (k >= 2)");
+  app->add_option("--budget", options->budget,
+                  "objective: the most coverage for a total sensor cost within this budget");
 }
 
 Problem LoadScene(const SceneOptions& options) {
@@ -159,6 +199,10 @@ ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* 
   data.n = problem.n;
   data.ransac_iterations = problem.ransac_iterations;
   data.ransac_stop_coverage = problem.ransac_stop_coverage;
+  data.method = problem.method;
+  data.goal = problem.goal;
+  data.k = problem.k;
+  data.budget = problem.budget;
   data.reference = std::move(reference);
   data.candidates = std::move(candidates);
   data.observations = std::move(observations);
@@ -173,11 +217,20 @@ SelectOptions ResolveSelectOptions(const VisibilityFile& data, const SelectionOp
                                    std::optional<uint64_t> seed, const std::string& method_default) {
   SelectOptions options;
   options.n = cli.n.value_or(data.n);
-  options.method = ParseMethod(cli.method.value_or(method_default));
+  options.method = ParseMethod(cli.method.value_or(data.method.empty() ? method_default : data.method));
   options.ransac_iterations = cli.iterations.value_or(data.ransac_iterations);
   options.ransac_stop_coverage = cli.stop_coverage.value_or(data.ransac_stop_coverage);
   options.seed = seed.value_or(data.seed);
   options.time_limit = cli.time_limit;
+  // An objective on the command line replaces the scene's (so --k 2 over a scene's goal works).
+  const bool cli_objective = cli.goal || cli.k || cli.budget;
+  options.goal = cli_objective ? cli.goal : data.goal;
+  options.k = cli_objective ? cli.k.value_or(1) : data.k;
+  options.budget = cli_objective ? cli.budget : data.budget;
+  if (options.budget) {
+    options.costs.reserve(data.candidates.size());
+    for (const Candidate& c : data.candidates) options.costs.push_back(c.sensor.cost);
+  }
   try {
     options.Validate(data.candidates.size());
   } catch (const InputError& e) {
@@ -202,6 +255,21 @@ void PrintSummary(const VisibilityFile& data, const std::vector<Selection>& resu
     fmt::print("best single      {} ({}) {:.2f} %\n", c.name, c.type_id,
                r ? 100.0 * data.observations[best].reference_indices.size() / r : 0.0);
   }
+  // The objective, when it is not plain coverage (all results share it).
+  if (!results.empty()) {
+    const Selection& first = results.front();
+    if (first.goal) {
+      fmt::print("objective        set cover: the fewest sensors reaching {:.2f} % coverage\n",
+                 100.0 * *first.goal);
+    } else if (first.budget) {
+      fmt::print("objective        budget: the most coverage for a total sensor cost <= {:g}\n",
+                 *first.budget);
+    } else if (first.k >= 2) {
+      fmt::print("objective        {0}-coverage: a cell counts once {0} chosen sensors see it "
+                 "(coverages below are {0}-coverages)\n",
+                 first.k);
+    }
+  }
   // One line per method at its largest n: the constellation it recommends.
   std::vector<const Selection*> shown;
   for (const Selection& s : results) {
@@ -218,9 +286,15 @@ void PrintSummary(const VisibilityFile& data, const std::vector<Selection>& resu
     std::string bound;
     if (s->upper_bound)
       bound = s->proven_optimal ? "  (optimal)" : fmt::format("  (bound {:.2f} %)", 100.0 * *s->upper_bound);
+    if (s->n_lower_bound) {
+      bound = s->proven_optimal ? "  (fewest: optimal)"
+                                : fmt::format("  (at least {} sensors)", *s->n_lower_bound);
+    }
+    if (s->cost) bound += fmt::format("  cost {:g} of {:g}", *s->cost, s->budget.value_or(0.0));
     fmt::print("{:<8} n={:<3}  {:6.2f} %{}  [{}]  {:.3f} s\n", s->method, s->n, 100.0 * s->coverage, bound,
                names, s->seconds);
   }
+  PrintCoverageByN(results);
   fmt::print("timings          load {:.3f} s, reference {:.3f} s, observe {:.3f} s, select {:.3f} s, total {:.3f} s\n",
              timings.load, timings.reference, timings.observe, timings.select, timings.total);
   if (!out_dir.empty()) fmt::print("outputs          {}/\n", out_dir);

@@ -3,6 +3,7 @@
 /// target points it sees form its observation set O_i (SYSTEM.md, coverage metric).
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -41,6 +42,11 @@ struct VisibilityFile {
   int n = 1;
   int ransac_iterations = 1000;
   double ransac_stop_coverage = 1.0;
+  /// The scene's selection settings (format version 2; version 1 files read as the defaults).
+  std::string method;            ///< settings.method; empty = the command's default
+  std::optional<double> goal;    ///< settings.goal (set cover)
+  int k = 1;                     ///< settings.k (k-coverage when >= 2)
+  std::optional<double> budget;  ///< settings.budget
   Reference reference;
   std::vector<Candidate> candidates;
   std::vector<Observation> observations;  ///< one per candidate

@@ -26,6 +26,10 @@ struct Problem {
   double ransac_stop_coverage = 1.0;  ///< fraction in [0, 1]: RANSAC stops once reached
   uint64_t seed = 1;
   std::string method = "all";
+  /// Objectives beyond coverage (SelectOptions): at most one is set.
+  std::optional<double> goal;    ///< settings.goal: fewest sensors reaching this coverage
+  int k = 1;                     ///< settings.k: k-coverage when >= 2
+  std::optional<double> budget;  ///< settings.budget: total sensor cost cap
   std::optional<int> expected_candidates;  ///< numberOfSamplingSensors: a check
   std::vector<std::string> notes;          ///< non-fatal remarks made while loading
 

@@ -14,8 +14,17 @@ namespace vantage {
 namespace {
 
 // Layout: magic (8 bytes), format version (u32), payload, FNV-1a 64 of everything before it.
+// Version 2 adds the selection settings (method, goal, k, budget) after the RANSAC ones;
+// version 1 files are still read, with those settings at their defaults.
 constexpr char kMagic[8] = {'V', 'A', 'N', 'T', 'V', 'I', 'S', '\0'};
-constexpr uint32_t kFormatVersion = 1;
+constexpr uint32_t kFormatVersion = 2;
+constexpr uint32_t kOldestReadVersion = 1;
+
+void WriteOptional(detail::BinaryWriter* w, const std::optional<double>& value) {
+  w->U32(value ? 1 : 0);
+  w->F64(value.value_or(0.0));
+}
+
 
 void WritePose(detail::BinaryWriter* w, const Pose& pose) {
   for (int a = 0; a < 3; ++a) w->F64(pose.position[a]);
@@ -64,6 +73,10 @@ void SaveVisibilityFile(const std::string& path, const VisibilityFile& file) {
   w.U32(static_cast<uint32_t>(file.n));
   w.U32(static_cast<uint32_t>(file.ransac_iterations));
   w.F64(file.ransac_stop_coverage);
+  w.Str(file.method);
+  WriteOptional(&w, file.goal);
+  w.U32(static_cast<uint32_t>(file.k));
+  WriteOptional(&w, file.budget);
   w.F64(file.reference.cell_size);
   w.U64Vector(file.reference.keys);
   w.U64(file.candidates.size());
@@ -99,9 +112,10 @@ VisibilityFile LoadVisibilityFile(const std::string& path) {
   detail::BinaryReader r(body, path);
   r.Skip(sizeof(kMagic));
   const uint32_t version = r.U32();
-  if (version != kFormatVersion)
-    throw corrupt(fmt::format("visibility file format version {}, this vantage reads version {}",
-                              version, kFormatVersion));
+  if (version < kOldestReadVersion || version > kFormatVersion)
+    throw corrupt(fmt::format(
+        "visibility file format version {}, this vantage reads versions {} to {}", version,
+        kOldestReadVersion, kFormatVersion));
   if (stored != detail::Fnv1a64(body)) throw corrupt("checksum mismatch: the file is corrupt");
 
   VisibilityFile file;
@@ -110,6 +124,19 @@ VisibilityFile LoadVisibilityFile(const std::string& path) {
   file.n = static_cast<int>(r.U32());
   file.ransac_iterations = static_cast<int>(r.U32());
   file.ransac_stop_coverage = r.F64();
+  if (version >= 2) {
+    const auto read_optional = [&](const char* what) -> std::optional<double> {
+      const uint32_t has_value = r.U32();
+      const double value = r.F64();
+      if (has_value > 1) throw corrupt(fmt::format("{} has a bad presence flag", what));
+      return has_value ? std::optional<double>(value) : std::nullopt;
+    };
+    file.method = r.Str();
+    file.goal = read_optional("goal");
+    file.k = static_cast<int>(r.U32());
+    file.budget = read_optional("budget");
+    if (file.k < 1) throw corrupt("k is not a positive integer");
+  }
   file.reference.cell_size = r.F64();
   file.reference.keys = r.U64Vector();
   const uint64_t count = r.U64();

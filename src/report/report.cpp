@@ -59,7 +59,10 @@ const char* Version() { return VANTAGE_VERSION; }
 int PrimaryResult(const std::vector<Selection>& results) {
   int best = -1;
   for (size_t i = 0; i < results.size(); ++i) {
-    if (best < 0 || results[i].n > results[best].n ||
+    // Set cover: every answer reaches the goal, so the fewest sensors stand for the run.
+    const bool is_more = results[i].goal ? results[i].n < results[best < 0 ? 0 : best].n
+                                         : results[i].n > results[best < 0 ? 0 : best].n;
+    if (best < 0 || is_more ||
         (results[i].n == results[best].n && results[i].coverage > results[best].coverage))
       best = static_cast<int>(i);
   }
@@ -97,6 +100,16 @@ std::string ReportJson(const Report& report) {
       r["optimal"] = s.proven_optimal;
     }
     r["seconds"] = s.seconds;
+    // The objective (SYSTEM.md, Select: further objectives); coverage is measured under it.
+    r["objective"] = s.objective;
+    if (s.goal) r["goal"] = *s.goal;
+    if (s.k >= 2) r["k"] = s.k;
+    if (s.budget) r["budget"] = *s.budget;
+    if (s.cost) r["cost"] = *s.cost;
+    if (s.n_lower_bound) {
+      r["n_lower_bound"] = *s.n_lower_bound;
+      r["optimal"] = s.proven_optimal;
+    }
     results.push_back(std::move(r));
   }
   j["results"] = std::move(results);

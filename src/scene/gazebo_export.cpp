@@ -48,12 +48,23 @@ std::string XmlEscape(std::string_view s) {
   std::string out;
   for (char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out.push_back(c);
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out.push_back(c);
     }
   }
   return out;
@@ -69,8 +80,7 @@ std::string Number(double v) {
 std::string PoseText(const Pose& pose) {
   const Vec3 rpy = RpyFromRotation(pose.rotation.normalized().toRotationMatrix());
   return fmt::format("{} {} {} {} {} {}", Number(pose.position.x()), Number(pose.position.y()),
-                     Number(pose.position.z()), Number(rpy.x()), Number(rpy.y()),
-                     Number(rpy.z()));
+                     Number(pose.position.z()), Number(rpy.x()), Number(rpy.y()), Number(rpy.z()));
 }
 
 /// SDF 1.7+ reserves "::" in names; "/" is vantage's model/sensor separator.
@@ -131,14 +141,38 @@ size_t LineStartIfBlank(std::string_view text, size_t pos) {
   return start == 0 || text[start - 1] == '\n' ? start : pos;
 }
 
-/// The range to cut for an element: its whole lines when it stands alone on them.
-std::pair<size_t, size_t> CutRange(std::string_view text, const XmlElement& e) {
+/// End of the blank line (white space only) starting at `pos`, past its '\n'; npos when the line
+/// is not blank or `pos` is the end.
+size_t BlankLineEnd(std::string_view text, size_t pos) {
+  size_t end = pos;
+  while (end < text.size() && (text[end] == ' ' || text[end] == '\t' || text[end] == '\r')) ++end;
+  return end < text.size() && text[end] == '\n' ? end + 1 : std::string_view::npos;
+}
+
+/// The range to cut for an element: its whole lines when it stands alone on them, and then one
+/// blank line before it too when a blank line follows (so "A, blank, B, blank, C" loses B and a
+/// blank line, not B alone). `ate_blank_line` says whether that happened.
+struct Cut {
+  size_t begin = 0;
+  size_t end = 0;
+  bool ate_blank_line = false;
+  bool operator<(const Cut& o) const { return begin != o.begin ? begin < o.begin : end < o.end; }
+  bool operator==(const Cut& o) const { return begin == o.begin && end == o.end; }
+};
+
+Cut CutRange(std::string_view text, const XmlElement& e) {
   const size_t begin = LineStartIfBlank(text, e.begin);
   size_t end = e.end;
   while (end < text.size() && (text[end] == ' ' || text[end] == '\t' || text[end] == '\r')) ++end;
-  if (begin != e.begin && (end == text.size() || text[end] == '\n'))
-    return {begin, std::min(end + 1, text.size())};
-  return {e.begin, e.end};
+  if (begin == e.begin || (end != text.size() && text[end] != '\n')) return {e.begin, e.end, false};
+  end = std::min(end + 1, text.size());
+  if (begin > 0 && BlankLineEnd(text, end) != std::string_view::npos) {
+    // text[begin - 1] is the '\n' that ends the previous line.
+    const size_t newline = begin >= 2 ? text.rfind('\n', begin - 2) : std::string_view::npos;
+    const size_t previous_start = newline == std::string_view::npos ? 0 : newline + 1;
+    if (BlankLineEnd(text, previous_start) == begin) return {previous_start, end, true};
+  }
+  return {begin, end, false};
 }
 
 /// One text edit: replace [begin, end) by `text`.
@@ -286,9 +320,9 @@ std::string Exporter::ModelText(const XmlElement& model,
   const size_t content_end = ClosingTagBegin(text_, model);
   for (const XmlElement& child : model.children) {
     if (child.name != "pose" && child.name != "static") continue;
-    const auto [cut_begin, cut_end] = CutRange(text_, child);
-    out += text_.substr(pos, cut_begin - pos);
-    pos = cut_end;
+    const Cut cut = CutRange(text_, child);
+    out += text_.substr(pos, cut.begin - pos);
+    pos = cut.end;
   }
   out += text_.substr(pos, content_end - pos);
   if (!out.empty() && out.back() != '\n') {
@@ -356,13 +390,14 @@ std::string Exporter::Run(const std::vector<Candidate>& chosen) {
     if (site.element) continue;
     const std::string where = site.blocked_by.empty()
                                   ? std::string("was not found in the world's text")
-                                  : fmt::format("is part of the included model '{}' (model files "
-                                                "are not rewritten)",
-                                                site.blocked_by);
+                                  : fmt::format(
+                                        "is part of the included model '{}' (model files "
+                                        "are not rewritten)",
+                                        site.blocked_by);
     if (is_cut_top(site.top)) {
-      Note(AtPlace(path_, sensor.line,
-                   fmt::format("constellation.world: sensor '{}' {} and goes with it", sensor.name,
-                               where)));
+      Note(AtPlace(
+          path_, sensor.line,
+          fmt::format("constellation.world: sensor '{}' {} and goes with it", sensor.name, where)));
     } else {
       ++sensors_kept;
       Note(AtPlace(path_, sensor.line,
@@ -396,10 +431,10 @@ std::string Exporter::Run(const std::vector<Candidate>& chosen) {
           std::find_if(sensors_.begin(), sensors_.end(),
                        [&](const ExplicitSensor& s) { return s.name == candidate.name; });
       if (sensor == sensors_.end()) {
-        throw InputError(AtPlace(
-            path_, 0,
-            fmt::format("candidate '{}' is no population clone and no sensor of the world",
-                        candidate.name)));
+        throw InputError(
+            AtPlace(path_, 0,
+                    fmt::format("candidate '{}' is no population clone and no sensor of the world",
+                                candidate.name)));
       }
       const SensorSite& site = sites[sensor->name];
       if (!site.element) continue;  // it stays in place, or cannot be placed alone (noted)
@@ -420,8 +455,8 @@ std::string Exporter::Run(const std::vector<Candidate>& chosen) {
   }
 
   // Edits: cuts (a range inside another is dropped), the additions, numberOfSamplingSensors.
-  std::vector<Edit> edits;
-  std::vector<std::pair<size_t, size_t>> cuts;
+  std::vector<Cut> cuts;
+  cuts.reserve(cut_top.size() + cut_nested.size());
   std::sort(cut_top.begin(), cut_top.end(),
             [](const XmlElement* a, const XmlElement* b) { return a->begin < b->begin; });
   cut_top.erase(std::unique(cut_top.begin(), cut_top.end()), cut_top.end());
@@ -434,14 +469,17 @@ std::string Exporter::Run(const std::vector<Candidate>& chosen) {
   }
   std::sort(cuts.begin(), cuts.end());
   cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
-  for (const auto& [begin, end] : cuts) edits.push_back(Edit{begin, end, ""});
+  std::vector<Edit> edits;
+  edits.reserve(cuts.size() + 2);
+  for (const Cut& cut : cuts) edits.push_back(Edit{cut.begin, cut.end, ""});
 
-  const std::string header =
-      fmt::format("{}<!-- vantage: the {} chosen sensor{} -->\n", indent, chosen.size(),
-                  chosen.size() == 1 ? "" : "s");
+  const std::string header = fmt::format("{}<!-- vantage: the {} chosen sensor{} -->\n", indent,
+                                         chosen.size(), chosen.size() == 1 ? "" : "s");
   if (!cut_top.empty()) {
-    const auto first = CutRange(text_, *cut_top.front());
-    edits.push_back(Edit{first.first, first.first, header + added});
+    // Where the first removed element was, after the blank line that its cut may have taken.
+    const Cut first = CutRange(text_, *cut_top.front());
+    edits.push_back(
+        Edit{first.begin, first.begin, (first.ate_blank_line ? "\n" : "") + header + added});
   } else {
     const size_t closing = ClosingTagBegin(text_, *world_);
     const size_t at = LineStartIfBlank(text_, closing);
@@ -454,7 +492,7 @@ std::string Exporter::Run(const std::vector<Candidate>& chosen) {
     const XmlElement* e = stack.back();
     stack.pop_back();
     const bool is_removed = std::any_of(cuts.begin(), cuts.end(), [&](const auto& cut) {
-      return cut.first <= e->begin && e->end <= cut.second;
+      return cut.begin <= e->begin && e->end <= cut.end;
     });
     if (is_removed) continue;
     for (const XmlElement& child : e->children) {

@@ -451,7 +451,7 @@ void SceneReader::Missing(const Fields& fields,
 void SceneReader::ReadSettings(const Value& input) {
   const Fields fields(input, "settings",
                       {"cell_size", "n", "method", "observation_point", "random_roll", "seed",
-                       "ransac", "expected_candidates"},
+                       "ransac", "expected_candidates", "goal", "k", "budget"},
                       &reporter_);
   Problem& p = *problem_;
   if (const auto v = fields.Get("cell_size")) {
@@ -483,6 +483,46 @@ void SceneReader::ReadSettings(const Value& input) {
       p.seed = static_cast<uint64_t>(*seed);
   }
   if (const auto v = fields.Get("ransac")) ReadRansac(*v);
+  // Objectives beyond coverage (SYSTEM.md, Select): at most one of goal, k >= 2, budget.
+  int objectives = 0;
+  int objective_line = 0;
+  if (const auto v = fields.Get("goal")) {
+    const auto goal = Number(*v, "settings.goal");
+    if (goal && !(*goal > 0 && *goal <= 1)) {
+      Error(v->line, fmt::format("settings.goal = {} is a coverage fraction — give a value in "
+                                 "(0, 1], e.g. 0.9 for 90 %",
+                                 *goal));
+    } else if (goal) {
+      p.goal = *goal;
+    }
+    ++objectives;
+    objective_line = v->line;
+  }
+  if (const auto v = fields.Get("k")) {
+    if (const auto k = Integer(*v, "settings.k", 1, std::numeric_limits<int>::max())) {
+      p.k = static_cast<int>(*k);
+      if (*k >= 2) {
+        ++objectives;
+        objective_line = v->line;
+      }
+    }
+  }
+  if (const auto v = fields.Get("budget")) {
+    const auto budget = Number(*v, "settings.budget");
+    if (budget && !(*budget >= 0)) {
+      Error(v->line, fmt::format("settings.budget = {} must be >= 0 — the most the sensors may "
+                                 "cost together",
+                                 *budget));
+    } else if (budget) {
+      p.budget = *budget;
+    }
+    ++objectives;
+    objective_line = v->line;
+  }
+  if (objectives > 1) {
+    Error(objective_line, "settings.goal, settings.k >= 2 and settings.budget are separate "
+                          "objectives — give only one of them");
+  }
   if (const auto v = fields.Get("expected_candidates")) {
     if (const auto count =
             Integer(*v, "settings.expected_candidates", 1, std::numeric_limits<int>::max()))
