@@ -109,7 +109,7 @@ SdfWorld LoadWithSdformat(const std::string& path, const std::string& model_dir)
   sdf::Root root;
   for (const sdf::Error& e : root.Load(path, config)) result.errors.push_back(e.Message());
   if (root.WorldCount() != 1) {
-    result.errors.push_back("no world");
+    result.errors.emplace_back("no world");
     return result;
   }
   const sdf::World* world = root.WorldByIndex(0);
@@ -291,6 +291,27 @@ TEST(GazeboExport, ACandidateOfNoPopulationOrSensorIsAnError) {
   EXPECT_TRUE(IsGazeboWorldPath("a/b.WORLD"));
   EXPECT_TRUE(IsGazeboWorldPath("b.sdf"));
   EXPECT_FALSE(IsGazeboWorldPath("b.yaml"));
+}
+
+TEST(GazeboXml, ByteOffsetsCoverExactlyEachElement) {
+  // What the export cuts and copies: the '<' of the start tag to the last '>', and the content.
+  const std::string text =
+      "\xEF\xBB\xBF<?xml version=\"1.0\"?>\n<!-- c -->\n<a>\n  <b x='1>'>t<!-- > --></b><c/>\n"
+      "  <d><![CDATA[<e>]]></d >\n</a>\n";
+  const detail::XmlDocument doc = detail::ParseXml(text, "t.xml");
+  const auto slice = [&](size_t begin, size_t end) { return text.substr(begin, end - begin); };
+  const detail::XmlElement& a = doc.root;
+  EXPECT_EQ(slice(a.begin, a.end),
+            text.substr(text.find("<a>"), text.rfind("</a>") + 4 - text.find("<a>")));
+  ASSERT_EQ(a.children.size(), 3u);
+  const detail::XmlElement& b = a.children[0];
+  EXPECT_EQ(slice(b.begin, b.end), "<b x='1>'>t<!-- > --></b>");
+  EXPECT_EQ(slice(b.content_begin, b.end), "t<!-- > --></b>");
+  const detail::XmlElement& c = a.children[1];
+  EXPECT_EQ(slice(c.begin, c.end), "<c/>");
+  EXPECT_EQ(c.content_begin, c.end);
+  const detail::XmlElement& d = a.children[2];
+  EXPECT_EQ(slice(d.begin, d.end), "<d><![CDATA[<e>]]></d >");
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -527,6 +527,12 @@ TEST(Select, SimpleUpperBoundIsAtLeastTheOptimum) {
       const std::vector<uint32_t> greedy = detail::GreedyComplete(matrix, {}, n);
       EXPECT_GE(detail::SimpleUpperBound(matrix, greedy, n), BruteForceOptimum(obs, n));
       EXPECT_LE(detail::SimpleUpperBound(matrix, greedy, n), 30u);
+      EXPECT_GE(detail::GreedyUpperBound(matrix, greedy, n), BruteForceOptimum(obs, n));
+      EXPECT_LE(detail::GreedyUpperBound(matrix, greedy, n),
+                detail::SimpleUpperBound(matrix, greedy, n));
+      const std::vector<uint32_t> none;
+      EXPECT_LE(detail::GreedyUpperBound(matrix, greedy, n),
+                detail::SimpleUpperBound(matrix, none, n));
     }
   }
 }
@@ -542,7 +548,7 @@ TEST(Select, ExactFallsBackToItsStartWhenTheModelIsTooLargeForTheTimeLimit) {
   EXPECT_FALSE(result.note.empty());
   EXPECT_GE(result.upper_bound, matrix.CoveredWeight(start));
   EXPECT_EQ(result.upper_bound,
-            std::max(detail::SimpleUpperBound(matrix, start, 3), matrix.CoveredWeight(start)));
+            std::max(detail::GreedyUpperBound(matrix, start, 3), matrix.CoveredWeight(start)));
   EXPECT_FALSE(result.proven_optimal);
 }
 
@@ -550,8 +556,7 @@ TEST(Select, ExactFallsBackToItsStartWhenTheModelIsTooLargeForTheTimeLimit) {
 // Further objectives: set cover, k-coverage, budget
 
 // Cells of R seen by at least k of `chosen`, counted independently of the library.
-size_t KUnionSize(const std::vector<Observation>& obs, const std::vector<uint32_t>& chosen,
-                  int k) {
+size_t KUnionSize(const std::vector<Observation>& obs, const std::vector<uint32_t>& chosen, int k) {
   std::map<uint32_t, int> seen;
   for (uint32_t c : chosen) {
     for (uint32_t cell : obs[c].reference_indices) ++seen[cell];
@@ -838,8 +843,8 @@ TEST(Objectives, ZeroCostSensorsComeFirstAndFreeOnesStillCount) {
 TEST(Objectives, AgainstBruteForce) {
   for (uint64_t trial = 0; trial < 18; ++trial) {
     SCOPED_TRACE(testing::Message() << "trial " << trial);
-    const size_t m = 6 + trial % 6;                                // 6-11 candidates
-    const size_t r = 20 + 5 * (trial % 4);                         // 20-35 cells
+    const size_t m = 6 + trial % 6;         // 6-11 candidates
+    const size_t r = 20 + 5 * (trial % 4);  // 20-35 cells
     const double p = 0.15 + 0.05 * static_cast<double>(trial % 3);
     const std::vector<Observation> obs = RandomInstance(500 + trial, m, r, p);
     const std::vector<std::vector<uint32_t>> subsets = AllSubsets(m);
@@ -865,13 +870,35 @@ TEST(Objectives, AgainstBruteForce) {
         EXPECT_DOUBLE_EQ(s.coverage, static_cast<double>(cells) / r);
         EXPECT_LE(cells, optimum[s.n]);
         if (s.method == "greedy") greedy_cells[s.n] = cells;
-        if (s.method == "local") EXPECT_GE(cells, greedy_cells[s.n]);
+        if (s.method == "local") {
+          EXPECT_GE(cells, greedy_cells[s.n]);
+        }
         if (s.method == "exact") {
           EXPECT_EQ(cells, optimum[s.n]);
           EXPECT_TRUE(s.proven_optimal);
           ASSERT_TRUE(s.upper_bound.has_value());
           EXPECT_GE(*s.upper_bound, s.coverage);
           EXPECT_NEAR(*s.upper_bound, static_cast<double>(optimum[s.n]) / r, 1e-12);
+        }
+      }
+    }
+
+    // The k-coverage MILP itself (Select enumerates instances this small).
+    {
+      const detail::CoverageMatrix matrix(obs, r);
+      for (int k = 2; k <= 3; ++k) {
+        for (size_t n = static_cast<size_t>(k); n <= 4; ++n) {
+          size_t best = 0;
+          for (const auto& s : subsets) {
+            if (s.size() == n) best = std::max(best, KUnionSize(obs, s, k));
+          }
+          const std::vector<uint32_t> start = detail::KGreedyComplete(matrix, {}, n, k);
+          const detail::ExactResult milp = detail::SolveExactK(matrix, n, k, start, 60, false);
+          SCOPED_TRACE(testing::Message() << "MILP k=" << k << " n=" << n << " " << milp.note);
+          ASSERT_EQ(milp.chosen.size(), n);
+          EXPECT_EQ(KUnionSize(obs, milp.chosen, k), best);
+          EXPECT_TRUE(milp.proven_optimal);
+          EXPECT_EQ(milp.upper_bound, best);
         }
       }
     }
@@ -941,7 +968,9 @@ TEST(Objectives, CheapBoundsHoldOnRandomInstances) {
     std::vector<double> costs(m);
     Rng rng(800 + trial, Stream::kTest, 0);
     for (double& c : costs) c = 0.5 + static_cast<double>(rng.Below(4));
+    const double cheapest = *std::min_element(costs.begin(), costs.end());
     for (const double budget : {1.0, 4.0, 7.5}) {
+      if (budget < cheapest) continue;  // Validate refuses it
       size_t best = 0;
       for (const auto& s : subsets) {
         if (SumOfCosts(costs, s) <= budget) best = std::max(best, UnionSize(obs, s));
@@ -976,7 +1005,7 @@ TEST(Objectives, FallBackToTheStartWhenTheModelIsTooLarge) {
   const std::vector<Observation> obs = RandomInstance(17, 60, 2000, 0.3);
   const detail::CoverageMatrix matrix(obs, 2000);
   const std::vector<uint32_t> k_start = detail::KGreedyComplete(matrix, {}, 3, 2);
-  const detail::ExactResult k_result = detail::SolveExactK(matrix, 3, 2, k_start, 0.001);
+  const detail::ExactResult k_result = detail::SolveExactK(matrix, 3, 2, k_start, 0.001, false);
   EXPECT_EQ(k_result.chosen, k_start);
   EXPECT_FALSE(k_result.note.empty());
   EXPECT_GE(k_result.upper_bound, detail::KCoveredWeight(matrix, k_start, 2));
@@ -1000,9 +1029,9 @@ TEST(Objectives, DeterministicForASeed) {
   const std::vector<Observation> obs = RandomInstance(31, 14, 80, 0.2);
   std::vector<double> costs(14);
   for (size_t i = 0; i < costs.size(); ++i) costs[i] = 1.0 + static_cast<double>(i % 3);
-  const std::vector<SelectOptions> all_options = {
-      KOptions(Method::kAll, 4, 2), GoalOptions(Method::kAll, 0.6),
-      BudgetOptions(Method::kAll, 6, costs)};
+  const std::vector<SelectOptions> all_options = {KOptions(Method::kAll, 4, 2),
+                                                  GoalOptions(Method::kAll, 0.6),
+                                                  BudgetOptions(Method::kAll, 6, costs)};
   for (const SelectOptions& options : all_options) {
     const std::vector<Selection> a = Select(obs, 80, options);
     const std::vector<Selection> b = Select(obs, 80, options);

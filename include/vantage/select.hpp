@@ -101,7 +101,8 @@ class CoverageEvaluator {
 /// local, exact for every n from k to options.n; for set cover: greedy, exact; for budget:
 /// greedy, local, exact. Deterministic for a seed. InputError for invalid options and for a goal
 /// above what all candidates reach together (the message names that maximum).
-std::vector<Selection> Select(std::span<const Observation> observations, size_t reference_size,
+std::vector<Selection> Select(std::span<const Observation> observations,
+                              size_t reference_size,
                               const SelectOptions& options);
 
 /// Single methods, each for exactly options.n sensors.

@@ -26,6 +26,11 @@
 namespace vantage::detail {
 namespace {
 
+// k-coverage has a weak LP relaxation (k y_e <= sum x_i lets every y_e be 1/k-covered by
+// fractions of sensors), so CBC branches long even on tiny instances; up to this many n-subsets
+// of the candidates that see anything, exhaustive search is faster and equally exact.
+constexpr double kMaxEnumeratedSubsets = 300000;
+
 // Largest MILP (in constraint matrix nonzeros) given to CBC per second of time limit; see RunCbc.
 constexpr double kCbcNonzerosPerSecond = 40000;
 constexpr double kMinCbcNonzeros = 20000;
@@ -348,6 +353,51 @@ CbcOutcome GuardedCbc(const CoverageMatrix& matrix,
   }
 }
 
+// Number of n-subsets of m items, or +inf beyond `cap`.
+double SubsetCount(size_t m, size_t n, double cap) {
+  double count = 1;
+  for (size_t j = 0; j < n; ++j) {
+    count = count * static_cast<double>(m - j) / static_cast<double>(j + 1);
+    if (count > cap) return std::numeric_limits<double>::infinity();
+  }
+  return count;
+}
+
+// The n-subset of `pool` with the most k-covered cells, by depth-first enumeration in index order
+// with the k-covered weight kept incrementally (ties: the first subset in that order).
+std::vector<uint32_t> EnumerateKCoverage(const CoverageMatrix& matrix,
+                                         const std::vector<uint32_t>& pool,
+                                         size_t n,
+                                         int k) {
+  std::vector<uint32_t> count(matrix.element_count(), 0);
+  std::vector<uint32_t> current, best;
+  uint64_t weight = 0, best_weight = 0;
+  const auto kk = static_cast<uint32_t>(k);
+  const auto visit = [&](const auto& self, size_t from) -> void {
+    if (current.size() == n) {
+      if (best.empty() || weight > best_weight) {
+        best = current;
+        best_weight = weight;
+      }
+      return;
+    }
+    for (size_t p = from; p + (n - current.size()) <= pool.size(); ++p) {
+      const uint32_t c = pool[p];
+      for (const uint32_t e : matrix.Row(c)) {
+        if (++count[e] == kk) weight += matrix.Weight(e);
+      }
+      current.push_back(c);
+      self(self, p + 1);
+      current.pop_back();
+      for (const uint32_t e : matrix.Row(c)) {
+        if (count[e]-- == kk) weight -= matrix.Weight(e);
+      }
+    }
+  };
+  visit(visit, 0);
+  return best;
+}
+
 // The final upper bound of a maximisation from the cheap bound already in `result` and CBC's.
 // Whole cells: the optimum is at most CBC's bound rounded down (the tolerance absorbs the
 // solver's round-off). A bound below what we hold cannot be one (CBC stopped early): ignored.
@@ -375,7 +425,7 @@ ExactResult SolveExact(const CoverageMatrix& matrix,
   ExactResult result;
   result.chosen = start;
   const uint64_t start_cells = matrix.CoveredWeight(start);
-  result.upper_bound = std::max(SimpleUpperBound(matrix, start, n), start_cells);
+  result.upper_bound = std::max(GreedyUpperBound(matrix, start, n), start_cells);
   if (start_cells == result.upper_bound) {
     result.proven_optimal = true;
     result.note = "start meets the simple bound";
@@ -409,7 +459,8 @@ ExactResult SolveExactK(const CoverageMatrix& matrix,
                         size_t n,
                         int k,
                         const std::vector<uint32_t>& start,
-                        double time_limit) {
+                        double time_limit,
+                        bool may_enumerate) {
   VANTAGE_CHECK(k >= 1 && n >= 1 && n <= matrix.candidate_count() && start.size() == n);
   if (k == 1) return SolveExact(matrix, n, start, time_limit);
   ExactResult result;
@@ -419,6 +470,21 @@ ExactResult SolveExactK(const CoverageMatrix& matrix,
   if (start_cells == result.upper_bound) {
     result.proven_optimal = true;
     result.note = "start meets the simple bound";
+    return result;
+  }
+  std::vector<uint32_t> pool;
+  for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
+    if (!matrix.Row(i).empty()) pool.push_back(i);
+  }
+  if (pool.size() <= n ||
+      (may_enumerate && std::isfinite(SubsetCount(pool.size(), n, kMaxEnumeratedSubsets)))) {
+    std::vector<uint32_t> found = pool.size() <= n ? pool : EnumerateKCoverage(matrix, pool, n, k);
+    found = KGreedyComplete(matrix, std::move(found), n, k);
+    const uint64_t cells = KCoveredWeight(matrix, found, k);
+    if (cells > start_cells) result.chosen = std::move(found);
+    result.upper_bound = std::max(cells, start_cells);
+    result.proven_optimal = true;
+    result.note = "solved by enumeration";
     return result;
   }
   MilpSpec spec;
@@ -434,8 +500,8 @@ ExactResult SolveExactK(const CoverageMatrix& matrix,
     std::vector<uint32_t> padded = KGreedyComplete(matrix, outcome.chosen, n, k);
     if (KCoveredWeight(matrix, padded, k) > start_cells) result.chosen = std::move(padded);
   }
-  SettleUpperBound(KCoveredWeight(matrix, result.chosen, k), outcome.bound,
-                   outcome.proven_optimal, &result);
+  SettleUpperBound(KCoveredWeight(matrix, result.chosen, k), outcome.bound, outcome.proven_optimal,
+                   &result);
   return result;
 }
 

@@ -166,8 +166,8 @@ std::vector<uint32_t> KGreedyComplete(const CoverageMatrix& matrix,
         best_gains = gains;
       }
     }
-    if (best < 0 || std::all_of(best_gains.begin(), best_gains.end(),
-                                [](uint64_t g) { return g == 0; })) {
+    if (best < 0 ||
+        std::all_of(best_gains.begin(), best_gains.end(), [](uint64_t g) { return g == 0; })) {
       break;  // nothing adds anything at any level: fill by index
     }
     chosen.push_back(static_cast<uint32_t>(best));
@@ -256,10 +256,25 @@ uint64_t SimpleUpperBound(const CoverageMatrix& matrix,
   return std::min(bound, matrix.seen_weight());
 }
 
-uint64_t BudgetUpperBound(const CoverageMatrix& matrix,
+uint64_t GreedyUpperBound(const CoverageMatrix& matrix,
                           std::span<const uint32_t> chosen,
-                          std::span<const double> costs,
-                          double budget) {
+                          size_t n) {
+  // SimpleUpperBound holds over any set S; the best S is often a short greedy prefix (for S = {}
+  // it is the sum of the n largest rows), rarely the final answer (Leskovec et al. 2007).
+  uint64_t bound = SimpleUpperBound(matrix, chosen, n);
+  const std::vector<uint32_t> greedy = GreedyComplete(matrix, {}, n);
+  for (size_t j = 0; j <= greedy.size(); ++j) {
+    bound = std::min(bound, SimpleUpperBound(matrix, std::span(greedy).first(j), n));
+  }
+  return bound;
+}
+
+namespace {
+
+uint64_t KnapsackBound(const CoverageMatrix& matrix,
+                       std::span<const uint32_t> chosen,
+                       std::span<const double> costs,
+                       double budget) {
   // f(OPT) <= f(S) + sum over OPT \ S of gain(j | S), and OPT's costs add up to at most the
   // budget: so at most f(S) + the fractional knapsack of the gains (an LP bound, rounded down
   // because cells are whole).
@@ -302,6 +317,17 @@ uint64_t BudgetUpperBound(const CoverageMatrix& matrix,
   return rounded >= static_cast<double>(reachable) ? reachable : static_cast<uint64_t>(rounded);
 }
 
+}  // namespace
+
+uint64_t BudgetUpperBound(const CoverageMatrix& matrix,
+                          std::span<const uint32_t> chosen,
+                          std::span<const double> costs,
+                          double budget) {
+  // Over `chosen` and over the empty set (the fractional knapsack of the rows themselves).
+  return std::min(KnapsackBound(matrix, chosen, costs, budget),
+                  KnapsackBound(matrix, {}, costs, budget));
+}
+
 uint64_t KUpperBound(const CoverageMatrix& matrix,
                      std::span<const uint32_t> chosen,
                      size_t n,
@@ -315,7 +341,7 @@ uint64_t KUpperBound(const CoverageMatrix& matrix,
   for (uint32_t e = 0; e < matrix.element_count(); ++e) {
     if (seers[e] >= static_cast<uint32_t>(k)) seen_by_k += matrix.Weight(e);
   }
-  return std::min(seen_by_k, SimpleUpperBound(matrix, chosen, n));
+  return std::min(seen_by_k, GreedyUpperBound(matrix, chosen, n));
 }
 
 size_t SetCoverLowerBound(const CoverageMatrix& matrix, uint64_t goal_cells) {

@@ -19,7 +19,7 @@ void ClearBit(Bitset* set, uint32_t e) { (*set)[e >> 6] &= ~(uint64_t{1} << (e &
 
 struct TwoSwap {
   int64_t delta = 0;
-  size_t p = 0, q = 0;  // positions out
+  size_t p = 0, q = 0;    // positions out
   uint32_t x = 0, y = 0;  // candidates in (x to p, y to q)
 };
 

@@ -32,8 +32,9 @@ void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
     if (!(*o.budget >= 0.0) || !std::isfinite(*o.budget))
       throw InputError(fmt::format("budget = {} must be a number >= 0", *o.budget));
     if (o.costs.size() != candidate_count) {
-      throw InputError(fmt::format("budget needs one cost per candidate: {} costs for {} candidates",
-                                   o.costs.size(), candidate_count));
+      throw InputError(
+          fmt::format("budget needs one cost per candidate: {} costs for {} candidates",
+                      o.costs.size(), candidate_count));
     }
     double cheapest = std::numeric_limits<double>::infinity();
     for (const double c : o.costs) {
@@ -42,9 +43,9 @@ void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
       cheapest = std::min(cheapest, c);
     }
     if (*o.budget < cheapest) {
-      throw InputError(fmt::format(
-          "budget {:g} is below the cheapest candidate's cost {:g} — raise --budget", *o.budget,
-          cheapest));
+      throw InputError(
+          fmt::format("budget {:g} is below the cheapest candidate's cost {:g} — raise --budget",
+                      *o.budget, cheapest));
     }
   }
   const Objective objective = o.objective();

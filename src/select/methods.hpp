@@ -64,9 +64,9 @@ std::vector<uint32_t> GreedyBudget(const CoverageMatrix& matrix,
 
 /// Options of LocalSearch beyond the cardinality objective.
 struct LocalOptions {
-  int k = 1;                    ///< k-coverage when >= 2
+  int k = 1;                      ///< k-coverage when >= 2
   std::span<const double> costs;  ///< with a budget: per-candidate costs, else empty
-  double budget = 0;            ///< total cost cap when `costs` is not empty
+  double budget = 0;              ///< total cost cap when `costs` is not empty
   /// Also try 2-swaps (two out, two in) once no 1-swap helps: k = 1 without a budget only, and
   /// only while the search stays cheap (a cap on pair evaluations per pass).
   bool two_swap = true;
@@ -85,16 +85,20 @@ std::vector<uint32_t> LocalSearch(const CoverageMatrix& matrix,
 /// plus the n largest gains over them, at most the cells seen by anyone.
 uint64_t SimpleUpperBound(const CoverageMatrix& matrix, std::span<const uint32_t> chosen, size_t n);
 
-/// Cheap upper bound on the cells that any selection within `budget` covers: the cells of
-/// `chosen` plus the fractional knapsack of the gains over them (submodularity), at most the cells
-/// seen by the affordable candidates.
+/// The least SimpleUpperBound over `chosen` and every prefix of the greedy answer for n (the empty
+/// one included): usually much tighter than over the final answer alone.
+uint64_t GreedyUpperBound(const CoverageMatrix& matrix, std::span<const uint32_t> chosen, size_t n);
+
+/// Cheap upper bound on the cells that any selection within `budget` covers: the cells of a set S
+/// plus the fractional knapsack of the gains over S (submodularity), for S = `chosen` and S = {}
+/// (the smaller), at most the cells seen by the affordable candidates.
 uint64_t BudgetUpperBound(const CoverageMatrix& matrix,
                           std::span<const uint32_t> chosen,
                           std::span<const double> costs,
                           double budget);
 
-/// Cheap upper bound on the k-covered cells of any n sensors: the 1-coverage bound of n sensors
-/// over `chosen`, at most the cells seen by k or more candidates.
+/// Cheap upper bound on the k-covered cells of any n sensors: the 1-coverage GreedyUpperBound of
+/// n sensors, at most the cells seen by k or more candidates.
 uint64_t KUpperBound(const CoverageMatrix& matrix,
                      std::span<const uint32_t> chosen,
                      size_t n,
@@ -115,7 +119,7 @@ struct ExactResult {
 /// shrunk first: dominated candidates are dropped (with "at most n" sensors that loses nothing;
 /// the answer is padded back to n), elements are re-merged over the remaining candidates, and
 /// elements that only one candidate sees go into that candidate's objective. If CBC fails the
-/// answer is `start` with SimpleUpperBound. Never returns fewer cells than `start` covers.
+/// answer is `start` with GreedyUpperBound. Never returns fewer cells than `start` covers.
 ExactResult SolveExact(const CoverageMatrix& matrix,
                        size_t n,
                        const std::vector<uint32_t>& start,
@@ -124,11 +128,14 @@ ExactResult SolveExact(const CoverageMatrix& matrix,
 /// Maximum k-coverage (k >= 2) of n sensors: max sum_e w_e y_e s.t. k y_e <= sum_{i sees e} x_i,
 /// sum_i x_i <= n, x and y binary (the answer padded to n by KGreedyComplete). No dominance
 /// reduction (a subset can still be the k-th seer). Falls back to `start` with KUpperBound.
+/// When the n-subsets of the candidates that see anything are few (and `may_enumerate`), they are
+/// searched exhaustively instead: the MILP's LP relaxation is weak, so that is much faster.
 ExactResult SolveExactK(const CoverageMatrix& matrix,
                         size_t n,
                         int k,
                         const std::vector<uint32_t>& start,
-                        double time_limit);
+                        double time_limit,
+                        bool may_enumerate = true);
 
 /// Budgeted maximum coverage: as SolveExact with sum_i cost_i x_i <= budget instead of the
 /// cardinality row; dominance needs a superset that costs no more. Falls back to `start` (which

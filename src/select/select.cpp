@@ -82,7 +82,8 @@ class Pipeline {
     const Clock::time_point start = Clock::now();
     switch (objective_) {
       case Objective::kSetCover:
-        greedy_ = detail::GreedyToGoal(matrix_, GoalCells(*options_.goal, matrix_.reference_size()));
+        greedy_ =
+            detail::GreedyToGoal(matrix_, GoalCells(*options_.goal, matrix_.reference_size()));
         break;
       case Objective::kBudget:
         greedy_ = detail::GreedyBudget(matrix_, options_.costs, *options_.budget);
@@ -129,8 +130,8 @@ class Pipeline {
     }
     detail::ExactResult exact;
     if (objective_ == Objective::kBudget) {
-      exact = detail::SolveExactBudget(matrix_, options_.costs, *options_.budget, local_,
-                                       time_limit);
+      exact =
+          detail::SolveExactBudget(matrix_, options_.costs, *options_.budget, local_, time_limit);
     } else {
       exact = detail::SolveExactK(matrix_, n, k_, local_, time_limit);
     }
@@ -162,9 +163,10 @@ class Pipeline {
 
  private:
   void LogNote(bool proven_optimal, const std::string& note) const {
-    const std::string what = objective_ == Objective::kCoverage
-                                 ? fmt::format("exact, n = {}", local_.size())
-                                 : fmt::format("exact ({})", ObjectiveName(objective_));
+    std::string what = fmt::format("exact, n = {}", local_.size());
+    if (objective_ == Objective::kKCoverage) what += fmt::format(", k = {}", k_);
+    if (objective_ == Objective::kSetCover || objective_ == Objective::kBudget)
+      what = fmt::format("exact ({})", ObjectiveName(objective_));
     if (!proven_optimal && !note.empty()) {
       Logger()->warn("{}: {}; reporting the best answer found and a bound", what, note);
     } else if (!note.empty()) {

@@ -1,0 +1,240 @@
+// The further objectives of selection from the command line and the scene file (SYSTEM.md,
+// Select): --goal (set cover), --k (k-coverage), --budget, their settings: keys, how they travel
+// through the visibility file, the report.json keys they add and the infeasible goal's exit 2.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <string>
+
+#include "test_util.hpp"
+
+namespace vantage {
+namespace {
+
+using nlohmann::json;
+using test::RunVantage;
+
+std::string Scene() { return test::DataPath("cli/cube_cell.yaml"); }
+
+// cube_cell.yaml with `extra` spliced in: settings lines go under `settings:`, and with
+// `cost` the custom camera costs that much.
+std::string SceneWith(const test::TempDir& dir,
+                      const std::string& settings,
+                      const std::string& cost = "") {
+  std::string text = test::ReadText(Scene());
+  const std::string settings_key = "settings:\n";
+  text.replace(text.find(settings_key), settings_key.size(), settings_key + settings);
+  if (!cost.empty()) {
+    const std::string range = "    range: [0.1, 3.0]\n";
+    text.replace(text.find(range), range.size(), range + "    cost: " + cost + "\n");
+  }
+  const std::string path = dir.File("scene.yaml");
+  test::WriteText(path, text);
+  return path;
+}
+
+json Report(const std::string& out_dir) {
+  return json::parse(test::ReadText(out_dir + "/report.json"));
+}
+
+// The fixed keys of report.schema.json's results entries, which every objective keeps.
+void ExpectSchemaKeys(const json& r) {
+  for (const char* key : {"method", "n", "sensors", "coverage", "paper_coverage", "seconds"})
+    EXPECT_TRUE(r.contains(key)) << key;
+  ASSERT_TRUE(r["n"].is_number_integer());
+  EXPECT_GE(r["n"].get<int>(), 1);
+  EXPECT_EQ(r["sensors"].size(), r["n"].get<size_t>());
+  EXPECT_GE(r["coverage"].get<double>(), 0.0);
+  EXPECT_LE(r["coverage"].get<double>(), 1.0);
+  if (r.contains("upper_bound")) {
+    EXPECT_GE(r["upper_bound"].get<double>() + 1e-12, r["coverage"].get<double>());
+  }
+}
+
+TEST(ObjectivesCli, GoalGivesTheFewestSensorsReachingIt) {
+  test::TempDir dir;
+  const auto run = RunVantage("optimize " + Scene() + " --goal 0.5 --out " + dir.File("o"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json report = Report(dir.File("o"));
+  ASSERT_EQ(report["results"].size(), 2u);  // "all": greedy and exact
+  EXPECT_EQ(report["results"][0]["method"], "greedy");
+  EXPECT_EQ(report["results"][1]["method"], "exact");
+  for (const json& r : report["results"]) {
+    ExpectSchemaKeys(r);
+    EXPECT_EQ(r["objective"], "set-cover");
+    EXPECT_DOUBLE_EQ(r["goal"].get<double>(), 0.5);
+    EXPECT_GE(r["coverage"].get<double>(), 0.5);
+  }
+  const json& exact = report["results"][1];
+  EXPECT_LE(exact["n"].get<int>(), report["results"][0]["n"].get<int>());
+  ASSERT_TRUE(exact.contains("n_lower_bound"));
+  EXPECT_LE(exact["n_lower_bound"].get<int>(), exact["n"].get<int>());
+  EXPECT_EQ(exact["optimal"].get<bool>(), exact["n_lower_bound"] == exact["n"]);
+  // The fewest sensors stand for the run.
+  EXPECT_EQ(report["results"][report["primary_result"].get<size_t>()]["n"], exact["n"]);
+  EXPECT_NE(run.out.find("set cover: the fewest sensors reaching 50.00 % coverage"),
+            std::string::npos)
+      << run.out;
+}
+
+TEST(ObjectivesCli, InfeasibleGoalExitsTwoNamingTheReachableMaximum) {
+  test::TempDir dir;
+  // What all 16 candidates see together: greedy with n = 16 takes them all.
+  ASSERT_EQ(RunVantage("optimize " + Scene() + " -n 16 --method greedy --out " + dir.File("all"))
+                .exit_code,
+            0);
+  const double reachable = Report(dir.File("all"))["results"][0]["coverage"].get<double>();
+  ASSERT_LT(reachable, 0.999);
+  const auto run = RunVantage("optimize " + Scene() + " --goal 0.999 --out " + dir.File("o"));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find(fmt::format("goal 0.999 is above the {:.4f} that all 16 candidates reach "
+                                     "together — lower --goal",
+                                     reachable)),
+            std::string::npos)
+      << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.File("o")));
+}
+
+TEST(ObjectivesCli, KCoverageReportsTheKMetricPerN) {
+  test::TempDir dir;
+  const auto run = RunVantage("optimize " + Scene() + " --k 2 -n 3 --out " + dir.File("o"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json report = Report(dir.File("o"));
+  std::set<std::pair<std::string, int>> seen;
+  for (const json& r : report["results"]) {
+    ExpectSchemaKeys(r);
+    EXPECT_EQ(r["objective"], "k-coverage");
+    EXPECT_EQ(r["k"], 2);
+    seen.insert({r["method"].get<std::string>(), r["n"].get<int>()});
+  }
+  // n = k..N: 2 and 3, each with ransac, greedy, local and exact.
+  EXPECT_EQ(seen.size(), 8u);
+  for (const char* m : {"ransac", "greedy", "local", "exact"}) {
+    EXPECT_TRUE(seen.count({m, 2})) << m;
+    EXPECT_TRUE(seen.count({m, 3})) << m;
+  }
+  EXPECT_NE(run.out.find("coverage by n (2-coverage, %)"), std::string::npos) << run.out;
+  // Fewer sensors than k: exit 2, saying what to do.
+  const auto too_few = RunVantage("optimize " + Scene() + " --k 3 -n 2 --out " + dir.File("x"));
+  EXPECT_EQ(too_few.exit_code, 2);
+  EXPECT_NE(too_few.err.find("raise -n to at least 3"), std::string::npos) << too_few.err;
+}
+
+TEST(ObjectivesCli, BudgetUsesTheScenesCostsAndIsNeverExceeded) {
+  test::TempDir dir;
+  // Every camera costs 250: a budget of 600 affords two.
+  const std::string scene = SceneWith(dir, "", "250");
+  const auto run = RunVantage("optimize " + scene + " --budget 600 --out " + dir.File("o"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json report = Report(dir.File("o"));
+  ASSERT_EQ(report["results"].size(), 3u);  // greedy, local, exact
+  for (const json& r : report["results"]) {
+    ExpectSchemaKeys(r);
+    EXPECT_EQ(r["objective"], "budget");
+    EXPECT_DOUBLE_EQ(r["budget"].get<double>(), 600);
+    EXPECT_LE(r["cost"].get<double>(), 600);
+    EXPECT_DOUBLE_EQ(r["cost"].get<double>(), 250.0 * r["n"].get<int>());
+    EXPECT_EQ(r["n"], 2);
+  }
+  // The exact answer with a budget for two is the optimum of n = 2.
+  const auto two = RunVantage("optimize " + scene + " -n 2 --method exact --out " + dir.File("n2"));
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  EXPECT_DOUBLE_EQ(report["results"][2]["coverage"].get<double>(),
+                   Report(dir.File("n2"))["results"][0]["coverage"].get<double>());
+  // Below the cheapest camera: exit 2.
+  const auto broke = RunVantage("optimize " + scene + " --budget 100 --out " + dir.File("x"));
+  EXPECT_EQ(broke.exit_code, 2);
+  EXPECT_NE(broke.err.find("budget 100 is below the cheapest candidate's cost 250"),
+            std::string::npos)
+      << broke.err;
+}
+
+TEST(ObjectivesCli, SceneSettingsTravelThroughTheVisibilityFile) {
+  test::TempDir dir;
+  const std::string scene = SceneWith(dir, "  goal: 0.5\n");
+  ASSERT_EQ(RunVantage("observe " + scene + " --out " + dir.File("m.vis")).exit_code, 0);
+  const auto select = RunVantage("select " + dir.File("m.vis") + " --out " + dir.File("s"));
+  ASSERT_EQ(select.exit_code, 0) << select.err;
+  const json selected = Report(dir.File("s"));
+  ASSERT_EQ(selected["results"].size(), 2u);
+  EXPECT_EQ(selected["results"][1]["objective"], "set-cover");
+  // The same as optimizing the scene directly.
+  ASSERT_EQ(RunVantage("optimize " + scene + " --out " + dir.File("o")).exit_code, 0);
+  EXPECT_EQ(Report(dir.File("o"))["results"][1]["sensors"], selected["results"][1]["sensors"]);
+  // An objective on the command line replaces the scene's.
+  const auto k = RunVantage("select " + dir.File("m.vis") + " --k 2 -n 2 --method greedy --out " +
+                            dir.File("k"));
+  ASSERT_EQ(k.exit_code, 0) << k.err;
+  const json k_report = Report(dir.File("k"));
+  ASSERT_EQ(k_report["results"].size(), 1u);
+  EXPECT_EQ(k_report["results"][0]["objective"], "k-coverage");
+  EXPECT_FALSE(k_report["results"][0].contains("goal"));
+
+  // settings.k and settings.budget likewise.
+  const std::string k_scene = SceneWith(dir, "  k: 2\n  method: exact\n");
+  ASSERT_EQ(RunVantage("optimize " + k_scene + " --out " + dir.File("ko")).exit_code, 0);
+  const json ko = Report(dir.File("ko"));
+  ASSERT_EQ(ko["results"].size(), 1u);  // settings.method applies too
+  EXPECT_EQ(ko["results"][0]["method"], "exact");
+  EXPECT_EQ(ko["results"][0]["k"], 2);
+  const std::string b_scene = SceneWith(dir, "  budget: 2\n");
+  ASSERT_EQ(RunVantage("optimize " + b_scene + " --out " + dir.File("bo")).exit_code, 0);
+  for (const json& r : Report(dir.File("bo"))["results"]) EXPECT_LE(r["cost"].get<double>(), 2);
+}
+
+TEST(ObjectivesCli, BadObjectiveSettingsExitTwoWithFileAndLine) {
+  test::TempDir dir;
+  struct Case {
+    std::string settings;
+    int line;
+    std::string message;
+  };
+  // Settings start at line 3 of cube_cell.yaml (after two comment lines and `settings:`).
+  const Case cases[] = {
+      {"  goal: 1.5\n", 4, "settings.goal = 1.5 is a coverage fraction"},
+      {"  k: 0\n", 4, "settings.k = 0 is too small"},
+      {"  budget: -3\n", 4, "settings.budget = -3 must be >= 0"},
+      {"  goal: 0.5\n  budget: 10\n", 5, "separate objectives"},
+  };
+  for (const Case& c : cases) {
+    const std::string scene = SceneWith(dir, c.settings);
+    const auto run = RunVantage("optimize " + scene + " --out " + dir.File("o"));
+    EXPECT_EQ(run.exit_code, 2) << c.settings;
+    EXPECT_NE(run.err.find(fmt::format("scene.yaml:{}: ", c.line)), std::string::npos)
+        << c.settings << run.err;
+    EXPECT_NE(run.err.find(c.message), std::string::npos) << c.settings << run.err;
+  }
+  // Two objectives on the command line, or a method that does not apply: exit 2.
+  EXPECT_EQ(
+      RunVantage("optimize " + Scene() + " --goal 0.5 --k 2 --out " + dir.File("o")).exit_code, 2);
+  const auto method =
+      RunVantage("optimize " + Scene() + " --goal 0.5 --method ransac --out " + dir.File("o"));
+  EXPECT_EQ(method.exit_code, 2);
+  EXPECT_NE(method.err.find("method 'ransac' does not apply to the set-cover objective"),
+            std::string::npos)
+      << method.err;
+}
+
+TEST(ObjectivesCli, AllPrintsTheCoverageByNTable) {
+  test::TempDir dir;
+  const auto run = RunVantage("optimize " + Scene() + " -n 3 --out " + dir.File("o"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("coverage by n (%)"), std::string::npos) << run.out;
+  EXPECT_TRUE(std::regex_search(
+      run.out, std::regex(R"(\n\s+n\s+best\s+ransac\s+greedy\s+local\s+exact\s+bound\n)")))
+      << run.out;
+  // One row per n, each ending in the bound.
+  for (int n = 1; n <= 3; ++n) {
+    EXPECT_TRUE(std::regex_search(run.out, std::regex("\\n\\s+" + std::to_string(n) +
+                                                      R"((\s+(\d+\.\d\d|-)){5}\s+\d+\.\d\d\*?\n)")))
+        << n << "\n"
+        << run.out;
+  }
+}
+
+}  // namespace
+}  // namespace vantage
