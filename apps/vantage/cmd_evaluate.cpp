@@ -37,15 +37,8 @@ void RunEvaluate(const EvaluateOptions& options) {
   timings.observe = SecondsSince(stage);
 
   stage = std::chrono::steady_clock::now();
-  std::vector<uint32_t> all(data.candidates.size());
-  std::iota(all.begin(), all.end(), 0u);
   const CoverageEvaluator evaluator(data.observations, data.reference.size());
-  Selection given;
-  given.method = "given";
-  given.n = static_cast<int>(all.size());
-  given.chosen = all;
-  given.coverage = evaluator.Coverage(all);
-  given.paper_coverage = evaluator.PaperCoverage(all);
+  Selection given = WholeConstellation(evaluator);
   timings.select = given.seconds = SecondsSince(stage);
   timings.total = SecondsSince(start);
 
@@ -53,7 +46,7 @@ void RunEvaluate(const EvaluateOptions& options) {
     const std::vector<uint32_t> one{static_cast<uint32_t>(i)};
     fmt::print("sensor  {:<24} {:6.2f} %\n", data.candidates[i].name, 100.0 * evaluator.Coverage(one));
   }
-  fmt::print("union   {} sensors            {:6.2f} %  (paper metric {:.2f} %)\n", all.size(),
+  fmt::print("union   {} sensors            {:6.2f} %  (paper metric {:.2f} %)\n", given.chosen.size(),
              100.0 * given.coverage, 100.0 * given.paper_coverage);
   if (!options.out.empty()) {
     Report report;

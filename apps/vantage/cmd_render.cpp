@@ -105,15 +105,8 @@ void RunRender(const RenderCommandOptions& options) {
   data.reference = BuildReference(problem.scene, ReferenceOptions{header.cell_size});
   data.candidates = constellation.sensors;
   data.observations = Observe(problem.scene, data.reference, data.candidates);
-  std::vector<uint32_t> all(data.candidates.size());
-  std::iota(all.begin(), all.end(), 0u);
   const CoverageEvaluator evaluator(data.observations, data.reference.size());
-  Selection given;
-  given.method = "given";
-  given.n = static_cast<int>(all.size());
-  given.chosen = all;
-  given.coverage = evaluator.Coverage(all);
-  given.paper_coverage = evaluator.PaperCoverage(all);
+  Selection given = WholeConstellation(evaluator);
   if (header.coverage && std::abs(*header.coverage - given.coverage) > 1e-9)
     spdlog::warn("{}: coverage {:.4f} % now, {:.4f} % in the report — has the scene changed since?",
                  report_path, 100.0 * given.coverage, 100.0 * *header.coverage);

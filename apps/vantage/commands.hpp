@@ -72,6 +72,9 @@ void SetupEvaluate(CLI::App* parent);
 void SetupSensors(CLI::App* parent);
 void SetupRender(CLI::App* parent);
 
+/// Every candidate of `evaluator` as one "given" selection, with its coverage (evaluate, render).
+Selection WholeConstellation(const CoverageEvaluator& evaluator);
+
 /// Seconds since `start` on the steady clock.
 double SecondsSince(std::chrono::steady_clock::time_point start);
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <mutex>
+#include <numeric>
 
 #include "commands.hpp"
 
@@ -85,6 +86,17 @@ void PrintCoverageByN(const std::vector<Selection>& results) {
 }
 
 }  // namespace
+
+Selection WholeConstellation(const CoverageEvaluator& evaluator) {
+  Selection given;
+  given.method = "given";
+  given.chosen.resize(evaluator.observations().size());
+  std::iota(given.chosen.begin(), given.chosen.end(), 0u);
+  given.n = static_cast<int>(given.chosen.size());
+  given.coverage = evaluator.Coverage(given.chosen);
+  given.paper_coverage = evaluator.PaperCoverage(given.chosen);
+  return given;
+}
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

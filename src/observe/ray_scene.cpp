@@ -107,31 +107,6 @@ void RayScene::Intersect(RayBatch* batch) const {
   }
 }
 
-float RayScene::IntersectOne(const float origin[3], const float dir[3], float tfar,
-                             bool* is_target) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  RTCRayHit ray{};
-  ray.ray.org_x = origin[0];
-  ray.ray.org_y = origin[1];
-  ray.ray.org_z = origin[2];
-  ray.ray.dir_x = dir[0];
-  ray.ray.dir_y = dir[1];
-  ray.ray.dir_z = dir[2];
-  ray.ray.tnear = 0.0f;
-  ray.ray.tfar = tfar;
-  ray.ray.mask = 0xFFFFFFFFu;
-  ray.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  ray.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->scene, &context, &ray);
-  if (ray.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-    *is_target = false;
-    return std::numeric_limits<float>::infinity();
-  }
-  *is_target = impl_->is_target[ray.hit.geomID] != 0;
-  return ray.ray.tfar;
-}
-
 RayHit RayScene::IntersectHit(const float origin[3], const float dir[3], float tfar) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);

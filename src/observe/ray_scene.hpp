@@ -42,8 +42,6 @@ class RayScene {
 
   /// Traces the active lanes of `batch` (coherent packet) and fills t / is_target. Thread-safe.
   void Intersect(RayBatch* batch) const;
-  /// Single ray; returns t (inf on miss) and sets *is_target. Thread-safe.
-  float IntersectOne(const float origin[3], const float dir[3], float tfar, bool* is_target) const;
   /// Single ray with the object, triangle and normal it hits. Thread-safe.
   RayHit IntersectHit(const float origin[3], const float dir[3], float tfar) const;
 

@@ -15,6 +15,7 @@
 #include <string_view>
 #include <unordered_map>
 
+#include "util/markup.hpp"
 #include "vantage/error.hpp"
 #include "vantage/visualize.hpp"
 
@@ -604,28 +605,6 @@ std::string Base64(const std::vector<T>& values) {
   return Base64(values.data(), values.size() * sizeof(T));
 }
 
-std::string HtmlEscape(const std::string& text) {
-  std::string out;
-  for (const char ch : text) {
-    switch (ch) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += ch;
-    }
-  }
-  return out;
-}
 
 // Inlined script text must neither close its <script> element early nor open an HTML comment
 // (HTML, script data state): "</script" and "<!--" get a backslash that JavaScript ignores inside
@@ -945,8 +924,8 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
       at += with.size();
     }
   };
-  replace_all("@TITLE@", HtmlEscape(title));
-  replace_all("@SUBTITLE@", HtmlEscape(subtitle));
+  replace_all("@TITLE@", detail::MarkupEscape(title));
+  replace_all("@SUBTITLE@", detail::MarkupEscape(subtitle));
   if (has_three) {
     html += "<script>\n" + ScriptSafe(three) + "\n</script>\n";
     html += "<script>\n" + ScriptSafe(orbit) + "\n</script>\n";

@@ -8,6 +8,7 @@
 // world_from_body · model_from_camera⁻¹. Gazebo then puts the camera exactly there; vantage, which
 // re-orients every explicit sensor towards the observation point, finds the same pose again when
 // the random roll is off (the position is unchanged, so is the look-at).
+#include "util/markup.hpp"
 #include "vantage/gazebo_export.hpp"
 
 #include <fmt/format.h>
@@ -44,31 +45,6 @@ std::string ReadText(const std::string& path) {
   return buffer.str();
 }
 
-std::string XmlEscape(std::string_view s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out.push_back(c);
-    }
-  }
-  return out;
-}
 
 /// Shortest text that reads back as the same double; never "-0".
 std::string Number(double v) {
@@ -287,8 +263,8 @@ std::string Exporter::IncludeText(const XmlElement& include,
   VANTAGE_CHECK(uri != nullptr);  // the loader resolved this include
   const std::string inner = indent + unit_;
   std::string out = indent + "<include>\n";
-  out += fmt::format("{}<name>{}</name>\n", inner, XmlEscape(name));
-  out += fmt::format("{}<uri>{}</uri>\n", inner, XmlEscape(uri->Trimmed()));
+  out += fmt::format("{}<name>{}</name>\n", inner, detail::MarkupEscape(name));
+  out += fmt::format("{}<uri>{}</uri>\n", inner, detail::MarkupEscape(uri->Trimmed()));
   out += fmt::format("{}<static>1</static>\n", inner);
   out += fmt::format("{}<pose>{}</pose>\n", inner, PoseText(pose));
   // Anything else the include carries (a plugin, say) comes along as written.
@@ -307,10 +283,10 @@ std::string Exporter::ModelText(const XmlElement& model,
                                 const Pose& pose,
                                 const std::string& indent) const {
   // The start tag, renamed; the content as written, without its own <pose> and <static>.
-  std::string out = indent + "<model name=\"" + XmlEscape(name) + "\"";
+  std::string out = indent + "<model name=\"" + detail::MarkupEscape(name) + "\"";
   for (const auto& [key, value] : model.attributes) {
     if (key == "name" || key == "placement_frame") continue;
-    out += fmt::format(" {}=\"{}\"", key, XmlEscape(value));
+    out += fmt::format(" {}=\"{}\"", key, detail::MarkupEscape(value));
   }
   out += ">\n";
   const std::string inner = indent + unit_;
