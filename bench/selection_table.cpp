@@ -7,6 +7,8 @@
 // Usage: selection_table [--n-max 10] [--time-limit 60] [--iterations 1000] [--seed 1]
 //                        [--generated] [FILE.vis ...]
 #include <fmt/format.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
 
 #include <chrono>
 #include <cstdlib>
@@ -77,6 +79,8 @@ Row Run(const Instance& instance, Method method, int n, const SelectOptions& bas
 }
 
 int Main(int argc, char** argv) {
+  // The library logs (e.g. exact's warnings) to the "vantage" logger: stderr, as the CLI does.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("vantage"));
   int n_max = 10;
   SelectOptions base;
   base.ransac_iterations = 1000;  // the paper's
@@ -154,7 +158,7 @@ int Main(int argc, char** argv) {
           misses.push_back(fmt::format("{} N={}: exact gap {:.2f} % of the bound (not optimal)",
                                        instance.name, n, 100 * relative));
         }
-        if (exact.seconds > base.time_limit + 5) {
+        if (exact.seconds > base.time_limit) {
           misses.push_back(
               fmt::format("{} N={}: exact took {:.1f} s", instance.name, n, exact.seconds));
         }

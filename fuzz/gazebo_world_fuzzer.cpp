@@ -15,8 +15,8 @@
 extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
   spdlog::set_level(spdlog::level::off);
   // Only the model paths given below: the machine's Gazebo setup must not change the outcome.
-  ::unsetenv("GAZEBO_MODEL_PATH");
-  ::unsetenv("GAZEBO_RESOURCE_PATH");
+  ::unsetenv("GAZEBO_MODEL_PATH");     // NOLINT(concurrency-mt-unsafe): before any thread starts
+  ::unsetenv("GAZEBO_RESOURCE_PATH");  // NOLINT(concurrency-mt-unsafe)
   vantage::fuzz::ScratchDir();
   return 0;
 }

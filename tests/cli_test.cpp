@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <set>
 
 #include "test_util.hpp"
 
@@ -94,6 +95,25 @@ TEST(Cli, EvaluateReproducesTheChosenCoverage) {
   const json evaluated = json::parse(test::ReadText(dir.File("e/report.json")));
   EXPECT_DOUBLE_EQ(evaluated["results"][0]["coverage"].get<double>(), report["results"][0]["coverage"].get<double>());
   EXPECT_EQ(evaluated["results"][0]["sensors"], report["results"][0]["sensors"]);
+}
+
+TEST(Cli, ExportedConstellationYamlReloadsToTheSameCoverage) {
+  test::TempDir dir;
+  ASSERT_EQ(RunVantage("optimize " + Scene() + " -n 3 --method greedy --out " + dir.File("o")).exit_code, 0);
+  const json report = json::parse(test::ReadText(dir.File("o/report.json")));
+  // The export holds exactly the 3 chosen sensors: optimizing it with n = 3 takes them all.
+  const auto again = RunVantage("optimize " + dir.File("o/constellation.yaml") + " -n 3 --method greedy --out " +
+                                dir.File("again"));
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  const json reloaded = json::parse(test::ReadText(dir.File("again/report.json")));
+  EXPECT_EQ(reloaded["candidates"].size(), 3u);
+  std::set<std::string> chosen, exported;
+  for (const json& n : report["results"][0]["sensors"]) chosen.insert(n.get<std::string>());
+  for (const json& c : reloaded["candidates"]) exported.insert(c["name"].get<std::string>());
+  EXPECT_EQ(chosen, exported);
+  // Poses travel as 17-digit decimals: at most a last-bit change of a ray, so allow one voxel.
+  EXPECT_NEAR(reloaded["results"][0]["coverage"].get<double>(), report["results"][0]["coverage"].get<double>(),
+              1.0 / report["reference_voxels"].get<double>());
 }
 
 TEST(Cli, SameSeedSameReportWhateverTheThreadCount) {

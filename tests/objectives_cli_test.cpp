@@ -183,7 +183,8 @@ TEST(ObjectivesCli, SceneSettingsTravelThroughTheVisibilityFile) {
   EXPECT_EQ(ko["results"][0]["k"], 2);
   const std::string b_scene = SceneWith(dir, "  budget: 2\n");
   ASSERT_EQ(RunVantage("optimize " + b_scene + " --out " + dir.File("bo")).exit_code, 0);
-  for (const json& r : Report(dir.File("bo"))["results"]) EXPECT_LE(r["cost"].get<double>(), 2);
+  const json bo = Report(dir.File("bo"));  // a named value: the loop must not outlive it
+  for (const json& r : bo["results"]) EXPECT_LE(r["cost"].get<double>(), 2);
 }
 
 TEST(ObjectivesCli, BadObjectiveSettingsExitTwoWithFileAndLine) {

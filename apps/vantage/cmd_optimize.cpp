@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "vantage/yaml_export.hpp"
 #include "vantage/gazebo_export.hpp"
 
 namespace vantage::cli {
@@ -45,6 +46,12 @@ void RunOptimize(const OptimizeOptions& options) {
         options.scene.scene, chosen, observed.populations, observed.sensors, &notes);
     for (const std::string& note : notes) spdlog::warn("{}", note);
     report.notes.insert(report.notes.end(), notes.begin(), notes.end());
+  }
+  if (!IsGazeboWorldPath(options.scene.scene) && primary >= 0) {
+    std::vector<Candidate> chosen;
+    for (uint32_t i : report.results[static_cast<size_t>(primary)].chosen)
+      chosen.push_back(observed.data.candidates[i]);
+    extra_files["constellation.yaml"] = ConstellationYaml(options.scene.scene, chosen);
   }
   extra_files["report.html"] = HtmlReport(report, observed.scene);
   extra_files["static_transforms.yaml"] = StaticTransformsYaml(report);
