@@ -17,8 +17,10 @@ build: deps
 run: build
 	BUILD=$(BUILD) EXAMPLE=$(EXAMPLE) OUT=$(OUT) bash scripts/run_example.sh
 
+# The whole suite, then the same suite built with ASan + UBSan (scripts/sanitize.sh, build-asan/).
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
+	JOBS=$(JOBS) bash scripts/sanitize.sh
 
 bench: build
 	bash scripts/bench_e2e.sh
