@@ -258,6 +258,14 @@ TriangleMesh MakeSphere(double radius, double max_chord_error) {
                       radius, kMaxSegments, max_chord_error));
     }
   }
+  // Bound the whole mesh, not only a circle: slices x rings grows with the square (fuzzing found
+  // cell_size 1e-7 asking for 2·10⁸ triangles).
+  constexpr int64_t kMaxTriangles = 10'000'000;
+  if (int64_t{2} * slices * rings > kMaxTriangles) {
+    throw InputError(fmt::format("sphere of radius {} m needs {} triangles for a chord error of {} m, "
+                                 "above {} — check the radius and the cell size",
+                                 radius, int64_t{2} * slices * rings, max_chord_error, kMaxTriangles));
+  }
   TriangleMesh mesh;
   mesh.vertices.push_back(Vec3(0, 0, radius));  // north pole: index 0
   for (int ring = 1; ring < rings; ++ring) {

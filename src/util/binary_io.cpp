@@ -16,6 +16,7 @@ uint64_t Fnv1a64(std::string_view bytes) {
 }
 
 void BinaryReader::Read(void* out, size_t n) {
+  if (n == 0) return;  // an empty vector's data() may be null: memcpy must not see it
   if (n > data_.size() - pos_)
     throw InputError(fmt::format("{}: truncated at byte {} (needs {} more bytes) — the file is corrupt",
                                  file_, pos_, n));
