@@ -172,6 +172,12 @@ TEST_F(BadInput, YamlScenes) {
     return Yaml(name, cube, "mesh: {file: meshes/" + file + "}", 23, what);
   };
   const std::string empty = Write("empty.yaml", "");
+  // Found by fuzzing: a chord error of 1e-8 m asked for 2·10⁸ triangles (out of memory).
+  const std::string fine_sphere =
+      Write("fine_sphere.yaml",
+            "settings: {cell_size: 0.0000001}\n"
+            "objects: [{name: s, role: target, sphere: {radius: 0.3}}]\n"
+            "sensors: [{name: c, type: zed, position: [2, 0, 0]}]\n");
   const std::string txt = Write("scene.txt", ReadText(CubeCell()));
   fs::create_directories(dir_.File("folder.yaml"));
   ExpectRejected({
@@ -221,6 +227,7 @@ TEST_F(BadInput, YamlScenes) {
            "sensors:\n  - {name: ring_3, type: tiny_cam, position: [1, 0, 1]}\npopulations:", 31,
            "already used"),
       {"empty_file", "optimize " + empty, empty + ":1:", "empty"},
+      {"sphere_too_fine", "optimize " + fine_sphere, fine_sphere + ":2:", "triangles"},
       {"unknown_extension", "optimize " + txt, txt, "unknown scene extension '.txt'"},
       {"missing_scene_file", "optimize " + dir_.File("absent.yaml"), dir_.File("absent.yaml"),
        "cannot open the scene file"},
@@ -383,6 +390,8 @@ TEST_F(BadInput, Constellations) {
   const std::string truncated = Write("truncated.json", text.substr(0, text.size() / 2));
   const std::string empty = Write("empty.json", "");
   const std::string array = Write("array.json", "[1, 2, 3]\n");
+  // Found by fuzzing: a number beyond double's range escaped as an internal error.
+  const std::string overflow = Write("overflow.json", "{\"candidates\": [], \"x\": 1e400}\n");
   const std::string schema = variant("schema", [](json& r) { r["schema"] = "vantage.report/9"; });
   const std::string width = variant("width", [](json& r) { r["candidates"][0]["width"] = 0; });
   const std::string range = variant("range", [](json& r) { r["candidates"][0]["near"] = 5.0; });
@@ -407,6 +416,7 @@ TEST_F(BadInput, Constellations) {
        "cannot open the constellation file"},
       {"constellation_truncated", evaluate(truncated), truncated + ":", "not valid JSON"},
       {"constellation_empty", evaluate(empty), empty + ":1:", "not valid JSON"},
+      {"constellation_number_overflow", evaluate(overflow), overflow, "not valid JSON"},
       {"constellation_not_a_report", evaluate(array), array + ":1:", "no 'candidates' array"},
       {"constellation_other_schema", evaluate(schema), schema + ":1:", "is not vantage.report/1"},
       {"constellation_zero_width", evaluate(width), width + ": candidates[0]", "width and height"},
