@@ -35,8 +35,11 @@ TEST(Cli, SensorsListsTheCatalog) {
   const json catalog = json::parse(listed.out);
   ASSERT_EQ(catalog.size(), 14u);
   // SR300 (SENSORS.md): 640 px over 1.24791 rad -> fx = 320 / tan(0.623955).
-  for (const json& t : catalog)
-    if (t["id"] == "intel_realsense_sr300") EXPECT_NEAR(t["fx"].get<double>(), 320 / std::tan(0.623955), 1e-9);
+  for (const json& t : catalog) {
+    if (t["id"] == "intel_realsense_sr300") {
+      EXPECT_NEAR(t["fx"].get<double>(), 320 / std::tan(0.623955), 1e-9);
+    }
+  }
 }
 
 TEST(Cli, HelpAndUsageErrors) {
@@ -159,7 +162,9 @@ TEST(Cli, BadInputExitsTwoAndLeavesThePreviousOutputs) {
     const auto run = RunVantage(c.args + " --out " + out);
     EXPECT_EQ(run.exit_code, 2) << c.args << "\n" << run.err;
     EXPECT_EQ(run.err.find("internal"), std::string::npos) << run.err;
-    if (!c.place.empty()) EXPECT_NE(run.err.find(c.place), std::string::npos) << c.args << "\n" << run.err;
+    if (!c.place.empty()) {
+      EXPECT_NE(run.err.find(c.place), std::string::npos) << c.args << "\n" << run.err;
+    }
     EXPECT_EQ(test::ReadText(out + "/report.json"), before) << c.args;
   }
 }

@@ -52,13 +52,18 @@ void CheckMemory(const MemoryEstimate& estimate, double limit_mib, const std::st
 }
 
 // `--method all`: the coverage-versus-N curve, one row per n, one column per method, and the
-// proven bound (exact's; "*" once proven optimal). Printed only when the results span several n.
+// proven bound (exact's; "*" once proven optimal). Printed only when a method ran for several n
+// (not for set cover, whose methods differ in n but each ran once).
 void PrintCoverageByN(const std::vector<Selection>& results) {
   std::vector<int> ns;
+  bool is_curve = false;
   for (const Selection& s : results) {
     if (std::find(ns.begin(), ns.end(), s.n) == ns.end()) ns.push_back(s.n);
+    is_curve = is_curve || std::any_of(results.begin(), results.end(), [&](const Selection& o) {
+                 return o.method == s.method && o.n != s.n;
+               });
   }
-  if (ns.size() < 2) return;
+  if (!is_curve) return;
   std::sort(ns.begin(), ns.end());
   std::vector<std::string> methods;
   for (const char* m : {"best", "ransac", "greedy", "local", "exact"}) {

@@ -9,12 +9,13 @@
 // where a_i is the weight of the elements that only candidate i sees. The other objectives
 // change one part each: budget replaces the cardinality row by sum_i cost_i x_i <= budget;
 // k-coverage uses k y_e <= sum_{i sees e} x_i with y binary (elements seen by fewer than k
-// candidates dropped, none folded into a_i); set cover minimises sum_i x_i subject to
-// sum_i a_i x_i + sum_e w_e y_e >= goal.
+// candidates dropped, none folded into a_i). Set cover is solved as a sequence of maximum
+// coverage problems (SolveSetCover).
 #include <coin/Cbc_C_Interface.h>
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -120,11 +121,9 @@ uint32_t Dominator(const CoverageMatrix& matrix,
 
 // Which MILP to build (see the top of this file).
 struct MilpSpec {
-  bool is_set_cover = false;      // min sensors reaching goal_cells, else max coverage
   int k = 1;                      // k-coverage when >= 2 (max coverage only)
   std::span<const double> costs;  // budget row coefficients; empty = cardinality (unit)
   double capacity = 0;            // n, or the budget
-  uint64_t goal_cells = 0;        // set cover
 };
 
 struct CbcOutcome {
@@ -152,7 +151,7 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
     for (uint32_t i = 0; i < m; ++i) excluded[i] = matrix.Row(i).empty();
   }
   for (uint32_t i = 0; i < m; ++i) {
-    if (!spec.is_set_cover && resource(i) > spec.capacity) excluded[i] = true;  // unaffordable
+    if (resource(i) > spec.capacity) excluded[i] = true;  // unaffordable
   }
   std::vector<uint32_t> kept;
   std::vector<int> column_of(m, -1);
@@ -167,7 +166,7 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
     outcome.note = "no candidate left after the reduction";
     return outcome;
   }
-  if (!spec.is_set_cover && kept_resource <= spec.capacity) {
+  if (kept_resource <= spec.capacity) {
     // All kept candidates fit together: nothing can cover more.
     outcome.chosen = kept;
     outcome.bound = static_cast<double>(KCoveredWeight(matrix, kept, spec.k));
@@ -233,34 +232,24 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
       indices.push_back(r);
       values.push_back(-1.0);
     }
-    const double last_row = spec.is_set_cover ? own : resource(kept[q]);
-    if (last_row != 0) {
+    if (resource(kept[q]) != 0) {
       indices.push_back(y_count);
-      values.push_back(last_row);
+      values.push_back(resource(kept[q]));
     }
     starts.push_back(static_cast<CoinBigIndex>(indices.size()));
-    objective.push_back(spec.is_set_cover ? 1.0 : own);
+    objective.push_back(own);
   }
   for (int r = 0; r < y_count; ++r) {
     indices.push_back(r);
     values.push_back(static_cast<double>(spec.k));
-    if (spec.is_set_cover) {
-      indices.push_back(y_count);
-      values.push_back(y_weight[r]);
-    }
     starts.push_back(static_cast<CoinBigIndex>(indices.size()));
-    objective.push_back(spec.is_set_cover ? 0.0 : y_weight[r]);
+    objective.push_back(y_weight[r]);
   }
   const std::vector<double> column_lower(x_count + y_count, 0.0);
   const std::vector<double> column_upper(x_count + y_count, 1.0);
   std::vector<double> row_lower(row_count, -std::numeric_limits<double>::max());
   std::vector<double> row_upper(row_count, 0.0);
-  if (spec.is_set_cover) {
-    row_lower[y_count] = static_cast<double>(spec.goal_cells);
-    row_upper[y_count] = std::numeric_limits<double>::max();
-  } else {
-    row_upper[y_count] = spec.capacity;
-  }
+  row_upper[y_count] = spec.capacity;  // budget or cardinality
 
   // CBC checks its time limit only between steps: the root LP alone runs to the end, about
   // 5-15 µs per nonzero here (1.3 M nonzeros: 20 s). Larger models than the time limit allows
@@ -287,7 +276,7 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
   if (spec.k >= 2) {
     for (int r = 0; r < y_count; ++r) Cbc_setInteger(cbc, x_count + r);
   }
-  Cbc_setObjSense(cbc, spec.is_set_cover ? 1 : -1);  // minimise sensors, or maximise cells
+  Cbc_setObjSense(cbc, -1);  // maximise
   Cbc_setLogLevel(cbc, 0);
   Cbc_setParameter(cbc, "timeMode", "elapsed");  // wall clock, as options.time_limit means
   // CBC notices its limit only between steps and overran it by up to 5 s in 60 (the 450-candidate
@@ -296,26 +285,30 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
   // Objectives are whole cells or whole sensors, so an incumbent within 1 of the bound is optimal.
   Cbc_setAllowableGap(cbc, 0.99);
   // Warm start: the start set, each dominated candidate replaced by a kept superset (k = 1), and
-  // for k >= 2 the y of every class the start k-covers.
-  std::vector<int> start_columns;
-  start_columns.reserve(start.size());
+  // for k >= 2 the y of every class the start k-covers. Every integer column gets a value: CBC
+  // completes a partial start by solving an LP over the columns left out, without looking at its
+  // time limit (minutes on the 450-candidate world).
+  std::vector<double> start_x(x_count, 0.0);
   for (const uint32_t c : start) {
     const int q = column_of[Dominator(matrix, columns, excluded, spec.costs, c)];
-    if (q >= 0) start_columns.push_back(q);
+    if (q >= 0) start_x[q] = 1.0;
   }
-  std::sort(start_columns.begin(), start_columns.end());
-  start_columns.erase(std::unique(start_columns.begin(), start_columns.end()), start_columns.end());
-  std::vector<double> start_values(start_columns.size(), 1.0);
+  std::vector<int> start_columns;
+  std::vector<double> start_values;
+  for (int q = 0; q < x_count; ++q) {
+    start_columns.push_back(q);
+    start_values.push_back(start_x[q]);
+  }
   if (spec.k >= 2) {
     std::vector<uint32_t> start_seers(class_count, 0);
-    for (const int q : start_columns) {
+    for (int q = 0; q < x_count; ++q) {
+      if (start_x[q] == 0.0) continue;
       for (const uint32_t c : classes_of_column[q]) ++start_seers[c];
     }
     for (int64_t c = 0; c < class_count; ++c) {
-      if (y_of_class[c] >= 0 && start_seers[c] >= static_cast<uint32_t>(spec.k)) {
-        start_columns.push_back(x_count + y_of_class[c]);
-        start_values.push_back(1.0);
-      }
+      if (y_of_class[c] < 0) continue;
+      start_columns.push_back(x_count + y_of_class[c]);
+      start_values.push_back(start_seers[c] >= static_cast<uint32_t>(spec.k) ? 1.0 : 0.0);
     }
   }
   Cbc_setMIPStartI(cbc, static_cast<int>(start_columns.size()), start_columns.data(),
@@ -550,38 +543,49 @@ SetCoverResult SolveSetCover(const CoverageMatrix& matrix,
                              const std::vector<uint32_t>& start,
                              double time_limit) {
   VANTAGE_CHECK(goal_cells >= 1 && !start.empty() && matrix.CoveredWeight(start) >= goal_cells);
+  // Set cover through maximum coverage: the fewest sensors is the least t whose maximum coverage
+  // reaches the goal. Going up from a lower bound, each t is settled by the cheapest proof: the
+  // greedy bound below the goal (t too few), greedy or local search reaching it (t suffices), or
+  // else SolveExact within the time left. (A direct min-sensors MILP has a covering row whose root
+  // LP took CBC minutes on the 450-candidate world, beyond any time limit.)
+  const auto start_time = std::chrono::steady_clock::now();
+  const auto seconds_left = [&] {
+    return time_limit -
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  };
   SetCoverResult result;
   result.chosen = start;
-  result.lower_bound = std::min(SetCoverLowerBound(matrix, goal_cells), start.size());
-  if (result.lower_bound == start.size()) {
-    result.proven_optimal = true;
-    result.note = "start meets the simple bound";
-    return result;
+  size_t lower = std::max<size_t>(1, SetCoverLowerBound(matrix, goal_cells));
+  for (size_t t = lower; t < result.chosen.size(); ++t) {
+    const std::vector<uint32_t> greedy = GreedyComplete(matrix, {}, t);
+    if (GreedyUpperBound(matrix, greedy, t) < goal_cells) {
+      lower = t + 1;  // no t sensors reach the goal
+      continue;
+    }
+    std::vector<uint32_t> found = LocalSearch(matrix, greedy);
+    if (matrix.CoveredWeight(found) < goal_cells) {
+      const double left = seconds_left();
+      if (left <= 0) {
+        result.note = fmt::format("time limit reached before settling {} sensors", t);
+        break;
+      }
+      const ExactResult exact = SolveExact(matrix, t, found, left);
+      if (exact.upper_bound < goal_cells) {
+        lower = t + 1;  // proven: no t sensors reach the goal
+        continue;
+      }
+      if (matrix.CoveredWeight(exact.chosen) < goal_cells) {
+        result.note = fmt::format("{} sensors not settled: {}", t,
+                                  exact.note.empty() ? "solver stopped" : exact.note);
+        break;
+      }
+      found = exact.chosen;
+    }
+    result.chosen = std::move(found);  // t sensors reach the goal, and t - 1 do not
+    break;
   }
-  MilpSpec spec;
-  spec.is_set_cover = true;
-  spec.goal_cells = goal_cells;
-  CbcOutcome outcome = GuardedCbc(matrix, spec, start, time_limit);
-  if (!outcome.chosen.empty() && matrix.CoveredWeight(outcome.chosen) < goal_cells) {
-    // Round-off within CBC's tolerance: not an answer (its bound still holds).
-    const double bound = outcome.bound;
-    outcome = CbcOutcome{};
-    outcome.bound = bound;
-    outcome.note = "CBC's answer falls short of the goal by round-off; kept the start";
-  }
-  result.note = outcome.note;
-  if (!outcome.chosen.empty() && outcome.chosen.size() < result.chosen.size())
-    result.chosen = outcome.chosen;
-  const size_t count = result.chosen.size();
-  if (std::isfinite(outcome.bound)) {
-    // Whole sensors: at least CBC's bound rounded up.
-    const double bound = std::ceil(outcome.bound - 1e-6);
-    if (bound > static_cast<double>(result.lower_bound) && bound <= static_cast<double>(count))
-      result.lower_bound = static_cast<size_t>(bound);
-  }
-  if (outcome.proven_optimal) result.lower_bound = count;  // count <= CBC's own optimum
-  result.lower_bound = std::min(result.lower_bound, count);
-  result.proven_optimal = result.lower_bound == count;
+  result.lower_bound = std::min(lower, result.chosen.size());
+  result.proven_optimal = result.lower_bound == result.chosen.size();
   return result;
 }
 

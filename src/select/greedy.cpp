@@ -1,9 +1,9 @@
 // Best single candidate, the greedy methods of every objective and their cheap bounds
 // (SYSTEM.md, Select).
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <limits>
-#include <numeric>
 #include <queue>
 
 #include "select/methods.hpp"

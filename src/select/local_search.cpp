@@ -1,7 +1,7 @@
 // Swap local search after greedy (SYSTEM.md, Select: `local`), for plain coverage, k-coverage and
 // a cost budget; 2-swaps where they stay cheap.
 #include <algorithm>
-#include <limits>
+#include <utility>
 
 #include "select/methods.hpp"
 #include "vantage/error.hpp"

@@ -153,10 +153,11 @@ struct SetCoverResult {
   std::string note;
 };
 
-/// Fewest sensors reaching `goal_cells`: min sum_i x_i s.t. sum_e w_e y_e >= goal_cells,
-/// y_e <= sum_{i sees e} x_i, x binary, y in [0, 1], after the same dominance reduction and
-/// merging as SolveExact; warm-started from `start` (which reaches the goal). Falls back to
-/// `start` with SetCoverLowerBound; never returns more sensors than `start`.
+/// Fewest sensors reaching `goal_cells` (a lower bound on the sensors any answer needs is part of
+/// the result): the least t whose maximum coverage reaches the goal, found by going up from
+/// SetCoverLowerBound and settling each t by GreedyUpperBound (too few), greedy + LocalSearch
+/// (enough) or SolveExact within the time left. Stops at the first t it cannot settle; never
+/// returns more sensors than `start` (which reaches the goal).
 SetCoverResult SolveSetCover(const CoverageMatrix& matrix,
                              uint64_t goal_cells,
                              const std::vector<uint32_t>& start,
