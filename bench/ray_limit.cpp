@@ -43,8 +43,9 @@ int main(int argc, char** argv) {
       for (const auto& s : culled[i]) culled_rays += static_cast<uint64_t>(s.u1 - s.u0 + 1);
       for (const auto& s : full[i]) full_rays += static_cast<uint64_t>(s.u1 - s.u0 + 1);
     }
+    std::atomic<uint64_t> hits{0};  // rays of the last loop that hit a target
     const auto trace = [&](const std::vector<std::vector<detail::RowSpan>>& spans) {
-      std::atomic<uint64_t> hits{0};
+      hits = 0;
       const auto start = std::chrono::steady_clock::now();
       tbb::parallel_for(size_t{0}, cams.size(), [&](size_t i) {
         const Candidate& c = cams[i];
@@ -72,10 +73,11 @@ int main(int argc, char** argv) {
     const double culled_seconds = trace(culled);
     std::printf("{\"candidates\": %zu, \"all_pixels\": %llu, \"all_pixels_seconds\": %.4f, "
                 "\"all_pixels_rays_per_second\": %.1f, \"culled_rays\": %llu, \"culled_seconds\": %.4f, "
-                "\"culled_rays_per_second\": %.1f}\n",
+                "\"culled_rays_per_second\": %.1f, \"target_hits\": %llu}\n",
                 cams.size(), static_cast<unsigned long long>(full_rays), full_seconds,
                 static_cast<double>(full_rays) / full_seconds, static_cast<unsigned long long>(culled_rays),
-                culled_seconds, static_cast<double>(culled_rays) / culled_seconds);
+                culled_seconds, static_cast<double>(culled_rays) / culled_seconds,
+                static_cast<unsigned long long>(hits.load()));
     return 0;
   } catch (const InputError& e) {
     std::fprintf(stderr, "%s\n", e.what());

@@ -2,6 +2,7 @@
 // (SYSTEM.md, coverage metric). Expected sets are enumerated by hand from the geometry.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
 
 #include "vantage/error.hpp"
@@ -129,4 +130,21 @@ TEST(Reference, RejectsSceneWithoutTarget) {
 }
 
 }  // namespace
+}  // namespace vantage
+
+namespace vantage {
+
+// The ray hits and R's cells must be keyed by the same floor; FloorToInt replaces std::floor there.
+TEST(VoxelKey, FloorToIntIsFloorAndSaturates) {
+  for (double x : {0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 2.999999999, -2.000000001, 1e15 + 0.5, -1e15 - 0.5,
+                   std::nextafter(-3.0, 0.0), std::nextafter(-3.0, -4.0)}) {
+    EXPECT_EQ(FloorToInt(x), static_cast<int64_t>(std::floor(x))) << x;
+  }
+  EXPECT_EQ(FloorToInt(1e300), INT64_MAX);
+  EXPECT_EQ(FloorToInt(-1e300), INT64_MIN);
+  EXPECT_FALSE(VoxelIndexFits(VoxelKeyOf(Vec3(std::nan(""), 0, 0), 0.005)));
+  const VoxelIndex i = VoxelKeyOf(Vec3(-0.0051, 0.0049, 0.005), 0.005);
+  EXPECT_EQ(i, (VoxelIndex{-2, 0, 1}));
+}
+
 }  // namespace vantage

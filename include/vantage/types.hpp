@@ -3,7 +3,9 @@
 /// Units: metres and radians; frames are named in variables (world_from_body).
 #include <Eigen/Geometry>
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace vantage {
 
@@ -35,7 +37,18 @@ Vec3 RpyFromRotation(const Mat3& rotation);
 
 /// Integer cell of a point: floor(p / F) per axis, grid aligned to the world origin (PCL VoxelGrid).
 using VoxelIndex = std::array<int64_t, 3>;
-VoxelIndex VoxelKeyOf(const Vec3& p, double cell_size);
+
+/// floor(x) as an integer, without a libm call (it runs for every ray that hits a target). Values
+/// beyond ±2^62 and NaN saturate, so VoxelIndexFits rejects them instead of undefined behaviour.
+inline int64_t FloorToInt(double x) {
+  if (!(std::abs(x) < 0x1p62)) return x > 0 ? INT64_MAX : INT64_MIN;
+  const auto truncated = static_cast<int64_t>(x);
+  return static_cast<double>(truncated) > x ? truncated - 1 : truncated;
+}
+
+inline VoxelIndex VoxelKeyOf(const Vec3& p, double cell_size) {
+  return {FloorToInt(p.x() / cell_size), FloorToInt(p.y() / cell_size), FloorToInt(p.z() / cell_size)};
+}
 
 /// Cells are packed into 64 bits (21 bits per axis, offset 2^20), ordered by x, then y, then z.
 /// Range: |index| < 2^20 per axis (about ±5 km at 5 mm cells).

@@ -54,7 +54,9 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
           const Vec3 p = origin + t * d;
           const VoxelIndex index = VoxelKeyOf(p, cell);
           VANTAGE_CHECK(VoxelIndexFits(index));
-          keys.push_back(PackVoxel(index));
+          const uint64_t key = PackVoxel(index);
+          // Neighbouring pixels mostly hit the same cell: skipping repeats keeps the sort short.
+          if (keys.empty() || keys.back() != key) keys.push_back(key);
         }
       }
     }

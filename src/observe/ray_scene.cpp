@@ -71,13 +71,13 @@ RayScene::RayScene(RayScene&&) noexcept = default;
 RayScene& RayScene::operator=(RayScene&&) noexcept = default;
 
 void RayScene::Intersect(RayBatch* batch) const {
-  static_assert(RayBatch::kWidth == 8);
+  static_assert(RayBatch::kWidth == 16);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  alignas(32) int valid[8];
-  alignas(32) RTCRayHit8 rays;
-  for (int lane = 0; lane < 8; ++lane) {
+  alignas(64) int valid[16];
+  alignas(64) RTCRayHit16 rays;
+  for (int lane = 0; lane < 16; ++lane) {
     valid[lane] = lane < batch->active ? -1 : 0;
     rays.ray.org_x[lane] = batch->origin[0];
     rays.ray.org_y[lane] = batch->origin[1];
@@ -94,7 +94,7 @@ void RayScene::Intersect(RayBatch* batch) const {
     rays.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
     rays.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
   }
-  rtcIntersect8(valid, impl_->scene, &context, &rays);
+  rtcIntersect16(valid, impl_->scene, &context, &rays);
   for (int lane = 0; lane < batch->active; ++lane) {
     const unsigned geom = rays.hit.geomID[lane];
     if (geom == RTC_INVALID_GEOMETRY_ID) {

@@ -11,7 +11,7 @@ namespace vantage::detail {
 
 /// One ray of a packet: origin o and direction d (not normalised) in world coordinates.
 struct RayBatch {
-  static constexpr int kWidth = 8;
+  static constexpr int kWidth = 16;
   float origin[3];                      ///< shared by the packet (one camera centre)
   float dir[3][kWidth];                 ///< per-lane direction, SoA
   int active = 0;                       ///< lanes in use, from 0

@@ -9,6 +9,8 @@
 #include <assimp/Importer.hpp>
 #include <cmath>
 #include <numbers>
+#include <numeric>
+#include <tuple>
 #include <string>
 #include <vector>
 
@@ -112,17 +114,31 @@ void AddQuad(TriangleMesh* mesh, uint32_t a, uint32_t b, uint32_t c, uint32_t d)
   mesh->triangles.push_back({a, c, d});
 }
 
-/// Drops vertices no triangle uses (after degenerate triangles were removed) so that Bounds()
-/// describes the surface.
-void RemoveUnusedVertices(TriangleMesh* mesh) {
+/// Keeps one vertex per position (STL and other files repeat a vertex for every face; equality is
+/// exact, so the surface is unchanged) and drops the vertices no triangle uses, so that Bounds()
+/// describes the surface. Sorting is several times faster than aiProcess_JoinIdenticalVertices,
+/// which also compares normals and would keep STL's per-face copies anyway.
+void CompactVertices(TriangleMesh* mesh) {
+  const std::vector<Vec3>& v = mesh->vertices;
+  std::vector<uint32_t> order(v.size());
+  std::iota(order.begin(), order.end(), 0u);
+  const auto less = [&](uint32_t a, uint32_t b) {
+    return std::tie(v[a].x(), v[a].y(), v[a].z(), a) < std::tie(v[b].x(), v[b].y(), v[b].z(), b);
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<uint32_t> same_as(v.size());
+  for (size_t i = 0; i < order.size(); ++i) {
+    same_as[order[i]] = (i > 0 && v[order[i]] == v[order[i - 1]]) ? same_as[order[i - 1]] : order[i];
+  }
   constexpr uint32_t kUnused = UINT32_MAX;
-  std::vector<uint32_t> new_index(mesh->vertices.size(), kUnused);
+  std::vector<uint32_t> new_index(v.size(), kUnused);
   std::vector<Vec3> kept;
   for (auto& triangle : mesh->triangles) {
     for (uint32_t& index : triangle) {
+      index = same_as[index];
       if (new_index[index] == kUnused) {
         new_index[index] = static_cast<uint32_t>(kept.size());
-        kept.push_back(mesh->vertices[index]);
+        kept.push_back(v[index]);
       }
       index = new_index[index];
     }
@@ -335,7 +351,7 @@ TriangleMesh LoadMeshFile(const std::string& path) {
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+      path, aiProcess_Triangulate | aiProcess_SortByPType);
   if (!scene || !scene->mRootNode) FailMesh(path, importer.GetErrorString());
 
   TriangleMesh raw;
@@ -351,7 +367,7 @@ TriangleMesh LoadMeshFile(const std::string& path) {
       mesh.triangles.push_back(t);
   }
   if (mesh.triangles.empty()) FailMesh(path, "every triangle is degenerate (zero area)");
-  RemoveUnusedVertices(&mesh);
+  CompactVertices(&mesh);
   return mesh;
 }
 

@@ -29,12 +29,6 @@ Pose Pose::FromXyzRpy(double x, double y, double z, double roll, double pitch, d
   return Pose{Vec3(x, y, z), Quat(RotationFromRpy(roll, pitch, yaw)).normalized()};
 }
 
-VoxelIndex VoxelKeyOf(const Vec3& p, double cell_size) {
-  return {static_cast<int64_t>(std::floor(p.x() / cell_size)),
-          static_cast<int64_t>(std::floor(p.y() / cell_size)),
-          static_cast<int64_t>(std::floor(p.z() / cell_size))};
-}
-
 bool VoxelIndexFits(const VoxelIndex& index) {
   for (int64_t v : index) {
     if (v < -kVoxelAxisOffset || v >= kVoxelAxisOffset) return false;
