@@ -14,16 +14,40 @@
 
 namespace vantage {
 
+/// Measurement quality a pixel must reach for its hit to count (issue 9; docs/sensor-models.md).
+/// Unset fields do not filter.
+struct QualityFilter {
+  /// Largest angle between the ray and the surface's normal [deg], in (0, 90].
+  std::optional<double> max_incidence_deg;
+  /// Largest depth noise sigma(z) of the sensor's DepthNoise at the hit's depth [m]. Pixels of
+  /// types without a noise model pass (the report names those types).
+  std::optional<double> max_depth_noise;
+  bool active() const { return max_incidence_deg.has_value() || max_depth_noise.has_value(); }
+  /// InputError naming the option (--max-incidence, --max-depth-noise) for out-of-range values.
+  void Validate() const;
+};
+
+/// The noise model of a candidate: its type's own, else the catalog entry its type_id names.
+const DepthNoise* NoiseModelOf(const Candidate& candidate);
+
 /// O_i of one candidate.
 struct Observation {
-  std::vector<uint32_t> reference_indices;  ///< indices into Reference::keys, sorted, unique
-  std::vector<uint64_t> outside_keys;  ///< packed keys seen but not in R, sorted, unique
-  uint64_t rays_traced = 0;            ///< pixels actually ray cast (after culling)
+  /// R's cells seen (indices into Reference::keys, sorted, unique) by pixels that pass the
+  /// quality filter; with no filter, by any pixel. Selection maximises coverage of these.
+  std::vector<uint32_t> reference_indices;
+  std::vector<uint64_t> outside_keys;  ///< packed keys seen but not in R, sorted, unique (same pixels)
+  /// With a quality filter: R's cells seen by any pixel, passing or not (the plain coverage);
+  /// empty without one.
+  std::vector<uint32_t> plain_reference_indices;
+  uint64_t rays_traced = 0;     ///< pixels actually ray cast (after culling)
+  uint64_t target_pixels = 0;   ///< pixels whose first hit is a target within [near, far]
+  uint64_t quality_pixels = 0;  ///< of those, the ones that pass the quality filter
 };
 
 struct ObserveOptions {
   /// Trace only pixels whose ray can reach a target's bounds (exact: same result as tracing all).
   bool cull = true;
+  QualityFilter quality;
   /// Called from worker threads with (candidates done, total); may be empty.
   std::function<void(size_t, size_t)> progress;
 };

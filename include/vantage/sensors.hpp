@@ -11,6 +11,15 @@
 
 namespace vantage {
 
+/// Axial depth noise, one standard deviation: sigma(z) = a + b z + c z^2 [m] at depth z [m]
+/// (docs/sensor-models.md: structured light and stereo grow with z^2, time of flight is roughly
+/// constant).
+struct DepthNoise {
+  double a = 0, b = 0, c = 0;
+  std::string source;  ///< where the coefficients come from
+  double Sigma(double z) const { return a + (b + c * z) * z; }
+};
+
 struct SensorType {
   std::string id;          ///< catalog id or a user/model name
   std::string name;        ///< display name
@@ -23,6 +32,8 @@ struct SensorType {
   double far = 0;          ///< farthest valid depth [m]
   double fps = 0;          ///< frame rate [Hz], informative
   double cost = 1.0;       ///< unit cost for budgeted selection
+  /// Depth noise model; unset when no published model is known for the type.
+  std::optional<DepthNoise> depth_noise;
 
   /// Horizontal / vertical field of view [rad] implied by the intrinsics.
   double HorizontalFov() const;

@@ -1,5 +1,6 @@
 #include "vantage/observe.hpp"
 
+#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numbers>
 
 #include "observe/culling.hpp"
 #include "observe/ray_scene.hpp"
@@ -21,66 +23,112 @@ using detail::RowSpan;
 using detail::SpansToTrace;
 using detail::RayScene;
 
+// R's indices of the sorted unique `keys` go to `indices`, the rest to `outside` (may be null).
+// Both lists are sorted: one merge splits them.
+void SplitByReference(std::vector<uint64_t>* keys, const Reference& reference,
+                      std::vector<uint32_t>* indices, std::vector<uint64_t>* outside) {
+  std::sort(keys->begin(), keys->end());
+  keys->erase(std::unique(keys->begin(), keys->end()), keys->end());
+  size_t r = 0;
+  for (uint64_t key : *keys) {
+    while (r < reference.keys.size() && reference.keys[r] < key) ++r;
+    if (r < reference.keys.size() && reference.keys[r] == key) {
+      indices->push_back(static_cast<uint32_t>(r));
+    } else if (outside) {
+      outside->push_back(key);
+    }
+  }
+}
+
+// Appends `key` unless it repeats the last one: neighbouring pixels mostly hit the same cell,
+// and skipping repeats keeps the sort short.
+void AppendKey(std::vector<uint64_t>* keys, uint64_t key) {
+  if (keys->empty() || keys->back() != key) keys->push_back(key);
+}
+
 Observation ObserveOne(const RayScene& rays, const Reference& reference, const Candidate& candidate,
-                       const std::vector<Aabb>& blocks, bool cull) {
+                       const std::vector<Aabb>& blocks, const ObserveOptions& options) {
   const SensorType& s = candidate.sensor;
   const Mat3 world_from_body = candidate.world_from_body.rotation.toRotationMatrix();
   const Vec3 origin = candidate.world_from_body.position;
   const double cell = reference.cell_size;
+  const QualityFilter& quality = options.quality;
+  const double min_cos_incidence =
+      quality.max_incidence_deg ? std::cos(*quality.max_incidence_deg * std::numbers::pi / 180.0) : -1.0;
+  const DepthNoise* noise = quality.max_depth_noise ? NoiseModelOf(candidate) : nullptr;
   Observation observation;
-  std::vector<uint64_t> keys;
+  std::vector<uint64_t> keys, quality_keys;
 
   RayBatch batch;
   for (int a = 0; a < 3; ++a) batch.origin[a] = static_cast<float>(origin[a]);
   // The direction's body-x component is 1, so the hit parameter t is the depth itself.
   batch.tfar = std::nextafter(static_cast<float>(s.far), std::numeric_limits<float>::infinity());
 
-  for (const RowSpan& span : SpansToTrace(candidate, blocks, cull)) {
-    const int v = span.v;
-    {
-      for (int u_start = span.u0; u_start <= span.u1; u_start += RayBatch::kWidth) {
-        batch.active = std::min(RayBatch::kWidth, span.u1 - u_start + 1);
-        for (int lane = 0; lane < batch.active; ++lane) {
-          const Vec3 d = world_from_body * PixelRayInBody(s, u_start + lane, v);
-          for (int a = 0; a < 3; ++a) batch.dir[a][lane] = static_cast<float>(d[a]);
+  for (const RowSpan& span : SpansToTrace(candidate, blocks, options.cull)) {
+    for (int u_start = span.u0; u_start <= span.u1; u_start += RayBatch::kWidth) {
+      batch.active = std::min(RayBatch::kWidth, span.u1 - u_start + 1);
+      for (int lane = 0; lane < batch.active; ++lane) {
+        const Vec3 d = world_from_body * PixelRayInBody(s, u_start + lane, span.v);
+        for (int a = 0; a < 3; ++a) batch.dir[a][lane] = static_cast<float>(d[a]);
+      }
+      rays.Intersect(&batch);
+      observation.rays_traced += static_cast<uint64_t>(batch.active);
+      for (int lane = 0; lane < batch.active; ++lane) {
+        if (!batch.is_target[lane]) continue;
+        const double t = batch.t[lane];
+        if (t < s.near || t > s.far) continue;
+        const Vec3 d(batch.dir[0][lane], batch.dir[1][lane], batch.dir[2][lane]);
+        const Vec3 p = origin + t * d;
+        const VoxelIndex index = VoxelKeyOf(p, cell);
+        VANTAGE_CHECK(VoxelIndexFits(index));
+        const uint64_t key = PackVoxel(index);
+        ++observation.target_pixels;
+        AppendKey(&keys, key);
+        if (!quality.active()) continue;
+        bool passes = true;
+        if (quality.max_incidence_deg) {
+          const Vec3 n(batch.normal[0][lane], batch.normal[1][lane], batch.normal[2][lane]);
+          const double norms = d.norm() * n.norm();
+          passes = norms > 0 && std::abs(d.dot(n)) >= min_cos_incidence * norms;
         }
-        rays.Intersect(&batch);
-        observation.rays_traced += static_cast<uint64_t>(batch.active);
-        for (int lane = 0; lane < batch.active; ++lane) {
-          if (!batch.is_target[lane]) continue;
-          const double t = batch.t[lane];
-          if (t < s.near || t > s.far) continue;
-          const Vec3 d(batch.dir[0][lane], batch.dir[1][lane], batch.dir[2][lane]);
-          const Vec3 p = origin + t * d;
-          const VoxelIndex index = VoxelKeyOf(p, cell);
-          VANTAGE_CHECK(VoxelIndexFits(index));
-          const uint64_t key = PackVoxel(index);
-          // Neighbouring pixels mostly hit the same cell: skipping repeats keeps the sort short.
-          if (keys.empty() || keys.back() != key) keys.push_back(key);
-        }
+        if (passes && noise) passes = noise->Sigma(t) <= *quality.max_depth_noise;
+        if (!passes) continue;
+        ++observation.quality_pixels;
+        AppendKey(&quality_keys, key);
       }
     }
   }
-  std::sort(keys.begin(), keys.end());
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-  // Both lists are sorted: one merge splits the keys into R's indices and the rest.
-  size_t r = 0;
-  for (uint64_t key : keys) {
-    while (r < reference.keys.size() && reference.keys[r] < key) ++r;
-    if (r < reference.keys.size() && reference.keys[r] == key) {
-      observation.reference_indices.push_back(static_cast<uint32_t>(r));
-    } else {
-      observation.outside_keys.push_back(key);
-    }
+  if (!quality.active()) {
+    observation.quality_pixels = observation.target_pixels;
+    SplitByReference(&keys, reference, &observation.reference_indices, &observation.outside_keys);
+  } else {
+    SplitByReference(&quality_keys, reference, &observation.reference_indices, &observation.outside_keys);
+    SplitByReference(&keys, reference, &observation.plain_reference_indices, nullptr);
   }
   return observation;
 }
 
 }  // namespace
 
+void QualityFilter::Validate() const {
+  if (max_incidence_deg && !(*max_incidence_deg > 0 && *max_incidence_deg <= 90))
+    throw InputError(fmt::format("--max-incidence {} must lie in (0, 90] degrees — e.g. 70",
+                                 *max_incidence_deg));
+  if (max_depth_noise && !(*max_depth_noise > 0 && std::isfinite(*max_depth_noise)))
+    throw InputError(fmt::format("--max-depth-noise {} must be a positive number of millimetres — e.g. 2",
+                                 *max_depth_noise * 1000));
+}
+
+const DepthNoise* NoiseModelOf(const Candidate& candidate) {
+  if (candidate.sensor.depth_noise) return &*candidate.sensor.depth_noise;
+  const SensorType* catalog = FindCatalogType(candidate.type_id);
+  return catalog && catalog->depth_noise ? &*catalog->depth_noise : nullptr;
+}
+
 std::vector<Observation> Observe(const Scene& scene, const Reference& reference,
                                  std::span<const Candidate> candidates, const ObserveOptions& options) {
   for (const Candidate& c : candidates) c.sensor.Validate(c.name);
+  options.quality.Validate();
   const std::vector<Aabb> blocks = ReferenceBlocks(reference);
   const RayScene rays(scene);
   std::vector<Observation> observations(candidates.size());
@@ -88,7 +136,7 @@ std::vector<Observation> Observe(const Scene& scene, const Reference& reference,
   // Candidates are independent; each fills its own slot, so the result does not depend on the
   // thread count or the order of completion.
   tbb::parallel_for(size_t{0}, candidates.size(), [&](size_t i) {
-    observations[i] = ObserveOne(rays, reference, candidates[i], blocks, options.cull);
+    observations[i] = ObserveOne(rays, reference, candidates[i], blocks, options);
     const size_t finished = ++done;
     if (options.progress) options.progress(finished, candidates.size());
   });

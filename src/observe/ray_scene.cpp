@@ -103,6 +103,9 @@ void RayScene::Intersect(RayBatch* batch) const {
     } else {
       batch->t[lane] = rays.ray.tfar[lane];
       batch->is_target[lane] = impl_->is_target[geom] != 0;
+      batch->normal[0][lane] = rays.hit.Ng_x[lane];
+      batch->normal[1][lane] = rays.hit.Ng_y[lane];
+      batch->normal[2][lane] = rays.hit.Ng_z[lane];
     }
   }
 }

@@ -19,6 +19,7 @@ struct RayBatch {
   // Results: ray parameter of the first hit (inf when none) and whether it hit a target.
   float t[kWidth];
   bool is_target[kWidth];
+  float normal[3][kWidth];  ///< geometric normal of the hit (not normalised; valid on hits)
 };
 
 /// The first hit of one ray, with what it hit (for shading a rendered view).

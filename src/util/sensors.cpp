@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -20,6 +21,33 @@ SensorType Entry(const char* id, const char* name, const char* technology, int w
   t.technology = technology;
   t.fps = fps;
   t.cost = cost;
+  return t;
+}
+
+// PrimeSense PS1080 structured light (Kinect for Xbox 360, Xtion PRO LIVE): Nguyen, Izadi and
+// Lovell, "Modeling Kinect Sensor Noise for Improved 3D Reconstruction and Tracking", 3DIMPVT
+// 2012: sigma_z = 0.0012 + 0.0019 (z - 0.4)^2 m, expanded into a + b z + c z^2.
+DepthNoise PrimeSenseNoise(const char* which) {
+  return {0.0012 + 0.0019 * 0.16, -0.0019 * 0.8, 0.0019,
+          fmt::format("{}Nguyen, Izadi, Lovell, 3DIMPVT 2012: 0.0012 + 0.0019 (z - 0.4)^2 m", which)};
+}
+
+// Intel RealSense D400 active stereo: RMS error = z^2 * subpixel / (fx * baseline), subpixel
+// 0.08 px typical (Grunnet-Jepsen et al., Intel whitepaper "Tuning depth cameras for best
+// performance"); baselines from Intel's D400 datasheet; fx is the catalog's at full resolution.
+DepthNoise D400Noise(const SensorType& t, double baseline_m) {
+  return {0, 0, 0.08 / (t.fx * baseline_m),
+          fmt::format("Intel D400 RMS formula z^2 * 0.08 / (fx * {} m), Intel tuning whitepaper "
+                      "and D400 datasheet", baseline_m)};
+}
+
+SensorType WithNoise(SensorType t, DepthNoise noise) {
+  t.depth_noise = std::move(noise);
+  return t;
+}
+
+SensorType WithD400Noise(SensorType t, double baseline_m) {
+  t.depth_noise = D400Noise(t, baseline_m);
   return t;
 }
 
@@ -62,20 +90,38 @@ void SensorType::Validate(const std::string& where) const {
   if (!std::isfinite(far) || far <= near)
     fail(fmt::format("near = {} must be below far = {} — swap or fix the range", near, far));
   if (!std::isfinite(cost) || cost < 0) fail(fmt::format("cost = {} must be >= 0", cost));
+  if (depth_noise) {
+    const DepthNoise& n = *depth_noise;
+    if (!std::isfinite(n.a) || !std::isfinite(n.b) || !std::isfinite(n.c))
+      fail("depth_noise coefficients must be finite");
+    // sigma is a quadratic: checking both ends of the range and the vertex covers it.
+    const double vertex = n.c != 0 ? -n.b / (2 * n.c) : near;
+    for (double z : {near, far, std::clamp(vertex, near, far)}) {
+      if (n.Sigma(z) < 0)
+        fail(fmt::format("depth_noise gives sigma({:g} m) = {:g} m < 0 — give a, b, c with "
+                         "a + b z + c z^2 >= 0 over [near, far]", z, n.Sigma(z)));
+    }
+  }
 }
 
 const std::vector<SensorType>& Catalog() {
   // SENSORS.md: the ten types of the original system (Gazebo values, square pixels), then four
   // current cameras from vendors' datasheets (separate fields of view).
   static const std::vector<SensorType> catalog = {
-      Entry("kinect_xbox_360", "Microsoft Kinect for Xbox 360", "structured light", 640, 480,
-            0.994838, std::nullopt, 0.4, 4.0, 30, 150),
-      Entry("asus_xtion_pro_live", "ASUS Xtion PRO LIVE", "structured light", 640, 480, 1.01229,
-            std::nullopt, 0.5, 3.5, 30, 200),
+      WithNoise(Entry("kinect_xbox_360", "Microsoft Kinect for Xbox 360", "structured light", 640,
+                      480, 0.994838, std::nullopt, 0.4, 4.0, 30, 150),
+                PrimeSenseNoise("")),
+      WithNoise(Entry("asus_xtion_pro_live", "ASUS Xtion PRO LIVE", "structured light", 640, 480,
+                      1.01229, std::nullopt, 0.5, 3.5, 30, 200),
+                PrimeSenseNoise("same PrimeSense PS1080 engine as the Kinect for Xbox 360; ")),
       Entry("ensenso_n35", "IDS Ensenso N35", "structured light (projected-texture stereo)", 1280,
             1024, 1.01229, std::nullopt, 0.46, 4.0, 10, 5000),
-      Entry("kinect_xbox_one", "Microsoft Kinect for Xbox One", "time of flight", 512, 424,
-            1.22173, std::nullopt, 0.5, 4.5, 30, 200),
+      // Fankhauser et al., "Kinect v2 for Mobile Robot Navigation: Evaluation and Modeling",
+      // ICAR 2015: axial sigma = 1.5 - 0.5 z + 0.3 z^2 mm at normal incidence.
+      WithNoise(Entry("kinect_xbox_one", "Microsoft Kinect for Xbox One", "time of flight", 512,
+                      424, 1.22173, std::nullopt, 0.5, 4.5, 30, 200),
+                {0.0015, -0.0005, 0.0003,
+                 "Fankhauser et al., ICAR 2015: 1.5 - 0.5 z + 0.3 z^2 mm at normal incidence"}),
       Entry("orbbec_astra", "Orbbec Astra", "structured light", 640, 480, 1.0472, std::nullopt,
             0.6, 8.0, 30, 150),
       Entry("multisense_s7", "Carnegie Robotics MultiSense S7", "stereo", 2048, 1088, 1.39626,
@@ -84,18 +130,25 @@ const std::vector<SensorType>& Catalog() {
             480, 1.24791, std::nullopt, 0.2, 1.5, 60, 150),
       Entry("zed", "Stereolabs ZED", "stereo", 4416, 1242, 1.91986, std::nullopt, 0.7, 20.0, 15,
             450),
-      Entry("intel_realsense_d415", "Intel RealSense D415", "active stereo", 1280, 720, 1.106539,
-            std::nullopt, 0.16, 10.0, 90, 300),
+      WithD400Noise(Entry("intel_realsense_d415", "Intel RealSense D415", "active stereo", 1280,
+                          720, 1.106539, std::nullopt, 0.16, 10.0, 90, 300),
+                    0.055),
       Entry("photoneo_phoxi_s", "Photoneo PhoXi 3D Scanner S", "structured light", 2064, 1536,
             0.672088562, std::nullopt, 0.354, 0.588, 5, 9000),
-      Entry("intel_realsense_d435", "Intel RealSense D435", "active stereo", 1280, 720, 87 * kDeg,
-            58 * kDeg, 0.28, 10.0, 90, 300),
-      Entry("intel_realsense_d455", "Intel RealSense D455", "active stereo", 1280, 720, 87 * kDeg,
-            58 * kDeg, 0.52, 6.0, 90, 400),
-      Entry("azure_kinect_nfov", "Azure Kinect DK, NFOV unbinned", "time of flight", 640, 576,
-            75 * kDeg, 65 * kDeg, 0.5, 3.86, 30, 400),
-      Entry("azure_kinect_wfov", "Azure Kinect DK, WFOV 2x2 binned", "time of flight", 512, 512,
-            120 * kDeg, 120 * kDeg, 0.25, 2.88, 30, 400),
+      WithD400Noise(Entry("intel_realsense_d435", "Intel RealSense D435", "active stereo", 1280,
+                          720, 87 * kDeg, 58 * kDeg, 0.28, 10.0, 90, 300),
+                    0.050),
+      WithD400Noise(Entry("intel_realsense_d455", "Intel RealSense D455", "active stereo", 1280,
+                          720, 87 * kDeg, 58 * kDeg, 0.52, 6.0, 90, 400),
+                    0.095),
+      // Azure Kinect DK hardware specification: random error std. dev. <= 17 mm (an upper
+      // bound, constant over the range).
+      WithNoise(Entry("azure_kinect_nfov", "Azure Kinect DK, NFOV unbinned", "time of flight", 640,
+                      576, 75 * kDeg, 65 * kDeg, 0.5, 3.86, 30, 400),
+                {0.017, 0, 0, "Azure Kinect DK hardware specification: random error <= 17 mm"}),
+      WithNoise(Entry("azure_kinect_wfov", "Azure Kinect DK, WFOV 2x2 binned", "time of flight",
+                      512, 512, 120 * kDeg, 120 * kDeg, 0.25, 2.88, 30, 400),
+                {0.017, 0, 0, "Azure Kinect DK hardware specification: random error <= 17 mm"}),
   };
   return catalog;
 }
