@@ -44,6 +44,11 @@ struct Observation {
   uint64_t quality_pixels = 0;  ///< of those, the ones that pass the quality filter
 };
 
+/// The same observations counting every pixel (reference_indices = plain_reference_indices)
+/// when they were made with a quality filter; a plain copy otherwise. For the plain coverage
+/// that the report shows beside the quality-filtered one.
+std::vector<Observation> WithoutQuality(std::span<const Observation> observations);
+
 struct ObserveOptions {
   /// Trace only pixels whose ray can reach a target's bounds (exact: same result as tracing all).
   bool cull = true;
@@ -74,6 +79,7 @@ struct VisibilityFile {
   Reference reference;
   std::vector<Candidate> candidates;
   std::vector<Observation> observations;  ///< one per candidate
+  QualityFilter quality;  ///< the filter the observations were made with (format version 3)
 };
 
 /// Writes the versioned binary file (magic, version, payload, FNV-1a 64 checksum) atomically.

@@ -119,6 +119,21 @@ void QualityFilter::Validate() const {
                                  *max_depth_noise * 1000));
 }
 
+std::vector<Observation> WithoutQuality(std::span<const Observation> observations) {
+  std::vector<Observation> plain;
+  plain.reserve(observations.size());
+  for (const Observation& o : observations) {
+    Observation p;
+    p.reference_indices = o.plain_reference_indices.empty() && o.quality_pixels == o.target_pixels
+                              ? o.reference_indices
+                              : o.plain_reference_indices;
+    p.rays_traced = o.rays_traced;
+    p.target_pixels = p.quality_pixels = o.target_pixels;
+    plain.push_back(std::move(p));
+  }
+  return plain;
+}
+
 const DepthNoise* NoiseModelOf(const Candidate& candidate) {
   if (candidate.sensor.depth_noise) return &*candidate.sensor.depth_noise;
   const SensorType* catalog = FindCatalogType(candidate.type_id);

@@ -52,6 +52,25 @@ ordered_json CandidateJson(const Candidate& c, const Observation& o, size_t refe
   return j;
 }
 
+// With a quality filter (issue 9): the filter, the types it could not judge by noise, and each
+// candidate's plain coverage and pixel counts beside the filtered ones.
+ordered_json QualityJson(const VisibilityFile& data) {
+  const QualityFilter& q = data.quality;
+  ordered_json j;
+  if (q.max_incidence_deg) j["max_incidence_deg"] = *q.max_incidence_deg;
+  if (q.max_depth_noise) {
+    j["max_depth_noise_mm"] = *q.max_depth_noise * 1000.0;
+    ordered_json unknown = ordered_json::array();
+    for (const Candidate& c : data.candidates) {
+      const std::string type = c.type_id.empty() ? c.sensor.id : c.type_id;
+      if (!NoiseModelOf(c) && std::find(unknown.begin(), unknown.end(), type) == unknown.end())
+        unknown.push_back(type);
+    }
+    j["types_without_noise_model"] = std::move(unknown);
+  }
+  return j;
+}
+
 }  // namespace
 
 const char* Version() { return VANTAGE_VERSION; }
@@ -81,9 +100,18 @@ std::string ReportJson(const Report& report) {
   j["cell_size"] = data.reference.cell_size;
   j["reference_voxels"] = reference_size;
   ordered_json candidates = ordered_json::array();
-  for (size_t i = 0; i < data.candidates.size(); ++i)
+  const bool quality = data.quality.active();
+  const std::vector<Observation> plain = WithoutQuality(data.observations);
+  const CoverageEvaluator plain_evaluator(plain, reference_size);
+  for (size_t i = 0; i < data.candidates.size(); ++i) {
     candidates.push_back(CandidateJson(data.candidates[i], data.observations[i], reference_size));
+    if (!quality) continue;
+    candidates.back()["plain_coverage"] = Fraction(plain[i].reference_indices.size(), reference_size);
+    candidates.back()["target_pixels"] = data.observations[i].target_pixels;
+    candidates.back()["quality_pixels"] = data.observations[i].quality_pixels;
+  }
   j["candidates"] = std::move(candidates);
+  if (quality) j["quality"] = QualityJson(data);
   ordered_json results = ordered_json::array();
   for (const Selection& s : report.results) {
     ordered_json r;
@@ -94,6 +122,7 @@ std::string ReportJson(const Report& report) {
     r["sensors"] = std::move(names);
     r["coverage"] = s.coverage;
     r["paper_coverage"] = s.paper_coverage;
+    if (quality) r["plain_coverage"] = plain_evaluator.Coverage(s.chosen, s.k);
     if (s.upper_bound) {
       r["upper_bound"] = *s.upper_bound;
       r["gap"] = std::max(0.0, *s.upper_bound - s.coverage);
