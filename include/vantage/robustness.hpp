@@ -1,0 +1,56 @@
+#pragma once
+/// Robustness read-outs of a chosen constellation (issue 9): a sensor failing, the fields of view
+/// shrunk by a datasheet tolerance, and near-optimal alternatives to pick from for mounting.
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "vantage/candidates.hpp"
+#include "vantage/select.hpp"
+
+namespace vantage {
+
+/// The constellation's coverage when one of its sensors fails.
+struct SensorFailure {
+  uint32_t sensor = 0;  ///< candidate index of the failed sensor
+  double coverage = 0;  ///< coverage (or k-coverage) of the others
+};
+
+/// A constellation differing from the chosen one in one sensor.
+struct Alternative {
+  std::vector<uint32_t> chosen;  ///< candidate indices, the chosen order with one replaced
+  uint32_t replaced = 0;         ///< the chosen sensor it drops
+  uint32_t replacement = 0;      ///< the candidate it takes instead
+  double coverage = 0;
+};
+
+/// Everything report.json, the summary and report.html show about one result.
+struct Robustness {
+  int result = -1;                          ///< index into the run's results
+  std::vector<SensorFailure> failures;      ///< one per chosen sensor, in chosen order
+  std::optional<SensorFailure> worst;       ///< the failure that loses the most coverage
+  std::optional<double> fov_tolerance_deg;  ///< set when the shrunk-FOV read-out was computed
+  std::optional<double> fov_shrunk_coverage;
+  double alternatives_within = 0.01;        ///< coverage points (fraction) an alternative may lose
+  std::vector<Alternative> alternatives;    ///< best first
+};
+
+/// Coverage without each chosen sensor (k-coverage when k >= 2), in chosen order.
+std::vector<SensorFailure> SensorFailures(const CoverageEvaluator& evaluator,
+                                          std::span<const uint32_t> chosen, int k = 1);
+
+/// The best single-sensor replacement for each chosen sensor whose coverage (k-coverage) is at
+/// least coverage(chosen) - `within` and, when `at_least` is given, reaches it (set cover's goal);
+/// best first, ties by the replaced sensor's position. Deterministic.
+std::vector<Alternative> NearOptimalAlternatives(const CoverageEvaluator& evaluator,
+                                                 std::span<const uint32_t> chosen, int k,
+                                                 double within,
+                                                 std::optional<double> at_least = std::nullopt);
+
+/// The candidates with both fields of view narrowed by `tolerance_deg` (resolution and principal
+/// point kept, focal lengths grown), as a unit whose optics are at the datasheet's low end.
+/// InputError when the tolerance is not in [0, the smaller field of view).
+std::vector<Candidate> ShrinkFov(std::span<const Candidate> candidates, double tolerance_deg);
+
+}  // namespace vantage

@@ -1,0 +1,74 @@
+// Robustness read-outs (issue 9): failures, near-optimal alternatives, shrunk fields of view.
+#include "vantage/robustness.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "vantage/error.hpp"
+
+namespace vantage {
+
+std::vector<SensorFailure> SensorFailures(const CoverageEvaluator& evaluator,
+                                          std::span<const uint32_t> chosen, int k) {
+  std::vector<SensorFailure> failures;
+  std::vector<uint32_t> others;
+  for (size_t i = 0; i < chosen.size(); ++i) {
+    others.assign(chosen.begin(), chosen.end());
+    others.erase(others.begin() + static_cast<std::ptrdiff_t>(i));
+    failures.push_back({chosen[i], evaluator.Coverage(others, k)});
+  }
+  return failures;
+}
+
+std::vector<Alternative> NearOptimalAlternatives(const CoverageEvaluator& evaluator,
+                                                 std::span<const uint32_t> chosen, int k,
+                                                 double within, std::optional<double> at_least) {
+  const double best = evaluator.Coverage(chosen, k);
+  const auto candidate_count = static_cast<uint32_t>(evaluator.observations().size());
+  std::vector<Alternative> alternatives;
+  std::vector<uint32_t> swapped(chosen.begin(), chosen.end());
+  for (size_t slot = 0; slot < chosen.size(); ++slot) {
+    std::optional<Alternative> best_for_slot;
+    for (uint32_t j = 0; j < candidate_count; ++j) {
+      if (std::find(chosen.begin(), chosen.end(), j) != chosen.end()) continue;
+      swapped[slot] = j;
+      const double coverage = evaluator.Coverage(swapped, k);
+      // Strictly better replacements first; ties keep the lower candidate index.
+      if (!best_for_slot || coverage > best_for_slot->coverage)
+        best_for_slot = Alternative{swapped, chosen[slot], j, coverage};
+    }
+    swapped[slot] = chosen[slot];
+    if (!best_for_slot) continue;
+    // A small tolerance keeps ties at exactly `within` from depending on float rounding.
+    if (best_for_slot->coverage < best - within - 1e-12) continue;
+    if (at_least && best_for_slot->coverage < *at_least) continue;
+    alternatives.push_back(std::move(*best_for_slot));
+  }
+  std::stable_sort(alternatives.begin(), alternatives.end(),
+                   [](const Alternative& a, const Alternative& b) { return a.coverage > b.coverage; });
+  return alternatives;
+}
+
+std::vector<Candidate> ShrinkFov(std::span<const Candidate> candidates, double tolerance_deg) {
+  std::vector<Candidate> shrunk;
+  const double delta = tolerance_deg * std::numbers::pi / 180.0;
+  for (const Candidate& c : candidates) {
+    const SensorType& s = c.sensor;
+    const double hfov = s.HorizontalFov(), vfov = s.VerticalFov();
+    if (!(delta >= 0) || delta >= std::min(hfov, vfov))
+      throw InputError(fmt::format(
+          "--fov-tolerance {} deg must be at least 0 and below the smallest field of view ({:.2f} deg "
+          "of {})",
+          tolerance_deg, std::min(hfov, vfov) * 180.0 / std::numbers::pi, c.name));
+    Candidate narrowed = c;
+    narrowed.sensor.fx = s.width / (2.0 * std::tan((hfov - delta) / 2.0));
+    narrowed.sensor.fy = s.height / (2.0 * std::tan((vfov - delta) / 2.0));
+    shrunk.push_back(std::move(narrowed));
+  }
+  return shrunk;
+}
+
+}  // namespace vantage

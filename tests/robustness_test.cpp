@@ -1,0 +1,85 @@
+// Robustness read-outs (issue 9) on hand-made visibility sets whose answers are counted by hand.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "vantage/error.hpp"
+#include "vantage/robustness.hpp"
+
+namespace vantage {
+namespace {
+
+// R has 10 cells; the five candidates see:
+//   0: 0-4   1: 5-7   2: 3-8   3: 8-9   4: 0-2
+std::vector<Observation> Sets() {
+  const std::vector<std::vector<uint32_t>> cells = {
+      {0, 1, 2, 3, 4}, {5, 6, 7}, {3, 4, 5, 6, 7, 8}, {8, 9}, {0, 1, 2}};
+  std::vector<Observation> sets;
+  for (const auto& c : cells) {
+    Observation o;
+    o.reference_indices = c;
+    sets.push_back(o);
+  }
+  return sets;
+}
+
+TEST(Robustness, EachFailureLeavesTheOthersCoverage) {
+  const std::vector<Observation> sets = Sets();
+  const CoverageEvaluator evaluator(sets, 10);
+  const std::vector<uint32_t> chosen = {0, 1};  // 8 of 10
+  const auto failures = SensorFailures(evaluator, chosen);
+  ASSERT_EQ(failures.size(), 2u);
+  EXPECT_EQ(failures[0].sensor, 0u);
+  EXPECT_DOUBLE_EQ(failures[0].coverage, 0.3);  // only 5-7 left
+  EXPECT_EQ(failures[1].sensor, 1u);
+  EXPECT_DOUBLE_EQ(failures[1].coverage, 0.5);  // only 0-4 left
+  // 2-coverage of {0, 2}: cells 3 and 4 are seen twice; losing either sensor loses both.
+  const std::vector<uint32_t> pair = {0, 2};
+  EXPECT_DOUBLE_EQ(evaluator.Coverage(pair, 2), 0.2);
+  for (const SensorFailure& f : SensorFailures(evaluator, pair, 2)) EXPECT_DOUBLE_EQ(f.coverage, 0.0);
+}
+
+TEST(Robustness, AlternativesAreTheBestReplacementPerSensorWithinTheTolerance) {
+  const std::vector<Observation> sets = Sets();
+  const CoverageEvaluator evaluator(sets, 10);
+  const std::vector<uint32_t> chosen = {0, 1};  // 0.8
+  // Replacing 1: candidate 2 gives 0-8 = 0.9 (3 gives 0.7, 4 gives 0.5).
+  // Replacing 0: candidates 2 and 4 both give 0.6 (tie: the lower index, 2), 3 gives 0.5.
+  auto close = NearOptimalAlternatives(evaluator, chosen, 1, 0.1);
+  ASSERT_EQ(close.size(), 1u);
+  EXPECT_EQ(close[0].chosen, (std::vector<uint32_t>{0, 2}));
+  EXPECT_EQ(close[0].replaced, 1u);
+  EXPECT_EQ(close[0].replacement, 2u);
+  EXPECT_DOUBLE_EQ(close[0].coverage, 0.9);
+
+  auto wide = NearOptimalAlternatives(evaluator, chosen, 1, 0.2);  // 0.6 is exactly 0.2 below
+  ASSERT_EQ(wide.size(), 2u);
+  EXPECT_DOUBLE_EQ(wide[1].coverage, 0.6);
+  EXPECT_EQ(wide[1].chosen, (std::vector<uint32_t>{2, 1}));
+  EXPECT_EQ(wide[1].replaced, 0u);
+
+  // Set cover: an alternative must still reach the goal.
+  EXPECT_EQ(NearOptimalAlternatives(evaluator, chosen, 1, 0.2, 0.85).size(), 1u);
+  EXPECT_TRUE(NearOptimalAlternatives(evaluator, chosen, 1, 0.2, 0.95).empty());
+}
+
+TEST(Robustness, ShrunkFieldOfViewNarrowsBothAxesByTheTolerance) {
+  Candidate c;
+  c.name = "cam";
+  c.sensor = SensorType::FromFov("t", 640, 480, 1.2, 0.9, 0.1, 3);
+  const double tol = 3.0;
+  const double delta = tol * std::numbers::pi / 180;
+  const auto shrunk = ShrinkFov({&c, 1}, tol);
+  ASSERT_EQ(shrunk.size(), 1u);
+  EXPECT_NEAR(shrunk[0].sensor.HorizontalFov(), 1.2 - delta, 1e-12);
+  EXPECT_NEAR(shrunk[0].sensor.VerticalFov(), 0.9 - delta, 1e-12);
+  EXPECT_NEAR(shrunk[0].sensor.fx, 320 / std::tan((1.2 - delta) / 2), 1e-9);
+  EXPECT_EQ(shrunk[0].sensor.width, 640);
+  EXPECT_DOUBLE_EQ(shrunk[0].sensor.cx, 320);
+  EXPECT_THROW(ShrinkFov({&c, 1}, 60), InputError);  // above the 51.6 deg vertical view
+  EXPECT_THROW(ShrinkFov({&c, 1}, -1), InputError);
+}
+
+}  // namespace
+}  // namespace vantage
