@@ -6,6 +6,7 @@
 #include "commands.hpp"
 #include "vantage/yaml_export.hpp"
 #include "vantage/gazebo_export.hpp"
+#include "vantage/robustness.hpp"
 
 namespace vantage::cli {
 namespace {
@@ -53,10 +54,15 @@ void RunOptimize(const OptimizeOptions& options) {
       chosen.push_back(observed.data.candidates[i]);
     extra_files["constellation.yaml"] = ConstellationYaml(options.scene.scene, chosen);
   }
+  if (primary >= 0) {
+    report.robustness = AssessRobustness(observed.data, report.results, primary, &observed.scene,
+                                         options.selection.fov_tolerance_deg,
+                                         options.selection.alternatives_within / 100.0);
+  }
   extra_files["report.html"] = HtmlReport(report, observed.scene);
   extra_files["static_transforms.yaml"] = StaticTransformsYaml(report);
   WriteOutputs(options.out, report, extra_files);
-  PrintSummary(observed.data, report.results, report.timings, options.out);
+  PrintSummary(observed.data, report.results, report.timings, options.out, report.robustness);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "vantage/robustness.hpp"
 
 namespace vantage::cli {
 namespace {
@@ -46,10 +47,18 @@ void RunSelect(const SelectCommandOptions& options) {
   report.seed = select_options.seed;
   report.data = &data;
   report.timings = timings;
+  const Scene scene = ReportScene(data.scene);
+  const int primary = PrimaryResult(report.results);
+  if (primary >= 0) {
+    // The shrunk fields of view need the geometry: only when the scene still loads from here.
+    report.robustness = AssessRobustness(data, report.results, primary, scene.objects.empty() ? nullptr : &scene,
+                                         options.selection.fov_tolerance_deg,
+                                         options.selection.alternatives_within / 100.0);
+  }
   WriteOutputs(options.out, report,
-               {{"report.html", HtmlReport(report, ReportScene(data.scene))},
+               {{"report.html", HtmlReport(report, scene)},
                 {"static_transforms.yaml", StaticTransformsYaml(report)}});
-  PrintSummary(data, report.results, timings, options.out);
+  PrintSummary(data, report.results, timings, options.out, report.robustness);
 }
 
 }  // namespace

@@ -2,10 +2,12 @@
 /// Outputs of a run (SYSTEM.md, Outputs): report.json (vantage.report/1), candidates.csv,
 /// reference.ply, observed.ply; written into a temporary folder and renamed into place.
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "vantage/observe.hpp"
+#include "vantage/robustness.hpp"
 #include "vantage/select.hpp"
 
 namespace vantage {
@@ -27,6 +29,8 @@ struct Report {
   int primary = -1;
   Timings timings;
   std::vector<std::string> notes;
+  /// Read-outs for one result (usually the primary), when computed (issue 9).
+  std::optional<Robustness> robustness;
 };
 
 /// The result that stands for the run: among those with the largest n, the highest coverage
@@ -35,6 +39,8 @@ int PrimaryResult(const std::vector<Selection>& results);
 
 /// The report.json text (pretty-printed, keys of SYSTEM.md plus extras).
 std::string ReportJson(const Report& report);
+/// report.json's "robustness" object alone, as JSON text (report.html shows the same).
+std::string RobustnessJsonText(const Robustness& robustness, const VisibilityFile& data);
 /// candidates.csv text: one row per candidate.
 std::string CandidatesCsv(const Report& report);
 /// Binary little-endian PLY of voxel centres (x y z float).

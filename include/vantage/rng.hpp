@@ -10,6 +10,7 @@ enum class Stream : uint64_t {
   kRoll = 2,
   kRansac = 3,
   kKMeans = 4,
+  kRefine = 5,  ///< refine.hpp: which poses of a sensor's pool are traced
   kTest = 99,
 };
 

@@ -53,4 +53,12 @@ std::vector<Alternative> NearOptimalAlternatives(const CoverageEvaluator& evalua
 /// InputError when the tolerance is not in [0, the smaller field of view).
 std::vector<Candidate> ShrinkFov(std::span<const Candidate> candidates, double tolerance_deg);
 
+/// The read-outs for `results[index]` of a run over `data`: failures, alternatives within
+/// `within` coverage points (fraction) that keep set cover's goal, and, when `scene` is given,
+/// the coverage with every chosen sensor's field of view shrunk by `fov_tolerance_deg` (those
+/// sensors re-traced with the data's quality filter). Budget results get no alternatives (a
+/// swap may break the budget).
+Robustness AssessRobustness(const VisibilityFile& data, const std::vector<Selection>& results,
+                            int index, const Scene* scene, double fov_tolerance_deg, double within);
+
 }  // namespace vantage

@@ -88,6 +88,9 @@ constexpr const char* kPageHead = R"HTML(<!DOCTYPE html>
 <div class="scroll"><table id="chosen-table"></table></div>
 <h2>Results</h2>
 <div class="scroll"><table id="results-table"></table></div>
+<h2 id="robustness-title">Robustness</h2>
+<p id="robustness-text"></p>
+<div class="scroll"><table id="robustness-table"></table></div>
 <h2 id="candidates-title">Candidates</h2>
 <div class="scroll"><table id="candidates-table"></table></div>
 </main>
@@ -225,7 +228,33 @@ constexpr const char* kPageScript = R"JS(
       {label: 'optimal', value: function (r) { return r.upper_bound === undefined ? '' : (r.optimal ? 'yes' : 'no'); }},
       {label: 'seconds', num: true, value: function (r) { return r.seconds; }, show: function (v) { return fix(v, 3); }},
       {label: 'sensors', value: function (r) { return r.sensors.map(function (i) { return D.candidates[i].name; }).join(', '); }}
-    ], D.results);
+    ].concat(D.quality ? [{label: 'plain coverage (every pixel)', num: true,
+                           value: function (r) { return r.plain_coverage; }, show: pct}] : []), D.results);
+
+    // Robustness of the primary result: each sensor failing, the narrower fields of view and
+    // one-sensor alternatives.
+    var rb = D.robustness;
+    if (!rb) {
+      document.getElementById('robustness-text').textContent = 'Not computed for this run.';
+    } else {
+      var base = D.results[rb.result];
+      var text = 'For ' + base.method + ', N = ' + base.n + ' (' + pct(base.coverage) + ').';
+      if (rb.fov_shrunk_coverage !== undefined)
+        text += ' With every field of view ' + rb.fov_tolerance_deg + '° narrower: ' + pct(rb.fov_shrunk_coverage) + '.';
+      document.getElementById('robustness-text').textContent = text;
+      var rows = rb.sensor_failures.map(function (f) {
+        return {what: 'fails', sensor: f.sensor, other: '', coverage: f.coverage, change: f.coverage - base.coverage};
+      }).concat(rb.alternatives.map(function (a) {
+        return {what: 'replaced by', sensor: a.replaced, other: a.replacement, coverage: a.coverage, change: a.coverage - base.coverage};
+      }));
+      makeTable(document.getElementById('robustness-table'), [
+        {label: 'sensor', value: function (r) { return r.sensor; }},
+        {label: 'event', value: function (r) { return r.what; }},
+        {label: 'replacement', value: function (r) { return r.other; }},
+        {label: 'coverage', num: true, value: function (r) { return r.coverage; }, show: pct},
+        {label: 'change [points]', num: true, value: function (r) { return 100 * r.change; }, show: function (v) { return fix(v, 2); }}
+      ], rows);
+    }
 
     document.getElementById('candidates-title').textContent = 'Candidates (' + D.candidates.length + ')';
     var candidateRows = D.candidates.map(function (c, i) {
@@ -767,6 +796,8 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   }
 
   // Results.
+  const std::vector<Observation> plain = WithoutQuality(data.observations);
+  const CoverageEvaluator plain_evaluator(plain, reference_size);
   ordered_json results = ordered_json::array();
   for (const Selection& s : report.results) {
     ordered_json r = {{"method", s.method},
@@ -779,6 +810,7 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
       r["upper_bound"] = *s.upper_bound;
       r["optimal"] = s.proven_optimal;
     }
+    if (data.quality.active()) r["plain_coverage"] = plain_evaluator.Coverage(s.chosen, s.k);
     results.push_back(std::move(r));
   }
 
@@ -904,6 +936,13 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   page["candidates"] = std::move(candidates);
   page["results"] = std::move(results);
   page["chosen"] = std::move(chosen_json);
+  page["quality"] = data.quality.active();
+  if (report.robustness) {
+    // The same keys as report.json's "robustness" (sensor names, not indices).
+    page["robustness"] = ordered_json::parse(RobustnessJsonText(*report.robustness, data));
+  } else {
+    page["robustness"] = nullptr;
+  }
   page["voxels"] = std::move(voxels);
   page["meshes"] = std::move(meshes_json);
 

@@ -71,6 +71,35 @@ ordered_json QualityJson(const VisibilityFile& data) {
   return j;
 }
 
+ordered_json RobustnessJson(const Robustness& robustness, const VisibilityFile& data) {
+  const auto name = [&](uint32_t index) { return data.candidates.at(index).name; };
+  const auto failure = [&](const SensorFailure& f) {
+    return ordered_json{{"sensor", name(f.sensor)}, {"coverage", f.coverage}};
+  };
+  ordered_json j;
+  j["result"] = robustness.result;
+  ordered_json failures = ordered_json::array();
+  for (const SensorFailure& f : robustness.failures) failures.push_back(failure(f));
+  j["sensor_failures"] = std::move(failures);
+  if (robustness.worst) j["worst_failure"] = failure(*robustness.worst);
+  if (robustness.fov_tolerance_deg && robustness.fov_shrunk_coverage) {
+    j["fov_tolerance_deg"] = *robustness.fov_tolerance_deg;
+    j["fov_shrunk_coverage"] = *robustness.fov_shrunk_coverage;
+  }
+  j["alternatives_within"] = robustness.alternatives_within;
+  ordered_json alternatives = ordered_json::array();
+  for (const Alternative& a : robustness.alternatives) {
+    ordered_json sensors = ordered_json::array();
+    for (uint32_t index : a.chosen) sensors.push_back(name(index));
+    alternatives.push_back({{"sensors", std::move(sensors)},
+                            {"replaced", name(a.replaced)},
+                            {"replacement", name(a.replacement)},
+                            {"coverage", a.coverage}});
+  }
+  j["alternatives"] = std::move(alternatives);
+  return j;
+}
+
 }  // namespace
 
 const char* Version() { return VANTAGE_VERSION; }
@@ -144,6 +173,7 @@ std::string ReportJson(const Report& report) {
   j["results"] = std::move(results);
   const int primary = report.primary >= 0 ? report.primary : PrimaryResult(report.results);
   if (primary >= 0) j["primary_result"] = primary;
+  if (report.robustness) j["robustness"] = RobustnessJson(*report.robustness, data);
   j["timings"] = {{"load", report.timings.load},
                   {"reference", report.timings.reference},
                   {"observe", report.timings.observe},
@@ -151,6 +181,10 @@ std::string ReportJson(const Report& report) {
                   {"total", report.timings.total}};
   if (!report.notes.empty()) j["notes"] = report.notes;
   return j.dump(2) + "\n";
+}
+
+std::string RobustnessJsonText(const Robustness& robustness, const VisibilityFile& data) {
+  return RobustnessJson(robustness, data).dump();
 }
 
 std::string CandidatesCsv(const Report& report) {

@@ -71,4 +71,33 @@ std::vector<Candidate> ShrinkFov(std::span<const Candidate> candidates, double t
   return shrunk;
 }
 
+Robustness AssessRobustness(const VisibilityFile& data, const std::vector<Selection>& results,
+                            int index, const Scene* scene, double fov_tolerance_deg, double within) {
+  VANTAGE_CHECK(index >= 0 && static_cast<size_t>(index) < results.size());
+  const Selection& result = results[static_cast<size_t>(index)];
+  const CoverageEvaluator evaluator(data.observations, data.reference.size());
+  Robustness r;
+  r.result = index;
+  r.failures = SensorFailures(evaluator, result.chosen, result.k);
+  for (const SensorFailure& f : r.failures) {
+    if (!r.worst || f.coverage < r.worst->coverage) r.worst = f;
+  }
+  r.alternatives_within = within;
+  if (!result.budget)
+    r.alternatives = NearOptimalAlternatives(evaluator, result.chosen, result.k, within, result.goal);
+  if (scene && !result.chosen.empty()) {
+    std::vector<Candidate> chosen;
+    for (uint32_t i : result.chosen) chosen.push_back(data.candidates.at(i));
+    ObserveOptions options;
+    options.quality = data.quality;
+    const std::vector<Observation> shrunk =
+        Observe(*scene, data.reference, ShrinkFov(chosen, fov_tolerance_deg), options);
+    std::vector<uint32_t> all(shrunk.size());
+    for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<uint32_t>(i);
+    r.fov_tolerance_deg = fov_tolerance_deg;
+    r.fov_shrunk_coverage = CoverageEvaluator(shrunk, data.reference.size()).Coverage(all, result.k);
+  }
+  return r;
+}
+
 }  // namespace vantage

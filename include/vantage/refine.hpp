@@ -1,0 +1,76 @@
+#pragma once
+/// Refined poses (issue 9): after selection, new candidates are searched around each chosen sensor
+/// (small moves and turns inside its population's region, re-aiming at the observation point and
+/// at what the constellation does not see yet), only they are traced, and selection reruns over
+/// old and new candidates; rounds repeat while coverage improves.
+#include <cstdint>
+#include <vector>
+
+#include "vantage/candidates.hpp"
+#include "vantage/observe.hpp"
+#include "vantage/reference.hpp"
+#include "vantage/scene.hpp"
+#include "vantage/select.hpp"
+
+namespace vantage {
+
+struct RefineOptions {
+  int max_rounds = 4;   ///< rounds of search + trace + re-selection, >= 0 (0: no refinement)
+  double move = 0.05;   ///< first position step [m], > 0
+  double turn_deg = 5;  ///< first turn step [degrees], > 0
+  int per_sensor = 12;  ///< new poses per chosen sensor per round, >= 1
+  /// A round without improvement halves the move and turn steps and the search goes on; after
+  /// this many halvings in a row without improvement it stops. 0: stop at the first such round.
+  int max_halvings = 1;
+  uint64_t seed = 1;  ///< which poses of the pool are drawn when it holds more than per_sensor
+
+  /// Throws InputError naming the field when a value is out of range or not finite.
+  void Validate() const;
+};
+
+struct RefineResult {
+  /// The given candidates and observations first (unchanged, same order), then the new ones in
+  /// the order they were made; new candidates are named "<original>_r<round>_<i>" and keep the
+  /// original's sensor type and population.
+  std::vector<Candidate> candidates;
+  std::vector<Observation> observations;
+  /// The refined constellation (indices into `candidates`); never worse than `start` under the
+  /// objective of the SelectOptions. Its `seconds` are the refinement's (tracing included); no
+  /// upper_bound (the bound of the original candidates does not hold for the new ones).
+  Selection selection;
+  double coverage_before = 0;  ///< coverage of `start` (recomputed from the observations)
+  /// Coverage after each round, coverage_before first: non-decreasing.
+  std::vector<double> history;
+  int rounds = 0;             ///< rounds run (traced), including the last, unimproving one
+  size_t new_candidates = 0;  ///< candidates added (= candidates.size() - given ones)
+  uint64_t extra_rays = 0;    ///< rays traced for the new candidates
+  double seconds = 0;         ///< wall time of Refine
+};
+
+/// Whether a sensor model position lies in the region its population samples from (GAZEBO.md,
+/// "Sensor populations"): the box after Gazebo's shift (P.pos − size/2, then R_P · [0, size]),
+/// the cylinder P.pos + R_P · (ρ ≤ r, 0 ≤ z ≤ l), a grid's lattice rectangle widened by half a
+/// step on each side (±|dz|/2 off its plane). Boundaries are inside (1e-9 m tolerance).
+bool RegionContains(const Population& population, const Vec3& world_position);
+
+/// Refines `start`, a selection over `candidates` with their `observations` (one each, as from
+/// Observe with `reference` of `scene`). `populations` are those the candidates were deployed from
+/// (matched by Candidate::population; "" is an explicit sensor, which moves freely by the same
+/// steps). Poses are re-aimed with LookAt at the model's position and composed with the
+/// population's model_from_camera as DeployCandidates does; a population's random roll is kept.
+/// Re-selection uses `select` (kAll and kBest run as kLocal) and, for every objective but set
+/// cover, also swap local search from the current constellation; the better answer is kept, so
+/// coverage never drops. Deterministic for a seed whatever the thread count.
+/// Throws InputError for invalid options, sizes that do not match, an unknown population name,
+/// or `start` naming a candidate out of range.
+RefineResult Refine(const Scene& scene,
+                    const Reference& reference,
+                    std::vector<Candidate> candidates,
+                    std::vector<Observation> observations,
+                    const std::vector<Population>& populations,
+                    const Vec3& observation_point,
+                    const Selection& start,
+                    const SelectOptions& select,
+                    const RefineOptions& options = {});
+
+}  // namespace vantage

@@ -1,0 +1,144 @@
+// Measurement quality and robustness read-outs from the command line (issue 9), each checked
+// against a second, independent path: the unfiltered run's own sets, and `vantage evaluate`
+// re-tracing the constellations the read-outs describe.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "test_util.hpp"
+
+namespace vantage {
+namespace {
+
+using nlohmann::json;
+using test::RunVantage;
+
+std::string Scene() { return test::DataPath("cli/cube_cell.yaml"); }
+
+json Report(const std::string& out_dir) { return json::parse(test::ReadText(out_dir + "/report.json")); }
+
+TEST(QualityCli, FilteredAndPlainCoverageSideBySide) {
+  test::TempDir dir;
+  ASSERT_EQ(RunVantage("optimize " + Scene() + " -n 3 --method greedy --out " + dir.File("plain")).exit_code, 0);
+  const auto run = RunVantage("optimize " + Scene() + " -n 3 --method greedy --max-incidence 45 --out " +
+                              dir.File("q"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("incidence <= 45 deg"), std::string::npos) << run.out;
+  const json plain = Report(dir.File("plain"));
+  const json q = Report(dir.File("q"));
+  EXPECT_DOUBLE_EQ(q["quality"]["max_incidence_deg"].get<double>(), 45.0);
+  EXPECT_FALSE(plain.contains("quality"));
+  // Each candidate's plain coverage is what the unfiltered run measured for it.
+  ASSERT_EQ(q["candidates"].size(), plain["candidates"].size());
+  bool some_filtered = false;
+  for (size_t i = 0; i < q["candidates"].size(); ++i) {
+    const json& c = q["candidates"][i];
+    EXPECT_DOUBLE_EQ(c["plain_coverage"].get<double>(), plain["candidates"][i]["coverage"].get<double>());
+    EXPECT_LE(c["coverage"].get<double>(), c["plain_coverage"].get<double>());
+    EXPECT_LE(c["quality_pixels"].get<uint64_t>(), c["target_pixels"].get<uint64_t>());
+    some_filtered = some_filtered || c["quality_pixels"] < c["target_pixels"];
+  }
+  EXPECT_TRUE(some_filtered);  // 45 degrees drops pixels on a cube seen from above and aside
+  for (const json& r : q["results"]) EXPECT_LE(r["coverage"].get<double>(), r["plain_coverage"].get<double>());
+}
+
+TEST(QualityCli, OutOfRangeLimitsAreInputErrors) {
+  test::TempDir dir;
+  for (const std::string bad : {"--max-incidence 0", "--max-incidence 120", "--max-depth-noise -2"}) {
+    const auto run = RunVantage("optimize " + Scene() + " " + bad + " --out " + dir.File("o"));
+    EXPECT_EQ(run.exit_code, 2) << bad;
+    EXPECT_NE(run.err.find(bad.substr(0, bad.find(' '))), std::string::npos) << run.err;
+  }
+}
+
+TEST(QualityCli, SceneTypeNoiseModelDecidesWhichPixelsCount) {
+  // One camera 0.56 m from a cube's centre: the faces it sees lie at depths of about 0.5-0.6 m,
+  // where sigma = 0.5 mm + 4 mm/m^2 z^2 is 1.5-1.95 mm, so a 1 mm limit keeps no pixel, 2 mm all.
+  test::TempDir dir;
+  const std::string scene = dir.File("noise.yaml");
+  test::WriteText(scene, R"(settings: {cell_size: 0.01, n: 1, observation_point: [0, 0, 0.05]}
+sensor_types:
+  - id: my_stereo
+    resolution: [160, 120]
+    hfov_deg: 60
+    range: [0.1, 3.0]
+    depth_noise: [0.0005, 0, 0.004]
+objects:
+  - {name: cube, role: target, box: {size: [0.1, 0.1, 0.1]}, pose: {xyz: [0, 0, 0.05]}}
+sensors:
+  - {name: s1, type: my_stereo, position: [0.5, 0, 0.3]}
+)");
+  ASSERT_EQ(RunVantage("optimize " + scene + " --max-depth-noise 1 --out " + dir.File("a")).exit_code, 0);
+  ASSERT_EQ(RunVantage("optimize " + scene + " --max-depth-noise 2 --out " + dir.File("b")).exit_code, 0);
+  const json none = Report(dir.File("a"))["candidates"][0];
+  const json all = Report(dir.File("b"))["candidates"][0];
+  EXPECT_EQ(none["quality_pixels"].get<uint64_t>(), 0u);
+  EXPECT_GT(none["target_pixels"].get<uint64_t>(), 500u);
+  EXPECT_EQ(all["quality_pixels"], all["target_pixels"]);
+  EXPECT_DOUBLE_EQ(all["coverage"].get<double>(), all["plain_coverage"].get<double>());
+  // A model that goes negative inside the range is refused with its line.
+  std::string text = test::ReadText(scene);
+  text.replace(text.find("[0.0005, 0, 0.004]"), 18, "[-0.01, 0, 0.001]");
+  test::WriteText(scene, text);
+  const auto bad = RunVantage("optimize " + scene + " --out " + dir.File("c"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("noise.yaml:3:"), std::string::npos) << bad.err;
+}
+
+// A constellation file holding the run's candidates and one result naming `sensors`.
+std::string ConstellationFile(const test::TempDir& dir, const std::string& name, const json& report,
+                              const json& sensors) {
+  json c;
+  c["candidates"] = report["candidates"];
+  c["results"] = json::array({{{"sensors", sensors}}});
+  const std::string path = dir.File(name + ".json");
+  test::WriteText(path, c.dump());
+  return path;
+}
+
+double Evaluated(const test::TempDir& dir, const std::string& name, const json& report, const json& sensors) {
+  const auto run = RunVantage("evaluate " + Scene() + " --constellation " +
+                              ConstellationFile(dir, name, report, sensors) + " --out " + dir.File(name));
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  return Report(dir.File(name))["results"][0]["coverage"].get<double>();
+}
+
+TEST(RobustnessCli, FailuresAndAlternativesMatchReTracedConstellations) {
+  test::TempDir dir;
+  const auto run = RunVantage("optimize " + Scene() + " -n 3 --method local --alternatives-within 5 --out " +
+                              dir.File("o"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("worst single failure"), std::string::npos) << run.out;
+  const json report = Report(dir.File("o"));
+  ASSERT_TRUE(report.contains("robustness"));
+  const json& rb = report["robustness"];
+  EXPECT_EQ(rb["result"], report["primary_result"]);
+  const json& result = report["results"][rb["result"].get<size_t>()];
+  ASSERT_EQ(rb["sensor_failures"].size(), result["sensors"].size());
+  double worst = 1;
+  for (size_t i = 0; i < rb["sensor_failures"].size(); ++i) {
+    const json& f = rb["sensor_failures"][i];
+    EXPECT_EQ(f["sensor"], result["sensors"][i]);
+    json others = json::array();
+    for (const json& s : result["sensors"])
+      if (s != f["sensor"]) others.push_back(s);
+    EXPECT_DOUBLE_EQ(f["coverage"].get<double>(), Evaluated(dir, "fail" + std::to_string(i), report, others));
+    EXPECT_LE(f["coverage"].get<double>(), result["coverage"].get<double>());
+    worst = std::min(worst, f["coverage"].get<double>());
+  }
+  EXPECT_DOUBLE_EQ(rb["worst_failure"]["coverage"].get<double>(), worst);
+  EXPECT_DOUBLE_EQ(rb["alternatives_within"].get<double>(), 0.05);
+  EXPECT_GE(rb["alternatives"].size(), 1u);  // the ring has near-equivalent neighbours
+  for (size_t i = 0; i < rb["alternatives"].size(); ++i) {
+    const json& a = rb["alternatives"][i];
+    EXPECT_GE(a["coverage"].get<double>(), result["coverage"].get<double>() - 0.05 - 1e-12);
+    EXPECT_DOUBLE_EQ(a["coverage"].get<double>(), Evaluated(dir, "alt" + std::to_string(i), report, a["sensors"]));
+  }
+  // The fields of view narrowed by the default 3 degrees.
+  EXPECT_DOUBLE_EQ(rb["fov_tolerance_deg"].get<double>(), 3.0);
+  EXPECT_LE(rb["fov_shrunk_coverage"].get<double>(), 1.0);
+}
+
+}  // namespace
+}  // namespace vantage

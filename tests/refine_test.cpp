@@ -1,0 +1,358 @@
+// Refined poses (issue 9) against answers derived here: a cube whose one visible face bounds what
+// any pose of the region can see, regions checked by hand-computed bounds, and determinism.
+#include "vantage/refine.hpp"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <numbers>
+#include <set>
+
+#include "vantage/error.hpp"
+
+namespace vantage {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// observe_test.cpp's cube: faces at ±2.5 F (mid-cell), R = the shell of the 6x6x6 block of cells,
+// 6³ - 4³ = 152 cells; one face is 6 x 6 = 36 of them.
+constexpr double kCell = 0.01;
+constexpr double kHalf = 2.5 * kCell;
+constexpr double kShell = 6 * 6 * 6 - 4 * 4 * 4;
+constexpr double kFace = 6 * 6;
+
+Scene CubeScene() {
+  Scene scene;
+  TriangleMesh mesh = MakeBox(Vec3::Constant(2 * kHalf));
+  scene.objects.push_back({"cube", Role::kTarget, std::move(mesh)});
+  return scene;
+}
+
+// 800 px over 0.2 rad at about 1 m: 0.25 mm pixels, far below a cell, so every cell of a face in
+// view receives rays.
+SensorType FineCamera() {
+  return SensorType::FromFov("fine", 800, 800, 0.2, std::nullopt, 0.2, 3.0);
+}
+
+// One clone (linear-x, count 1) at offset (0, sy/2, sz/2) of the box shifted by size/2: at
+// (1, 0, 0). The region is x in [1, 1.2], y and z in [-0.02, 0.02]: every position in it lies in
+// front of the face x = +2.5 F and inside the prism of the other faces' planes (|y|, |z| < 2.5 F),
+// so it can see that face and no other — at most 36 cells, exactly 36 once the face is in view.
+Population FacePopulation() {
+  Population p;
+  p.name = "pop";
+  p.sensor_type = "fine";
+  p.pose = Pose{Vec3(1.1, 0, 0), Quat::Identity()};
+  p.region = RegionShape::kBox;
+  p.box_size = Vec3(0.2, 0.04, 0.04);
+  p.count = 1;
+  p.distribution = Distribution::kLinearX;
+  return p;
+}
+
+bool InFaceRegion(const Vec3& p) {
+  constexpr double kTol = 1e-9;
+  return p.x() >= 1.0 - kTol && p.x() <= 1.2 + kTol && std::abs(p.y()) <= 0.02 + kTol &&
+         std::abs(p.z()) <= 0.02 + kTol;
+}
+
+struct Fixture {
+  Scene scene = CubeScene();
+  Reference reference;
+  std::vector<Population> populations;
+  std::vector<Candidate> candidates;
+  std::vector<Observation> observations;
+  Vec3 observation_point;
+  Selection start;
+  SelectOptions select;
+};
+
+// The observation point (0, 0.1159, 0) makes the look-at camera at (1, 0, 0) look past the cube:
+// its axis is atan(0.1159) = 0.1154 rad off the cube centre, its half view 0.1 rad, and its up
+// axis +z, so it sees the face x = 2.5 F (at distance 0.975) where y >= 0.975 tan(0.0154) = 0.015:
+// the middle of cell column 1, so columns 1 and 2 of 6, 12 cells.
+constexpr double kStripCells = 2 * 6;
+const Vec3 kPastTheCube(0, 0.1159, 0);
+
+Fixture FaceSetup(const Vec3& observation_point = kPastTheCube,
+                  const Pose& model_from_camera = Pose{}) {
+  Fixture s;
+  s.reference = BuildReference(s.scene, {kCell});
+  s.populations = {FacePopulation()};
+  s.populations[0].model_from_camera = model_from_camera;
+  s.observation_point = observation_point;
+  DeployOptions deploy;
+  deploy.observation_point = observation_point;
+  s.candidates = DeployCandidates(s.populations, {}, {FineCamera()}, deploy);
+  s.observations = Observe(s.scene, s.reference, s.candidates);
+  s.select.n = 1;
+  s.select.method = Method::kLocal;
+  s.start = Select(s.observations, s.reference.size(), s.select).at(0);
+  return s;
+}
+
+RefineResult RunRefine(const Fixture& s, const RefineOptions& options = {}) {
+  return Refine(s.scene, s.reference, s.candidates, s.observations, s.populations,
+                s.observation_point, s.start, s.select, options);
+}
+
+// |∪ reference_indices of chosen| / |R|, counted here rather than by CoverageEvaluator.
+double UnionCoverage(const RefineResult& r, size_t reference_size) {
+  std::set<uint32_t> cells;
+  for (const uint32_t c : r.selection.chosen) {
+    cells.insert(r.observations[c].reference_indices.begin(),
+                 r.observations[c].reference_indices.end());
+  }
+  return static_cast<double>(cells.size()) / static_cast<double>(reference_size);
+}
+
+TEST(Refine, FindsThePoseThatSeesTheWholeFace) {
+  const Fixture s = FaceSetup();
+  ASSERT_EQ(s.reference.size(), kShell);
+  ASSERT_EQ(s.candidates.size(), 1u);
+  ASSERT_TRUE(s.candidates[0].world_from_body.position.isApprox(Vec3(1, 0, 0)));
+  // Before: a strip of the face only.
+  EXPECT_DOUBLE_EQ(s.start.coverage, kStripCells / kShell);
+
+  const RefineResult r = RunRefine(s);
+  EXPECT_DOUBLE_EQ(r.coverage_before, s.start.coverage);
+  // After: the whole face, the most any pose of the region can see.
+  EXPECT_DOUBLE_EQ(r.selection.coverage, kFace / kShell);
+  EXPECT_DOUBLE_EQ(UnionCoverage(r, s.reference.size()), kFace / kShell);
+  EXPECT_GT(r.selection.coverage, r.coverage_before);
+  ASSERT_EQ(r.selection.chosen.size(), 1u);
+  EXPECT_GE(r.selection.chosen[0], 1u);  // a new candidate
+  EXPECT_GE(r.rounds, 1);
+  EXPECT_EQ(r.new_candidates, r.candidates.size() - 1);
+  EXPECT_EQ(r.observations.size(), r.candidates.size());
+  uint64_t rays = 0;
+  for (size_t i = 1; i < r.observations.size(); ++i) rays += r.observations[i].rays_traced;
+  EXPECT_EQ(r.extra_rays, rays);
+  EXPECT_GT(r.extra_rays, 0u);
+  // No more than per_sensor poses per chosen sensor per round (one sensor here).
+  EXPECT_LE(r.new_candidates, static_cast<size_t>(r.rounds * RefineOptions{}.per_sensor));
+}
+
+TEST(Refine, NewPosesStayInTheRegionAndKeepTheSensor) {
+  const Fixture s = FaceSetup();
+  RefineOptions options;
+  options.per_sensor = 1000;  // the whole pool each round
+  const RefineResult r = RunRefine(s, options);
+  ASSERT_GT(r.new_candidates, 0u);
+  std::set<std::string> names;
+  for (size_t i = 0; i < r.candidates.size(); ++i) {
+    const Candidate& c = r.candidates[i];
+    EXPECT_TRUE(InFaceRegion(c.world_from_body.position)) << c.name;
+    EXPECT_TRUE(RegionContains(s.populations[0], c.world_from_body.position)) << c.name;
+    EXPECT_TRUE(names.insert(c.name).second) << "duplicate name " << c.name;
+    if (i == 0) continue;
+    EXPECT_EQ(c.name.rfind("pop_0_r", 0), 0u) << c.name;
+    EXPECT_EQ(c.population, "pop");
+    EXPECT_EQ(c.type_id, "fine");
+    EXPECT_EQ(c.sensor.width, 800);
+  }
+}
+
+TEST(Refine, ReAimsTheModelAndComposesTheMount) {
+  // A camera mounted 5 cm above the model origin: the model, not the camera, moves in the region
+  // and is aimed (DeployCandidates' composition), so model = body · mount⁻¹ must be in the region,
+  // and some new pose must be the look-at of its model position at the observation point.
+  const Pose mount{Vec3(0, 0, 0.05), Quat::Identity()};
+  const Fixture s = FaceSetup(kPastTheCube, mount);
+  RefineOptions options;
+  options.per_sensor = 1000;
+  options.max_rounds = 1;
+  const RefineResult r = RunRefine(s, options);
+  ASSERT_GT(r.new_candidates, 0u);
+  bool has_moved_look_at = false;
+  for (size_t i = 1; i < r.candidates.size(); ++i) {
+    const Pose model = r.candidates[i].world_from_body * mount.Inverse();
+    EXPECT_TRUE(InFaceRegion(model.position)) << r.candidates[i].name;
+    const Quat aim = LookAt(model.position, s.observation_point);
+    if ((model.position - Vec3(1, 0, 0)).norm() > 1e-6 &&
+        model.rotation.angularDistance(aim) < 1e-9)
+      has_moved_look_at = true;
+  }
+  EXPECT_TRUE(has_moved_look_at);
+}
+
+TEST(Refine, CoverageNeverDrops) {
+  // Already optimal: the camera aimed at the cube centre sees the whole face; nothing better
+  // exists in the region, so refinement keeps exactly that.
+  {
+    const Fixture s = FaceSetup(Vec3::Zero());
+    ASSERT_DOUBLE_EQ(s.start.coverage, kFace / kShell);
+    const RefineResult r = RunRefine(s);
+    EXPECT_DOUBLE_EQ(r.selection.coverage, kFace / kShell);
+    EXPECT_EQ(r.selection.chosen, s.start.chosen);
+    for (const double c : r.history) EXPECT_DOUBLE_EQ(c, kFace / kShell);
+  }
+  // A richer case: two populations around the cube and an explicit sensor, N = 2.
+  Fixture s;
+  s.reference = BuildReference(s.scene, {kCell});
+  Population side = FacePopulation();
+  side.distribution = Distribution::kRandom;
+  side.count = 3;
+  Population top;
+  top.name = "top";
+  top.sensor_type = "fine";
+  top.pose = Pose{Vec3(0.3, 0, 0.9), Quat::Identity()};
+  top.region = RegionShape::kCylinder;
+  top.radius = 0.2;
+  top.length = 0.1;
+  top.count = 3;
+  s.populations = {side, top};
+  ExplicitSensor other;
+  other.name = "explicit";
+  other.sensor_type = "fine";
+  other.pose = Pose{Vec3(-0.8, 0.6, 0.2), Quat::Identity()};
+  s.observation_point = Vec3(0.05, 0.05, 0.0);
+  DeployOptions deploy;
+  deploy.observation_point = s.observation_point;
+  s.candidates = DeployCandidates(s.populations, {other}, {FineCamera()}, deploy);
+  s.observations = Observe(s.scene, s.reference, s.candidates);
+  s.select.n = 2;
+  s.select.method = Method::kGreedy;
+  s.start = Select(s.observations, s.reference.size(), s.select).at(0);
+  RefineOptions options;
+  options.per_sensor = 6;
+  const RefineResult r = RunRefine(s, options);
+  ASSERT_EQ(r.history.size(), static_cast<size_t>(r.rounds) + 1);
+  EXPECT_DOUBLE_EQ(r.history.front(), s.start.coverage);
+  for (size_t i = 1; i < r.history.size(); ++i) EXPECT_GE(r.history[i], r.history[i - 1]);
+  EXPECT_GE(r.selection.coverage, s.start.coverage);
+  EXPECT_DOUBLE_EQ(r.selection.coverage, UnionCoverage(r, s.reference.size()));
+  EXPECT_EQ(r.selection.chosen.size(), 2u);
+  for (size_t i = s.candidates.size(); i < r.candidates.size(); ++i) {
+    const Candidate& c = r.candidates[i];
+    if (c.population == "pop") {
+      EXPECT_TRUE(InFaceRegion(c.world_from_body.position)) << c.name;
+    }
+    if (c.population == "top") {
+      // Cylinder about (0.3, 0, 0.9) with radius 0.2 and z in [0.9, 1.0].
+      const Vec3 p = c.world_from_body.position;
+      EXPECT_LE(std::hypot(p.x() - 0.3, p.y()), 0.2 + 1e-9) << c.name;
+      EXPECT_GE(p.z(), 0.9 - 1e-9);
+      EXPECT_LE(p.z(), 1.0 + 1e-9);
+    }
+  }
+}
+
+TEST(Refine, SameResultWithOneAndTwoThreads) {
+  const Fixture s = FaceSetup();
+  const auto run = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    return RunRefine(s);
+  };
+  const RefineResult a = run(1);
+  const RefineResult b = run(2);
+  ASSERT_EQ(a.candidates.size(), b.candidates.size());
+  for (size_t i = 0; i < a.candidates.size(); ++i) {
+    EXPECT_EQ(a.candidates[i].name, b.candidates[i].name);
+    EXPECT_EQ(a.candidates[i].world_from_body.position, b.candidates[i].world_from_body.position);
+    EXPECT_EQ(a.candidates[i].world_from_body.rotation.coeffs(),
+              b.candidates[i].world_from_body.rotation.coeffs());
+    EXPECT_EQ(a.observations[i].reference_indices, b.observations[i].reference_indices);
+    EXPECT_EQ(a.observations[i].rays_traced, b.observations[i].rays_traced);
+  }
+  EXPECT_EQ(a.selection.chosen, b.selection.chosen);
+  EXPECT_EQ(a.selection.coverage, b.selection.coverage);
+  EXPECT_EQ(a.history, b.history);
+  EXPECT_EQ(a.extra_rays, b.extra_rays);
+}
+
+TEST(Refine, ZeroRoundsChangesNothing) {
+  const Fixture s = FaceSetup();
+  RefineOptions options;
+  options.max_rounds = 0;
+  const RefineResult r = RunRefine(s, options);
+  EXPECT_EQ(r.candidates.size(), 1u);
+  EXPECT_EQ(r.selection.chosen, s.start.chosen);
+  EXPECT_DOUBLE_EQ(r.selection.coverage, s.start.coverage);
+  EXPECT_EQ(r.extra_rays, 0u);
+}
+
+TEST(Refine, RejectsBadInput) {
+  const Fixture s = FaceSetup();
+  RefineOptions bad;
+  bad.move = 0;
+  EXPECT_THROW(RunRefine(s, bad), InputError);
+  bad = {};
+  bad.per_sensor = 0;
+  EXPECT_THROW(RunRefine(s, bad), InputError);
+  // One observation short.
+  EXPECT_THROW(Refine(s.scene, s.reference, s.candidates, {}, s.populations, s.observation_point,
+                      s.start, s.select, {}),
+               InputError);
+  // The candidate's population is not given.
+  EXPECT_THROW(Refine(s.scene, s.reference, s.candidates, s.observations, {}, s.observation_point,
+                      s.start, s.select, {}),
+               InputError);
+  Selection out_of_range = s.start;
+  out_of_range.chosen = {7};
+  EXPECT_THROW(Refine(s.scene, s.reference, s.candidates, s.observations, s.populations,
+                      s.observation_point, out_of_range, s.select, {}),
+               InputError);
+}
+
+TEST(RegionContains, BoxIsShiftedBeforeTheRotation) {
+  // P = (1, 2, 3) yawed 90°, size (0.4, 0.2, 0.1): origin P - size/2 = (0.8, 1.9, 2.95), offsets
+  // o in [0, size] map to (-o_y, o_x, o_z): x in [0.6, 0.8], y in [1.9, 2.3], z in [2.95, 3.05].
+  Population p;
+  p.pose = Pose::FromXyzRpy(1, 2, 3, 0, 0, kPi / 2);
+  p.region = RegionShape::kBox;
+  p.box_size = Vec3(0.4, 0.2, 0.1);
+  EXPECT_TRUE(RegionContains(p, Vec3(0.7, 2.1, 3.0)));
+  EXPECT_TRUE(RegionContains(p, Vec3(0.6, 1.9, 2.95)));  // a corner
+  EXPECT_FALSE(RegionContains(p, Vec3(1, 2, 3)));        // P itself: Gazebo's quirk
+  EXPECT_FALSE(RegionContains(p, Vec3(0.85, 2.1, 3.0)));
+  EXPECT_FALSE(RegionContains(p, Vec3(0.7, 2.35, 3.0)));
+  EXPECT_FALSE(RegionContains(p, Vec3(0.7, 2.1, 3.06)));
+  // Every clone that deployment places is inside.
+  p.name = "box";
+  p.count = 200;
+  p.distribution = Distribution::kRandom;
+  for (const Vec3& clone : PopulationPositions(p, 3, 0)) EXPECT_TRUE(RegionContains(p, clone));
+}
+
+TEST(RegionContains, Cylinder) {
+  // Axis through (0, 0, 0.5), radius 0.3, z from 0.5 to 0.7 (P is the bottom centre, not shifted).
+  Population p;
+  p.name = "cyl";
+  p.pose = Pose{Vec3(0, 0, 0.5), Quat::Identity()};
+  p.region = RegionShape::kCylinder;
+  p.radius = 0.3;
+  p.length = 0.2;
+  EXPECT_TRUE(RegionContains(p, Vec3(0.2, 0.1, 0.6)));
+  EXPECT_TRUE(RegionContains(p, Vec3(0, 0, 0.5)));
+  EXPECT_FALSE(RegionContains(p, Vec3(0.3, 0.1, 0.6)));  // ρ = 0.316
+  EXPECT_FALSE(RegionContains(p, Vec3(0, 0, 0.45)));
+  EXPECT_FALSE(RegionContains(p, Vec3(0, 0, 0.75)));
+  p.count = 200;
+  p.distribution = Distribution::kRandom;
+  for (const Vec3& clone : PopulationPositions(p, 5, 1)) EXPECT_TRUE(RegionContains(p, clone));
+}
+
+TEST(RegionContains, GridIsItsLatticeWidenedByHalfAStep) {
+  // Pose (0, 0, 1), 2 rows x 3 cols, step (0.1, 0.2, 0): lattice x in {-0.1, 0, 0.1}, y in
+  // {-0.1, 0.1} at z = 1, so the region is x in [-0.15, 0.15], y in [-0.2, 0.2], z = 1.
+  Population p;
+  p.name = "grid";
+  p.pose = Pose{Vec3(0, 0, 1), Quat::Identity()};
+  p.region = RegionShape::kNone;
+  p.distribution = Distribution::kGrid;
+  p.rows = 2;
+  p.cols = 3;
+  p.step = Vec3(0.1, 0.2, 0);
+  EXPECT_TRUE(RegionContains(p, Vec3(0.14, 0.19, 1)));
+  EXPECT_TRUE(RegionContains(p, Vec3(-0.15, -0.2, 1)));
+  EXPECT_FALSE(RegionContains(p, Vec3(0.16, 0, 1)));
+  EXPECT_FALSE(RegionContains(p, Vec3(0, 0.21, 1)));
+  EXPECT_FALSE(RegionContains(p, Vec3(0, 0, 1.001)));
+  for (const Vec3& clone : PopulationPositions(p, 1, 0)) EXPECT_TRUE(RegionContains(p, clone));
+}
+
+}  // namespace
+}  // namespace vantage
