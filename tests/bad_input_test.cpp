@@ -3,17 +3,28 @@
 // has lines, else the file, or the option) and says what is wrong; nothing is reported as
 // internal; and the outputs of an earlier successful run are left exactly as they were.
 // docs/errors.md lists the messages these cases produce.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
+#include <functional>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "test_util.hpp"
 #include "util/binary_io.hpp"
+#include "vantage/observe.hpp"
+
+extern char** environ;
 
 namespace vantage {
 namespace {
@@ -32,6 +43,7 @@ struct Case {
   std::string args;   ///< command line; " --out DIR" (the earlier run's folder) is appended
   std::string place;  ///< expected in stderr: "file:line:", the file, or the option
   std::string what;   ///< expected in stderr: what is wrong
+  std::string absent = {};  ///< when set: must not appear in stderr (a false extra error)
 };
 
 /// cube_cell.yaml with one piece of text replaced (the piece must occur in it).
@@ -147,13 +159,30 @@ class BadInput : public ::testing::Test {
                                                           << run.err;
       EXPECT_NE(run.err.find(c.what), std::string::npos) << "'" << c.what << "' in:\n" << run.err;
       EXPECT_EQ(run.err.find("internal"), std::string::npos) << run.err;
-      EXPECT_TRUE(Contents(out_) == outputs_) << "the earlier run's outputs changed";
-      // The atomic writer leaves no half-written sibling of out/ behind.
-      for (const auto& entry : fs::directory_iterator(dir_.path())) {
-        const std::string name = entry.path().filename().string();
-        EXPECT_FALSE(name != "out" && name.rfind("out", 0) == 0) << "left behind: " << name;
+      if (!c.absent.empty()) {
+        EXPECT_EQ(run.err.find(c.absent), std::string::npos) << "'" << c.absent << "' in:\n"
+                                                             << run.err;
       }
+      ExpectOutputsUntouched();
     }
+  }
+
+  /// The earlier run's outputs are as they were, and the atomic writer left no half-written
+  /// sibling of out/ (out.tmp-PID, out.old-PID) behind.
+  void ExpectOutputsUntouched() const {
+    EXPECT_TRUE(Contents(out_) == outputs_) << "the earlier run's outputs changed";
+    for (const auto& entry : fs::directory_iterator(dir_.path())) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_FALSE(name != "out" && name.rfind("out", 0) == 0) << "left behind: " << name;
+    }
+  }
+
+  /// True while a temporary sibling of out/ exists (the writer is filling it).
+  bool WritingOutputs() const {
+    for (const auto& entry : fs::directory_iterator(dir_.path())) {
+      if (entry.path().filename().string().rfind("out.tmp-", 0) == 0) return true;
+    }
+    return false;
   }
 
   test::TempDir dir_;
@@ -180,6 +209,16 @@ TEST_F(BadInput, YamlScenes) {
             "sensors: [{name: c, type: zed, position: [2, 0, 0]}]\n");
   const std::string txt = Write("scene.txt", ReadText(CubeCell()));
   fs::create_directories(dir_.File("folder.yaml"));
+  const Case zero_width =
+      Yaml("zero_width_type", "resolution: [160, 120]", "resolution: [0, 120]", 12, "width = 0");
+  const Case bad_base = Yaml("bad_base", "    resolution: [160, 120]",
+                             "    base: zedd\n    resolution: [160, 120]", 12, "base 'zedd'");
+  const Case bad_range =
+      Yaml("bad_range_type", "range: [0.1, 3.0]", "range: [3.0, 0.1]", 14, "0 < near < far");
+  // Found in review: the error of a target 5 km away did not name the scene file.
+  std::string far_text = CubeCellWith("xyz: [0, 0, 0.05]", "xyz: [5000, 0, 0.05]");
+  far_text.replace(far_text.find("cell_size: 0.01"), 15, "cell_size: 0.001");
+  const std::string far = Write("far.yaml", far_text);
   ExpectRejected({
       Yaml("malformed", "[0.6, 0.6, 0.02]}", "[0.6, 0.6, 0.02]", 20, "malformed YAML"),
       Yaml("unknown_key", "cell_size: 0.01", "cel_size: 0.01", 4, "did you mean 'cell_size'?"),
@@ -202,6 +241,16 @@ TEST_F(BadInput, YamlScenes) {
       Yaml("stop_as_percent", "stop_coverage: 1.0", "stop_coverage: 80", 8, "[0, 1]"),
       Yaml("unknown_method", "  n: 2", "  n: 2\n  method: gredy", 6, "did you mean 'greedy'?"),
       Yaml("unknown_sensor", "type: tiny_cam", "type: tiny_cm", 32, "did you mean 'tiny_cam'?"),
+      // A rejected custom type is reported once, at its own line: the populations that name it
+      // add no false "unknown sensor type" errors.
+      {"invalid_type_only_its_error", zero_width.args, zero_width.place, zero_width.what,
+       "unknown sensor type"},
+      {"invalid_base_only_its_error", bad_base.args, bad_base.place, bad_base.what,
+       "unknown sensor type"},
+      {"invalid_range_only_its_error", bad_range.args, bad_range.place, bad_range.what,
+       "unknown sensor type"},
+      {"target_far_away", "optimize " + far, far + ": targets reach (4999.950",
+       "a cell size of 0.001 m can index"},
       Yaml("catalog_id_reused", "- id: tiny_cam", "- id: zed", 11, "catalog id"),
       mesh("missing_mesh", "nowhere.obj", "not found"),
       mesh("empty_mesh", "empty.obj", "cannot read mesh"),
@@ -300,26 +349,56 @@ TEST_F(BadInput, GazeboWorlds) {
 
 TEST_F(BadInput, CommandLineOptions) {
   const std::string scene = CubeCell();
+  const std::string example = test::DataPath("../../examples/scenes/bin_picking_cell.yaml");
+  const std::string fine =
+      Write("fine.yaml", CubeCellWith("cell_size: 0.01", "cell_size: 0.00001"));
   ExpectRejected({
-      {"n_zero", "optimize " + scene + " -n 0", scene, "n = 0 is out of range"},
-      {"n_negative", "optimize " + scene + " -n -1", scene, "n = -1 is out of range"},
-      {"n_above_candidates", "optimize " + scene + " -n 17", scene,
-       "n = 17 is out of range: there are 16 candidates"},
+      {"n_zero", "optimize " + scene + " -n 0", "-n:", "n = 0 is out of range"},
+      {"n_negative", "optimize " + scene + " -n -1", "-n:", "n = -1 is out of range"},
+      {"n_above_candidates", "optimize " + scene + " -n 17",
+       "-n:", "n = 17 is out of range: there are 16 candidates"},
+      {"observe_n_zero", "observe " + scene + " -n 0", "-n:", "n = 0 is out of range"},
       {"n_word", "optimize " + scene + " -n abc", "--sensors", "abc"},
       {"unknown_method", "optimize " + scene + " --method magic", "method",
        "unknown method 'magic'"},
-      {"negative_cell_size", "optimize " + scene + " --cell-size -1", "cell_size",
-       "cell_size = -1 must be a positive length"},
-      {"nan_cell_size", "optimize " + scene + " --cell-size nan", "cell_size", "cell_size = nan"},
-      {"tiny_cell_size", "optimize " + scene + " --cell-size 1e-300", "cell size of 1e-300",
-       "beyond the"},
+      {"negative_cell_size", "optimize " + scene + " --cell-size -1",
+       "--cell-size:", "cell_size = -1 must be a positive length"},
+      {"nan_cell_size", "optimize " + scene + " --cell-size nan",
+       "--cell-size:", "cell_size = nan"},
+      {"tiny_cell_size", "optimize " + scene + " --cell-size 1e-300", scene + ": targets reach",
+       "a cell size of 1e-300 m can index"},
+      // Found in review: 4·10⁸ reference cells exhausted the memory while R was built; now
+      // refused from an estimate before (--max-memory makes it independent of the machine).
+      {"cell_size_too_fine_for_memory",
+       "optimize " + example + " --cell-size 0.00001 --max-memory 16000", "--cell-size",
+       "makes a reference R of about 3.9e+08 cells"},
+      // With the default limit (75 % of RAM): 6·10¹² cells need far more than any machine has.
+      {"cell_size_too_fine_default_limit", "optimize " + scene + " --cell-size 0.0000001",
+       "--cell-size", "makes a reference R of about 6e+12 cells"},
+      {"scene_cell_size_too_fine_for_memory", "optimize " + fine + " --max-memory 16000",
+       fine + ": a cell size of 1e-05 m (the scene's cell_size)", "makes a reference R"},
       {"negative_threads", "--threads -3 optimize " + scene, "--threads", "not in range"},
       {"negative_threads_after", "optimize " + scene + " --threads -3", "--threads",
        "not in range"},
       {"word_seed", "optimize " + scene + " --seed abc", "--seed", "abc"},
-      {"stop_above_one", "optimize " + scene + " --stop 1.5", scene, "ransac_stop_coverage = 1.5"},
-      {"zero_iterations", "optimize " + scene + " --iterations 0", scene, "ransac_iterations = 0"},
-      {"zero_time_limit", "optimize " + scene + " --time-limit 0", scene, "time_limit = 0"},
+      {"negative_seed", "optimize " + scene + " --seed -1", "--seed:", "-1 is negative"},
+      {"negative_max_memory", "optimize " + scene + " --max-memory -5",
+       "--max-memory:", "-5 is not a positive number of MiB"},
+      {"zero_max_memory", "optimize " + scene + " --max-memory 0",
+       "--max-memory:", "0 is not a positive number of MiB"},
+      {"nan_max_memory", "optimize " + scene + " --max-memory nan",
+       "--max-memory:", "nan is not a positive number of MiB"},
+      {"stop_above_one", "optimize " + scene + " --stop 1.5",
+       "--stop:", "ransac_stop_coverage = 1.5"},
+      {"zero_iterations", "optimize " + scene + " --iterations 0",
+       "--iterations:", "ransac_iterations = 0"},
+      {"zero_time_limit", "optimize " + scene + " --time-limit 0",
+       "--time-limit:", "time_limit = 0"},
+      {"k_zero", "optimize " + scene + " --k 0", "--k:", "k = 0 must be at least 1"},
+      {"k_above_n", "optimize " + scene + " --k 99", "--k:", "n = 2 is below k = 99"},
+      {"unknown_command", "frobnicate", "'frobnicate'",
+       "unknown command 'frobnicate' — use one of optimize, observe, select"},
+      {"unknown_command_after_option", "-q frobnicate", "'frobnicate'", "unknown command"},
       {"missing_scene", "optimize", "scene", "required"},
       {"unknown_option", "optimize " + scene + " --frobnicate", "--frobnicate", "not expected"},
   });
@@ -358,9 +437,70 @@ TEST_F(BadInput, VisibilityFiles) {
       {"vis_empty", "select " + empty, empty, "not a vantage visibility file"},
       {"vis_other_version", "select " + newer, newer, "format version 99"},
       {"vis_short_payload", "select " + short_payload, short_payload, "the file is corrupt"},
-      {"vis_n_zero", "select " + good + " -n 0", CubeCell(), "n = 0 is out of range"},
+      {"vis_n_zero", "select " + good + " -n 0", "-n:", "n = 0 is out of range"},
+      {"vis_negative_seed", "select " + good + " --seed -1", "--seed:", "-1 is negative"},
       {"vis_unknown_method", "select " + good + " --method magic", "method",
        "unknown method 'magic'"},
+  });
+  // Checksum-valid files (written by the library's own writer) with inconsistent content.
+  const VisibilityFile data = LoadVisibilityFile(good);
+  ASSERT_GE(data.candidates.size(), 2u);
+  ASSERT_GE(data.reference.keys.size(), 2u);
+  const auto changed = [&](const std::string& name,
+                           const std::function<void(VisibilityFile*)>& change) {
+    VisibilityFile copy = data;
+    change(&copy);
+    const std::string path = dir_.File(name + ".vis");
+    SaveVisibilityFile(path, copy);
+    return path;
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::string nan_pose = changed(
+      "nan_pose", [&](VisibilityFile* f) { f->candidates[1].world_from_body.position.x() = nan; });
+  const std::string zero_quaternion = changed("zero_quaternion", [](VisibilityFile* f) {
+    f->candidates[1].world_from_body.rotation = Quat(0, 0, 0, 0);
+  });
+  const std::string zero_width =
+      changed("zero_width", [](VisibilityFile* f) { f->candidates[1].sensor.width = 0; });
+  const std::string near_far =
+      changed("near_far", [](VisibilityFile* f) { f->candidates[1].sensor.near = 5.0; });
+  const std::string unsorted = changed("unsorted_keys", [](VisibilityFile* f) {
+    std::swap(f->reference.keys[0], f->reference.keys[1]);
+  });
+  const std::string repeated = changed(
+      "repeated_keys", [](VisibilityFile* f) { f->reference.keys[1] = f->reference.keys[0]; });
+  const std::string same_name = changed(
+      "same_name", [](VisibilityFile* f) { f->candidates[1].name = f->candidates[0].name; });
+  const std::string index_beyond = changed("index_beyond", [](VisibilityFile* f) {
+    f->observations[1].reference_indices.push_back(static_cast<uint32_t>(f->reference.keys.size()));
+  });
+  const auto cell = [&](const std::string& name, double size) {
+    return changed(name, [size](VisibilityFile* f) { f->reference.cell_size = size; });
+  };
+  const std::string cell_inf = cell("cell_inf", std::numeric_limits<double>::infinity());
+  const std::string cell_nan = cell("cell_nan", nan);
+  const std::string cell_zero = cell("cell_zero", 0.0);
+  const std::string cell_negative = cell("cell_negative", -0.01);
+  const std::string candidate = "candidate 1 ('" + data.candidates[1].name + "')";
+  ExpectRejected({
+      {"vis_nan_pose", "select " + nan_pose, nan_pose + ": " + candidate, "pose is not finite"},
+      {"vis_zero_quaternion", "select " + zero_quaternion, zero_quaternion + ": " + candidate,
+       "quaternion has length 0"},
+      {"vis_zero_width", "select " + zero_width, zero_width + ": " + candidate,
+       "resolution 0x120 must be positive"},
+      {"vis_near_above_far", "select " + near_far, near_far + ": " + candidate,
+       "near = 5 must be below far = 3"},
+      {"vis_unsorted_keys", "select " + unsorted, unsorted + ":", "keys are not sorted and unique"},
+      {"vis_repeated_keys", "select " + repeated, repeated + ":", "keys are not sorted and unique"},
+      {"vis_duplicate_name", "select " + same_name,
+       same_name + ": candidate 1 ('" + data.candidates[0].name + "')", "name is used twice"},
+      {"vis_index_beyond_reference", "select " + index_beyond, index_beyond + ":",
+       "observation indices out of range"},
+      {"vis_infinite_cell_size", "select " + cell_inf, cell_inf + ":", "cell size inf is not"},
+      {"vis_nan_cell_size", "select " + cell_nan, cell_nan + ":", "cell size nan is not"},
+      {"vis_zero_cell_size", "select " + cell_zero, cell_zero + ":", "cell size 0 is not"},
+      {"vis_negative_cell_size", "select " + cell_negative, cell_negative + ":",
+       "cell size -0.01 is not"},
   });
   // A failed observe leaves an earlier matrix as it was.
   const std::string broken = Write("broken.yaml", "objects: [\n");
@@ -440,6 +580,79 @@ TEST_F(BadInput, Constellations) {
            dir_.File("absent.json"),
        dir_.File("bad.yaml") + ":1:", "must be a list"},
   });
+}
+
+/// Starts `vantage ARGS --out DIR` with `extra_env` added to the environment, sends `signal`
+/// once `ready()` holds (polled every 2 ms, for at most 60 s), and returns waitpid's status.
+int Interrupt(const std::vector<std::string>& args,
+              const std::vector<std::string>& extra_env,
+              int signal,
+              const std::function<bool()>& ready) {
+  // Everything the child needs is built before fork: after it, only async-signal-safe calls.
+  std::vector<std::string> arg_storage = {VANTAGE_BINARY};
+  arg_storage.insert(arg_storage.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : arg_storage) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::vector<std::string> env_storage = extra_env;
+  std::vector<char*> envp;
+  for (char** e = environ; *e; ++e) envp.push_back(*e);
+  for (std::string& e : env_storage) envp.push_back(e.data());
+  envp.push_back(nullptr);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, STDOUT_FILENO);
+    ::dup2(null, STDERR_FILENO);
+    ::execve(argv[0], argv.data(), envp.data());
+    ::_exit(127);
+  }
+  EXPECT_GT(pid, 0);
+  const auto start = std::chrono::steady_clock::now();
+  int status = 0;
+  while (!ready() && std::chrono::steady_clock::now() - start < std::chrono::seconds(60)) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) {
+      ADD_FAILURE() << "vantage ended before it was interrupted";
+      return status;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  EXPECT_EQ(::kill(pid, signal), 0);
+  EXPECT_EQ(::waitpid(pid, &status, 0), pid);
+  return status;
+}
+
+/// Killed by `signal`, or exited with 128 + signal as a shell reports it.
+bool EndedBy(int status, int signal) {
+  return (WIFSIGNALED(status) && WTERMSIG(status) == signal) ||
+         (WIFEXITED(status) && WEXITSTATUS(status) == 128 + signal);
+}
+
+// Found in review: Ctrl-C during a run left a `out.tmp-PID` sibling behind. Interrupted while it
+// ray casts (a run of about 1 s and more), vantage ends by SIGINT with the earlier outputs as
+// they were.
+TEST_F(BadInput, InterruptWhileRayCasting) {
+  const std::string example = test::DataPath("../../examples/scenes/bin_picking_cell.yaml");
+  const auto start = std::chrono::steady_clock::now();
+  const int status = Interrupt(
+      {"optimize", example, "--no-cull", "--cell-size", "0.001", "--out", out_}, {}, SIGINT,
+      [&] { return std::chrono::steady_clock::now() - start > std::chrono::milliseconds(200); });
+  EXPECT_TRUE(EndedBy(status, SIGINT)) << "status " << status;
+  ExpectOutputsUntouched();
+}
+
+// The same while the outputs are being written (the temporary folder exists; the test hook
+// VANTAGE_TEST_WRITE_DELAY_S slows the writer down so that the signal lands there): the
+// temporary folder is removed, the earlier outputs stay, and vantage still ends by the signal.
+TEST_F(BadInput, InterruptWhileWritingOutputs) {
+  for (const int signal : {SIGINT, SIGTERM}) {
+    SCOPED_TRACE(signal == SIGINT ? "SIGINT" : "SIGTERM");
+    const int status =
+        Interrupt({"optimize", CubeCell(), "--out", out_}, {"VANTAGE_TEST_WRITE_DELAY_S=0.2"},
+                  signal, [&] { return WritingOutputs(); });
+    EXPECT_TRUE(EndedBy(status, signal)) << "status " << status;
+    ExpectOutputsUntouched();
+  }
 }
 
 }  // namespace

@@ -140,5 +140,29 @@ TEST(RobustnessCli, FailuresAndAlternativesMatchReTracedConstellations) {
   EXPECT_LE(rb["fov_shrunk_coverage"].get<double>(), 1.0);
 }
 
+TEST(RefineCli, RefinedConstellationIsNeverWorseAndReTracesToItsCoverage) {
+  test::TempDir dir;
+  const auto run = RunVantage("optimize " + Scene() + " -n 2 --method local --refine --out " + dir.File("o"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("refinement"), std::string::npos) << run.out;
+  const json report = Report(dir.File("o"));
+  ASSERT_TRUE(report.contains("refinement"));
+  const json& rf = report["refinement"];
+  const json& from = report["results"][rf["from_result"].get<size_t>()];
+  const json& refined = report["results"][rf["result"].get<size_t>()];
+  EXPECT_EQ(refined["method"], "refined");
+  EXPECT_EQ(refined["n"], from["n"]);
+  EXPECT_DOUBLE_EQ(rf["coverage_before"].get<double>(), from["coverage"].get<double>());
+  EXPECT_DOUBLE_EQ(rf["coverage_after"].get<double>(), refined["coverage"].get<double>());
+  EXPECT_GE(refined["coverage"].get<double>(), from["coverage"].get<double>());
+  // The cell's random ring leaves room: moving the two cameras gains about 21 points here.
+  EXPECT_GT(refined["coverage"].get<double>(), from["coverage"].get<double>() + 0.05);
+  for (size_t i = 1; i < rf["history"].size(); ++i) EXPECT_GE(rf["history"][i], rf["history"][i - 1]);
+  // The new poses are candidates of the report, 16 originals first.
+  EXPECT_EQ(report["candidates"].size(), 16u + rf["new_candidates"].get<size_t>());
+  // Re-tracing the refined sensors from the report alone gives the same coverage.
+  EXPECT_DOUBLE_EQ(refined["coverage"].get<double>(), Evaluated(dir, "refined", report, refined["sensors"]));
+}
+
 }  // namespace
 }  // namespace vantage

@@ -2,10 +2,12 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 
 #include "commands.hpp"
 #include "vantage/yaml_export.hpp"
 #include "vantage/gazebo_export.hpp"
+#include "vantage/refine.hpp"
 #include "vantage/robustness.hpp"
 
 namespace vantage::cli {
@@ -15,7 +17,45 @@ struct OptimizeOptions {
   SceneOptions scene;
   SelectionOptions selection;
   std::string out = "vantage_out";
+  bool refine = false;
+  RefineOptions refine_options;
 };
+
+// --refine: new poses around the primary result's sensors, traced and re-selected; the refined
+// constellation is appended to the results (method "refined") with its candidates.
+std::optional<RefinementInfo> RefinePrimary(const OptimizeOptions& options, const SelectOptions& select,
+                                            ObservedScene* observed, std::vector<Selection>* results) {
+  const int from = PrimaryResult(*results);
+  if (from < 0) return std::nullopt;
+  RefineOptions refine = options.refine_options;
+  refine.seed = select.seed;
+  VisibilityFile& data = observed->data;
+  RefineResult refined = Refine(observed->scene, data.reference, data.candidates, data.observations,
+                                observed->populations, observed->observation_point,
+                                (*results)[static_cast<size_t>(from)], select, refine);
+  data.candidates = std::move(refined.candidates);
+  data.observations = std::move(refined.observations);
+  Selection selection = refined.selection;
+  selection.method = "refined";
+  const CoverageEvaluator evaluator(data.observations, data.reference.size());
+  selection.paper_coverage = evaluator.PaperCoverage(selection.chosen, selection.k);
+  selection.seconds = refined.seconds;
+  results->push_back(selection);
+  RefinementInfo info;
+  info.from_result = from;
+  info.result = static_cast<int>(results->size()) - 1;
+  info.coverage_before = refined.coverage_before;
+  info.coverage_after = selection.coverage;
+  info.history = refined.history;
+  info.rounds = refined.rounds;
+  info.new_candidates = refined.new_candidates;
+  info.extra_rays = refined.extra_rays;
+  info.seconds = refined.seconds;
+  spdlog::info("refine: {} rounds, {} new poses, {:.1f} M rays, {:+.2f} points in {:.3f} s", info.rounds,
+               info.new_candidates, info.extra_rays / 1e6, 100.0 * (info.coverage_after - info.coverage_before),
+               info.seconds);
+  return info;
+}
 
 void RunOptimize(const OptimizeOptions& options) {
   const auto start = std::chrono::steady_clock::now();
@@ -25,6 +65,8 @@ void RunOptimize(const OptimizeOptions& options) {
   const auto select_start = std::chrono::steady_clock::now();
   std::vector<Selection> results =
       Select(observed.data.observations, observed.data.reference.size(), select_options);
+  std::optional<RefinementInfo> refinement;
+  if (options.refine) refinement = RefinePrimary(options, select_options, &observed, &results);
   observed.timings.select = SecondsSince(select_start);
   observed.timings.total = SecondsSince(start);
 
@@ -35,6 +77,7 @@ void RunOptimize(const OptimizeOptions& options) {
   report.results = std::move(results);
   report.timings = observed.timings;
   report.notes = observed.notes;
+  report.refinement = refinement;
   // constellation.world: the input world with only the primary result's sensors (SYSTEM.md).
   std::map<std::string, std::string> extra_files;
   const int primary = report.primary >= 0 ? report.primary : PrimaryResult(report.results);
@@ -62,7 +105,8 @@ void RunOptimize(const OptimizeOptions& options) {
   extra_files["report.html"] = HtmlReport(report, observed.scene);
   extra_files["static_transforms.yaml"] = StaticTransformsYaml(report);
   WriteOutputs(options.out, report, extra_files);
-  PrintSummary(observed.data, report.results, report.timings, options.out, report.robustness);
+  PrintSummary(observed.data, report.results, report.timings, options.out, report.robustness,
+               report.refinement);
 }
 
 }  // namespace
@@ -74,6 +118,12 @@ void SetupOptimize(CLI::App* parent) {
   AddSceneOptions(app, &options->scene);
   AddSelectionOptions(app, &options->selection);
   app->add_option("-o,--out", options->out, "output folder (replaced atomically)")
+      ->capture_default_str();
+  app->add_flag("--refine", options->refine,
+                "after selection, search new poses around the chosen sensors (inside their "
+                "regions), trace only those and re-select while coverage improves");
+  app->add_option("--refine-rounds", options->refine_options.max_rounds, "rounds of --refine")
+      ->check(CLI::Range(1, 100))
       ->capture_default_str();
   app->callback([options] { RunOptimize(*options); });
 }

@@ -23,6 +23,8 @@ struct SceneOptions {
   std::vector<double> observation_point;  ///< x y z, or empty = the scene's
   std::optional<bool> random_roll;        ///< unset = the scene's
   bool no_cull = false;
+  std::optional<double> max_incidence_deg;   ///< --max-incidence: quality filter [deg]
+  std::optional<double> max_depth_noise_mm;  ///< --max-depth-noise: quality filter [mm]
   double max_memory_mib = 0;  ///< 0 = 75 % of the machine's RAM
 };
 
@@ -37,10 +39,20 @@ struct SelectionOptions {
   std::optional<double> goal;    ///< --goal: fewest sensors reaching this coverage
   std::optional<int> k;          ///< --k: k-coverage
   std::optional<double> budget;  ///< --budget: total sensor cost cap
+  /// Robustness read-outs of the primary result (issue 9).
+  double fov_tolerance_deg = 3;     ///< --fov-tolerance
+  double alternatives_within = 1;   ///< --alternatives-within, coverage points
 };
+
+/// Refuses a negative --seed (CLI11 would wrap "-1" to 2^64 - 1); main.cpp puts it on every
+/// command's --seed.
+CLI::Validator SeedValidator();
 
 void AddSceneOptions(CLI::App* app, SceneOptions* options, bool with_positional = true);
 void AddSelectionOptions(CLI::App* app, SelectionOptions* options);
+
+/// The quality filter of --max-incidence / --max-depth-noise; InputError naming the option.
+QualityFilter QualityOf(const SceneOptions& options);
 
 /// Loads the scene with the command-line overrides applied.
 Problem LoadScene(const SceneOptions& options);
@@ -54,6 +66,7 @@ struct ObservedScene {
   /// Where the candidates came from, for constellation.world.
   std::vector<Population> populations;
   std::vector<ExplicitSensor> sensors;
+  Vec3 observation_point = Vec3::Zero();  ///< what the candidates look at (for --refine)
 };
 /// Load -> reference -> candidates -> observe, logging each stage.
 ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* selection);
@@ -61,9 +74,11 @@ ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* 
 /// Selection options resolved from the file's defaults and the command line.
 SelectOptions ResolveSelectOptions(const VisibilityFile& data, const SelectionOptions& cli,
                                    std::optional<uint64_t> seed, const std::string& method_default);
-/// Prints the human summary of a run to stdout.
+/// Prints the human summary of a run to stdout (with the robustness read-outs when given).
 void PrintSummary(const VisibilityFile& data, const std::vector<Selection>& results,
-                  const Timings& timings, const std::string& out_dir);
+                  const Timings& timings, const std::string& out_dir,
+                  const std::optional<Robustness>& robustness = std::nullopt,
+                  const std::optional<RefinementInfo>& refinement = std::nullopt);
 
 void SetupOptimize(CLI::App* parent);
 void SetupObserve(CLI::App* parent);

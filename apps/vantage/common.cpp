@@ -1,10 +1,13 @@
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <mutex>
 #include <numeric>
 
@@ -34,21 +37,84 @@ std::function<void(size_t, size_t)> ProgressBar(const std::string& label) {
   };
 }
 
+constexpr double kMiB = 1024.0 * 1024.0;
+
+// --max-memory, or 75 % of the machine's RAM when it is not given (0).
+double MemoryLimitMiB(double limit_mib) {
+  if (limit_mib > 0) return limit_mib;
+  const double ram = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
+                     static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+  return 0.75 * ram / kMiB;
+}
+
 // Refuses a run whose estimate exceeds the limit, before any ray is cast (issue #8).
 void CheckMemory(const MemoryEstimate& estimate, double limit_mib, const std::string& source) {
-  const double mib = 1024.0 * 1024.0;
   spdlog::info("memory estimate: {:.0f} MiB (scene {:.0f}, images {:.0f}, visibility {:.0f}, selection {:.0f})",
-               estimate.Total() / mib, estimate.scene / mib, estimate.hit_buffers / mib,
-               estimate.observations / mib, estimate.selection / mib);
-  if (limit_mib <= 0) {
-    const double ram = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
-    limit_mib = 0.75 * ram / mib;
-  }
-  if (estimate.Total() / mib > limit_mib)
+               estimate.Total() / kMiB, estimate.scene / kMiB, estimate.hit_buffers / kMiB,
+               estimate.observations / kMiB, estimate.selection / kMiB);
+  limit_mib = MemoryLimitMiB(limit_mib);
+  if (estimate.Total() / kMiB > limit_mib)
     throw InputError(AtPlace(source, 0, fmt::format(
         "this run needs about {:.0f} MiB, above the {:.0f} MiB limit — use fewer candidates, lower "
         "resolutions, a larger --cell-size, fewer --threads, or raise --max-memory",
-        estimate.Total() / mib, limit_mib)));
+        estimate.Total() / kMiB, limit_mib)));
+}
+
+// Refuses a cell size too fine for the memory before R is built (issue #8: 1e-5 m on the example
+// asked for 4·10⁸ cells and ran out of memory). R is estimated from the targets' triangles
+// (EstimateReferenceCells, within 20 % of the cells appended on the example from 2 mm to 50 µm).
+// Building R holds about 32 bytes per appended cell (per-thread keys and the merged copy, each up
+// to twice its size while growing); afterwards each cell keeps its 8-byte key plus about 64 bytes
+// of outputs (the PLY voxel centres, report.html's voxel arrays and their copies), besides the
+// visibility lists and selection bitsets of EstimateMemory. Measured on the example at 50 µm:
+// 55 bytes per cell of R in all, so this errs on the safe side by about 1.5.
+void CheckReferenceMemory(const Problem& problem, std::span<const Candidate> candidates,
+                          double limit_mib, bool cell_size_from_option) {
+  const double cells = EstimateReferenceCells(problem.scene, problem.cell_size);
+  const double build = 32.0 * cells;
+  const size_t capped = static_cast<size_t>(std::min(cells, 1e18));
+  const MemoryEstimate later =
+      EstimateMemory(problem.scene, capped, candidates,
+                     static_cast<size_t>(tbb::this_task_arena::max_concurrency()));
+  // The stages that grow with |R|: building it; then R, the outputs, visibility lists, bitsets.
+  const double with_r = std::max(
+      build, (8.0 + 64.0) * cells + static_cast<double>(later.observations + later.selection));
+  const double others = static_cast<double>(later.scene + later.hit_buffers);
+  spdlog::debug("reference estimate: about {:.3g} cells, {:.0f} MiB with them", cells,
+                with_r / kMiB);
+  limit_mib = MemoryLimitMiB(limit_mib);
+  const double total = with_r + others;
+  if (total / kMiB <= limit_mib) return;
+  if (with_r < others) {
+    CheckMemory(later, limit_mib, problem.source);  // the images dominate: the general message
+    return;
+  }
+  throw InputError(AtPlace(problem.source, 0, fmt::format(
+      "a cell size of {} m ({}) makes a reference R of about {:.2g} cells on the targets' "
+      "surface, so this run needs about {:.0f} MiB, above the {:.0f} MiB limit — {}, or raise "
+      "--max-memory",
+      problem.cell_size, cell_size_from_option ? "--cell-size" : "the scene's cell_size", cells,
+      total / kMiB, limit_mib,
+      cell_size_from_option
+          ? "give a larger --cell-size"
+          : "use a larger cell_size in the scene (or override it with --cell-size)")));
+}
+
+// --seed: CLI11 reads "-1" into an unsigned as 2^64 - 1; refuse a sign instead.
+std::string NonNegativeWholeNumber(std::string& text) {
+  const size_t first = text.find_first_not_of(" \t");
+  if (first != std::string::npos && text[first] == '-')
+    return fmt::format("{} is negative — give a whole number from 0 to {}", text,
+                       std::numeric_limits<uint64_t>::max());
+  return {};
+}
+
+// --max-memory: a positive, finite number of MiB.
+std::string PositiveMiB(std::string& text) {
+  double value = 0;
+  if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value) || value <= 0)
+    return fmt::format("{} is not a positive number of MiB — give e.g. --max-memory 4096", text);
+  return {};
 }
 
 // `--method all`: the coverage-versus-N curve, one row per n, one column per method, and the
@@ -92,6 +158,8 @@ void PrintCoverageByN(const std::vector<Selection>& results) {
 
 }  // namespace
 
+CLI::Validator SeedValidator() { return CLI::Validator(NonNegativeWholeNumber, "0 or more"); }
+
 Selection WholeConstellation(const CoverageEvaluator& evaluator) {
   Selection given;
   given.method = "given";
@@ -123,8 +191,15 @@ void AddSceneOptions(CLI::App* app, SceneOptions* options, bool with_positional)
   app->add_option("--random-roll", options->random_roll,
                   "true|false: random roll after the look-at (default: the scene's)");
   app->add_flag("--no-cull", options->no_cull, "trace every pixel (slower; same result)");
+  app->add_option("--max-incidence", options->max_incidence_deg,
+                  "quality: a pixel counts only when its ray meets the surface within this many "
+                  "degrees of the normal (0-90]");
+  app->add_option("--max-depth-noise", options->max_depth_noise_mm,
+                  "quality: a pixel counts only when its sensor's depth noise sigma(z) is at most "
+                  "this many mm (docs/sensor-models.md)");
   app->add_option("--max-memory", options->max_memory_mib,
-                  "refuse runs estimated above this many MiB (default: 75 % of RAM)");
+                  "refuse runs estimated above this many MiB (default: 75 % of RAM)")
+      ->check(CLI::Validator(PositiveMiB, "MiB > 0"));
 }
 
 void AddSelectionOptions(CLI::App* app, SelectionOptions* options) {
@@ -140,6 +215,23 @@ void AddSelectionOptions(CLI::App* app, SelectionOptions* options) {
                   "objective: k-coverage, a cell counts once k chosen sensors see it (k >= 2)");
   app->add_option("--budget", options->budget,
                   "objective: the most coverage for a total sensor cost within this budget");
+  app->add_option("--fov-tolerance", options->fov_tolerance_deg,
+                  "robustness: degrees the chosen sensors' fields of view are shrunk by (datasheet "
+                  "tolerance)")
+      ->check(CLI::Range(0.0, 45.0))
+      ->capture_default_str();
+  app->add_option("--alternatives-within", options->alternatives_within,
+                  "robustness: list one-sensor alternatives losing at most this many coverage points")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+}
+
+QualityFilter QualityOf(const SceneOptions& options) {
+  QualityFilter quality;
+  quality.max_incidence_deg = options.max_incidence_deg;
+  if (options.max_depth_noise_mm) quality.max_depth_noise = *options.max_depth_noise_mm / 1000.0;
+  quality.Validate();
+  return quality;
 }
 
 Problem LoadScene(const SceneOptions& options) {
@@ -148,7 +240,16 @@ Problem LoadScene(const SceneOptions& options) {
   load.resource_paths = options.resource_paths;
   load.targets = options.targets;
   Problem problem = LoadProblem(options.scene, load);
-  if (options.cell_size) problem.cell_size = *options.cell_size;
+  if (options.cell_size) {
+    ReferenceOptions given;
+    given.cell_size = *options.cell_size;
+    try {
+      given.Validate();
+    } catch (const InputError& e) {
+      throw InputError(AtPlace("--cell-size", 0, e.what()));
+    }
+    problem.cell_size = *options.cell_size;
+  }
   if (options.seed) problem.seed = *options.seed;
   // Command-line options override the scene's (the Gazebo plugin's parameters, GAZEBO.md).
   if (options.observation_point.size() == 3) {
@@ -163,6 +264,7 @@ Problem LoadScene(const SceneOptions& options) {
 ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* selection) {
   ObservedScene result;
   auto start = std::chrono::steady_clock::now();
+  const QualityFilter quality = QualityOf(options);  // option errors before any work
   Problem problem = LoadScene(options);
   if (selection && selection->n) problem.n = *selection->n;
   ReferenceOptions reference_options;
@@ -179,6 +281,14 @@ ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* 
       DeployCandidates(problem.populations, problem.sensors, problem.sensor_types, deploy);
   if (candidates.empty())
     throw InputError(AtPlace(problem.source, 0, "no candidate sensors — add a population or a sensor"));
+  // -n names the option before any ray is cast (the scene's own n is checked with the others).
+  if (selection && selection->n &&
+      (*selection->n < 1 || static_cast<size_t>(*selection->n) > candidates.size())) {
+    throw InputError(AtPlace("-n", 0, fmt::format(
+        "n = {} is out of range: there are {} candidates, so n must be between 1 and {} — "
+        "give -n in that range",
+        *selection->n, candidates.size(), candidates.size())));
+  }
   if (problem.expected_candidates && *problem.expected_candidates != static_cast<int>(candidates.size())) {
     const std::string note = fmt::format(
         "{}: numberOfSamplingSensors is {} but the populations yield {} sensors", problem.source,
@@ -189,7 +299,18 @@ ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* 
   result.timings.load = SecondsSince(start);
 
   start = std::chrono::steady_clock::now();
-  Reference reference = BuildReference(problem.scene, reference_options);
+  Reference reference;
+  try {
+    CheckTargetsFitGrid(problem.scene, problem.cell_size);
+    CheckReferenceMemory(problem, candidates, options.max_memory_mib,
+                         options.cell_size.has_value());
+    reference = BuildReference(problem.scene, reference_options);
+  } catch (const InputError& e) {
+    // Targets beyond the grid name no place of their own; the memory check names the scene.
+    const std::string message = e.what();
+    if (message.rfind(problem.source + ":", 0) == 0) throw;
+    throw InputError(AtPlace(problem.source, 0, message));
+  }
   result.timings.reference = SecondsSince(start);
   spdlog::info("reference: {} voxels of {} m in {:.3f} s", reference.size(), problem.cell_size,
                result.timings.reference);
@@ -203,6 +324,7 @@ ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* 
   start = std::chrono::steady_clock::now();
   ObserveOptions observe_options;
   observe_options.cull = !options.no_cull;
+  observe_options.quality = quality;
   observe_options.progress = ProgressBar("observe");
   std::vector<Observation> observations = Observe(problem.scene, reference, candidates, observe_options);
   result.timings.observe = SecondsSince(start);
@@ -223,15 +345,19 @@ ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* 
   data.reference = std::move(reference);
   data.candidates = std::move(candidates);
   data.observations = std::move(observations);
+  data.quality = quality;
   result.notes.insert(result.notes.end(), problem.notes.begin(), problem.notes.end());
   result.scene = std::move(problem.scene);
   result.populations = std::move(problem.populations);
+  result.observation_point = problem.observation_point;
   result.sensors = std::move(problem.sensors);
   return result;
 }
 
-SelectOptions ResolveSelectOptions(const VisibilityFile& data, const SelectionOptions& cli,
-                                   std::optional<uint64_t> seed, const std::string& method_default) {
+namespace {
+
+SelectOptions MergeSelectOptions(const VisibilityFile& data, const SelectionOptions& cli,
+                                 std::optional<uint64_t> seed, const std::string& method_default) {
   SelectOptions options;
   options.n = cli.n.value_or(data.n);
   options.method = ParseMethod(cli.method.value_or(data.method.empty() ? method_default : data.method));
@@ -248,16 +374,81 @@ SelectOptions ResolveSelectOptions(const VisibilityFile& data, const SelectionOp
     options.costs.reserve(data.candidates.size());
     for (const Candidate& c : data.candidates) options.costs.push_back(c.sensor.cost);
   }
-  try {
-    options.Validate(data.candidates.size());
-  } catch (const InputError& e) {
-    throw InputError(AtPlace(data.scene, 0, e.what()));
-  }
   return options;
 }
 
+// Validate's message, or "" when the options are valid.
+std::string SelectProblem(const SelectOptions& options, size_t candidates) {
+  try {
+    options.Validate(candidates);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return {};
+}
+
+}  // namespace
+
+SelectOptions ResolveSelectOptions(const VisibilityFile& data, const SelectionOptions& cli,
+                                   std::optional<uint64_t> seed, const std::string& method_default) {
+  const SelectOptions options = MergeSelectOptions(data, cli, seed, method_default);
+  const std::string problem = SelectProblem(options, data.candidates.size());
+  if (problem.empty()) return options;
+  // Blame the option whose removal changes the problem; none: the scene's own settings.
+  using Drop = void (*)(SelectionOptions*);
+  const std::pair<const char*, Drop> given[] = {
+      {"-n", [](SelectionOptions* o) { o->n.reset(); }},
+      {"--k", [](SelectionOptions* o) { o->k.reset(); }},
+      {"--goal", [](SelectionOptions* o) { o->goal.reset(); }},
+      {"--budget", [](SelectionOptions* o) { o->budget.reset(); }},
+      {"--iterations", [](SelectionOptions* o) { o->iterations.reset(); }},
+      {"--stop", [](SelectionOptions* o) { o->stop_coverage.reset(); }},
+      {"--time-limit", [](SelectionOptions* o) { o->time_limit = SelectionOptions{}.time_limit; }},
+      {"--method", [](SelectionOptions* o) { o->method.reset(); }},
+  };
+  for (const auto& [flag, drop] : given) {
+    SelectionOptions without = cli;
+    drop(&without);
+    const SelectOptions other = MergeSelectOptions(data, without, seed, method_default);
+    if (SelectProblem(other, data.candidates.size()) != problem)
+      throw InputError(AtPlace(flag, 0, problem));
+  }
+  throw InputError(AtPlace(data.scene, 0, problem));
+}
+
+namespace {
+
+// The robustness read-outs: the worst failure, the shrunk fields of view, the alternatives.
+void PrintRobustness(const VisibilityFile& data, const std::vector<Selection>& results,
+                     const Robustness& robustness) {
+  const Selection& result = results.at(static_cast<size_t>(robustness.result));
+  const auto name = [&](uint32_t i) { return data.candidates.at(i).name; };
+  std::string line = fmt::format("of {} n={}:", result.method, result.n);
+  if (robustness.worst) {
+    line += fmt::format(" worst single failure {} -> {:.2f} % ({:+.2f})", name(robustness.worst->sensor),
+                        100.0 * robustness.worst->coverage, 100.0 * (robustness.worst->coverage - result.coverage));
+  }
+  if (robustness.fov_shrunk_coverage) {
+    line += fmt::format("; fields of view -{:g} deg -> {:.2f} % ({:+.2f})", *robustness.fov_tolerance_deg,
+                        100.0 * *robustness.fov_shrunk_coverage,
+                        100.0 * (*robustness.fov_shrunk_coverage - result.coverage));
+  }
+  fmt::print("robustness       {}\n", line);
+  for (const Alternative& a : robustness.alternatives) {
+    fmt::print("alternative      {} instead of {}: {:.2f} % ({:+.2f})\n", name(a.replacement), name(a.replaced),
+               100.0 * a.coverage, 100.0 * (a.coverage - result.coverage));
+  }
+  if (robustness.alternatives.empty() && !result.budget)
+    fmt::print("alternative      none within {:g} points by replacing one sensor\n",
+               100.0 * robustness.alternatives_within);
+}
+
+}  // namespace
+
 void PrintSummary(const VisibilityFile& data, const std::vector<Selection>& results,
-                  const Timings& timings, const std::string& out_dir) {
+                  const Timings& timings, const std::string& out_dir,
+                  const std::optional<Robustness>& robustness,
+                  const std::optional<RefinementInfo>& refinement) {
   const size_t r = data.reference.size();
   fmt::print("scene            {}\n", data.scene);
   fmt::print("reference        {} voxels of {} m\n", r, data.reference.cell_size);
@@ -287,6 +478,16 @@ void PrintSummary(const VisibilityFile& data, const std::vector<Selection>& resu
                  first.k);
     }
   }
+  const std::vector<Observation> plain = WithoutQuality(data.observations);
+  const CoverageEvaluator plain_evaluator(plain, r);
+  if (data.quality.active()) {
+    std::vector<std::string> limits;
+    if (data.quality.max_incidence_deg) limits.push_back(fmt::format("incidence <= {:g} deg", *data.quality.max_incidence_deg));
+    if (data.quality.max_depth_noise)
+      limits.push_back(fmt::format("depth noise <= {:g} mm", 1000.0 * *data.quality.max_depth_noise));
+    fmt::print("quality          {}: coverages count only such pixels; 'plain' counts every pixel\n",
+               fmt::join(limits, ", "));
+  }
   // One line per method at its largest n: the constellation it recommends.
   std::vector<const Selection*> shown;
   for (const Selection& s : results) {
@@ -308,10 +509,19 @@ void PrintSummary(const VisibilityFile& data, const std::vector<Selection>& resu
                                 : fmt::format("  (at least {} sensors)", *s->n_lower_bound);
     }
     if (s->cost) bound += fmt::format("  cost {:g} of {:g}", *s->cost, s->budget.value_or(0.0));
+    if (data.quality.active())
+      bound += fmt::format("  (plain {:.2f} %)", 100.0 * plain_evaluator.Coverage(s->chosen, s->k));
     fmt::print("{:<8} n={:<3}  {:6.2f} %{}  [{}]  {:.3f} s\n", s->method, s->n, 100.0 * s->coverage, bound,
                names, s->seconds);
   }
   PrintCoverageByN(results);
+  if (refinement) {
+    const Selection& from = results.at(static_cast<size_t>(refinement->from_result));
+    fmt::print("refinement       {:+.2f} points over {} n={}: {} rounds, {} new poses, {:.1f} M extra rays, {:.2f} s\n",
+               100.0 * (refinement->coverage_after - refinement->coverage_before), from.method, from.n,
+               refinement->rounds, refinement->new_candidates, refinement->extra_rays / 1e6, refinement->seconds);
+  }
+  if (robustness) PrintRobustness(data, results, *robustness);
   fmt::print("timings          load {:.3f} s, reference {:.3f} s, observe {:.3f} s, select {:.3f} s, total {:.3f} s\n",
              timings.load, timings.reference, timings.observe, timings.select, timings.total);
   if (!out_dir.empty()) fmt::print("outputs          {}/\n", out_dir);

@@ -1,11 +1,16 @@
 // vantage: where to put depth cameras so that together they see the most of the targets.
 // Exit codes: 0 success, 2 bad input (file:line: what is wrong), 1 internal failure.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <algorithm>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "vantage/error.hpp"
@@ -36,6 +41,12 @@ int Run(int argc, char** argv) {
   auto* help = app.add_subcommand("help", "show the options of a command");
   std::string help_topic;
   help->add_option("command", help_topic, "command name");
+  std::vector<std::string> commands;
+  for (CLI::App* command : app.get_subcommands({})) {
+    commands.push_back(command->get_name());
+    if (CLI::Option* seed = command->get_option_no_throw("--seed"))
+      seed->check(vantage::cli::SeedValidator());
+  }
 
   // `vantage help X` becomes `X --help` (CLI11 has no help command).
   std::vector<std::string> args(argv + 1, argv + argc);
@@ -45,6 +56,20 @@ int Run(int argc, char** argv) {
     } else {
       args = {"--help"};
     }
+  }
+  // The first word that is no option (nor --threads' value) must name a command; CLI11 would
+  // only say "A subcommand is required".
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& word = args[i];
+    if (word == "--threads") {
+      ++i;
+      continue;
+    }
+    if (word.empty() || word[0] == '-') continue;
+    if (std::find(commands.begin(), commands.end(), word) != commands.end()) break;
+    throw vantage::InputError(
+        fmt::format("unknown command '{}' — use one of {} (`vantage --help` describes them)",
+                    word, fmt::join(commands, ", ")));
   }
   std::reverse(args.begin(), args.end());
   try {

@@ -27,6 +27,17 @@ struct Reference {
 void AppendTriangleCells(const Vec3& a, const Vec3& b, const Vec3& c, double cell_size,
                          std::vector<uint64_t>* keys);
 
+/// Throws InputError when the targets reach beyond the cells that PackVoxel can index at this
+/// cell size (BuildReference checks it too).
+void CheckTargetsFitGrid(const Scene& scene, double cell_size);
+
+/// About how many cells BuildReference appends for the targets' triangles before it removes the
+/// duplicates (|R| is at most this, in practice): per triangle, area · (|nx| + |ny| + |nz|) / F²
+/// for the cells its plane crosses, √3 · perimeter / F for its edges, plus one. Takes
+/// O(triangles) time and allocates nothing, so a cell size too fine for the memory can be
+/// refused before R is built. 0 when cell_size is not a positive finite number.
+double EstimateReferenceCells(const Scene& scene, double cell_size);
+
 /// R of every target object of the scene. Throws InputError when the scene has no target or
 /// when a target lies outside the packable range.
 Reference BuildReference(const Scene& scene, const ReferenceOptions& options);

@@ -19,6 +19,19 @@ struct Timings {
   double load = 0, reference = 0, observe = 0, select = 0, total = 0;
 };
 
+/// What `--refine` did (issue 9): the refined constellation is results[result], grown from
+/// results[from_result] by tracing new poses around its sensors.
+struct RefinementInfo {
+  int from_result = -1;
+  int result = -1;
+  double coverage_before = 0, coverage_after = 0;
+  std::vector<double> history;  ///< coverage after each round, coverage_before first
+  int rounds = 0;
+  size_t new_candidates = 0;
+  uint64_t extra_rays = 0;
+  double seconds = 0;
+};
+
 /// Everything one report holds.
 struct Report {
   std::string scene;
@@ -31,6 +44,7 @@ struct Report {
   std::vector<std::string> notes;
   /// Read-outs for one result (usually the primary), when computed (issue 9).
   std::optional<Robustness> robustness;
+  std::optional<RefinementInfo> refinement;
 };
 
 /// The result that stands for the run: among those with the largest n, the highest coverage

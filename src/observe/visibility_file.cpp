@@ -1,9 +1,12 @@
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <set>
 
 #include "util/atomic_file.hpp"
 #include "util/binary_io.hpp"
@@ -60,6 +63,11 @@ SensorType ReadSensor(detail::BinaryReader* r) {
   s.height = static_cast<int>(r->U32());
   for (double* v : {&s.fx, &s.fy, &s.cx, &s.cy, &s.near, &s.far, &s.fps, &s.cost}) *v = r->F64();
   return s;
+}
+
+bool StrictlyIncreasing(const std::vector<uint64_t>& keys) {
+  return std::adjacent_find(keys.begin(), keys.end(),
+                            [](uint64_t a, uint64_t b) { return a >= b; }) == keys.end();
 }
 
 }  // namespace
@@ -138,9 +146,15 @@ VisibilityFile LoadVisibilityFile(const std::string& path) {
     if (file.k < 1) throw corrupt("k is not a positive integer");
   }
   file.reference.cell_size = r.F64();
+  if (!std::isfinite(file.reference.cell_size) || !(file.reference.cell_size > 0))
+    throw corrupt(
+        fmt::format("cell size {} is not a positive finite length", file.reference.cell_size));
   file.reference.keys = r.U64Vector();
+  if (!StrictlyIncreasing(file.reference.keys))
+    throw corrupt("the reference keys are not sorted and unique");
   const uint64_t count = r.U64();
   r.CheckCount(count, 64);
+  std::set<std::string> names;
   for (uint64_t i = 0; i < count; ++i) {
     Candidate c;
     c.name = r.Str();
@@ -157,11 +171,25 @@ VisibilityFile LoadVisibilityFile(const std::string& path) {
           (k > 0 && o.reference_indices[k] <= o.reference_indices[k - 1]))
         throw corrupt("observation indices out of range or unsorted");
     }
+    const std::string where = fmt::format("candidate {} ('{}')", i, c.name);
+    if (!StrictlyIncreasing(o.outside_keys))
+      throw corrupt(where + ": its outside keys are not sorted and unique");
+    try {
+      c.sensor.Validate();
+    } catch (const InputError& e) {
+      throw corrupt(fmt::format("{}: {}", where, e.what()));
+    }
+    const Pose& pose = c.world_from_body;
+    if (!pose.position.allFinite() || !pose.rotation.coeffs().allFinite())
+      throw corrupt(where + ": its pose is not finite");
+    if (std::abs(pose.rotation.norm() - 1.0) > 1e-6)
+      throw corrupt(fmt::format("{}: its rotation quaternion has length {}, not 1", where,
+                                pose.rotation.norm()));
+    if (!names.insert(c.name).second) throw corrupt(where + ": the name is used twice");
     file.candidates.push_back(std::move(c));
     file.observations.push_back(std::move(o));
   }
   if (!r.AtEnd()) throw corrupt("trailing bytes after the payload");
-  if (!(file.reference.cell_size > 0)) throw corrupt("cell size is not positive");
   return file;
 }
 

@@ -137,6 +137,43 @@ void AppendTriangleCells(const Vec3& a, const Vec3& b, const Vec3& c, double cel
   VisitBlock(tri, lo, hi, &poly, keys);
 }
 
+void CheckTargetsFitGrid(const Scene& scene, double cell_size) {
+  Aabb bounds;
+  bool any = false;
+  for (const SceneObject& object : scene.objects) {
+    if (!object.is_target() || object.mesh.triangles.empty()) continue;
+    bounds.Extend(object.mesh.Bounds());
+    any = true;
+  }
+  if (!any) return;
+  for (const Vec3& corner : {bounds.min, bounds.max}) {
+    if (!corner.allFinite() || !VoxelIndexFits(VoxelKeyOf(corner, cell_size)))
+      throw InputError(fmt::format(
+          "targets reach ({:.3f}, {:.3f}, {:.3f}) m, beyond the ±{:.0f} cells that a cell size of "
+          "{} m can index — move the targets near the origin or use a larger cell size",
+          corner.x(), corner.y(), corner.z(), static_cast<double>(kVoxelAxisOffset), cell_size));
+  }
+}
+
+double EstimateReferenceCells(const Scene& scene, double cell_size) {
+  if (!std::isfinite(cell_size) || cell_size <= 0) return 0.0;
+  double area_cells = 0, edge_cells = 0, triangles = 0;
+  for (const SceneObject& object : scene.objects) {
+    if (!object.is_target()) continue;
+    const TriangleMesh& mesh = object.mesh;
+    for (const auto& t : mesh.triangles) {
+      const Vec3& a = mesh.vertices[t[0]];
+      const Vec3& b = mesh.vertices[t[1]];
+      const Vec3& c = mesh.vertices[t[2]];
+      // |cross| = 2 · area; its 1-norm is 2 · area · (|nx| + |ny| + |nz|).
+      area_cells += 0.5 * (b - a).cross(c - a).lpNorm<1>();
+      edge_cells += (b - a).norm() + (c - b).norm() + (a - c).norm();
+      triangles += 1;
+    }
+  }
+  return area_cells / (cell_size * cell_size) + std::sqrt(3.0) * edge_cells / cell_size + triangles;
+}
+
 Reference BuildReference(const Scene& scene, const ReferenceOptions& options) {
   options.Validate();
   struct Tri {
@@ -144,21 +181,13 @@ Reference BuildReference(const Scene& scene, const ReferenceOptions& options) {
     size_t index;
   };
   std::vector<Tri> triangles;
-  Aabb bounds;
   for (const SceneObject& object : scene.objects) {
     if (!object.is_target()) continue;
     for (size_t i = 0; i < object.mesh.triangles.size(); ++i) triangles.push_back({&object.mesh, i});
-    bounds.Extend(object.mesh.Bounds());
   }
   if (triangles.empty())
     throw InputError("the scene has no target surface — mark at least one object as a target");
-  for (const Vec3& corner : {bounds.min, bounds.max}) {
-    if (!corner.allFinite() || !VoxelIndexFits(VoxelKeyOf(corner, options.cell_size)))
-      throw InputError(fmt::format(
-          "targets reach ({:.3f}, {:.3f}, {:.3f}) m, beyond the ±{:.0f} cells that a cell size of {} m "
-          "can index — move the targets near the origin or use a larger cell size",
-          corner.x(), corner.y(), corner.z(), static_cast<double>(kVoxelAxisOffset), options.cell_size));
-  }
+  CheckTargetsFitGrid(scene, options.cell_size);
 
   tbb::enumerable_thread_specific<std::vector<uint64_t>> per_thread;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, triangles.size(), 1024),

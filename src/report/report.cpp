@@ -174,6 +174,14 @@ std::string ReportJson(const Report& report) {
   const int primary = report.primary >= 0 ? report.primary : PrimaryResult(report.results);
   if (primary >= 0) j["primary_result"] = primary;
   if (report.robustness) j["robustness"] = RobustnessJson(*report.robustness, data);
+  if (report.refinement) {
+    const RefinementInfo& r = *report.refinement;
+    j["refinement"] = {{"from_result", r.from_result},   {"result", r.result},
+                       {"coverage_before", r.coverage_before}, {"coverage_after", r.coverage_after},
+                       {"gain", r.coverage_after - r.coverage_before}, {"history", r.history},
+                       {"rounds", r.rounds},           {"new_candidates", r.new_candidates},
+                       {"extra_rays", r.extra_rays},   {"seconds", r.seconds}};
+  }
   j["timings"] = {{"load", report.timings.load},
                   {"reference", report.timings.reference},
                   {"observe", report.timings.observe},

@@ -252,6 +252,7 @@ class SceneReader {
   Problem* problem_;
   int objects_line_ = 0;
   std::map<std::string, TriangleMesh> mesh_cache_;  ///< by resolved path
+  std::vector<std::string> rejected_type_ids_;      ///< declared sensor types that had errors
 };
 
 // ----- values --------------------------------------------------------------------------------
@@ -703,6 +704,11 @@ void SceneReader::ReadRangeAndCost(const Fields& fields,
       type->cost = *cost;
     }
   }
+  // sigma(z) = a + b z + c z^2 [m] (docs/sensor-models.md); Validate checks it stays >= 0.
+  if (const auto v = fields.Get("depth_noise")) {
+    if (const auto abc = Numbers(*v, 3, what + ".depth_noise"))
+      type->depth_noise = DepthNoise{(*abc)[0], (*abc)[1], (*abc)[2], "scene file"};
+  }
 }
 
 /// A custom type: every field given, or `base: CATALOG_ID` and the fields that differ.
@@ -710,7 +716,7 @@ std::optional<SensorType> SceneReader::ReadSensorType(const Value& input) {
   const size_t errors_before = ErrorCount();
   const Fields fields(input, "sensor type",
                       {"id", "base", "name", "technology", "resolution", "hfov", "hfov_deg", "vfov",
-                       "vfov_deg", "intrinsics", "range", "fps", "cost"},
+                       "vfov_deg", "intrinsics", "range", "fps", "cost", "depth_noise"},
                       &reporter_);
   const auto id_node = fields.Get("id");
   if (!id_node) {
@@ -720,6 +726,11 @@ std::optional<SensorType> SceneReader::ReadSensorType(const Value& input) {
   const auto id = Text(*id_node, "sensor type id");
   if (!id) return std::nullopt;
   const std::string what = fmt::format("sensor type '{}'", *id);
+  // A type with errors is reported here once: populations and sensors that name it add none.
+  const auto rejected = [&] {
+    rejected_type_ids_.push_back(*id);
+    return std::nullopt;
+  };
 
   SensorType type;
   type.name = *id;
@@ -727,7 +738,7 @@ std::optional<SensorType> SceneReader::ReadSensorType(const Value& input) {
   if (base) {
     type = *base;
   } else if (fields.Has("base")) {
-    return std::nullopt;  // reported by ReadBase
+    return rejected();  // reported by ReadBase
   } else {
     if (!fields.Has("resolution")) Missing(fields, "resolution", "resolution: [640, 480]");
     if (!fields.Has("range")) Missing(fields, "range", "range: [0.3, 3.0]");
@@ -742,14 +753,14 @@ std::optional<SensorType> SceneReader::ReadSensorType(const Value& input) {
   ReadResolution(fields, what, &type, &resolution_changed);
   ReadIntrinsics(fields, what, base, resolution_changed, &type);
   ReadRangeAndCost(fields, what, &type);
-  if (ErrorCount() != errors_before) return std::nullopt;
+  if (ErrorCount() != errors_before) return rejected();
   try {
     type.Validate();
   } catch (const InputError& e) {
     std::string message = e.what();
     if (message.find(" — ") == std::string::npos) message += " — fix the type's fields";
     Error(fields.line(), message);
-    return std::nullopt;
+    return rejected();
   }
   return type;
 }
@@ -930,6 +941,10 @@ std::optional<std::string> SceneReader::TypeReference(const Fields& fields,
   const auto id = Text(*node, what + ".type");
   if (!id) return std::nullopt;
   if (IsCustomType(*id) || FindCatalogType(*id)) return id;
+  // Declared but rejected: its own error is reported already.
+  if (std::find(rejected_type_ids_.begin(), rejected_type_ids_.end(), *id) !=
+      rejected_type_ids_.end())
+    return std::nullopt;
   std::vector<std::string> ids = CatalogIds();
   for (const SensorType& type : problem_->sensor_types) ids.push_back(type.id);
   Error(node->line, fmt::format("{}: unknown sensor type '{}' — {} (declare your own under "

@@ -3,8 +3,15 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
+#include <thread>
 
 #include "vantage/error.hpp"
 
@@ -12,6 +19,72 @@ namespace vantage::detail {
 namespace fs = std::filesystem;
 
 namespace {
+
+// SIGINT/SIGTERM while outputs are written (issue #8): the handler only records the signal; the
+// writer checks it between files and before its renames, removes its temporary sibling, restores
+// the previous action and raises the signal again, so the process still ends as killed by it
+// (exit status 130 in a shell), leaves no `.tmp-PID` behind and the earlier output as it was. A
+// signal during the final renames takes effect once they are done. Outside a write vantage keeps
+// the default action: nothing half-written exists then.
+std::atomic<int> g_pending_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "used in a signal handler");
+
+extern "C" void RecordSignal(int signal) { g_pending_signal.store(signal); }
+
+/// Installs RecordSignal for SIGINT and SIGTERM while alive, where their action is the default
+/// (a program embedding vantage keeps its own handlers, and an ignored signal stays ignored).
+class InterruptGuard {
+ public:
+  InterruptGuard() {
+    std::lock_guard<std::mutex> lock(Mutex());
+    if (Depth()++ > 0) return;
+    g_pending_signal.store(0);
+    for (size_t i = 0; i < kSignals.size(); ++i) {
+      struct sigaction action {};
+      action.sa_handler = RecordSignal;
+      sigemptyset(&action.sa_mask);
+      installed_[i] = ::sigaction(kSignals[i], nullptr, &previous_[i]) == 0 &&
+                      previous_[i].sa_handler == SIG_DFL && !(previous_[i].sa_flags & SA_SIGINFO) &&
+                      ::sigaction(kSignals[i], &action, nullptr) == 0;
+    }
+  }
+  ~InterruptGuard() {
+    std::lock_guard<std::mutex> lock(Mutex());
+    if (--Depth() > 0) return;
+    for (size_t i = 0; i < kSignals.size(); ++i)
+      if (installed_[i]) ::sigaction(kSignals[i], &previous_[i], nullptr);
+    // Restored the default action: a signal that came during the write ends the process now.
+    if (const int signal = g_pending_signal.exchange(0)) ::raise(signal);
+  }
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+
+  /// True once SIGINT or SIGTERM arrived during the write.
+  static bool Interrupted() { return g_pending_signal.load() != 0; }
+
+ private:
+  static constexpr std::array<int, 2> kSignals = {SIGINT, SIGTERM};
+  static std::mutex& Mutex() {
+    static std::mutex mutex;
+    return mutex;
+  }
+  static int& Depth() {
+    static int depth = 0;
+    return depth;
+  }
+  std::array<struct sigaction, 2> previous_{};
+  std::array<bool, 2> installed_{};
+};
+
+// Test hook: VANTAGE_TEST_WRITE_DELAY_S seconds of sleep after each file of a folder is written,
+// so that a test can interrupt a run while its temporary folder exists.
+void TestWriteDelay() {
+  static const double seconds = [] {
+    const char* text = std::getenv("VANTAGE_TEST_WRITE_DELAY_S");
+    return text ? std::atof(text) : 0.0;
+  }();
+  if (seconds > 0) std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+}
 
 void WriteFile(const fs::path& path, const std::string& content) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -26,8 +99,18 @@ void WriteFile(const fs::path& path, const std::string& content) {
 void WriteFileAtomically(const std::string& path, const std::string& content) {
   const fs::path target(path);
   const fs::path temp = target.string() + fmt::format(".tmp-{}", ::getpid());
-  WriteFile(temp, content);
+  const InterruptGuard guard;
   std::error_code ec;
+  try {
+    WriteFile(temp, content);
+  } catch (...) {
+    fs::remove(temp, ec);
+    throw;
+  }
+  if (InterruptGuard::Interrupted()) {
+    fs::remove(temp, ec);
+    return;  // ~InterruptGuard raises the signal
+  }
   fs::rename(temp, target, ec);
   if (ec) {
     fs::remove(temp, ec);
@@ -50,15 +133,25 @@ void WriteFolderAtomically(const std::string& dir, const std::map<std::string, s
   if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
   const fs::path temp = target.string() + fmt::format(".tmp-{}", ::getpid());
   const fs::path old = target.string() + fmt::format(".old-{}", ::getpid());
+  const InterruptGuard guard;
   fs::remove_all(temp, ec);
   fs::create_directories(temp, ec);
   if (ec) throw InputError(fmt::format("{}: cannot create ({}) — check the path", temp.string(), ec.message()));
   try {
-    for (const auto& [name, content] : files) WriteFile(temp / name, content);
+    for (const auto& [name, content] : files) {
+      if (InterruptGuard::Interrupted()) break;
+      WriteFile(temp / name, content);
+      TestWriteDelay();
+    }
   } catch (...) {
     fs::remove_all(temp, ec);
     throw;
   }
+  if (InterruptGuard::Interrupted()) {
+    fs::remove_all(temp, ec);
+    return;  // ~InterruptGuard raises the signal; the earlier outputs stay as they were
+  }
+  // From here on the renames complete (a few system calls) before the signal is acted on.
   const bool had_old = fs::exists(target, ec);
   if (had_old) {
     fs::rename(target, old, ec);

@@ -1,5 +1,7 @@
 #pragma once
 /// Writing outputs so that a failed or interrupted run never leaves a half-written file or folder.
+/// SIGINT or SIGTERM during a write removes the temporary sibling, keeps the earlier output, and
+/// then ends the process by that signal (see InterruptGuard in atomic_file.cpp).
 #include <map>
 #include <string>
 
