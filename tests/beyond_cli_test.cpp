@@ -43,6 +43,26 @@ TEST(QualityCli, FilteredAndPlainCoverageSideBySide) {
   for (const json& r : q["results"]) EXPECT_LE(r["coverage"].get<double>(), r["plain_coverage"].get<double>());
 }
 
+TEST(QualityCli, TheFilterTravelsThroughTheVisibilityFile) {
+  test::TempDir dir;
+  const std::string q = " -n 2 --max-incidence 50 --max-depth-noise 3";
+  ASSERT_EQ(RunVantage("optimize " + Scene() + q + " --method greedy --out " + dir.File("o")).exit_code, 0);
+  const auto observe = RunVantage("observe " + Scene() + q + " --out " + dir.File("m.vis"));
+  ASSERT_EQ(observe.exit_code, 0) << observe.err;
+  const auto select = RunVantage("select " + dir.File("m.vis") + " --method greedy --out " + dir.File("s"));
+  ASSERT_EQ(select.exit_code, 0) << select.err;
+  const json a = Report(dir.File("o"));
+  const json b = Report(dir.File("s"));
+  EXPECT_EQ(a["quality"], b["quality"]);
+  ASSERT_EQ(a["results"].size(), b["results"].size());
+  for (size_t i = 0; i < a["results"].size(); ++i) {
+    EXPECT_EQ(a["results"][i]["sensors"], b["results"][i]["sensors"]);
+    EXPECT_DOUBLE_EQ(a["results"][i]["coverage"].get<double>(), b["results"][i]["coverage"].get<double>());
+    EXPECT_DOUBLE_EQ(a["results"][i]["plain_coverage"].get<double>(), b["results"][i]["plain_coverage"].get<double>());
+  }
+  EXPECT_EQ(a["candidates"][3]["quality_pixels"], b["candidates"][3]["quality_pixels"]);
+}
+
 TEST(QualityCli, OutOfRangeLimitsAreInputErrors) {
   test::TempDir dir;
   for (const std::string bad : {"--max-incidence 0", "--max-incidence 120", "--max-depth-noise -2"}) {

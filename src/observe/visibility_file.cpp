@@ -18,9 +18,11 @@ namespace {
 
 // Layout: magic (8 bytes), format version (u32), payload, FNV-1a 64 of everything before it.
 // Version 2 adds the selection settings (method, goal, k, budget) after the RANSAC ones;
-// version 1 files are still read, with those settings at their defaults.
+// version 3 the quality filter after them, each sensor's depth-noise model, and per observation
+// the plain cells and pixel counts of the quality filter (issue 9). Older files are still read,
+// with what they lack at its default (no filter, no model: the catalog's by type id).
 constexpr char kMagic[8] = {'V', 'A', 'N', 'T', 'V', 'I', 'S', '\0'};
-constexpr uint32_t kFormatVersion = 2;
+constexpr uint32_t kFormatVersion = 3;
 constexpr uint32_t kOldestReadVersion = 1;
 
 void WriteOptional(detail::BinaryWriter* w, const std::optional<double>& value) {
@@ -35,6 +37,14 @@ void WritePose(detail::BinaryWriter* w, const Pose& pose) {
   w->F64(pose.rotation.x());
   w->F64(pose.rotation.y());
   w->F64(pose.rotation.z());
+}
+
+template <typename Corrupt>
+std::optional<double> ReadOptional(detail::BinaryReader* r, const char* what, const Corrupt& corrupt) {
+  const uint32_t has_value = r->U32();
+  const double value = r->F64();
+  if (has_value > 1) throw corrupt(fmt::format("{} has a bad presence flag", what));
+  return has_value ? std::optional<double>(value) : std::nullopt;
 }
 
 Pose ReadPose(detail::BinaryReader* r) {
@@ -85,6 +95,8 @@ void SaveVisibilityFile(const std::string& path, const VisibilityFile& file) {
   WriteOptional(&w, file.goal);
   w.U32(static_cast<uint32_t>(file.k));
   WriteOptional(&w, file.budget);
+  WriteOptional(&w, file.quality.max_incidence_deg);
+  WriteOptional(&w, file.quality.max_depth_noise);
   w.F64(file.reference.cell_size);
   w.U64Vector(file.reference.keys);
   w.U64(file.candidates.size());
@@ -95,11 +107,18 @@ void SaveVisibilityFile(const std::string& path, const VisibilityFile& file) {
     w.Str(c.type_id);
     w.Str(c.population);
     WriteSensor(&w, c.sensor);
+    const std::optional<DepthNoise>& noise = c.sensor.depth_noise;
+    w.U32(noise ? 1 : 0);
+    for (double v : {noise ? noise->a : 0.0, noise ? noise->b : 0.0, noise ? noise->c : 0.0}) w.F64(v);
+    w.Str(noise ? noise->source : std::string());
     WritePose(&w, c.world_from_body);
     const Observation& o = file.observations[i];
     w.U32Vector(o.reference_indices);
     w.U64Vector(o.outside_keys);
     w.U64(o.rays_traced);
+    w.U32Vector(o.plain_reference_indices);
+    w.U64(o.target_pixels);
+    w.U64(o.quality_pixels);
   }
   w.U64(detail::Fnv1a64(w.data()));
   detail::WriteFileAtomically(path, w.data());
@@ -133,17 +152,20 @@ VisibilityFile LoadVisibilityFile(const std::string& path) {
   file.ransac_iterations = static_cast<int>(r.U32());
   file.ransac_stop_coverage = r.F64();
   if (version >= 2) {
-    const auto read_optional = [&](const char* what) -> std::optional<double> {
-      const uint32_t has_value = r.U32();
-      const double value = r.F64();
-      if (has_value > 1) throw corrupt(fmt::format("{} has a bad presence flag", what));
-      return has_value ? std::optional<double>(value) : std::nullopt;
-    };
     file.method = r.Str();
-    file.goal = read_optional("goal");
+    file.goal = ReadOptional(&r, "goal", corrupt);
     file.k = static_cast<int>(r.U32());
-    file.budget = read_optional("budget");
+    file.budget = ReadOptional(&r, "budget", corrupt);
     if (file.k < 1) throw corrupt("k is not a positive integer");
+  }
+  if (version >= 3) {
+    file.quality.max_incidence_deg = ReadOptional(&r, "max incidence", corrupt);
+    file.quality.max_depth_noise = ReadOptional(&r, "max depth noise", corrupt);
+    try {
+      file.quality.Validate();
+    } catch (const InputError& e) {
+      throw corrupt(fmt::format("its quality filter: {}", e.what()));
+    }
   }
   file.reference.cell_size = r.F64();
   if (!std::isfinite(file.reference.cell_size) || !(file.reference.cell_size > 0))
@@ -161,17 +183,37 @@ VisibilityFile LoadVisibilityFile(const std::string& path) {
     c.type_id = r.Str();
     c.population = r.Str();
     c.sensor = ReadSensor(&r);
+    if (version >= 3) {
+      const uint32_t has_noise = r.U32();
+      DepthNoise noise;
+      noise.a = r.F64();
+      noise.b = r.F64();
+      noise.c = r.F64();
+      noise.source = r.Str();
+      if (has_noise > 1) throw corrupt("a depth noise model has a bad presence flag");
+      if (has_noise) c.sensor.depth_noise = std::move(noise);
+    }
     c.world_from_body = ReadPose(&r);
     Observation o;
     o.reference_indices = r.U32Vector();
     o.outside_keys = r.U64Vector();
     o.rays_traced = r.U64();
-    for (size_t k = 0; k < o.reference_indices.size(); ++k) {
-      if (o.reference_indices[k] >= file.reference.keys.size() ||
-          (k > 0 && o.reference_indices[k] <= o.reference_indices[k - 1]))
-        throw corrupt("observation indices out of range or unsorted");
+    if (version >= 3) {
+      o.plain_reference_indices = r.U32Vector();
+      o.target_pixels = r.U64();
+      o.quality_pixels = r.U64();
     }
+    const auto check_indices = [&](const std::vector<uint32_t>& indices) {
+      for (size_t k = 0; k < indices.size(); ++k) {
+        if (indices[k] >= file.reference.keys.size() || (k > 0 && indices[k] <= indices[k - 1]))
+          throw corrupt("observation indices out of range or unsorted");
+      }
+    };
+    check_indices(o.reference_indices);
+    check_indices(o.plain_reference_indices);
     const std::string where = fmt::format("candidate {} ('{}')", i, c.name);
+    if (o.quality_pixels > o.target_pixels || o.target_pixels > o.rays_traced)
+      throw corrupt(where + ": its pixel counts contradict each other");
     if (!StrictlyIncreasing(o.outside_keys))
       throw corrupt(where + ": its outside keys are not sorted and unique");
     try {
