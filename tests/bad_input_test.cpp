@@ -252,6 +252,11 @@ TEST_F(BadInput, YamlScenes) {
       {"target_far_away", "optimize " + far, far + ": targets reach (4999.950",
        "a cell size of 0.001 m can index"},
       Yaml("catalog_id_reused", "- id: tiny_cam", "- id: zed", 11, "catalog id"),
+      // Depth-noise models of custom types (docs/sensor-models.md).
+      Yaml("depth_noise_negative", "range: [0.1, 3.0]", "range: [0.1, 3.0]\n    depth_noise: [-0.01, 0, 0.001]",
+           11, "depth_noise gives sigma(0.1 m)"),
+      Yaml("depth_noise_two_numbers", "range: [0.1, 3.0]", "range: [0.1, 3.0]\n    depth_noise: [0.001, 0.002]",
+           15, "expected a list of 3 numbers"),
       mesh("missing_mesh", "nowhere.obj", "not found"),
       mesh("empty_mesh", "empty.obj", "cannot read mesh"),
       mesh("nan_vertex", "nan.obj", "not finite"),
@@ -400,6 +405,15 @@ TEST_F(BadInput, CommandLineOptions) {
        "unknown command 'frobnicate' — use one of optimize, observe, select"},
       {"unknown_command_after_option", "-q frobnicate", "'frobnicate'", "unknown command"},
       {"missing_scene", "optimize", "scene", "required"},
+      // Quality, robustness and refinement options (issue 9).
+      {"zero_incidence", "optimize " + scene + " --max-incidence 0", "--max-incidence", "must lie in (0, 90]"},
+      {"incidence_above_90", "optimize " + scene + " --max-incidence 91", "--max-incidence", "must lie in (0, 90]"},
+      {"negative_depth_noise", "optimize " + scene + " --max-depth-noise -1", "--max-depth-noise",
+       "must be a positive number of millimetres"},
+      {"negative_fov_tolerance", "optimize " + scene + " --fov-tolerance -1", "--fov-tolerance", "not in range"},
+      {"huge_alternatives_within", "optimize " + scene + " --alternatives-within 500", "--alternatives-within",
+       "not in range"},
+      {"zero_refine_rounds", "optimize " + scene + " --refine --refine-rounds 0", "--refine-rounds", "not in range"},
       {"unknown_option", "optimize " + scene + " --frobnicate", "--frobnicate", "not expected"},
   });
 }
