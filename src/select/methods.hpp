@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "select/coverage_matrix.hpp"
+#include "vantage/select.hpp"
 
 namespace vantage::detail {
 
@@ -31,6 +32,11 @@ uint64_t KCoveredWeight(const CoverageMatrix& matrix, std::span<const uint32_t> 
 
 /// Sum of `costs` over `chosen`.
 double TotalCost(std::span<const double> costs, std::span<const uint32_t> chosen);
+
+/// A Selection of `chosen` named `method`, scored under the objective of `options` (coverage or
+/// k-coverage, with goal / budget and cost filled in as report.json shows them); seconds 0.
+Selection ScoreSelection(const CoverageEvaluator& evaluator, std::vector<uint32_t> chosen,
+                         const std::string& method, const SelectOptions& options);
 
 /// Lazy greedy maximum coverage from the start set `chosen` up to n sensors: each step adds the
 /// candidate of largest gain (ties: lower index); once nothing adds anything, the lowest-index

@@ -275,21 +275,8 @@ RefineResult Refine(const Scene& scene,
 
   // Scores a set of chosen candidates the way Select does, from the observations themselves.
   const auto score = [&](std::vector<uint32_t> chosen, const std::string& method) {
-    const CoverageEvaluator evaluator(observations, reference.size());
-    Selection s;
-    s.method = method;
-    s.n = static_cast<int>(chosen.size());
-    s.chosen = std::move(chosen);
-    s.coverage = evaluator.Coverage(s.chosen, k);
-    s.paper_coverage = evaluator.PaperCoverage(s.chosen, k);
-    s.objective = ObjectiveName(objective);
-    s.k = k;
-    if (objective == Objective::kSetCover) s.goal = select.goal;
-    if (objective == Objective::kBudget) {
-      s.budget = select.budget;
-      s.cost = detail::TotalCost(reselect.costs, s.chosen);
-    }
-    return s;
+    return detail::ScoreSelection(CoverageEvaluator(observations, reference.size()), std::move(chosen),
+                                  method, select);
   };
 
   RefineResult result;

@@ -143,21 +143,9 @@ class Pipeline {
   }
 
   Selection Scored(Method method, std::vector<uint32_t> chosen, double seconds) const {
-    Selection s;
-    s.method = MethodName(method);
-    s.n = static_cast<int>(chosen.size());
-    s.chosen = std::move(chosen);
-    s.coverage = evaluator_.Coverage(s.chosen, k_);
-    s.paper_coverage = evaluator_.PaperCoverage(s.chosen, k_);
+    Selection s = detail::ScoreSelection(evaluator_, std::move(chosen), MethodName(method), options_);
     s.seconds = seconds;
-    s.objective = ObjectiveName(objective_);
-    s.k = k_;
-    if (objective_ == Objective::kSetCover) s.goal = options_.goal;
-    if (objective_ == Objective::kBudget) {
-      s.budget = options_.budget;
-      s.cost = detail::TotalCost(options_.costs, s.chosen);
-      VANTAGE_CHECK(*s.cost <= *s.budget);
-    }
+    if (s.budget) VANTAGE_CHECK(*s.cost <= *s.budget);
     return s;
   }
 
@@ -193,6 +181,30 @@ void ValidateN(int n, size_t candidate_count) {
 }
 
 }  // namespace
+
+namespace detail {
+
+Selection ScoreSelection(const CoverageEvaluator& evaluator, std::vector<uint32_t> chosen,
+                         const std::string& method, const SelectOptions& options) {
+  const Objective objective = options.objective();
+  const int k = objective == Objective::kKCoverage ? options.k : 1;
+  Selection s;
+  s.method = method;
+  s.n = static_cast<int>(chosen.size());
+  s.chosen = std::move(chosen);
+  s.coverage = evaluator.Coverage(s.chosen, k);
+  s.paper_coverage = evaluator.PaperCoverage(s.chosen, k);
+  s.objective = ObjectiveName(objective);
+  s.k = k;
+  if (objective == Objective::kSetCover) s.goal = options.goal;
+  if (objective == Objective::kBudget) {
+    s.budget = options.budget;
+    s.cost = TotalCost(options.costs, s.chosen);
+  }
+  return s;
+}
+
+}  // namespace detail
 
 Selection SelectBest(const CoverageEvaluator& evaluator) {
   const Clock::time_point start = Clock::now();
