@@ -9,6 +9,7 @@
 #include "vantage/candidates.hpp"
 #include "vantage/scene.hpp"
 #include "vantage/sensors.hpp"
+#include "vantage/states.hpp"
 
 namespace vantage {
 
@@ -32,6 +33,9 @@ struct Problem {
   std::optional<double> budget;  ///< settings.budget: total sensor cost cap
   std::optional<int> expected_candidates;  ///< numberOfSamplingSensors: a check
   std::vector<std::string> notes;          ///< non-fatal remarks made while loading
+  /// States of a changing scene (`states:`; docs/scene-format.md, States), in file order; empty
+  /// when the scene does not change. Each applies to `scene` through ApplyState.
+  std::vector<SceneState> states;
 
   /// Looks up a sensor type by id; nullptr when absent.
   const SensorType* FindType(const std::string& id) const;

@@ -22,6 +22,7 @@
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
 #include "vantage/select.hpp"
+#include "vantage/states.hpp"
 
 namespace vantage {
 namespace {
@@ -239,6 +240,9 @@ class SceneReader {
   void ReadSensors(const Value& input);
   std::optional<ExplicitSensor> ReadSensor(const Value& input);
   std::optional<std::string> TypeReference(const Fields& fields, const std::string& what);
+  void ReadStates(const Value& input);
+  std::optional<SceneState> ReadState(const Value& input);
+  void CheckStates();
   void ApplyTargetOverride();
   void AddReferencedCatalogTypes();
   bool IsCustomType(const std::string& id) const { return problem_->FindType(id) != nullptr; }
@@ -1146,6 +1150,87 @@ std::optional<ExplicitSensor> SceneReader::ReadSensor(const Value& input) {
   return sensor;
 }
 
+// ----- states --------------------------------------------------------------------------------
+
+void SceneReader::ReadStates(const Value& input) {
+  const std::vector<Value> items = Items(input, "states");
+  if (items.empty()) {
+    Error(input.line, "states is empty — list at least one state (e.g. `- name: full`), or "
+                      "remove the key");
+  }
+  for (const Value& item : items) {
+    std::optional<SceneState> state = ReadState(item);
+    if (!state) continue;
+    const auto same = [&](const SceneState& s) { return s.name == state->name; };
+    if (std::any_of(problem_->states.begin(), problem_->states.end(), same)) {
+      Error(item.line,
+            fmt::format("state name '{}' is used twice — names must be unique", state->name));
+      continue;
+    }
+    problem_->states.push_back(std::move(*state));
+  }
+}
+
+/// `{name, remove: [names], move: {name: {xyz, rpy | quaternion}}, add: [objects]}`.
+std::optional<SceneState> SceneReader::ReadState(const Value& input) {
+  const Fields fields(input, "state", {"name", "remove", "move", "add"}, &reporter_);
+  const size_t errors_before = ErrorCount();
+  SceneState state;
+  state.name = Name(fields, "state").value_or("?");
+  state.file = problem_->source;
+  state.line = fields.line();
+  const std::string what = fmt::format("state '{}'", state.name);
+  if (const auto v = fields.Get("remove")) {
+    if (!v->node.IsSequence()) {
+      Error(v->line, fmt::format("{}.remove must be a list of object names, got {} — write e.g. "
+                                 "[part_3]",
+                                 what, Shown(v->node)));
+    } else {
+      for (size_t i = 0; i < v->node.size(); ++i) {
+        if (const auto name = Text(ElementOf(*v, i), fmt::format("{}.remove[{}]", what, i)))
+          state.remove.push_back(*name);
+      }
+    }
+  }
+  if (const auto v = fields.Get("move")) {
+    if (!v->node.IsMap()) {
+      Error(v->line, fmt::format("{}.move must be a mapping `object: {{xyz: [dx, dy, dz], rpy: "
+                                 "[r, p, y]}}`, got {}",
+                                 what, Shown(v->node)));
+    } else {
+      for (const auto& entry : v->node) {
+        const Value key{entry.first, LineOf(entry.first)};
+        const auto name = Text(key, what + ".move key");
+        if (!name) continue;
+        const auto same = [&](const auto& m) { return m.first == *name; };
+        if (std::any_of(state.move.begin(), state.move.end(), same)) {
+          Error(key.line, fmt::format("{}.move: '{}' appears twice — keep one", what, *name));
+          continue;
+        }
+        const auto pose = PoseOf(Value{entry.second, key.line}, what + ".move." + *name);
+        if (pose) state.move.emplace_back(*name, *pose);
+      }
+    }
+  }
+  if (const auto v = fields.Get("add")) {
+    for (const Value& item : Items(*v, what + ".add")) {
+      if (std::optional<SceneObject> object = ReadObject(item))
+        state.add.push_back(std::move(*object));
+    }
+  }
+  if (ErrorCount() != errors_before) return std::nullopt;
+  return state;
+}
+
+/// Object names a state removes, moves or adds are checked against the objects, once --target
+/// has set the roles (a state must keep a target).
+void SceneReader::CheckStates() {
+  for (const SceneState& state : problem_->states) {
+    for (const std::string& message : StateProblems(problem_->scene, state))
+      Error(state.line, message);
+  }
+}
+
 // ----- the whole file ------------------------------------------------------------------------
 
 /// --target NAME makes exactly the named objects targets (GAZEBO.md, "Targets").
@@ -1153,16 +1238,26 @@ void SceneReader::ApplyTargetOverride() {
   if (options_.targets.empty()) return;
   std::vector<std::string> names;
   for (const SceneObject& object : problem_->scene.objects) names.push_back(object.name);
+  for (const SceneState& state : problem_->states) {
+    for (const SceneObject& object : state.add) {
+      if (std::find(names.begin(), names.end(), object.name) == names.end())
+        names.push_back(object.name);
+    }
+  }
   for (const std::string& target : options_.targets) {
     if (std::find(names.begin(), names.end(), target) == names.end()) {
       Error(0, fmt::format("--target '{}' names no object of the scene — {}", target,
                            Suggest(target, names)));
     }
   }
-  for (SceneObject& object : problem_->scene.objects) {
+  const auto set_role = [&](SceneObject& object) {
     const bool is_target = std::find(options_.targets.begin(), options_.targets.end(),
                                      object.name) != options_.targets.end();
     object.role = is_target ? Role::kTarget : Role::kOccluder;
+  };
+  for (SceneObject& object : problem_->scene.objects) set_role(object);
+  for (SceneState& state : problem_->states) {
+    for (SceneObject& object : state.add) set_role(object);
   }
 }
 
@@ -1182,7 +1277,8 @@ void SceneReader::Read(const YAML::Node& root) {
     return;
   }
   const Fields top(ValueOf(root), "the scene",
-                   {"settings", "sensor_types", "objects", "populations", "sensors"}, &reporter_);
+                   {"settings", "sensor_types", "objects", "populations", "sensors", "states"},
+                   &reporter_);
   if (!root.IsMap()) return;
   // Settings first: the cell size sets the primitives' tessellation.
   if (const auto v = top.Get("settings")) ReadSettings(*v);
@@ -1195,6 +1291,7 @@ void SceneReader::Read(const YAML::Node& root) {
   }
   if (const auto v = top.Get("populations")) ReadPopulations(*v);
   if (const auto v = top.Get("sensors")) ReadSensors(*v);
+  if (const auto v = top.Get("states")) ReadStates(*v);
   AddReferencedCatalogTypes();
   ApplyTargetOverride();
   if (ErrorCount() == 0 && problem_->scene.TargetCount() == 0) {
@@ -1202,6 +1299,7 @@ void SceneReader::Read(const YAML::Node& root) {
           "no object is a target — set `role: target` on at least one object, or "
           "pass --target NAME");
   }
+  if (ErrorCount() == 0) CheckStates();
 }
 
 std::string ReadWholeFile(const std::string& path) {

@@ -1,0 +1,545 @@
+// Changing scenes (issue 9): states of a scene, their YAML form, and selection over states
+// against counts worked out by hand. Boxes have faces mid-cell and cameras fine pixels, as in
+// observe_test.cpp, so that the cells each camera sees are exact.
+#include "vantage/states.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numbers>
+#include <set>
+
+#include "test_util.hpp"
+#include "vantage/error.hpp"
+#include "vantage/problem.hpp"
+#include "vantage/rng.hpp"
+
+namespace vantage {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kCell = 0.01;
+constexpr double kHalf = 2.5 * kCell;  // cube faces at ±2.5 cells: mid-cell
+// R of the cube: the shell of the 6x6x6 block of cells -3..2 = 6³ - 4³ = 152; one face 36.
+constexpr double kShell = 152;
+
+TriangleMesh BoxMesh(const Vec3& center, const Vec3& size) {
+  TriangleMesh mesh = MakeBox(size);
+  mesh.Transform(Pose{center, Quat::Identity()});
+  return mesh;
+}
+
+SceneObject Box(const std::string& name, Role role, const Vec3& center, const Vec3& size) {
+  return {name, role, BoxMesh(center, size)};
+}
+
+// A camera at `eye` looking along -x (body x -> world -x), 400 px over 0.1 rad: 0.25 mm per
+// pixel at 1 m, far below a cell.
+Candidate CameraLookingMinusX(const std::string& name, const Vec3& eye) {
+  Candidate c;
+  c.name = name;
+  c.sensor = SensorType::FromFov("test", 400, 400, 0.1, std::nullopt, 0.2, 3.0);
+  c.type_id = "test";
+  c.world_from_body = Pose{eye, Quat(Eigen::AngleAxisd(kPi, Vec3::UnitZ()))};
+  return c;
+}
+
+// The camera at (1, 0, 0) turned about the world z axis.
+Candidate Turned(const std::string& name, double angle) {
+  Candidate c = CameraLookingMinusX(name, Vec3(1, 0, 0));
+  const Quat r(Eigen::AngleAxisd(angle, Vec3::UnitZ()));
+  c.world_from_body = Pose{r * c.world_from_body.position, r * c.world_from_body.rotation};
+  return c;
+}
+
+// Thin plates half-way between a camera at distance 1 and the cube. A plate's edge planes
+// (x = 0, y = 0 or z = 0) contain the camera, so it hides exactly the cells on its side.
+//
+// Candidates and what each sees, in cells of R (152):
+//   A at (+1, 0, 0) looking -x: face x = +2.5F, all 36 in state "empty"; in state "hand" the
+//     hand (two plates at x = 0.5: y >= 0, and y < 0 with z >= 0) leaves the quadrant y < 0,
+//     z < 0: 3 x 3 = 9 cells.
+//   B at (-1, 0, 0) looking +x: face x = -2.5F behind plate "shelf" (y >= 0): 18 cells, both.
+//   C at (0, +1, 0) looking -y: face y = +2.5F behind plates "lid" (x >= 0) and "rim" (x < 0,
+//     z >= 0): the quadrant x < 0, z < 0, 9 cells, both.
+// The sets are disjoint: A's cells have x index 2, B's x index -3 and y index < 0, C's y index
+// 2 and x index < 0.
+Scene BaseScene() {
+  Scene scene;
+  scene.objects.push_back(Box("cube", Role::kTarget, Vec3::Zero(), Vec3::Constant(2 * kHalf)));
+  scene.objects.push_back(
+      Box("shelf", Role::kOccluder, Vec3(-0.5, 0.25, 0), Vec3(0.01, 0.5, 0.5)));
+  scene.objects.push_back(Box("lid", Role::kOccluder, Vec3(0.25, 0.5, 0), Vec3(0.5, 0.01, 0.5)));
+  scene.objects.push_back(
+      Box("rim", Role::kOccluder, Vec3(-0.25, 0.5, 0.25), Vec3(0.5, 0.01, 0.5)));
+  return scene;
+}
+
+SceneState HandState() {
+  SceneState state;
+  state.name = "hand";
+  TriangleMesh hand = BoxMesh(Vec3(0.5, 0.25, 0), Vec3(0.01, 0.5, 0.5));
+  hand.Append(BoxMesh(Vec3(0.5, -0.25, 0.25), Vec3(0.01, 0.5, 0.5)));
+  state.add.push_back({"hand", Role::kOccluder, std::move(hand)});
+  return state;
+}
+
+struct Observed {
+  std::string name;
+  Reference reference;
+  std::vector<Observation> observations;
+};
+
+std::vector<Observed> ObserveStates(const Scene& base,
+                                    const std::vector<SceneState>& states,
+                                    const std::vector<Candidate>& candidates) {
+  std::vector<Observed> out;
+  for (const SceneState& state : states) {
+    const Scene scene = ApplyState(base, state);
+    Observed o{state.name, BuildReference(scene, {kCell}), {}};
+    o.observations = Observe(scene, o.reference, candidates);
+    out.push_back(std::move(o));
+  }
+  return out;
+}
+
+std::vector<StateObservations> Views(const std::vector<Observed>& observed) {
+  std::vector<StateObservations> views;
+  for (const Observed& o : observed) views.push_back({o.name, &o.reference, o.observations});
+  return views;
+}
+
+SelectOptions Options(Method method, int n) {
+  SelectOptions options;
+  options.method = method;
+  options.n = n;
+  return options;
+}
+
+class HandCase : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    SceneState empty;
+    empty.name = "empty";
+    candidates_ = {Turned("A", 0), Turned("B", kPi), Turned("C", kPi / 2)};
+    observed_ = ObserveStates(BaseScene(), {empty, HandState()}, candidates_);
+    views_ = Views(observed_);
+  }
+  std::vector<Candidate> candidates_;
+  std::vector<Observed> observed_;
+  std::vector<StateObservations> views_;
+};
+
+TEST_F(HandCase, EachCameraSeesTheHandCountedCells) {
+  ASSERT_EQ(observed_[0].reference.size(), 152u);
+  ASSERT_EQ(observed_[1].reference.size(), 152u);
+  const size_t expected[2][3] = {{36, 18, 9}, {9, 18, 9}};
+  for (size_t s = 0; s < 2; ++s) {
+    for (size_t c = 0; c < 3; ++c) {
+      EXPECT_EQ(observed_[s].observations[c].reference_indices.size(), expected[s][c])
+          << "state " << s << " camera " << c;
+    }
+  }
+}
+
+TEST_F(HandCase, MinPicksTheSensorTheHandCannotHide) {
+  // The best single sensor of state "empty" alone is A (36 > 18 > 9).
+  const std::vector<Selection> first =
+      Select(observed_[0].observations, observed_[0].reference.size(), Options(Method::kBest, 1));
+  ASSERT_EQ(first.front().chosen, std::vector<uint32_t>{0});
+
+  // min: A min(36, 9) = 9, B min(18, 18) = 18, C 9 -> B.
+  const auto min = SelectOverStates(views_, OverStates::kMin, Options(Method::kBest, 1));
+  ASSERT_EQ(min.size(), 1u);
+  EXPECT_EQ(min[0].selection.method, "best");
+  EXPECT_EQ(min[0].selection.chosen, std::vector<uint32_t>{1});
+  EXPECT_NE(min[0].selection.chosen, first.front().chosen);
+  EXPECT_DOUBLE_EQ(min[0].selection.coverage, 18 / kShell);
+  EXPECT_DOUBLE_EQ(min[0].selection.paper_coverage, 18 / kShell);  // the cube only: no outside
+  ASSERT_EQ(min[0].state_coverage.size(), 2u);
+  EXPECT_DOUBLE_EQ(min[0].state_coverage[0], 18 / kShell);
+  EXPECT_DOUBLE_EQ(min[0].state_coverage[1], 18 / kShell);
+  EXPECT_EQ(min[0].selection.objective, "coverage");
+
+  // mean: A (36 + 9) / 2 = 22.5, B 18, C 9 -> A.
+  const auto mean = SelectOverStates(views_, OverStates::kMean, Options(Method::kBest, 1));
+  EXPECT_EQ(mean[0].selection.chosen, std::vector<uint32_t>{0});
+  EXPECT_DOUBLE_EQ(mean[0].selection.coverage, 22.5 / kShell);
+  EXPECT_DOUBLE_EQ(mean[0].state_coverage[0], 36 / kShell);
+  EXPECT_DOUBLE_EQ(mean[0].state_coverage[1], 9 / kShell);
+}
+
+TEST_F(HandCase, GreedyOverStatesAddsByTheAggregate) {
+  // min, n = 2: first B (18); then A gives (54, 27) -> 27, C gives (27, 27) -> 27: a tie on the
+  // min, broken by the mean (40.5 > 27): A.
+  const auto min = SelectOverStates(views_, OverStates::kMin, Options(Method::kGreedy, 2));
+  ASSERT_EQ(min.size(), 1u);
+  EXPECT_EQ(min[0].selection.chosen, (std::vector<uint32_t>{1, 0}));
+  EXPECT_DOUBLE_EQ(min[0].selection.coverage, 27 / kShell);
+  EXPECT_DOUBLE_EQ(min[0].state_coverage[0], 54 / kShell);
+  EXPECT_DOUBLE_EQ(min[0].state_coverage[1], 27 / kShell);
+  // mean, n = 2: first A; then B (54, 27) -> 40.5 beats C (45, 18) -> 31.5.
+  const auto mean = SelectOverStates(views_, OverStates::kMean, Options(Method::kGreedy, 2));
+  EXPECT_EQ(mean[0].selection.chosen, (std::vector<uint32_t>{0, 1}));
+  EXPECT_DOUBLE_EQ(mean[0].selection.coverage, 40.5 / kShell);
+  // all, n = 3: best, then greedy and local for n = 1, 2, 3; all three see (63, 36).
+  const auto all = SelectOverStates(views_, OverStates::kMin, Options(Method::kAll, 3));
+  ASSERT_EQ(all.size(), 7u);
+  const char* methods[] = {"best", "greedy", "local", "greedy", "local", "greedy", "local"};
+  const int ns[] = {1, 1, 1, 2, 2, 3, 3};
+  for (size_t i = 0; i < all.size(); ++i) {
+    EXPECT_EQ(all[i].selection.method, methods[i]);
+    EXPECT_EQ(all[i].selection.n, ns[i]);
+  }
+  EXPECT_DOUBLE_EQ(all.back().selection.coverage, 36 / kShell);
+  EXPECT_DOUBLE_EQ(all.back().state_coverage[0], 63 / kShell);
+}
+
+TEST_F(HandCase, RejectsWhatStatesCannotDo) {
+  for (const Method method : {Method::kRansac, Method::kExact}) {
+    try {
+      SelectOverStates(views_, OverStates::kMin, Options(method, 1));
+      ADD_FAILURE() << "no error for " << MethodName(method);
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--over-states"), std::string::npos) << e.what();
+    }
+  }
+  SelectOptions goal = Options(Method::kGreedy, 1);
+  goal.goal = 0.5;
+  EXPECT_THROW(SelectOverStates(views_, OverStates::kMean, goal), InputError);
+  SelectOptions k = Options(Method::kGreedy, 2);
+  k.k = 2;
+  EXPECT_THROW(SelectOverStates(views_, OverStates::kMean, k), InputError);
+  EXPECT_THROW(SelectOverStates(views_, OverStates::kMean, Options(Method::kGreedy, 4)),
+               InputError);
+  EXPECT_THROW(SelectOverStates({}, OverStates::kMean, Options(Method::kGreedy, 1)), InputError);
+  std::vector<StateObservations> uneven = views_;
+  uneven[1].observations = uneven[1].observations.first(2);
+  EXPECT_THROW(SelectOverStates(uneven, OverStates::kMean, Options(Method::kGreedy, 1)),
+               InputError);
+}
+
+TEST(OverStates, ParsesMeanAndMin) {
+  EXPECT_EQ(ParseOverStates("mean"), OverStates::kMean);
+  EXPECT_EQ(ParseOverStates("min"), OverStates::kMin);
+  try {
+    ParseOverStates("max");
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("mean"), std::string::npos);
+    EXPECT_NE(message.find("min"), std::string::npos);
+    EXPECT_NE(message.find("--over-states"), std::string::npos);
+  }
+}
+
+// ----- ApplyState and SameGeometry ------------------------------------------------------------
+
+Scene SmallScene() {
+  Scene scene;
+  scene.objects.push_back(Box("part", Role::kTarget, Vec3::Zero(), Vec3::Constant(0.1)));
+  scene.objects.push_back(Box("bin", Role::kOccluder, Vec3(0, 0, -1), Vec3::Constant(0.2)));
+  return scene;
+}
+
+std::string ErrorOf(const Scene& base, const SceneState& state) {
+  try {
+    ApplyState(base, state);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ApplyState, RemovesThenMovesThenAdds) {
+  const Scene base = SmallScene();
+  SceneState state;
+  state.name = "moved";
+  state.remove = {"bin"};
+  state.move = {{"part", Pose::FromXyzRpy(1, 2, 3, 0, 0, kPi / 2)}};
+  state.add = {Box("bin", Role::kOccluder, Vec3(5, 0, 0), Vec3::Constant(0.2))};  // re-added
+  const Scene scene = ApplyState(base, state);
+  ASSERT_EQ(scene.objects.size(), 2u);
+  EXPECT_EQ(scene.objects[0].name, "part");
+  EXPECT_TRUE(scene.objects[0].is_target());
+  EXPECT_EQ(scene.objects[1].name, "bin");
+  EXPECT_FALSE(scene.objects[1].is_target());
+  // The yaw of π/2 turns (x, y, z) into (-y, x, z) about the origin, then (1, 2, 3) is added.
+  for (size_t v = 0; v < base.objects[0].mesh.vertices.size(); ++v) {
+    const Vec3& p = base.objects[0].mesh.vertices[v];
+    const Vec3& q = scene.objects[0].mesh.vertices[v];
+    EXPECT_NEAR(q.x(), 1 - p.y(), 1e-12);
+    EXPECT_NEAR(q.y(), 2 + p.x(), 1e-12);
+    EXPECT_NEAR(q.z(), 3 + p.z(), 1e-12);
+  }
+  EXPECT_NEAR(scene.objects[1].mesh.Bounds().min.x(), 4.9, 1e-12);
+  // The base is unchanged.
+  EXPECT_TRUE(SameGeometry(base, SmallScene()));
+}
+
+TEST(ApplyState, NamesUnknownObjectsWithPlace) {
+  SceneState state;
+  state.name = "half";
+  state.file = "cell.yaml";
+  state.line = 12;
+  state.remove = {"bn"};
+  const std::string message = ErrorOf(SmallScene(), state);
+  EXPECT_NE(message.find("cell.yaml:12: state 'half': remove: no object named 'bn'"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("did you mean 'bin'?"), std::string::npos) << message;
+  EXPECT_NE(message.find("objects are: 'part', 'bin'"), std::string::npos) << message;
+
+  // Moving what the state removed: unknown once removed. Both problems are listed.
+  state.remove = {"bin", "gripper"};
+  state.move = {{"bin", Pose{}}};
+  const std::string both = ErrorOf(SmallScene(), state);
+  EXPECT_NE(both.find("remove: no object named 'gripper'"), std::string::npos) << both;
+  EXPECT_NE(both.find("move: no object named 'bin'"), std::string::npos) << both;
+}
+
+TEST(ApplyState, RejectsDuplicateAddsAndNoTarget) {
+  SceneState dup;
+  dup.name = "dup";
+  dup.add = {Box("bin", Role::kOccluder, Vec3::Zero(), Vec3::Constant(0.1))};
+  EXPECT_NE(ErrorOf(SmallScene(), dup).find("an object named 'bin' is already in the scene"),
+            std::string::npos);
+  SceneState empty;
+  empty.name = "empty";
+  empty.remove = {"part"};
+  EXPECT_NE(ErrorOf(SmallScene(), empty).find("state 'empty' has no target"), std::string::npos);
+  EXPECT_TRUE(StateProblems(SmallScene(), SceneState{}).empty());
+}
+
+TEST(SameGeometry, ExactObjectsRolesVerticesTriangles) {
+  const Scene base = SmallScene();
+  EXPECT_TRUE(SameGeometry(base, ApplyState(base, SceneState{})));
+  Scene role = base;
+  role.objects[1].role = Role::kTarget;
+  EXPECT_FALSE(SameGeometry(base, role));
+  Scene renamed = base;
+  renamed.objects[1].name = "box";
+  EXPECT_FALSE(SameGeometry(base, renamed));
+  Scene nudged = base;
+  nudged.objects[0].mesh.vertices[3].z() += 1e-15;
+  EXPECT_FALSE(SameGeometry(base, nudged));
+  Scene reindexed = base;
+  std::swap(reindexed.objects[0].mesh.triangles[0][0], reindexed.objects[0].mesh.triangles[0][1]);
+  EXPECT_FALSE(SameGeometry(base, reindexed));
+  Scene fewer = base;
+  fewer.objects.pop_back();
+  EXPECT_FALSE(SameGeometry(base, fewer));
+  SceneState moved;
+  moved.move = {{"bin", Pose::FromXyzRpy(0, 0, 0.5, 0, 0, 0)}};
+  EXPECT_FALSE(SameGeometry(base, ApplyState(base, moved)));
+}
+
+// ----- YAML ------------------------------------------------------------------------------------
+
+constexpr const char* kObjects = R"(settings:
+  cell_size: 0.01
+objects:
+  - name: part_1
+    role: target
+    box: {size: [0.1, 0.1, 0.1]}
+  - name: part_3
+    role: target
+    pose: {xyz: [0.3, 0, 0]}
+    box: {size: [0.1, 0.1, 0.1]}
+)";
+
+TEST(StatesYaml, ReadsStates) {
+  test::TempDir dir;
+  const std::string path = dir.File("scene.yaml");
+  test::WriteText(path, std::string(kObjects) + R"(states:
+  - name: full
+  - name: half
+    remove: [part_3]
+    move: {part_1: {xyz: [0, 0, 0.5], rpy: [0, 0, 0]}}
+    add:
+      - name: hand
+        pose: {xyz: [0.5, 0, 0]}
+        box: {size: [0.05, 0.2, 0.2]}
+)");
+  const Problem problem = LoadYamlScene(path);
+  ASSERT_EQ(problem.states.size(), 2u);
+  EXPECT_EQ(problem.states[0].name, "full");
+  EXPECT_EQ(problem.states[0].line, 12);
+  EXPECT_EQ(problem.states[0].file, path);
+  EXPECT_TRUE(SameGeometry(ApplyState(problem.scene, problem.states[0]), problem.scene));
+  const SceneState& half = problem.states[1];
+  EXPECT_EQ(half.line, 13);
+  EXPECT_EQ(half.remove, std::vector<std::string>{"part_3"});
+  ASSERT_EQ(half.move.size(), 1u);
+  EXPECT_EQ(half.move[0].first, "part_1");
+  EXPECT_EQ(half.move[0].second.position, Vec3(0, 0, 0.5));
+  ASSERT_EQ(half.add.size(), 1u);
+  EXPECT_EQ(half.add[0].name, "hand");
+  EXPECT_FALSE(half.add[0].is_target());
+  EXPECT_NEAR(half.add[0].mesh.Bounds().min.x(), 0.475, 1e-12);
+  const Scene scene = ApplyState(problem.scene, half);
+  ASSERT_EQ(scene.objects.size(), 2u);
+  EXPECT_NEAR(scene.objects[0].mesh.Bounds().min.z(), 0.45, 1e-12);
+}
+
+std::string LoadError(const std::string& text) {
+  test::TempDir dir;
+  const std::string path = dir.File("scene.yaml");
+  test::WriteText(path, text);
+  try {
+    LoadYamlScene(path);
+  } catch (const InputError& e) {
+    // Messages name the file by its full path: keep its name only.
+    std::string message = e.what();
+    for (size_t at = message.find(path); at != std::string::npos; at = message.find(path))
+      message.replace(at, path.size(), "scene.yaml");
+    return message;
+  }
+  return "";
+}
+
+TEST(StatesYaml, UnknownObjectNameCarriesTheStateLine) {
+  const std::string message = LoadError(std::string(kObjects) + R"(states:
+  - name: full
+  - name: half
+    remove: [part3]
+)");
+  EXPECT_NE(message.find("scene.yaml:13: state 'half': remove: no object named 'part3' — did "
+                         "you mean 'part_3'?"),
+            std::string::npos)
+      << message;
+}
+
+TEST(StatesYaml, ReportsMisspeltKeysDuplicatesAndShapes) {
+  const std::string message = LoadError(std::string(kObjects) + R"(states:
+  - name: full
+    remvoe: [part_3]
+  - name: full
+  - name: moved
+    move: [part_1]
+  - name: hand
+    add:
+      - name: part_1
+        box: {size: [0.1, 0.1, 0.1]}
+)");
+  EXPECT_NE(message.find("scene.yaml:13: unknown key 'remvoe' in state — did you mean 'remove'?"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("scene.yaml:14: state name 'full' is used twice"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("scene.yaml:16: state 'moved'.move must be a mapping"), std::string::npos)
+      << message;
+  const std::string empty = LoadError(std::string(kObjects) + "states: []\n");
+  EXPECT_NE(empty.find("scene.yaml:11: states is empty"), std::string::npos) << empty;
+  const std::string taken = LoadError(std::string(kObjects) + R"(states:
+  - name: hand
+    add:
+      - name: part_1
+        box: {size: [0.1, 0.1, 0.1]}
+)");
+  EXPECT_NE(taken.find("scene.yaml:12: state 'hand': add: an object named 'part_1' is already"),
+            std::string::npos)
+      << taken;
+}
+
+// ----- random instances: greedy and local against best and brute force -------------------------
+
+struct RandomState {
+  std::string name;
+  Reference reference;
+  std::vector<Observation> observations;
+};
+
+std::vector<RandomState> RandomStates(uint64_t seed, size_t candidates) {
+  Rng rng(seed, Stream::kTest, 0);
+  std::vector<RandomState> states;
+  const size_t sizes[] = {37, 50, 61};
+  for (size_t s = 0; s < 3; ++s) {
+    RandomState state;
+    state.name = "s" + std::to_string(s);
+    for (uint64_t k = 0; k < sizes[s]; ++k) state.reference.keys.push_back(k);
+    state.observations.resize(candidates);
+    for (Observation& o : state.observations) {
+      for (uint32_t c = 0; c < sizes[s]; ++c) {
+        if (rng.Uniform01() < 0.15 + 0.1 * static_cast<double>(s)) o.reference_indices.push_back(c);
+      }
+    }
+    states.push_back(std::move(state));
+  }
+  return states;
+}
+
+// The aggregate of a set, computed here from std::set unions.
+double AggregateOf(const std::vector<RandomState>& states,
+                   const std::vector<uint32_t>& chosen,
+                   OverStates over) {
+  double sum = 0, least = 1;
+  for (const RandomState& state : states) {
+    std::set<uint32_t> cells;
+    for (const uint32_t c : chosen) {
+      cells.insert(state.observations[c].reference_indices.begin(),
+                   state.observations[c].reference_indices.end());
+    }
+    const double f = static_cast<double>(cells.size()) / static_cast<double>(state.reference.size());
+    sum += f;
+    least = std::min(least, f);
+  }
+  return over == OverStates::kMin ? least : sum / static_cast<double>(states.size());
+}
+
+TEST(SelectOverStates, GreedyAndLocalNeverBelowBestAndDeterministic) {
+  for (uint64_t seed = 1; seed <= 5; ++seed) {
+    const std::vector<RandomState> states = RandomStates(seed, 12);
+    std::vector<StateObservations> views;
+    for (const RandomState& s : states) views.push_back({s.name, &s.reference, s.observations});
+    for (const OverStates over : {OverStates::kMean, OverStates::kMin}) {
+      const auto results = SelectOverStates(views, over, Options(Method::kAll, 4));
+      ASSERT_EQ(results.size(), 9u);
+      // Best: the brute-force best single candidate.
+      double best_single = -1;
+      for (uint32_t c = 0; c < 12; ++c)
+        best_single = std::max(best_single, AggregateOf(states, {c}, over));
+      EXPECT_NEAR(results[0].selection.coverage, best_single, 1e-12);
+      for (const StateSelection& r : results) {
+        EXPECT_NEAR(r.selection.coverage, AggregateOf(states, r.selection.chosen, over), 1e-12);
+        EXPECT_GE(r.selection.coverage + 1e-12, results[0].selection.coverage);
+        const std::set<uint32_t> distinct(r.selection.chosen.begin(), r.selection.chosen.end());
+        EXPECT_EQ(distinct.size(), r.selection.chosen.size());
+      }
+      for (size_t i = 1; i + 1 < results.size(); i += 2) {
+        EXPECT_EQ(results[i].selection.method, "greedy");
+        EXPECT_EQ(results[i + 1].selection.method, "local");
+        EXPECT_GE(results[i + 1].selection.coverage + 1e-12, results[i].selection.coverage);
+      }
+      // Deterministic: a second run chooses the same sensors in the same order.
+      const auto again = SelectOverStates(views, over, Options(Method::kAll, 4));
+      for (size_t i = 0; i < results.size(); ++i) {
+        EXPECT_EQ(again[i].selection.chosen, results[i].selection.chosen);
+        EXPECT_EQ(again[i].state_coverage, results[i].state_coverage);
+      }
+    }
+  }
+}
+
+TEST(SelectOverStates, LocalIsOneSwapOptimal) {
+  const std::vector<RandomState> states = RandomStates(11, 10);
+  std::vector<StateObservations> views;
+  for (const RandomState& s : states) views.push_back({s.name, &s.reference, s.observations});
+  for (const OverStates over : {OverStates::kMean, OverStates::kMin}) {
+    const auto local = SelectOverStates(views, over, Options(Method::kLocal, 3));
+    ASSERT_EQ(local.size(), 1u);
+    const std::vector<uint32_t> chosen = local[0].selection.chosen;
+    const double value = AggregateOf(states, chosen, over);
+    for (size_t i = 0; i < chosen.size(); ++i) {
+      for (uint32_t c = 0; c < 10; ++c) {
+        if (std::find(chosen.begin(), chosen.end(), c) != chosen.end()) continue;
+        std::vector<uint32_t> swapped = chosen;
+        swapped[i] = c;
+        EXPECT_LE(AggregateOf(states, swapped, over), value + 1e-12);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace vantage
