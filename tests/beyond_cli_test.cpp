@@ -3,6 +3,7 @@
 // re-tracing the constellations the read-outs describe.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -182,6 +183,55 @@ TEST(RefineCli, RefinedConstellationIsNeverWorseAndReTracesToItsCoverage) {
   EXPECT_EQ(report["candidates"].size(), 16u + rf["new_candidates"].get<size_t>());
   // Re-tracing the refined sensors from the report alone gives the same coverage.
   EXPECT_DOUBLE_EQ(refined["coverage"].get<double>(), Evaluated(dir, "refined", report, refined["sensors"]));
+}
+
+// cube_cell.yaml with states: as it is, the same again (not traced twice), and a slab that
+// hides the cube's top from above.
+std::string SceneWithStates(const test::TempDir& dir) {
+  const std::string path = dir.File("states.yaml");
+  test::WriteText(path, test::ReadText(Scene()) + R"(
+states:
+  - name: plain
+  - name: again
+  - name: slab
+    add:
+      - {name: slab, role: occluder, box: {size: [0.3, 0.3, 0.01]}, pose: {xyz: [0, 0, 0.2]}}
+)");
+  return path;
+}
+
+TEST(StatesCli, ResultsCarryEveryStateAndTheirMeanOrMin) {
+  test::TempDir dir;
+  const std::string scene = SceneWithStates(dir);
+  for (const std::string over : {"mean", "min"}) {
+    const auto run = RunVantage("optimize " + scene + " -n 2 --over-states " + over + " --out " + dir.File(over));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    EXPECT_NE(run.err.find("same geometry as 'plain' (not traced again)"), std::string::npos) << run.err;
+    const json report = Report(dir.File(over));
+    ASSERT_TRUE(report.contains("states"));
+    EXPECT_EQ(report["states"]["over"], over);
+    ASSERT_EQ(report["states"]["states"].size(), 3u);
+    EXPECT_EQ(report["states"]["states"][1]["same_as"], 0);
+    bool slab_hides = false;
+    for (const json& r : report["results"]) {
+      const auto per_state = r["state_coverage"].get<std::vector<double>>();
+      slab_hides = slab_hides || per_state[2] < per_state[0];
+      ASSERT_EQ(per_state.size(), 3u);
+      EXPECT_DOUBLE_EQ(per_state[0], per_state[1]);  // the same geometry, the same coverage
+      EXPECT_LE(per_state[2], per_state[0]);          // the slab only hides
+      const double expected = over == "min" ? std::min({per_state[0], per_state[1], per_state[2]})
+                                            : (per_state[0] + per_state[1] + per_state[2]) / 3;
+      EXPECT_NEAR(r["coverage"].get<double>(), expected, 1e-12);
+    }
+    EXPECT_TRUE(slab_hides);  // at n = 2 the ring camera sees the top, which the slab covers
+  }
+  // Options that cannot apply.
+  const auto no_states = RunVantage("optimize " + Scene() + " --over-states min --out " + dir.File("x"));
+  EXPECT_EQ(no_states.exit_code, 2);
+  EXPECT_NE(no_states.err.find("--over-states"), std::string::npos);
+  const auto bad = RunVantage("optimize " + scene + " --over-states max --out " + dir.File("x"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("mean"), std::string::npos) << bad.err;
 }
 
 }  // namespace

@@ -1,3 +1,4 @@
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <map>
@@ -62,22 +63,27 @@ void RunOptimize(const OptimizeOptions& options) {
   ObservedScene observed = ObserveScene(options.scene, &options.selection);
   const SelectOptions select_options =
       ResolveSelectOptions(observed.data, options.selection, options.scene.seed, "all");
+  if (options.refine && !observed.states.empty())
+    throw InputError(AtPlace("--refine", 0, "refinement over scene states is not supported yet — drop "
+                                            "--refine or the scene's states"));
   const auto select_start = std::chrono::steady_clock::now();
-  std::vector<Selection> results =
-      Select(observed.data.observations, observed.data.reference.size(), select_options);
-  std::optional<RefinementInfo> refinement;
-  if (options.refine) refinement = RefinePrimary(options, select_options, &observed, &results);
+  Report report;
+  SelectResults(observed, options.selection, select_options, &report);
+  if (options.refine) report.refinement = RefinePrimary(options, select_options, &observed, &report.results);
   observed.timings.select = SecondsSince(select_start);
   observed.timings.total = SecondsSince(start);
 
-  Report report;
   report.scene = observed.data.scene;
   report.seed = select_options.seed;
   report.data = &observed.data;
-  report.results = std::move(results);
   report.timings = observed.timings;
   report.notes = observed.notes;
-  report.refinement = refinement;
+  if (report.states) {
+    report.notes.push_back(fmt::format(
+        "scene states: candidates' coverages, reference.ply, observed.ply and report.html's 3D view and "
+        "chosen-sensor table show the first state '{}'; each result's state_coverage lists every state",
+        report.states->states.front().name));
+  }
   // constellation.world: the input world with only the primary result's sensors (SYSTEM.md).
   std::map<std::string, std::string> extra_files;
   const int primary = report.primary >= 0 ? report.primary : PrimaryResult(report.results);
@@ -97,7 +103,8 @@ void RunOptimize(const OptimizeOptions& options) {
       chosen.push_back(observed.data.candidates[i]);
     extra_files["constellation.yaml"] = ConstellationYaml(options.scene.scene, chosen);
   }
-  if (primary >= 0) {
+  // Robustness reads `data`, the first state's sets: not meaningful over states.
+  if (primary >= 0 && !report.states) {
     report.robustness = AssessRobustness(observed.data, report.results, primary, &observed.scene,
                                          options.selection.fov_tolerance_deg,
                                          options.selection.alternatives_within / 100.0);
@@ -105,8 +112,7 @@ void RunOptimize(const OptimizeOptions& options) {
   extra_files["report.html"] = HtmlReport(report, observed.scene);
   extra_files["static_transforms.yaml"] = StaticTransformsYaml(report);
   WriteOutputs(options.out, report, extra_files);
-  PrintSummary(observed.data, report.results, report.timings, options.out, report.robustness,
-               report.refinement);
+  PrintSummary(report, options.out);
 }
 
 }  // namespace

@@ -37,6 +37,10 @@ void RunSelect(const SelectCommandOptions& options) {
   VisibilityFile data = LoadVisibilityFile(options.file);
   Timings timings;
   timings.load = SecondsSince(start);
+  if (options.selection.over_states)
+    throw InputError(AtPlace("--over-states", 0,
+                             "a visibility file holds one state — run `vantage optimize` on the scene with "
+                             "states instead"));
   const SelectOptions select_options = ResolveSelectOptions(data, options.selection, options.seed, "all");
   const auto select_start = std::chrono::steady_clock::now();
   Report report;
@@ -58,7 +62,7 @@ void RunSelect(const SelectCommandOptions& options) {
   WriteOutputs(options.out, report,
                {{"report.html", HtmlReport(report, scene)},
                 {"static_transforms.yaml", StaticTransformsYaml(report)}});
-  PrintSummary(data, report.results, timings, options.out, report.robustness);
+  PrintSummary(report, options.out);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "vantage/vantage.hpp"
+#include "vantage/states.hpp"
 #include "vantage/visualize.hpp"
 
 namespace vantage::cli {
@@ -42,6 +43,8 @@ struct SelectionOptions {
   /// Robustness read-outs of the primary result (issue 9).
   double fov_tolerance_deg = 3;     ///< --fov-tolerance
   double alternatives_within = 1;   ///< --alternatives-within, coverage points
+  /// --over-states mean|min: how a scene with states is scored (default mean).
+  std::optional<std::string> over_states;
 };
 
 /// Refuses a negative --seed (CLI11 would wrap "-1" to 2^64 - 1); main.cpp puts it on every
@@ -57,6 +60,14 @@ QualityFilter QualityOf(const SceneOptions& options);
 /// Loads the scene with the command-line overrides applied.
 Problem LoadScene(const SceneOptions& options);
 
+/// One state of a changing scene, observed.
+struct ObservedState {
+  std::string name;
+  Reference reference;
+  std::vector<Observation> observations;
+  int same_as = -1;  ///< index of an earlier state with the same geometry (not traced again)
+};
+
 /// Result of the first half of the pipeline.
 struct ObservedScene {
   VisibilityFile data;
@@ -67,6 +78,9 @@ struct ObservedScene {
   std::vector<Population> populations;
   std::vector<ExplicitSensor> sensors;
   Vec3 observation_point = Vec3::Zero();  ///< what the candidates look at (for --refine)
+  /// A scene with states: each state's reference and observations, in state order (`data`
+  /// holds the first state's too); empty for a scene without states.
+  std::vector<ObservedState> states;
 };
 /// Load -> reference -> candidates -> observe, logging each stage.
 ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* selection);
@@ -74,11 +88,13 @@ ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* 
 /// Selection options resolved from the file's defaults and the command line.
 SelectOptions ResolveSelectOptions(const VisibilityFile& data, const SelectionOptions& cli,
                                    std::optional<uint64_t> seed, const std::string& method_default);
-/// Prints the human summary of a run to stdout (with the robustness read-outs when given).
-void PrintSummary(const VisibilityFile& data, const std::vector<Selection>& results,
-                  const Timings& timings, const std::string& out_dir,
-                  const std::optional<Robustness>& robustness = std::nullopt,
-                  const std::optional<RefinementInfo>& refinement = std::nullopt);
+/// Prints the human summary of a run to stdout: its results, states, refinement and robustness.
+void PrintSummary(const Report& report, const std::string& out_dir);
+
+/// Runs selection: over the states (SelectOverStates) when the scene has them, else Select.
+/// Fills `report`'s results and states block.
+void SelectResults(const ObservedScene& observed, const SelectionOptions& cli, const SelectOptions& options,
+                   Report* report);
 
 void SetupOptimize(CLI::App* parent);
 void SetupObserve(CLI::App* parent);

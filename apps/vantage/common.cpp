@@ -215,6 +215,9 @@ void AddSelectionOptions(CLI::App* app, SelectionOptions* options) {
                   "objective: k-coverage, a cell counts once k chosen sensors see it (k >= 2)");
   app->add_option("--budget", options->budget,
                   "objective: the most coverage for a total sensor cost within this budget");
+  app->add_option("--over-states", options->over_states,
+                  "a scene with states: maximise the mean or the worst (min) coverage over them "
+                  "(default mean)");
   app->add_option("--fov-tolerance", options->fov_tolerance_deg,
                   "robustness: degrees the chosen sensors' fields of view are shrunk by (datasheet "
                   "tolerance)")
@@ -296,6 +299,11 @@ ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* 
     spdlog::warn("{}", note);
     result.notes.push_back(note);
   }
+  // A scene with states: the first state is the scene everything below measures; the others
+  // are observed after it with the same candidates.
+  std::vector<Scene> state_scenes;
+  for (const SceneState& state : problem.states) state_scenes.push_back(ApplyState(problem.scene, state));
+  if (!state_scenes.empty()) problem.scene = state_scenes.front();
   result.timings.load = SecondsSince(start);
 
   start = std::chrono::steady_clock::now();
@@ -331,6 +339,36 @@ ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* 
   uint64_t rays = 0;
   for (const Observation& o : observations) rays += o.rays_traced;
   spdlog::info("observe: {:.1f} M rays traced in {:.3f} s", rays / 1e6, result.timings.observe);
+  for (size_t i = 0; i < state_scenes.size(); ++i) {
+    ObservedState state;
+    state.name = problem.states[i].name;
+    for (size_t j = 0; j < i && state.same_as < 0; ++j) {
+      if (SameGeometry(state_scenes[j], state_scenes[i])) state.same_as = static_cast<int>(j);
+    }
+    if (i == 0) {
+      state.reference = reference;
+      state.observations = observations;
+    } else if (state.same_as >= 0) {  // unchanged geometry: no ray is traced twice
+      state.reference = result.states[static_cast<size_t>(state.same_as)].reference;
+      state.observations = result.states[static_cast<size_t>(state.same_as)].observations;
+    } else {
+      const auto state_start = std::chrono::steady_clock::now();
+      try {
+        CheckTargetsFitGrid(state_scenes[i], problem.cell_size);
+        state.reference = BuildReference(state_scenes[i], reference_options);
+      } catch (const InputError& e) {
+        throw InputError(AtPlace(problem.source, problem.states[i].line,
+                                 fmt::format("state '{}': {}", state.name, e.what())));
+      }
+      state.observations = Observe(state_scenes[i], state.reference, candidates, observe_options);
+      result.timings.observe += SecondsSince(state_start);
+    }
+    spdlog::info("state '{}': {} reference voxels{}", state.name, state.reference.size(),
+                 state.same_as >= 0 ? fmt::format(", same geometry as '{}' (not traced again)",
+                                                  result.states[static_cast<size_t>(state.same_as)].name)
+                                    : std::string());
+    result.states.push_back(std::move(state));
+  }
 
   VisibilityFile& data = result.data;
   data.scene = problem.source;
@@ -416,6 +454,31 @@ SelectOptions ResolveSelectOptions(const VisibilityFile& data, const SelectionOp
   throw InputError(AtPlace(data.scene, 0, problem));
 }
 
+void SelectResults(const ObservedScene& observed, const SelectionOptions& cli, const SelectOptions& options,
+                   Report* report) {
+  if (observed.states.empty()) {
+    if (cli.over_states)
+      throw InputError(AtPlace("--over-states", 0,
+                               "the scene has no states — add a `states:` list (docs/scene-format.md) or "
+                               "drop --over-states"));
+    report->results = Select(observed.data.observations, observed.data.reference.size(), options);
+    return;
+  }
+  const OverStates over = ParseOverStates(cli.over_states.value_or("mean"));
+  std::vector<StateObservations> states;
+  for (const ObservedState& state : observed.states)
+    states.push_back({state.name, &state.reference, state.observations});
+  for (StateSelection& result : SelectOverStates(states, over, options)) {
+    result.selection.state_coverage = std::move(result.state_coverage);
+    report->results.push_back(std::move(result.selection));
+  }
+  StatesInfo info;
+  info.over = OverStatesName(over);
+  for (const ObservedState& state : observed.states)
+    info.states.push_back({state.name, state.reference.size(), state.same_as});
+  report->states = std::move(info);
+}
+
 namespace {
 
 // The robustness read-outs: the worst failure, the shrunk fields of view, the alternatives.
@@ -445,10 +508,10 @@ void PrintRobustness(const VisibilityFile& data, const std::vector<Selection>& r
 
 }  // namespace
 
-void PrintSummary(const VisibilityFile& data, const std::vector<Selection>& results,
-                  const Timings& timings, const std::string& out_dir,
-                  const std::optional<Robustness>& robustness,
-                  const std::optional<RefinementInfo>& refinement) {
+void PrintSummary(const Report& report, const std::string& out_dir) {
+  const VisibilityFile& data = *report.data;
+  const std::vector<Selection>& results = report.results;
+  const std::optional<RefinementInfo>& refinement = report.refinement;
   const size_t r = data.reference.size();
   fmt::print("scene            {}\n", data.scene);
   fmt::print("reference        {} voxels of {} m\n", r, data.reference.cell_size);
@@ -488,6 +551,15 @@ void PrintSummary(const VisibilityFile& data, const std::vector<Selection>& resu
     fmt::print("quality          {}: coverages count only such pixels; 'plain' counts every pixel\n",
                fmt::join(limits, ", "));
   }
+  if (report.states) {
+    std::vector<std::string> names;
+    for (const StatesInfo::State& state : report.states->states) names.push_back(state.name);
+    fmt::print("states           {} over {} states ({}): coverages below are the {} of the states' "
+               "coverages, listed after each\n",
+               report.states->over, names.size(), fmt::join(names, ", "),
+               report.states->over == "min" ? "worst" : "mean");
+    fmt::print("                 (reference and best single above: state '{}')\n", names.front());
+  }
   // One line per method at its largest n: the constellation it recommends.
   std::vector<const Selection*> shown;
   for (const Selection& s : results) {
@@ -509,8 +581,13 @@ void PrintSummary(const VisibilityFile& data, const std::vector<Selection>& resu
                                 : fmt::format("  (at least {} sensors)", *s->n_lower_bound);
     }
     if (s->cost) bound += fmt::format("  cost {:g} of {:g}", *s->cost, s->budget.value_or(0.0));
-    if (data.quality.active())
+    if (data.quality.active() && !report.states)
       bound += fmt::format("  (plain {:.2f} %)", 100.0 * plain_evaluator.Coverage(s->chosen, s->k));
+    if (!s->state_coverage.empty()) {
+      std::vector<std::string> per_state;
+      for (double c : s->state_coverage) per_state.push_back(fmt::format("{:.2f}", 100.0 * c));
+      bound += fmt::format("  (states {} %)", fmt::join(per_state, " / "));
+    }
     fmt::print("{:<8} n={:<3}  {:6.2f} %{}  [{}]  {:.3f} s\n", s->method, s->n, 100.0 * s->coverage, bound,
                names, s->seconds);
   }
@@ -521,9 +598,10 @@ void PrintSummary(const VisibilityFile& data, const std::vector<Selection>& resu
                100.0 * (refinement->coverage_after - refinement->coverage_before), from.method, from.n,
                refinement->rounds, refinement->new_candidates, refinement->extra_rays / 1e6, refinement->seconds);
   }
-  if (robustness) PrintRobustness(data, results, *robustness);
+  if (report.robustness) PrintRobustness(data, results, *report.robustness);
   fmt::print("timings          load {:.3f} s, reference {:.3f} s, observe {:.3f} s, select {:.3f} s, total {:.3f} s\n",
-             timings.load, timings.reference, timings.observe, timings.select, timings.total);
+             report.timings.load, report.timings.reference, report.timings.observe, report.timings.select,
+             report.timings.total);
   if (!out_dir.empty()) fmt::print("outputs          {}/\n", out_dir);
 }
 

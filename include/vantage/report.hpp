@@ -32,6 +32,17 @@ struct RefinementInfo {
   double seconds = 0;
 };
 
+/// A scene with states: how results were scored and what each state is.
+struct StatesInfo {
+  std::string over;  ///< "mean" or "min"
+  struct State {
+    std::string name;
+    size_t reference_voxels = 0;
+    int same_as = -1;  ///< an earlier state with the same geometry, whose rays it reuses
+  };
+  std::vector<State> states;
+};
+
 /// Everything one report holds.
 struct Report {
   std::string scene;
@@ -45,6 +56,8 @@ struct Report {
   /// Read-outs for one result (usually the primary), when computed (issue 9).
   std::optional<Robustness> robustness;
   std::optional<RefinementInfo> refinement;
+  /// Set for a scene with states; `data` then holds the first state's reference and sets.
+  std::optional<StatesInfo> states;
 };
 
 /// The result that stands for the run: among those with the largest n, the highest coverage

@@ -228,14 +228,19 @@ constexpr const char* kPageScript = R"JS(
       {label: 'optimal', value: function (r) { return r.upper_bound === undefined ? '' : (r.optimal ? 'yes' : 'no'); }},
       {label: 'seconds', num: true, value: function (r) { return r.seconds; }, show: function (v) { return fix(v, 3); }},
       {label: 'sensors', value: function (r) { return r.sensors.map(function (i) { return D.candidates[i].name; }).join(', '); }}
-    ].concat(D.quality ? [{label: 'plain coverage (every pixel)', num: true,
-                           value: function (r) { return r.plain_coverage; }, show: pct}] : []), D.results);
+    ].concat(D.quality && !D.states ? [{label: 'plain coverage (every pixel)', num: true,
+                           value: function (r) { return r.plain_coverage; }, show: pct}] : [])
+     .concat(D.states ? D.states.names.map(function (name, k) {
+       return {label: 'state ' + name, num: true, value: function (r) { return r.state_coverage[k]; }, show: pct};
+     }) : []), D.results);
 
     // Robustness of the primary result: each sensor failing, the narrower fields of view and
     // one-sensor alternatives.
     var rb = D.robustness;
     if (!rb) {
-      document.getElementById('robustness-text').textContent = 'Not computed for this run.';
+      document.getElementById('robustness-text').textContent = D.states
+        ? 'Not computed over scene states (the read-outs are per constellation of one scene).'
+        : 'Not computed for this run.';
     } else {
       var base = D.results[rb.result];
       var text = 'For ' + base.method + ', N = ' + base.n + ' (' + pct(base.coverage) + ').';
@@ -810,7 +815,8 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
       r["upper_bound"] = *s.upper_bound;
       r["optimal"] = s.proven_optimal;
     }
-    if (data.quality.active()) r["plain_coverage"] = plain_evaluator.Coverage(s.chosen, s.k);
+    if (data.quality.active() && !report.states) r["plain_coverage"] = plain_evaluator.Coverage(s.chosen, s.k);
+    if (!s.state_coverage.empty()) r["state_coverage"] = s.state_coverage;
     results.push_back(std::move(r));
   }
 
@@ -937,6 +943,13 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   page["results"] = std::move(results);
   page["chosen"] = std::move(chosen_json);
   page["quality"] = data.quality.active();
+  if (report.states) {
+    ordered_json names = ordered_json::array();
+    for (const StatesInfo::State& state : report.states->states) names.push_back(state.name);
+    page["states"] = {{"over", report.states->over}, {"names", std::move(names)}};
+  } else {
+    page["states"] = nullptr;
+  }
   if (report.robustness) {
     // The same keys as report.json's "robustness" (sensor names, not indices).
     page["robustness"] = ordered_json::parse(RobustnessJsonText(*report.robustness, data));

@@ -151,7 +151,9 @@ std::string ReportJson(const Report& report) {
     r["sensors"] = std::move(names);
     r["coverage"] = s.coverage;
     r["paper_coverage"] = s.paper_coverage;
-    if (quality) r["plain_coverage"] = plain_evaluator.Coverage(s.chosen, s.k);
+    // Plain coverage from `data` is the first state's: shown only without states.
+    if (quality && !report.states) r["plain_coverage"] = plain_evaluator.Coverage(s.chosen, s.k);
+    if (!s.state_coverage.empty()) r["state_coverage"] = s.state_coverage;
     if (s.upper_bound) {
       r["upper_bound"] = *s.upper_bound;
       r["gap"] = std::max(0.0, *s.upper_bound - s.coverage);
@@ -174,6 +176,15 @@ std::string ReportJson(const Report& report) {
   const int primary = report.primary >= 0 ? report.primary : PrimaryResult(report.results);
   if (primary >= 0) j["primary_result"] = primary;
   if (report.robustness) j["robustness"] = RobustnessJson(*report.robustness, data);
+  if (report.states) {
+    ordered_json states = ordered_json::array();
+    for (const StatesInfo::State& state : report.states->states) {
+      ordered_json one = {{"name", state.name}, {"reference_voxels", state.reference_voxels}};
+      if (state.same_as >= 0) one["same_as"] = state.same_as;
+      states.push_back(std::move(one));
+    }
+    j["states"] = {{"over", report.states->over}, {"states", std::move(states)}};
+  }
   if (report.refinement) {
     const RefinementInfo& r = *report.refinement;
     j["refinement"] = {{"from_result", r.from_result},   {"result", r.result},
