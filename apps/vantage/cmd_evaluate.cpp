@@ -17,6 +17,9 @@ struct EvaluateOptions {
 void RunEvaluate(const EvaluateOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const Problem problem = LoadScene(options.scene);
+  if (!problem.states.empty())
+    spdlog::warn("{}: evaluated on the objects as listed; its {} states are scored by `vantage optimize` "
+                 "only", problem.source, problem.states.size());
   const Constellation constellation = LoadConstellation(options.constellation);
   Timings timings;
   timings.load = SecondsSince(start);

@@ -17,6 +17,9 @@ void RunObserve(const ObserveCommandOptions& options) {
   SelectionOptions selection;
   selection.n = options.n;
   ObservedScene observed = ObserveScene(options.scene, &selection);
+  if (!observed.states.empty())
+    spdlog::warn("{}: the visibility file holds the first state '{}' only; `vantage optimize` selects over "
+                 "all {} states", observed.data.scene, observed.states.front().name, observed.states.size());
   SaveVisibilityFile(options.out, observed.data);
   fmt::print("reference        {} voxels of {} m\n", observed.data.reference.size(),
              observed.data.reference.cell_size);
