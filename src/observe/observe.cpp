@@ -1,6 +1,5 @@
 #include "vantage/observe.hpp"
 
-#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -109,36 +108,6 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
 }
 
 }  // namespace
-
-void QualityFilter::Validate() const {
-  if (max_incidence_deg && !(*max_incidence_deg > 0 && *max_incidence_deg <= 90))
-    throw InputError(fmt::format("--max-incidence {} must lie in (0, 90] degrees — e.g. 70",
-                                 *max_incidence_deg));
-  if (max_depth_noise && !(*max_depth_noise > 0 && std::isfinite(*max_depth_noise)))
-    throw InputError(fmt::format("--max-depth-noise {} must be a positive number of millimetres — e.g. 2",
-                                 *max_depth_noise * 1000));
-}
-
-std::vector<Observation> WithoutQuality(std::span<const Observation> observations) {
-  std::vector<Observation> plain;
-  plain.reserve(observations.size());
-  for (const Observation& o : observations) {
-    Observation p;
-    p.reference_indices = o.plain_reference_indices.empty() && o.quality_pixels == o.target_pixels
-                              ? o.reference_indices
-                              : o.plain_reference_indices;
-    p.rays_traced = o.rays_traced;
-    p.target_pixels = p.quality_pixels = o.target_pixels;
-    plain.push_back(std::move(p));
-  }
-  return plain;
-}
-
-const DepthNoise* NoiseModelOf(const Candidate& candidate) {
-  if (candidate.sensor.depth_noise) return &*candidate.sensor.depth_noise;
-  const SensorType* catalog = FindCatalogType(candidate.type_id);
-  return catalog && catalog->depth_noise ? &*catalog->depth_noise : nullptr;
-}
 
 std::vector<Observation> Observe(const Scene& scene, const Reference& reference,
                                  std::span<const Candidate> candidates, const ObserveOptions& options) {

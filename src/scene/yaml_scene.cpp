@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "util/words.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
 #include "vantage/select.hpp"
@@ -37,42 +38,11 @@ constexpr double kMinQuaternionNorm = 1e-9;
 // ---------------------------------------------------------------------------------------------
 // Words: suggestions for misspelt keys and values.
 
-size_t EditDistance(std::string_view a, std::string_view b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t substitution = diagonal + (a[i - 1] == b[j - 1] ? 0 : 1);
-      diagonal = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, substitution});
-    }
-  }
-  return row[b.size()];
-}
-
-std::string JoinQuoted(const std::vector<std::string>& words) {
-  std::string all;
-  for (const std::string& word : words) all += (all.empty() ? "'" : ", '") + word + "'";
-  return all;
-}
-
 /// "did you mean 'x'?" for the closest word within a third of its length (at least 2 edits),
 /// else the list of valid words.
 std::string Suggest(std::string_view word, const std::vector<std::string>& valid) {
-  const std::string* best = nullptr;
-  size_t best_distance = std::numeric_limits<size_t>::max();
-  for (const std::string& candidate : valid) {
-    const size_t distance = EditDistance(word, candidate);
-    if (distance < best_distance) {
-      best_distance = distance;
-      best = &candidate;
-    }
-  }
-  const size_t tolerance = std::max<size_t>(2, word.size() / 3);
-  if (best && best_distance <= tolerance) return fmt::format("did you mean '{}'?", *best);
-  return "valid: " + JoinQuoted(valid);
+  if (const std::string* best = detail::ClosestWord(word, valid)) return fmt::format("did you mean '{}'?", *best);
+  return "valid: " + detail::JoinQuoted(valid);
 }
 
 int LineOf(const YAML::Node& node) {

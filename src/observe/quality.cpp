@@ -1,0 +1,42 @@
+// Measurement quality (issue 9): the filter's checks, noise models by candidate, and plain
+// observations. Apart from observe.cpp so that readers of vantage's files need no Embree.
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "vantage/error.hpp"
+#include "vantage/observe.hpp"
+
+namespace vantage {
+
+void QualityFilter::Validate() const {
+  if (max_incidence_deg && !(*max_incidence_deg > 0 && *max_incidence_deg <= 90))
+    throw InputError(fmt::format("--max-incidence {} must lie in (0, 90] degrees — e.g. 70",
+                                 *max_incidence_deg));
+  if (max_depth_noise && !(*max_depth_noise > 0 && std::isfinite(*max_depth_noise)))
+    throw InputError(fmt::format("--max-depth-noise {} must be a positive number of millimetres — e.g. 2",
+                                 *max_depth_noise * 1000));
+}
+
+std::vector<Observation> WithoutQuality(std::span<const Observation> observations) {
+  std::vector<Observation> plain;
+  plain.reserve(observations.size());
+  for (const Observation& o : observations) {
+    Observation p;
+    p.reference_indices = o.plain_reference_indices.empty() && o.quality_pixels == o.target_pixels
+                              ? o.reference_indices
+                              : o.plain_reference_indices;
+    p.rays_traced = o.rays_traced;
+    p.target_pixels = p.quality_pixels = o.target_pixels;
+    plain.push_back(std::move(p));
+  }
+  return plain;
+}
+
+const DepthNoise* NoiseModelOf(const Candidate& candidate) {
+  if (candidate.sensor.depth_noise) return &*candidate.sensor.depth_noise;
+  const SensorType* catalog = FindCatalogType(candidate.type_id);
+  return catalog && catalog->depth_noise ? &*catalog->depth_noise : nullptr;
+}
+
+}  // namespace vantage
