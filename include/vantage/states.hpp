@@ -66,12 +66,13 @@ struct StateSelection {
 };
 
 /// Selection maximising the aggregate over states of the coverage. Methods (options.method):
-/// best (n = 1: the single candidate with the best aggregate), greedy (adds the candidate that
+/// best (n = 1: the single candidate with the best aggregate), ransac (Algorithm 2's draws, as
+/// Select's, each kept when its aggregate is strictly better), greedy (adds the candidate that
 /// raises the aggregate most; ties: for min the larger mean, then the lowest index), local
-/// (greedy, then the best 1-swap while the aggregate improves), all (best, then greedy and local
-/// for every n from 1 to options.n). Aggregates are compared exactly (whole numbers of cells per
-/// state, on a common denominator); deterministic, single-threaded.
-/// InputError (naming --over-states) for ransac, exact and the goal, k and budget objectives;
+/// (greedy, then the best 1-swap while the aggregate improves), all (best, then ransac, greedy
+/// and local for every n from 1 to options.n). Aggregates are compared exactly (whole numbers of
+/// cells per state, on a common denominator); deterministic, single-threaded.
+/// InputError (naming --over-states) for exact and the goal, k and budget objectives;
 /// for no state, states with different candidate counts, an empty R_s, or indices beyond R_s;
 /// and for what SelectOptions::Validate rejects.
 std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> states,

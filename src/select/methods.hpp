@@ -20,6 +20,12 @@ uint32_t BestCandidate(const CoverageMatrix& matrix);
 /// reaches `stop_coverage` (a fraction of |R|). The first draw is always kept, so the answer has
 /// n sensors even when every draw covers nothing.
 /// With k >= 2 subsets are scored by k-coverage (KCoveredWeight) instead.
+/// Draw `iteration` of Algorithm 2's SelectSensorsRandomly: n distinct candidates of
+/// order->size(), from Rng(seed, Stream::kRansac, iteration). `order` must hold the identity
+/// permutation and is restored; RansacChoice and selection over states share it.
+void RansacDraw(uint64_t seed, uint64_t iteration, size_t n, std::vector<uint32_t>* order,
+                std::vector<uint32_t>* drawn);
+
 std::vector<uint32_t> RansacChoice(const CoverageMatrix& matrix,
                                    size_t n,
                                    int iterations,

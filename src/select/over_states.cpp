@@ -18,6 +18,7 @@
 #include <numeric>
 #include <string_view>
 
+#include "select/methods.hpp"
 #include "vantage/error.hpp"
 
 namespace vantage {
@@ -148,7 +149,8 @@ class StackedMatrix {
     }
   }
 
-  Score ScoreOfSet(std::span<const uint32_t> chosen) const {
+  /// Per state, |∪ rows of chosen|.
+  std::vector<uint64_t> CountsOfSet(std::span<const uint32_t> chosen) const {
     const std::vector<Bitset> sets = Union(chosen, -1);
     std::vector<uint64_t> counts(state_count());
     for (size_t s = 0; s < state_count(); ++s) {
@@ -156,7 +158,20 @@ class StackedMatrix {
       for (const uint64_t word : sets[s]) count += std::popcount(word);
       counts[s] = count;
     }
-    return ScoreOf(counts);
+    return counts;
+  }
+
+  Score ScoreOfSet(std::span<const uint32_t> chosen) const { return ScoreOf(CountsOfSet(chosen)); }
+
+  /// The aggregate as a fraction (for RANSAC's stop test only; choices compare Scores).
+  double AggregateOf(std::span<const uint64_t> counts) const {
+    double sum = 0, least = 1;
+    for (size_t s = 0; s < counts.size(); ++s) {
+      const double fraction = static_cast<double>(counts[s]) / static_cast<double>(sizes_[s]);
+      sum += fraction;
+      least = std::min(least, fraction);
+    }
+    return over_ == OverStates::kMean ? sum / static_cast<double>(counts.size()) : least;
   }
 
  private:
@@ -193,6 +208,30 @@ std::vector<uint32_t> GreedyChoice(const StackedMatrix& m, size_t n) {
     taken[static_cast<size_t>(best_candidate)] = true;
   }
   return chosen;
+}
+
+/// The paper's Algorithm 2 over states: the same draws as RansacChoice (RansacDraw), each kept
+/// only when its aggregate score is strictly better; stops once the best aggregate reaches
+/// `stop_coverage`. With one state it returns exactly what RansacChoice does.
+std::vector<uint32_t> RansacChoice(const StackedMatrix& m, size_t n, const SelectOptions& options) {
+  std::vector<uint32_t> order(m.candidate_count());
+  std::iota(order.begin(), order.end(), 0U);
+  std::vector<uint32_t> drawn, best;
+  std::vector<uint64_t> best_counts;
+  Score best_score;
+  for (int i = 0; i < options.ransac_iterations &&
+                  (best.empty() || m.AggregateOf(best_counts) < options.ransac_stop_coverage);
+       ++i) {
+    detail::RansacDraw(options.seed, static_cast<uint64_t>(i), n, &order, &drawn);
+    std::vector<uint64_t> counts = m.CountsOfSet(drawn);
+    const Score score = m.ScoreOf(counts);
+    if (best.empty() || score > best_score) {
+      best = drawn;
+      best_counts = std::move(counts);
+      best_score = score;
+    }
+  }
+  return best;
 }
 
 /// 1-swap local search from `start`: each round applies the best strictly improving swap
@@ -257,9 +296,9 @@ StateSelection Scored(std::span<const StateObservations> states,
 }
 
 void Validate(std::span<const StateObservations> states, const SelectOptions& options) {
-  if (options.method == Method::kRansac || options.method == Method::kExact) {
+  if (options.method == Method::kExact) {
     throw InputError(fmt::format("method '{}' is not available with --over-states — use best, "
-                                 "greedy, local or all",
+                                 "ransac, greedy, local or all",
                                  MethodName(options.method)));
   }
   const Objective objective = options.objective();
@@ -325,6 +364,11 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
                                greedy_seconds + SecondsSince(l)));
     }
   };
+  const auto ransac = [&](size_t k) {
+    const Clock::time_point t = Clock::now();
+    std::vector<uint32_t> chosen = RansacChoice(matrix, k, options);
+    return Scored(states, over, Method::kRansac, std::move(chosen), setup + SecondsSince(t));
+  };
   const auto n = static_cast<size_t>(options.n);
   switch (options.method) {
     case Method::kBest:
@@ -336,11 +380,16 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
     case Method::kLocal:
       greedy_and_local(n, false, true);
       break;
+    case Method::kRansac:
+      results.push_back(ransac(n));
+      break;
     case Method::kAll:
       results.push_back(best());
-      for (size_t k = 1; k <= n; ++k) greedy_and_local(k, true, true);
+      for (size_t k = 1; k <= n; ++k) {
+        results.push_back(ransac(k));
+        greedy_and_local(k, true, true);
+      }
       break;
-    case Method::kRansac:
     case Method::kExact:
       VANTAGE_CHECK(false);  // rejected by Validate
   }
