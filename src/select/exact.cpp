@@ -352,6 +352,21 @@ CbcOutcome GuardedCbc(const CoverageMatrix& matrix,
 }
 
 // Number of n-subsets of m items, or +inf beyond `cap`.
+// The MILP for at most n sensors (k-coverage when k >= 2); an answer with more than n sensors,
+// which CBC should never return, is dropped rather than trusted.
+CbcOutcome CardinalityCbc(const CoverageMatrix& matrix, int k, size_t n,
+                          const std::vector<uint32_t>& start, double time_limit) {
+  MilpSpec spec;
+  spec.k = k;
+  spec.capacity = static_cast<double>(n);
+  CbcOutcome outcome = GuardedCbc(matrix, spec, start, time_limit);
+  if (outcome.chosen.size() > n) {
+    outcome = CbcOutcome{};
+    outcome.note = "CBC returned more than n sensors";
+  }
+  return outcome;
+}
+
 double SubsetCount(size_t m, size_t n, double cap) {
   double count = 1;
   for (size_t j = 0; j < n; ++j) {
@@ -436,13 +451,7 @@ ExactResult SolveExact(const CoverageMatrix& matrix,
     result.proven_optimal = true;
     return result;
   }
-  MilpSpec spec;
-  spec.capacity = static_cast<double>(n);
-  CbcOutcome outcome = GuardedCbc(matrix, spec, start, time_limit);
-  if (outcome.chosen.size() > n) {
-    outcome = CbcOutcome{};
-    outcome.note = "CBC returned more than n sensors";
-  }
+  CbcOutcome outcome = CardinalityCbc(matrix, 1, n, start, time_limit);
   result.note = outcome.note;
   if (!outcome.chosen.empty()) {
     std::vector<uint32_t> padded = GreedyComplete(matrix, outcome.chosen, n);
@@ -485,14 +494,7 @@ ExactResult SolveExactK(const CoverageMatrix& matrix,
     result.note = "solved by enumeration";
     return result;
   }
-  MilpSpec spec;
-  spec.k = k;
-  spec.capacity = static_cast<double>(n);
-  CbcOutcome outcome = GuardedCbc(matrix, spec, start, time_limit);
-  if (outcome.chosen.size() > n) {
-    outcome = CbcOutcome{};
-    outcome.note = "CBC returned more than n sensors";
-  }
+  CbcOutcome outcome = CardinalityCbc(matrix, k, n, start, time_limit);
   result.note = outcome.note;
   if (!outcome.chosen.empty()) {
     std::vector<uint32_t> padded = KGreedyComplete(matrix, outcome.chosen, n, k);
