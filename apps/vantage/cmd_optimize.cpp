@@ -36,11 +36,8 @@ std::optional<RefinementInfo> RefinePrimary(const OptimizeOptions& options, cons
                                 (*results)[static_cast<size_t>(from)], select, refine);
   data.candidates = std::move(refined.candidates);
   data.observations = std::move(refined.observations);
-  Selection selection = refined.selection;
+  Selection selection = refined.selection;  // scored, seconds included, by Refine
   selection.method = "refined";
-  const CoverageEvaluator evaluator(data.observations, data.reference.size());
-  selection.paper_coverage = evaluator.PaperCoverage(selection.chosen, selection.k);
-  selection.seconds = refined.seconds;
   results->push_back(selection);
   RefinementInfo info;
   info.from_result = from;
@@ -87,10 +84,12 @@ void RunOptimize(const OptimizeOptions& options) {
   // constellation.world: the input world with only the primary result's sensors (SYSTEM.md).
   std::map<std::string, std::string> extra_files;
   const int primary = report.primary >= 0 ? report.primary : PrimaryResult(report.results);
-  if (IsGazeboWorldPath(options.scene.scene) && primary >= 0) {
-    std::vector<Candidate> chosen;
+  std::vector<Candidate> chosen;
+  if (primary >= 0) {
     for (uint32_t i : report.results[static_cast<size_t>(primary)].chosen)
       chosen.push_back(observed.data.candidates[i]);
+  }
+  if (IsGazeboWorldPath(options.scene.scene) && primary >= 0) {
     std::vector<std::string> notes;
     extra_files["constellation.world"] = ConstellationWorld(
         options.scene.scene, chosen, observed.populations, observed.sensors, &notes);
@@ -98,9 +97,6 @@ void RunOptimize(const OptimizeOptions& options) {
     report.notes.insert(report.notes.end(), notes.begin(), notes.end());
   }
   if (!IsGazeboWorldPath(options.scene.scene) && primary >= 0) {
-    std::vector<Candidate> chosen;
-    for (uint32_t i : report.results[static_cast<size_t>(primary)].chosen)
-      chosen.push_back(observed.data.candidates[i]);
     extra_files["constellation.yaml"] = ConstellationYaml(options.scene.scene, chosen);
   }
   // Robustness reads `data`, the first state's sets: not meaningful over states.

@@ -541,7 +541,9 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
                  first.k);
     }
   }
-  const std::vector<Observation> plain = WithoutQuality(data.observations);
+  // Copies every set: only when a quality filter makes plain coverage differ.
+  const std::vector<Observation> plain =
+      data.quality.active() ? WithoutQuality(data.observations) : std::vector<Observation>{};
   const CoverageEvaluator plain_evaluator(plain, r);
   if (data.quality.active()) {
     std::vector<std::string> limits;

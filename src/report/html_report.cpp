@@ -801,7 +801,9 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   }
 
   // Results.
-  const std::vector<Observation> plain = WithoutQuality(data.observations);
+  // Copies every set: only when a quality filter makes plain coverage differ.
+  const std::vector<Observation> plain =
+      data.quality.active() ? WithoutQuality(data.observations) : std::vector<Observation>{};
   const CoverageEvaluator plain_evaluator(plain, reference_size);
   ordered_json results = ordered_json::array();
   for (const Selection& s : report.results) {

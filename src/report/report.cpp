@@ -130,7 +130,9 @@ std::string ReportJson(const Report& report) {
   j["reference_voxels"] = reference_size;
   ordered_json candidates = ordered_json::array();
   const bool quality = data.quality.active();
-  const std::vector<Observation> plain = WithoutQuality(data.observations);
+  // Copies every set: only when a quality filter makes plain coverage differ.
+  const std::vector<Observation> plain =
+      data.quality.active() ? WithoutQuality(data.observations) : std::vector<Observation>{};
   const CoverageEvaluator plain_evaluator(plain, reference_size);
   for (size_t i = 0; i < data.candidates.size(); ++i) {
     candidates.push_back(CandidateJson(data.candidates[i], data.observations[i], reference_size));
