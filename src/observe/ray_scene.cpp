@@ -77,14 +77,19 @@ void RayScene::Intersect(RayBatch* batch) const {
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   alignas(64) int valid[16];
   alignas(64) RTCRayHit16 rays;
+  VANTAGE_CHECK(batch->active >= 1 && batch->active <= 16);
   for (int lane = 0; lane < 16; ++lane) {
     valid[lane] = lane < batch->active ? -1 : 0;
+    // Idle lanes repeat lane 0's ray: on AVX2 machines Embree splits the 16-wide packet into two
+    // 8-wide ones and asserts that every ray of a half is valid, masked or not (a stale or
+    // uninitialised direction aborted bin_picking_with_occlusions.world).
+    const int source = lane < batch->active ? lane : 0;
     rays.ray.org_x[lane] = batch->origin[0];
     rays.ray.org_y[lane] = batch->origin[1];
     rays.ray.org_z[lane] = batch->origin[2];
-    rays.ray.dir_x[lane] = batch->dir[0][lane];
-    rays.ray.dir_y[lane] = batch->dir[1][lane];
-    rays.ray.dir_z[lane] = batch->dir[2][lane];
+    rays.ray.dir_x[lane] = batch->dir[0][source];
+    rays.ray.dir_y[lane] = batch->dir[1][source];
+    rays.ray.dir_z[lane] = batch->dir[2][source];
     rays.ray.tnear[lane] = 0.0f;
     rays.ray.tfar[lane] = batch->tfar;
     rays.ray.time[lane] = 0.0f;
