@@ -11,7 +11,7 @@
 #include <string>
 
 #include "observe/culling.hpp"
-#include "observe/ray_scene.hpp"
+#include "vantage/ray_scene.hpp"
 #include "vantage/vantage.hpp"
 
 int main(int argc, char** argv) {
@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
     DeployOptions deploy{problem.observation_point, problem.random_roll, problem.seed};
     const std::vector<Candidate> cams =
         DeployCandidates(problem.populations, problem.sensors, problem.sensor_types, deploy);
-    const detail::RayScene rays(problem.scene);
+    const RayScene rays(problem.scene);
     const Reference reference = BuildReference(problem.scene, {problem.cell_size});
     const std::vector<Aabb> blocks = detail::ReferenceBlocks(reference);
     // Spans are computed outside the timed loop: the loop only traces.
@@ -50,13 +50,13 @@ int main(int argc, char** argv) {
       tbb::parallel_for(size_t{0}, cams.size(), [&](size_t i) {
         const Candidate& c = cams[i];
         const Mat3 rotation = c.world_from_body.rotation.toRotationMatrix();
-        detail::RayBatch batch;
+        RayBatch batch;
         for (int a = 0; a < 3; ++a) batch.origin[a] = static_cast<float>(c.world_from_body.position[a]);
         batch.tfar = static_cast<float>(c.sensor.far);
         uint64_t local_hits = 0;
         for (const detail::RowSpan& span : spans[i]) {
-          for (int u0 = span.u0; u0 <= span.u1; u0 += detail::RayBatch::kWidth) {
-            batch.active = std::min(detail::RayBatch::kWidth, span.u1 - u0 + 1);
+          for (int u0 = span.u0; u0 <= span.u1; u0 += RayBatch::kWidth) {
+            batch.active = std::min(RayBatch::kWidth, span.u1 - u0 + 1);
             for (int lane = 0; lane < batch.active; ++lane) {
               const Vec3 d = rotation * PixelRayInBody(c.sensor, u0 + lane, span.v);
               for (int a = 0; a < 3; ++a) batch.dir[a][lane] = static_cast<float>(d[a]);

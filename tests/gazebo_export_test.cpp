@@ -11,6 +11,7 @@
 #endif
 #include "vantage/gazebo_export.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -465,6 +466,30 @@ TEST(GazeboExportCli, OptimizeWritesAConstellationWorldThatSdformatLoads) {
     EXPECT_EQ(reloaded.scene.objects[i].mesh.triangles.size(),
               original.scene.objects[i].mesh.triangles.size());
   }
+}
+
+// Bug of issue 13: `vantage render OUT` of a Gazebo run failed unless --model-path and
+// --resource-path were given again. The run's folder now carries them (report.json `inputs`): the
+// picture is made from the folder alone and re-observes the
+// report's own coverage.
+TEST(GazeboExportCli, RenderReproducesAGazeboRunFromItsFolderAlone) {
+  const std::string costa = test::Costa2017Dir();
+  test::TempDir dir;
+  const auto run = test::RunVantage(
+      "-q optimize " + costa + "/worlds/bin_picking.world --model-path " + costa +
+      "/media/models --resource-path " + costa + "/media -n 1 --method best --out " +
+      dir.File("out"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json report = nlohmann::json::parse(test::ReadText(dir.File("out/report.json")));
+  ASSERT_EQ(report["inputs"]["model_paths"].size(), 1u);
+  const auto render = test::RunVantage("render " + dir.File("out") + " --png " +
+                                       dir.File("view.png") + " --width 160 --height 120");
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  EXPECT_TRUE(std::filesystem::exists(dir.File("view.png")));
+  EXPECT_EQ(render.err.find("coverage"), std::string::npos) << render.err;  // no "changed" warning
+  const double coverage = report["results"][0]["coverage"].get<double>();
+  EXPECT_NE(render.out.find(fmt::format("coverage {:.2f} %", 100.0 * coverage)), std::string::npos)
+      << render.out;
 }
 
 }  // namespace

@@ -94,7 +94,7 @@ Fixture FaceSetup(const Vec3& observation_point = kPastTheCube,
 }
 
 RefineResult RunRefine(const Fixture& s, const RefineOptions& options = {}) {
-  return Refine(s.scene, s.reference, s.candidates, s.observations, s.populations,
+  return Refine(RayScene(s.scene), s.reference, s.candidates, s.observations, s.populations,
                 s.observation_point, s.start, s.select, options);
 }
 
@@ -283,16 +283,16 @@ TEST(Refine, RejectsBadInput) {
   bad.per_sensor = 0;
   EXPECT_THROW(RunRefine(s, bad), InputError);
   // One observation short.
-  EXPECT_THROW(Refine(s.scene, s.reference, s.candidates, {}, s.populations, s.observation_point,
+  EXPECT_THROW(Refine(RayScene(s.scene), s.reference, s.candidates, {}, s.populations, s.observation_point,
                       s.start, s.select, {}),
                InputError);
   // The candidate's population is not given.
-  EXPECT_THROW(Refine(s.scene, s.reference, s.candidates, s.observations, {}, s.observation_point,
+  EXPECT_THROW(Refine(RayScene(s.scene), s.reference, s.candidates, s.observations, {}, s.observation_point,
                       s.start, s.select, {}),
                InputError);
   Selection out_of_range = s.start;
   out_of_range.chosen = {7};
-  EXPECT_THROW(Refine(s.scene, s.reference, s.candidates, s.observations, s.populations,
+  EXPECT_THROW(Refine(RayScene(s.scene), s.reference, s.candidates, s.observations, s.populations,
                       s.observation_point, out_of_range, s.select, {}),
                InputError);
 }

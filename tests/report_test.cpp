@@ -20,7 +20,7 @@ VisibilityFile SmallData() {
   VisibilityFile data;
   data.scene = "scene.yaml";
   data.seed = 7;
-  data.n = 2;
+  data.selection.n = 2;
   data.reference.cell_size = 0.005;
   for (int64_t i = 0; i < 10; ++i) data.reference.keys.push_back(PackVoxel({i, -i, 2 * i}));
   std::sort(data.reference.keys.begin(), data.reference.keys.end());
@@ -48,7 +48,7 @@ TEST(VisibilityFile, RoundTripKeepsEverything) {
   const VisibilityFile back = LoadVisibilityFile(dir.File("m.vis"));
   EXPECT_EQ(back.scene, data.scene);
   EXPECT_EQ(back.seed, data.seed);
-  EXPECT_EQ(back.n, data.n);
+  EXPECT_EQ(back.selection.n, data.selection.n);
   EXPECT_EQ(back.reference.keys, data.reference.keys);
   EXPECT_EQ(back.reference.cell_size, data.reference.cell_size);
   ASSERT_EQ(back.candidates.size(), 3u);
@@ -153,6 +153,7 @@ Report SmallReport(const VisibilityFile& data) {
   s.seconds = 0.01;
   report.results = {s};
   report.timings = {0.1, 0.2, 0.3, 0.4, 1.0};
+  DeriveReport(&report);
   return report;
 }
 

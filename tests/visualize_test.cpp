@@ -1,6 +1,7 @@
 // Results people can look at (issue #7): the ray-traced PNG against analytic answers (a sphere
 // seen from one side), the ROS static transforms, and report.html — self-contained, and opened in
 // headless Chromium (no script error, no network request, a 3D view that is not blank, a chart).
+#include "vantage/render.hpp"
 #include "vantage/visualize.hpp"
 
 #include <gtest/gtest.h>
@@ -68,6 +69,7 @@ std::unique_ptr<SceneRun> MakeRun(Scene scene, std::vector<Candidate> cameras, i
   run->report.scene = run->data.scene;
   run->report.data = &run->data;
   run->report.results = Select(run->data.observations, run->data.reference.size(), options);
+  DeriveReport(&run->report);
   return run;
 }
 
@@ -265,6 +267,7 @@ TEST(StaticTransforms, ChosenSensorsWithRosQuaternionsAndOpticalFrames) {
         world_from_optical.col(1).isApprox(-(c.world_from_body.rotation * Vec3::UnitZ()), 1e-6));
   }
   run->report.results.clear();
+  DeriveReport(&run->report);
   const YAML::Node empty = YAML::Load(StaticTransformsYaml(run->report));
   EXPECT_EQ(empty["transforms"].size(), 0u);
 }
@@ -450,6 +453,7 @@ TEST(HtmlReport, OpensInHeadlessChromiumOfflineWithA3dViewAndAChart) {
   bounded.method = "exact";
   bounded.upper_bound = std::min(1.0, bounded.coverage + 0.02);
   run->report.results.push_back(bounded);
+  DeriveReport(&run->report);
 
   test::TempDir dir;
   const std::string page = dir.File("report.html");

@@ -1,5 +1,4 @@
-#include <spdlog/spdlog.h>
-
+// `vantage observe SCENE --out FILE`: the visibility matrix, saved for `vantage select`.
 #include <memory>
 
 #include "commands.hpp"
@@ -7,37 +6,35 @@
 namespace vantage::cli {
 namespace {
 
-struct ObserveCommandOptions {
-  SceneOptions scene;
-  std::optional<int> n;
+struct ObserveFlags {
+  ObserveRunOptions options;
   std::string out;
 };
 
-void RunObserve(const ObserveCommandOptions& options) {
-  SelectionOptions selection;
-  selection.n = options.n;
-  ObservedScene observed = ObserveScene(options.scene, &selection);
-  if (!observed.states.empty())
-    spdlog::warn("{}: the visibility file holds the first state '{}' only; `vantage optimize` selects over "
-                 "all {} states", observed.data.scene, observed.states.front().name, observed.states.size());
-  SaveVisibilityFile(options.out, observed.data);
-  fmt::print("reference        {} voxels of {} m\n", observed.data.reference.size(),
-             observed.data.reference.cell_size);
-  fmt::print("candidates       {}\n", observed.data.candidates.size());
-  fmt::print("observe          {:.3f} s\n", observed.timings.observe);
-  fmt::print("visibility       {}\n", options.out);
+void RunObserve(ObserveFlags flags) {
+  flags.options.observe.progress = ProgressBar("observe");
+  const ObserveRunResult result = ObserveRun(flags.options);
+  SaveVisibilityFile(flags.out, result.data);
+  fmt::print("reference        {} voxels of {} m\n", result.data.reference.size(),
+             result.data.reference.cell_size);
+  fmt::print("candidates       {}\n", result.data.candidates.size());
+  fmt::print("observe          {:.3f} s\n", result.timings.observe);
+  fmt::print("visibility       {}\n", flags.out);
 }
 
 }  // namespace
 
 void SetupObserve(CLI::App* parent) {
-  auto options = std::make_shared<ObserveCommandOptions>();
+  auto flags = std::make_shared<ObserveFlags>();
   CLI::App* app = parent->add_subcommand(
       "observe", "ray cast every candidate and save the visibility matrix for `vantage select`");
-  AddSceneOptions(app, &options->scene);
-  app->add_option("-n,--sensors", options->n, "default number of sensors stored with the matrix");
-  app->add_option("-o,--out", options->out, "visibility matrix file to write (e.g. scene.vis)")->required();
-  app->callback([options] { RunObserve(*options); });
+  AddSceneFlags(app, &flags->options.scene);
+  AddObserveFlags(app, &flags->options.observe, &flags->options.limits);
+  app->add_option("-n,--sensors", flags->options.n,
+                  "default number of sensors stored with the matrix");
+  app->add_option("-o,--out", flags->out, "visibility matrix file to write (e.g. scene.vis)")
+      ->required();
+  app->callback([flags] { RunObserve(*flags); });
 }
 
 }  // namespace vantage::cli

@@ -5,7 +5,6 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
-#include <tbb/info.h>
 
 #include <algorithm>
 #include <memory>
@@ -13,11 +12,10 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "vantage/error.hpp"
 
 namespace {
 
-int Run(int argc, char** argv) {
+int Run(int argc, char** argv, spdlog::logger* logger) {
   CLI::App app{"vantage — choose where to put depth cameras to see the most of the targets.\n"
                "Run `vantage help COMMAND` for the options of a command."};
   app.require_subcommand(1);
@@ -31,6 +29,16 @@ int Run(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "only errors on stderr");
   app.add_flag("-v,--verbose", verbosity, "more log detail (repeatable)");
   app.fallthrough();
+  // Applied once parsing is complete, before the command's callback runs (STYLE.md: main
+  // applies --threads once).
+  std::unique_ptr<tbb::global_control> thread_limit;
+  app.parse_complete_callback([&] {
+    if (quiet) logger->set_level(spdlog::level::err);
+    if (verbosity > 0) logger->set_level(spdlog::level::debug);
+    if (threads > 0)
+      thread_limit = std::make_unique<tbb::global_control>(
+          tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+  });
 
   vantage::cli::SetupOptimize(&app);
   vantage::cli::SetupObserve(&app);
@@ -50,31 +58,19 @@ int Run(int argc, char** argv) {
 
   // `vantage help X` becomes `X --help` (CLI11 has no help command).
   std::vector<std::string> args(argv + 1, argv + argc);
-  if (!args.empty() && args[0] == "help") {
-    if (args.size() >= 2) {
-      args = {args[1], "--help"};
-    } else {
-      args = {"--help"};
-    }
-  }
-  // The first word that is no option (nor --threads' value) must name a command; CLI11 would
-  // only say "A subcommand is required".
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& word = args[i];
-    if (word == "--threads") {
-      ++i;
-      continue;
-    }
-    if (word.empty() || word[0] == '-') continue;
-    if (std::find(commands.begin(), commands.end(), word) != commands.end()) break;
-    throw vantage::InputError(
-        fmt::format("unknown command '{}' — use one of {} (`vantage --help` describes them)",
-                    word, fmt::join(commands, ", ")));
-  }
+  if (!args.empty() && args[0] == "help") args = args.size() >= 2 ? std::vector<std::string>{args[1], "--help"}
+                                                                 : std::vector<std::string>{"--help"};
   std::reverse(args.begin(), args.end());
   try {
     app.parse(args);
   } catch (const CLI::ParseError& e) {
+    // A first word that names no command: CLI11 would only say "A subcommand is required".
+    const std::vector<std::string> rest = app.remaining();
+    if (app.get_subcommands().empty() && !rest.empty() && !rest.front().empty() &&
+        rest.front()[0] != '-' && e.get_exit_code() != 0)
+      throw vantage::InputError(
+          fmt::format("unknown command '{}' — use one of {} (`vantage --help` describes them)",
+                      rest.front(), fmt::join(commands, ", ")));
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
   }
@@ -87,22 +83,8 @@ int main(int argc, char** argv) {
   auto logger = spdlog::stderr_color_mt("vantage");
   logger->set_pattern("[%l] %v");
   spdlog::set_default_logger(logger);
-  // Options are parsed inside Run; log level and threads are read from argv here so that they
-  // apply before any command runs.
-  int threads = 0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if ((arg == "-q" || arg == "--quiet")) logger->set_level(spdlog::level::err);
-    if (arg == "-v" || arg == "--verbose") logger->set_level(spdlog::level::debug);
-    if (arg == "--threads" && i + 1 < argc) threads = std::atoi(argv[i + 1]);
-    if (arg.rfind("--threads=", 0) == 0) threads = std::atoi(arg.c_str() + 10);
-  }
-  std::unique_ptr<tbb::global_control> thread_limit;
-  if (threads > 0)
-    thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                         static_cast<size_t>(threads));
   try {
-    return Run(argc, argv);
+    return Run(argc, argv, logger.get());
   } catch (const vantage::InputError& e) {
     logger->error("{}", e.what());
     return 2;

@@ -13,6 +13,18 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// An InputError about option fields (`fields()`: the struct fields at fault, e.g. {"n", "k"}),
+/// so that a caller can say where the value came from: a flag, or the scene file.
+class FieldError : public InputError {
+ public:
+  FieldError(std::vector<std::string> fields, const std::string& message)
+      : InputError(message), fields_(std::move(fields)) {}
+  const std::vector<std::string>& fields() const { return fields_; }
+
+ private:
+  std::vector<std::string> fields_;
+};
+
 /// A broken invariant inside vantage: a bug, never the user's fault.
 class InternalError : public std::runtime_error {
  public:

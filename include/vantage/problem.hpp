@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "vantage/candidates.hpp"
+#include "vantage/population.hpp"
 #include "vantage/scene.hpp"
 #include "vantage/sensors.hpp"
 #include "vantage/states.hpp"

@@ -8,8 +8,8 @@
 
 #include "vantage/candidates.hpp"
 #include "vantage/observe.hpp"
+#include "vantage/population.hpp"
 #include "vantage/reference.hpp"
-#include "vantage/scene.hpp"
 #include "vantage/select.hpp"
 
 namespace vantage {
@@ -23,6 +23,9 @@ struct RefineOptions {
   /// this many halvings in a row without improvement it stops. 0: stop at the first such round.
   int max_halvings = 1;
   uint64_t seed = 1;  ///< which poses of the pool are drawn when it holds more than per_sensor
+  /// How the new poses are traced: the culling and quality filter the given observations were
+  /// made with, so that old and new candidates are scored alike.
+  ObserveOptions observe;
 
   /// Throws InputError naming the field when a value is out of range or not finite.
   void Validate() const;
@@ -54,7 +57,7 @@ struct RefineResult {
 bool RegionContains(const Population& population, const Vec3& world_position);
 
 /// Refines `start`, a selection over `candidates` with their `observations` (one each, as from
-/// Observe with `reference` of `scene`). `populations` are those the candidates were deployed from
+/// Observe in `rays` with `reference` and options.observe). `populations` are those the candidates were deployed from
 /// (matched by Candidate::population; "" is an explicit sensor, which moves freely by the same
 /// steps). Poses are re-aimed with LookAt at the model's position and composed with the
 /// population's model_from_camera as DeployCandidates does; a population's random roll is kept.
@@ -63,7 +66,7 @@ bool RegionContains(const Population& population, const Vec3& world_position);
 /// coverage never drops. Deterministic for a seed whatever the thread count.
 /// Throws InputError for invalid options, sizes that do not match, an unknown population name,
 /// or `start` naming a candidate out of range.
-RefineResult Refine(const Scene& scene,
+RefineResult Refine(const RayScene& rays,
                     const Reference& reference,
                     std::vector<Candidate> candidates,
                     std::vector<Observation> observations,

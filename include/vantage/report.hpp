@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "vantage/observe.hpp"
 #include "vantage/robustness.hpp"
 #include "vantage/select.hpp"
+#include "vantage/visibility_file.hpp"
 
 namespace vantage {
 
@@ -43,14 +43,52 @@ struct StatesInfo {
   std::vector<State> states;
 };
 
-/// Everything one report holds.
+/// What shaped a run, as report.json's `inputs` block records it (docs/outputs.md), so that
+/// `render`, `evaluate` and a rerun reproduce the run from its output folder alone. Paths are
+/// absolute; unset options were not given (the scene's own values applied).
+struct RunInputs {
+  std::string command;  ///< optimize, select or evaluate
+  std::string scene;    ///< the scene file
+  std::vector<std::string> model_paths;     ///< --model-path
+  std::vector<std::string> resource_paths;  ///< --resource-path
+  std::vector<std::string> targets;         ///< --target
+  std::optional<double> cell_size;          ///< --cell-size
+  std::optional<uint64_t> seed;             ///< --seed
+  std::optional<Vec3> observation_point;    ///< --observation-point
+  std::optional<bool> random_roll;          ///< --random-roll
+  bool cull = true;                         ///< false: --no-cull
+  QualityFilter quality;                    ///< --max-incidence, --max-depth-noise
+  std::optional<int> n;                     ///< -n
+  std::optional<std::string> method;        ///< --method
+  std::optional<int> ransac_iterations;     ///< --iterations
+  std::optional<double> ransac_stop_coverage;  ///< --stop
+  std::optional<double> time_limit;         ///< --time-limit
+  std::optional<double> goal;               ///< --goal
+  std::optional<int> k;                     ///< --k
+  std::optional<double> budget;             ///< --budget
+  std::optional<std::string> over_states;   ///< --over-states
+  bool refine = false;                      ///< --refine
+  std::optional<int> refine_rounds;         ///< --refine-rounds
+  std::optional<double> fov_tolerance_deg;  ///< --fov-tolerance
+  std::optional<double> alternatives_within;  ///< --alternatives-within, coverage points
+  std::string visibility_file;              ///< select: the .vis file
+  std::string constellation;                ///< evaluate: the constellation file
+};
+
+/// One chosen sensor of the primary result, in the order chosen.
+struct ChosenSensor {
+  uint32_t index = 0;        ///< candidate index
+  double marginal_gain = 0;  ///< share of R it adds to those chosen before it
+  double cumulative = 0;     ///< share of R of it and those before it
+};
+
+/// Everything one report holds. The writers (ReportJson, HtmlReport, ...) only serialise it: the
+/// values derived from the results are computed once, by DeriveReport, before any writer runs.
 struct Report {
   std::string scene;
   uint64_t seed = 1;
   const VisibilityFile* data = nullptr;  ///< reference, candidates, observations (not owned)
   std::vector<Selection> results;
-  /// Index into `results` of the constellation that observed.ply shows; -1 = PrimaryResult().
-  int primary = -1;
   Timings timings;
   std::vector<std::string> notes;
   /// Read-outs for one result (usually the primary), when computed (issue 9).
@@ -58,7 +96,30 @@ struct Report {
   std::optional<RefinementInfo> refinement;
   /// Set for a scene with states; `data` then holds the first state's reference and sets.
   std::optional<StatesInfo> states;
+  /// What shaped the run (report.json `inputs`); absent for reports built by hand.
+  std::optional<RunInputs> inputs;
+
+  // Derived by DeriveReport.
+  bool is_derived = false;
+  /// Index into `results` of the result that stands for the run (PrimaryResult); -1: none.
+  int primary = -1;
+  /// With a quality filter and no states: per result its coverage counting every pixel (under
+  /// its k); empty otherwise.
+  std::vector<double> result_plain_coverage;
+  /// With a quality filter: per candidate its coverage counting every pixel; empty otherwise.
+  std::vector<double> candidate_plain_coverage;
+  /// The primary result's sensors with their marginal gains; empty without a primary.
+  std::vector<ChosenSensor> primary_sensors;
+  /// The candidate that sees the most of R alone (ties: the first); -1 without candidates.
+  int best_single = -1;
+
+  /// The primary result's chosen candidates (empty without one). Requires is_derived.
+  const std::vector<uint32_t>& PrimaryChosen() const;
 };
+
+/// Fills the derived fields of `report` from its data and results (once, before the writers).
+/// Requires report->data.
+void DeriveReport(Report* report);
 
 /// The result that stands for the run: among those with the largest n, the highest coverage
 /// (ties: the first). -1 when there is no result.
@@ -75,15 +136,24 @@ std::string VoxelPly(const std::vector<uint64_t>& keys, double cell_size);
 /// Packed keys that the union of `chosen` observes (in R and outside it), sorted.
 std::vector<uint64_t> ObservedKeys(const VisibilityFile& data, const std::vector<uint32_t>& chosen);
 
+/// report.json, candidates.csv, reference.ply and observed.ply (the primary result's voxels), by
+/// file name. Requires a derived report.
+std::map<std::string, std::string> ReportFiles(const Report& report);
+
 /// Writes every output into `out_dir` atomically: a temporary sibling folder, renamed over the
 /// old one only once complete. `extra_files` (name -> content) are written beside the others.
 void WriteOutputs(const std::string& out_dir, const Report& report,
                   const std::map<std::string, std::string>& extra_files = {});
 
 /// A constellation to evaluate: the candidates of a report.json (and, when present, the
-/// sensors named by its first `results` entry; otherwise every candidate).
+/// sensors named by its first `results` entry; otherwise every candidate), with the run's
+/// `inputs` when the file has them.
 struct Constellation {
   std::vector<Candidate> sensors;
+  std::optional<RunInputs> inputs;
+  double cell_size = 0;                 ///< report.json `cell_size`; 0 when absent
+  std::string scene;                    ///< report.json `scene`; "" when absent
+  std::optional<double> coverage;       ///< of the result whose sensors were taken
 };
 /// Reads report.json-shaped input; InputError naming file and problem when malformed.
 Constellation LoadConstellation(const std::string& path);

@@ -7,7 +7,9 @@
 #include <vector>
 
 #include "vantage/candidates.hpp"
+#include "vantage/observe.hpp"
 #include "vantage/select.hpp"
+#include "vantage/visibility_file.hpp"
 
 namespace vantage {
 
@@ -53,12 +55,22 @@ std::vector<Alternative> NearOptimalAlternatives(const CoverageEvaluator& evalua
 /// InputError when the tolerance is not in [0, the smaller field of view).
 std::vector<Candidate> ShrinkFov(std::span<const Candidate> candidates, double tolerance_deg);
 
+/// What AssessRobustness computes beyond the failures.
+struct RobustnessOptions {
+  double fov_tolerance_deg = 3;  ///< fields of view narrowed by this [deg], >= 0
+  double within = 0.01;          ///< coverage (fraction) an alternative may lose, in [0, 1]
+  /// InputError naming the option (--fov-tolerance, --alternatives-within).
+  void Validate() const;
+};
+
 /// The read-outs for `results[index]` of a run over `data`: failures, alternatives within
-/// `within` coverage points (fraction) that keep set cover's goal, and, when `scene` is given,
-/// the coverage with every chosen sensor's field of view shrunk by `fov_tolerance_deg` (those
-/// sensors re-traced with the data's quality filter). Budget results get no alternatives (a
-/// swap may break the budget).
+/// options.within (fraction) that keep set cover's goal, and, when `rays` is given (the RayScene
+/// of the scene `data` was observed in), the coverage with every chosen sensor's field of view
+/// shrunk by options.fov_tolerance_deg, those sensors re-traced with `observe` (the run's culling
+/// and the data's quality filter). Budget results get no alternatives (a swap may break the
+/// budget).
 Robustness AssessRobustness(const VisibilityFile& data, const std::vector<Selection>& results,
-                            int index, const Scene* scene, double fov_tolerance_deg, double within);
+                            int index, const RayScene* rays, const ObserveOptions& observe,
+                            const RobustnessOptions& options);
 
 }  // namespace vantage

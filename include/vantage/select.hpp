@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "vantage/observe.hpp"
+#include "vantage/visibility.hpp"
 
 namespace vantage {
 
@@ -107,6 +107,18 @@ class CoverageEvaluator {
 std::vector<Selection> Select(std::span<const Observation> observations,
                               size_t reference_size,
                               const SelectOptions& options);
+
+/// `chosen` named `method`, scored under the objective of `options` exactly as Select scores its
+/// answers (coverage or k-coverage, goal, budget and cost filled in); seconds 0, no bound.
+Selection ScoreChosen(const CoverageEvaluator& evaluator, std::vector<uint32_t> chosen,
+                      const std::string& method, const SelectOptions& options);
+
+/// Swap local search (as method local runs it) from `start`, under the objective of `options`:
+/// k-coverage for k >= 2, the budget with options.costs; never worse than `start`. For the
+/// refinement of a constellation over grown candidate sets. InternalError for set cover.
+std::vector<uint32_t> ImproveBySwaps(std::span<const Observation> observations,
+                                     size_t reference_size, std::vector<uint32_t> start,
+                                     const SelectOptions& options);
 
 /// Single methods, each for exactly options.n sensors.
 Selection SelectBest(const CoverageEvaluator& evaluator);

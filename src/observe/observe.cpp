@@ -10,17 +10,15 @@
 #include <numbers>
 
 #include "observe/culling.hpp"
-#include "observe/ray_scene.hpp"
+#include "vantage/ray_scene.hpp"
 #include "vantage/error.hpp"
 
 namespace vantage {
 namespace {
 
 using detail::ReferenceBlocks;
-using detail::RayBatch;
 using detail::RowSpan;
 using detail::SpansToTrace;
-using detail::RayScene;
 
 // R's indices of the sorted unique `keys` go to `indices`, the rest to `outside` (may be null).
 // Both lists are sorted: one merge splits them.
@@ -109,12 +107,11 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
 
 }  // namespace
 
-std::vector<Observation> Observe(const Scene& scene, const Reference& reference,
+std::vector<Observation> Observe(const RayScene& rays, const Reference& reference,
                                  std::span<const Candidate> candidates, const ObserveOptions& options) {
   for (const Candidate& c : candidates) c.sensor.Validate(c.name);
-  options.quality.Validate();
+  options.Validate();
   const std::vector<Aabb> blocks = ReferenceBlocks(reference);
-  const RayScene rays(scene);
   std::vector<Observation> observations(candidates.size());
   std::atomic<size_t> done{0};
   // Candidates are independent; each fills its own slot, so the result does not depend on the
@@ -125,6 +122,11 @@ std::vector<Observation> Observe(const Scene& scene, const Reference& reference,
     if (options.progress) options.progress(finished, candidates.size());
   });
   return observations;
+}
+
+std::vector<Observation> Observe(const Scene& scene, const Reference& reference,
+                                 std::span<const Candidate> candidates, const ObserveOptions& options) {
+  return Observe(RayScene(scene), reference, candidates, options);
 }
 
 }  // namespace vantage

@@ -1,4 +1,4 @@
-#include "observe/ray_scene.hpp"
+#include "vantage/ray_scene.hpp"
 
 #include <embree3/rtcore.h>
 #include <spdlog/spdlog.h>
@@ -8,7 +8,7 @@
 
 #include "vantage/error.hpp"
 
-namespace vantage::detail {
+namespace vantage {
 
 struct RayScene::Impl {
   RTCDevice device = nullptr;
@@ -146,4 +146,4 @@ RayHit RayScene::IntersectHit(const float origin[3], const float dir[3], float t
   return hit;
 }
 
-}  // namespace vantage::detail
+}  // namespace vantage

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "vantage/error.hpp"
+#include "report/run_inputs.hpp"
 #include "vantage/report.hpp"
 
 namespace vantage {
@@ -117,6 +118,8 @@ Constellation LoadConstellation(const std::string& path) {
         j["primary_result"].get<size_t>() < j["results"].size())
       which = j["primary_result"].get<size_t>();
     const json& result = j["results"][which];
+    if (result.is_object() && result.contains("coverage") && result["coverage"].is_number())
+      constellation.coverage = result["coverage"].get<double>();
     if (!result.is_object() || !result.contains("sensors") || !result["sensors"].is_array())
       throw InputError(AtPlace(path, 0, fmt::format("results[{}]: 'sensors' must be an array of names", which)));
     for (const json& name : result["sensors"]) {
@@ -131,6 +134,10 @@ Constellation LoadConstellation(const std::string& path) {
   }
   if (constellation.sensors.empty())
     throw InputError(AtPlace(path, 0, "the constellation holds no sensor"));
+  if (j.contains("scene") && j["scene"].is_string()) constellation.scene = j["scene"].get<std::string>();
+  if (j.contains("cell_size") && j["cell_size"].is_number())
+    constellation.cell_size = j["cell_size"].get<double>();
+  if (j.contains("inputs")) constellation.inputs = detail::ParseRunInputs(j["inputs"], path);
   return constellation;
 }
 

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
+#include "report/run_inputs.hpp"
 #include "util/atomic_file.hpp"
 #include "vantage/error.hpp"
 
@@ -117,8 +118,58 @@ int PrimaryResult(const std::vector<Selection>& results) {
   return best;
 }
 
+const std::vector<uint32_t>& Report::PrimaryChosen() const {
+  VANTAGE_CHECK(is_derived);
+  static const std::vector<uint32_t> kNone;
+  return primary >= 0 ? results.at(static_cast<size_t>(primary)).chosen : kNone;
+}
+
+void DeriveReport(Report* report) {
+  VANTAGE_CHECK(report->data != nullptr);
+  const VisibilityFile& data = *report->data;
+  const size_t reference_size = data.reference.size();
+  report->primary = PrimaryResult(report->results);
+  report->result_plain_coverage.clear();
+  report->candidate_plain_coverage.clear();
+  if (data.quality.active()) {
+    // Plain coverage differs only under a quality filter, so only then are the sets copied.
+    const std::vector<Observation> plain = WithoutQuality(data.observations);
+    const CoverageEvaluator plain_evaluator(plain, reference_size);
+    for (const Observation& o : plain)
+      report->candidate_plain_coverage.push_back(Fraction(o.reference_indices.size(), reference_size));
+    // With states, `data` holds the first state's sets only: no plain coverage of a result.
+    if (!report->states) {
+      for (const Selection& s : report->results)
+        report->result_plain_coverage.push_back(plain_evaluator.Coverage(s.chosen, s.k));
+    }
+  }
+  report->best_single = data.observations.empty() ? -1 : 0;
+  for (size_t i = 1; i < data.observations.size(); ++i) {
+    if (data.observations[i].reference_indices.size() >
+        data.observations[static_cast<size_t>(report->best_single)].reference_indices.size())
+      report->best_single = static_cast<int>(i);
+  }
+  report->primary_sensors.clear();
+  std::vector<bool> seen(reference_size, false);
+  size_t covered = 0;
+  if (report->primary >= 0) {
+    for (uint32_t index : report->results[static_cast<size_t>(report->primary)].chosen) {
+      VANTAGE_CHECK(index < data.observations.size());
+      size_t gained = 0;
+      for (uint32_t r : data.observations[index].reference_indices) {
+        if (!seen[r]) ++gained;
+        seen[r] = true;
+      }
+      covered += gained;
+      report->primary_sensors.push_back(
+          {index, Fraction(gained, reference_size), Fraction(covered, reference_size)});
+    }
+  }
+  report->is_derived = true;
+}
+
 std::string ReportJson(const Report& report) {
-  VANTAGE_CHECK(report.data != nullptr);
+  VANTAGE_CHECK(report.data != nullptr && report.is_derived);
   const VisibilityFile& data = *report.data;
   const size_t reference_size = data.reference.keys.size();
   ordered_json j;
@@ -130,21 +181,18 @@ std::string ReportJson(const Report& report) {
   j["reference_voxels"] = reference_size;
   ordered_json candidates = ordered_json::array();
   const bool quality = data.quality.active();
-  // Copies every set: only when a quality filter makes plain coverage differ.
-  const std::vector<Observation> plain =
-      data.quality.active() ? WithoutQuality(data.observations) : std::vector<Observation>{};
-  const CoverageEvaluator plain_evaluator(plain, reference_size);
   for (size_t i = 0; i < data.candidates.size(); ++i) {
     candidates.push_back(CandidateJson(data.candidates[i], data.observations[i], reference_size));
     if (!quality) continue;
-    candidates.back()["plain_coverage"] = Fraction(plain[i].reference_indices.size(), reference_size);
+    candidates.back()["plain_coverage"] = report.candidate_plain_coverage.at(i);
     candidates.back()["target_pixels"] = data.observations[i].target_pixels;
     candidates.back()["quality_pixels"] = data.observations[i].quality_pixels;
   }
   j["candidates"] = std::move(candidates);
   if (quality) j["quality"] = QualityJson(data);
   ordered_json results = ordered_json::array();
-  for (const Selection& s : report.results) {
+  for (size_t index = 0; index < report.results.size(); ++index) {
+    const Selection& s = report.results[index];
     ordered_json r;
     r["method"] = s.method;
     r["n"] = s.n;
@@ -154,7 +202,7 @@ std::string ReportJson(const Report& report) {
     r["coverage"] = s.coverage;
     r["paper_coverage"] = s.paper_coverage;
     // Plain coverage from `data` is the first state's: shown only without states.
-    if (quality && !report.states) r["plain_coverage"] = plain_evaluator.Coverage(s.chosen, s.k);
+    if (!report.result_plain_coverage.empty()) r["plain_coverage"] = report.result_plain_coverage.at(index);
     if (!s.state_coverage.empty()) r["state_coverage"] = s.state_coverage;
     if (s.upper_bound) {
       r["upper_bound"] = *s.upper_bound;
@@ -175,8 +223,7 @@ std::string ReportJson(const Report& report) {
     results.push_back(std::move(r));
   }
   j["results"] = std::move(results);
-  const int primary = report.primary >= 0 ? report.primary : PrimaryResult(report.results);
-  if (primary >= 0) j["primary_result"] = primary;
+  if (report.primary >= 0) j["primary_result"] = report.primary;
   if (report.robustness) j["robustness"] = RobustnessJson(*report.robustness, data);
   if (report.states) {
     ordered_json states = ordered_json::array();
@@ -201,6 +248,7 @@ std::string ReportJson(const Report& report) {
                   {"select", report.timings.select},
                   {"total", report.timings.total}};
   if (!report.notes.empty()) j["notes"] = report.notes;
+  if (report.inputs) j["inputs"] = detail::RunInputsJson(*report.inputs);
   return j.dump(2) + "\n";
 }
 
@@ -262,17 +310,21 @@ std::vector<uint64_t> ObservedKeys(const VisibilityFile& data, const std::vector
   return keys;
 }
 
-void WriteOutputs(const std::string& out_dir, const Report& report,
-                  const std::map<std::string, std::string>& extra_files) {
-  VANTAGE_CHECK(report.data != nullptr);
-  std::map<std::string, std::string> files = extra_files;
+std::map<std::string, std::string> ReportFiles(const Report& report) {
+  VANTAGE_CHECK(report.data != nullptr && report.is_derived);
+  std::map<std::string, std::string> files;
   files["report.json"] = ReportJson(report);
   files["candidates.csv"] = CandidatesCsv(report);
   files["reference.ply"] = VoxelPly(report.data->reference.keys, report.data->reference.cell_size);
-  const int primary = report.primary >= 0 ? report.primary : PrimaryResult(report.results);
-  const std::vector<uint32_t> chosen =
-      primary >= 0 ? report.results[primary].chosen : std::vector<uint32_t>{};
-  files["observed.ply"] = VoxelPly(ObservedKeys(*report.data, chosen), report.data->reference.cell_size);
+  files["observed.ply"] =
+      VoxelPly(ObservedKeys(*report.data, report.PrimaryChosen()), report.data->reference.cell_size);
+  return files;
+}
+
+void WriteOutputs(const std::string& out_dir, const Report& report,
+                  const std::map<std::string, std::string>& extra_files) {
+  std::map<std::string, std::string> files = ReportFiles(report);
+  files.insert(extra_files.begin(), extra_files.end());
   detail::WriteFolderAtomically(out_dir, files);
 }
 

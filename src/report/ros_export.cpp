@@ -68,12 +68,10 @@ void AppendTransform(const std::string& name,
 }  // namespace
 
 std::string StaticTransformsYaml(const Report& report, const std::string& parent_frame) {
-  VANTAGE_CHECK(report.data != nullptr);
+  VANTAGE_CHECK(report.data != nullptr && report.is_derived);
   const VisibilityFile& data = *report.data;
-  const int primary = report.primary >= 0 ? report.primary : PrimaryResult(report.results);
-  const Selection* result = primary >= 0 && primary < static_cast<int>(report.results.size())
-                                ? &report.results[primary]
-                                : nullptr;
+  const Selection* result =
+      report.primary >= 0 ? &report.results[static_cast<size_t>(report.primary)] : nullptr;
 
   std::string yaml =
       "# vantage: the chosen sensors as static transforms (docs/outputs.md, "

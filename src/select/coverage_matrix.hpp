@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "vantage/observe.hpp"
+#include "vantage/visibility.hpp"
 
 namespace vantage::detail {
 

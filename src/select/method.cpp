@@ -20,17 +20,18 @@ constexpr std::array<Method, 6> kMethods = {Method::kBest,  Method::kRansac, Met
 void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
   const int objectives = (o.goal ? 1 : 0) + (o.budget ? 1 : 0) + (o.k >= 2 ? 1 : 0);
   if (objectives > 1) {
-    throw InputError(
+    throw FieldError(
+        {"goal", "k", "budget"},
         "goal, k >= 2 and budget are separate objectives — give only one of --goal, --k, --budget");
   }
-  if (o.k < 1) throw InputError(fmt::format("k = {} must be at least 1", o.k));
+  if (o.k < 1) throw FieldError({"k"}, fmt::format("k = {} must be at least 1", o.k));
   if (o.goal && !(*o.goal > 0.0 && *o.goal <= 1.0)) {
-    throw InputError(fmt::format(
+    throw FieldError({"goal"}, fmt::format(
         "goal = {} is a coverage fraction — give a value in (0, 1], e.g. 0.9 for 90 %", *o.goal));
   }
   if (o.budget) {
     if (!(*o.budget >= 0.0) || !std::isfinite(*o.budget))
-      throw InputError(fmt::format("budget = {} must be a number >= 0", *o.budget));
+      throw FieldError({"budget"}, fmt::format("budget = {} must be a number >= 0", *o.budget));
     if (o.costs.size() != candidate_count) {
       throw InputError(
           fmt::format("budget needs one cost per candidate: {} costs for {} candidates",
@@ -39,18 +40,19 @@ void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
     double cheapest = std::numeric_limits<double>::infinity();
     for (const double c : o.costs) {
       if (!(c >= 0.0) || !std::isfinite(c))
-        throw InputError(fmt::format("sensor cost {} must be a number >= 0", c));
+        throw FieldError({"costs"}, fmt::format("sensor cost {} must be a number >= 0", c));
       cheapest = std::min(cheapest, c);
     }
     if (*o.budget < cheapest) {
-      throw InputError(
+      throw FieldError(
+          {"budget"},
           fmt::format("budget {:g} is below the cheapest candidate's cost {:g} — raise --budget",
                       *o.budget, cheapest));
     }
   }
   const Objective objective = o.objective();
   if (objective == Objective::kKCoverage && o.n < o.k) {
-    throw InputError(fmt::format(
+    throw FieldError({"n", "k"}, fmt::format(
         "n = {} is below k = {}: a cell counts only once k chosen sensors see it — raise -n to at "
         "least {}",
         o.n, o.k, o.k));
@@ -72,7 +74,8 @@ void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
   if (std::find(allowed.begin(), allowed.end(), o.method) != allowed.end()) return;
   std::string names;
   for (const Method m : allowed) names += (names.empty() ? "" : ", ") + MethodName(m);
-  throw InputError(fmt::format("method '{}' does not apply to the {} objective — use one of {}",
+  throw FieldError({"method", "goal", "k", "budget"},
+                   fmt::format("method '{}' does not apply to the {} objective — use one of {}",
                                MethodName(o.method), ObjectiveName(objective), names));
 }
 
@@ -130,24 +133,26 @@ Method ParseMethod(const std::string& name) {
 
 void SelectOptions::Validate(size_t candidate_count) const {
   if (candidate_count == 0) {
-    throw InputError(fmt::format("n = {} but there are no candidates to select from", n));
+    throw FieldError({"n"}, fmt::format("n = {} but there are no candidates to select from", n));
   }
   if (n < 1 || static_cast<size_t>(n) > candidate_count) {
-    throw InputError(
-        fmt::format("n = {} is out of range: there are {} candidates, so n must be "
+    throw FieldError(
+        {"n"}, fmt::format("n = {} is out of range: there are {} candidates, so n must be "
                     "between 1 and {}",
                     n, candidate_count, candidate_count));
   }
   if (ransac_iterations < 1) {
-    throw InputError(fmt::format("ransac_iterations = {} must be at least 1", ransac_iterations));
+    throw FieldError({"ransac_iterations"},
+                     fmt::format("ransac_iterations = {} must be at least 1", ransac_iterations));
   }
   if (!(ransac_stop_coverage >= 0.0 && ransac_stop_coverage <= 1.0)) {
-    throw InputError(fmt::format("ransac_stop_coverage = {} must be a fraction in [0, 1]",
+    throw FieldError({"ransac_stop_coverage"},
+                     fmt::format("ransac_stop_coverage = {} must be a fraction in [0, 1]",
                                  ransac_stop_coverage));
   }
   if (!(time_limit > 0.0) || !std::isfinite(time_limit)) {
-    throw InputError(
-        fmt::format("time_limit = {} s must be a positive number of seconds", time_limit));
+    throw FieldError({"time_limit"},
+                     fmt::format("time_limit = {} s must be a positive number of seconds", time_limit));
   }
   ValidateObjective(*this, candidate_count);
 }

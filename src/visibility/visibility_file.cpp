@@ -11,7 +11,7 @@
 #include "util/atomic_file.hpp"
 #include "util/binary_io.hpp"
 #include "vantage/error.hpp"
-#include "vantage/observe.hpp"
+#include "vantage/visibility_file.hpp"
 
 namespace vantage {
 namespace {
@@ -88,13 +88,15 @@ void SaveVisibilityFile(const std::string& path, const VisibilityFile& file) {
   w.U32(kFormatVersion);
   w.Str(file.scene);
   w.U64(file.seed);
-  w.U32(static_cast<uint32_t>(file.n));
-  w.U32(static_cast<uint32_t>(file.ransac_iterations));
-  w.F64(file.ransac_stop_coverage);
-  w.Str(file.method);
-  WriteOptional(&w, file.goal);
-  w.U32(static_cast<uint32_t>(file.k));
-  WriteOptional(&w, file.budget);
+  const SelectionSettings& settings = file.selection;
+  w.U32(static_cast<uint32_t>(settings.n));
+  w.U32(static_cast<uint32_t>(settings.ransac_iterations));
+  w.F64(settings.ransac_stop_coverage);
+  // Unset is the command's default, "all", as files have always said.
+  w.Str(settings.method ? MethodName(*settings.method) : "all");
+  WriteOptional(&w, settings.goal);
+  w.U32(static_cast<uint32_t>(settings.k));
+  WriteOptional(&w, settings.budget);
   WriteOptional(&w, file.quality.max_incidence_deg);
   WriteOptional(&w, file.quality.max_depth_noise);
   w.F64(file.reference.cell_size);
@@ -148,15 +150,23 @@ VisibilityFile LoadVisibilityFile(const std::string& path) {
   VisibilityFile file;
   file.scene = r.Str();
   file.seed = r.U64();
-  file.n = static_cast<int>(r.U32());
-  file.ransac_iterations = static_cast<int>(r.U32());
-  file.ransac_stop_coverage = r.F64();
+  SelectionSettings& settings = file.selection;
+  settings.n = static_cast<int>(r.U32());
+  settings.ransac_iterations = static_cast<int>(r.U32());
+  settings.ransac_stop_coverage = r.F64();
   if (version >= 2) {
-    file.method = r.Str();
-    file.goal = ReadOptional(&r, "goal", corrupt);
-    file.k = static_cast<int>(r.U32());
-    file.budget = ReadOptional(&r, "budget", corrupt);
-    if (file.k < 1) throw corrupt("k is not a positive integer");
+    const std::string method = r.Str();
+    if (!method.empty()) {
+      try {
+        settings.method = ParseMethod(method);
+      } catch (const InputError& e) {
+        throw corrupt(fmt::format("its method: {}", e.what()));
+      }
+    }
+    settings.goal = ReadOptional(&r, "goal", corrupt);
+    settings.k = static_cast<int>(r.U32());
+    settings.budget = ReadOptional(&r, "budget", corrupt);
+    if (settings.k < 1) throw corrupt("k is not a positive integer");
   }
   if (version >= 3) {
     file.quality.max_incidence_deg = ReadOptional(&r, "max incidence", corrupt);

@@ -1,11 +1,11 @@
-// Measurement quality (issue 9): the filter's checks, noise models by candidate, and plain
-// observations. Apart from observe.cpp so that readers of vantage's files need no Embree.
+// Measurement quality (issue 9): the filter's checks and plain observations, in the visibility
+// stage so that readers of vantage's files and selection need no Embree.
 #include <fmt/format.h>
 
 #include <cmath>
 
 #include "vantage/error.hpp"
-#include "vantage/observe.hpp"
+#include "vantage/visibility.hpp"
 
 namespace vantage {
 
@@ -31,12 +31,6 @@ std::vector<Observation> WithoutQuality(std::span<const Observation> observation
     plain.push_back(std::move(p));
   }
   return plain;
-}
-
-const DepthNoise* NoiseModelOf(const Candidate& candidate) {
-  if (candidate.sensor.depth_noise) return &*candidate.sensor.depth_noise;
-  const SensorType* catalog = FindCatalogType(candidate.type_id);
-  return catalog && catalog->depth_noise ? &*catalog->depth_noise : nullptr;
 }
 
 }  // namespace vantage

@@ -71,8 +71,18 @@ std::vector<Candidate> ShrinkFov(std::span<const Candidate> candidates, double t
   return shrunk;
 }
 
+void RobustnessOptions::Validate() const {
+  if (!(fov_tolerance_deg >= 0) || !std::isfinite(fov_tolerance_deg))
+    throw InputError(fmt::format("--fov-tolerance {} must be a number of degrees >= 0 — e.g. 3",
+                                 fov_tolerance_deg));
+  if (!(within >= 0 && within <= 1))
+    throw InputError(fmt::format("--alternatives-within {} must lie in [0, 100] coverage points",
+                                 100.0 * within));
+}
+
 Robustness AssessRobustness(const VisibilityFile& data, const std::vector<Selection>& results,
-                            int index, const Scene* scene, double fov_tolerance_deg, double within) {
+                            int index, const RayScene* rays, const ObserveOptions& observe,
+                            const RobustnessOptions& options) {
   VANTAGE_CHECK(index >= 0 && static_cast<size_t>(index) < results.size());
   const Selection& result = results[static_cast<size_t>(index)];
   const CoverageEvaluator evaluator(data.observations, data.reference.size());
@@ -82,19 +92,21 @@ Robustness AssessRobustness(const VisibilityFile& data, const std::vector<Select
   for (const SensorFailure& f : r.failures) {
     if (!r.worst || f.coverage < r.worst->coverage) r.worst = f;
   }
-  r.alternatives_within = within;
+  r.alternatives_within = options.within;
   if (!result.budget)
-    r.alternatives = NearOptimalAlternatives(evaluator, result.chosen, result.k, within, result.goal);
-  if (scene && !result.chosen.empty()) {
+    r.alternatives =
+        NearOptimalAlternatives(evaluator, result.chosen, result.k, options.within, result.goal);
+  if (rays && !result.chosen.empty()) {
     std::vector<Candidate> chosen;
     for (uint32_t i : result.chosen) chosen.push_back(data.candidates.at(i));
-    ObserveOptions options;
-    options.quality = data.quality;
-    const std::vector<Observation> shrunk =
-        Observe(*scene, data.reference, ShrinkFov(chosen, fov_tolerance_deg), options);
+    ObserveOptions shrunk_options = observe;
+    shrunk_options.quality = data.quality;
+    shrunk_options.progress = nullptr;
+    const std::vector<Observation> shrunk = Observe(
+        *rays, data.reference, ShrinkFov(chosen, options.fov_tolerance_deg), shrunk_options);
     std::vector<uint32_t> all(shrunk.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<uint32_t>(i);
-    r.fov_tolerance_deg = fov_tolerance_deg;
+    r.fov_tolerance_deg = options.fov_tolerance_deg;
     r.fov_shrunk_coverage = CoverageEvaluator(shrunk, data.reference.size()).Coverage(all, result.k);
   }
   return r;

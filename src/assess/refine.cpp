@@ -17,8 +17,6 @@
 #include <string>
 #include <vector>
 
-#include "select/coverage_matrix.hpp"
-#include "select/methods.hpp"
 #include "vantage/error.hpp"
 #include "vantage/rng.hpp"
 
@@ -183,6 +181,7 @@ void RefineOptions::Validate() const {
     throw InputError(fmt::format("refine per_sensor {} must be >= 1", per_sensor));
   if (max_halvings < 0)
     throw InputError(fmt::format("refine max_halvings {} must be >= 0", max_halvings));
+  observe.Validate();
 }
 
 bool RegionContains(const Population& population, const Vec3& world_position) {
@@ -223,7 +222,7 @@ bool RegionContains(const Population& population, const Vec3& world_position) {
   return false;
 }
 
-RefineResult Refine(const Scene& scene,
+RefineResult Refine(const RayScene& rays,
                     const Reference& reference,
                     std::vector<Candidate> candidates,
                     std::vector<Observation> observations,
@@ -275,7 +274,7 @@ RefineResult Refine(const Scene& scene,
 
   // Scores a set of chosen candidates the way Select does, from the observations themselves.
   const auto score = [&](std::vector<uint32_t> chosen, const std::string& method) {
-    return detail::ScoreSelection(CoverageEvaluator(observations, reference.size()), std::move(chosen),
+    return ScoreChosen(CoverageEvaluator(observations, reference.size()), std::move(chosen),
                                   method, select);
   };
 
@@ -347,7 +346,8 @@ RefineResult Refine(const Scene& scene,
 
     if (!fresh.empty()) {
       ++result.rounds;
-      std::vector<Observation> seen = Observe(scene, reference, fresh);
+      // The new poses are traced as the others were: the run's culling and quality filter.
+      std::vector<Observation> seen = Observe(rays, reference, fresh, options.observe);
       for (size_t i = 0; i < fresh.size(); ++i) {
         result.extra_rays += seen[i].rays_traced;
         candidates.push_back(std::move(fresh[i]));
@@ -366,15 +366,8 @@ RefineResult Refine(const Scene& scene,
           Select(std::span<const Observation>(observations), reference.size(), reselect);
       Selection from_scratch = score(selected.at(0).chosen, selected.at(0).method);
       if (objective != Objective::kSetCover) {
-        const detail::CoverageMatrix matrix(observations, reference.size());
-        detail::LocalOptions local;
-        local.k = k;
-        if (objective == Objective::kBudget) {
-          local.costs = reselect.costs;
-          local.budget = *select.budget;
-        }
-        Selection swapped =
-            score(detail::LocalSearch(matrix, current.chosen, local), MethodName(reselect.method));
+        Selection swapped = score(ImproveBySwaps(observations, reference.size(), current.chosen, reselect),
+                                  MethodName(reselect.method));
         if (IsBetter(swapped, best, objective)) best = std::move(swapped);
       }
       if (IsBetter(from_scratch, best, objective)) best = std::move(from_scratch);

@@ -1,13 +1,14 @@
 #pragma once
-/// Embree behind a small interface: the scene built once, shared read-only by every thread.
-/// The only file that includes Embree is ray_scene.cpp (STYLE.md).
+/// Embree behind a small interface: the scene's BVH built once per geometry, shared read-only by
+/// every thread and every stage that casts rays (observe, the robustness read-outs, refinement,
+/// the rendered view). The only file that includes Embree is src/observe/ray_scene.cpp (STYLE.md).
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "vantage/scene.hpp"
 
-namespace vantage::detail {
+namespace vantage {
 
 /// One ray of a packet: origin o and direction d (not normalised) in world coordinates.
 struct RayBatch {
@@ -31,9 +32,12 @@ struct RayHit {
   bool is_target = false;
 };
 
-/// Owns an Embree device and a committed scene of every object (targets and occluders).
+/// Owns an Embree device and a committed scene of every object (targets and occluders). Build it
+/// once per scene geometry and pass it to every call that casts rays into that geometry.
 class RayScene {
  public:
+  /// Copies the scene's triangles (as float) into Embree and builds the BVH. InternalError when
+  /// Embree cannot create a device.
   explicit RayScene(const Scene& scene);
   ~RayScene();
   RayScene(RayScene&&) noexcept;
@@ -51,4 +55,4 @@ class RayScene {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace vantage::detail
+}  // namespace vantage

@@ -1,5 +1,5 @@
-// A picture without a browser (issue #7): the scene ray traced with Embree through RayScene
-// (the only file that includes Embree is observe/ray_scene.cpp), targets coloured by how many
+// A picture without a browser (issue #7): the scene ray traced with Embree through the public
+// RayScene of the observe stage, targets coloured by how many
 // chosen sensors observe the voxel each pixel lands in, the chosen sensors' frusta drawn over it.
 #include <fmt/format.h>
 #include <stb_image_write.h>
@@ -12,20 +12,14 @@
 #include <limits>
 #include <unordered_map>
 
-#include "observe/ray_scene.hpp"
 #include "vantage/error.hpp"
-#include "vantage/visualize.hpp"
+#include "vantage/ray_scene.hpp"
+#include "vantage/render.hpp"
 
 namespace vantage {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-std::vector<uint32_t> PrimaryChosen(const Report& report) {
-  const int primary = report.primary >= 0 ? report.primary : PrimaryResult(report.results);
-  if (primary < 0 || primary >= static_cast<int>(report.results.size())) return {};
-  return report.results[static_cast<size_t>(primary)].chosen;
-}
 
 // Packed voxel key -> number of chosen sensors that observe it (inside R and outside it).
 std::unordered_map<uint64_t, int> ObservationCounts(const VisibilityFile& data,
@@ -172,61 +166,12 @@ void RenderOptions::Validate() const {
   if (look_at && !look_at->allFinite()) throw InputError("render: look_at must be finite numbers");
 }
 
-View DefaultView(const Scene& scene, const Report& report, double vertical_fov) {
-  Aabb bounds = scene.TargetBounds();
-  if (bounds.IsEmpty()) {
-    for (const SceneObject& object : scene.objects) {
-      if (!object.mesh.IsEmpty()) bounds.Extend(object.mesh.Bounds());
-    }
-  }
-  std::vector<Vec3> sensors;
-  if (report.data) {
-    for (uint32_t index : PrimaryChosen(report)) {
-      if (index < report.data->candidates.size())
-        sensors.push_back(report.data->candidates[index].world_from_body.position);
-    }
-    if (bounds.IsEmpty()) {
-      for (const Candidate& c : report.data->candidates) bounds.Extend(c.world_from_body.position);
-    }
-  }
-  if (bounds.IsEmpty()) bounds = Aabb{Vec3::Constant(-0.5), Vec3::Constant(0.5)};
-  View view;
-  view.look_at = 0.5 * (bounds.min + bounds.max);
-
-  // Frame the targets with room around them, and the chosen sensors that stand close to them;
-  // far sensors are left out of the frame (their frusta still cross it), or the targets would
-  // shrink to a few pixels.
-  const double target_radius = std::max(0.5 * (bounds.max - bounds.min).norm(), 1e-3);
-  double radius = 1.8 * target_radius;
-  for (const Vec3& p : sensors) {
-    const double d = (p - view.look_at).norm();
-    if (d <= 3.0 * target_radius) radius = std::max(radius, 1.1 * d);
-  }
-
-  // Look from the side the chosen sensors look from, a little off their mean direction and from
-  // above, so that the picture shows depth; a fixed oblique direction when there is none.
-  const Vec3 oblique = Vec3(1.0, -1.2, 0.9).normalized();
-  Vec3 mean = Vec3::Zero();
-  for (const Vec3& p : sensors) {
-    const Vec3 d = p - view.look_at;
-    if (d.norm() > 1e-9) mean += d.normalized();
-  }
-  Vec3 direction = oblique;
-  if (!sensors.empty() && mean.norm() > 0.2 * static_cast<double>(sensors.size()))
-    direction = (mean.normalized() + 0.5 * oblique).normalized();
-  direction.z() = std::max(direction.z(), 0.35);
-  if (Vec3(direction.x(), direction.y(), 0).norm() < 0.2) direction += Vec3(0.3, -0.36, 0);
-  direction.normalize();
-  const double distance = 1.1 * radius / std::sin(0.5 * vertical_fov);
-  view.eye = view.look_at + distance * direction;
-  return view;
-}
-
-Image RenderView(const Scene& scene, const Report& report, const RenderOptions& options) {
+Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
+                 const RenderOptions& options) {
   options.Validate();
   VANTAGE_CHECK(report.data != nullptr);
   const VisibilityFile& data = *report.data;
-  const std::vector<uint32_t> chosen = PrimaryChosen(report);
+  const std::vector<uint32_t>& chosen = report.PrimaryChosen();
   const std::unordered_map<uint64_t, int> counts = ObservationCounts(data, chosen);
 
   View view = DefaultView(scene, report, options.vertical_fov);
@@ -247,7 +192,6 @@ Image RenderView(const Scene& scene, const Report& report, const RenderOptions& 
   std::vector<float> depth(pixel_count, std::numeric_limits<float>::infinity());
 
   const Vec3 key_light = (-camera.forward + 0.8 * camera.up - 0.5 * camera.right).normalized();
-  const detail::RayScene rays(scene);
   const double cell_size = data.reference.cell_size;
   const std::array<float, 3> origin = {static_cast<float>(view.eye.x()),
                                        static_cast<float>(view.eye.y()),
@@ -263,7 +207,7 @@ Image RenderView(const Scene& scene, const Report& report, const RenderOptions& 
             const std::array<float, 3> dir_f = {static_cast<float>(dir.x()),
                                                 static_cast<float>(dir.y()),
                                                 static_cast<float>(dir.z())};
-            const detail::RayHit hit = rays.IntersectHit(origin.data(), dir_f.data(),
+            const RayHit hit = rays.IntersectHit(origin.data(), dir_f.data(),
                                                          std::numeric_limits<float>::infinity());
             Rgb color{};
             double shade = 1.0;
@@ -324,6 +268,11 @@ Image RenderView(const Scene& scene, const Report& report, const RenderOptions& 
     overlay.Composite(kFrustumColor, &image);
   }
   return image;
+}
+
+Image RenderView(const Scene& scene, const Report& report, const RenderOptions& options) {
+  options.Validate();
+  return RenderView(RayScene(scene), scene, report, options);
 }
 
 void WritePng(const std::string& path, const Image& image) {

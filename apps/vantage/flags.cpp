@@ -1,0 +1,162 @@
+// Flags onto the pipeline's option structs: each flag writes its field, CLI11's validators and
+// transformers check what they can, the pipeline's Validate() the rest.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
+
+#include "commands.hpp"
+
+namespace vantage::cli {
+namespace {
+
+// --seed: CLI11 reads "-1" into an unsigned as 2^64 - 1; refuse a sign instead.
+std::string NonNegativeWholeNumber(std::string& text) {
+  const size_t first = text.find_first_not_of(" \t");
+  if (first != std::string::npos && text[first] == '-')
+    return fmt::format("{} is negative — give a whole number from 0 to {}", text,
+                       std::numeric_limits<uint64_t>::max());
+  return {};
+}
+
+// --max-memory: a positive, finite number of MiB.
+std::string PositiveMiB(std::string& text) {
+  double value = 0;
+  if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value) || value <= 0)
+    return fmt::format("{} is not a positive number of MiB — give e.g. --max-memory 4096", text);
+  return {};
+}
+
+// An enum flag: the library's own parser names the valid values (its message, unchanged), then
+// CLI11's CheckedTransformer maps the name onto the enum.
+template <typename Enum>
+void AddEnumOption(CLI::App* app, const std::string& flag, std::optional<Enum>* value,
+                   const std::vector<Enum>& values, std::string (*name)(Enum),
+                   Enum (*parse)(const std::string&), const std::string& help) {
+  std::map<std::string, Enum> by_name;
+  for (const Enum v : values) by_name[name(v)] = v;
+  const auto check = [parse](std::string& text) -> std::string {
+    try {
+      parse(text);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return {};
+  };
+  app->add_option(flag, *value, help)
+      ->check(CLI::Validator(check, ""))
+      ->transform(CLI::CheckedTransformer(by_name));
+}
+
+}  // namespace
+
+CLI::Validator SeedValidator() { return CLI::Validator(NonNegativeWholeNumber, "0 or more"); }
+
+std::function<void(size_t, size_t)> ProgressBar(const std::string& label) {
+  if (!::isatty(STDERR_FILENO) || spdlog::get_level() > spdlog::level::info) return {};
+  const auto start = std::chrono::steady_clock::now();
+  auto mutex = std::make_shared<std::mutex>();
+  return [label, start, mutex](size_t done, size_t total) {
+    std::lock_guard<std::mutex> lock(*mutex);
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0.0;
+    const double eta = rate > 0 ? static_cast<double>(total - done) / rate : 0.0;
+    const int width = 30;
+    const int filled = total ? static_cast<int>(width * done / total) : width;
+    std::fprintf(stderr, "\r%s [%s%s] %zu/%zu  %.1f/s  ETA %.1fs ", label.c_str(),
+                 std::string(static_cast<size_t>(filled), '#').c_str(),
+                 std::string(static_cast<size_t>(width - filled), '.').c_str(), done, total, rate,
+                 eta);
+    if (done == total) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  };
+}
+
+void AddSourceFlags(CLI::App* app, SceneInput* scene) {
+  app->add_option("--model-path", scene->load.model_paths, "folder of Gazebo models (repeatable)");
+  app->add_option("--resource-path", scene->load.resource_paths,
+                  "folder of Gazebo resources, e.g. materials (repeatable)");
+  app->add_option("--target", scene->load.targets,
+                  "target object/model name, overrides the scene (repeatable)");
+}
+
+void AddSceneFlags(CLI::App* app, SceneInput* scene, bool scene_positional) {
+  if (scene_positional)
+    app->add_option("scene", scene->path,
+                    "scene: .yaml (docs/scene-format.md) or Gazebo .world/.sdf")
+        ->required();
+  AddSourceFlags(app, scene);
+  app->add_option("--cell-size", scene->load.cell_size,
+                  "voxel cell size F in metres (default: the scene's)");
+  app->add_option("--seed", scene->seed, "random seed (default: the scene's, else 1)");
+  app->add_option_function<std::vector<double>>(
+         "--observation-point",
+         [scene](const std::vector<double>& p) { scene->observation_point = Vec3(p[0], p[1], p[2]); },
+         "x y z [m] every candidate looks at (default: the scene's)")
+      ->expected(3);
+  app->add_option("--random-roll", scene->random_roll,
+                  "true|false: random roll after the look-at (default: the scene's)");
+}
+
+void AddObserveFlags(CLI::App* app, ObserveOptions* observe, RunLimits* limits) {
+  app->add_flag_callback("--no-cull", [observe] { observe->cull = false; },
+                         "trace every pixel (slower; same result)");
+  app->add_option("--max-incidence", observe->quality.max_incidence_deg,
+                  "quality: a pixel counts only when its ray meets the surface within this many "
+                  "degrees of the normal (0-90]");
+  app->add_option_function<double>(
+      "--max-depth-noise", [observe](double mm) { observe->quality.max_depth_noise = mm / 1000.0; },
+      "quality: a pixel counts only when its sensor's depth noise sigma(z) is at most this many "
+      "mm (docs/sensor-models.md)");
+  app->add_option("--max-memory", limits->max_memory_mib,
+                  "refuse runs estimated above this many MiB (default: 75 % of RAM)")
+      ->check(CLI::Validator(PositiveMiB, "MiB > 0"));
+}
+
+void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {
+  app->add_option("-n,--sensors", request->n, "number of sensors wanted (default: the scene's)");
+  AddEnumOption<Method>(app, "--method", &request->method,
+                        {Method::kBest, Method::kRansac, Method::kGreedy, Method::kLocal,
+                         Method::kExact, Method::kAll},
+                        MethodName, ParseMethod, "best | ransac | greedy | local | exact | all");
+  app->add_option("--iterations", request->ransac_iterations,
+                  "RANSAC iteration cap (default: the scene's)");
+  app->add_option("--stop", request->ransac_stop_coverage,
+                  "RANSAC stops at this coverage, fraction 0..1 (default: the scene's)");
+  app->add_option("--time-limit", request->time_limit,
+                  "seconds for the exact solver (default: 60)");
+  app->add_option("--goal", request->goal,
+                  "objective: the fewest sensors whose coverage reaches this fraction 0..1 (set "
+                  "cover)");
+  app->add_option("--k", request->k,
+                  "objective: k-coverage, a cell counts once k chosen sensors see it (k >= 2)");
+  app->add_option("--budget", request->budget,
+                  "objective: the most coverage for a total sensor cost within this budget");
+  AddEnumOption<OverStates>(app, "--over-states", &request->over_states,
+                            {OverStates::kMean, OverStates::kMin}, OverStatesName,
+                            ParseOverStates,
+                            "a scene with states: maximise the mean or the worst (min) coverage "
+                            "over them (default mean)");
+}
+
+void AddRobustnessFlags(CLI::App* app, RobustnessOptions* robustness) {
+  app->add_option("--fov-tolerance", robustness->fov_tolerance_deg,
+                  "robustness: degrees the chosen sensors' fields of view are shrunk by "
+                  "(datasheet tolerance)")
+      ->check(CLI::Range(0.0, 45.0))
+      ->capture_default_str();
+  app->add_option_function<double>(
+         "--alternatives-within", [robustness](double points) { robustness->within = points / 100.0; },
+         "robustness: list one-sensor alternatives losing at most this many coverage points")
+      ->check(CLI::Range(0.0, 100.0))
+      ->default_str("1");
+}
+
+}  // namespace vantage::cli

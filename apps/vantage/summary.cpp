@@ -1,0 +1,173 @@
+// The human summary of a run on stdout (the library only logs): read from the derived report.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+
+namespace vantage::cli {
+namespace {
+
+// `--method all`: the coverage-versus-N curve, one row per n, one column per method, and the
+// proven bound (exact's; "*" once proven optimal). Printed only when a method ran for several n
+// (not for set cover, whose methods differ in n but each ran once).
+void PrintCoverageByN(const std::vector<Selection>& results) {
+  std::vector<int> ns;
+  bool is_curve = false;
+  for (const Selection& s : results) {
+    if (std::find(ns.begin(), ns.end(), s.n) == ns.end()) ns.push_back(s.n);
+    is_curve = is_curve || std::any_of(results.begin(), results.end(), [&](const Selection& o) {
+                 return o.method == s.method && o.n != s.n;
+               });
+  }
+  if (!is_curve) return;
+  std::sort(ns.begin(), ns.end());
+  std::vector<std::string> methods;
+  for (const char* m : {"best", "ransac", "greedy", "local", "exact"}) {
+    if (std::any_of(results.begin(), results.end(), [&](const Selection& s) { return s.method == m; }))
+      methods.emplace_back(m);
+  }
+  const int k = results.front().k;
+  fmt::print("coverage by n{}\n", k >= 2 ? fmt::format(" ({}-coverage, %)", k) : std::string(" (%)"));
+  std::string header = fmt::format("{:>4}", "n");
+  for (const std::string& m : methods) header += fmt::format(" {:>8}", m);
+  fmt::print("{} {:>8}\n", header, "bound");
+  for (const int n : ns) {
+    std::string line = fmt::format("{:>4}", n);
+    std::string bound = fmt::format("{:>8}", "-");
+    for (const std::string& m : methods) {
+      const auto it = std::find_if(results.begin(), results.end(),
+                                   [&](const Selection& s) { return s.n == n && s.method == m; });
+      line += it == results.end() ? fmt::format(" {:>8}", "-") : fmt::format(" {:8.2f}", 100.0 * it->coverage);
+      if (it != results.end() && it->upper_bound)
+        bound = fmt::format("{:8.2f}{}", 100.0 * *it->upper_bound, it->proven_optimal ? "*" : "");
+    }
+    fmt::print("{} {}\n", line, bound);
+  }
+  fmt::print("(* = proven optimal)\n");
+}
+
+// The robustness read-outs: the worst failure, the shrunk fields of view, the alternatives.
+void PrintRobustness(const VisibilityFile& data, const std::vector<Selection>& results,
+                     const Robustness& robustness) {
+  const Selection& result = results.at(static_cast<size_t>(robustness.result));
+  const auto name = [&](uint32_t i) { return data.candidates.at(i).name; };
+  std::string line = fmt::format("of {} n={}:", result.method, result.n);
+  if (robustness.worst) {
+    line += fmt::format(" worst single failure {} -> {:.2f} % ({:+.2f})", name(robustness.worst->sensor),
+                        100.0 * robustness.worst->coverage, 100.0 * (robustness.worst->coverage - result.coverage));
+  }
+  if (robustness.fov_shrunk_coverage) {
+    line += fmt::format("; fields of view -{:g} deg -> {:.2f} % ({:+.2f})", *robustness.fov_tolerance_deg,
+                        100.0 * *robustness.fov_shrunk_coverage,
+                        100.0 * (*robustness.fov_shrunk_coverage - result.coverage));
+  }
+  fmt::print("robustness       {}\n", line);
+  for (const Alternative& a : robustness.alternatives) {
+    fmt::print("alternative      {} instead of {}: {:.2f} % ({:+.2f})\n", name(a.replacement), name(a.replaced),
+               100.0 * a.coverage, 100.0 * (a.coverage - result.coverage));
+  }
+  if (robustness.alternatives.empty() && !result.budget)
+    fmt::print("alternative      none within {:g} points by replacing one sensor\n",
+               100.0 * robustness.alternatives_within);
+}
+
+}  // namespace
+
+void PrintSummary(const Report& report, const std::string& out_dir) {
+  const VisibilityFile& data = *report.data;
+  const std::vector<Selection>& results = report.results;
+  const std::optional<RefinementInfo>& refinement = report.refinement;
+  const size_t r = data.reference.size();
+  fmt::print("scene            {}\n", data.scene);
+  fmt::print("reference        {} voxels of {} m\n", r, data.reference.cell_size);
+  fmt::print("candidates       {}\n", data.candidates.size());
+  if (report.best_single >= 0) {
+    const size_t best = static_cast<size_t>(report.best_single);
+    const Candidate& c = data.candidates[best];
+    fmt::print("best single      {} ({}) {:.2f} %\n", c.name, c.type_id,
+               r ? 100.0 * data.observations[best].reference_indices.size() / r : 0.0);
+  }
+  // The objective, when it is not plain coverage (all results share it).
+  if (!results.empty()) {
+    const Selection& first = results.front();
+    if (first.goal) {
+      fmt::print("objective        set cover: the fewest sensors reaching {:.2f} % coverage\n",
+                 100.0 * *first.goal);
+    } else if (first.budget) {
+      fmt::print("objective        budget: the most coverage for a total sensor cost <= {:g}\n",
+                 *first.budget);
+    } else if (first.k >= 2) {
+      fmt::print("objective        {0}-coverage: a cell counts once {0} chosen sensors see it "
+                 "(coverages below are {0}-coverages)\n",
+                 first.k);
+    }
+  }
+  if (data.quality.active()) {
+    std::vector<std::string> limits;
+    if (data.quality.max_incidence_deg) limits.push_back(fmt::format("incidence <= {:g} deg", *data.quality.max_incidence_deg));
+    if (data.quality.max_depth_noise)
+      limits.push_back(fmt::format("depth noise <= {:g} mm", 1000.0 * *data.quality.max_depth_noise));
+    fmt::print("quality          {}: coverages count only such pixels; 'plain' counts every pixel\n",
+               fmt::join(limits, ", "));
+  }
+  if (report.states) {
+    std::vector<std::string> names;
+    for (const StatesInfo::State& state : report.states->states) names.push_back(state.name);
+    fmt::print("states           {} over {} states ({}): coverages below are the {} of the states' "
+               "coverages, listed after each\n",
+               report.states->over, names.size(), fmt::join(names, ", "),
+               report.states->over == "min" ? "worst" : "mean");
+    fmt::print("                 (reference and best single above: state '{}')\n", names.front());
+  }
+  // One line per method at its largest n: the constellation it recommends.
+  std::vector<size_t> shown;
+  for (size_t i = 0; i < results.size(); ++i) {
+    auto it = std::find_if(shown.begin(), shown.end(),
+                           [&](size_t o) { return results[o].method == results[i].method; });
+    if (it == shown.end()) {
+      shown.push_back(i);
+    } else if (results[i].n >= results[*it].n) {
+      *it = i;
+    }
+  }
+  for (const size_t index : shown) {
+    const Selection* s = &results[index];
+    std::string names;
+    for (uint32_t i : s->chosen) names += (names.empty() ? "" : ", ") + data.candidates[i].name;
+    std::string bound;
+    if (s->upper_bound)
+      bound = s->proven_optimal ? "  (optimal)" : fmt::format("  (bound {:.2f} %)", 100.0 * *s->upper_bound);
+    if (s->n_lower_bound) {
+      bound = s->proven_optimal ? "  (fewest: optimal)"
+                                : fmt::format("  (at least {} sensors)", *s->n_lower_bound);
+    }
+    if (s->cost) bound += fmt::format("  cost {:g} of {:g}", *s->cost, s->budget.value_or(0.0));
+    if (!report.result_plain_coverage.empty())
+      bound += fmt::format("  (plain {:.2f} %)", 100.0 * report.result_plain_coverage[index]);
+    if (!s->state_coverage.empty()) {
+      std::vector<std::string> per_state;
+      for (double c : s->state_coverage) per_state.push_back(fmt::format("{:.2f}", 100.0 * c));
+      bound += fmt::format("  (states {} %)", fmt::join(per_state, " / "));
+    }
+    fmt::print("{:<8} n={:<3}  {:6.2f} %{}  [{}]  {:.3f} s\n", s->method, s->n, 100.0 * s->coverage, bound,
+               names, s->seconds);
+  }
+  PrintCoverageByN(results);
+  if (refinement) {
+    const Selection& from = results.at(static_cast<size_t>(refinement->from_result));
+    fmt::print("refinement       {:+.2f} points over {} n={}: {} rounds, {} new poses, {:.1f} M extra rays, {:.2f} s\n",
+               100.0 * (refinement->coverage_after - refinement->coverage_before), from.method, from.n,
+               refinement->rounds, refinement->new_candidates, refinement->extra_rays / 1e6, refinement->seconds);
+  }
+  if (report.robustness) PrintRobustness(data, results, *report.robustness);
+  fmt::print("timings          load {:.3f} s, reference {:.3f} s, observe {:.3f} s, select {:.3f} s, total {:.3f} s\n",
+             report.timings.load, report.timings.reference, report.timings.observe, report.timings.select,
+             report.timings.total);
+  if (!out_dir.empty()) fmt::print("outputs          {}/\n", out_dir);
+}
+
+}  // namespace vantage::cli

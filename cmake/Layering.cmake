@@ -1,0 +1,40 @@
+# The stages of vantage, bottom up, and what each may use (docs/architecture.md). Read by
+# CMakeLists.txt (one library target per stage, linked in this order) and by CheckLayering.cmake,
+# which fails the configure step and the `layering` test when a file includes a header of a stage
+# it may not use.
+set(VANTAGE_STAGES util scene reference candidates visibility observe select assess report render
+    pipeline)
+
+# Public headers (include/vantage/<name>.hpp) by owning stage.
+set(VANTAGE_HEADERS_util types error rng sensors settings)
+set(VANTAGE_HEADERS_scene scene population scene_states problem)
+set(VANTAGE_HEADERS_reference reference)
+set(VANTAGE_HEADERS_candidates candidates)
+set(VANTAGE_HEADERS_visibility visibility visibility_file)
+set(VANTAGE_HEADERS_observe observe ray_scene)
+set(VANTAGE_HEADERS_select select select_states)
+set(VANTAGE_HEADERS_assess refine robustness)
+set(VANTAGE_HEADERS_report report visualize yaml_export gazebo_export)
+set(VANTAGE_HEADERS_render render)
+set(VANTAGE_HEADERS_pipeline pipeline)
+
+# Stages each stage may include (itself included). Selection sees only the matrix header of the
+# visibility stage (VANTAGE_EXTRA_select): no scene, no candidate geometry, no Embree.
+set(VANTAGE_USES_util util)
+set(VANTAGE_USES_scene util scene)
+set(VANTAGE_USES_reference util scene reference)
+set(VANTAGE_USES_candidates util scene candidates)
+set(VANTAGE_USES_visibility util scene reference candidates visibility)
+set(VANTAGE_USES_observe util scene reference candidates visibility observe)
+set(VANTAGE_USES_select util select)
+set(VANTAGE_EXTRA_select visibility)
+set(VANTAGE_USES_assess util scene reference candidates visibility observe select assess)
+set(VANTAGE_USES_report util scene reference candidates visibility observe select assess report)
+set(VANTAGE_USES_render ${VANTAGE_USES_report} render)
+set(VANTAGE_USES_pipeline ${VANTAGE_USES_render} pipeline)
+
+# Third-party headers (the first path component of <...>) that only these stages may include.
+set(VANTAGE_ONLY_embree3 observe)
+set(VANTAGE_ONLY_coin select)
+set(VANTAGE_ONLY_assimp scene)
+set(VANTAGE_ONLY_CLI "")

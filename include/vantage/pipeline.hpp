@@ -1,0 +1,193 @@
+#pragma once
+/// The pipeline as a library (docs/architecture.md): load → overrides → deploy → checks → states
+/// → R → observe → select → assess → report. Every command of the CLI calls these functions (and
+/// so will the Python module and the distributed mode); the CLI only maps flags onto these option
+/// structs and prints. Option problems are InputErrors naming the option (`-n: ...`), or the
+/// scene file when its own settings are at fault; they are found before any ray is cast.
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "vantage/candidates.hpp"
+#include "vantage/observe.hpp"
+#include "vantage/problem.hpp"
+#include "vantage/ray_scene.hpp"
+#include "vantage/reference.hpp"
+#include "vantage/refine.hpp"
+#include "vantage/render.hpp"
+#include "vantage/report.hpp"
+#include "vantage/robustness.hpp"
+#include "vantage/select.hpp"
+#include "vantage/select_states.hpp"
+#include "vantage/settings.hpp"
+#include "vantage/visibility_file.hpp"
+
+namespace vantage {
+
+/// The scene of a run and what overrides its own settings (unset: the scene's).
+struct SceneInput {
+  std::string path;                       ///< .yaml/.yml scene or .world/.sdf Gazebo world
+  LoadOptions load;                       ///< model/resource paths, targets, cell size
+  std::optional<uint64_t> seed;           ///< --seed
+  std::optional<Vec3> observation_point;  ///< --observation-point [m, world]
+  std::optional<bool> random_roll;        ///< --random-roll
+  /// InputError naming the option: an observation point that is not finite or beyond what the
+  /// voxel grid and Embree can represent.
+  void Validate() const;
+};
+
+/// What a run may use.
+struct RunLimits {
+  double max_memory_mib = 0;  ///< refuse runs estimated above this [MiB]; 0: 75 % of the RAM
+  void Validate() const;      ///< InputError naming --max-memory
+};
+
+/// Selection settings given by the caller; unset: the scene's (SelectionSettings). Any of goal,
+/// k and budget given replaces the scene's objective altogether (so --k 2 over a scene's goal
+/// works).
+struct SelectionRequest {
+  std::optional<int> n;                        ///< -n
+  std::optional<Method> method;                ///< --method
+  std::optional<int> ransac_iterations;        ///< --iterations
+  std::optional<double> ransac_stop_coverage;  ///< --stop, fraction
+  std::optional<double> time_limit;            ///< --time-limit [s], default 60
+  std::optional<double> goal;                  ///< --goal, fraction
+  std::optional<int> k;                        ///< --k
+  std::optional<double> budget;                ///< --budget
+  std::optional<OverStates> over_states;       ///< --over-states, for a scene with states
+};
+
+/// The selection options of a run: the request over the scene's settings, costs from the
+/// candidates' types. InputError naming the option of the request that makes them invalid, or
+/// `source` (the scene or visibility file) when its own settings do.
+SelectOptions ResolveSelection(const SelectionSettings& settings, const SelectionRequest& request,
+                               uint64_t seed, std::span<const Candidate> candidates,
+                               const std::string& source, Method default_method = Method::kAll);
+
+/// Loads the scene and applies the overrides, without deploying candidates (evaluate, render).
+Problem LoadScene(const SceneInput& input);
+
+/// A loaded and deployed scene, before any ray is cast.
+struct PreparedScene {
+  Problem problem;                   ///< overrides applied; `scene` is the first state's
+  std::vector<Scene> state_scenes;   ///< one per state of problem.states (empty: no states)
+  std::vector<Candidate> candidates; ///< deployed, in order
+  Timings timings;                   ///< load
+  std::vector<std::string> notes;    ///< non-fatal remarks for the report
+  bool cell_size_from_option = false;  ///< the cell size is the override's (for messages)
+};
+
+/// Loads the scene, applies the overrides and the states, deploys the candidates. InputError for
+/// bad input (file:line) or a bad override (the option).
+PreparedScene Prepare(const SceneInput& input);
+
+/// One state of a changing scene, observed.
+struct ObservedState {
+  std::string name;
+  Reference reference;
+  std::vector<Observation> observations;
+  int same_as = -1;  ///< index of an earlier state with the same geometry (not traced again)
+};
+
+/// A scene observed: the visibility matrix and what it was made from.
+struct ObservedScene {
+  VisibilityFile data;                 ///< the first state's matrix for a scene with states
+  Scene scene;                         ///< the geometry `data` was observed in
+  std::unique_ptr<RayScene> rays;      ///< the BVH of `scene`, for the stages that cast rays later
+  std::vector<Population> populations; ///< where the candidates came from
+  std::vector<ExplicitSensor> sensors;
+  Vec3 observation_point = Vec3::Zero();
+  /// A scene with states: each state's reference and observations, in state order (`data` holds
+  /// the first state's too); empty otherwise.
+  std::vector<ObservedState> states;
+  Timings timings;                     ///< load, reference, observe
+  std::vector<std::string> notes;
+};
+
+/// Memory checks, R, observe (every state): the candidates traced once per distinct geometry,
+/// each geometry's BVH built once. The scene's selection settings go into the visibility file for
+/// `vantage select`.
+ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& observe,
+                              const RunLimits& limits);
+
+/// A finished run: the data its report points into (owned, so the report stays valid when the
+/// result moves) and every output file by name.
+struct RunResult {
+  std::unique_ptr<VisibilityFile> data;
+  Report report;                               ///< derived; report.data == data.get()
+  std::map<std::string, std::string> files;    ///< report.json, report.html, ... by file name
+};
+
+/// Writes result.files into `out_dir` atomically (a sibling folder renamed into place).
+void WriteRun(const std::string& out_dir, const RunResult& result);
+
+/// `vantage optimize`: the whole pipeline.
+struct OptimizeOptions {
+  SceneInput scene;
+  ObserveOptions observe;
+  RunLimits limits;
+  SelectionRequest selection;
+  RobustnessOptions robustness;
+  /// Set: refine the primary result (--refine); its seed and observe options are the run's.
+  std::optional<RefineOptions> refine;
+};
+RunResult Optimize(const OptimizeOptions& options);
+
+/// `vantage observe`: the visibility file of a scene.
+struct ObserveRunOptions {
+  SceneInput scene;
+  ObserveOptions observe;
+  RunLimits limits;
+  std::optional<int> n;  ///< -n: the default number of sensors stored with the matrix
+};
+struct ObserveRunResult {
+  VisibilityFile data;
+  Timings timings;
+  std::vector<std::string> state_names;  ///< a scene with states: all of them (data: the first)
+};
+ObserveRunResult ObserveRun(const ObserveRunOptions& options);
+
+/// `vantage select`: selection from a saved visibility file.
+struct SelectFileOptions {
+  std::string visibility_file;
+  SelectionRequest selection;
+  std::optional<uint64_t> seed;  ///< unset: the file's
+  RobustnessOptions robustness;
+};
+RunResult SelectFromFile(const SelectFileOptions& options);
+
+/// `vantage evaluate`: the coverage of given sensor poses.
+struct EvaluateOptions {
+  /// Empty fields (path, model/resource paths, targets, cell size) take the constellation's
+  /// report.json `inputs`, so that a run's folder alone reproduces it.
+  SceneInput scene;
+  std::string constellation;  ///< a report.json
+  /// A quality filter left unset takes the one the constellation's run used.
+  ObserveOptions observe;
+  RunLimits limits;
+};
+struct EvaluateResult {
+  RunResult run;                         ///< one result, method "given": every sensor
+  std::vector<double> sensor_coverage;   ///< each sensor alone, in order
+};
+EvaluateResult Evaluate(const EvaluateOptions& options);
+
+/// `vantage render`: a PNG of a finished run.
+struct RenderRunOptions {
+  std::string run;    ///< an output folder of optimize/select/evaluate, or its report.json
+  std::string png;    ///< file to write; empty: <run folder>/view.png
+  SceneInput scene;   ///< empty fields take the run's report.json `inputs`
+  RenderOptions render;
+};
+struct RenderRunResult {
+  std::string png;
+  size_t sensors = 0;
+  double coverage = 0;  ///< of the re-observed constellation
+};
+RenderRunResult RenderRun(const RenderRunOptions& options);
+
+}  // namespace vantage

@@ -1,0 +1,58 @@
+#pragma once
+/// A ray-traced PNG view of a finished run (issue #7): the scene shaded, targets coloured by how
+/// many chosen sensors observe each voxel, the chosen sensors' frusta drawn over it. The one
+/// output that casts rays, so it is a stage of its own above the report writers.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vantage/ray_scene.hpp"
+#include "vantage/report.hpp"
+#include "vantage/scene.hpp"
+#include "vantage/visualize.hpp"
+
+namespace vantage {
+
+/// An 8-bit RGB picture, rows top to bottom.
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> rgb;  ///< 3 * width * height bytes
+
+  Rgb At(int x, int y) const {
+    const size_t i =
+        3 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x));
+    return {rgb[i], rgb[i + 1], rgb[i + 2]};
+  }
+};
+
+/// Options of RenderView.
+struct RenderOptions {
+  int width = 1280;                          ///< pixels, 16..8192
+  int height = 960;                          ///< pixels, 16..8192
+  double vertical_fov = 0.7853981633974483;  ///< [rad], in (0, pi); default 45°
+  /// Viewpoint [m, world]. Default: outside the targets and the chosen sensors, on the side the
+  /// chosen sensors look from, framing all of them.
+  std::optional<Vec3> eye;
+  /// Point looked at [m, world]. Default: the centre of the targets' bounds.
+  std::optional<Vec3> look_at;
+  bool draw_frusta = true;  ///< chosen sensors' frusta (cut at `far`) and markers
+  /// Throws InputError naming the field.
+  void Validate() const;
+};
+
+/// Ray traces (Embree) a shaded view of `scene`: occluders grey; targets coloured by how many of
+/// the chosen sensors observe the voxel hit (kObservedColors; kUnobservedColor when none), the
+/// same voxels as report.json counts; the chosen sensors' frusta drawn over it (dimmed where
+/// hidden). Requires report.data (its reference and observations); InputError on bad options
+/// or when eye == look_at.
+Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
+                 const RenderOptions& options = {});
+/// The same, building the scene's RayScene for this call only.
+Image RenderView(const Scene& scene, const Report& report, const RenderOptions& options = {});
+
+/// Writes `image` as a PNG file. InputError naming the path when it cannot be written.
+void WritePng(const std::string& path, const Image& image);
+
+}  // namespace vantage

@@ -1,0 +1,44 @@
+#pragma once
+/// The visibility matrix: one observation set O_i per candidate (SYSTEM.md, pipeline stage 4), the
+/// one input of every selection method. Std only, so that selection sees neither the scene, the
+/// candidates' geometry nor Embree.
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace vantage {
+
+/// Measurement quality a pixel must reach for its hit to count (issue 9; docs/sensor-models.md).
+/// Unset fields do not filter. Part of the matrix because it says what the sets mean.
+struct QualityFilter {
+  /// Largest angle between the ray and the surface's normal [deg], in (0, 90].
+  std::optional<double> max_incidence_deg;
+  /// Largest depth noise sigma(z) of the sensor's DepthNoise at the hit's depth [m]. Pixels of
+  /// types without a noise model pass (the report names those types).
+  std::optional<double> max_depth_noise;
+  bool active() const { return max_incidence_deg.has_value() || max_depth_noise.has_value(); }
+  /// InputError naming the option (--max-incidence, --max-depth-noise) for out-of-range values.
+  void Validate() const;
+};
+
+/// O_i of one candidate.
+struct Observation {
+  /// R's cells seen (indices into Reference::keys, sorted, unique) by pixels that pass the
+  /// quality filter; with no filter, by any pixel. Selection maximises coverage of these.
+  std::vector<uint32_t> reference_indices;
+  std::vector<uint64_t> outside_keys;  ///< packed keys seen but not in R, sorted, unique (same pixels)
+  /// With a quality filter: R's cells seen by any pixel, passing or not (the plain coverage);
+  /// empty without one.
+  std::vector<uint32_t> plain_reference_indices;
+  uint64_t rays_traced = 0;     ///< pixels actually ray cast (after culling)
+  uint64_t target_pixels = 0;   ///< pixels whose first hit is a target within [near, far]
+  uint64_t quality_pixels = 0;  ///< of those, the ones that pass the quality filter
+};
+
+/// The same observations counting every pixel (reference_indices = plain_reference_indices)
+/// when they were made with a quality filter; a plain copy otherwise. For the plain coverage
+/// that the report shows beside the quality-filtered one.
+std::vector<Observation> WithoutQuality(std::span<const Observation> observations);
+
+}  // namespace vantage

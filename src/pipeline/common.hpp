@@ -1,0 +1,49 @@
+#pragma once
+/// Pieces the pipeline's commands share: clocks, checks of overrides, the memory checks before
+/// R and observe, the selection of a run, the inputs block and the output files.
+#include <chrono>
+#include <functional>
+#include <string>
+
+#include "vantage/pipeline.hpp"
+
+namespace vantage::detail {
+
+/// Seconds since `start` on the steady clock.
+double SecondsSince(std::chrono::steady_clock::time_point start);
+
+/// InputError naming `option` unless every coordinate is finite and within ±1e9 m (what the
+/// voxel grid and Embree's float rays can represent with room to spare).
+void CheckWorldPoint(const Vec3& point, const std::string& option);
+
+/// Refuses a cell size too fine for the memory before R is built, and a run whose observe and
+/// selection estimate exceeds the limit before any ray is cast (issue #8).
+void CheckReferenceMemory(const PreparedScene& prepared, double limit_mib);
+void CheckObserveMemory(const Scene& scene, size_t reference_size,
+                        std::span<const Candidate> candidates, double limit_mib,
+                        const std::string& source);
+
+/// R of `scene` at `cell_size`, errors named after `source`; `before_build` (may be empty) runs
+/// once the targets are known to fit the grid (the memory check).
+Reference BuildRunReference(const Scene& scene, double cell_size, const std::string& source,
+                            const std::function<void()>& before_build = {});
+
+/// Every candidate of `evaluator` as one "given" selection, with its coverage (evaluate, render).
+Selection GivenSelection(const CoverageEvaluator& evaluator);
+
+/// Runs selection: over the states (SelectOverStates) when the scene has them, else Select.
+/// Fills `report`'s results and states block.
+void SelectResults(const ObservedScene& observed, const SelectionRequest& request,
+                   const SelectOptions& options, Report* report);
+
+/// The run's inputs block: the scene input with absolute paths and the observe options.
+RunInputs InputsOf(const std::string& command, const SceneInput& scene,
+                   const ObserveOptions& observe);
+/// Adds the selection request to an inputs block.
+void AddSelectionInputs(const SelectionRequest& request, RunInputs* inputs);
+
+/// Serialises every output of a derived report: report.json, candidates.csv, the PLY clouds,
+/// report.html (with `scene`'s meshes) and static_transforms.yaml, plus `extra`.
+void FinishRun(const Scene& scene, std::map<std::string, std::string> extra, RunResult* run);
+
+}  // namespace vantage::detail

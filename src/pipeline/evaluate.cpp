@@ -1,0 +1,172 @@
+// `vantage evaluate` and `vantage render`: a given constellation observed again in its scene,
+// with the options of the run that made it (report.json `inputs`) unless given anew.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <filesystem>
+
+#include "pipeline/common.hpp"
+#include "vantage/error.hpp"
+#include "vantage/scene_states.hpp"
+
+namespace vantage {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The scene input of a re-run: what the caller gave, the rest from the run's inputs block (or,
+// for a report without one, its `scene` and `cell_size`).
+SceneInput InheritScene(SceneInput scene, const Constellation& constellation) {
+  const std::optional<RunInputs>& inputs = constellation.inputs;
+  if (scene.path.empty()) scene.path = inputs && !inputs->scene.empty() ? inputs->scene : constellation.scene;
+  if (!inputs) return scene;
+  if (scene.load.model_paths.empty()) scene.load.model_paths = inputs->model_paths;
+  if (scene.load.resource_paths.empty()) scene.load.resource_paths = inputs->resource_paths;
+  if (scene.load.targets.empty()) scene.load.targets = inputs->targets;
+  if (!scene.load.cell_size) scene.load.cell_size = inputs->cell_size;
+  return scene;
+}
+
+// The quality filter of a re-run: the caller's, else the run's.
+QualityFilter InheritQuality(const QualityFilter& given, const Constellation& constellation,
+                             const std::string& path) {
+  if (given.active() || !constellation.inputs || !constellation.inputs->quality.active())
+    return given;
+  const QualityFilter& run = constellation.inputs->quality;
+  try {
+    run.Validate();
+  } catch (const InputError& e) {
+    throw InputError(AtPlace(path, 0, fmt::format("inputs: {}", e.what())));
+  }
+  spdlog::info("{}: scoring with the run's quality filter (report.json inputs)", path);
+  return run;
+}
+
+// The constellation observed in the scene: its own reference, observations and "given" result.
+struct Reobserved {
+  Problem problem;
+  std::unique_ptr<VisibilityFile> data;
+  std::unique_ptr<RayScene> rays;
+  Selection given;
+  Timings timings;
+};
+
+Reobserved Reobserve(const SceneInput& scene, const Constellation& constellation,
+                     const ObserveOptions& observe, const RunLimits& limits) {
+  const auto start = std::chrono::steady_clock::now();
+  Reobserved result;
+  result.problem = LoadScene(scene);
+  const Problem& problem = result.problem;
+  if (!problem.states.empty())
+    spdlog::warn("{}: evaluated on the objects as listed; its {} states are scored by `vantage "
+                 "optimize` only",
+                 problem.source, problem.states.size());
+  result.timings.load = detail::SecondsSince(start);
+  auto stage = std::chrono::steady_clock::now();
+  result.data = std::make_unique<VisibilityFile>();
+  VisibilityFile& data = *result.data;
+  data.scene = problem.source;
+  data.seed = problem.seed;
+  data.selection.n = static_cast<int>(constellation.sensors.size());
+  data.candidates = constellation.sensors;
+  data.quality = observe.quality;
+  data.reference = detail::BuildRunReference(problem.scene, problem.cell_size, problem.source);
+  result.timings.reference = detail::SecondsSince(stage);
+  detail::CheckObserveMemory(problem.scene, data.reference.size(), data.candidates,
+                             limits.max_memory_mib, problem.source);
+  stage = std::chrono::steady_clock::now();
+  result.rays = std::make_unique<RayScene>(problem.scene);
+  data.observations = Observe(*result.rays, data.reference, data.candidates, observe);
+  result.timings.observe = detail::SecondsSince(stage);
+  stage = std::chrono::steady_clock::now();
+  result.given = detail::GivenSelection(CoverageEvaluator(data.observations, data.reference.size()));
+  result.timings.select = result.given.seconds = detail::SecondsSince(stage);
+  result.timings.total = detail::SecondsSince(start);
+  return result;
+}
+
+}  // namespace
+
+EvaluateResult Evaluate(const EvaluateOptions& options) {
+  options.observe.Validate();
+  options.limits.Validate();
+  const Constellation constellation = LoadConstellation(options.constellation);
+  const SceneInput scene = InheritScene(options.scene, constellation);
+  ObserveOptions observe = options.observe;
+  observe.quality = InheritQuality(options.observe.quality, constellation, options.constellation);
+  Reobserved reobserved = Reobserve(scene, constellation, observe, options.limits);
+
+  EvaluateResult result;
+  const VisibilityFile& data = *reobserved.data;
+  const CoverageEvaluator evaluator(data.observations, data.reference.size());
+  for (size_t i = 0; i < data.candidates.size(); ++i) {
+    const std::vector<uint32_t> one{static_cast<uint32_t>(i)};
+    result.sensor_coverage.push_back(evaluator.Coverage(one));
+  }
+  RunResult& run = result.run;
+  run.data = std::move(reobserved.data);
+  Report& report = run.report;
+  report.scene = run.data->scene;
+  report.seed = run.data->seed;
+  report.data = run.data.get();
+  report.results = {reobserved.given};
+  report.timings = reobserved.timings;
+  report.inputs = detail::InputsOf("evaluate", scene, observe);
+  report.inputs->constellation = fs::absolute(options.constellation).string();
+  DeriveReport(&report);
+  detail::FinishRun(reobserved.problem.scene, {}, &run);
+  return result;
+}
+
+RenderRunResult RenderRun(const RenderRunOptions& options) {
+  options.render.Validate();
+  const std::string report_path = fs::is_directory(options.run)
+                                      ? (fs::path(options.run) / "report.json").string()
+                                      : options.run;
+  std::error_code error;
+  if (!fs::is_regular_file(report_path, error))
+    throw InputError(AtPlace(report_path, 0,
+                             "cannot open report.json — give an output folder of `vantage "
+                             "optimize`, `select` or `evaluate`"));
+  const Constellation constellation = LoadConstellation(report_path);
+  SceneInput scene = InheritScene(options.scene, constellation);
+  if (scene.path.empty())
+    throw InputError(AtPlace(report_path, 0, "no 'scene' path — give the scene with --scene PATH"));
+  if (!fs::exists(scene.path, error))
+    throw InputError(AtPlace(report_path, 0,
+                             fmt::format("its scene '{}' is not found from here — run from the "
+                                         "folder the run started in, or give --scene PATH",
+                                         scene.path)));
+  // The voxels of the report: its own cell size (the scene's may have changed since).
+  if (!scene.load.cell_size) {
+    if (!(constellation.cell_size > 0))
+      throw InputError(AtPlace(report_path, 0,
+                               "'cell_size' must be a positive number — give a report.json "
+                               "written by vantage"));
+    scene.load.cell_size = constellation.cell_size;
+  }
+  ObserveOptions observe;
+  if (constellation.inputs) observe.cull = constellation.inputs->cull;
+  observe.quality = InheritQuality({}, constellation, report_path);
+  // Re-observe the chosen sensors: the same voxels as the report counts.
+  const Reobserved reobserved = Reobserve(scene, constellation, observe, RunLimits{});
+  if (constellation.coverage && std::abs(*constellation.coverage - reobserved.given.coverage) > 1e-9)
+    spdlog::warn("{}: coverage {:.4f} % now, {:.4f} % in the report — has the scene changed since?",
+                 report_path, 100.0 * reobserved.given.coverage, 100.0 * *constellation.coverage);
+
+  Report report;
+  report.scene = scene.path;
+  report.data = reobserved.data.get();
+  report.results = {reobserved.given};
+  DeriveReport(&report);
+  RenderRunResult result;
+  result.png = options.png.empty() ? (fs::path(options.run) / "view.png").string() : options.png;
+  WritePng(result.png,
+           RenderView(*reobserved.rays, reobserved.problem.scene, report, options.render));
+  result.sensors = reobserved.data->candidates.size();
+  result.coverage = reobserved.given.coverage;
+  return result;
+}
+
+}  // namespace vantage

@@ -1,0 +1,249 @@
+// Memory checks → R → observe, for every state of the scene: the first half of optimize and all
+// of `vantage observe`.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <tbb/task_arena.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+
+#include "pipeline/common.hpp"
+#include "vantage/error.hpp"
+#include "vantage/scene_states.hpp"
+
+namespace vantage {
+namespace detail {
+namespace {
+
+constexpr double kMiB = 1024.0 * 1024.0;
+
+// --max-memory, or 75 % of the machine's RAM when it is not given (0).
+double MemoryLimitMiB(double limit_mib) {
+  if (limit_mib > 0) return limit_mib;
+  const double ram = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
+                     static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+  return 0.75 * ram / kMiB;
+}
+
+size_t Threads() { return static_cast<size_t>(tbb::this_task_arena::max_concurrency()); }
+
+// Refuses a run whose estimate exceeds the limit, before any ray is cast (issue #8).
+void CheckMemory(const MemoryEstimate& estimate, double limit_mib, const std::string& source) {
+  spdlog::info(
+      "memory estimate: {:.0f} MiB (scene {:.0f}, images {:.0f}, visibility {:.0f}, selection "
+      "{:.0f})",
+      estimate.Total() / kMiB, estimate.scene / kMiB, estimate.hit_buffers / kMiB,
+      estimate.observations / kMiB, estimate.selection / kMiB);
+  limit_mib = MemoryLimitMiB(limit_mib);
+  if (estimate.Total() / kMiB > limit_mib)
+    throw InputError(AtPlace(
+        source, 0,
+        fmt::format("this run needs about {:.0f} MiB, above the {:.0f} MiB limit — use fewer "
+                    "candidates, lower resolutions, a larger --cell-size, fewer --threads, or "
+                    "raise --max-memory",
+                    estimate.Total() / kMiB, limit_mib)));
+}
+
+}  // namespace
+
+// Targets beyond the grid name no place of their own: the scene is named.
+Reference BuildRunReference(const Scene& scene, double cell_size, const std::string& source,
+                            const std::function<void()>& before_build) {
+  try {
+    CheckTargetsFitGrid(scene, cell_size);
+    if (before_build) before_build();
+    return BuildReference(scene, ReferenceOptions{cell_size});
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    if (message.rfind(source + ":", 0) == 0) throw;
+    throw InputError(AtPlace(source, 0, message));
+  }
+}
+
+Selection GivenSelection(const CoverageEvaluator& evaluator) {
+  Selection given;
+  given.method = "given";
+  given.chosen.resize(evaluator.observations().size());
+  for (size_t i = 0; i < given.chosen.size(); ++i) given.chosen[i] = static_cast<uint32_t>(i);
+  given.n = static_cast<int>(given.chosen.size());
+  given.coverage = evaluator.Coverage(given.chosen);
+  given.paper_coverage = evaluator.PaperCoverage(given.chosen);
+  return given;
+}
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void CheckWorldPoint(const Vec3& point, const std::string& option) {
+  if (!point.allFinite() || (point.array().abs() > 1e9).any())
+    throw InputError(AtPlace(option, 0,
+                             fmt::format("({}, {}, {}) must be finite coordinates within ±1e9 m",
+                                         point.x(), point.y(), point.z())));
+}
+
+void CheckObserveMemory(const Scene& scene, size_t reference_size,
+                        std::span<const Candidate> candidates, double limit_mib,
+                        const std::string& source) {
+  CheckMemory(EstimateMemory(scene, reference_size, candidates, Threads()), limit_mib, source);
+}
+
+// Issue #8: 1e-5 m on the example asked for 4·10⁸ cells and ran out of memory. R is estimated
+// from the targets' triangles (EstimateReferenceCells, within 20 % of the cells appended on the
+// example from 2 mm to 50 µm). Building R holds about 32 bytes per appended cell (per-thread keys
+// and the merged copy, each up to twice its size while growing); afterwards each cell keeps its
+// 8-byte key plus about 64 bytes of outputs (the PLY voxel centres, report.html's voxel arrays and
+// their copies), besides the visibility lists and selection bitsets of EstimateMemory. Measured
+// on the example at 50 µm: 55 bytes per cell of R in all, so this errs on the safe side by 1.5.
+void CheckReferenceMemory(const PreparedScene& prepared, double limit_mib) {
+  const Problem& problem = prepared.problem;
+  const double cells = EstimateReferenceCells(problem.scene, problem.cell_size);
+  const double build = 32.0 * cells;
+  const size_t capped = static_cast<size_t>(std::min(cells, 1e18));
+  const MemoryEstimate later =
+      EstimateMemory(problem.scene, capped, prepared.candidates, Threads());
+  // The stages that grow with |R|: building it; then R, the outputs, visibility lists, bitsets.
+  const double with_r = std::max(
+      build, (8.0 + 64.0) * cells + static_cast<double>(later.observations + later.selection));
+  const double others = static_cast<double>(later.scene + later.hit_buffers);
+  spdlog::debug("reference estimate: about {:.3g} cells, {:.0f} MiB with them", cells,
+                with_r / kMiB);
+  limit_mib = MemoryLimitMiB(limit_mib);
+  const double total = with_r + others;
+  if (total / kMiB <= limit_mib) return;
+  if (with_r < others) {
+    CheckMemory(later, limit_mib, problem.source);  // the images dominate: the general message
+    return;
+  }
+  const bool from_option = prepared.cell_size_from_option;
+  throw InputError(AtPlace(
+      problem.source, 0,
+      fmt::format("a cell size of {} m ({}) makes a reference R of about {:.2g} cells on the "
+                  "targets' surface, so this run needs about {:.0f} MiB, above the {:.0f} MiB "
+                  "limit — {}, or raise --max-memory",
+                  problem.cell_size, from_option ? "--cell-size" : "the scene's cell_size", cells,
+                  total / kMiB, limit_mib,
+                  from_option
+                      ? "give a larger --cell-size"
+                      : "use a larger cell_size in the scene (or override it with --cell-size)")));
+}
+
+}  // namespace detail
+
+ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& observe,
+                              const RunLimits& limits) {
+  observe.Validate();
+  limits.Validate();
+  Problem& problem = prepared.problem;
+  ObservedScene result;
+  result.timings = prepared.timings;
+  auto start = std::chrono::steady_clock::now();
+  const ReferenceOptions reference_options{problem.cell_size};
+  reference_options.Validate();
+  Reference reference =
+      detail::BuildRunReference(problem.scene, problem.cell_size, problem.source, [&] {
+        detail::CheckReferenceMemory(prepared, limits.max_memory_mib);
+      });
+  result.timings.reference = detail::SecondsSince(start);
+  spdlog::info("reference: {} voxels of {} m in {:.3f} s", reference.size(), problem.cell_size,
+               result.timings.reference);
+
+  const std::vector<Candidate>& candidates = prepared.candidates;
+  int64_t pixels = 0;
+  for (const Candidate& c : candidates) pixels += c.sensor.PixelCount();
+  spdlog::info("observe: {} candidates, {:.1f} Mpx in all images", candidates.size(),
+               pixels / 1e6);
+  detail::CheckObserveMemory(problem.scene, reference.size(), candidates, limits.max_memory_mib,
+                             problem.source);
+  start = std::chrono::steady_clock::now();
+  result.rays = std::make_unique<RayScene>(problem.scene);
+  std::vector<Observation> observations = Observe(*result.rays, reference, candidates, observe);
+  result.timings.observe = detail::SecondsSince(start);
+  uint64_t rays = 0;
+  for (const Observation& o : observations) rays += o.rays_traced;
+  spdlog::info("observe: {:.1f} M rays traced in {:.3f} s", rays / 1e6, result.timings.observe);
+
+  const std::vector<Scene>& state_scenes = prepared.state_scenes;
+  for (size_t i = 0; i < state_scenes.size(); ++i) {
+    ObservedState state;
+    state.name = problem.states[i].name;
+    for (size_t j = 0; j < i && state.same_as < 0; ++j) {
+      if (SameGeometry(state_scenes[j], state_scenes[i])) state.same_as = static_cast<int>(j);
+    }
+    if (i == 0) {
+      state.reference = reference;
+      state.observations = observations;
+    } else if (state.same_as >= 0) {  // unchanged geometry: no ray is traced twice
+      const ObservedState& same = result.states[static_cast<size_t>(state.same_as)];
+      state.reference = same.reference;
+      state.observations = same.observations;
+    } else {
+      const auto state_start = std::chrono::steady_clock::now();
+      try {
+        state.reference =
+            detail::BuildRunReference(state_scenes[i], problem.cell_size, problem.source);
+      } catch (const InputError& e) {
+        throw InputError(AtPlace(problem.source, problem.states[i].line,
+                                 fmt::format("state '{}': {}", state.name, e.what())));
+      }
+      state.observations =
+          Observe(RayScene(state_scenes[i]), state.reference, candidates, observe);
+      result.timings.observe += detail::SecondsSince(state_start);
+    }
+    spdlog::info("state '{}': {} reference voxels{}", state.name, state.reference.size(),
+                 state.same_as >= 0
+                     ? fmt::format(", same geometry as '{}' (not traced again)",
+                                   result.states[static_cast<size_t>(state.same_as)].name)
+                     : std::string());
+    result.states.push_back(std::move(state));
+  }
+
+  VisibilityFile& data = result.data;
+  data.scene = problem.source;
+  data.seed = problem.seed;
+  data.selection = problem.selection;
+  data.reference = std::move(reference);
+  data.candidates = std::move(prepared.candidates);
+  data.observations = std::move(observations);
+  data.quality = observe.quality;
+  result.notes = std::move(prepared.notes);
+  result.notes.insert(result.notes.end(), problem.notes.begin(), problem.notes.end());
+  result.scene = std::move(problem.scene);
+  result.populations = std::move(problem.populations);
+  result.observation_point = problem.observation_point;
+  result.sensors = std::move(problem.sensors);
+  return result;
+}
+
+ObserveRunResult ObserveRun(const ObserveRunOptions& options) {
+  options.observe.Validate();  // option errors before any work
+  options.limits.Validate();
+  PreparedScene prepared = Prepare(options.scene);
+  const size_t count = prepared.candidates.size();
+  if (options.n) {
+    // -n names the option before any ray is cast (the scene's own n is checked by select).
+    if (*options.n < 1 || static_cast<size_t>(*options.n) > count)
+      throw InputError(AtPlace(
+          "-n", 0,
+          fmt::format("n = {} is out of range: there are {} candidates, so n must be between 1 "
+                      "and {} — give -n in that range",
+                      *options.n, count, count)));
+    prepared.problem.selection.n = *options.n;
+  }
+  ObservedScene observed = ObservePrepared(std::move(prepared), options.observe, options.limits);
+  ObserveRunResult result;
+  for (const ObservedState& state : observed.states) result.state_names.push_back(state.name);
+  if (!result.state_names.empty())
+    spdlog::warn(
+        "{}: the visibility file holds the first state '{}' only; `vantage optimize` selects "
+        "over all {} states",
+        observed.data.scene, result.state_names.front(), result.state_names.size());
+  result.data = std::move(observed.data);
+  result.timings = observed.timings;
+  return result;
+}
+
+}  // namespace vantage

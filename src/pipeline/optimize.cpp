@@ -1,0 +1,135 @@
+// `vantage optimize`: prepare → observe → select → refine → assess → report.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+
+#include "pipeline/common.hpp"
+#include "vantage/error.hpp"
+#include "vantage/gazebo_export.hpp"
+#include "vantage/yaml_export.hpp"
+
+namespace vantage {
+namespace {
+
+// --refine: new poses around the primary result's sensors, traced and re-selected; the refined
+// constellation is appended to the results (method "refined") with its candidates.
+std::optional<RefinementInfo> RefinePrimary(const RefineOptions& options,
+                                            const SelectOptions& select, ObservedScene* observed,
+                                            std::vector<Selection>* results) {
+  const int from = PrimaryResult(*results);
+  if (from < 0) return std::nullopt;
+  VisibilityFile& data = observed->data;
+  RefineResult refined = Refine(*observed->rays, data.reference, data.candidates,
+                                data.observations, observed->populations,
+                                observed->observation_point, (*results)[static_cast<size_t>(from)],
+                                select, options);
+  data.candidates = std::move(refined.candidates);
+  data.observations = std::move(refined.observations);
+  Selection selection = refined.selection;  // scored, seconds included, by Refine
+  selection.method = "refined";
+  results->push_back(selection);
+  RefinementInfo info;
+  info.from_result = from;
+  info.result = static_cast<int>(results->size()) - 1;
+  info.coverage_before = refined.coverage_before;
+  info.coverage_after = selection.coverage;
+  info.history = refined.history;
+  info.rounds = refined.rounds;
+  info.new_candidates = refined.new_candidates;
+  info.extra_rays = refined.extra_rays;
+  info.seconds = refined.seconds;
+  spdlog::info("refine: {} rounds, {} new poses, {:.1f} M rays, {:+.2f} points in {:.3f} s",
+               info.rounds, info.new_candidates, info.extra_rays / 1e6,
+               100.0 * (info.coverage_after - info.coverage_before), info.seconds);
+  return info;
+}
+
+}  // namespace
+
+RunResult Optimize(const OptimizeOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  // Every option is checked before the scene is read, the selection before any ray is cast.
+  options.observe.Validate();
+  options.limits.Validate();
+  options.robustness.Validate();
+  if (options.refine) options.refine->Validate();
+  PreparedScene prepared = Prepare(options.scene);
+  const std::string source = prepared.problem.source;
+  const SelectOptions select = ResolveSelection(prepared.problem.selection, options.selection,
+                                                prepared.problem.seed, prepared.candidates,
+                                                source, Method::kAll);
+  const bool has_states = !prepared.problem.states.empty();
+  if (!has_states && options.selection.over_states)
+    throw InputError(AtPlace("--over-states", 0,
+                             "the scene has no states — add a `states:` list "
+                             "(docs/scene-format.md) or drop --over-states"));
+  if (has_states && options.refine)
+    throw InputError(AtPlace("--refine", 0,
+                             "refinement over scene states is not supported yet — drop --refine "
+                             "or the scene's states"));
+  ObservedScene observed = ObservePrepared(std::move(prepared), options.observe, options.limits);
+
+  const auto select_start = std::chrono::steady_clock::now();
+  RunResult run;
+  Report& report = run.report;
+  detail::SelectResults(observed, options.selection, select, &report);
+  if (options.refine) {
+    RefineOptions refine = *options.refine;
+    refine.seed = select.seed;
+    refine.observe = options.observe;
+    refine.observe.progress = nullptr;
+    report.refinement = RefinePrimary(refine, select, &observed, &report.results);
+  }
+  observed.timings.select = detail::SecondsSince(select_start);
+  observed.timings.total = detail::SecondsSince(start);
+
+  run.data = std::make_unique<VisibilityFile>(std::move(observed.data));
+  const VisibilityFile& data = *run.data;
+  report.scene = data.scene;
+  report.seed = select.seed;
+  report.data = run.data.get();
+  report.timings = observed.timings;
+  report.notes = observed.notes;
+  report.inputs = detail::InputsOf("optimize", options.scene, options.observe);
+  detail::AddSelectionInputs(options.selection, &*report.inputs);
+  report.inputs->refine = options.refine.has_value();
+  if (options.refine) report.inputs->refine_rounds = options.refine->max_rounds;
+  report.inputs->fov_tolerance_deg = options.robustness.fov_tolerance_deg;
+  report.inputs->alternatives_within = 100.0 * options.robustness.within;
+  if (report.states) {
+    report.notes.push_back(fmt::format(
+        "scene states: candidates' coverages, reference.ply, observed.ply and report.html's 3D "
+        "view and chosen-sensor table show the first state '{}'; each result's state_coverage "
+        "lists every state",
+        report.states->states.front().name));
+  }
+  DeriveReport(&report);
+
+  // constellation.world (or .yaml): the input scene with only the primary result's sensors.
+  std::map<std::string, std::string> extra;
+  if (report.primary >= 0) {
+    std::vector<Candidate> chosen;
+    for (uint32_t i : report.PrimaryChosen()) chosen.push_back(data.candidates[i]);
+    if (IsGazeboWorldPath(options.scene.path)) {
+      std::vector<std::string> notes;
+      extra["constellation.world"] = ConstellationWorld(options.scene.path, chosen,
+                                                        observed.populations, observed.sensors,
+                                                        &notes);
+      for (const std::string& note : notes) spdlog::warn("{}", note);
+      report.notes.insert(report.notes.end(), notes.begin(), notes.end());
+    } else {
+      extra["constellation.yaml"] = ConstellationYaml(options.scene.path, chosen);
+    }
+    // Robustness reads `data`, the first state's sets: not meaningful over states.
+    if (!report.states) {
+      report.robustness = AssessRobustness(data, report.results, report.primary,
+                                           observed.rays.get(), options.observe,
+                                           options.robustness);
+    }
+  }
+  detail::FinishRun(observed.scene, std::move(extra), &run);
+  return run;
+}
+
+}  // namespace vantage

@@ -1,0 +1,73 @@
+// What every command writes: the inputs block that reproduces the run, and the output files,
+// each produced by its serialiser from the derived report.
+#include <filesystem>
+
+#include "pipeline/common.hpp"
+#include "util/atomic_file.hpp"
+#include "vantage/error.hpp"
+#include "vantage/visualize.hpp"
+
+namespace vantage {
+namespace detail {
+namespace {
+
+std::string Absolute(const std::string& path) {
+  if (path.empty()) return path;
+  std::error_code error;
+  const std::filesystem::path absolute = std::filesystem::absolute(path, error);
+  return error ? path : absolute.lexically_normal().string();
+}
+
+std::vector<std::string> Absolute(const std::vector<std::string>& paths) {
+  std::vector<std::string> result;
+  for (const std::string& path : paths) result.push_back(Absolute(path));
+  return result;
+}
+
+}  // namespace
+
+RunInputs InputsOf(const std::string& command, const SceneInput& scene,
+                   const ObserveOptions& observe) {
+  RunInputs inputs;
+  inputs.command = command;
+  inputs.scene = Absolute(scene.path);
+  inputs.model_paths = Absolute(scene.load.model_paths);
+  inputs.resource_paths = Absolute(scene.load.resource_paths);
+  inputs.targets = scene.load.targets;
+  inputs.cell_size = scene.load.cell_size;
+  inputs.seed = scene.seed;
+  inputs.observation_point = scene.observation_point;
+  inputs.random_roll = scene.random_roll;
+  inputs.cull = observe.cull;
+  inputs.quality = observe.quality;
+  return inputs;
+}
+
+void AddSelectionInputs(const SelectionRequest& request, RunInputs* inputs) {
+  inputs->n = request.n;
+  if (request.method) inputs->method = MethodName(*request.method);
+  inputs->ransac_iterations = request.ransac_iterations;
+  inputs->ransac_stop_coverage = request.ransac_stop_coverage;
+  inputs->time_limit = request.time_limit;
+  inputs->goal = request.goal;
+  inputs->k = request.k;
+  inputs->budget = request.budget;
+  if (request.over_states) inputs->over_states = OverStatesName(*request.over_states);
+}
+
+void FinishRun(const Scene& scene, std::map<std::string, std::string> extra, RunResult* run) {
+  VANTAGE_CHECK(run->report.is_derived && run->report.data == run->data.get());
+  run->files = ReportFiles(run->report);
+  extra["report.html"] = HtmlReport(run->report, scene);
+  extra["static_transforms.yaml"] = StaticTransformsYaml(run->report);
+  run->files.merge(extra);
+}
+
+}  // namespace detail
+
+void WriteRun(const std::string& out_dir, const RunResult& result) {
+  VANTAGE_CHECK(!result.files.empty());
+  detail::WriteFolderAtomically(out_dir, result.files);
+}
+
+}  // namespace vantage

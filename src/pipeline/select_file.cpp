@@ -1,0 +1,80 @@
+// `vantage select`: selection from a saved visibility file, then assess and report.
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <filesystem>
+
+#include "pipeline/common.hpp"
+#include "vantage/error.hpp"
+
+namespace vantage {
+namespace {
+
+// The scene's meshes for report.html and the shrunk fields of view: reloaded from the path the
+// visibility file names when it is still there; otherwise (or when it no longer loads) the page
+// shows voxels and sensors only.
+Scene ReportScene(const std::string& path) {
+  std::error_code error;
+  if (path.empty() || !std::filesystem::exists(path, error)) {
+    spdlog::info("report.html without meshes: scene '{}' not found from here", path);
+    return {};
+  }
+  try {
+    return LoadProblem(path).scene;
+  } catch (const InputError& e) {
+    spdlog::warn("report.html without meshes: {}", e.what());
+    return {};
+  }
+}
+
+}  // namespace
+
+RunResult SelectFromFile(const SelectFileOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  options.robustness.Validate();
+  RunResult run;
+  run.data = std::make_unique<VisibilityFile>(LoadVisibilityFile(options.visibility_file));
+  const VisibilityFile& data = *run.data;
+  Timings timings;
+  timings.load = detail::SecondsSince(start);
+  if (options.selection.over_states)
+    throw InputError(AtPlace("--over-states", 0,
+                             "a visibility file holds one state — run `vantage optimize` on the "
+                             "scene with states instead"));
+  const SelectOptions select =
+      ResolveSelection(data.selection, options.selection, options.seed.value_or(data.seed),
+                       data.candidates, data.scene, Method::kAll);
+  const auto select_start = std::chrono::steady_clock::now();
+  Report& report = run.report;
+  report.results = Select(data.observations, data.reference.size(), select);
+  timings.select = detail::SecondsSince(select_start);
+  timings.total = detail::SecondsSince(start);
+  report.scene = data.scene;
+  report.seed = select.seed;
+  report.data = run.data.get();
+  report.timings = timings;
+  RunInputs inputs;
+  inputs.command = "select";
+  inputs.visibility_file = std::filesystem::absolute(options.visibility_file).string();
+  inputs.scene = data.scene;
+  inputs.cull = true;
+  inputs.quality = data.quality;
+  inputs.seed = options.seed;
+  detail::AddSelectionInputs(options.selection, &inputs);
+  inputs.fov_tolerance_deg = options.robustness.fov_tolerance_deg;
+  inputs.alternatives_within = 100.0 * options.robustness.within;
+  report.inputs = std::move(inputs);
+  DeriveReport(&report);
+  const Scene scene = ReportScene(data.scene);
+  if (report.primary >= 0) {
+    // The shrunk fields of view need the geometry: only when the scene still loads from here.
+    const std::unique_ptr<RayScene> rays =
+        scene.objects.empty() ? nullptr : std::make_unique<RayScene>(scene);
+    report.robustness = AssessRobustness(data, report.results, report.primary, rays.get(),
+                                         ObserveOptions{}, options.robustness);
+  }
+  detail::FinishRun(scene, {}, &run);
+  return run;
+}
+
+}  // namespace vantage

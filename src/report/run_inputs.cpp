@@ -1,0 +1,166 @@
+// report.json's `inputs` block: every option that shaped the run, as it was given.
+#include "report/run_inputs.hpp"
+
+#include <fmt/format.h>
+
+#include "vantage/error.hpp"
+
+namespace vantage::detail {
+namespace {
+
+using nlohmann::json;
+using nlohmann::ordered_json;
+
+template <typename T>
+void Put(ordered_json* j, const char* key, const std::optional<T>& value) {
+  if (value) (*j)[key] = *value;
+}
+
+// Reads `key` when present: InputError naming it when its JSON type is not `T`'s.
+class Reader {
+ public:
+  Reader(const json& j, std::string where) : j_(j), where_(std::move(where)) {}
+
+  bool Has(const char* key) const { return j_.contains(key) && !j_[key].is_null(); }
+
+  void String(const char* key, std::string* out) const {
+    if (!Has(key)) return;
+    if (!j_[key].is_string()) Fail(key, "a string");
+    *out = j_[key].get<std::string>();
+  }
+  void String(const char* key, std::optional<std::string>* out) const {
+    if (!Has(key)) return;
+    std::string text;
+    String(key, &text);
+    *out = text;
+  }
+  void Strings(const char* key, std::vector<std::string>* out) const {
+    if (!Has(key)) return;
+    if (!j_[key].is_array()) Fail(key, "an array of strings");
+    for (const json& item : j_[key]) {
+      if (!item.is_string()) Fail(key, "an array of strings");
+      out->push_back(item.get<std::string>());
+    }
+  }
+  void Number(const char* key, std::optional<double>* out) const {
+    if (!Has(key)) return;
+    if (!j_[key].is_number()) Fail(key, "a number");
+    *out = j_[key].get<double>();
+  }
+  void Integer(const char* key, std::optional<int>* out) const {
+    if (!Has(key)) return;
+    if (!j_[key].is_number_integer() || j_[key].get<int64_t>() < INT32_MIN ||
+        j_[key].get<int64_t>() > INT32_MAX)
+      Fail(key, "a whole number");
+    *out = static_cast<int>(j_[key].get<int64_t>());
+  }
+  void Unsigned(const char* key, std::optional<uint64_t>* out) const {
+    if (!Has(key)) return;
+    if (!j_[key].is_number_unsigned()) Fail(key, "a whole number >= 0");
+    *out = j_[key].get<uint64_t>();
+  }
+  void Boolean(const char* key, bool* out) const {
+    if (!Has(key)) return;
+    if (!j_[key].is_boolean()) Fail(key, "true or false");
+    *out = j_[key].get<bool>();
+  }
+  void Boolean(const char* key, std::optional<bool>* out) const {
+    if (!Has(key)) return;
+    bool value = false;
+    Boolean(key, &value);
+    *out = value;
+  }
+  void Point(const char* key, std::optional<Vec3>* out) const {
+    if (!Has(key)) return;
+    const json& v = j_[key];
+    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() ||
+        !v[2].is_number())
+      Fail(key, "an array of 3 numbers");
+    *out = Vec3(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
+  }
+
+ private:
+  [[noreturn]] void Fail(const char* key, const char* what) const {
+    throw InputError(fmt::format("{}: inputs.{} must be {} — give a report.json written by vantage",
+                                 where_, key, what));
+  }
+  const json& j_;
+  std::string where_;
+};
+
+}  // namespace
+
+ordered_json RunInputsJson(const RunInputs& in) {
+  ordered_json j;
+  j["command"] = in.command;
+  j["scene"] = in.scene;
+  j["model_paths"] = in.model_paths;
+  j["resource_paths"] = in.resource_paths;
+  j["targets"] = in.targets;
+  Put(&j, "cell_size", in.cell_size);
+  Put(&j, "seed", in.seed);
+  if (in.observation_point) {
+    const Vec3& p = *in.observation_point;
+    j["observation_point"] = ordered_json::array({p.x(), p.y(), p.z()});
+  }
+  Put(&j, "random_roll", in.random_roll);
+  j["cull"] = in.cull;
+  Put(&j, "max_incidence_deg", in.quality.max_incidence_deg);
+  if (in.quality.max_depth_noise) j["max_depth_noise_mm"] = *in.quality.max_depth_noise * 1000.0;
+  Put(&j, "n", in.n);
+  Put(&j, "method", in.method);
+  Put(&j, "ransac_iterations", in.ransac_iterations);
+  Put(&j, "ransac_stop_coverage", in.ransac_stop_coverage);
+  Put(&j, "time_limit", in.time_limit);
+  Put(&j, "goal", in.goal);
+  Put(&j, "k", in.k);
+  Put(&j, "budget", in.budget);
+  Put(&j, "over_states", in.over_states);
+  if (in.refine) j["refine"] = true;
+  Put(&j, "refine_rounds", in.refine_rounds);
+  Put(&j, "fov_tolerance_deg", in.fov_tolerance_deg);
+  Put(&j, "alternatives_within", in.alternatives_within);
+  if (!in.visibility_file.empty()) j["visibility_file"] = in.visibility_file;
+  if (!in.constellation.empty()) j["constellation"] = in.constellation;
+  return j;
+}
+
+RunInputs ParseRunInputs(const json& j, const std::string& where) {
+  if (!j.is_object())
+    throw InputError(fmt::format("{}: 'inputs' must be an object — give a report.json written by "
+                                 "vantage", where));
+  const Reader r(j, where);
+  RunInputs in;
+  r.String("command", &in.command);
+  r.String("scene", &in.scene);
+  r.Strings("model_paths", &in.model_paths);
+  r.Strings("resource_paths", &in.resource_paths);
+  r.Strings("targets", &in.targets);
+  r.Number("cell_size", &in.cell_size);
+  r.Unsigned("seed", &in.seed);
+  r.Point("observation_point", &in.observation_point);
+  r.Boolean("random_roll", &in.random_roll);
+  r.Boolean("cull", &in.cull);
+  r.Number("max_incidence_deg", &in.quality.max_incidence_deg);
+  std::optional<double> noise_mm;
+  r.Number("max_depth_noise_mm", &noise_mm);
+  if (noise_mm) in.quality.max_depth_noise = *noise_mm / 1000.0;
+  r.Integer("n", &in.n);
+  r.String("method", &in.method);
+  r.Integer("ransac_iterations", &in.ransac_iterations);
+  r.Number("ransac_stop_coverage", &in.ransac_stop_coverage);
+  r.Number("time_limit", &in.time_limit);
+  r.Number("goal", &in.goal);
+  r.Integer("k", &in.k);
+  r.Number("budget", &in.budget);
+  r.String("over_states", &in.over_states);
+  r.Boolean("refine", &in.refine);
+  r.Integer("refine_rounds", &in.refine_rounds);
+  r.Number("fov_tolerance_deg", &in.fov_tolerance_deg);
+  r.Number("alternatives_within", &in.alternatives_within);
+  r.String("visibility_file", &in.visibility_file);
+  r.String("constellation", &in.constellation);
+  return in;
+}
+
+}  // namespace vantage::detail

@@ -1,0 +1,30 @@
+// Selection's entry points for the assess stage: scoring a given constellation and improving it
+// by swaps, so that refinement re-selects through selection's own code instead of its internals.
+#include "select/coverage_matrix.hpp"
+#include "select/methods.hpp"
+#include "vantage/error.hpp"
+#include "vantage/select.hpp"
+
+namespace vantage {
+
+Selection ScoreChosen(const CoverageEvaluator& evaluator, std::vector<uint32_t> chosen,
+                      const std::string& method, const SelectOptions& options) {
+  return detail::ScoreSelection(evaluator, std::move(chosen), method, options);
+}
+
+std::vector<uint32_t> ImproveBySwaps(std::span<const Observation> observations,
+                                     size_t reference_size, std::vector<uint32_t> start,
+                                     const SelectOptions& options) {
+  const Objective objective = options.objective();
+  VANTAGE_CHECK(objective != Objective::kSetCover);
+  const detail::CoverageMatrix matrix(observations, reference_size);
+  detail::LocalOptions local;
+  local.k = objective == Objective::kKCoverage ? options.k : 1;
+  if (objective == Objective::kBudget) {
+    local.costs = options.costs;
+    local.budget = *options.budget;
+  }
+  return detail::LocalSearch(matrix, std::move(start), local);
+}
+
+}  // namespace vantage
