@@ -26,8 +26,8 @@
 #include <vector>
 
 #include "scene/gazebo_world.hpp"
-#include "scene/gazebo_xml.hpp"
 #include "test_util.hpp"
+#include "util/xml.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
 

@@ -22,8 +22,8 @@
 
 #include "scene/gazebo_material.hpp"
 #include "scene/gazebo_world.hpp"
-#include "scene/gazebo_xml.hpp"
 #include "test_util.hpp"
+#include "util/xml.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
 

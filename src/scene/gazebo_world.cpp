@@ -44,7 +44,7 @@
 #include <vector>
 
 #include "scene/gazebo_material.hpp"
-#include "scene/gazebo_xml.hpp"
+#include "util/xml.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
 #include "vantage/scene.hpp"
