@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "scene/gazebo_world.hpp"
+#include "scene/sdf/world.hpp"
 #include "test_util.hpp"
 #include "util/xml.hpp"
 #include "vantage/error.hpp"
