@@ -26,9 +26,9 @@
 #include <string>
 #include <vector>
 
-#include "scene/gazebo_world.hpp"
-#include "scene/gazebo_xml.hpp"
+#include "scene/sdf/world.hpp"
 #include "test_util.hpp"
+#include "util/xml.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
 

@@ -1,7 +1,8 @@
-// A small XML reader that keeps line numbers (see gazebo_xml.hpp for why sdformat's tree is not
-// used). Covers what SDF files use: declaration, comments, CDATA, processing instructions, a
-// DOCTYPE without entity definitions, the five predefined entities and character references.
-#include "scene/gazebo_xml.hpp"
+// A small XML reader that keeps line numbers and byte offsets (see xml.hpp for why sdformat's
+// tree is not used). Covers what SDF files use: declaration, comments, CDATA, processing
+// instructions, a DOCTYPE without entity definitions, the five predefined entities and character
+// references.
+#include "util/xml.hpp"
 
 #include <fmt/format.h>
 

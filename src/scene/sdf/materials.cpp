@@ -1,5 +1,5 @@
 // Ogre material scripts, read as far as the colour of the first pass (GAZEBO.md, "Targets").
-#include "scene/gazebo_material.hpp"
+#include "scene/sdf/materials.hpp"
 
 #include <fmt/format.h>
 

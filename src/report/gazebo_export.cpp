@@ -1,6 +1,6 @@
 // constellation.world: the input world, edited as text so that everything vantage does not
 // change keeps its exact bytes (comments, plugins, physics, GUI). The XML reader's byte offsets
-// (gazebo_xml.hpp) say what to cut and what to copy; the edits are collected as (begin, end,
+// (util/xml.hpp) say what to cut and what to copy; the edits are collected as (begin, end,
 // replacement) and applied from the back.
 //
 // Frames (GAZEBO.md, "Sensor orientation and camera"): a candidate's world_from_body is the
@@ -25,7 +25,7 @@
 #include <string_view>
 #include <vector>
 
-#include "scene/gazebo_xml.hpp"
+#include "util/xml.hpp"
 #include "vantage/error.hpp"
 #include "vantage/types.hpp"
 

@@ -1,11 +1,18 @@
 #pragma once
 /// A small non-validating XML reader for SDF worlds, model files and model.config files.
 ///
-/// Why not libsdformat's element tree: once sdformat has expanded an `<include>`, the include
-/// element itself, every child of a `<plugin>` and the include's overriding `<pose>` carry no line
-/// number (or the model file's), and malformed XML is only printed to the console, without an
-/// Errors entry. vantage must point at the offending line in each of those cases (GAZEBO.md,
-/// STYLE.md "Errors"), so it reads the XML itself and keeps each element's file line.
+/// Why vantage keeps its own XML reader instead of libsdformat's element tree:
+/// - constellation.world (report/gazebo_export.cpp) is the input world edited as text, so that
+///   everything vantage does not change keeps its exact bytes (comments, plugins, physics, GUI).
+///   The edit cuts and copies elements by their source byte offsets (`begin`, `content_begin`,
+///   `end` below) and finds the sensors' elements by their lines; sdformat's elements carry no
+///   byte offsets, and writing its tree back out reformats the whole file.
+/// - Errors point at the offending line (GAZEBO.md, STYLE.md "Errors"): once sdformat has
+///   expanded an `<include>`, the include element itself, every child of a `<plugin>` and the
+///   include's overriding `<pose>` carry no line number (or the model file's), and malformed XML
+///   is only printed to the console, without an Errors entry.
+/// It lives in util/ because the scene reader (scene/sdf/) and the world writer (report/) both
+/// use it.
 #include <cstddef>
 #include <string>
 #include <string_view>

@@ -1,0 +1,157 @@
+// The geometry of a visual: <box>, <cylinder>, <sphere> and <plane> built as meshes (primitives
+// tessellated with a chord error below F / 10, SYSTEM.md), <mesh> files loaded once each and
+// scaled; other shapes are skipped with a note (GAZEBO.md, "Poses and geometry").
+#include "scene/sdf/loader.hpp"
+
+#include <fmt/format.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "scene/sdf/text.hpp"
+
+namespace vantage::detail::gazebo {
+namespace {
+
+/// The plane of Gazebo's MeshManager::CreatePlane: z axis = normal, y axis = normal ×
+/// (1, 0, 0) (or × (0, 1, 0) when parallel), x axis = y × z; size along x and y.
+Quat PlaneRotation(const Vec3& normal) {
+  const Vec3 z = normal.normalized();
+  Vec3 y = z.cross(Vec3::UnitX());
+  if (y.squaredNorm() < 1e-12) y = z.cross(Vec3::UnitY());
+  y.normalize();
+  const Vec3 x = y.cross(z);
+  Mat3 rotation;
+  rotation.col(0) = x;
+  rotation.col(1) = y;
+  rotation.col(2) = z;
+  return Quat(rotation).normalized();
+}
+
+}  // namespace
+
+const TriangleMesh* Loader::LoadMesh(const std::string& path, const Doc& doc, int line) {
+  const auto it = meshes_.find(path);
+  if (it != meshes_.end()) return it->second.get();
+  std::unique_ptr<TriangleMesh> mesh;
+  try {
+    mesh = std::make_unique<TriangleMesh>(LoadMeshFile(path));
+  } catch (const InputError& e) {
+    Error(doc, line, fmt::format("<mesh> cannot be loaded: {}", e.what()));
+  }
+  const TriangleMesh* result = mesh.get();
+  meshes_[path] = std::move(mesh);
+  return result;
+}
+
+std::optional<TriangleMesh> Loader::GeometryOf(const VisualRecord& visual) {
+  if (!visual.element) return MakePlane(kGroundPlaneSize, kGroundPlaneSize);
+  const Doc& doc = *visual.doc;
+  const XmlElement* geometry = visual.element->Child("geometry");
+  std::string what = fmt::format("visual '{}' of model '{}'", visual.name, visual.model);
+  if (doc.xml.path != visual.site.file)
+    what += fmt::format(" (included at {}:{})", visual.site.file, visual.site.line);
+  if (!geometry || geometry->children.empty()) {
+    Error(doc, visual.element->line,
+          fmt::format("{} has no <geometry> — add <box>, <cylinder>, <sphere>, <plane> or <mesh>",
+                      what));
+    return std::nullopt;
+  }
+  const XmlElement& shape = geometry->children.front();
+  // SDF's chord error rule for primitives (SYSTEM.md): below F / 10.
+  const double chord = problem_.cell_size / 10.0;
+  if (shape.name == "box") {
+    const XmlElement* size = shape.Child("size");
+    if (!size) {
+      Error(doc, shape.line, "<box> has no <size> — add <size>sx sy sz</size>");
+      return std::nullopt;
+    }
+    const auto v = Vector(doc, *size, true, "1 1 1");
+    if (!v) return std::nullopt;
+    return MakeBox(*v);
+  }
+  if (shape.name == "cylinder" || shape.name == "sphere") {
+    const XmlElement* radius = shape.Child("radius");
+    const XmlElement* length = shape.Child("length");
+    if (!radius || (shape.name == "cylinder" && !length)) {
+      Error(doc, shape.line,
+            fmt::format("<{}> needs <radius>{}", shape.name,
+                        shape.name == "cylinder" ? " and <length>" : ""));
+      return std::nullopt;
+    }
+    const auto r = PositiveNumber(doc, *radius, "0.5");
+    if (shape.name == "sphere") {
+      if (!r) return std::nullopt;
+      return MakeSphere(*r, chord);
+    }
+    const auto l = PositiveNumber(doc, *length, "1");
+    if (!r || !l) return std::nullopt;
+    return MakeCylinder(*r, *l, chord);
+  }
+  if (shape.name == "plane") {
+    Vec3 normal = Vec3::UnitZ();
+    double sx = 1;
+    double sy = 1;
+    if (const XmlElement* e = shape.Child("normal")) {
+      const auto v = Vector(doc, *e, false, "0 0 1");
+      if (!v) return std::nullopt;
+      if (v->norm() < 1e-12) {
+        Error(doc, e->line, "<normal> is zero — give a direction, e.g. <normal>0 0 1</normal>");
+        return std::nullopt;
+      }
+      normal = *v;
+    }
+    if (const XmlElement* e = shape.Child("size")) {
+      const auto v = Numbers(doc, *e, 2, "100 100");
+      if (!v) return std::nullopt;
+      if ((*v)[0] <= 0 || (*v)[1] <= 0) {
+        Error(doc, e->line,
+              fmt::format("<size> '{}' of <plane> must be two positive lengths [m]", e->Trimmed()));
+        return std::nullopt;
+      }
+      sx = (*v)[0];
+      sy = (*v)[1];
+    }
+    TriangleMesh mesh = MakePlane(sx, sy);
+    mesh.Transform(Pose{Vec3::Zero(), PlaneRotation(normal)});
+    return mesh;
+  }
+  if (shape.name == "mesh") {
+    const XmlElement* uri = shape.Child("uri");
+    if (!uri || uri->Trimmed().empty()) {
+      Error(doc, shape.line, "<mesh> has no <uri> — add <uri>model://NAME/meshes/FILE</uri>");
+      return std::nullopt;
+    }
+    Vec3 scale = Vec3::Ones();
+    if (const XmlElement* e = shape.Child("scale")) {
+      const auto v = Vector(doc, *e, true, "1 1 1");
+      if (!v) return std::nullopt;
+      scale = *v;
+    }
+    if (shape.Child("submesh")) {
+      Note(AtPlace(doc.xml.path, shape.line,
+                   fmt::format("{}: <submesh> is not applied, the whole mesh is used", what)));
+    }
+    std::string text = uri->Trimmed();
+    std::optional<std::string> path = ResolveResourceUri(text, doc);
+    if (!path || !IsFile(*path)) {
+      Error(doc, uri->line,
+            fmt::format("<mesh><uri> '{}' of {} not found (model path: {}) — check the file "
+                        "name, or add its model folder's parent with --model-path",
+                        text, what, model_dirs_.empty() ? "empty" : Join(model_dirs_, ", ")));
+      return std::nullopt;
+    }
+    const TriangleMesh* mesh = LoadMesh(*path, doc, uri->line);
+    if (!mesh) return std::nullopt;
+    TriangleMesh scaled = *mesh;
+    scaled.Scale(scale);
+    return scaled;
+  }
+  if (shape.name == "empty") return TriangleMesh{};
+  Note(AtPlace(doc.xml.path, shape.line,
+               fmt::format("{}: <{}> geometry is not supported: skipped", what, shape.name)));
+  return TriangleMesh{};
+}
+
+}  // namespace vantage::detail::gazebo

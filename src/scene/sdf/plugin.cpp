@@ -1,0 +1,121 @@
+// The parameters of the original Gazebo plugin (numberOfIntendedSensors, voxelGridFilterLeafSize,
+// sensorDataSegmentationColorRGB, ...), read from any <plugin> of the world so that a world made
+// for the plugin runs unchanged (GAZEBO.md, "The plugin's parameters").
+#include "scene/sdf/loader.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "scene/sdf/text.hpp"
+
+namespace vantage::detail::gazebo {
+
+void Loader::ReadPlugin() {
+  static const std::set<std::string> kKnown = {"numberOfIntendedSensors",
+                                               "ransacNumberOfIterations",
+                                               "ransacSurfacePercentageStopThreshold",
+                                               "voxelGridFilterLeafSize",
+                                               "sensorOrientationRandomRoll",
+                                               "sensorDataSegmentationColorRGB",
+                                               "sceneModelPath",
+                                               "observationPoint",
+                                               "numberOfSamplingSensors"};
+  const Doc& doc = *world_doc_;
+  // Any <plugin> of the world file, at any depth, with these children.
+  std::vector<const XmlElement*> stack = {world_};
+  std::vector<const XmlElement*> plugins;
+  while (!stack.empty()) {
+    const XmlElement* e = stack.back();
+    stack.pop_back();
+    for (const XmlElement& child : e->children) {
+      if (child.name == "plugin") {
+        plugins.push_back(&child);
+      } else {
+        stack.push_back(&child);
+      }
+    }
+  }
+  std::sort(plugins.begin(), plugins.end(),
+            [](const XmlElement* a, const XmlElement* b) { return a->line < b->line; });
+  std::map<std::string, const XmlElement*> params;
+  constexpr int64_t kMaxCount = 1'000'000'000;
+  // In document order, so that errors come in the file's order.
+  for (const XmlElement* plugin : plugins) {
+    for (const XmlElement& child : plugin->children) {
+      if (!kKnown.contains(child.name)) continue;
+      const auto [it, inserted] = params.emplace(child.name, &child);
+      if (!inserted) {
+        Error(doc, child.line,
+              fmt::format("<{}> is given twice (first at line {}) — keep one", child.name,
+                          it->second->line));
+        continue;
+      }
+      const XmlElement* e = &child;
+      const std::string& name = child.name;
+      if (name == "numberOfIntendedSensors") {
+        if (const auto v = Integer(doc, *e, 1, kMaxCount)) problem_.n = static_cast<int>(*v);
+      } else if (name == "ransacNumberOfIterations") {
+        if (const auto v = Integer(doc, *e, 1, kMaxCount))
+          problem_.ransac_iterations = static_cast<int>(*v);
+      } else if (name == "numberOfSamplingSensors") {
+        if (const auto v = Integer(doc, *e, 1, kMaxCount))
+          problem_.expected_candidates = static_cast<int>(*v);
+      } else if (name == "ransacSurfacePercentageStopThreshold") {
+        if (const auto v = Number(doc, *e, "90")) {
+          if (*v < 0 || *v > 100) {
+            Error(doc, e->line,
+                  fmt::format("<{}> {} must be a percentage from 0 to 100", name, e->Trimmed()));
+          } else {
+            problem_.ransac_stop_coverage = *v / 100.0;
+          }
+        }
+      } else if (name == "voxelGridFilterLeafSize") {
+        if (const auto v = PositiveNumber(doc, *e, "0.005")) problem_.cell_size = *v;
+      } else if (name == "sensorOrientationRandomRoll") {
+        if (const auto v = Boolean(doc, *e)) problem_.random_roll = *v;
+      } else if (name == "observationPoint") {
+        if (const auto v = Vector(doc, *e, false, "0 0 0")) problem_.observation_point = *v;
+      } else if (name == "sensorDataSegmentationColorRGB") {
+        ReadSegmentationColour(doc, *e);
+      } else if (name == "sceneModelPath") {
+        // "PATH|A+B": the names after '|' are the target models.
+        const std::string text = e->Trimmed();
+        const size_t bar = text.find('|');
+        scene_model_names_ = bar == std::string::npos ? std::vector<std::string>{}
+                                                      : SplitList(text.substr(bar + 1), '+');
+        scene_model_site_ = Site{doc.xml.path, e->line};
+      }
+    }
+  }
+  if (!params.contains("sensorDataSegmentationColorRGB") && !plugins.empty())
+    segmentation_site_ = Site{doc.xml.path, plugins.front()->line};
+}
+
+void Loader::ReadSegmentationColour(const Doc& doc, const XmlElement& e) {
+  segmentation_site_ = Site{doc.xml.path, e.line};
+  is_segmentation_given_ = true;
+  const auto v = Numbers(doc, e, 3, "0 255 0");
+  if (!v) return;
+  bool ok = true;
+  for (size_t i = 0; i < 3; ++i) {
+    const double c = (*v)[i];
+    ok = ok && c >= 0 && c <= 255 && c == std::round(c);
+    if (ok) segmentation_colour_[i] = static_cast<int>(c);
+  }
+  if (!ok) {
+    Error(doc, e.line,
+          fmt::format("<{}> '{}' must be three whole numbers from 0 to 255 — write e.g. "
+                      "<{}>0 255 0</{}>",
+                      e.name, e.Trimmed(), e.name, e.name));
+    segmentation_colour_ = kDefaultSegmentationColour;
+  }
+}
+
+}  // namespace vantage::detail::gazebo

@@ -1,0 +1,286 @@
+// Where files come from: the model path (--model-path, GAZEBO_MODEL_PATH, the world's models/
+// folder) and the resource path, model:// and file:// URIs, model.config, loading each SDF file
+// once, and <include> resolution with Gazebo classic's stand-ins for models that are not on the
+// path (ground_plane, sun). GAZEBO.md, "Files and paths".
+#include "scene/sdf/loader.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include "scene/sdf/text.hpp"
+
+namespace vantage::detail::gazebo {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Models that hold only a light when they are not on the path (Gazebo's database `sun`).
+bool IsLightModelName(const std::string& name) { return name == "sun"; }
+
+/// The model name in a URI: "model://sun" -> "sun", "file:///a/b/box/" -> "box".
+std::string UriBaseName(const std::string& uri) {
+  std::string rest = uri;
+  const size_t scheme = rest.find("://");
+  if (scheme != std::string::npos) rest = rest.substr(scheme + 3);
+  while (!rest.empty() && rest.back() == '/') rest.pop_back();
+  if (uri.rfind("model://", 0) == 0) return rest.substr(0, rest.find('/'));
+  const size_t slash = rest.rfind('/');
+  return slash == std::string::npos ? rest : rest.substr(slash + 1);
+}
+
+}  // namespace
+
+Loader::Loader(std::string path, const LoadOptions& options)
+    : path_(std::move(path)), options_(options) {
+  for (const std::string& dir : options_.model_paths) model_dirs_.push_back(dir);
+  for (const std::string& dir : PathListFromEnv("GAZEBO_MODEL_PATH")) model_dirs_.push_back(dir);
+  model_dirs_.push_back((fs::path(path_).parent_path() / "models").lexically_normal().string());
+  for (const std::string& dir : options_.resource_paths) resource_dirs_.push_back(dir);
+  for (const std::string& dir : PathListFromEnv("GAZEBO_RESOURCE_PATH"))
+    resource_dirs_.push_back(dir);
+  for (const std::string& dir : model_dirs_) resource_dirs_.push_back(ParentDir(dir + "/"));
+}
+
+const Doc* Loader::LoadSdf(const std::string& path, const std::string& model_dir) {
+  const std::string key = fs::path(path).lexically_normal().string();
+  const auto it = docs_.find(key);
+  if (it != docs_.end()) return it->second.get();
+  std::unique_ptr<Doc> doc;
+  try {
+    doc = std::make_unique<Doc>();
+    doc->xml = ReadXmlFile(path);
+    doc->dir = ParentDir(path);
+    doc->model_dir = model_dir;
+  } catch (const InputError& e) {
+    AddError(e.what());
+    doc.reset();
+  }
+  if (doc) {
+    const XmlElement& root = doc->xml.root;
+    const std::string* version = root.Attribute("version");
+    const auto parsed = version ? ParseVersion(Trim(*version)) : std::nullopt;
+    if (root.name != "sdf") {
+      Error(*doc, root.line,
+            fmt::format("root element is <{}> — an SDF file starts with "
+                        "<sdf version=\"1.6\">",
+                        root.name));
+      doc.reset();
+    } else if (!parsed || parsed->first != 1) {
+      Error(*doc, root.line,
+            fmt::format("<sdf> needs a version attribute 1.4 to 1.7 (got '{}') — "
+                        "write <sdf version=\"1.6\">",
+                        version ? *version : ""));
+      doc.reset();
+    } else if (const int minor = parsed.value_or(std::make_pair(0, 0)).second;
+               minor < 4 || minor > 7) {  // parsed is set; value_or spares a false GCC warning
+      Note(AtPlace(path, root.line,
+                   fmt::format("SDF version {} is read as 1.4–1.7 (vantage "
+                               "implements those)",
+                               *version)));
+    }
+  }
+  const Doc* result = doc.get();
+  docs_[key] = std::move(doc);
+  return result;
+}
+
+std::string Loader::ModelFileInDir(const std::string& dir, const Doc& from, int line) {
+  const std::string config_path = (fs::path(dir) / "model.config").string();
+  std::string chosen;
+  if (IsFile(config_path)) {
+    try {
+      const XmlDocument config = ReadXmlFile(config_path);
+      std::pair<int, int> best{-1, -1};
+      for (const XmlElement* sdf : config.root.Children("sdf")) {
+        const std::string* version = sdf->Attribute("version");
+        const auto parsed = version ? ParseVersion(Trim(*version)) : std::nullopt;
+        const std::pair<int, int> v = parsed.value_or(std::make_pair(0, 0));
+        if (!sdf->Trimmed().empty() && v > best) {
+          best = v;
+          chosen = (fs::path(dir) / sdf->Trimmed()).string();
+        }
+      }
+      if (!chosen.empty() && !IsFile(chosen)) {
+        Error(config_path, config.root.line,
+              fmt::format("model.config names '{}', which does not exist — fix its <sdf> element",
+                          chosen));
+        return "";
+      }
+    } catch (const InputError& e) {
+      AddError(e.what());
+      return "";
+    }
+  }
+  if (chosen.empty()) chosen = (fs::path(dir) / "model.sdf").string();
+  if (!IsFile(chosen)) {
+    Error(from, line,
+          fmt::format("model folder '{}' has no model.sdf and no model.config naming "
+                      "its SDF file",
+                      dir));
+    return "";
+  }
+  return chosen;
+}
+
+std::optional<std::string> Loader::ResolveModelUri(const std::string& uri,
+                                                   const Doc& from,
+                                                   std::vector<std::string>* searched) {
+  std::string rest;
+  if (uri.rfind("model://", 0) == 0) {
+    rest = uri.substr(8);
+    const size_t slash = rest.find('/');
+    const std::string name = rest.substr(0, slash);
+    const std::string sub = slash == std::string::npos ? "" : rest.substr(slash + 1);
+    if (name.empty()) return std::nullopt;
+    for (const std::string& dir : model_dirs_) {
+      if (searched) searched->push_back(dir);
+      const fs::path model_dir = fs::path(dir) / name;
+      if (!IsDirectory(model_dir.string())) continue;
+      const fs::path candidate = sub.empty() ? model_dir : model_dir / sub;
+      std::error_code ec;
+      if (fs::exists(candidate, ec)) return candidate.lexically_normal().string();
+    }
+    return std::nullopt;
+  }
+  if (uri.find("://") != std::string::npos && uri.rfind("file://", 0) != 0) return std::nullopt;
+  rest = uri.rfind("file://", 0) == 0 ? uri.substr(7) : uri;
+  if (rest.empty()) return std::nullopt;
+  std::vector<std::string> bases;
+  if (fs::path(rest).is_absolute()) {
+    bases.emplace_back();
+  } else {
+    bases.push_back(from.dir);
+    if (!from.model_dir.empty()) bases.push_back(from.model_dir);
+    bases.push_back(ParentDir(path_));
+  }
+  for (const std::string& base : bases) {
+    const fs::path candidate = base.empty() ? fs::path(rest) : fs::path(base) / rest;
+    if (searched) searched->push_back(candidate.parent_path().string());
+    std::error_code ec;
+    if (fs::exists(candidate, ec)) return candidate.lexically_normal().string();
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> Loader::ResolveResourceUri(const std::string& uri, const Doc& from) {
+  if (uri.rfind("model://", 0) == 0) return ResolveModelUri(uri, from, nullptr);
+  if (uri.find("://") != std::string::npos && uri.rfind("file://", 0) != 0) return std::nullopt;
+  const std::string rest = uri.rfind("file://", 0) == 0 ? uri.substr(7) : uri;
+  if (rest.empty()) return std::nullopt;
+  std::error_code ec;
+  if (fs::path(rest).is_absolute())
+    return fs::exists(rest, ec) ? std::optional<std::string>(rest) : std::nullopt;
+  // GAZEBO.md: --resource-path, GAZEBO_RESOURCE_PATH, the parent of each model directory; then
+  // the file's own model folder and folder.
+  std::vector<std::string> bases = resource_dirs_;
+  if (!from.model_dir.empty()) bases.push_back(from.model_dir);
+  bases.push_back(from.dir);
+  for (const std::string& base : bases) {
+    const fs::path candidate = fs::path(base) / rest;
+    if (fs::exists(candidate, ec)) return candidate.lexically_normal().string();
+  }
+  return std::nullopt;
+}
+
+IncludeResult Loader::ResolveInclude(const Doc& doc, const XmlElement& include) {
+  IncludeResult result;
+  const XmlElement* uri_element = include.Child("uri");
+  std::string uri = uri_element ? uri_element->Trimmed() : "";
+  if (uri.empty()) {
+    Error(doc, include.line, "<include> has no <uri> — add <uri>model://NAME</uri>");
+    return result;
+  }
+  while (uri.size() > 1 && uri.back() == '/') uri.pop_back();
+  const int line = uri_element->line;
+  const XmlElement* name_element = include.Child("name");
+  const std::string base = UriBaseName(uri);
+  if (include.Attribute("merge") && *include.Attribute("merge") == "true") {
+    Note(AtPlace(doc.xml.path, include.line,
+                 fmt::format("<include merge='true'> of {}: read as a nested model", uri)));
+  }
+  std::vector<std::string> searched;
+  const std::optional<std::string> location = ResolveModelUri(uri, doc, &searched);
+  if (!location) {
+    if (IsLightModelName(base)) {
+      Note(
+          AtPlace(doc.xml.path, line,
+                  fmt::format("{} is not on the model path: skipped (a light, no geometry)", uri)));
+      result.kind = IncludeResult::Kind::kSkipped;
+      return result;
+    }
+    if (base == "ground_plane") {
+      Note(AtPlace(doc.xml.path, line,
+                   fmt::format("{} is not on the model path: read as Gazebo's ground plane, a "
+                               "{} m x {} m plane at z = 0",
+                               uri, kGroundPlaneSize, kGroundPlaneSize)));
+      result.kind = IncludeResult::Kind::kGroundPlane;
+      result.name = name_element ? name_element->Trimmed() : "ground_plane";
+      return result;
+    }
+    std::string where;
+    if (uri.rfind("model://", 0) == 0) {
+      where = searched.empty() ? "no model path is set" : "looked in " + Join(searched, ", ");
+    } else if (uri.find("://") != std::string::npos && uri.rfind("file://", 0) != 0) {
+      where = "vantage reads models from disk only";
+    } else {
+      where = "looked in " + Join(searched, ", ");
+    }
+    Error(doc, line,
+          fmt::format("<include> model '{}' not found ({}) — add its folder's parent with "
+                      "--model-path or GAZEBO_MODEL_PATH",
+                      uri, where));
+    return result;
+  }
+  std::string file = *location;
+  std::string model_dir = ParentDir(file);
+  if (IsDirectory(file)) {
+    model_dir = file;
+    file = ModelFileInDir(file, doc, line);
+    if (file.empty()) return result;
+  }
+  const Doc* model_doc = LoadSdf(file, model_dir);
+  if (!model_doc) return result;
+  const std::vector<const XmlElement*> models = model_doc->xml.root.Children("model");
+  if (models.empty()) {
+    if (!model_doc->xml.root.Children("light").empty()) {
+      Note(AtPlace(doc.xml.path, line, fmt::format("{} holds only a light: skipped", uri)));
+      result.kind = IncludeResult::Kind::kSkipped;
+      return result;
+    }
+    if (!model_doc->xml.root.Children("actor").empty()) {
+      Note(AtPlace(doc.xml.path, line,
+                   fmt::format("{} is an actor: skipped (vantage reads static scenes)", uri)));
+      result.kind = IncludeResult::Kind::kSkipped;
+      return result;
+    }
+    Error(*model_doc, model_doc->xml.root.line,
+          fmt::format("no <model> element (included from {}:{}) — an included file holds one "
+                      "<model>",
+                      doc.xml.path, line));
+    return result;
+  }
+  if (models.size() > 1) {
+    Error(*model_doc, models[1]->line,
+          fmt::format("{} <model> elements (included from {}:{}) — an included file holds one",
+                      models.size(), doc.xml.path, line));
+  }
+  const std::string* own_name = models[0]->Attribute("name");
+  result.name = name_element ? name_element->Trimmed() : own_name ? Trim(*own_name) : base;
+  if (result.name.empty()) {
+    Error(*model_doc, models[0]->line, "<model> has no name attribute — add name=\"...\"");
+    return result;
+  }
+  result.kind = IncludeResult::Kind::kModel;
+  result.doc = model_doc;
+  result.model = models[0];
+  return result;
+}
+
+}  // namespace vantage::detail::gazebo

@@ -1,0 +1,171 @@
+// Typed values of SDF elements: numbers, whole numbers, booleans, vectors and poses, each checked
+// and, when wrong, recorded as an error at the element's line (the caller gets nullopt or a
+// fallback and reading goes on, so that one run lists every problem).
+#include "scene/sdf/loader.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "scene/sdf/text.hpp"
+
+namespace vantage::detail::gazebo {
+
+std::optional<std::vector<double>> Loader::Numbers(const Doc& doc,
+                                                   const XmlElement& e,
+                                                   size_t count,
+                                                   std::string_view example) {
+  const std::vector<std::string> words = SplitWords(e.text);
+  std::vector<double> values;
+  bool ok = words.size() == count;
+  for (size_t i = 0; ok && i < words.size(); ++i) {
+    const std::optional<double> v = ParseDouble(words[i]);
+    ok = v && std::isfinite(*v);
+    if (ok) values.push_back(*v);
+  }
+  if (!ok) {
+    Error(doc, e.line,
+          fmt::format("<{}> '{}' must be {} finite number{} — write e.g. <{}>{}</{}>", e.name,
+                      e.Trimmed(), count, count == 1 ? "" : "s", e.name, example, e.name));
+    return std::nullopt;
+  }
+  return values;
+}
+
+std::optional<double> Loader::Number(const Doc& doc,
+                                     const XmlElement& e,
+                                     std::string_view example) {
+  const auto values = Numbers(doc, e, 1, example);
+  if (!values) return std::nullopt;
+  return (*values)[0];
+}
+
+std::optional<double> Loader::PositiveNumber(const Doc& doc,
+                                             const XmlElement& e,
+                                             std::string_view unit_example) {
+  const auto value = Number(doc, e, unit_example);
+  if (!value) return std::nullopt;
+  if (*value <= 0) {
+    Error(doc, e.line,
+          fmt::format("<{}> {} must be positive — write e.g. <{}>{}</{}>", e.name, e.Trimmed(),
+                      e.name, unit_example, e.name));
+    return std::nullopt;
+  }
+  return value;
+}
+
+std::optional<int64_t> Loader::Integer(const Doc& doc,
+                                       const XmlElement& e,
+                                       int64_t min,
+                                       int64_t max) {
+  const std::optional<int64_t> value = ParseInteger(e.Trimmed());
+  if (!value || *value < min || *value > max) {
+    Error(doc, e.line,
+          fmt::format("<{}> '{}' must be a whole number from {} to {}", e.name, e.Trimmed(), min,
+                      max));
+    return std::nullopt;
+  }
+  return value;
+}
+
+std::optional<bool> Loader::Boolean(const Doc& doc, const XmlElement& e) {
+  std::string text = e.Trimmed();
+  std::transform(text.begin(), text.end(), text.begin(), [](char c) {
+    return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  });
+  if (text == "true" || text == "1") return true;
+  if (text == "false" || text == "0") return false;
+  Error(doc, e.line, fmt::format("<{}> '{}' must be true or false", e.name, e.Trimmed()));
+  return std::nullopt;
+}
+
+std::optional<Vec3> Loader::Vector(const Doc& doc,
+                                   const XmlElement& e,
+                                   bool positive,
+                                   std::string_view example) {
+  const auto values = Numbers(doc, e, 3, example);
+  if (!values) return std::nullopt;
+  const Vec3 v((*values)[0], (*values)[1], (*values)[2]);
+  if (positive && (v.array() <= 0).any()) {
+    Error(doc, e.line,
+          fmt::format("<{}> '{}' must be three positive numbers — write e.g. "
+                      "<{}>{}</{}>",
+                      e.name, e.Trimmed(), e.name, example, e.name));
+    return std::nullopt;
+  }
+  return v;
+}
+
+Pose Loader::PoseValue(const Doc& doc, const XmlElement* pose) {
+  if (!pose || pose->Trimmed().empty()) return Pose{};
+  const std::string* format = pose->Attribute("rotation_format");
+  const bool is_quaternion = format && *format == "quat_xyzw";
+  if (format && !is_quaternion && *format != "euler_rpy") {
+    Error(doc, pose->line,
+          fmt::format("<pose rotation_format='{}'> is unknown — use euler_rpy "
+                      "or quat_xyzw",
+                      *format));
+    return Pose{};
+  }
+  const auto values = Numbers(doc, *pose, is_quaternion ? 7 : 6,
+                              is_quaternion ? "x y z qx qy qz qw" : "x y z roll pitch yaw");
+  if (!values) return Pose{};
+  const auto& v = *values;
+  if (is_quaternion) {
+    const Quat q(v[6], v[3], v[4], v[5]);
+    if (q.norm() < 1e-9) {
+      Error(doc, pose->line, "<pose> quaternion is zero — give a unit quaternion qx qy qz qw");
+      return Pose{};
+    }
+    return Pose{Vec3(v[0], v[1], v[2]), q.normalized()};
+  }
+  const std::string* degrees = pose->Attribute("degrees");
+  const double scale =
+      degrees && (*degrees == "true" || *degrees == "1") ? std::numbers::pi / 180.0 : 1.0;
+  return Pose::FromXyzRpy(v[0], v[1], v[2], v[3] * scale, v[4] * scale, v[5] * scale);
+}
+
+std::string Loader::RelativeTo(const Doc& doc, const XmlElement* pose) {
+  if (!pose) return "";
+  const std::string* frame = pose->Attribute("frame");
+  if (frame && !Trim(*frame).empty()) {
+    Note(AtPlace(doc.xml.path, pose->line,
+                 fmt::format("<pose frame='{}'>: the frame attribute is ignored, as Gazebo "
+                             "classic ignores it",
+                             *frame)));
+  }
+  const std::string* relative_to = pose->Attribute("relative_to");
+  return relative_to ? Trim(*relative_to) : "";
+}
+
+Pose Loader::WorldPose(const Doc& doc, const XmlElement* pose) {
+  const std::string relative_to = RelativeTo(doc, pose);
+  if (!relative_to.empty() && relative_to != "world") {
+    Error(doc, pose->line,
+          fmt::format("<pose relative_to='{}'> at world level is not supported — give the pose "
+                      "in world coordinates",
+                      relative_to));
+  }
+  return PoseValue(doc, pose);
+}
+
+double Loader::NumberOr(const Doc& doc,
+                        const XmlElement* parent,
+                        std::string_view child,
+                        double fallback,
+                        bool positive) {
+  const XmlElement* e = parent ? parent->Child(child) : nullptr;
+  if (!e) return fallback;
+  const auto value = positive ? PositiveNumber(doc, *e, fmt::format("{}", fallback))
+                              : Number(doc, *e, fmt::format("{}", fallback));
+  return value.value_or(fallback);
+}
+
+}  // namespace vantage::detail::gazebo
