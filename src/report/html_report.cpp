@@ -238,14 +238,13 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   for (size_t i = 0; i < data.candidates.size(); ++i) {
     const Candidate& c = data.candidates[i];
     const Observation& o = data.observations.at(i);
-    const Quat q = c.world_from_body.rotation.normalized();
     const SensorType& s = c.sensor;
     candidates.push_back(
         {{"name", c.name},
          {"type", c.type_id.empty() ? s.id : c.type_id},
          {"population", c.population},
          {"p", Vec3Json(c.world_from_body.position)},
-         {"q", ordered_json::array({q.w(), q.x(), q.y(), q.z()})},
+         {"q", WxyzOf(c.world_from_body.rotation)},
          {"w", s.width},
          {"h", s.height},
          {"fx", s.fx},
