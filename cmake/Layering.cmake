@@ -38,3 +38,6 @@ set(VANTAGE_ONLY_embree3 observe)
 set(VANTAGE_ONLY_coin select)
 set(VANTAGE_ONLY_assimp scene)
 set(VANTAGE_ONLY_CLI "")
+
+# Headers generated into the build tree, by the stage that includes them (cmake/EmbedFiles.cmake).
+set(VANTAGE_GENERATED_embedded report)

@@ -2,6 +2,7 @@
 // shared JSON Schema (validated by a small independent validator below), PLY and constellation.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -39,6 +40,28 @@ VisibilityFile SmallData() {
     data.observations.push_back(o);
   }
   return data;
+}
+
+// Files hold quaternions as [w, x, y, z]: checked against rotations of known effect.
+TEST(Quaternion, WxyzOrderIsWFirstAndUnitLength) {
+  // A turn of 0.6 rad about z: w = cos 0.3, z = sin 0.3, whatever the length handed in.
+  const std::array<double, 4> yaw = WxyzOf(Quat(2 * std::cos(0.3), 0, 0, 2 * std::sin(0.3)));
+  EXPECT_NEAR(yaw[0], std::cos(0.3), 1e-15);
+  EXPECT_EQ(yaw[1], 0.0);
+  EXPECT_EQ(yaw[2], 0.0);
+  EXPECT_NEAR(yaw[3], std::sin(0.3), 1e-15);
+  // [cos 45°, sin 45°, 0, 0] (any length) is a quarter turn about x: y goes to z.
+  const std::array<double, 4> wxyz = {3.0, 3.0, 0.0, 0.0};
+  const std::optional<Quat> roll = QuatFromWxyz(wxyz);
+  ASSERT_TRUE(roll.has_value());
+  EXPECT_NEAR(roll->norm(), 1.0, 1e-15);
+  EXPECT_LT((*roll * Vec3::UnitY() - Vec3::UnitZ()).norm(), 1e-12);
+  // [0, 0, 0, 1] is a half turn about z: x goes to -x.
+  const std::vector<double> half = {0, 0, 0, 1};
+  EXPECT_LT((*QuatFromWxyz(half) * Vec3::UnitX() + Vec3::UnitX()).norm(), 1e-12);
+  // No direction: nothing.
+  EXPECT_FALSE(QuatFromWxyz(std::array<double, 4>{0, 0, 0, 0}).has_value());
+  EXPECT_FALSE(QuatFromWxyz(std::array<double, 4>{1e-10, 0, 0, 0}).has_value());
 }
 
 TEST(VisibilityFile, RoundTripKeepsEverything) {

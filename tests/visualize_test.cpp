@@ -340,6 +340,45 @@ TEST(HtmlReport, SelfContainedEscapedAndWithoutNetworkUrls) {
   EXPECT_NE(small["notes"].dump().find("simplified from"), std::string::npos);
 }
 
+// The page is src/report/assets/report.html with its @NAME@ placeholders filled in, and holds
+// report.css and report.js byte for byte: what the build embeds is the files in the repository.
+TEST(HtmlReport, PageIsTheAssetFilesFilledIn) {
+  auto run = MakeRun(SphereScene(kRadius), {Camera("cam", Vec3(1, 0, 0), Vec3::Zero(), 16, 0.5)}, 1);
+  HtmlReportOptions options;
+  options.three_js_dir = "/nonexistent/three";
+  const std::string html = HtmlReport(run->report, run->scene, options);
+  const std::string assets = std::string(VANTAGE_SOURCE_DIR) + "/src/report/assets/";
+  const std::string css = test::ReadText(assets + "report.css");
+  const std::string js = test::ReadText(assets + "report.js");
+  ASSERT_GT(css.size(), 1000u);
+  ASSERT_GT(js.size(), 10000u);
+  EXPECT_NE(html.find(css), std::string::npos);
+  EXPECT_NE(html.find(js), std::string::npos);
+  EXPECT_NE(html.find("<title>vantage report</title>"), std::string::npos);
+  // The template's text between placeholders, in order; the page ends as the template does.
+  const std::string page = test::ReadText(assets + "report.html");
+  std::vector<std::string> pieces = {""};
+  bool in_name = false;
+  for (const char ch : page) {
+    if (ch == '@') {
+      in_name = !in_name;
+      if (!in_name) pieces.emplace_back();
+    } else if (!in_name) {
+      pieces.back() += ch;
+    }
+  }
+  ASSERT_FALSE(in_name);
+  ASSERT_GE(pieces.size(), 6u);
+  EXPECT_EQ(html.rfind(pieces.front(), 0), 0u);
+  size_t at = 0;
+  for (const std::string& piece : pieces) {
+    at = html.find(piece, at);
+    ASSERT_NE(at, std::string::npos) << piece;
+    at += piece.size();
+  }
+  EXPECT_EQ(html.size() - pieces.back().size(), html.rfind(pieces.back()));
+}
+
 // Chromium from PATH (or $VANTAGE_CHROMIUM); "" when there is none.
 std::string FindChromium() {
   if (const char* env = std::getenv("VANTAGE_CHROMIUM"); env != nullptr && *env) return env;

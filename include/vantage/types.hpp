@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
+#include <span>
 
 namespace vantage {
 
@@ -34,6 +36,13 @@ struct Pose {
 Mat3 RotationFromRpy(double roll, double pitch, double yaw);
 /// Inverse of RotationFromRpy: (roll, pitch, yaw) with pitch in [-pi/2, pi/2].
 Vec3 RpyFromRotation(const Mat3& rotation);
+
+/// Quaternions in files (report.json, candidates.csv, scene and constellation YAML, the page) are
+/// [w, x, y, z]; Eigen's coeffs() are x, y, z, w. These two convert, and nothing else does.
+/// The rotation as unit [w, x, y, z].
+std::array<double, 4> WxyzOf(const Quat& rotation);
+/// The unit rotation of [w, x, y, z] (size 4, any length); nullopt when the length is below 1e-9.
+std::optional<Quat> QuatFromWxyz(std::span<const double> wxyz);
 
 /// Integer cell of a point: floor(p / F) per axis, grid aligned to the world origin (PCL VoxelGrid).
 using VoxelIndex = std::array<int64_t, 3>;

@@ -50,9 +50,9 @@ Candidate ParseCandidate(const json& j, const std::string& where) {
   c.type_id = j.contains("type") && j["type"].is_string() ? j["type"].get<std::string>() : "custom";
   const std::vector<double> p = Numbers(j, "position", 3, at);
   const std::vector<double> q = Numbers(j, "quaternion", 4, at);
-  const Quat rotation(q[0], q[1], q[2], q[3]);
-  if (rotation.norm() < 1e-9) throw InputError(fmt::format("{}: 'quaternion' has zero length", at));
-  c.world_from_body = Pose{Vec3(p[0], p[1], p[2]), rotation.normalized()};
+  const std::optional<Quat> rotation = QuatFromWxyz(q);
+  if (!rotation) throw InputError(fmt::format("{}: 'quaternion' has zero length", at));
+  c.world_from_body = Pose{Vec3(p[0], p[1], p[2]), *rotation};
   SensorType& s = c.sensor;
   s.id = c.type_id;
   s.name = c.type_id;

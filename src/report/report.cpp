@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <nlohmann/json.hpp>
 
@@ -23,12 +24,6 @@ double Fraction(size_t count, size_t total) {
   return total == 0 ? 0.0 : static_cast<double>(count) / static_cast<double>(total);
 }
 
-// JSON quaternions are [w, x, y, z]; Eigen's coeffs() are x, y, z, w: converted here only.
-ordered_json QuaternionJson(const Quat& q) {
-  const Quat n = q.normalized();
-  return ordered_json::array({n.w(), n.x(), n.y(), n.z()});
-}
-
 ordered_json CandidateJson(const Candidate& c, const Observation& o, size_t reference_size) {
   const Vec3& p = c.world_from_body.position;
   const SensorType& s = c.sensor;
@@ -36,7 +31,7 @@ ordered_json CandidateJson(const Candidate& c, const Observation& o, size_t refe
   j["name"] = c.name;
   j["type"] = c.type_id.empty() ? s.id : c.type_id;
   j["position"] = ordered_json::array({p.x(), p.y(), p.z()});
-  j["quaternion"] = QuaternionJson(c.world_from_body.rotation);
+  j["quaternion"] = WxyzOf(c.world_from_body.rotation);
   j["width"] = s.width;
   j["height"] = s.height;
   j["fx"] = s.fx;
@@ -266,13 +261,13 @@ std::string CandidatesCsv(const Report& report) {
   for (size_t i = 0; i < data.candidates.size(); ++i) {
     const Candidate& c = data.candidates[i];
     const Observation& o = data.observations[i];
-    const Quat q = c.world_from_body.rotation.normalized();
+    const std::array<double, 4> q = WxyzOf(c.world_from_body.rotation);
     const Vec3& p = c.world_from_body.position;
     const SensorType& s = c.sensor;
     csv += fmt::format("{},{},{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{},{},{:.4f},{:.4f},"
                        "{:.4f},{:.4f},{},{},{},{:.6f},{:.6f},{}\n",
                        i, c.name, c.type_id.empty() ? s.id : c.type_id, c.population, p.x(), p.y(),
-                       p.z(), q.w(), q.x(), q.y(), q.z(), s.width, s.height, s.fx, s.fy, s.cx, s.cy,
+                       p.z(), q[0], q[1], q[2], q[3], s.width, s.height, s.fx, s.fy, s.cx, s.cy,
                        s.near, s.far, o.reference_indices.size(),
                        Fraction(o.reference_indices.size(), reference_size),
                        Fraction(o.reference_indices.size() + o.outside_keys.size(), reference_size),

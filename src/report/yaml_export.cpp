@@ -2,14 +2,16 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <array>
 #include <filesystem>
+#include <span>
 
 #include "vantage/error.hpp"
 
 namespace vantage {
 namespace {
 
-YAML::Node Seq(std::initializer_list<double> values) {
+YAML::Node Seq(std::span<const double> values) {
   YAML::Node node(YAML::NodeType::Sequence);
   for (double v : values) node.push_back(v);
   node.SetStyle(YAML::EmitterStyle::Flow);
@@ -41,9 +43,8 @@ std::string ConstellationYaml(const std::string& scene_path, const std::vector<C
     sensor["name"] = c.name;
     sensor["type"] = c.sensor.id;
     const Vec3& p = c.world_from_body.position;
-    const Quat q = c.world_from_body.rotation.normalized();
-    sensor["position"] = Seq({p.x(), p.y(), p.z()});
-    sensor["orientation"]["quaternion"] = Seq({q.w(), q.x(), q.y(), q.z()});
+    sensor["position"] = Seq(std::array{p.x(), p.y(), p.z()});
+    sensor["orientation"]["quaternion"] = Seq(WxyzOf(c.world_from_body.rotation));
     sensors.push_back(sensor);
   }
   scene["sensors"] = sensors;

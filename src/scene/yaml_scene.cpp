@@ -32,8 +32,6 @@ namespace fs = std::filesystem;
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kDegree = kPi / 180.0;
-/// Below this norm a quaternion has no direction.
-constexpr double kMinQuaternionNorm = 1e-9;
 
 // ---------------------------------------------------------------------------------------------
 // Words: suggestions for misspelt keys and values.
@@ -366,13 +364,13 @@ std::optional<Quat> SceneReader::Rotation(const Fields& fields, const std::strin
   if (quaternion) {
     const auto q = Numbers(*quaternion, 4, what + ".quaternion");
     if (!q) return std::nullopt;
-    const Quat rotation((*q)[0], (*q)[1], (*q)[2], (*q)[3]);  // [w, x, y, z]
-    if (rotation.norm() < kMinQuaternionNorm) {
+    const std::optional<Quat> rotation = QuatFromWxyz(*q);
+    if (!rotation) {
       Error(quaternion->line,
             fmt::format("{}.quaternion is zero — give [w, x, y, z], e.g. [1, 0, 0, 0]", what));
       return std::nullopt;
     }
-    return rotation.normalized();
+    return rotation;
   }
   return Quat::Identity();
 }

@@ -25,6 +25,18 @@ Vec3 RpyFromRotation(const Mat3& r) {
   return Vec3(0.0, pitch, yaw);
 }
 
+std::array<double, 4> WxyzOf(const Quat& rotation) {
+  const Quat q = rotation.normalized();
+  return {q.w(), q.x(), q.y(), q.z()};
+}
+
+std::optional<Quat> QuatFromWxyz(std::span<const double> wxyz) {
+  VANTAGE_CHECK(wxyz.size() == 4);
+  const Quat rotation(wxyz[0], wxyz[1], wxyz[2], wxyz[3]);  // Eigen's constructor takes w first
+  if (rotation.norm() < 1e-9) return std::nullopt;
+  return rotation.normalized();
+}
+
 Pose Pose::FromXyzRpy(double x, double y, double z, double roll, double pitch, double yaw) {
   return Pose{Vec3(x, y, z), Quat(RotationFromRpy(roll, pitch, yaw)).normalized()};
 }

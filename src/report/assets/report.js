@@ -1,0 +1,489 @@
+(function () {
+  'use strict';
+  var D = JSON.parse(document.getElementById('vantage-data').textContent);
+  var problems = [];
+  var C = D.colors;
+
+  function esc(s) {
+    return String(s).replace(/[&<>"']/g, function (c) {
+      return {'&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;', "'": '&#39;'}[c];
+    });
+  }
+  function pct(x) { return x === null || x === undefined ? '' : (100 * x).toFixed(2) + ' %'; }
+  function fix(x, d) { return x === null || x === undefined ? '' : Number(x).toFixed(d); }
+  function css(rgb) { return 'rgb(' + rgb[0] + ',' + rgb[1] + ',' + rgb[2] + ')'; }
+  function bytes(b64) {
+    var bin = atob(b64), out = new Uint8Array(bin.length);
+    for (var i = 0; i < bin.length; ++i) out[i] = bin.charCodeAt(i);
+    return out.buffer;
+  }
+  // Candidate coverage colour ramp (viridis-like), t in [0, 1] -> [r, g, b] in 0..255.
+  var RAMP = [[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]];
+  function ramp(t) {
+    t = Math.max(0, Math.min(1, t)) * (RAMP.length - 1);
+    var i = Math.min(RAMP.length - 2, Math.floor(t)), f = t - i, a = RAMP[i], b = RAMP[i + 1];
+    return [a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), a[2] + f * (b[2] - a[2])];
+  }
+  var covMin = Infinity, covMax = -Infinity;
+  D.candidates.forEach(function (c) { covMin = Math.min(covMin, c.coverage); covMax = Math.max(covMax, c.coverage); });
+  if (!(covMax > covMin)) { covMin = Math.min(covMin, 0); covMax = Math.max(covMin + 1e-9, covMax); }
+  function candidateColor(c) { return ramp((c.coverage - covMin) / (covMax - covMin)); }
+  function guarded(name, fn) {
+    try { fn(); } catch (e) {
+      problems.push(name + ': ' + (e && e.message ? e.message : e));
+      if (window.console) console.error(e);
+    }
+  }
+
+  // ------------------------------------------------------------------ notes
+  guarded('notes', function () {
+    var ul = document.getElementById('notes');
+    D.notes.forEach(function (n) { var li = document.createElement('li'); li.textContent = n; ul.appendChild(li); });
+  });
+
+  // ------------------------------------------------------------------ sortable tables
+  function makeTable(table, columns, rows, rowClass) {
+    var state = {key: null, dir: 1};
+    function draw() {
+      var sorted = rows.slice();
+      if (state.key !== null) {
+        var col = columns[state.key];
+        sorted.sort(function (a, b) {
+          var x = col.value(a), y = col.value(b);
+          if (x === y) return 0;
+          if (x === null || x === undefined || x === '') return 1;
+          if (y === null || y === undefined || y === '') return -1;
+          return (col.num ? x - y : String(x).localeCompare(String(y), undefined, {numeric: true})) * state.dir;
+        });
+      }
+      var head = '<thead><tr>' + columns.map(function (c, i) {
+        var sort = state.key === i ? (state.dir > 0 ? 'ascending' : 'descending') : 'none';
+        return '<th data-i="' + i + '" aria-sort="' + sort + '"' + (c.num ? ' class="num"' : '') +
+               ' title="sort by ' + esc(c.label) + '">' + esc(c.label) + '</th>';
+      }).join('') + '</tr></thead>';
+      var body = '<tbody>' + sorted.map(function (r) {
+        var cls = rowClass ? rowClass(r) : '';
+        return '<tr' + (cls ? ' class="' + cls + '"' : '') + (r.__id !== undefined ? ' data-id="' + r.__id + '"' : '') + '>' +
+          columns.map(function (c) {
+            var v = c.value(r);
+            return '<td' + (c.num ? ' class="num"' : '') + '>' + esc(c.show ? c.show(v, r) : (v === null || v === undefined ? '' : v)) + '</td>';
+          }).join('') + '</tr>';
+      }).join('') + '</tbody>';
+      table.innerHTML = head + body;
+      Array.prototype.forEach.call(table.querySelectorAll('th'), function (th) {
+        th.addEventListener('click', function () {
+          var i = Number(th.getAttribute('data-i'));
+          state.dir = state.key === i ? -state.dir : (columns[i].num ? -1 : 1);
+          state.key = i;
+          draw();
+        });
+      });
+    }
+    draw();
+  }
+
+  var chosenOrder = {};
+  D.chosen.forEach(function (s, k) { chosenOrder[s.index] = k + 1; });
+
+  guarded('tables', function () {
+    var primary = D.primary;
+    document.getElementById('chosen-title').textContent = primary
+      ? 'Chosen sensors — ' + primary.method + ', N = ' + primary.n + ', coverage ' + pct(primary.coverage)
+      : 'Chosen sensors — no result';
+    var chosenRows = D.chosen.map(function (s, k) {
+      var c = D.candidates[s.index];
+      return {__id: s.index, order: k + 1, name: c.name, type: c.type, x: c.p[0], y: c.p[1], z: c.p[2],
+              roll: s.rpy_deg[0], pitch: s.rpy_deg[1], yaw: s.rpy_deg[2],
+              q: c.q, coverage: c.coverage, gain: s.marginal_gain, cumulative: s.cumulative};
+    });
+    makeTable(document.getElementById('chosen-table'), [
+      {label: '#', num: true, value: function (r) { return r.order; }},
+      {label: 'name', value: function (r) { return r.name; }},
+      {label: 'type', value: function (r) { return r.type; }},
+      {label: 'x [m]', num: true, value: function (r) { return r.x; }, show: function (v) { return fix(v, 4); }},
+      {label: 'y [m]', num: true, value: function (r) { return r.y; }, show: function (v) { return fix(v, 4); }},
+      {label: 'z [m]', num: true, value: function (r) { return r.z; }, show: function (v) { return fix(v, 4); }},
+      {label: 'roll [°]', num: true, value: function (r) { return r.roll; }, show: function (v) { return fix(v, 2); }},
+      {label: 'pitch [°]', num: true, value: function (r) { return r.pitch; }, show: function (v) { return fix(v, 2); }},
+      {label: 'yaw [°]', num: true, value: function (r) { return r.yaw; }, show: function (v) { return fix(v, 2); }},
+      {label: 'quaternion w x y z', value: function (r) { return r.q.map(function (v) { return v.toFixed(4); }).join(' '); }},
+      {label: 'coverage alone', num: true, value: function (r) { return r.coverage; }, show: pct},
+      {label: 'marginal gain', num: true, value: function (r) { return r.gain; }, show: pct},
+      {label: 'cumulative', num: true, value: function (r) { return r.cumulative; }, show: pct}
+    ], chosenRows);
+
+    makeTable(document.getElementById('results-table'), [
+      {label: 'method', value: function (r) { return r.method; }},
+      {label: 'N', num: true, value: function (r) { return r.n; }},
+      {label: 'coverage', num: true, value: function (r) { return r.coverage; }, show: pct},
+      {label: 'paper coverage', num: true, value: function (r) { return r.paper_coverage; }, show: pct},
+      {label: 'upper bound', num: true, value: function (r) { return r.upper_bound; }, show: pct},
+      {label: 'optimal', value: function (r) { return r.upper_bound === undefined ? '' : (r.optimal ? 'yes' : 'no'); }},
+      {label: 'seconds', num: true, value: function (r) { return r.seconds; }, show: function (v) { return fix(v, 3); }},
+      {label: 'sensors', value: function (r) { return r.sensors.map(function (i) { return D.candidates[i].name; }).join(', '); }}
+    ].concat(D.quality && !D.states ? [{label: 'plain coverage (every pixel)', num: true,
+                           value: function (r) { return r.plain_coverage; }, show: pct}] : [])
+     .concat(D.states ? D.states.names.map(function (name, k) {
+       return {label: 'state ' + name, num: true, value: function (r) { return r.state_coverage[k]; }, show: pct};
+     }) : []), D.results);
+
+    // Robustness of the primary result: each sensor failing, the narrower fields of view and
+    // one-sensor alternatives.
+    var rb = D.robustness;
+    if (!rb) {
+      document.getElementById('robustness-text').textContent = D.states
+        ? 'Not computed over scene states (the read-outs are per constellation of one scene).'
+        : 'Not computed for this run.';
+    } else {
+      var base = D.results[rb.result];
+      var text = 'For ' + base.method + ', N = ' + base.n + ' (' + pct(base.coverage) + ').';
+      if (rb.fov_shrunk_coverage !== undefined)
+        text += ' With every field of view ' + rb.fov_tolerance_deg + '° narrower: ' + pct(rb.fov_shrunk_coverage) + '.';
+      document.getElementById('robustness-text').textContent = text;
+      var rows = rb.sensor_failures.map(function (f) {
+        return {what: 'fails', sensor: f.sensor, other: '', coverage: f.coverage, change: f.coverage - base.coverage};
+      }).concat(rb.alternatives.map(function (a) {
+        return {what: 'replaced by', sensor: a.replaced, other: a.replacement, coverage: a.coverage, change: a.coverage - base.coverage};
+      }));
+      makeTable(document.getElementById('robustness-table'), [
+        {label: 'sensor', value: function (r) { return r.sensor; }},
+        {label: 'event', value: function (r) { return r.what; }},
+        {label: 'replacement', value: function (r) { return r.other; }},
+        {label: 'coverage', num: true, value: function (r) { return r.coverage; }, show: pct},
+        {label: 'change [points]', num: true, value: function (r) { return 100 * r.change; }, show: function (v) { return fix(v, 2); }}
+      ], rows);
+    }
+
+    document.getElementById('candidates-title').textContent = 'Candidates (' + D.candidates.length + ')';
+    var candidateRows = D.candidates.map(function (c, i) {
+      return {__id: i, index: i, name: c.name, type: c.type, population: c.population, x: c.p[0], y: c.p[1], z: c.p[2],
+              coverage: c.coverage, paper: c.paper_coverage, observed: c.observed, near: c.near, far: c.far,
+              res: c.w + '×' + c.h, chosen: chosenOrder[i] || null};
+    });
+    makeTable(document.getElementById('candidates-table'), [
+      {label: 'index', num: true, value: function (r) { return r.index; }},
+      {label: 'name', value: function (r) { return r.name; }},
+      {label: 'type', value: function (r) { return r.type; }},
+      {label: 'population', value: function (r) { return r.population; }},
+      {label: 'x [m]', num: true, value: function (r) { return r.x; }, show: function (v) { return fix(v, 4); }},
+      {label: 'y [m]', num: true, value: function (r) { return r.y; }, show: function (v) { return fix(v, 4); }},
+      {label: 'z [m]', num: true, value: function (r) { return r.z; }, show: function (v) { return fix(v, 4); }},
+      {label: 'resolution', value: function (r) { return r.res; }},
+      {label: 'near–far [m]', value: function (r) { return r.near + '–' + r.far; }},
+      {label: 'observed voxels', num: true, value: function (r) { return r.observed; }},
+      {label: 'coverage', num: true, value: function (r) { return r.coverage; }, show: pct},
+      {label: 'paper coverage', num: true, value: function (r) { return r.paper; }, show: pct},
+      {label: 'chosen', num: true, value: function (r) { return r.chosen; }}
+    ], candidateRows, function (r) { return r.chosen ? 'chosen' : ''; });
+  });
+
+  // ------------------------------------------------------------------ chart
+  guarded('chart', function () {
+    var SVG = 'http://www.w3.org/2000/svg';
+    var W = 760, H = 340, L = 56, R = 200, T = 16, B = 44;
+    var series = {}, order = [];
+    D.results.forEach(function (r) {
+      if (!series[r.method]) { series[r.method] = []; order.push(r.method); }
+      series[r.method].push(r);
+    });
+    var maxN = 1, maxY = 0;
+    D.results.forEach(function (r) {
+      maxN = Math.max(maxN, r.n);
+      maxY = Math.max(maxY, r.coverage, r.upper_bound === undefined ? 0 : r.upper_bound);
+    });
+    var tick = maxY > 0.5 ? 0.1 : (maxY > 0.2 ? 0.05 : 0.02);
+    maxY = Math.min(1, Math.max(tick, Math.ceil(maxY / tick + 0.001) * tick));
+    function X(n) { return maxN === 1 ? L + (W - L - R) / 2 : L + (n - 1) / (maxN - 1) * (W - L - R); }
+    function Y(v) { return T + (1 - v / maxY) * (H - T - B); }
+    function el(name, attrs, parent, text) {
+      var e = document.createElementNS(SVG, name);
+      for (var k in attrs) e.setAttribute(k, attrs[k]);
+      if (text !== undefined) e.textContent = text;
+      if (parent) parent.appendChild(e);
+      return e;
+    }
+    var svg = el('svg', {id: 'chart', viewBox: '0 0 ' + W + ' ' + H, width: W, height: H, role: 'img',
+                         'aria-label': 'coverage versus number of sensors'});
+    var grid = el('g', {'class': 'axes'}, svg);
+    for (var k = 0; k * tick <= maxY + 1e-9; ++k) {
+      var v = k * tick;
+      el('line', {x1: L, x2: W - R, y1: Y(v), y2: Y(v), stroke: '#e3e7ec'}, grid);
+      el('text', {x: L - 6, y: Y(v) + 4, 'text-anchor': 'end', fill: '#5d6875'}, grid, (100 * v).toFixed(0) + ' %');
+    }
+    var step = Math.max(1, Math.ceil(maxN / 12));
+    for (var n = 1; n <= maxN; n += step) {
+      el('line', {x1: X(n), x2: X(n), y1: H - B, y2: H - B + 4, stroke: '#5d6875'}, grid);
+      el('text', {x: X(n), y: H - B + 17, 'text-anchor': 'middle', fill: '#5d6875'}, grid, n);
+    }
+    el('line', {x1: L, x2: W - R, y1: H - B, y2: H - B, stroke: '#5d6875'}, grid);
+    el('line', {x1: L, x2: L, y1: T, y2: H - B, stroke: '#5d6875'}, grid);
+    el('text', {x: (L + W - R) / 2, y: H - 8, 'text-anchor': 'middle', fill: '#1d232b'}, grid, 'number of sensors N');
+    el('text', {x: 14, y: (T + H - B) / 2, 'text-anchor': 'middle', fill: '#1d232b',
+                transform: 'rotate(-90 14 ' + (T + H - B) / 2 + ')'}, grid, 'coverage');
+    var palette = ['#1f77b4', '#ff7f0e', '#2ca02c', '#d62728', '#9467bd', '#8c564b', '#e377c2', '#17becf'];
+    order.forEach(function (method, m) {
+      var color = palette[m % palette.length];
+      var pts = series[method].slice().sort(function (a, b) { return a.n - b.n; });
+      var g = el('g', {'class': 'series', 'data-method': method}, svg);
+      if (pts.length > 1)
+        el('polyline', {points: pts.map(function (r) { return X(r.n) + ',' + Y(r.coverage); }).join(' '),
+                        fill: 'none', stroke: color, 'stroke-width': 2}, g);
+      pts.forEach(function (r) {
+        var c = el('circle', {cx: X(r.n), cy: Y(r.coverage), r: 4, fill: color}, g);
+        el('title', {}, c, method + ', N = ' + r.n + ': ' + pct(r.coverage));
+      });
+      var bounds = pts.filter(function (r) { return r.upper_bound !== undefined; });
+      if (bounds.length) {
+        if (bounds.length > 1)
+          el('polyline', {points: bounds.map(function (r) { return X(r.n) + ',' + Y(r.upper_bound); }).join(' '),
+                          fill: 'none', stroke: color, 'stroke-width': 1.5, 'stroke-dasharray': '5 4'}, g);
+        bounds.forEach(function (r) {
+          var x = X(r.n), y = Y(r.upper_bound);
+          var d = el('path', {d: 'M' + x + ' ' + (y - 5) + 'L' + (x + 5) + ' ' + y + 'L' + x + ' ' + (y + 5) + 'L' + (x - 5) + ' ' + y + 'Z',
+                              fill: '#fff', stroke: color, 'stroke-width': 1.5}, g);
+          el('title', {}, d, method + ', N = ' + r.n + ': upper bound ' + pct(r.upper_bound) + (r.optimal ? ' (optimal)' : ''));
+        });
+      }
+      var ly = T + 8 + m * 20;
+      el('line', {x1: W - R + 14, x2: W - R + 38, y1: ly, y2: ly, stroke: color, 'stroke-width': 2}, svg);
+      el('circle', {cx: W - R + 26, cy: ly, r: 4, fill: color}, svg);
+      el('text', {x: W - R + 44, y: ly + 4, fill: '#1d232b'}, svg, method + (bounds.length ? ' (◇ bound)' : ''));
+    });
+    // The primary result's coverage after each of its sensors, in the order chosen.
+    if (D.chosen.length > 1) {
+      var cum = el('g', {'class': 'cumulative'}, svg);
+      el('polyline', {points: D.chosen.map(function (s, k) { return X(k + 1) + ',' + Y(s.cumulative); }).join(' '),
+                      fill: 'none', stroke: '#5d6875', 'stroke-width': 1.5, 'stroke-dasharray': '2 3'}, cum);
+      D.chosen.forEach(function (s, k) {
+        var r = el('rect', {x: X(k + 1) - 3, y: Y(s.cumulative) - 3, width: 6, height: 6, fill: '#5d6875'}, cum);
+        el('title', {}, r, 'primary result, first ' + (k + 1) + ' sensor' + (k ? 's' : '') + ' in the order chosen: ' + pct(s.cumulative));
+      });
+      var cy = T + 8 + order.length * 20;
+      el('line', {x1: W - R + 14, x2: W - R + 38, y1: cy, y2: cy, stroke: '#5d6875', 'stroke-width': 1.5,
+                  'stroke-dasharray': '2 3'}, svg);
+      el('text', {x: W - R + 44, y: cy + 4, fill: '#1d232b'}, svg, 'primary, in order chosen');
+    }
+    if (!D.results.length) el('text', {x: (L + W - R) / 2, y: (T + H - B) / 2, 'text-anchor': 'middle'}, svg, 'no results');
+    document.getElementById('chart-box').appendChild(svg);
+  });
+
+  // ------------------------------------------------------------------ 3D view
+  function note(text) {
+    var div = document.createElement('div');
+    div.className = 'note';
+    div.textContent = text;
+    document.getElementById('view').appendChild(div);
+  }
+
+  function build3D() {
+    var view = document.getElementById('view');
+    var THREE = window.THREE;
+    var renderer = new THREE.WebGLRenderer({antialias: true, preserveDrawingBuffer: true});
+    renderer.setPixelRatio(window.devicePixelRatio || 1);
+    renderer.setSize(view.clientWidth, view.clientHeight);
+    view.insertBefore(renderer.domElement, view.firstChild);
+    var scene = new THREE.Scene();
+    scene.background = new THREE.Color(0xeef1f5);
+    var eye = new THREE.Vector3().fromArray(D.view.eye), target = new THREE.Vector3().fromArray(D.view.look_at);
+    var dist = eye.distanceTo(target);
+    var camera = new THREE.PerspectiveCamera(D.view.fov_deg, view.clientWidth / view.clientHeight,
+                                             dist / 2000, dist * 200);
+    camera.up.set(0, 0, 1);
+    camera.position.copy(eye);
+    scene.add(camera);
+    scene.add(new THREE.AmbientLight(0xffffff, 0.5));
+    var head = new THREE.DirectionalLight(0xffffff, 0.6);
+    head.position.set(0.3, 0.6, 1);
+    camera.add(head);
+    var controls = new THREE.OrbitControls(camera, renderer.domElement);
+    controls.target.copy(target);
+    controls.screenSpacePanning = true;
+    controls.update();
+    function render() { renderer.render(scene, camera); }
+    controls.addEventListener('change', render);
+
+    var layers = [];
+    function layer(name, object, visible) {
+      object.visible = visible;
+      scene.add(object);
+      layers.push({name: name, object: object});
+      return object;
+    }
+
+    // Meshes: targets and occluders, flat shaded; pushed back in depth so the voxel points on the
+    // target surface stay on top.
+    var targets = new THREE.Group(), occluders = new THREE.Group();
+    D.meshes.forEach(function (m) {
+      var g = new THREE.BufferGeometry();
+      g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(bytes(m.positions)), 3));
+      g.setIndex(new THREE.BufferAttribute(new Uint32Array(bytes(m.indices)), 1));
+      g.computeVertexNormals();
+      var mat = new THREE.MeshPhongMaterial({color: m.target ? 0x9aa0ad : css(C.occluder), flatShading: true,
+                                             shininess: 10, side: THREE.DoubleSide, polygonOffset: true,
+                                             polygonOffsetFactor: 1, polygonOffsetUnits: 1});
+      var mesh = new THREE.Mesh(g, mat);
+      mesh.name = m.name;
+      (m.target ? targets : occluders).add(mesh);
+    });
+    layer('occluders', occluders, true);
+    layer('targets (mesh)', targets, true);
+
+    // Reference voxels as points, by how many chosen sensors see each.
+    var V = D.voxels, count = V.count;
+    var idx = V.index_type === 'u16' ? new Uint16Array(bytes(V.index)) : new Int32Array(bytes(V.index));
+    var seen = new Uint8Array(bytes(V.seen));
+    var nObserved = 0;
+    for (var i = 0; i < count; ++i) if (seen[i] > 0) ++nObserved;
+    var posO = new Float32Array(3 * nObserved), colO = new Float32Array(3 * nObserved);
+    var posU = new Float32Array(3 * (count - nObserved)), colU = new Float32Array(3 * (count - nObserved));
+    var o = 0, u = 0, F = V.cell_size;
+    for (i = 0; i < count; ++i) {
+      var x = (V.origin[0] + idx[3 * i] + 0.5) * F, y = (V.origin[1] + idx[3 * i + 1] + 0.5) * F,
+          z = (V.origin[2] + idx[3 * i + 2] + 0.5) * F;
+      var col = seen[i] > 0 ? C.observed[Math.min(seen[i], 3) - 1] : C.unobserved;
+      var P = seen[i] > 0 ? posO : posU, Q = seen[i] > 0 ? colO : colU, k = 3 * (seen[i] > 0 ? o++ : u++);
+      P[k] = x; P[k + 1] = y; P[k + 2] = z;
+      Q[k] = col[0] / 255; Q[k + 1] = col[1] / 255; Q[k + 2] = col[2] / 255;
+    }
+    // Round point sprites, drawn on a canvas here (nothing is loaded).
+    var disc = document.createElement('canvas');
+    disc.width = disc.height = 64;
+    var ctx = disc.getContext('2d');
+    ctx.beginPath(); ctx.arc(32, 32, 29, 0, 2 * Math.PI); ctx.fillStyle = '#fff'; ctx.fill();
+    ctx.lineWidth = 5; ctx.strokeStyle = '#333'; ctx.stroke();
+    var discTexture = new THREE.CanvasTexture(disc);
+    function points(pos, colors, size, attenuate, round, pull) {
+      var g = new THREE.BufferGeometry();
+      g.setAttribute('position', new THREE.BufferAttribute(pos, 3));
+      g.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+      var options = {size: size, sizeAttenuation: attenuate, vertexColors: THREE.VertexColors};
+      if (round) { options.map = discTexture; options.alphaTest = 0.5; }
+      var material = new THREE.PointsMaterial(options);
+      if (pull) {
+        // A voxel centre lies up to 0.87 cell behind the surface it stands for, where the target
+        // mesh would hide it: drawn `pull` metres nearer the eye, the front voxels show and the
+        // back ones stay hidden.
+        material.onBeforeCompile = function (shader) {
+          shader.vertexShader = shader.vertexShader.replace('#include <project_vertex>',
+            'vec4 mvPosition = modelViewMatrix * vec4( transformed, 1.0 );\n' +
+            'mvPosition.xyz -= normalize( mvPosition.xyz ) * ' + pull.toExponential(6) + ';\n' +
+            'gl_Position = projectionMatrix * mvPosition;');
+        };
+      }
+      return new THREE.Points(g, material);
+    }
+    // three.js r111 draws attenuated points `size` x (half the canvas height) / depth pixels wide,
+    // tan(fov/2) times a world length: scaled so that a point spans about one and a half cells.
+    var voxelSize = 1.5 * F / Math.tan(D.view.fov_deg * Math.PI / 360);
+    layer('observed voxels', points(posO, colO, voxelSize, true, false, F), true);
+    layer('unobserved voxels', points(posU, colU, voxelSize, true, false, F), true);
+
+    // Candidates: points coloured by their own coverage.
+    var cpos = new Float32Array(3 * D.candidates.length), ccol = new Float32Array(3 * D.candidates.length);
+    D.candidates.forEach(function (c, i) {
+      var rgb = candidateColor(c);
+      cpos[3 * i] = c.p[0]; cpos[3 * i + 1] = c.p[1]; cpos[3 * i + 2] = c.p[2];
+      ccol[3 * i] = rgb[0] / 255; ccol[3 * i + 1] = rgb[1] / 255; ccol[3 * i + 2] = rgb[2] / 255;
+    });
+    var candidatePoints = layer('candidates', points(cpos, ccol, 9, false, true), true);
+
+    // Chosen sensors: markers and frusta cut at `far` (body x forward, image u right = -y, v down = -z).
+    var sensors = new THREE.Group(), frusta = [];
+    var markerSize = Math.max(dist * 0.008, 1e-4);
+    var markerGeometry = new THREE.SphereBufferGeometry(markerSize, 12, 8);
+    var markerMaterial = new THREE.MeshBasicMaterial({color: css(C.frustum)});
+    D.chosen.forEach(function (s) {
+      var c = D.candidates[s.index];
+      var q = new THREE.Quaternion(c.q[1], c.q[2], c.q[3], c.q[0]);
+      var apex = new THREE.Vector3().fromArray(c.p);
+      var marker = new THREE.Mesh(markerGeometry, markerMaterial);
+      marker.position.copy(apex);
+      sensors.add(marker);
+      var corners = [[0, 0], [c.w, 0], [c.w, c.h], [0, c.h]].map(function (uv) {
+        return new THREE.Vector3(1, -(uv[0] - c.cx) / c.fx, -(uv[1] - c.cy) / c.fy)
+          .multiplyScalar(c.far).applyQuaternion(q).add(apex);
+      });
+      for (var k = 0; k < 4; ++k) {
+        frusta.push(apex, corners[k], corners[k], corners[(k + 1) % 4]);
+      }
+    });
+    layer('chosen sensors', sensors, true);
+    var fg = new THREE.BufferGeometry().setFromPoints(frusta);
+    layer('frusta', new THREE.LineSegments(fg, new THREE.LineBasicMaterial({color: css(C.frustum)})), true);
+
+    // Layer toggles and legend.
+    var panel = document.getElementById('layers');
+    layers.forEach(function (l) {
+      var label = document.createElement('label'), box = document.createElement('input');
+      box.type = 'checkbox';
+      box.checked = l.object.visible;
+      box.addEventListener('change', function () { l.object.visible = box.checked; render(); });
+      label.appendChild(box);
+      label.appendChild(document.createTextNode(' ' + l.name));
+      panel.appendChild(label);
+    });
+    var reset = document.createElement('button');
+    reset.textContent = 'reset view';
+    reset.addEventListener('click', function () {
+      camera.position.copy(eye); controls.target.copy(target); controls.update(); render();
+    });
+    panel.appendChild(reset);
+
+    // Click a candidate: its name and numbers, and its row in the table.
+    var raycaster = new THREE.Raycaster(), mouse = new THREE.Vector2(), pick = document.getElementById('pick');
+    renderer.domElement.addEventListener('click', function (ev) {
+      var rect = renderer.domElement.getBoundingClientRect();
+      mouse.x = (ev.clientX - rect.left) / rect.width * 2 - 1;
+      mouse.y = -(ev.clientY - rect.top) / rect.height * 2 + 1;
+      raycaster.params.Points.threshold = dist * 0.01;
+      raycaster.setFromCamera(mouse, camera);
+      var hits = candidatePoints.visible ? raycaster.intersectObject(candidatePoints) : [];
+      var prev = document.querySelectorAll('#candidates-table tr.hl');
+      Array.prototype.forEach.call(prev, function (tr) { tr.classList.remove('hl'); });
+      if (!hits.length) { pick.style.display = 'none'; return; }
+      var i = hits[0].index, c = D.candidates[i];
+      pick.style.display = 'block';
+      pick.innerHTML = '<b>' + esc(c.name) + '</b> (' + esc(c.type) + ')<br>position ' +
+        c.p.map(function (v) { return v.toFixed(3); }).join(', ') + ' m<br>coverage ' + pct(c.coverage) +
+        (chosenOrder[i] ? '<br>chosen #' + chosenOrder[i] : '');
+      var row = document.querySelector('#candidates-table tr[data-id="' + i + '"]');
+      if (row) { row.classList.add('hl'); }
+    });
+
+    window.addEventListener('resize', function () {
+      camera.aspect = view.clientWidth / view.clientHeight;
+      camera.updateProjectionMatrix();
+      renderer.setSize(view.clientWidth, view.clientHeight);
+      render();
+    });
+    render();
+  }
+
+  guarded('legend', function () {
+    var lg = document.getElementById('legend');
+    var rows = [['sw', css(C.unobserved), 'target voxel not observed']];
+    C.observed.forEach(function (c, k) {
+      rows.push(['sw', css(c), 'observed by ' + (k + 1) + (k === C.observed.length - 1 ? '+' : '') + ' chosen sensor' + (k ? 's' : '')]);
+    });
+    rows.push(['sw', css(C.frustum), 'chosen sensors, frusta cut at far']);
+    var stops = [0, 0.25, 0.5, 0.75, 1].map(function (t) { return css(ramp(t).map(Math.round)); }).join(',');
+    lg.innerHTML = rows.map(function (r) {
+      return '<div class="row"><span class="' + r[0] + '" style="background:' + r[1] + '"></span>' + esc(r[2]) + '</div>';
+    }).join('') + '<div class="row">candidates: ' + pct(covMin) + ' <span class="ramp" style="background:linear-gradient(to right,' +
+      stops + ')"></span> ' + pct(covMax) + '</div>';
+  });
+
+  if (!window.THREE || !window.THREE.OrbitControls) {
+    note(D.three_note || 'The 3D view is not available: three.js was not embedded in this page.');
+  } else {
+    guarded('3D view', function () {
+      try { build3D(); } catch (e) { note('The 3D view could not be built: ' + (e && e.message ? e.message : e)); throw e; }
+    });
+  }
+
+  var status = document.getElementById('vantage-status');
+  if (status.className !== 'bad') {
+    status.textContent = problems.length ? 'error: ' + problems.join('; ') : 'ok';
+    status.className = problems.length ? 'bad' : '';
+  }
+})();
