@@ -1,7 +1,8 @@
 // Changing scenes (issue 9): states of a scene, their YAML form, and selection over states
 // against counts worked out by hand. Boxes have faces mid-cell and cameras fine pixels, as in
 // observe_test.cpp, so that the cells each camera sees are exact.
-#include "vantage/states.hpp"
+#include "vantage/scene_states.hpp"
+#include "vantage/select_states.hpp"
 
 #include <gtest/gtest.h>
 
@@ -105,7 +106,7 @@ std::vector<Observed> ObserveStates(const Scene& base,
 
 std::vector<StateObservations> Views(const std::vector<Observed>& observed) {
   std::vector<StateObservations> views;
-  for (const Observed& o : observed) views.push_back({o.name, &o.reference, o.observations});
+  for (const Observed& o : observed) views.push_back({o.name, o.reference.size(), o.observations});
   return views;
 }
 
@@ -492,7 +493,7 @@ TEST(SelectOverStates, GreedyAndLocalNeverBelowBestAndDeterministic) {
   for (uint64_t seed = 1; seed <= 5; ++seed) {
     const std::vector<RandomState> states = RandomStates(seed, 12);
     std::vector<StateObservations> views;
-    for (const RandomState& s : states) views.push_back({s.name, &s.reference, s.observations});
+    for (const RandomState& s : states) views.push_back({s.name, s.reference.size(), s.observations});
     for (const OverStates over : {OverStates::kMean, OverStates::kMin}) {
       const auto results = SelectOverStates(views, over, Options(Method::kAll, 4));
       ASSERT_EQ(results.size(), 13u);  // best, then ransac, greedy, local for n = 1..4
@@ -528,7 +529,7 @@ TEST(SelectOverStates, GreedyAndLocalNeverBelowBestAndDeterministic) {
 TEST(SelectOverStates, LocalIsOneSwapOptimal) {
   const std::vector<RandomState> states = RandomStates(11, 10);
   std::vector<StateObservations> views;
-  for (const RandomState& s : states) views.push_back({s.name, &s.reference, s.observations});
+  for (const RandomState& s : states) views.push_back({s.name, s.reference.size(), s.observations});
   for (const OverStates over : {OverStates::kMean, OverStates::kMin}) {
     const auto local = SelectOverStates(views, over, Options(Method::kLocal, 3));
     ASSERT_EQ(local.size(), 1u);
@@ -549,7 +550,7 @@ TEST(SelectOverStates, LocalIsOneSwapOptimal) {
 TEST(SelectOverStates, RansacOverOneStateIsThePapersRansac) {
   for (uint64_t seed = 1; seed <= 3; ++seed) {
     const std::vector<RandomState> states = RandomStates(seed, 12);
-    const StateObservations one{states[0].name, &states[0].reference, states[0].observations};
+    const StateObservations one{states[0].name, states[0].reference.size(), states[0].observations};
     for (int n = 1; n <= 4; ++n) {
       SelectOptions options = Options(Method::kRansac, n);
       options.seed = seed;

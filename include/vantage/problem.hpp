@@ -9,7 +9,7 @@
 #include "vantage/population.hpp"
 #include "vantage/scene.hpp"
 #include "vantage/sensors.hpp"
-#include "vantage/states.hpp"
+#include "vantage/scene_states.hpp"
 
 namespace vantage {
 

@@ -6,15 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "vantage/settings.hpp"
 #include "vantage/visibility.hpp"
 
 namespace vantage {
 
-enum class Method { kBest, kRansac, kGreedy, kLocal, kExact, kAll };
-
-/// "best", "ransac", ... ; ParseMethod throws InputError listing the valid names.
-std::string MethodName(Method method);
-Method ParseMethod(const std::string& name);
 
 /// What selection optimises (SYSTEM.md, Select: further objectives). At most one of the
 /// non-default objectives is active; SelectOptions::objective() says which.

@@ -22,8 +22,8 @@
 #include "util/words.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
-#include "vantage/select.hpp"
-#include "vantage/states.hpp"
+#include "vantage/settings.hpp"
+#include "vantage/scene_states.hpp"
 
 namespace vantage {
 namespace {

@@ -13,9 +13,6 @@
 namespace vantage {
 namespace {
 
-constexpr std::array<Method, 6> kMethods = {Method::kBest,  Method::kRansac, Method::kGreedy,
-                                            Method::kLocal, Method::kExact,  Method::kAll};
-
 // The objective's own fields, and whether the method applies to it.
 void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
   const int objectives = (o.goal ? 1 : 0) + (o.budget ? 1 : 0) + (o.k >= 2 ? 1 : 0);
@@ -81,25 +78,6 @@ void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
 
 }  // namespace
 
-std::string MethodName(Method method) {
-  switch (method) {
-    case Method::kBest:
-      return "best";
-    case Method::kRansac:
-      return "ransac";
-    case Method::kGreedy:
-      return "greedy";
-    case Method::kLocal:
-      return "local";
-    case Method::kExact:
-      return "exact";
-    case Method::kAll:
-      return "all";
-  }
-  VANTAGE_CHECK(false);
-  return "";
-}
-
 std::string ObjectiveName(Objective objective) {
   switch (objective) {
     case Objective::kCoverage:
@@ -122,14 +100,6 @@ Objective SelectOptions::objective() const {
   return Objective::kCoverage;
 }
 
-Method ParseMethod(const std::string& name) {
-  std::string names;
-  for (const Method method : kMethods) {
-    if (MethodName(method) == name) return method;
-    names += (names.empty() ? "" : ", ") + MethodName(method);
-  }
-  throw InputError(fmt::format("unknown method '{}' — use one of {}", name, names));
-}
 
 void SelectOptions::Validate(size_t candidate_count) const {
   if (candidate_count == 0) {

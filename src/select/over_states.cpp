@@ -7,7 +7,7 @@
 // (fixed point 2^-62 when L does not fit), so scores are whole numbers and no floating-point
 // summation order can change a choice. Reported coverages are recomputed from the observations
 // by CoverageEvaluator, never taken from this bookkeeping.
-#include "vantage/states.hpp"
+#include "vantage/select_states.hpp"
 
 #include <fmt/format.h>
 
@@ -67,7 +67,7 @@ class StackedMatrix {
   StackedMatrix(std::span<const StateObservations> states, OverStates over) : over_(over) {
     candidates_ = states.front().observations.size();
     for (const StateObservations& state : states) {
-      const size_t r = state.reference->size();
+      const size_t r = state.reference_size;
       const size_t words = (r + 63) / 64;
       words_.push_back(words);
       std::vector<uint64_t> bits(candidates_ * words, 0);
@@ -280,7 +280,7 @@ StateSelection Scored(std::span<const StateObservations> states,
                       double seconds) {
   StateSelection result;
   for (const StateObservations& state : states) {
-    const CoverageEvaluator evaluator(state.observations, state.reference->size());
+    const CoverageEvaluator evaluator(state.observations, state.reference_size);
     result.state_coverage.push_back(evaluator.Coverage(chosen));
     result.state_paper_coverage.push_back(evaluator.PaperCoverage(chosen));
   }
@@ -310,16 +310,13 @@ void Validate(std::span<const StateObservations> states, const SelectOptions& op
   if (states.empty()) throw InputError("--over-states: there are no states to select over");
   const size_t candidates = states.front().observations.size();
   for (const StateObservations& state : states) {
-    if (state.reference == nullptr) {
-      throw InputError(fmt::format("--over-states: state '{}' has no reference set", state.name));
-    }
     if (state.observations.size() != candidates) {
       throw InputError(fmt::format("--over-states: state '{}' has {} observations but state '{}' "
                                    "has {} — every state needs one per candidate",
                                    state.name, state.observations.size(),
                                    states.front().name, candidates));
     }
-    if (state.reference->size() == 0) {
+    if (state.reference_size == 0) {
       throw InputError(fmt::format("--over-states: state '{}' has an empty reference set (no "
                                    "target surface)",
                                    state.name));
