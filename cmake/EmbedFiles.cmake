@@ -14,7 +14,7 @@
 # Run as `cmake -DEMBED_NAME=<name> -DEMBED_DIR=<dir> -P EmbedFiles.cmake -- <file>...`, the
 # same file writes the .cpp (that is what the custom command does).
 
-# Identifier for a file: the words of its name (split at '.', '_', '-'), each capitalised, after 'k'.
+# Identifier for a file: 'k', then the words of its name (split at '.', '_', '-') capitalised.
 function(_vantage_embed_symbol path out_var)
   get_filename_component(file_name "${path}" NAME)
   string(REGEX REPLACE "[^A-Za-z0-9]+" ";" words "${file_name}")
@@ -56,7 +56,8 @@ if(CMAKE_SCRIPT_MODE_FILE AND DEFINED EMBED_NAME)
     string(REGEX REPLACE "(${line_of_hex})" "\\1\n    " hex "${hex}")
     string(REGEX REPLACE "([0-9a-f][0-9a-f])" "'\\\\x\\1'," bytes "${hex}")
     if(bytes STREQUAL "")
-      string(APPEND source "\n// ${file_name} (empty)\nextern const std::string_view ${symbol}{};\n")
+      string(APPEND source "\n// ${file_name} (empty)\n"
+                           "extern const std::string_view ${symbol}{};\n")
     else()
       # A char array, not a string literal: no length limit to meet (-Woverlength-strings).
       string(APPEND source "\n// ${file_name}\nstatic constexpr char ${symbol}Bytes[] = {\n    "
@@ -85,7 +86,8 @@ function(vantage_embed_files target name)
   foreach(file IN LISTS files)
     _vantage_embed_symbol("${file}" symbol)
     get_filename_component(file_name "${file}" NAME)
-    string(APPEND header "/// The bytes of ${file_name}.\nextern const std::string_view ${symbol};\n")
+    string(APPEND header "/// The bytes of ${file_name}.\n"
+                         "extern const std::string_view ${symbol};\n")
   endforeach()
   string(APPEND header "\n}  // namespace vantage::embedded\n")
   file(CONFIGURE OUTPUT "${dir}/embedded/${name}.hpp" CONTENT "${header}" @ONLY)
