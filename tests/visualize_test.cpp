@@ -343,7 +343,8 @@ TEST(HtmlReport, SelfContainedEscapedAndWithoutNetworkUrls) {
 // The page is src/report/assets/report.html with its @NAME@ placeholders filled in, and holds
 // report.css and report.js byte for byte: what the build embeds is the files in the repository.
 TEST(HtmlReport, PageIsTheAssetFilesFilledIn) {
-  auto run = MakeRun(SphereScene(kRadius), {Camera("cam", Vec3(1, 0, 0), Vec3::Zero(), 16, 0.5)}, 1);
+  auto run =
+      MakeRun(SphereScene(kRadius), {Camera("cam", Vec3(1, 0, 0), Vec3::Zero(), 16, 0.5)}, 1);
   HtmlReportOptions options;
   options.three_js_dir = "/nonexistent/three";
   const std::string html = HtmlReport(run->report, run->scene, options);
