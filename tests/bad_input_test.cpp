@@ -23,6 +23,7 @@
 #include "test_util.hpp"
 #include "util/binary_io.hpp"
 #include "vantage/observe.hpp"
+#include "vantage/visibility_file.hpp"
 
 extern char** environ;
 

@@ -10,6 +10,7 @@
 #include "test_util.hpp"
 #include "vantage/error.hpp"
 #include "vantage/observe.hpp"
+#include "vantage/visibility_file.hpp"
 #include "vantage/reference.hpp"
 #include "vantage/select.hpp"
 

@@ -9,6 +9,7 @@
 
 #include "vantage/error.hpp"
 #include "vantage/observe.hpp"
+#include "vantage/visibility_file.hpp"
 #include "vantage/reference.hpp"
 #include "vantage/sensors.hpp"
 

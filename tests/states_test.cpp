@@ -11,7 +11,10 @@
 #include <set>
 
 #include "test_util.hpp"
+#include "vantage/candidates.hpp"
 #include "vantage/error.hpp"
+#include "vantage/observe.hpp"
+#include "vantage/reference.hpp"
 #include "vantage/problem.hpp"
 #include "vantage/rng.hpp"
 

@@ -1,4 +1,6 @@
 // `vantage evaluate [SCENE] --constellation report.json`: the coverage of given sensor poses.
+#include <fmt/format.h>
+
 #include <memory>
 
 #include "commands.hpp"

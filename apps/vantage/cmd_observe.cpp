@@ -1,4 +1,6 @@
 // `vantage observe SCENE --out FILE`: the visibility matrix, saved for `vantage select`.
+#include <fmt/format.h>
+
 #include <memory>
 
 #include "commands.hpp"

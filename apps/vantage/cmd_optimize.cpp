@@ -1,4 +1,6 @@
 // `vantage optimize SCENE`: the whole pipeline, into an output folder.
+#include <fmt/format.h>
+
 #include <memory>
 
 #include "commands.hpp"

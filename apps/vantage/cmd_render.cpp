@@ -1,6 +1,8 @@
 // `vantage render OUT_DIR --png view.png`: a picture of a finished run without a browser. The
 // run's scene is reloaded with the run's own inputs (report.json) and the chosen sensors
 // re-observed, so the colours are those of the numbers in report.json (issue #7).
+#include <fmt/format.h>
+
 #include <memory>
 #include <numbers>
 

@@ -1,4 +1,6 @@
 // `vantage select FILE`: selection from a saved visibility matrix, into an output folder.
+#include <fmt/format.h>
+
 #include <memory>
 
 #include "commands.hpp"

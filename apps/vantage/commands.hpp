@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "vantage/error.hpp"
 #include "vantage/pipeline.hpp"
 
 namespace vantage::cli {
