@@ -1,10 +1,9 @@
-// vantage's YAML scene format (docs/scene-format.md) and the loader that dispatches by extension.
+// vantage's YAML scene format (docs/scene-format.md).
 // Every problem is collected with its line (STYLE.md, Errors) and reported in one InputError.
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -1283,13 +1282,6 @@ std::string ReadWholeFile(const std::string& path) {
   return text.str();
 }
 
-std::string LowerExtension(const std::string& path) {
-  std::string extension = fs::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
-}
-
 }  // namespace
 
 const SensorType* Problem::FindType(const std::string& id) const {
@@ -1323,17 +1315,6 @@ Problem LoadYamlScene(const std::string& path, const LoadOptions& options) {
   }
   diag.ThrowIfAny();
   return problem;
-}
-
-Problem LoadProblem(const std::string& path, const LoadOptions& options) {
-  const std::string extension = LowerExtension(path);
-  if (extension == ".yaml" || extension == ".yml") return LoadYamlScene(path, options);
-  if (extension == ".world" || extension == ".sdf") return LoadGazeboWorld(path, options);
-  throw InputError(AtPlace(path, 0,
-                           fmt::format("unknown scene extension '{}' — give a .yaml/.yml "
-                                       "scene (docs/scene-format.md) or a Gazebo "
-                                       ".world/.sdf",
-                                       extension)));
 }
 
 }  // namespace vantage
