@@ -137,9 +137,9 @@ TEST(Gazebo, BinPickingWorld) {
   EXPECT_EQ(problem.source, path);
 
   // Plugin parameters as the world writes them.
-  EXPECT_EQ(problem.n, 1);
-  EXPECT_EQ(problem.ransac_iterations, 1000);
-  EXPECT_DOUBLE_EQ(problem.ransac_stop_coverage, 0.9);
+  EXPECT_EQ(problem.selection.n, 1);
+  EXPECT_EQ(problem.selection.ransac_iterations, 1000);
+  EXPECT_DOUBLE_EQ(problem.selection.ransac_stop_coverage, 0.9);
   EXPECT_DOUBLE_EQ(problem.cell_size, 0.005);
   EXPECT_TRUE(problem.random_roll);
   ExpectVec(problem.observation_point, Vec3::Zero());
@@ -226,9 +226,9 @@ TEST(Gazebo, BinPickingWorld) {
 TEST(Gazebo, BinPickingWithOcclusionsWorld) {
   const std::string path = test::Costa2017Dir() + "/worlds/bin_picking_with_occlusions.world";
   const Problem problem = Load(path, CostaOptions());
-  EXPECT_EQ(problem.n, 3);
-  EXPECT_EQ(problem.ransac_iterations, 1000);
-  EXPECT_DOUBLE_EQ(problem.ransac_stop_coverage, 0.9);
+  EXPECT_EQ(problem.selection.n, 3);
+  EXPECT_EQ(problem.selection.ransac_iterations, 1000);
+  EXPECT_DOUBLE_EQ(problem.selection.ransac_stop_coverage, 0.9);
   EXPECT_DOUBLE_EQ(problem.cell_size, 0.005);
   EXPECT_TRUE(problem.random_roll);
   EXPECT_EQ(Names(problem, Role::kTarget), std::set<std::string>{"starter_motor"});
@@ -475,9 +475,9 @@ TEST(Gazebo, PopulationsAndSensors) {
   const std::string path = World("sensors.world");
   const Problem problem = Load(path);
 
-  EXPECT_EQ(problem.n, 2);
-  EXPECT_EQ(problem.ransac_iterations, 50);
-  EXPECT_DOUBLE_EQ(problem.ransac_stop_coverage, 0.755);
+  EXPECT_EQ(problem.selection.n, 2);
+  EXPECT_EQ(problem.selection.ransac_iterations, 50);
+  EXPECT_DOUBLE_EQ(problem.selection.ransac_stop_coverage, 0.755);
   EXPECT_DOUBLE_EQ(problem.cell_size, 0.01);
   EXPECT_FALSE(problem.random_roll);
   ExpectVec(problem.observation_point, Vec3(0.1, -0.2, 0.3));

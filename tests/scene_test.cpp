@@ -383,13 +383,13 @@ TEST(YamlScene, ReadsSettings) {
   const Problem p = LoadYamlScene(WriteCompleteScene(dir));
   EXPECT_EQ(p.source, dir.File("scene.yaml"));
   EXPECT_DOUBLE_EQ(p.cell_size, 0.01);
-  EXPECT_EQ(p.n, 2);
-  EXPECT_EQ(p.method, "greedy");
+  EXPECT_EQ(p.selection.n, 2);
+  EXPECT_EQ(p.selection.method, Method::kGreedy);
   EXPECT_TRUE(p.observation_point.isApprox(Vec3(0.5, 0.5, 0.2)));
   EXPECT_TRUE(p.random_roll);
   EXPECT_EQ(p.seed, 42u);
-  EXPECT_EQ(p.ransac_iterations, 50);
-  EXPECT_DOUBLE_EQ(p.ransac_stop_coverage, 0.9);
+  EXPECT_EQ(p.selection.ransac_iterations, 50);
+  EXPECT_DOUBLE_EQ(p.selection.ransac_stop_coverage, 0.9);
   ASSERT_TRUE(p.expected_candidates.has_value());
   EXPECT_EQ(*p.expected_candidates, 18);
 }
@@ -584,7 +584,7 @@ TEST(YamlScene, ExampleSceneLoads) {
   const Problem p =
       LoadProblem(std::string(VANTAGE_SOURCE_DIR) + "/examples/scenes/bin_picking_cell.yaml");
   EXPECT_EQ(p.scene.TargetCount(), 1u);
-  EXPECT_EQ(p.n, 3);
+  EXPECT_EQ(p.selection.n, 3);
   EXPECT_DOUBLE_EQ(p.cell_size, 0.005);
   int candidates = static_cast<int>(p.sensors.size());
   for (const Population& population : p.populations) {

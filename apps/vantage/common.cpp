@@ -269,7 +269,7 @@ ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* 
   auto start = std::chrono::steady_clock::now();
   const QualityFilter quality = QualityOf(options);  // option errors before any work
   Problem problem = LoadScene(options);
-  if (selection && selection->n) problem.n = *selection->n;
+  if (selection && selection->n) problem.selection.n = *selection->n;
   ReferenceOptions reference_options;
   reference_options.cell_size = problem.cell_size;
   reference_options.Validate();
@@ -373,13 +373,13 @@ ObservedScene ObserveScene(const SceneOptions& options, const SelectionOptions* 
   VisibilityFile& data = result.data;
   data.scene = problem.source;
   data.seed = problem.seed;
-  data.n = problem.n;
-  data.ransac_iterations = problem.ransac_iterations;
-  data.ransac_stop_coverage = problem.ransac_stop_coverage;
-  data.method = problem.method;
-  data.goal = problem.goal;
-  data.k = problem.k;
-  data.budget = problem.budget;
+  data.n = problem.selection.n;
+  data.ransac_iterations = problem.selection.ransac_iterations;
+  data.ransac_stop_coverage = problem.selection.ransac_stop_coverage;
+  data.method = problem.selection.method ? MethodName(*problem.selection.method) : "all";
+  data.goal = problem.selection.goal;
+  data.k = problem.selection.k;
+  data.budget = problem.selection.budget;
   data.reference = std::move(reference);
   data.candidates = std::move(candidates);
   data.observations = std::move(observations);

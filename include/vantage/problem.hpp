@@ -9,6 +9,7 @@
 #include "vantage/candidates.hpp"
 #include "vantage/scene.hpp"
 #include "vantage/sensors.hpp"
+#include "vantage/settings.hpp"
 #include "vantage/states.hpp"
 
 namespace vantage {
@@ -22,15 +23,9 @@ struct Problem {
   Vec3 observation_point = Vec3::Zero();
   bool random_roll = false;
   double cell_size = 0.005;  ///< F [m]
-  int n = 1;                 ///< number of sensors wanted (numberOfIntendedSensors)
-  int ransac_iterations = 1000;
-  double ransac_stop_coverage = 1.0;  ///< fraction in [0, 1]: RANSAC stops once reached
   uint64_t seed = 1;
-  std::string method = "all";
-  /// Objectives beyond coverage (SelectOptions): at most one is set.
-  std::optional<double> goal;    ///< settings.goal: fewest sensors reaching this coverage
-  int k = 1;                     ///< settings.k: k-coverage when >= 2
-  std::optional<double> budget;  ///< settings.budget: total sensor cost cap
+  /// n, method, RANSAC and the objective (at most one of goal, k >= 2, budget is set).
+  SelectionSettings selection;
   std::optional<int> expected_candidates;  ///< numberOfSamplingSensors: a check
   std::vector<std::string> notes;          ///< non-fatal remarks made while loading
   /// States of a changing scene (`states:`; docs/scene-format.md, States), in file order; empty

@@ -7,14 +7,9 @@
 #include <vector>
 
 #include "vantage/observe.hpp"
+#include "vantage/settings.hpp"  // Method, MethodName, ParseMethod
 
 namespace vantage {
-
-enum class Method { kBest, kRansac, kGreedy, kLocal, kExact, kAll };
-
-/// "best", "ransac", ... ; ParseMethod throws InputError listing the valid names.
-std::string MethodName(Method method);
-Method ParseMethod(const std::string& name);
 
 /// What selection optimises (SYSTEM.md, Select: further objectives). At most one of the
 /// non-default objectives is active; SelectOptions::objective() says which.

@@ -50,8 +50,8 @@ Problem LoadProblem(const std::string& path, const LoadOptions& options) {
     readers += fmt::format("{}{}", readers.empty() ? "" : " or ",
                            fmt::format(fmt::runtime(reader.description), fmt::join(names, "/")));
   }
-  throw InputError(AtPlace(
-      path, 0, fmt::format("unknown scene extension '{}' — give {}", extension, readers)));
+  throw InputError(
+      AtPlace(path, 0, fmt::format("unknown scene extension '{}' — give {}", extension, readers)));
 }
 
 }  // namespace vantage

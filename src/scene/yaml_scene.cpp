@@ -21,7 +21,7 @@
 #include "util/words.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
-#include "vantage/select.hpp"
+#include "vantage/settings.hpp"
 #include "vantage/states.hpp"
 
 namespace vantage {
@@ -433,12 +433,12 @@ void SceneReader::ReadSettings(const Value& input) {
   }
   if (const auto v = fields.Get("n")) {
     if (const auto n = Integer(*v, "settings.n", 1, std::numeric_limits<int>::max()))
-      p.n = static_cast<int>(*n);
+      p.selection.n = static_cast<int>(*n);
   }
   if (const auto v = fields.Get("method")) {
     if (const auto method = Text(*v, "settings.method")) {
       try {
-        p.method = MethodName(ParseMethod(*method));
+        p.selection.method = ParseMethod(*method);
       } catch (const InputError&) {
         Error(v->line,
               fmt::format("settings.method '{}' is unknown — {}", *method,
@@ -467,14 +467,14 @@ void SceneReader::ReadSettings(const Value& input) {
                                  "(0, 1], e.g. 0.9 for 90 %",
                                  *goal));
     } else if (goal) {
-      p.goal = *goal;
+      p.selection.goal = *goal;
     }
     ++objectives;
     objective_line = v->line;
   }
   if (const auto v = fields.Get("k")) {
     if (const auto k = Integer(*v, "settings.k", 1, std::numeric_limits<int>::max())) {
-      p.k = static_cast<int>(*k);
+      p.selection.k = static_cast<int>(*k);
       if (*k >= 2) {
         ++objectives;
         objective_line = v->line;
@@ -488,7 +488,7 @@ void SceneReader::ReadSettings(const Value& input) {
                                  "cost together",
                                  *budget));
     } else if (budget) {
-      p.budget = *budget;
+      p.selection.budget = *budget;
     }
     ++objectives;
     objective_line = v->line;
@@ -509,7 +509,7 @@ void SceneReader::ReadRansac(const Value& input) {
   if (const auto v = fields.Get("iterations")) {
     if (const auto n =
             Integer(*v, "settings.ransac.iterations", 1, std::numeric_limits<int>::max()))
-      problem_->ransac_iterations = static_cast<int>(*n);
+      problem_->selection.ransac_iterations = static_cast<int>(*n);
   }
   if (const auto v = fields.Get("stop_coverage")) {
     const auto c = Number(*v, "settings.ransac.stop_coverage");
@@ -518,7 +518,7 @@ void SceneReader::ReadRansac(const Value& input) {
                                  "value in [0, 1] (e.g. 0.8 for 80 %)",
                                  *c));
     } else if (c) {
-      problem_->ransac_stop_coverage = *c;
+      problem_->selection.ransac_stop_coverage = *c;
     }
   }
 }

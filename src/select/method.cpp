@@ -1,8 +1,8 @@
-// Method names and SelectOptions::Validate (SYSTEM.md, Select).
+// Objective names and SelectOptions::Validate (SYSTEM.md, Select); method names are in
+// util/settings.cpp.
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -12,9 +12,6 @@
 
 namespace vantage {
 namespace {
-
-constexpr std::array<Method, 6> kMethods = {Method::kBest,  Method::kRansac, Method::kGreedy,
-                                            Method::kLocal, Method::kExact,  Method::kAll};
 
 // The objective's own fields, and whether the method applies to it.
 void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
@@ -78,25 +75,6 @@ void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
 
 }  // namespace
 
-std::string MethodName(Method method) {
-  switch (method) {
-    case Method::kBest:
-      return "best";
-    case Method::kRansac:
-      return "ransac";
-    case Method::kGreedy:
-      return "greedy";
-    case Method::kLocal:
-      return "local";
-    case Method::kExact:
-      return "exact";
-    case Method::kAll:
-      return "all";
-  }
-  VANTAGE_CHECK(false);
-  return "";
-}
-
 std::string ObjectiveName(Objective objective) {
   switch (objective) {
     case Objective::kCoverage:
@@ -117,15 +95,6 @@ Objective SelectOptions::objective() const {
   if (budget) return Objective::kBudget;
   if (k >= 2) return Objective::kKCoverage;
   return Objective::kCoverage;
-}
-
-Method ParseMethod(const std::string& name) {
-  std::string names;
-  for (const Method method : kMethods) {
-    if (MethodName(method) == name) return method;
-    names += (names.empty() ? "" : ", ") + MethodName(method);
-  }
-  throw InputError(fmt::format("unknown method '{}' — use one of {}", name, names));
 }
 
 void SelectOptions::Validate(size_t candidate_count) const {
