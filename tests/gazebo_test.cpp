@@ -468,6 +468,47 @@ TEST(Gazebo, CommandLineTargetsOverride) {
   EXPECT_EQ(message.rfind(World("colours.world") + ": --target 'no_such_model'", 0), 0u) << message;
 }
 
+/// A green (target) sphere and cylinder with the plugin's leaf size `cell`.
+std::string BallAndCanWorld(const std::string& cell) {
+  const auto model = [](const std::string& name, const std::string& shape) {
+    return "<model name='" + name + "'><link name='link'><visual name='visual'><geometry>" +
+           shape + "</geometry><material><diffuse>0 1 0 1</diffuse></material></visual></link>" +
+           "</model>\n";
+  };
+  return "<?xml version='1.0'?>\n<sdf version='1.6'><world name='w'>\n" +
+         model("ball", "<sphere><radius>0.05</radius></sphere>") +
+         model("can", "<cylinder><radius>0.04</radius><length>0.1</length></cylinder>") +
+         "<plugin name='p' filename='libp.so'><voxelGridFilterLeafSize>" + cell +
+         "</voxelGridFilterLeafSize></plugin>\n</world></sdf>\n";
+}
+
+TEST(Gazebo, CellSizeOptionTessellatesLikeTheLeafSize) {
+  // The bug: --cell-size landed after the visuals were tessellated with the plugin's F / 10.
+  test::TempDir dir;
+  test::WriteText(dir.File("coarse.world"), BallAndCanWorld("0.01"));
+  test::WriteText(dir.File("fine.world"), BallAndCanWorld("0.0025"));
+  LoadOptions options;
+  options.cell_size = 0.0025;
+  const Problem overridden = Load(dir.File("coarse.world"), options);
+  const Problem fine = Load(dir.File("fine.world"));
+  EXPECT_EQ(overridden.cell_size, 0.0025);
+  ASSERT_EQ(overridden.scene.objects.size(), 2u);
+  EXPECT_EQ(test::SceneDifference(overridden.scene, fine.scene), "");
+  // r (1 − cos(π/n)) < F / 10 with r = 0.04, F = 0.0025: π/n < acos(0.99375) = 0.111862 →
+  // n > 28.08 → 29 rim vertices on each cap (15 with the file's F = 0.01).
+  EXPECT_EQ(test::RimVertices(FindObject(overridden, "can")->mesh, 0.05, 0.04), 29);
+  EXPECT_EQ(test::RimVertices(FindObject(Load(dir.File("coarse.world")), "can")->mesh, 0.05, 0.04),
+            15);
+
+  // The file's own value is still checked; a bad option is refused at the option.
+  test::WriteText(dir.File("negative.world"), BallAndCanWorld("-0.01"));
+  ExpectErrorAt(LoadError(dir.File("negative.world"), options), dir.File("negative.world"), 5,
+                "<voxelGridFilterLeafSize> -0.01 must be positive");
+  options.cell_size = -0.0025;
+  EXPECT_EQ(LoadError(dir.File("coarse.world"), options),
+            "--cell-size: cell_size = -0.0025 must be a positive length in metres (e.g. 0.005)");
+}
+
 // ---------------------------------------------------------------------------------------------
 // Sensors.
 

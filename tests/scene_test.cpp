@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <set>
@@ -436,6 +437,52 @@ TEST(YamlScene, PrimitivesUseTenthOfTheCellAsChordError) {
     if (std::abs(v.z() - 0.05) < 1e-12 && std::abs(v.head<2>().norm() - 0.03) < 1e-12) ++rim;
   }
   EXPECT_EQ(rim, 13);
+}
+
+/// A ball and a can, both targets, read with cell size `cell`.
+std::string BallAndCan(const std::string& cell) {
+  return "settings: {cell_size: " + cell + R"(}
+objects:
+  - name: ball
+    role: target
+    sphere: {radius: 0.05}
+  - name: can
+    role: target
+    cylinder: {radius: 0.04, length: 0.1}
+)";
+}
+
+TEST(YamlScene, CellSizeOptionTessellatesLikeTheFilesCellSize) {
+  // The bug: --cell-size landed after the primitives were tessellated with the file's F / 10.
+  TempDir dir;
+  WriteText(dir.File("coarse.yaml"), BallAndCan("0.01"));
+  WriteText(dir.File("fine.yaml"), BallAndCan("0.0025"));
+  LoadOptions options;
+  options.cell_size = 0.0025;
+  const Problem overridden = LoadYamlScene(dir.File("coarse.yaml"), options);
+  const Problem fine = LoadYamlScene(dir.File("fine.yaml"));
+  EXPECT_EQ(overridden.cell_size, 0.0025);
+  EXPECT_EQ(test::SceneDifference(overridden.scene, fine.scene), "");
+  // r (1 − cos(π/n)) < F / 10 with r = 0.04: F = 0.0025: π/n < acos(0.99375) = 0.111862 →
+  // n > 28.08 → 29 rim vertices on each cap; F = 0.01 (the file's): acos(0.975) = 0.224075 → 15.
+  EXPECT_EQ(test::RimVertices(ObjectNamed(overridden, "can").mesh, 0.05, 0.04), 29);
+  const Problem coarse = LoadYamlScene(dir.File("coarse.yaml"));
+  EXPECT_EQ(test::RimVertices(ObjectNamed(coarse, "can").mesh, 0.05, 0.04), 15);
+}
+
+TEST(YamlScene, CellSizeOptionMustBeAPositiveLength) {
+  TempDir dir;
+  WriteText(dir.File("scene.yaml"), BallAndCan("0.01"));
+  for (const double bad : {0.0, -0.01, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    LoadOptions options;
+    options.cell_size = bad;
+    try {
+      LoadProblem(dir.File("scene.yaml"), options);
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("--cell-size: cell_size = ", 0), 0u) << e.what();
+    }
+  }
 }
 
 TEST(YamlScene, ReadsSensorTypes) {

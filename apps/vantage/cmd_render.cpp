@@ -97,6 +97,7 @@ void RunRender(const RenderCommandOptions& options) {
   load.model_paths = options.model_paths;
   load.resource_paths = options.resource_paths;
   load.targets = options.targets;
+  load.cell_size = header.cell_size;  // the run's tessellation, also after --cell-size
   const Problem problem = LoadProblem(scene_path, load);
 
   // Re-observe the chosen sensors: the same voxels as the report counts.

@@ -242,17 +242,8 @@ Problem LoadScene(const SceneOptions& options) {
   load.model_paths = options.model_paths;
   load.resource_paths = options.resource_paths;
   load.targets = options.targets;
+  load.cell_size = options.cell_size;  // before the primitives are tessellated
   Problem problem = LoadProblem(options.scene, load);
-  if (options.cell_size) {
-    ReferenceOptions given;
-    given.cell_size = *options.cell_size;
-    try {
-      given.Validate();
-    } catch (const InputError& e) {
-      throw InputError(AtPlace("--cell-size", 0, e.what()));
-    }
-    problem.cell_size = *options.cell_size;
-  }
   if (options.seed) problem.seed = *options.seed;
   // Command-line options override the scene's (the Gazebo plugin's parameters, GAZEBO.md).
   if (options.observation_point.size() == 3) {

@@ -41,6 +41,13 @@ struct LoadOptions {
   std::vector<std::string> model_paths;     ///< --model-path (Gazebo), searched first
   std::vector<std::string> resource_paths;  ///< --resource-path (Gazebo)
   std::vector<std::string> targets;         ///< --target NAME: overrides the file's targets
+  /// --cell-size F [m]: replaces the file's cell size (still validated) before any primitive is
+  /// tessellated, so that cylinders and spheres get the chord error F / 10 of the F used.
+  std::optional<double> cell_size;
+
+  /// Throws InputError naming --cell-size when it is not a positive finite length. Every reader
+  /// calls it before reading the file.
+  void Validate() const;
 };
 
 /// Loads a `.yaml`/`.yml` scene or a `.world`/`.sdf` Gazebo world, by extension.

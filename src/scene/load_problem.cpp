@@ -1,10 +1,11 @@
 // LoadProblem: the scene readers in one table by file extension (as Open3D's PointCloudIO.cpp
 // chooses its readers), so that a new reader is one row and the unknown-extension message names
-// every reader there is.
+// every reader there is. LoadOptions::Validate, which every reader calls first, is here too.
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -39,6 +40,17 @@ std::string LowerExtension(const std::string& path) {
 }
 
 }  // namespace
+
+void LoadOptions::Validate() const {
+  // Worded as ReferenceOptions::Validate words it (the scene layer cannot call the reference
+  // stage above it), placed at the option.
+  if (cell_size && (!std::isfinite(*cell_size) || *cell_size <= 0)) {
+    throw InputError(
+        AtPlace("--cell-size", 0,
+                fmt::format("cell_size = {} must be a positive length in metres (e.g. 0.005)",
+                            *cell_size)));
+  }
+}
 
 Problem LoadProblem(const std::string& path, const LoadOptions& options) {
   const std::string extension = LowerExtension(path);

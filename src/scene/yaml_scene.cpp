@@ -1249,8 +1249,9 @@ void SceneReader::Read(const YAML::Node& root) {
                    {"settings", "sensor_types", "objects", "populations", "sensors", "states"},
                    &reporter_);
   if (!root.IsMap()) return;
-  // Settings first: the cell size sets the primitives' tessellation.
+  // Settings first: the cell size sets the primitives' tessellation (--cell-size replaces it).
   if (const auto v = top.Get("settings")) ReadSettings(*v);
+  if (options_.cell_size) problem_->cell_size = *options_.cell_size;
   if (const auto v = top.Get("sensor_types")) ReadSensorTypes(*v);
   if (const auto v = top.Get("objects")) {
     ReadObjects(*v);
@@ -1292,6 +1293,7 @@ const SensorType* Problem::FindType(const std::string& id) const {
 }
 
 Problem LoadYamlScene(const std::string& path, const LoadOptions& options) {
+  options.Validate();
   Problem problem;
   problem.source = path;
   Diagnostics diag(path);
