@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
       select.n = n;
       select.method = Method::kLocal;
       select.seed = run_seed;
-      select.ransac_iterations = problem.ransac_iterations;
+      select.ransac_iterations = problem.selection.ransac_iterations;
       const Selection unrefined = Select(observations, reference.size(), select).at(0);
       const RefineResult r =
           Refine(rays, reference, candidates, observations, problem.populations,

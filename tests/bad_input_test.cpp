@@ -358,6 +358,11 @@ TEST_F(BadInput, CommandLineOptions) {
   const std::string example = test::DataPath("../../examples/scenes/bin_picking_cell.yaml");
   const std::string fine =
       Write("fine.yaml", CubeCellWith("cell_size: 0.01", "cell_size: 0.00001"));
+  // --cell-size tessellates like the file's cell_size: at 1e-300 m the post (a cylinder) needs
+  // too many segments, so the grid-range case uses a copy whose post is a box.
+  const std::string boxes =
+      Write("boxes.yaml", CubeCellWith("cylinder: {radius: 0.03, length: 0.3}",
+                                       "box: {size: [0.06, 0.06, 0.3]}"));
   ExpectRejected({
       {"n_zero", "optimize " + scene + " -n 0", "-n:", "n = 0 is out of range"},
       {"n_negative", "optimize " + scene + " -n -1", "-n:", "n = -1 is out of range"},
@@ -371,8 +376,13 @@ TEST_F(BadInput, CommandLineOptions) {
        "--cell-size:", "cell_size = -1 must be a positive length"},
       {"nan_cell_size", "optimize " + scene + " --cell-size nan",
        "--cell-size:", "cell_size = nan"},
-      {"tiny_cell_size", "optimize " + scene + " --cell-size 1e-300", scene + ": targets reach",
+      {"tiny_cell_size", "optimize " + boxes + " --cell-size 1e-300", boxes + ": targets reach",
        "a cell size of 1e-300 m can index"},
+      // The same error as cube_cell.yaml with `cell_size: 1e-300` gives (before the fix the
+      // override came after tessellation, and the post kept the file's chord of 1 mm).
+      {"tiny_cell_size_tessellation", "optimize " + scene + " --cell-size 1e-300",
+       scene + ":27: object 'post'.cylinder:",
+       "needs more than 20000 segments for a chord error of 1e-301 m"},
       // Found in review: 4·10⁸ reference cells exhausted the memory while R was built; now
       // refused from an estimate before (--max-memory makes it independent of the machine).
       {"cell_size_too_fine_for_memory",

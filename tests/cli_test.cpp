@@ -134,6 +134,46 @@ TEST(Cli, SameSeedSameReportWhateverTheThreadCount) {
   EXPECT_NE(t1["candidates"][0]["position"], s4["candidates"][0]["position"]);
 }
 
+TEST(Cli, CellSizeOptionGivesTheResultOfTheScenesCellSize) {
+  // cube_cell.yaml with a sphere and a cylinder as targets: --cell-size must tessellate them as
+  // the scene's own cell_size would (it used to keep the file's coarser chord).
+  test::TempDir dir;
+  std::string text = test::ReadText(Scene());
+  const std::string cube =
+      "  - name: cube\n    role: target\n    box: {size: [0.1, 0.1, 0.1]}\n"
+      "    pose: {xyz: [0, 0, 0.05]}\n";
+  ASSERT_NE(text.find(cube), std::string::npos);
+  text.replace(text.find(cube), cube.size(),
+               "  - name: ball\n    role: target\n    sphere: {radius: 0.04}\n"
+               "    pose: {xyz: [0, 0, 0.05]}\n"
+               "  - name: can\n    role: target\n    cylinder: {radius: 0.03, length: 0.08}\n"
+               "    pose: {xyz: [-0.1, 0.05, 0.04]}\n");
+  ASSERT_NE(text.find("cell_size: 0.01"), std::string::npos);
+  test::WriteText(dir.File("coarse.yaml"), text);
+  text.replace(text.find("cell_size: 0.01"), 15, "cell_size: 0.0025");
+  test::WriteText(dir.File("fine.yaml"), text);
+  const auto overridden = RunVantage("optimize " + dir.File("coarse.yaml") +
+                                     " --method greedy --cell-size 0.0025 --out " + dir.File("o"));
+  ASSERT_EQ(overridden.exit_code, 0) << overridden.err;
+  const auto fine =
+      RunVantage("optimize " + dir.File("fine.yaml") + " --method greedy --out " + dir.File("f"));
+  ASSERT_EQ(fine.exit_code, 0) << fine.err;
+  const json a = json::parse(test::ReadText(dir.File("o/report.json")));
+  const json b = json::parse(test::ReadText(dir.File("f/report.json")));
+  EXPECT_EQ(a["cell_size"], 0.0025);
+  EXPECT_EQ(a["reference_voxels"], b["reference_voxels"]);
+  ASSERT_EQ(a["results"].size(), b["results"].size());
+  for (size_t i = 0; i < a["results"].size(); ++i) {
+    EXPECT_EQ(a["results"][i]["coverage"], b["results"][i]["coverage"]) << i;
+    EXPECT_EQ(a["results"][i]["sensors"], b["results"][i]["sensors"]) << i;
+  }
+  // render reloads the scene with the run's cell size: the same coverage again.
+  const auto render = RunVantage("render " + dir.File("o") + " --png " + dir.File("v.png") +
+                                 " --width 64 --height 48");
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  EXPECT_EQ(render.err.find("has the scene changed"), std::string::npos) << render.err;
+}
+
 TEST(Cli, BadInputExitsTwoAndLeavesThePreviousOutputs) {
   test::TempDir dir;
   const std::string out = dir.File("out");

@@ -137,9 +137,9 @@ TEST(Gazebo, BinPickingWorld) {
   EXPECT_EQ(problem.source, path);
 
   // Plugin parameters as the world writes them.
-  EXPECT_EQ(problem.n, 1);
-  EXPECT_EQ(problem.ransac_iterations, 1000);
-  EXPECT_DOUBLE_EQ(problem.ransac_stop_coverage, 0.9);
+  EXPECT_EQ(problem.selection.n, 1);
+  EXPECT_EQ(problem.selection.ransac_iterations, 1000);
+  EXPECT_DOUBLE_EQ(problem.selection.ransac_stop_coverage, 0.9);
   EXPECT_DOUBLE_EQ(problem.cell_size, 0.005);
   EXPECT_TRUE(problem.random_roll);
   ExpectVec(problem.observation_point, Vec3::Zero());
@@ -226,9 +226,9 @@ TEST(Gazebo, BinPickingWorld) {
 TEST(Gazebo, BinPickingWithOcclusionsWorld) {
   const std::string path = test::Costa2017Dir() + "/worlds/bin_picking_with_occlusions.world";
   const Problem problem = Load(path, CostaOptions());
-  EXPECT_EQ(problem.n, 3);
-  EXPECT_EQ(problem.ransac_iterations, 1000);
-  EXPECT_DOUBLE_EQ(problem.ransac_stop_coverage, 0.9);
+  EXPECT_EQ(problem.selection.n, 3);
+  EXPECT_EQ(problem.selection.ransac_iterations, 1000);
+  EXPECT_DOUBLE_EQ(problem.selection.ransac_stop_coverage, 0.9);
   EXPECT_DOUBLE_EQ(problem.cell_size, 0.005);
   EXPECT_TRUE(problem.random_roll);
   EXPECT_EQ(Names(problem, Role::kTarget), std::set<std::string>{"starter_motor"});
@@ -468,6 +468,47 @@ TEST(Gazebo, CommandLineTargetsOverride) {
   EXPECT_EQ(message.rfind(World("colours.world") + ": --target 'no_such_model'", 0), 0u) << message;
 }
 
+/// A green (target) sphere and cylinder with the plugin's leaf size `cell`.
+std::string BallAndCanWorld(const std::string& cell) {
+  const auto model = [](const std::string& name, const std::string& shape) {
+    return "<model name='" + name + "'><link name='link'><visual name='visual'><geometry>" +
+           shape + "</geometry><material><diffuse>0 1 0 1</diffuse></material></visual></link>" +
+           "</model>\n";
+  };
+  return "<?xml version='1.0'?>\n<sdf version='1.6'><world name='w'>\n" +
+         model("ball", "<sphere><radius>0.05</radius></sphere>") +
+         model("can", "<cylinder><radius>0.04</radius><length>0.1</length></cylinder>") +
+         "<plugin name='p' filename='libp.so'><voxelGridFilterLeafSize>" + cell +
+         "</voxelGridFilterLeafSize></plugin>\n</world></sdf>\n";
+}
+
+TEST(Gazebo, CellSizeOptionTessellatesLikeTheLeafSize) {
+  // The bug: --cell-size landed after the visuals were tessellated with the plugin's F / 10.
+  test::TempDir dir;
+  test::WriteText(dir.File("coarse.world"), BallAndCanWorld("0.01"));
+  test::WriteText(dir.File("fine.world"), BallAndCanWorld("0.0025"));
+  LoadOptions options;
+  options.cell_size = 0.0025;
+  const Problem overridden = Load(dir.File("coarse.world"), options);
+  const Problem fine = Load(dir.File("fine.world"));
+  EXPECT_EQ(overridden.cell_size, 0.0025);
+  ASSERT_EQ(overridden.scene.objects.size(), 2u);
+  EXPECT_EQ(test::SceneDifference(overridden.scene, fine.scene), "");
+  // r (1 − cos(π/n)) < F / 10 with r = 0.04, F = 0.0025: π/n < acos(0.99375) = 0.111862 →
+  // n > 28.08 → 29 rim vertices on each cap (15 with the file's F = 0.01).
+  EXPECT_EQ(test::RimVertices(FindObject(overridden, "can")->mesh, 0.05, 0.04), 29);
+  EXPECT_EQ(test::RimVertices(FindObject(Load(dir.File("coarse.world")), "can")->mesh, 0.05, 0.04),
+            15);
+
+  // The file's own value is still checked; a bad option is refused at the option.
+  test::WriteText(dir.File("negative.world"), BallAndCanWorld("-0.01"));
+  ExpectErrorAt(LoadError(dir.File("negative.world"), options), dir.File("negative.world"), 5,
+                "<voxelGridFilterLeafSize> -0.01 must be positive");
+  options.cell_size = -0.0025;
+  EXPECT_EQ(LoadError(dir.File("coarse.world"), options),
+            "--cell-size: cell_size = -0.0025 must be a positive length in metres (e.g. 0.005)");
+}
+
 // ---------------------------------------------------------------------------------------------
 // Sensors.
 
@@ -475,9 +516,9 @@ TEST(Gazebo, PopulationsAndSensors) {
   const std::string path = World("sensors.world");
   const Problem problem = Load(path);
 
-  EXPECT_EQ(problem.n, 2);
-  EXPECT_EQ(problem.ransac_iterations, 50);
-  EXPECT_DOUBLE_EQ(problem.ransac_stop_coverage, 0.755);
+  EXPECT_EQ(problem.selection.n, 2);
+  EXPECT_EQ(problem.selection.ransac_iterations, 50);
+  EXPECT_DOUBLE_EQ(problem.selection.ransac_stop_coverage, 0.755);
   EXPECT_DOUBLE_EQ(problem.cell_size, 0.01);
   EXPECT_FALSE(problem.random_roll);
   ExpectVec(problem.observation_point, Vec3(0.1, -0.2, 0.3));

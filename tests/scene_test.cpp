@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <set>
@@ -383,13 +384,13 @@ TEST(YamlScene, ReadsSettings) {
   const Problem p = LoadYamlScene(WriteCompleteScene(dir));
   EXPECT_EQ(p.source, dir.File("scene.yaml"));
   EXPECT_DOUBLE_EQ(p.cell_size, 0.01);
-  EXPECT_EQ(p.n, 2);
-  EXPECT_EQ(p.method, "greedy");
+  EXPECT_EQ(p.selection.n, 2);
+  EXPECT_EQ(p.selection.method, Method::kGreedy);
   EXPECT_TRUE(p.observation_point.isApprox(Vec3(0.5, 0.5, 0.2)));
   EXPECT_TRUE(p.random_roll);
   EXPECT_EQ(p.seed, 42u);
-  EXPECT_EQ(p.ransac_iterations, 50);
-  EXPECT_DOUBLE_EQ(p.ransac_stop_coverage, 0.9);
+  EXPECT_EQ(p.selection.ransac_iterations, 50);
+  EXPECT_DOUBLE_EQ(p.selection.ransac_stop_coverage, 0.9);
   ASSERT_TRUE(p.expected_candidates.has_value());
   EXPECT_EQ(*p.expected_candidates, 18);
 }
@@ -436,6 +437,52 @@ TEST(YamlScene, PrimitivesUseTenthOfTheCellAsChordError) {
     if (std::abs(v.z() - 0.05) < 1e-12 && std::abs(v.head<2>().norm() - 0.03) < 1e-12) ++rim;
   }
   EXPECT_EQ(rim, 13);
+}
+
+/// A ball and a can, both targets, read with cell size `cell`.
+std::string BallAndCan(const std::string& cell) {
+  return "settings: {cell_size: " + cell + R"(}
+objects:
+  - name: ball
+    role: target
+    sphere: {radius: 0.05}
+  - name: can
+    role: target
+    cylinder: {radius: 0.04, length: 0.1}
+)";
+}
+
+TEST(YamlScene, CellSizeOptionTessellatesLikeTheFilesCellSize) {
+  // The bug: --cell-size landed after the primitives were tessellated with the file's F / 10.
+  TempDir dir;
+  WriteText(dir.File("coarse.yaml"), BallAndCan("0.01"));
+  WriteText(dir.File("fine.yaml"), BallAndCan("0.0025"));
+  LoadOptions options;
+  options.cell_size = 0.0025;
+  const Problem overridden = LoadYamlScene(dir.File("coarse.yaml"), options);
+  const Problem fine = LoadYamlScene(dir.File("fine.yaml"));
+  EXPECT_EQ(overridden.cell_size, 0.0025);
+  EXPECT_EQ(test::SceneDifference(overridden.scene, fine.scene), "");
+  // r (1 − cos(π/n)) < F / 10 with r = 0.04: F = 0.0025: π/n < acos(0.99375) = 0.111862 →
+  // n > 28.08 → 29 rim vertices on each cap; F = 0.01 (the file's): acos(0.975) = 0.224075 → 15.
+  EXPECT_EQ(test::RimVertices(ObjectNamed(overridden, "can").mesh, 0.05, 0.04), 29);
+  const Problem coarse = LoadYamlScene(dir.File("coarse.yaml"));
+  EXPECT_EQ(test::RimVertices(ObjectNamed(coarse, "can").mesh, 0.05, 0.04), 15);
+}
+
+TEST(YamlScene, CellSizeOptionMustBeAPositiveLength) {
+  TempDir dir;
+  WriteText(dir.File("scene.yaml"), BallAndCan("0.01"));
+  for (const double bad : {0.0, -0.01, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    LoadOptions options;
+    options.cell_size = bad;
+    try {
+      LoadProblem(dir.File("scene.yaml"), options);
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("--cell-size: cell_size = ", 0), 0u) << e.what();
+    }
+  }
 }
 
 TEST(YamlScene, ReadsSensorTypes) {
@@ -584,7 +631,7 @@ TEST(YamlScene, ExampleSceneLoads) {
   const Problem p =
       LoadProblem(std::string(VANTAGE_SOURCE_DIR) + "/examples/scenes/bin_picking_cell.yaml");
   EXPECT_EQ(p.scene.TargetCount(), 1u);
-  EXPECT_EQ(p.n, 3);
+  EXPECT_EQ(p.selection.n, 3);
   EXPECT_DOUBLE_EQ(p.cell_size, 0.005);
   int candidates = static_cast<int>(p.sensors.size());
   for (const Population& population : p.populations) {

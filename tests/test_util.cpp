@@ -4,6 +4,7 @@
 
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -64,6 +65,39 @@ std::string DataPath(const std::string& name) { return std::string(VANTAGE_TEST_
 
 std::string Costa2017Dir() {
   return fs::weakly_canonical(fs::path(VANTAGE_SHARED_DIR) / "worlds" / "costa2017").string();
+}
+
+std::string SceneDifference(const Scene& a, const Scene& b) {
+  if (a.objects.size() != b.objects.size())
+    return std::to_string(a.objects.size()) + " objects vs " + std::to_string(b.objects.size());
+  for (size_t i = 0; i < a.objects.size(); ++i) {
+    const SceneObject& x = a.objects[i];
+    const SceneObject& y = b.objects[i];
+    const std::string which = "object " + std::to_string(i) + " (" + x.name + "): ";
+    if (x.name != y.name) return which + "named " + y.name + " in the other";
+    if (x.role != y.role) return which + "another role";
+    if (x.mesh.vertices.size() != y.mesh.vertices.size() ||
+        x.mesh.triangles.size() != y.mesh.triangles.size()) {
+      return which + std::to_string(x.mesh.vertices.size()) + " vertices, " +
+             std::to_string(x.mesh.triangles.size()) + " triangles vs " +
+             std::to_string(y.mesh.vertices.size()) + ", " +
+             std::to_string(y.mesh.triangles.size());
+    }
+    for (size_t v = 0; v < x.mesh.vertices.size(); ++v)
+      if (x.mesh.vertices[v] != y.mesh.vertices[v]) return which + "vertex " + std::to_string(v);
+    for (size_t t = 0; t < x.mesh.triangles.size(); ++t)
+      if (x.mesh.triangles[t] != y.mesh.triangles[t])
+        return which + "triangle " + std::to_string(t);
+  }
+  return "";
+}
+
+int RimVertices(const TriangleMesh& mesh, double z, double radius) {
+  int rim = 0;
+  for (const Vec3& v : mesh.vertices) {
+    if (std::abs(v.z() - z) < 1e-12 && std::abs(v.head<2>().norm() - radius) < 1e-12) ++rim;
+  }
+  return rim;
 }
 
 }  // namespace vantage::test

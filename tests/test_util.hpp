@@ -2,6 +2,8 @@
 /// Helpers shared by the tests: temporary folders, running the CLI, reading files.
 #include <string>
 
+#include "vantage/scene.hpp"
+
 namespace vantage::test {
 
 /// A fresh empty folder under the system temp dir, removed by the destructor.
@@ -35,5 +37,11 @@ CommandResult RunVantage(const std::string& args);
 std::string DataPath(const std::string& name);
 /// Absolute path of the shared costa2017 folder (../shared/worlds/costa2017).
 std::string Costa2017Dir();
+
+/// The first difference between two scenes (object names, roles, vertices and triangles compared
+/// exactly), or "" when they are the same.
+std::string SceneDifference(const Scene& a, const Scene& b);
+/// Vertices of `mesh` on the circle of `radius` about the z axis in the plane z = `z` (1e-12).
+int RimVertices(const TriangleMesh& mesh, double z, double radius);
 
 }  // namespace vantage::test

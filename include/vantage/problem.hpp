@@ -10,6 +10,7 @@
 #include "vantage/scene.hpp"
 #include "vantage/sensors.hpp"
 #include "vantage/scene_states.hpp"
+#include "vantage/settings.hpp"
 
 namespace vantage {
 
@@ -22,15 +23,9 @@ struct Problem {
   Vec3 observation_point = Vec3::Zero();
   bool random_roll = false;
   double cell_size = 0.005;  ///< F [m]
-  int n = 1;                 ///< number of sensors wanted (numberOfIntendedSensors)
-  int ransac_iterations = 1000;
-  double ransac_stop_coverage = 1.0;  ///< fraction in [0, 1]: RANSAC stops once reached
   uint64_t seed = 1;
-  std::string method = "all";
-  /// Objectives beyond coverage (SelectOptions): at most one is set.
-  std::optional<double> goal;    ///< settings.goal: fewest sensors reaching this coverage
-  int k = 1;                     ///< settings.k: k-coverage when >= 2
-  std::optional<double> budget;  ///< settings.budget: total sensor cost cap
+  /// n, method, RANSAC and the objective (at most one of goal, k >= 2, budget is set).
+  SelectionSettings selection;
   std::optional<int> expected_candidates;  ///< numberOfSamplingSensors: a check
   std::vector<std::string> notes;          ///< non-fatal remarks made while loading
   /// States of a changing scene (`states:`; docs/scene-format.md, States), in file order; empty
@@ -46,6 +41,13 @@ struct LoadOptions {
   std::vector<std::string> model_paths;     ///< --model-path (Gazebo), searched first
   std::vector<std::string> resource_paths;  ///< --resource-path (Gazebo)
   std::vector<std::string> targets;         ///< --target NAME: overrides the file's targets
+  /// --cell-size F [m]: replaces the file's cell size (still validated) before any primitive is
+  /// tessellated, so that cylinders and spheres get the chord error F / 10 of the F used.
+  std::optional<double> cell_size;
+
+  /// Throws InputError naming --cell-size when it is not a positive finite length. Every reader
+  /// calls it before reading the file.
+  void Validate() const;
 };
 
 /// Loads a `.yaml`/`.yml` scene or a `.world`/`.sdf` Gazebo world, by extension.

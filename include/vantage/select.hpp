@@ -11,7 +11,6 @@
 
 namespace vantage {
 
-
 /// What selection optimises (SYSTEM.md, Select: further objectives). At most one of the
 /// non-default objectives is active; SelectOptions::objective() says which.
 enum class Objective {

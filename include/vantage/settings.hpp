@@ -1,7 +1,7 @@
 #pragma once
-/// Selection settings as a scene declares them: the method names and the values the pipeline
-/// turns into SelectOptions. A util-layer header (std only) so that the readers need not see
-/// selection.
+/// Settings that a scene declares for the stages after it, in the util layer (std only): the
+/// scene readers fill them without seeing selection, and select.hpp includes this header for
+/// Method.
 #include <optional>
 #include <string>
 
@@ -16,8 +16,8 @@ Method ParseMethod(const std::string& name);
 /// The selection settings a scene declares (YAML `settings:`, the Gazebo plugin's parameters);
 /// the pipeline turns them into SelectOptions, command-line options first.
 struct SelectionSettings {
-  int n = 1;                          ///< sensors wanted (numberOfIntendedSensors)
-  std::optional<Method> method;       ///< unset: the command's default
+  int n = 1;                     ///< sensors wanted (numberOfIntendedSensors)
+  std::optional<Method> method;  ///< unset: the command's default
   int ransac_iterations = 1000;
   double ransac_stop_coverage = 1.0;  ///< fraction in [0, 1]
   std::optional<double> goal;         ///< fewest sensors reaching this coverage

@@ -1,10 +1,9 @@
-// vantage's YAML scene format (docs/scene-format.md) and the loader that dispatches by extension.
+// vantage's YAML scene format (docs/scene-format.md).
 // Every problem is collected with its line (STYLE.md, Errors) and reported in one InputError.
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -432,12 +431,12 @@ void SceneReader::ReadSettings(const Value& input) {
   }
   if (const auto v = fields.Get("n")) {
     if (const auto n = Integer(*v, "settings.n", 1, std::numeric_limits<int>::max()))
-      p.n = static_cast<int>(*n);
+      p.selection.n = static_cast<int>(*n);
   }
   if (const auto v = fields.Get("method")) {
     if (const auto method = Text(*v, "settings.method")) {
       try {
-        p.method = MethodName(ParseMethod(*method));
+        p.selection.method = ParseMethod(*method);
       } catch (const InputError&) {
         Error(v->line,
               fmt::format("settings.method '{}' is unknown — {}", *method,
@@ -466,14 +465,14 @@ void SceneReader::ReadSettings(const Value& input) {
                                  "(0, 1], e.g. 0.9 for 90 %",
                                  *goal));
     } else if (goal) {
-      p.goal = *goal;
+      p.selection.goal = *goal;
     }
     ++objectives;
     objective_line = v->line;
   }
   if (const auto v = fields.Get("k")) {
     if (const auto k = Integer(*v, "settings.k", 1, std::numeric_limits<int>::max())) {
-      p.k = static_cast<int>(*k);
+      p.selection.k = static_cast<int>(*k);
       if (*k >= 2) {
         ++objectives;
         objective_line = v->line;
@@ -487,7 +486,7 @@ void SceneReader::ReadSettings(const Value& input) {
                                  "cost together",
                                  *budget));
     } else if (budget) {
-      p.budget = *budget;
+      p.selection.budget = *budget;
     }
     ++objectives;
     objective_line = v->line;
@@ -508,7 +507,7 @@ void SceneReader::ReadRansac(const Value& input) {
   if (const auto v = fields.Get("iterations")) {
     if (const auto n =
             Integer(*v, "settings.ransac.iterations", 1, std::numeric_limits<int>::max()))
-      problem_->ransac_iterations = static_cast<int>(*n);
+      problem_->selection.ransac_iterations = static_cast<int>(*n);
   }
   if (const auto v = fields.Get("stop_coverage")) {
     const auto c = Number(*v, "settings.ransac.stop_coverage");
@@ -517,7 +516,7 @@ void SceneReader::ReadRansac(const Value& input) {
                                  "value in [0, 1] (e.g. 0.8 for 80 %)",
                                  *c));
     } else if (c) {
-      problem_->ransac_stop_coverage = *c;
+      problem_->selection.ransac_stop_coverage = *c;
     }
   }
 }
@@ -1248,8 +1247,9 @@ void SceneReader::Read(const YAML::Node& root) {
                    {"settings", "sensor_types", "objects", "populations", "sensors", "states"},
                    &reporter_);
   if (!root.IsMap()) return;
-  // Settings first: the cell size sets the primitives' tessellation.
+  // Settings first: the cell size sets the primitives' tessellation (--cell-size replaces it).
   if (const auto v = top.Get("settings")) ReadSettings(*v);
+  if (options_.cell_size) problem_->cell_size = *options_.cell_size;
   if (const auto v = top.Get("sensor_types")) ReadSensorTypes(*v);
   if (const auto v = top.Get("objects")) {
     ReadObjects(*v);
@@ -1281,13 +1281,6 @@ std::string ReadWholeFile(const std::string& path) {
   return text.str();
 }
 
-std::string LowerExtension(const std::string& path) {
-  std::string extension = fs::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
-}
-
 }  // namespace
 
 const SensorType* Problem::FindType(const std::string& id) const {
@@ -1298,6 +1291,7 @@ const SensorType* Problem::FindType(const std::string& id) const {
 }
 
 Problem LoadYamlScene(const std::string& path, const LoadOptions& options) {
+  options.Validate();
   Problem problem;
   problem.source = path;
   Diagnostics diag(path);
@@ -1321,17 +1315,6 @@ Problem LoadYamlScene(const std::string& path, const LoadOptions& options) {
   }
   diag.ThrowIfAny();
   return problem;
-}
-
-Problem LoadProblem(const std::string& path, const LoadOptions& options) {
-  const std::string extension = LowerExtension(path);
-  if (extension == ".yaml" || extension == ".yml") return LoadYamlScene(path, options);
-  if (extension == ".world" || extension == ".sdf") return LoadGazeboWorld(path, options);
-  throw InputError(AtPlace(path, 0,
-                           fmt::format("unknown scene extension '{}' — give a .yaml/.yml "
-                                       "scene (docs/scene-format.md) or a Gazebo "
-                                       ".world/.sdf",
-                                       extension)));
 }
 
 }  // namespace vantage

@@ -1,8 +1,8 @@
-// Method names and SelectOptions::Validate (SYSTEM.md, Select).
+// Objective names and SelectOptions::Validate (SYSTEM.md, Select); method names are in
+// util/settings.cpp.
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -99,7 +99,6 @@ Objective SelectOptions::objective() const {
   if (k >= 2) return Objective::kKCoverage;
   return Objective::kCoverage;
 }
-
 
 void SelectOptions::Validate(size_t candidate_count) const {
   if (candidate_count == 0) {

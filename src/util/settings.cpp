@@ -1,4 +1,5 @@
-// Method names (SYSTEM.md, Select), read by the scene readers and the visibility file.
+// Method names (settings.hpp): in the util layer so that the scene readers parse `method` without
+// depending on selection.
 #include "vantage/settings.hpp"
 
 #include <fmt/format.h>

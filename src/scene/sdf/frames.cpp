@@ -2,13 +2,13 @@
 // or <frame> in its model, resolved once each by following relative_to (or attached_to) to the
 // model frame. Names are those of the same model only, so each resolves unambiguously; a name
 // that is not there, or a cycle, is an error at the pose's line (GAZEBO.md, "Poses and geometry").
-#include "scene/sdf/loader.hpp"
-
 #include <fmt/format.h>
 
 #include <map>
 #include <set>
 #include <string>
+
+#include "scene/sdf/loader.hpp"
 
 namespace vantage::detail::gazebo {
 

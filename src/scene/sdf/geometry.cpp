@@ -1,14 +1,13 @@
 // The geometry of a visual: <box>, <cylinder>, <sphere> and <plane> built as meshes (primitives
 // tessellated with a chord error below F / 10, SYSTEM.md), <mesh> files loaded once each and
 // scaled; other shapes are skipped with a note (GAZEBO.md, "Poses and geometry").
-#include "scene/sdf/loader.hpp"
-
 #include <fmt/format.h>
 
 #include <memory>
 #include <optional>
 #include <string>
 
+#include "scene/sdf/loader.hpp"
 #include "scene/sdf/text.hpp"
 
 namespace vantage::detail::gazebo {

@@ -99,6 +99,9 @@ struct FrameEntry {
   int line = 0;
 };
 
+// ---------------------------------------------------------------------------------------------
+
+/// Reads one Gazebo world into a Problem; its member functions live in the files named below.
 class Loader {
  public:
   /// Sets the model and resource search paths (resolution.cpp).

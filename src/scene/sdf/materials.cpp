@@ -1,4 +1,6 @@
-// Ogre material scripts, read as far as the colour of the first pass (GAZEBO.md, "Targets").
+// Ogre material scripts, read as far as the colour of the first pass (GAZEBO.md, "Targets"): the
+// plugin found its targets by the colour Gazebo rendered, so the colour a script gives a visual
+// decides whether it is a target (roles.cpp).
 #include "scene/sdf/materials.hpp"
 
 #include <fmt/format.h>

@@ -3,8 +3,6 @@
 // models are named "outer::inner", and a model holding a depth sensor (with what it nests) adds no
 // geometry. The walk only records visuals, sensors and model names; the scene is built from them
 // afterwards (roles.cpp).
-#include "scene/sdf/loader.hpp"
-
 #include <fmt/format.h>
 
 #include <map>
@@ -13,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "scene/sdf/loader.hpp"
 #include "scene/sdf/text.hpp"
 
 namespace vantage::detail::gazebo {

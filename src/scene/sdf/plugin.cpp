@@ -1,8 +1,6 @@
 // The parameters of the original Gazebo plugin (numberOfIntendedSensors, voxelGridFilterLeafSize,
 // sensorDataSegmentationColorRGB, ...), read from any <plugin> of the world so that a world made
 // for the plugin runs unchanged (GAZEBO.md, "The plugin's parameters").
-#include "scene/sdf/loader.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -13,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/sdf/loader.hpp"
 #include "scene/sdf/text.hpp"
 
 namespace vantage::detail::gazebo {
@@ -60,10 +59,11 @@ void Loader::ReadPlugin() {
       const XmlElement* e = &child;
       const std::string& name = child.name;
       if (name == "numberOfIntendedSensors") {
-        if (const auto v = Integer(doc, *e, 1, kMaxCount)) problem_.n = static_cast<int>(*v);
+        if (const auto v = Integer(doc, *e, 1, kMaxCount))
+          problem_.selection.n = static_cast<int>(*v);
       } else if (name == "ransacNumberOfIterations") {
         if (const auto v = Integer(doc, *e, 1, kMaxCount))
-          problem_.ransac_iterations = static_cast<int>(*v);
+          problem_.selection.ransac_iterations = static_cast<int>(*v);
       } else if (name == "numberOfSamplingSensors") {
         if (const auto v = Integer(doc, *e, 1, kMaxCount))
           problem_.expected_candidates = static_cast<int>(*v);
@@ -73,7 +73,7 @@ void Loader::ReadPlugin() {
             Error(doc, e->line,
                   fmt::format("<{}> {} must be a percentage from 0 to 100", name, e->Trimmed()));
           } else {
-            problem_.ransac_stop_coverage = *v / 100.0;
+            problem_.selection.ransac_stop_coverage = *v / 100.0;
           }
         }
       } else if (name == "voxelGridFilterLeafSize") {

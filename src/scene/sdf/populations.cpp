@@ -2,8 +2,6 @@
 // model), and a <population> a Population struct whose positions are drawn later by
 // PopulationPositions (GAZEBO.md, "Sensor populations"). Which regions and distributions Gazebo
 // supports is checked here, where the element's line is known.
-#include "scene/sdf/loader.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -13,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/sdf/loader.hpp"
 #include "scene/sdf/text.hpp"
 
 namespace vantage::detail::gazebo {

@@ -2,8 +2,6 @@
 // folder) and the resource path, model:// and file:// URIs, model.config, loading each SDF file
 // once, and <include> resolution with Gazebo classic's stand-ins for models that are not on the
 // path (ground_plane, sun). GAZEBO.md, "Files and paths".
-#include "scene/sdf/loader.hpp"
-
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -14,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "scene/sdf/loader.hpp"
 #include "scene/sdf/text.hpp"
 
 namespace vantage::detail::gazebo {

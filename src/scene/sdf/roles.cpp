@@ -3,8 +3,6 @@
 // plugin segmented by colour, so a visual is a target when its colour rounds to
 // sensorDataSegmentationColorRGB, unless --target names the target models. sceneModelPath is only
 // cross-checked (GAZEBO.md, "Targets").
-#include "scene/sdf/loader.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -17,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "scene/sdf/loader.hpp"
 #include "scene/sdf/text.hpp"
 
 namespace vantage::detail::gazebo {

@@ -1,8 +1,6 @@
 // Typed values of SDF elements: numbers, whole numbers, booleans, vectors and poses, each checked
 // and, when wrong, recorded as an error at the element's line (the caller gets nullopt or a
 // fallback and reading goes on, so that one run lists every problem).
-#include "scene/sdf/loader.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -14,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "scene/sdf/loader.hpp"
 #include "scene/sdf/text.hpp"
 
 namespace vantage::detail::gazebo {

@@ -58,6 +58,8 @@ Problem Loader::Load(std::vector<GazeboVisual>* visuals_out) {
   }
   world_ = worlds[0];
   ReadPlugin();
+  // --cell-size replaces voxelGridFilterLeafSize before BuildScene tessellates the primitives.
+  if (options_.cell_size) problem_.cell_size = *options_.cell_size;
   for (const XmlElement& child : world_->children) {
     if (child.name == "include" || child.name == "model") {
       VisitWorldEntity(*world_doc_, child);
@@ -99,6 +101,7 @@ Problem Loader::Load(std::vector<GazeboVisual>* visuals_out) {
 Problem detail::LoadGazeboWorld(const std::string& path,
                                 const LoadOptions& options,
                                 std::vector<GazeboVisual>* visuals) {
+  options.Validate();
   return gazebo::Loader(path, options).Load(visuals);
 }
 

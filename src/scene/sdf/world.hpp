@@ -1,6 +1,6 @@
 #pragma once
-/// Internals of the Gazebo world loader (LoadGazeboWorld in vantage/problem.hpp), exposed for
-/// tests: every rendered visual with its world pose and role.
+/// Internals of the Gazebo world loader (LoadGazeboWorld in vantage/problem.hpp; scene/sdf/),
+/// exposed for tests: every rendered visual with its world pose and role.
 #include <string>
 #include <vector>
 

@@ -1,0 +1,69 @@
+// LoadProblem: the scene readers in one table by file extension (as Open3D's PointCloudIO.cpp
+// chooses its readers), so that a new reader is one row and the unknown-extension message names
+// every reader there is. LoadOptions::Validate, which every reader calls first, is here too.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "vantage/error.hpp"
+#include "vantage/problem.hpp"
+
+namespace vantage {
+namespace {
+
+/// One scene reader: the extensions it reads (lower case, with the dot), its function, and how
+/// the unknown-extension message names it ("{}" stands for the extensions, joined by '/').
+struct SceneReader {
+  std::vector<std::string> extensions;
+  Problem (*load)(const std::string& path, const LoadOptions& options);
+  std::string description;
+};
+
+const std::vector<SceneReader>& SceneReaders() {
+  static const std::vector<SceneReader> readers = {
+      {{".yaml", ".yml"}, LoadYamlScene, "a {} scene (docs/scene-format.md)"},
+      {{".world", ".sdf"}, LoadGazeboWorld, "a Gazebo {}"},
+  };
+  return readers;
+}
+
+std::string LowerExtension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+}  // namespace
+
+void LoadOptions::Validate() const {
+  // Worded as ReferenceOptions::Validate words it (the scene layer cannot call the reference
+  // stage above it), placed at the option.
+  if (cell_size && (!std::isfinite(*cell_size) || *cell_size <= 0)) {
+    throw InputError(
+        AtPlace("--cell-size", 0,
+                fmt::format("cell_size = {} must be a positive length in metres (e.g. 0.005)",
+                            *cell_size)));
+  }
+}
+
+Problem LoadProblem(const std::string& path, const LoadOptions& options) {
+  const std::string extension = LowerExtension(path);
+  std::string readers;
+  for (const SceneReader& reader : SceneReaders()) {
+    const auto& names = reader.extensions;
+    if (std::find(names.begin(), names.end(), extension) != names.end())
+      return reader.load(path, options);
+    readers += fmt::format("{}{}", readers.empty() ? "" : " or ",
+                           fmt::format(fmt::runtime(reader.description), fmt::join(names, "/")));
+  }
+  throw InputError(
+      AtPlace(path, 0, fmt::format("unknown scene extension '{}' — give {}", extension, readers)));
+}
+
+}  // namespace vantage
