@@ -49,9 +49,10 @@ void AddEnumOption(CLI::App* app, const std::string& flag, std::optional<Enum>* 
     }
     return {};
   };
+  // CLI11 runs the transformer added last first: the name check, then the mapping.
   app->add_option(flag, *value, help)
-      ->check(CLI::Validator(check, ""))
-      ->transform(CLI::CheckedTransformer(by_name));
+      ->transform(CLI::CheckedTransformer(by_name))
+      ->transform(CLI::Validator(check, ""));
 }
 
 }  // namespace
