@@ -7,8 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "vantage/scene_states.hpp"
+#include "vantage/select_states.hpp"
 #include "vantage/vantage.hpp"
-#include "vantage/states.hpp"
 #include "vantage/visualize.hpp"
 
 namespace vantage::cli {

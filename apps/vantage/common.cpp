@@ -467,7 +467,7 @@ void SelectResults(const ObservedScene& observed, const SelectionOptions& cli, c
   const OverStates over = ParseOverStates(cli.over_states.value_or("mean"));
   std::vector<StateObservations> states;
   for (const ObservedState& state : observed.states)
-    states.push_back({state.name, &state.reference, state.observations});
+    states.push_back({state.name, state.reference.size(), state.observations});
   for (StateSelection& result : SelectOverStates(states, over, options)) {
     result.selection.state_coverage = std::move(result.state_coverage);
     report->results.push_back(std::move(result.selection));

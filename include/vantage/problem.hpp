@@ -8,8 +8,8 @@
 
 #include "vantage/candidates.hpp"
 #include "vantage/scene.hpp"
+#include "vantage/scene_states.hpp"
 #include "vantage/sensors.hpp"
-#include "vantage/states.hpp"
 
 namespace vantage {
 

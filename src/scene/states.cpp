@@ -1,5 +1,5 @@
 // Changing scenes (issue 9): the states of a scene, applied to its objects (remove, move, add).
-#include "vantage/states.hpp"
+#include "vantage/scene_states.hpp"
 
 #include <fmt/format.h>
 

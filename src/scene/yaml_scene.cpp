@@ -23,7 +23,7 @@
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
 #include "vantage/select.hpp"
-#include "vantage/states.hpp"
+#include "vantage/scene_states.hpp"
 
 namespace vantage {
 namespace {

@@ -368,13 +368,13 @@ RefineResult Refine(const Scene& scene,
       if (objective != Objective::kSetCover) {
         const detail::CoverageMatrix matrix(observations, reference.size());
         detail::LocalOptions local;
-        local.k = k;
         if (objective == Objective::kBudget) {
           local.costs = reselect.costs;
           local.budget = *select.budget;
         }
         Selection swapped =
-            score(detail::LocalSearch(matrix, current.chosen, local), MethodName(reselect.method));
+            score(detail::LocalSearch(detail::CellScorer(matrix, k), current.chosen, local),
+                  MethodName(reselect.method));
         if (IsBetter(swapped, best, objective)) best = std::move(swapped);
       }
       if (IsBetter(from_scratch, best, objective)) best = std::move(from_scratch);

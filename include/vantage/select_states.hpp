@@ -1,0 +1,56 @@
+#pragma once
+/// Selection over the states of a changing scene (issue 9; the states themselves are
+/// scene_states.hpp). The same candidates observe every state; selection maximises the mean or
+/// the worst case of the per-state coverage. Each state has its own reference set R_s and its own
+/// visibility matrix; the matrices simply stack (docs/scene-format.md, States).
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "vantage/observe.hpp"
+#include "vantage/select.hpp"
+
+namespace vantage {
+
+/// What selection over states maximises (`--over-states mean|min`).
+enum class OverStates { kMean, kMin };
+/// "mean" or "min"; InputError naming `--over-states` and listing mean|min otherwise.
+OverStates ParseOverStates(const std::string& name);
+std::string OverStatesName(OverStates over);
+
+/// The observations of one state (non-owning): one Observation per candidate, the candidates in
+/// the same order in every state, indices into the state's reference set R_s of
+/// `reference_size` cells.
+struct StateObservations {
+  std::string name;
+  size_t reference_size = 0;
+  std::span<const Observation> observations;
+};
+
+/// A selection scored over states.
+struct StateSelection {
+  /// coverage = the aggregate (mean or min over states) of |∪O_s ∩ R_s| / |R_s|;
+  /// paper_coverage = the same aggregate of each state's |∪O_s| / |R_s| (keys outside R_s
+  /// included); objective = "coverage".
+  Selection selection;
+  std::vector<double> state_coverage;        ///< |∪O_s ∩ R_s| / |R_s| per state, in state order
+  std::vector<double> state_paper_coverage;  ///< |∪O_s| / |R_s| per state, in state order
+};
+
+/// Selection maximising the aggregate over states of the coverage, with Select's own methods
+/// (the aggregate is what they maximise): best (n = 1: the single candidate with the best
+/// aggregate), ransac (Algorithm 2's draws, as Select's, each kept when its aggregate is strictly
+/// better), greedy (adds the candidate that raises the aggregate most; ties: for min the larger
+/// mean, then the lowest index), local (greedy, then the best 1-swap while the aggregate
+/// improves), all (best, then ransac, greedy and local for every n from 1 to options.n).
+/// Aggregates are compared exactly (whole numbers of cells per state, on a common denominator);
+/// deterministic, single-threaded.
+/// InputError (naming --over-states) for exact and the goal, k and budget objectives;
+/// for no state, states with different candidate counts, an empty R_s, or indices beyond R_s;
+/// and for what SelectOptions::Validate rejects.
+std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> states,
+                                             OverStates over,
+                                             const SelectOptions& options);
+
+}  // namespace vantage
