@@ -256,6 +256,28 @@ TEST(CoverageMatrix, MergesCellsSeenBySameCandidates) {
   EXPECT_EQ(matrix.CoveredWeight(second), 3u);
 }
 
+TEST(CoverageMatrix, StacksStatesWithoutMixingTheirCells) {
+  // State 0 (R = 4): c0 {0, 1}, c1 {1, 2}: elements {0} (c0), {1} (both), {2} (c1); cell 3 unseen.
+  // State 1 (R = 3): c0 {0}, c1 {0, 2}: elements {0} (both), {2} (c1); cell 1 unseen. Cell 0 of
+  // each state is its own element although c0 and c1 see both.
+  const std::vector<Observation> first = {Obs({0, 1}), Obs({1, 2})};
+  const std::vector<Observation> second = {Obs({0}), Obs({0, 2})};
+  const std::vector<detail::StateBlock> states = {{first, 4}, {second, 3}};
+  const detail::CoverageMatrix matrix(states);
+  ASSERT_EQ(matrix.state_count(), 2u);
+  EXPECT_EQ(matrix.reference_size(), 7u);
+  EXPECT_EQ(matrix.StateReferenceSize(1), 3u);
+  EXPECT_EQ(matrix.StateBegin(0), 0u);
+  EXPECT_EQ(matrix.StateBegin(1), 3u);
+  EXPECT_EQ(matrix.StateBegin(2), 5u);
+  EXPECT_EQ(matrix.Row(0), (std::vector<uint32_t>{0, 1, 3}));
+  EXPECT_EQ(matrix.Row(1), (std::vector<uint32_t>{1, 2, 3, 4}));
+  EXPECT_EQ(matrix.RowWeight(1), 4u);
+  EXPECT_EQ(matrix.seen_weight(), 5u);
+  const std::vector<uint32_t> both{0, 1};
+  EXPECT_EQ(matrix.CoveredWeight(both), 5u);
+}
+
 TEST(CoverageMatrix, CoveredWeightMatchesTheUnion) {
   const std::vector<Observation> obs = RandomInstance(7, 20, 300, 0.15);
   const detail::CoverageMatrix matrix(obs, 300);
@@ -319,8 +341,10 @@ TEST(Select, TwoSwapsAndExactEscapeWhereOneSwapIsStuck) {
   const detail::CoverageMatrix matrix(obs, 12);
   detail::LocalOptions one_swap;
   one_swap.two_swap = false;
-  EXPECT_EQ(detail::LocalSearch(matrix, greedy.chosen, one_swap), (std::vector<uint32_t>{0, 1}));
-  EXPECT_EQ(detail::LocalSearch(matrix, greedy.chosen), (std::vector<uint32_t>{3, 4}));
+  EXPECT_EQ(detail::LocalSearch(detail::CellScorer(matrix), greedy.chosen, one_swap),
+            (std::vector<uint32_t>{0, 1}));
+  EXPECT_EQ(detail::LocalSearch(detail::CellScorer(matrix), greedy.chosen),
+            (std::vector<uint32_t>{3, 4}));
   const Selection local = SelectOne(obs, 12, Method::kLocal, 2);
   EXPECT_EQ(local.chosen, (std::vector<uint32_t>{3, 4}));
   EXPECT_DOUBLE_EQ(local.coverage, 1.0);
@@ -524,7 +548,8 @@ TEST(Select, SimpleUpperBoundIsAtLeastTheOptimum) {
     const std::vector<Observation> obs = RandomInstance(200 + trial, 9, 30, 0.15);
     const detail::CoverageMatrix matrix(obs, 30);
     for (size_t n = 1; n <= 4; ++n) {
-      const std::vector<uint32_t> greedy = detail::GreedyComplete(matrix, {}, n);
+      const std::vector<uint32_t> greedy =
+          detail::GreedyComplete(detail::CellScorer(matrix), {}, n);
       EXPECT_GE(detail::SimpleUpperBound(matrix, greedy, n), BruteForceOptimum(obs, n));
       EXPECT_LE(detail::SimpleUpperBound(matrix, greedy, n), 30u);
       EXPECT_GE(detail::GreedyUpperBound(matrix, greedy, n), BruteForceOptimum(obs, n));
@@ -542,7 +567,7 @@ TEST(Select, ExactFallsBackToItsStartWhenTheModelIsTooLargeForTheTimeLimit) {
   // MILP has tens of thousands of nonzeros, beyond what a 1 ms time limit allows.
   const std::vector<Observation> obs = RandomInstance(17, 60, 2000, 0.3);
   const detail::CoverageMatrix matrix(obs, 2000);
-  const std::vector<uint32_t> start = detail::GreedyComplete(matrix, {}, 3);
+  const std::vector<uint32_t> start = detail::GreedyComplete(detail::CellScorer(matrix), {}, 3);
   const detail::ExactResult result = detail::SolveExact(matrix, 3, start, 0.001);
   EXPECT_EQ(result.chosen, start);
   EXPECT_FALSE(result.note.empty());

@@ -1,9 +1,6 @@
 // Changing scenes (issue 9): states of a scene, their YAML form, and selection over states
 // against counts worked out by hand. Boxes have faces mid-cell and cameras fine pixels, as in
 // observe_test.cpp, so that the cells each camera sees are exact.
-#include "vantage/scene_states.hpp"
-#include "vantage/select_states.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,6 +14,8 @@
 #include "vantage/reference.hpp"
 #include "vantage/problem.hpp"
 #include "vantage/rng.hpp"
+#include "vantage/scene_states.hpp"
+#include "vantage/select_states.hpp"
 
 namespace vantage {
 namespace {
@@ -496,7 +495,8 @@ TEST(SelectOverStates, GreedyAndLocalNeverBelowBestAndDeterministic) {
   for (uint64_t seed = 1; seed <= 5; ++seed) {
     const std::vector<RandomState> states = RandomStates(seed, 12);
     std::vector<StateObservations> views;
-    for (const RandomState& s : states) views.push_back({s.name, s.reference.size(), s.observations});
+    for (const RandomState& s : states)
+      views.push_back({s.name, s.reference.size(), s.observations});
     for (const OverStates over : {OverStates::kMean, OverStates::kMin}) {
       const auto results = SelectOverStates(views, over, Options(Method::kAll, 4));
       ASSERT_EQ(results.size(), 13u);  // best, then ransac, greedy, local for n = 1..4
@@ -524,6 +524,48 @@ TEST(SelectOverStates, GreedyAndLocalNeverBelowBestAndDeterministic) {
       for (size_t i = 0; i < results.size(); ++i) {
         EXPECT_EQ(again[i].selection.chosen, results[i].selection.chosen);
         EXPECT_EQ(again[i].state_coverage, results[i].state_coverage);
+      }
+    }
+  }
+}
+
+// 24 states of distinct prime sizes: lcm(|R_s|) is above 2^96, so fractions are compared in fixed
+// point. Best is still the brute-force best single candidate, and local still ends 1-swap optimal.
+TEST(SelectOverStates, ManyStatesInFixedPoint) {
+  const uint32_t primes[] = {2,  3,  5,  7,  11, 13, 17, 19, 23, 29, 31, 37,
+                             41, 43, 47, 53, 59, 61, 67, 71, 73, 79, 83, 89};
+  Rng rng(5, Stream::kTest, 1);
+  std::vector<RandomState> states;
+  for (const uint32_t size : primes) {
+    RandomState state;
+    state.name = std::to_string(size);
+    for (uint64_t k = 0; k < size; ++k) state.reference.keys.push_back(k);
+    state.observations.resize(8);
+    for (Observation& o : state.observations) {
+      for (uint32_t c = 0; c < size; ++c) {
+        if (rng.Uniform01() < 0.3) o.reference_indices.push_back(c);
+      }
+    }
+    states.push_back(std::move(state));
+  }
+  std::vector<StateObservations> views;
+  for (const RandomState& s : states) views.push_back({s.name, s.reference.size(), s.observations});
+  for (const OverStates over : {OverStates::kMean, OverStates::kMin}) {
+    double best_single = -1;
+    for (uint32_t c = 0; c < 8; ++c)
+      best_single = std::max(best_single, AggregateOf(states, {c}, over));
+    const auto best = SelectOverStates(views, over, Options(Method::kBest, 1));
+    EXPECT_NEAR(best[0].selection.coverage, best_single, 1e-12);
+    const auto local = SelectOverStates(views, over, Options(Method::kLocal, 3));
+    const std::vector<uint32_t> chosen = local[0].selection.chosen;
+    const double value = AggregateOf(states, chosen, over);
+    EXPECT_NEAR(local[0].selection.coverage, value, 1e-12);
+    for (size_t i = 0; i < chosen.size(); ++i) {
+      for (uint32_t c = 0; c < 8; ++c) {
+        if (std::find(chosen.begin(), chosen.end(), c) != chosen.end()) continue;
+        std::vector<uint32_t> swapped = chosen;
+        swapped[i] = c;
+        EXPECT_LE(AggregateOf(states, swapped, over), value + 1e-12);
       }
     }
   }

@@ -14,7 +14,9 @@ namespace vantage {
 struct RayBatch {
   static constexpr int kWidth = 16;
   float origin[3];                      ///< shared by the packet (one camera centre)
-  float dir[3][kWidth];                 ///< per-lane direction, SoA
+  /// Per-lane direction, SoA. Zeroed: Debian's Embree asserts that the rays of a packet are
+  /// finite, and lanes past `active` reach that check uninitialised (aborts at random otherwise).
+  float dir[3][kWidth] = {};
   int active = 0;                       ///< lanes in use, from 0
   float tfar = 0;                       ///< farthest distance searched (in units of |d|)
   // Results: ray parameter of the first hit (inf when none) and whether it hit a target.

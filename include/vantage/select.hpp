@@ -70,7 +70,7 @@ struct Selection {
   std::optional<double> budget;        ///< budget: the budget
   std::optional<double> cost;          ///< budget: total cost of the chosen sensors
   std::optional<int> n_lower_bound;    ///< set cover: proven least number of sensors
-  /// A scene with states (states.hpp): the coverage of each state; `coverage` is then their
+  /// A scene with states (select_states.hpp): the coverage of each state; `coverage` is then their
   /// mean or minimum. Empty otherwise.
   std::vector<double> state_coverage;
 };

@@ -1,6 +1,7 @@
 #include "select/coverage_matrix.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 
 #include "vantage/error.hpp"
@@ -11,8 +12,6 @@ namespace {
 // Rows are also kept as bitsets (one bit per element, popcount gains) while that costs at most
 // this much memory; above it (huge, unmergeable instances) the sparse rows alone are used.
 constexpr size_t kMaxDenseBytes = size_t{512} << 20;
-
-bool Has(const Bitset& set, uint32_t element) { return (set[element >> 6] >> (element & 63)) & 1; }
 
 }  // namespace
 
@@ -70,44 +69,59 @@ std::vector<int64_t> RefinePartition(size_t item_count,
 }
 
 CoverageMatrix::CoverageMatrix(std::span<const Observation> observations, size_t reference_size)
-    : reference_size_(reference_size) {
+    : CoverageMatrix(std::array{StateBlock{observations, reference_size}}) {}
+
+CoverageMatrix::CoverageMatrix(std::span<const StateBlock> states) {
+  VANTAGE_CHECK(!states.empty());
+  const size_t candidates = states.front().observations.size();
+  rows_.resize(candidates);
+  row_weights_.assign(candidates, 0);
   std::vector<std::span<const uint32_t>> sets;
-  sets.reserve(observations.size());
-  for (const Observation& o : observations) {
-    // Observation's contract: sorted, unique, indices into R (checked: merging relies on it).
-    for (size_t k = 0; k < o.reference_indices.size(); ++k) {
-      VANTAGE_CHECK(o.reference_indices[k] < reference_size);
-      VANTAGE_CHECK(k == 0 || o.reference_indices[k - 1] < o.reference_indices[k]);
+  std::vector<uint32_t> last_candidate;
+  for (const StateBlock& state : states) {
+    VANTAGE_CHECK(state.observations.size() == candidates);
+    sets.clear();
+    for (const Observation& o : state.observations) {
+      // Observation's contract: sorted, unique, indices into R (checked: merging relies on it).
+      for (size_t k = 0; k < o.reference_indices.size(); ++k) {
+        VANTAGE_CHECK(o.reference_indices[k] < state.reference_size);
+        VANTAGE_CHECK(k == 0 || o.reference_indices[k - 1] < o.reference_indices[k]);
+      }
+      sets.emplace_back(o.reference_indices);
     }
-    sets.emplace_back(o.reference_indices);
-  }
-  const std::vector<int64_t> element_of = RefinePartition(reference_size, sets);
-  for (const int64_t e : element_of) {
-    if (e < 0) continue;
-    if (static_cast<size_t>(e) >= weights_.size()) weights_.resize(e + 1, 0);
-    ++weights_[e];
-    ++seen_weight_;
+    // The state's elements follow those of the states before it.
+    std::vector<int64_t> element_of = RefinePartition(state.reference_size, sets);
+    const auto first = static_cast<int64_t>(weights_.size());
+    for (int64_t& e : element_of) {
+      if (e < 0) continue;
+      e += first;
+      if (static_cast<size_t>(e) >= weights_.size()) weights_.resize(e + 1, 0);
+      ++weights_[e];
+      ++seen_weight_;
+    }
+    last_candidate.assign(weights_.size(), UINT32_MAX);
+    for (size_t i = 0; i < candidates; ++i) {
+      std::vector<uint32_t>& row = rows_[i];
+      const size_t row_begin = row.size();
+      for (const uint32_t cell : state.observations[i].reference_indices) {
+        const auto e = static_cast<uint32_t>(element_of[cell]);
+        if (last_candidate[e] == i) continue;
+        last_candidate[e] = static_cast<uint32_t>(i);
+        row.push_back(e);
+      }
+      if (!std::is_sorted(row.begin() + row_begin, row.end()))
+        std::sort(row.begin() + row_begin, row.end());
+      row_weights_[i] += state.observations[i].reference_indices.size();
+    }
+    reference_size_ += state.reference_size;
+    state_sizes_.push_back(state.reference_size);
+    state_begin_.push_back(static_cast<uint32_t>(weights_.size()));
   }
   unit_weights_ = std::all_of(weights_.begin(), weights_.end(), [](uint32_t w) { return w == 1; });
   word_count_ = (weights_.size() + 63) / 64;
 
-  rows_.resize(observations.size());
-  row_weights_.resize(observations.size());
-  std::vector<uint32_t> last_candidate(weights_.size(), UINT32_MAX);
-  for (size_t i = 0; i < observations.size(); ++i) {
-    std::vector<uint32_t>& row = rows_[i];
-    for (const uint32_t cell : observations[i].reference_indices) {
-      const auto e = static_cast<uint32_t>(element_of[cell]);
-      if (last_candidate[e] == i) continue;
-      last_candidate[e] = static_cast<uint32_t>(i);
-      row.push_back(e);
-    }
-    if (!std::is_sorted(row.begin(), row.end())) std::sort(row.begin(), row.end());
-    row_weights_[i] = observations[i].reference_indices.size();
-  }
-
-  if (observations.size() * word_count_ * sizeof(uint64_t) <= kMaxDenseBytes) {
-    bits_.assign(observations.size() * word_count_, 0);
+  if (candidates * word_count_ * sizeof(uint64_t) <= kMaxDenseBytes) {
+    bits_.assign(candidates * word_count_, 0);
     for (size_t i = 0; i < rows_.size(); ++i) {
       uint64_t* words = bits_.data() + i * word_count_;
       for (const uint32_t e : rows_[i]) words[e >> 6] |= uint64_t{1} << (e & 63);
@@ -115,50 +129,38 @@ CoverageMatrix::CoverageMatrix(std::span<const Observation> observations, size_t
   }
 }
 
-uint64_t CoverageMatrix::Gain(uint32_t candidate, const Bitset& covered) const {
-  uint64_t gain = 0;
-  if (!is_dense()) {
-    for (const uint32_t e : rows_[candidate]) {
-      if (!Has(covered, e)) gain += weights_[e];
-    }
-    return gain;
+uint64_t CoverageMatrix::WordWeight(size_t w, uint64_t bits) const {
+  if (unit_weights_) return static_cast<uint64_t>(std::popcount(bits));
+  uint64_t weight = 0;
+  while (bits) {
+    weight += weights_[w * 64 + std::countr_zero(bits)];
+    bits &= bits - 1;
   }
-  const uint64_t* row = Bits(candidate);
-  for (size_t w = 0; w < word_count_; ++w) {
-    uint64_t m = row[w] & ~covered[w];
-    if (unit_weights_) {
-      gain += std::popcount(m);
-      continue;
-    }
-    while (m) {
-      gain += weights_[w * 64 + std::countr_zero(m)];
-      m &= m - 1;
-    }
-  }
-  return gain;
+  return weight;
 }
 
-uint64_t CoverageMatrix::WeightIn(uint32_t candidate, const Bitset& set) const {
+template <bool kInSet>
+uint64_t CoverageMatrix::RowWeightWhere(uint32_t candidate, const Bitset& set) const {
   uint64_t weight = 0;
   if (!is_dense()) {
     for (const uint32_t e : rows_[candidate]) {
-      if (Has(set, e)) weight += weights_[e];
+      if (Contains(set, e) == kInSet) weight += weights_[e];
     }
     return weight;
   }
   const uint64_t* row = Bits(candidate);
   for (size_t w = 0; w < word_count_; ++w) {
-    uint64_t m = row[w] & set[w];
-    if (unit_weights_) {
-      weight += std::popcount(m);
-      continue;
-    }
-    while (m) {
-      weight += weights_[w * 64 + std::countr_zero(m)];
-      m &= m - 1;
-    }
+    weight += WordWeight(w, row[w] & (kInSet ? set[w] : ~set[w]));
   }
   return weight;
+}
+
+uint64_t CoverageMatrix::Gain(uint32_t candidate, const Bitset& covered) const {
+  return RowWeightWhere<false>(candidate, covered);
+}
+
+uint64_t CoverageMatrix::WeightIn(uint32_t candidate, const Bitset& set) const {
+  return RowWeightWhere<true>(candidate, set);
 }
 
 void CoverageMatrix::AddTo(uint32_t candidate, Bitset* covered) const {
@@ -172,17 +174,7 @@ void CoverageMatrix::AddTo(uint32_t candidate, Bitset* covered) const {
 
 uint64_t CoverageMatrix::SetWeight(const Bitset& set) const {
   uint64_t weight = 0;
-  for (size_t w = 0; w < word_count_; ++w) {
-    uint64_t m = set[w];
-    if (unit_weights_) {
-      weight += std::popcount(m);
-      continue;
-    }
-    while (m) {
-      weight += weights_[w * 64 + std::countr_zero(m)];
-      m &= m - 1;
-    }
-  }
+  for (size_t w = 0; w < word_count_; ++w) weight += WordWeight(w, set[w]);
   return weight;
 }
 

@@ -3,6 +3,8 @@
 /// is a class of reference cells that exactly the same candidates see, weighted by its cell count.
 /// Cells that no candidate sees are dropped. Coverage of any set of candidates is unchanged by the
 /// merge (it is a sum of weights of the covered elements), so every method stays exact.
+/// A scene with states stacks one such matrix per state: the elements of state 0, then those of
+/// state 1, ...; an element never mixes cells of two states.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -14,6 +16,18 @@ namespace vantage::detail {
 /// A set of elements as 64-bit words (bit e of word e / 64).
 using Bitset = std::vector<uint64_t>;
 
+/// Whether `element` is in `set`.
+inline bool Contains(const Bitset& set, uint32_t element) {
+  return (set[element >> 6] >> (element & 63)) & 1;
+}
+
+/// One state of a stacked matrix: one observation set per candidate (indices into the state's R,
+/// the candidates in the same order in every state) and |R| of the state.
+struct StateBlock {
+  std::span<const Observation> observations;
+  size_t reference_size = 0;
+};
+
 /// Partition refinement: splits `item_count` items into classes of items that belong to exactly
 /// the same `sets` (each a sorted list of unique item indices < item_count). Returns the class of
 /// every item: -1 for items in no set, otherwise classes numbered 0, 1, ... in order of their first
@@ -23,12 +37,22 @@ std::vector<int64_t> RefinePartition(size_t item_count,
 
 class CoverageMatrix {
  public:
-  /// Builds the merged matrix. Throws InputError when a reference index is >= reference_size.
+  /// Builds the merged matrix of one state. Throws InternalError when a reference index is >=
+  /// reference_size or an observation's indices are not sorted and unique (its contract).
   CoverageMatrix(std::span<const Observation> observations, size_t reference_size);
+  /// Stacks the merged matrices of several states (at least one, each with the same number of
+  /// candidates); with one state it is the matrix above.
+  explicit CoverageMatrix(std::span<const StateBlock> states);
 
   size_t candidate_count() const { return rows_.size(); }
   size_t element_count() const { return weights_.size(); }
+  /// |R| (stacked: the sum over the states).
   size_t reference_size() const { return reference_size_; }
+  size_t state_count() const { return state_sizes_.size(); }
+  /// |R_s| of state s.
+  size_t StateReferenceSize(size_t state) const { return state_sizes_[state]; }
+  /// The elements of state s are [StateBegin(s), StateBegin(s + 1)).
+  uint32_t StateBegin(size_t state) const { return state_begin_[state]; }
   /// 64-bit words of a Bitset over the elements.
   size_t word_count() const { return word_count_; }
   /// Reference cells seen by at least one candidate (= sum of all element weights).
@@ -59,8 +83,15 @@ class CoverageMatrix {
 
  private:
   const uint64_t* Bits(uint32_t candidate) const { return bits_.data() + candidate * word_count_; }
+  /// Weight of the elements of `candidate` that are in `set` (kInSet) or not in it.
+  template <bool kInSet>
+  uint64_t RowWeightWhere(uint32_t candidate, const Bitset& set) const;
+  /// Weight of the elements of word w set in `bits`.
+  uint64_t WordWeight(size_t w, uint64_t bits) const;
 
   size_t reference_size_ = 0;
+  std::vector<size_t> state_sizes_;
+  std::vector<uint32_t> state_begin_{0};  ///< state_count() + 1 entries
   size_t word_count_ = 0;
   uint64_t seen_weight_ = 0;
   bool unit_weights_ = true;

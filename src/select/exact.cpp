@@ -445,7 +445,7 @@ ExactResult SolveExact(const CoverageMatrix& matrix,
     return result;
   }
   if (n == 1) {
-    const uint32_t best = BestCandidate(matrix);
+    const uint32_t best = BestCandidate(CellScorer(matrix));
     result.chosen = {best};
     result.upper_bound = matrix.RowWeight(best);
     result.proven_optimal = true;
@@ -454,7 +454,7 @@ ExactResult SolveExact(const CoverageMatrix& matrix,
   CbcOutcome outcome = CardinalityCbc(matrix, 1, n, start, time_limit);
   result.note = outcome.note;
   if (!outcome.chosen.empty()) {
-    std::vector<uint32_t> padded = GreedyComplete(matrix, outcome.chosen, n);
+    std::vector<uint32_t> padded = GreedyComplete(CellScorer(matrix), outcome.chosen, n);
     if (matrix.CoveredWeight(padded) > start_cells) result.chosen = std::move(padded);
   }
   SettleUpperBound(matrix.CoveredWeight(result.chosen), outcome.bound, outcome.proven_optimal,
@@ -559,12 +559,12 @@ SetCoverResult SolveSetCover(const CoverageMatrix& matrix,
   result.chosen = start;
   size_t lower = std::max<size_t>(1, SetCoverLowerBound(matrix, goal_cells));
   for (size_t t = lower; t < result.chosen.size(); ++t) {
-    const std::vector<uint32_t> greedy = GreedyComplete(matrix, {}, t);
+    const std::vector<uint32_t> greedy = GreedyComplete(CellScorer(matrix), {}, t);
     if (GreedyUpperBound(matrix, greedy, t) < goal_cells) {
       lower = t + 1;  // no t sensors reach the goal
       continue;
     }
-    std::vector<uint32_t> found = LocalSearch(matrix, greedy);
+    std::vector<uint32_t> found = LocalSearch(CellScorer(matrix), greedy);
     if (matrix.CoveredWeight(found) < goal_cells) {
       const double left = seconds_left();
       if (left <= 0) {

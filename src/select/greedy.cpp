@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <limits>
 #include <queue>
 
 #include "select/methods.hpp"
@@ -12,54 +11,65 @@
 namespace vantage::detail {
 namespace {
 
-// Lazy greedy (Minoux) from `chosen`: adds the candidate of largest gain until n sensors are
-// chosen, or the covered cells reach `goal_cells`, or nothing adds anything. Gains only shrink as
-// the cover grows (submodularity), so a gain computed in an earlier round is an upper bound. An
-// entry whose gain is fresh (computed this round) and on top of the heap is the true maximum; the
-// heap's order (gain, then lower index first) makes it the lowest-index maximum, as plain greedy
-// would choose.
-std::vector<uint32_t> LazyGreedy(const CoverageMatrix& matrix,
+// Lazy greedy (Minoux) from `chosen`: adds the candidate that ranks highest until n sensors are
+// chosen, or done(covered tally) holds, or nothing adds anything. With a lazy scorer ranks only
+// shrink as the cover grows (submodularity), so a rank computed in an earlier round is an upper
+// bound: an entry whose rank is fresh (computed this round) and on top of the heap is the true
+// maximum, and the heap's order (rank, then lower index first) makes it the lowest-index maximum,
+// as plain greedy would choose. Otherwise stale entries go first, so every rank is fresh before
+// one is chosen: each round then ranks every candidate, as plain greedy does.
+template <class Scorer, class Done>
+std::vector<uint32_t> LazyGreedy(const Scorer& scorer,
                                  std::vector<uint32_t> chosen,
                                  size_t n,
-                                 uint64_t goal_cells) {
+                                 const Done& done) {
+  using Score = typename Scorer::Score;
+  const CoverageMatrix& matrix = scorer.matrix();
   const size_t m = matrix.candidate_count();
   std::vector<bool> is_chosen(m, false);
   Bitset covered = matrix.EmptySet();
+  typename Scorer::Tally covered_tally = scorer.Zero();
   for (const uint32_t c : chosen) {
     VANTAGE_CHECK(c < m && !is_chosen[c]);
     is_chosen[c] = true;
+    covered_tally += scorer.Gain(c, covered);
     matrix.AddTo(c, &covered);
   }
-  uint64_t covered_cells = matrix.SetWeight(covered);
   struct Entry {
-    uint64_t gain;
+    Score rank;
     uint32_t candidate;
     size_t round;
   };
-  const auto lower_priority = [](const Entry& a, const Entry& b) {
-    return a.gain != b.gain ? a.gain < b.gain : a.candidate > b.candidate;
+  const bool lazy = scorer.lazy();
+  const auto lower_priority = [lazy](const Entry& a, const Entry& b) {
+    if (!lazy && a.round != b.round) return a.round > b.round;
+    return a.rank != b.rank ? a.rank < b.rank : a.candidate > b.candidate;
   };
   std::vector<Entry> entries;
   entries.reserve(m);
   size_t round = chosen.size();
   for (uint32_t i = 0; i < m; ++i) {
     if (is_chosen[i]) continue;
-    entries.push_back({chosen.empty() ? matrix.RowWeight(i) : matrix.Gain(i, covered), i, round});
+    entries.push_back(
+        {scorer.Rank(covered_tally, chosen.empty() ? scorer.RowWeight(i) : scorer.Gain(i, covered)),
+         i, round});
   }
   std::priority_queue<Entry, std::vector<Entry>, decltype(lower_priority)> heap(lower_priority,
                                                                                 std::move(entries));
-  while (chosen.size() < n && covered_cells < goal_cells && !heap.empty()) {
+  Score nothing = scorer.Rank(covered_tally, scorer.Zero());  // the rank of adding nothing
+  while (chosen.size() < n && !done(covered_tally) && !heap.empty()) {
     Entry top = heap.top();
     heap.pop();
     if (top.round == round) {
-      if (top.gain == 0) break;  // nothing adds anything any more
+      if (top.rank == nothing) break;  // nothing adds anything any more
       chosen.push_back(top.candidate);
       is_chosen[top.candidate] = true;
+      covered_tally += scorer.Gain(top.candidate, covered);
       matrix.AddTo(top.candidate, &covered);
-      covered_cells += top.gain;
+      nothing = scorer.Rank(covered_tally, scorer.Zero());
       ++round;
     } else {
-      top.gain = matrix.Gain(top.candidate, covered);
+      top.rank = scorer.Rank(covered_tally, scorer.Gain(top.candidate, covered));
       top.round = round;
       heap.push(top);
     }
@@ -78,11 +88,18 @@ void FillByIndex(size_t candidate_count, size_t n, std::vector<uint32_t>* chosen
 
 }  // namespace
 
-uint32_t BestCandidate(const CoverageMatrix& matrix) {
-  VANTAGE_CHECK(matrix.candidate_count() > 0);
+template <MethodScorer Scorer>
+uint32_t BestCandidate(const Scorer& scorer) {
+  const size_t m = scorer.matrix().candidate_count();
+  VANTAGE_CHECK(m > 0);
   uint32_t best = 0;
-  for (uint32_t i = 1; i < matrix.candidate_count(); ++i) {
-    if (matrix.RowWeight(i) > matrix.RowWeight(best)) best = i;  // strict: ties keep the lower
+  typename Scorer::Score best_score = scorer.ScoreOf(scorer.RowWeight(0));
+  for (uint32_t i = 1; i < m; ++i) {
+    const typename Scorer::Score score = scorer.ScoreOf(scorer.RowWeight(i));
+    if (best_score < score) {  // strict: ties keep the lower
+      best = i;
+      best_score = score;
+    }
   }
   return best;
 }
@@ -106,18 +123,24 @@ uint64_t KCoveredWeight(const CoverageMatrix& matrix, std::span<const uint32_t> 
   return weight;
 }
 
-std::vector<uint32_t> GreedyComplete(const CoverageMatrix& matrix,
-                                     std::vector<uint32_t> chosen,
-                                     size_t n) {
-  VANTAGE_CHECK(n <= matrix.candidate_count() && chosen.size() <= n);
-  chosen = LazyGreedy(matrix, std::move(chosen), n, std::numeric_limits<uint64_t>::max());
-  FillByIndex(matrix.candidate_count(), n, &chosen);
+template <MethodScorer Scorer>
+std::vector<uint32_t> GreedyComplete(const Scorer& scorer, std::vector<uint32_t> chosen, size_t n) {
+  const size_t m = scorer.matrix().candidate_count();
+  VANTAGE_CHECK(scorer.k() == 1 && n <= m && chosen.size() <= n);
+  chosen = LazyGreedy(scorer, std::move(chosen), n, [](const auto&) { return false; });
+  FillByIndex(m, n, &chosen);
   return chosen;
 }
 
+template uint32_t BestCandidate(const CellScorer&);
+template uint32_t BestCandidate(const StatesScorer&);
+template std::vector<uint32_t> GreedyComplete(const CellScorer&, std::vector<uint32_t>, size_t);
+template std::vector<uint32_t> GreedyComplete(const StatesScorer&, std::vector<uint32_t>, size_t);
+
 std::vector<uint32_t> GreedyToGoal(const CoverageMatrix& matrix, uint64_t goal_cells) {
   VANTAGE_CHECK(goal_cells >= 1 && goal_cells <= matrix.seen_weight());
-  std::vector<uint32_t> chosen = LazyGreedy(matrix, {}, matrix.candidate_count(), goal_cells);
+  std::vector<uint32_t> chosen = LazyGreedy(CellScorer(matrix), {}, matrix.candidate_count(),
+                                            [&](uint64_t cells) { return cells >= goal_cells; });
   VANTAGE_CHECK(matrix.CoveredWeight(chosen) >= goal_cells);
   return chosen;
 }
@@ -262,7 +285,7 @@ uint64_t GreedyUpperBound(const CoverageMatrix& matrix,
   // SimpleUpperBound holds over any set S; the best S is often a short greedy prefix (for S = {}
   // it is the sum of the n largest rows), rarely the final answer (Leskovec et al. 2007).
   uint64_t bound = SimpleUpperBound(matrix, chosen, n);
-  const std::vector<uint32_t> greedy = GreedyComplete(matrix, {}, n);
+  const std::vector<uint32_t> greedy = GreedyComplete(CellScorer(matrix), {}, n);
   for (size_t j = 0; j <= greedy.size(); ++j) {
     bound = std::min(bound, SimpleUpperBound(matrix, std::span(greedy).first(j), n));
   }

@@ -2,6 +2,7 @@
 // by swaps, so that refinement re-selects through selection's own code instead of its internals.
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
+#include "select/scorer.hpp"
 #include "vantage/error.hpp"
 #include "vantage/select.hpp"
 
@@ -19,12 +20,12 @@ std::vector<uint32_t> ImproveBySwaps(std::span<const Observation> observations,
   VANTAGE_CHECK(objective != Objective::kSetCover);
   const detail::CoverageMatrix matrix(observations, reference_size);
   detail::LocalOptions local;
-  local.k = objective == Objective::kKCoverage ? options.k : 1;
   if (objective == Objective::kBudget) {
     local.costs = options.costs;
     local.budget = *options.budget;
   }
-  return detail::LocalSearch(matrix, std::move(start), local);
+  const int k = objective == Objective::kKCoverage ? options.k : 1;
+  return detail::LocalSearch(detail::CellScorer(matrix, k), std::move(start), local);
 }
 
 }  // namespace vantage

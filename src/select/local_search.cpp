@@ -1,5 +1,6 @@
-// Swap local search after greedy (SYSTEM.md, Select: `local`), for plain coverage, k-coverage and
-// a cost budget; 2-swaps where they stay cheap.
+// Swap local search after greedy (SYSTEM.md, Select: `local`), for plain coverage, k-coverage, a
+// cost budget and the states of a scene (whatever the scorer scores); 2-swaps where they stay
+// cheap.
 #include <algorithm>
 #include <utility>
 
@@ -96,15 +97,19 @@ TwoSwap BestTwoSwap(const CoverageMatrix& matrix,
 
 }  // namespace
 
-std::vector<uint32_t> LocalSearch(const CoverageMatrix& matrix,
+template <MethodScorer Scorer>
+std::vector<uint32_t> LocalSearch(const Scorer& scorer,
                                   std::vector<uint32_t> chosen,
                                   const LocalOptions& options) {
+  using Tally = typename Scorer::Tally;
+  using Score = typename Scorer::Score;
+  const CoverageMatrix& matrix = scorer.matrix();
   const size_t m = matrix.candidate_count();
   const size_t n = chosen.size();
   const bool has_budget = !options.costs.empty();
-  VANTAGE_CHECK(options.k >= 1 && (!has_budget || options.costs.size() == m));
+  VANTAGE_CHECK(scorer.k() >= 1 && (!has_budget || options.costs.size() == m));
   if (n == 0 || n >= m) return chosen;
-  const auto k = static_cast<uint32_t>(options.k);
+  const auto k = static_cast<uint32_t>(scorer.k());
   std::vector<bool> is_chosen(m, false);
   // How many chosen candidates see each element: removing one lowers the counts of its row.
   std::vector<uint32_t> cover_count(matrix.element_count(), 0);
@@ -113,6 +118,14 @@ std::vector<uint32_t> LocalSearch(const CoverageMatrix& matrix,
     is_chosen[c] = true;
     for (const uint32_t e : matrix.Row(c)) ++cover_count[e];
   }
+  // The tally of the elements that at least k chosen see.
+  const auto tally_of_chosen = [&] {
+    Tally tally = scorer.Zero();
+    for (uint32_t e = 0; e < matrix.element_count(); ++e) {
+      if (cover_count[e] >= k) scorer.AddElement(e, &tally);
+    }
+    return tally;
+  };
   // Whether `chosen` with position p replaced by j (p == n: j appended) stays within the budget,
   // summed in the order TotalCost sums the answer.
   const auto fits = [&](size_t p, uint32_t j) {
@@ -122,8 +135,10 @@ std::vector<uint32_t> LocalSearch(const CoverageMatrix& matrix,
     if (p == chosen.size()) total += options.costs[j];
     return total <= options.budget;
   };
-  const bool try_two_swap = options.two_swap && k == 1 && !has_budget && n >= 2 && m - n >= 2;
+  const bool try_two_swap =
+      Scorer::kCells && options.two_swap && k == 1 && !has_budget && n >= 2 && m - n >= 2;
   uint64_t two_swap_words = kMaxTwoSwapWords;
+  Tally current = tally_of_chosen();
   Bitset base(matrix.word_count());
   Bitset target;
   while (true) {
@@ -138,7 +153,9 @@ std::vector<uint32_t> LocalSearch(const CoverageMatrix& matrix,
         for (const uint32_t e : matrix.Row(c)) ClearBit(&base, e);
       }
     }
-    int64_t best_delta = 0;
+    Score best = scorer.ScoreOf(current);
+    bool improves = false;
+    Tally best_tally = current;
     size_t best_position = 0;
     uint32_t best_in = 0;
     // With a budget, adding a sensor that fits is a move too (position n).
@@ -146,32 +163,36 @@ std::vector<uint32_t> LocalSearch(const CoverageMatrix& matrix,
     for (size_t p = 0; p < positions; ++p) {
       const bool is_add = p == chosen.size();
       target = base;
-      int64_t loss = 0;
+      Tally loss = scorer.Zero();
       if (!is_add) {
         // Removing chosen[p]: its cells at k drop to k - 1 (lost, and one seer brings them
         // back); those at k - 1 drop to k - 2 (one newcomer no longer completes them).
         for (const uint32_t e : matrix.Row(chosen[p])) {
           if (cover_count[e] == k) {
             SetBit(&target, e);
-            loss += matrix.Weight(e);
+            scorer.AddElement(e, &loss);
           } else if (cover_count[e] == k - 1) {
             ClearBit(&target, e);
           }
         }
       }
+      const Tally kept = current - loss;
       for (uint32_t j = 0; j < m; ++j) {
         if (is_chosen[j]) continue;
         // A candidate cannot add more than it sees: skip those that cannot beat the best move.
-        if (static_cast<int64_t>(matrix.RowWeight(j)) - loss <= best_delta) continue;
-        const int64_t delta = static_cast<int64_t>(matrix.WeightIn(j, target)) - loss;
-        if (delta > best_delta && fits(p, j)) {
-          best_delta = delta;
+        if (!(best < scorer.ScoreOf(kept + scorer.RowWeight(j)))) continue;
+        Tally after = kept + scorer.WeightIn(j, target);
+        const Score score = scorer.ScoreOf(after);
+        if (best < score && fits(p, j)) {
+          best = score;
+          improves = true;
+          best_tally = std::move(after);
           best_position = p;
           best_in = j;
         }
       }
     }
-    if (best_delta > 0) {
+    if (improves) {
       if (best_position == chosen.size()) {
         chosen.push_back(best_in);
       } else {
@@ -182,6 +203,7 @@ std::vector<uint32_t> LocalSearch(const CoverageMatrix& matrix,
       }
       for (const uint32_t e : matrix.Row(best_in)) ++cover_count[e];
       is_chosen[best_in] = true;
+      current = std::move(best_tally);
       continue;
     }
     if (!try_two_swap || two_swap_words == 0) break;
@@ -195,8 +217,16 @@ std::vector<uint32_t> LocalSearch(const CoverageMatrix& matrix,
       is_chosen[in] = true;
       chosen[position] = in;
     }
+    current = tally_of_chosen();
   }
   return chosen;
 }
+
+template std::vector<uint32_t> LocalSearch(const CellScorer&,
+                                           std::vector<uint32_t>,
+                                           const LocalOptions&);
+template std::vector<uint32_t> LocalSearch(const StatesScorer&,
+                                           std::vector<uint32_t>,
+                                           const LocalOptions&);
 
 }  // namespace vantage::detail

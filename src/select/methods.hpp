@@ -1,6 +1,8 @@
 #pragma once
 /// The selection methods on the merged matrix (SYSTEM.md, Select). Each returns candidate indices
-/// in the order chosen; coverages are counted in reference cells (element weights).
+/// in the order chosen; coverages are counted in reference cells (element weights). Explicitly
+/// instantiated for CellScorer and StatesScorer where they are templates.
+#include <concepts>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -8,33 +10,29 @@
 #include <vector>
 
 #include "select/coverage_matrix.hpp"
+#include "select/scorer.hpp"
 #include "vantage/select.hpp"
 
 namespace vantage::detail {
 
-/// The candidate that sees the most cells; ties go to the lower index. Needs >= 1 candidate.
-uint32_t BestCandidate(const CoverageMatrix& matrix);
+/// The scorers the shared methods below are instantiated for (scorer.hpp): plain selection and
+/// selection over states run the same best candidate, RANSAC, greedy and local search, and "cells"
+/// in their descriptions means the scorer's Score.
+template <class T>
+concept MethodScorer = std::same_as<T, CellScorer> || std::same_as<T, StatesScorer>;
+
+/// The candidate whose row scores best alone; ties go to the lower index. Needs >= 1 candidate.
+template <MethodScorer Scorer>
+uint32_t BestCandidate(const Scorer& scorer);
 
 /// The paper's Algorithm 2: up to `iterations` random n-subsets, iteration i drawn from
-/// Rng(seed, Stream::kRansac, i); keeps a subset only when strictly better; stops once the best
-/// reaches `stop_coverage` (a fraction of |R|). The first draw is always kept, so the answer has
-/// n sensors even when every draw covers nothing.
-/// With k >= 2 subsets are scored by k-coverage (KCoveredWeight) instead.
-/// Draw `iteration` of Algorithm 2's SelectSensorsRandomly: n distinct candidates of
-/// order->size(), from Rng(seed, Stream::kRansac, iteration). `order` must hold the identity
-/// permutation and is restored; RansacChoice and selection over states share it.
-void RansacDraw(uint64_t seed, uint64_t iteration, size_t n, std::vector<uint32_t>* order,
-                std::vector<uint32_t>* drawn);
-
-std::vector<uint32_t> RansacChoice(const CoverageMatrix& matrix,
-                                   size_t n,
-                                   int iterations,
-                                   double stop_coverage,
-                                   uint64_t seed,
-                                   int k = 1);
-
-/// Cells of the elements that at least k of `chosen` see (a candidate listed twice counts twice).
-uint64_t KCoveredWeight(const CoverageMatrix& matrix, std::span<const uint32_t> chosen, int k);
+/// Rng(seed, Stream::kRansac, i) as SelectSensorsRandomly does; keeps a subset only when it scores
+/// strictly better (k-coverage: Covered counts the k-covered cells); stops once the best reaches
+/// `stop_coverage` (a Fraction). The first draw is always kept, so the answer has n sensors even
+/// when every draw covers nothing.
+template <MethodScorer Scorer>
+std::vector<uint32_t> RansacChoice(
+    const Scorer& scorer, size_t n, int iterations, double stop_coverage, uint64_t seed);
 
 /// Sum of `costs` over `chosen`.
 double TotalCost(std::span<const double> costs, std::span<const uint32_t> chosen);
@@ -44,12 +42,11 @@ double TotalCost(std::span<const double> costs, std::span<const uint32_t> chosen
 Selection ScoreSelection(const CoverageEvaluator& evaluator, std::vector<uint32_t> chosen,
                          const std::string& method, const SelectOptions& options);
 
-/// Lazy greedy maximum coverage from the start set `chosen` up to n sensors: each step adds the
-/// candidate of largest gain (ties: lower index); once nothing adds anything, the lowest-index
-/// unused candidates fill up to n.
-std::vector<uint32_t> GreedyComplete(const CoverageMatrix& matrix,
-                                     std::vector<uint32_t> chosen,
-                                     size_t n);
+/// Greedy from the start set `chosen` up to n sensors: each step adds the candidate that scores
+/// best with the chosen (ties: lower index), lazily where the scorer allows it; once nothing adds
+/// anything, the lowest-index unused candidates fill up to n. Needs k() = 1.
+template <MethodScorer Scorer>
+std::vector<uint32_t> GreedyComplete(const Scorer& scorer, std::vector<uint32_t> chosen, size_t n);
 
 /// Set cover: lazy greedy from nothing, adding the candidate of largest gain (ties: lower index)
 /// until the covered cells reach `goal_cells`. Needs 1 <= goal_cells <= seen_weight().
@@ -74,22 +71,24 @@ std::vector<uint32_t> GreedyBudget(const CoverageMatrix& matrix,
                                    std::span<const double> costs,
                                    double budget);
 
-/// Options of LocalSearch beyond the cardinality objective.
+/// Options of LocalSearch beyond the cardinality objective (k-coverage is the scorer's k()).
 struct LocalOptions {
-  int k = 1;                      ///< k-coverage when >= 2
   std::span<const double> costs;  ///< with a budget: per-candidate costs, else empty
   double budget = 0;              ///< total cost cap when `costs` is not empty
-  /// Also try 2-swaps (two out, two in) once no 1-swap helps: k = 1 without a budget only, and
-  /// only while the search stays cheap (a cap on pair evaluations per pass).
+  /// Also try 2-swaps (two out, two in) once no 1-swap helps: for cells (CellScorer) with k = 1
+  /// and without a budget only, and only while the search stays cheap (a cap on pair evaluations
+  /// per pass).
   bool two_swap = true;
 };
 
 /// Best-improvement swap local search from `chosen`: repeatedly makes the swap (one chosen out,
-/// one unused in, in place) that adds the most cells (k-covered cells for k >= 2), until no swap
-/// adds any; with a budget, swaps must keep the total cost within it, and adding a sensor that
-/// fits is a move too. Then, where cheap, the best 2-swap, and back to 1-swaps. Ties go to the
-/// earlier position, then to the lower candidate index. Deterministic, never worse than `chosen`.
-std::vector<uint32_t> LocalSearch(const CoverageMatrix& matrix,
+/// one unused in, in place) that scores best (k-covered cells for k >= 2), until no swap scores
+/// better than the current answer; with a budget, swaps must keep the total cost within it, and
+/// adding a sensor that fits is a move too. Then, where cheap, the best 2-swap, and back to
+/// 1-swaps. Ties go to the earlier position, then to the lower candidate index. Deterministic,
+/// never worse than `chosen`.
+template <MethodScorer Scorer>
+std::vector<uint32_t> LocalSearch(const Scorer& scorer,
                                   std::vector<uint32_t> chosen,
                                   const LocalOptions& options = {});
 

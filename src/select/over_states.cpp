@@ -1,31 +1,27 @@
 // Changing scenes (issue 9): selection over the states of a scene.
 //
-// Every state s has its own reference set R_s and one observation set per candidate. Selection
-// keeps, per state, one bitset over R_s per candidate (the visibility matrices stacked) and
-// scores a set of candidates by its covered counts c_s. The aggregate of c_s / |R_s| (mean or
-// min) is compared exactly: every fraction is put on the common denominator L = lcm(|R_s|)
-// (fixed point 2^-62 when L does not fit), so scores are whole numbers and no floating-point
-// summation order can change a choice. Reported coverages are recomputed from the observations
-// by CoverageEvaluator, never taken from this bookkeeping.
+// Every state s has its own reference set R_s and one observation set per candidate. The
+// states' merged matrices are stacked into one CoverageMatrix (an element is a class of cells of
+// one state), and Select's own methods run on it with StatesScorer, which scores a set of
+// candidates by the aggregate (mean or min) of its per-state coverages, compared exactly
+// (scorer.hpp). Reported coverages are recomputed from the observations by CoverageEvaluator,
+// never taken from this bookkeeping.
 #include "vantage/select_states.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <bit>
 #include <chrono>
-#include <limits>
-#include <numeric>
-#include <string_view>
 
+#include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
+#include "select/scorer.hpp"
 #include "vantage/error.hpp"
 
 namespace vantage {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-__extension__ typedef __int128 Int;  // exact scores: up to S · L < 2^127
 
 }  // namespace
 
@@ -37,21 +33,12 @@ OverStates ParseOverStates(const std::string& name) {
 
 std::string OverStatesName(OverStates over) { return over == OverStates::kMean ? "mean" : "min"; }
 
-// ----- selection over states -------------------------------------------------------------------
+// ----- the scorer ------------------------------------------------------------------------------
 
+namespace detail {
 namespace {
 
-/// Lexicographic score: primary (mean: the sum of the fractions; min: the least fraction), then
-/// secondary (min: the sum; mean: 0), each in whole units of 1 / L.
-struct Score {
-  Int primary = -1;
-  Int secondary = -1;
-  bool operator>(const Score& o) const {
-    return primary != o.primary ? primary > o.primary : secondary > o.secondary;
-  }
-};
-
-using Bitset = std::vector<uint64_t>;
+using Int = StatesScorer::Int;
 
 Int Gcd(Int a, Int b) {
   while (b != 0) {
@@ -62,209 +49,100 @@ Int Gcd(Int a, Int b) {
   return a;
 }
 
-class StackedMatrix {
- public:
-  StackedMatrix(std::span<const StateObservations> states, OverStates over) : over_(over) {
-    candidates_ = states.front().observations.size();
-    for (const StateObservations& state : states) {
-      const size_t r = state.reference_size;
-      const size_t words = (r + 63) / 64;
-      words_.push_back(words);
-      std::vector<uint64_t> bits(candidates_ * words, 0);
-      for (size_t c = 0; c < candidates_; ++c) {
-        for (const uint32_t index : state.observations[c].reference_indices) {
-          if (index >= r) {
-            throw InputError(fmt::format("--over-states: state '{}': candidate {} sees reference "
-                                         "cell {} but the state's R has {} cells",
-                                         state.name, c, index, r));
-          }
-          bits[c * words + index / 64] |= uint64_t{1} << (index % 64);
-        }
-      }
-      bits_.push_back(std::move(bits));
-      sizes_.push_back(r);
+}  // namespace
+
+StatesScorer::StatesScorer(const CoverageMatrix& matrix, OverStates over)
+    : matrix_(&matrix), over_(over) {
+  const size_t states = matrix.state_count();
+  // Common denominator L = lcm(|R_s|) when S · L fits comfortably, else fixed point 2^62.
+  constexpr Int kLimit = Int{1} << 96;
+  Int lcm = 1;
+  for (size_t s = 0; s < states; ++s) {
+    const auto r = static_cast<Int>(matrix.StateReferenceSize(s));
+    VANTAGE_CHECK(r > 0);
+    const Int next = lcm / Gcd(lcm, r) * r;
+    if (next > kLimit) {
+      lcm = 0;
+      break;
     }
-    // Common denominator L = lcm(|R_s|) when S · L fits comfortably, else fixed point 2^62.
-    constexpr Int kLimit = Int{1} << 96;
-    Int lcm = 1;
-    for (const size_t r : sizes_) {
-      const Int next = lcm / Gcd(lcm, static_cast<Int>(r)) * static_cast<Int>(r);
-      if (next > kLimit) {
-        lcm = 0;
-        break;
-      }
-      lcm = next;
-    }
-    exact_ = lcm != 0;
-    for (const size_t r : sizes_) {
-      unit_.push_back(exact_ ? lcm / static_cast<Int>(r) : 0);
-    }
+    lcm = next;
   }
-
-  size_t state_count() const { return sizes_.size(); }
-  size_t candidate_count() const { return candidates_; }
-  size_t Words(size_t s) const { return words_[s]; }
-  const uint64_t* Row(size_t s, size_t c) const { return bits_[s].data() + c * words_[s]; }
-
-  /// Fraction c / |R_s| in units of 1 / L (exact), or floor(c · 2^62 / |R_s|).
-  Int Units(size_t s, uint64_t count) const {
-    if (exact_) return static_cast<Int>(count) * unit_[s];
-    return (static_cast<Int>(count) << 62) / static_cast<Int>(sizes_[s]);
+  exact_ = lcm != 0;
+  for (size_t s = 0; s < states; ++s) {
+    unit_.push_back(exact_ ? lcm / static_cast<Int>(matrix.StateReferenceSize(s)) : 0);
   }
-
-  Score ScoreOf(std::span<const uint64_t> counts) const {
-    Int sum = 0, least = 0;
-    for (size_t s = 0; s < counts.size(); ++s) {
-      const Int u = Units(s, counts[s]);
-      sum += u;
-      least = s == 0 ? u : std::min(least, u);
-    }
-    if (over_ == OverStates::kMean) return Score{sum, 0};
-    return Score{least, sum};
+  state_of_.resize(matrix.element_count());
+  for (size_t s = 0; s < states; ++s) {
+    std::fill(state_of_.begin() + matrix.StateBegin(s),
+              state_of_.begin() + matrix.StateBegin(s + 1), static_cast<uint32_t>(s));
   }
-
-  /// Per state, the union of the rows of `chosen` except position `skip` (-1: none).
-  std::vector<Bitset> Union(std::span<const uint32_t> chosen, ptrdiff_t skip) const {
-    std::vector<Bitset> sets;
-    for (size_t s = 0; s < state_count(); ++s) {
-      Bitset set(words_[s], 0);
-      for (size_t i = 0; i < chosen.size(); ++i) {
-        if (static_cast<ptrdiff_t>(i) == skip) continue;
-        const uint64_t* row = Row(s, chosen[i]);
-        for (size_t w = 0; w < set.size(); ++w) set[w] |= row[w];
-      }
-      sets.push_back(std::move(set));
-    }
-    return sets;
+  row_weights_.reserve(matrix.candidate_count());
+  for (uint32_t c = 0; c < matrix.candidate_count(); ++c) {
+    Tally tally = Zero();
+    for (const uint32_t e : matrix.Row(c)) AddElement(e, &tally);
+    row_weights_.push_back(std::move(tally));
   }
-
-  /// Per state, |set ∪ row(candidate)|.
-  void CountsWith(const std::vector<Bitset>& sets, uint32_t candidate, uint64_t* counts) const {
-    for (size_t s = 0; s < state_count(); ++s) {
-      const uint64_t* row = Row(s, candidate);
-      const Bitset& set = sets[s];
-      uint64_t count = 0;
-      for (size_t w = 0; w < set.size(); ++w) count += std::popcount(set[w] | row[w]);
-      counts[s] = count;
-    }
-  }
-
-  /// Per state, |∪ rows of chosen|.
-  std::vector<uint64_t> CountsOfSet(std::span<const uint32_t> chosen) const {
-    const std::vector<Bitset> sets = Union(chosen, -1);
-    std::vector<uint64_t> counts(state_count());
-    for (size_t s = 0; s < state_count(); ++s) {
-      uint64_t count = 0;
-      for (const uint64_t word : sets[s]) count += std::popcount(word);
-      counts[s] = count;
-    }
-    return counts;
-  }
-
-  Score ScoreOfSet(std::span<const uint32_t> chosen) const { return ScoreOf(CountsOfSet(chosen)); }
-
-  /// The aggregate as a fraction (for RANSAC's stop test only; choices compare Scores).
-  double AggregateOf(std::span<const uint64_t> counts) const {
-    double sum = 0, least = 1;
-    for (size_t s = 0; s < counts.size(); ++s) {
-      const double fraction = static_cast<double>(counts[s]) / static_cast<double>(sizes_[s]);
-      sum += fraction;
-      least = std::min(least, fraction);
-    }
-    return over_ == OverStates::kMean ? sum / static_cast<double>(counts.size()) : least;
-  }
-
- private:
-  OverStates over_;
-  size_t candidates_ = 0;
-  std::vector<size_t> sizes_;
-  std::vector<size_t> words_;
-  std::vector<std::vector<uint64_t>> bits_;  ///< per state: candidates × words
-  bool exact_ = true;
-  std::vector<Int> unit_;
-};
-
-/// Greedy for n sensors: each step the candidate whose addition scores highest (ties: lowest
-/// index). The answer for n is the first n of the answer for any larger n.
-std::vector<uint32_t> GreedyChoice(const StackedMatrix& m, size_t n) {
-  std::vector<uint32_t> chosen;
-  std::vector<bool> taken(m.candidate_count(), false);
-  std::vector<uint64_t> counts(m.state_count());
-  while (chosen.size() < n) {
-    const std::vector<Bitset> sets = m.Union(chosen, -1);
-    Score best;
-    int64_t best_candidate = -1;
-    for (uint32_t c = 0; c < m.candidate_count(); ++c) {
-      if (taken[c]) continue;
-      m.CountsWith(sets, c, counts.data());
-      const Score score = m.ScoreOf(counts);
-      if (best_candidate < 0 || score > best) {
-        best = score;
-        best_candidate = c;
-      }
-    }
-    VANTAGE_CHECK(best_candidate >= 0);
-    chosen.push_back(static_cast<uint32_t>(best_candidate));
-    taken[static_cast<size_t>(best_candidate)] = true;
-  }
-  return chosen;
 }
 
-/// The paper's Algorithm 2 over states: the same draws as RansacChoice (RansacDraw), each kept
-/// only when its aggregate score is strictly better; stops once the best aggregate reaches
-/// `stop_coverage`. With one state it returns exactly what RansacChoice does.
-std::vector<uint32_t> RansacChoice(const StackedMatrix& m, size_t n, const SelectOptions& options) {
-  std::vector<uint32_t> order(m.candidate_count());
-  std::iota(order.begin(), order.end(), 0U);
-  std::vector<uint32_t> drawn, best;
-  std::vector<uint64_t> best_counts;
-  Score best_score;
-  for (int i = 0; i < options.ransac_iterations &&
-                  (best.empty() || m.AggregateOf(best_counts) < options.ransac_stop_coverage);
-       ++i) {
-    detail::RansacDraw(options.seed, static_cast<uint64_t>(i), n, &order, &drawn);
-    std::vector<uint64_t> counts = m.CountsOfSet(drawn);
-    const Score score = m.ScoreOf(counts);
-    if (best.empty() || score > best_score) {
-      best = drawn;
-      best_counts = std::move(counts);
-      best_score = score;
-    }
+template <bool kInSet>
+StateTally StatesScorer::RowTally(uint32_t candidate, const Bitset& set) const {
+  Tally tally = Zero();
+  for (const uint32_t e : matrix_->Row(candidate)) {
+    if (Contains(set, e) == kInSet) AddElement(e, &tally);
   }
-  return best;
+  return tally;
 }
 
-/// 1-swap local search from `start`: each round applies the best strictly improving swap
-/// (position ascending, then candidate ascending, first best kept) until none improves.
-std::vector<uint32_t> LocalChoice(const StackedMatrix& m, std::vector<uint32_t> chosen) {
-  std::vector<uint64_t> counts(m.state_count());
-  Score current = m.ScoreOfSet(chosen);
-  constexpr int kMaxRounds = 100'000;  // each round strictly improves; a guard only
-  for (int round = 0; round < kMaxRounds; ++round) {
-    std::vector<bool> taken(m.candidate_count(), false);
-    for (const uint32_t c : chosen) taken[c] = true;
-    Score best = current;
-    ptrdiff_t best_position = -1;
-    uint32_t best_candidate = 0;
-    for (size_t i = 0; i < chosen.size(); ++i) {
-      const std::vector<Bitset> rest = m.Union(chosen, static_cast<ptrdiff_t>(i));
-      for (uint32_t c = 0; c < m.candidate_count(); ++c) {
-        if (taken[c]) continue;
-        m.CountsWith(rest, c, counts.data());
-        const Score score = m.ScoreOf(counts);
-        if (score > best) {
-          best = score;
-          best_position = static_cast<ptrdiff_t>(i);
-          best_candidate = c;
-        }
-      }
-    }
-    if (best_position < 0) break;
-    chosen[static_cast<size_t>(best_position)] = best_candidate;
-    current = best;
-  }
-  return chosen;
+StateTally StatesScorer::Gain(uint32_t candidate, const Bitset& covered) const {
+  return RowTally<false>(candidate, covered);
 }
+
+StateTally StatesScorer::WeightIn(uint32_t candidate, const Bitset& set) const {
+  return RowTally<true>(candidate, set);
+}
+
+StateTally StatesScorer::Covered(std::span<const uint32_t> chosen) const {
+  Bitset covered = matrix_->EmptySet();
+  Tally tally = Zero();
+  for (const uint32_t c : chosen) {
+    tally += Gain(c, covered);
+    matrix_->AddTo(c, &covered);
+  }
+  return tally;
+}
+
+Int StatesScorer::Units(size_t state, uint64_t cells) const {
+  if (exact_) return static_cast<Int>(cells) * unit_[state];
+  return (static_cast<Int>(cells) << 62) / static_cast<Int>(matrix_->StateReferenceSize(state));
+}
+
+StatesScorer::Score StatesScorer::ScoreOf(const Tally& cells) const {
+  Int sum = 0, least = 0;
+  for (size_t s = 0; s < cells.size(); ++s) {
+    const Int u = Units(s, cells[s]);
+    sum += u;
+    least = s == 0 ? u : std::min(least, u);
+  }
+  if (over_ == OverStates::kMean) return Score{sum, 0};
+  return Score{least, sum};
+}
+
+double StatesScorer::Fraction(const Tally& cells) const {
+  double sum = 0, least = 1;
+  for (size_t s = 0; s < cells.size(); ++s) {
+    const double fraction =
+        static_cast<double>(cells[s]) / static_cast<double>(matrix_->StateReferenceSize(s));
+    sum += fraction;
+    least = std::min(least, fraction);
+  }
+  return over_ == OverStates::kMean ? sum / static_cast<double>(cells.size()) : least;
+}
+
+}  // namespace detail
+
+// ----- selection over states -------------------------------------------------------------------
+
+namespace {
 
 double Aggregate(const std::vector<double>& values, OverStates over) {
   if (over == OverStates::kMin) return *std::min_element(values.begin(), values.end());
@@ -323,6 +201,18 @@ void Validate(std::span<const StateObservations> states, const SelectOptions& op
     }
   }
   options.Validate(candidates);
+  for (const StateObservations& state : states) {
+    for (size_t c = 0; c < candidates; ++c) {
+      for (const uint32_t index : state.observations[c].reference_indices) {
+        if (index >= state.reference_size) {
+          throw InputError(
+              fmt::format("--over-states: state '{}': candidate {} sees reference "
+                          "cell {} but the state's R has {} cells",
+                          state.name, c, index, state.reference_size));
+        }
+      }
+    }
+  }
 }
 
 double SecondsSince(Clock::time_point start) {
@@ -336,13 +226,17 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
                                              const SelectOptions& options) {
   Validate(states, options);
   const Clock::time_point start = Clock::now();
-  const StackedMatrix matrix(states, over);
+  std::vector<detail::StateBlock> blocks;
+  for (const StateObservations& state : states)
+    blocks.push_back({state.observations, state.reference_size});
+  const detail::CoverageMatrix matrix(blocks);
+  const detail::StatesScorer scorer(matrix, over);
   const double setup = SecondsSince(start);
   std::vector<StateSelection> results;
 
   const auto best = [&] {
     const Clock::time_point t = Clock::now();
-    StateSelection s = Scored(states, over, Method::kBest, GreedyChoice(matrix, 1),
+    StateSelection s = Scored(states, over, Method::kBest, {detail::BestCandidate(scorer)},
                               setup + SecondsSince(t));
     // The best single candidate is the optimum for n = 1.
     s.selection.upper_bound = s.selection.coverage;
@@ -351,19 +245,21 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
   };
   const auto greedy_and_local = [&](size_t n, bool greedy, bool local) {
     const Clock::time_point t = Clock::now();
-    std::vector<uint32_t> chosen = GreedyChoice(matrix, n);
+    std::vector<uint32_t> chosen = detail::GreedyComplete(scorer, {}, n);
     const double greedy_seconds = setup + SecondsSince(t);
     if (greedy) results.push_back(Scored(states, over, Method::kGreedy, chosen, greedy_seconds));
     if (local) {
       const Clock::time_point l = Clock::now();
-      std::vector<uint32_t> improved = LocalChoice(matrix, std::move(chosen));
+      // 1-swaps only: LocalSearch's 2-swaps reason in cells (CellScorer).
+      std::vector<uint32_t> improved = detail::LocalSearch(scorer, std::move(chosen));
       results.push_back(Scored(states, over, Method::kLocal, std::move(improved),
                                greedy_seconds + SecondsSince(l)));
     }
   };
   const auto ransac = [&](size_t k) {
     const Clock::time_point t = Clock::now();
-    std::vector<uint32_t> chosen = RansacChoice(matrix, k, options);
+    std::vector<uint32_t> chosen = detail::RansacChoice(scorer, k, options.ransac_iterations,
+                                                        options.ransac_stop_coverage, options.seed);
     return Scored(states, over, Method::kRansac, std::move(chosen), setup + SecondsSince(t));
   };
   const auto n = static_cast<size_t>(options.n);

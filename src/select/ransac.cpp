@@ -7,11 +7,17 @@
 #include "vantage/rng.hpp"
 
 namespace vantage::detail {
+namespace {
 
-void RansacDraw(uint64_t seed, uint64_t iteration, size_t n, std::vector<uint32_t>* order,
+// Draw `iteration` of SelectSensorsRandomly: n distinct candidates of order->size(), from
+// Rng(seed, Stream::kRansac, iteration). `order` must hold the identity permutation: a partial
+// Fisher–Yates shuffle of it, undone after the draw so that iteration i's subset depends on its
+// own stream only.
+void RansacDraw(uint64_t seed,
+                uint64_t iteration,
+                size_t n,
+                std::vector<uint32_t>* order,
                 std::vector<uint32_t>* drawn) {
-  // SelectSensorsRandomly: a partial Fisher–Yates shuffle of the identity, undone after each draw
-  // so that iteration i's subset depends on its own stream only.
   const size_t m = order->size();
   VANTAGE_CHECK(n >= 1 && n <= m);
   std::vector<size_t> swapped_with(n);
@@ -25,37 +31,38 @@ void RansacDraw(uint64_t seed, uint64_t iteration, size_t n, std::vector<uint32_
   for (size_t k = n; k-- > 0;) std::swap((*order)[k], (*order)[swapped_with[k]]);
 }
 
-std::vector<uint32_t> RansacChoice(const CoverageMatrix& matrix,
-                                   size_t n,
-                                   int iterations,
-                                   double stop_coverage,
-                                   uint64_t seed,
-                                   int k) {
-  const size_t m = matrix.candidate_count();
+}  // namespace
+
+template <MethodScorer Scorer>
+std::vector<uint32_t> RansacChoice(
+    const Scorer& scorer, size_t n, int iterations, double stop_coverage, uint64_t seed) {
+  const size_t m = scorer.matrix().candidate_count();
   VANTAGE_CHECK(n >= 1 && n <= m);
-  const auto coverage = [&](uint64_t cells) {
-    return matrix.reference_size()
-               ? static_cast<double>(cells) / static_cast<double>(matrix.reference_size())
-               : 0.0;
-  };
   std::vector<uint32_t> order(m);
   std::iota(order.begin(), order.end(), 0U);
   std::vector<uint32_t> best;  // s
-  uint64_t best_cells = 0;     // c, in cells
+  typename Scorer::Tally best_tally = scorer.Zero();
+  typename Scorer::Score best_score{};  // c
   std::vector<uint32_t> drawn(n);
   // `best.empty()`: Algorithm 2 would return nothing when no draw covers anything (or C = 0);
   // keeping the first draw instead changes no other outcome.
-  for (int i = 0; i < iterations && (best.empty() || coverage(best_cells) < stop_coverage);) {
+  for (int i = 0;
+       i < iterations && (best.empty() || scorer.Fraction(best_tally) < stop_coverage);) {
     RansacDraw(seed, static_cast<uint64_t>(i), n, &order, &drawn);
     // Merge, filter, coverage (k-coverage: the cells at least k of the draw see).
-    const uint64_t cells = k == 1 ? matrix.CoveredWeight(drawn) : KCoveredWeight(matrix, drawn, k);
+    typename Scorer::Tally tally = scorer.Covered(drawn);
+    const typename Scorer::Score score = scorer.ScoreOf(tally);
     ++i;
-    if (best.empty() || cells > best_cells) {
+    if (best.empty() || best_score < score) {
       best = drawn;
-      best_cells = cells;
+      best_tally = std::move(tally);
+      best_score = score;
     }
   }
   return best;
 }
+
+template std::vector<uint32_t> RansacChoice(const CellScorer&, size_t, int, double, uint64_t);
+template std::vector<uint32_t> RansacChoice(const StatesScorer&, size_t, int, double, uint64_t);
 
 }  // namespace vantage::detail

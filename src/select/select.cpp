@@ -72,9 +72,9 @@ class Pipeline {
 
   Selection Ransac(int n) const {
     const Clock::time_point start = Clock::now();
-    std::vector<uint32_t> chosen =
-        detail::RansacChoice(matrix_, static_cast<size_t>(n), options_.ransac_iterations,
-                             options_.ransac_stop_coverage, options_.seed, k_);
+    std::vector<uint32_t> chosen = detail::RansacChoice(
+        detail::CellScorer(matrix_, k_), static_cast<size_t>(n), options_.ransac_iterations,
+        options_.ransac_stop_coverage, options_.seed);
     return Scored(Method::kRansac, std::move(chosen), setup_seconds_ + SecondsSince(start));
   }
 
@@ -92,7 +92,7 @@ class Pipeline {
         greedy_ = detail::KGreedyComplete(matrix_, {}, static_cast<size_t>(n), k_);
         break;
       case Objective::kCoverage:
-        greedy_ = detail::GreedyComplete(matrix_, {}, static_cast<size_t>(n));
+        greedy_ = detail::GreedyComplete(detail::CellScorer(matrix_), {}, static_cast<size_t>(n));
         break;
     }
     greedy_seconds_ = setup_seconds_ + SecondsSince(start);
@@ -105,12 +105,11 @@ class Pipeline {
   Selection Local() {
     const Clock::time_point start = Clock::now();
     detail::LocalOptions local;
-    local.k = k_;
     if (objective_ == Objective::kBudget) {
       local.costs = options_.costs;
       local.budget = *options_.budget;
     }
-    local_ = detail::LocalSearch(matrix_, greedy_, local);
+    local_ = detail::LocalSearch(detail::CellScorer(matrix_, k_), greedy_, local);
     local_seconds_ = greedy_seconds_ + SecondsSince(start);
     return Scored(Method::kLocal, local_, local_seconds_);
   }
