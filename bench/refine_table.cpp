@@ -77,8 +77,8 @@ int main(int argc, char** argv) {
         DeployCandidates(problem.populations, problem.sensors, problem.sensor_types, deploy);
     const Reference reference = BuildReference(problem.scene, {problem.cell_size});
     auto start = std::chrono::steady_clock::now();
-    const RayScene rays(problem.scene);
-    const std::vector<Observation> observations = Observe(rays, reference, candidates);
+    const RayScene ray_scene(problem.scene);
+    const std::vector<Observation> observations = Observe(ray_scene, reference, candidates);
     const double observe_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     uint64_t rays = 0;
@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
       select.ransac_iterations = problem.selection.ransac_iterations;
       const Selection unrefined = Select(observations, reference.size(), select).at(0);
       const RefineResult r =
-          Refine(rays, reference, candidates, observations, problem.populations,
+          Refine(ray_scene, reference, candidates, observations, problem.populations,
                  problem.observation_point, unrefined, select, refine);
       const double gain = 100 * (r.selection.coverage - unrefined.coverage);
       is_ok = is_ok && r.selection.coverage >= unrefined.coverage;

@@ -18,6 +18,7 @@
 
 #include "vantage/error.hpp"
 #include "vantage/observe.hpp"
+#include "vantage/visibility_file.hpp"
 #include "vantage/rng.hpp"
 #include "vantage/select.hpp"
 

@@ -91,7 +91,15 @@ Reobserved Reobserve(const SceneInput& scene, const Constellation& constellation
 EvaluateResult Evaluate(const EvaluateOptions& options) {
   options.observe.Validate();
   options.limits.Validate();
-  const Constellation constellation = LoadConstellation(options.constellation);
+  Constellation constellation;
+  try {
+    constellation = LoadConstellation(options.constellation);
+  } catch (const InputError&) {
+    // A scene given on the command line is reported first when both are bad, as it is read
+    // first when the constellation is good.
+    if (!options.scene.path.empty()) LoadScene(options.scene);
+    throw;
+  }
   const SceneInput scene = InheritScene(options.scene, constellation);
   ObserveOptions observe = options.observe;
   observe.quality = InheritQuality(options.observe.quality, constellation, options.constellation);
