@@ -51,8 +51,9 @@ void AddEnumOption(CLI::App* app, const std::string& flag, std::optional<Enum>* 
   };
   // CLI11 runs the transformer added last first: the name check, then the mapping.
   app->add_option(flag, *value, help)
-      ->transform(CLI::CheckedTransformer(by_name))
-      ->transform(CLI::Validator(check, ""));
+      ->transform(CLI::CheckedTransformer(by_name).description(""))
+      ->transform(CLI::Validator(check, ""))
+      ->type_name("NAME");
 }
 
 }  // namespace
