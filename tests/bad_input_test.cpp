@@ -426,6 +426,8 @@ TEST_F(BadInput, CommandLineOptions) {
        "not in range"},
       {"zero_refine_rounds", "optimize " + scene + " --refine --refine-rounds 0", "--refine-rounds", "not in range"},
       {"unknown_option", "optimize " + scene + " --frobnicate", "--frobnicate", "not expected"},
+      {"observation_point_beyond_range", "optimize " + scene + " --observation-point 1e300 0 0",
+       "--observation-point:", "must be finite coordinates within"},
   });
 }
 
@@ -576,6 +578,11 @@ TEST_F(BadInput, Constellations) {
   const std::string numbers = variant("numbers", [](json& r) {
     r["results"][0]["sensors"] = {1, 2};
   });
+  // The run's `inputs` (issue 13): read back by evaluate and render, so checked like the rest.
+  const std::string inputs_type =
+      variant("inputs_type", [](json& r) { r["inputs"]["model_paths"] = 3; });
+  const std::string inputs_filter =
+      variant("inputs_filter", [](json& r) { r["inputs"]["max_incidence_deg"] = 200; });
   ExpectRejected({
       {"constellation_missing", evaluate(dir_.File("absent.json")), dir_.File("absent.json"),
        "cannot open the constellation file"},
@@ -598,6 +605,10 @@ TEST_F(BadInput, Constellations) {
       {"constellation_unknown_sensor", evaluate(stranger), stranger + ": results[0]",
        "'nobody', which is not among the candidates"},
       {"constellation_no_sensor", evaluate(nothing), nothing, "holds no sensor"},
+      {"constellation_inputs_wrong_type", evaluate(inputs_type), inputs_type + ": inputs.model_paths",
+       "must be an array of strings"},
+      {"constellation_inputs_bad_filter", "evaluate --constellation " + inputs_filter,
+       inputs_filter + ": inputs: --max-incidence 200", "must lie in (0, 90]"},
       {"constellation_numbers_for_names", evaluate(numbers), numbers + ": results",
        "sensor names must be strings"},
       {"constellation_bad_scene",
