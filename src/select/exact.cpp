@@ -40,9 +40,9 @@ constexpr double kCbcNonzerosPerSecond = 40000;
 constexpr double kMinCbcNonzeros = 20000;
 
 // The Lagrangian bound's subgradient steps (LagrangianUpperBound) get as many steps as the time
-// left allows at this many row nonzeros per second (each step reads every row once; about 3x the
-// speed measured on the 2-core machine), at most kMaxLagrangianSteps, and none below
-// kMinLagrangianSteps (too few to beat the cheap bound).
+// left allows at this many row nonzeros per second (each step reads every row twice; 1.5-3x slower
+// than measured on the contended 2-core machine, where the clock stops them anyway), at most
+// kMaxLagrangianSteps, and none below kMinLagrangianSteps (too few to beat the cheap bound).
 constexpr double kLagrangianNonzerosPerSecond = 2e8;
 constexpr double kMaxLagrangianSteps = 3000;
 constexpr double kMinLagrangianSteps = 10;
@@ -438,11 +438,8 @@ void SettleUpperBound(uint64_t cells, double cbc_bound, bool is_cbc_optimal, Exa
 
 // Lowers result->upper_bound to the Lagrangian bound when that is smaller and there is time
 // (`seconds` left) for enough subgradient steps; `cells` is what result->chosen covers.
-void TightenByLagrangian(const CoverageMatrix& matrix,
-                         size_t n,
-                         uint64_t cells,
-                         double seconds,
-                         ExactResult* result) {
+void TightenByLagrangian(
+    const CoverageMatrix& matrix, size_t n, uint64_t cells, double seconds, ExactResult* result) {
   if (result->proven_optimal) return;
   size_t nonzeros = 1;
   for (const std::vector<uint32_t>& row : matrix.rows()) nonzeros += row.size();

@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <utility>
 
 #include "select/methods.hpp"
 #include "vantage/error.hpp"
@@ -25,7 +26,7 @@ namespace {
 // Polyak step scale: starts at kStartStepScale, halved after kPatience steps without a better
 // bound, and the search ends once it falls below kMinStepScale.
 constexpr double kStartStepScale = 2.0;
-constexpr double kMinStepScale = 1.0 / 4096;
+constexpr double kMinStepScale = 1e-7;
 constexpr int kPatience = 30;
 
 // The indices of the n largest `values` (ties: the lower index), in no particular order.
@@ -39,13 +40,14 @@ void TopN(std::span<const double> values, size_t n, std::vector<uint32_t>* order
   order->resize(n);
 }
 
-// L(lambda) exactly, in whole cells rounded down: lambda is truncated to multiples of 2^-bits
-// (still >= 0, so still a valid multiplier) and L is summed in integers.
-uint64_t ExactBound(const CoverageMatrix& matrix, size_t n, std::span<const double> lambda) {
-  const uint64_t total = matrix.seen_weight();
-  // The n best rows sum to at most n * sum_e lambda_e <= n * total: keep (n + 1) * total * 2^bits
-  // below 2^63.
-  const int used_bits = std::bit_width((static_cast<uint64_t>(n) + 1) * total);
+// L(lambda) exactly: lambda is truncated to multiples of 2^-bits (still >= 0, so still a valid
+// multiplier) and L is summed in integers. Returns L * 2^bits and bits.
+std::pair<uint64_t, int> ExactBound(const CoverageMatrix& matrix,
+                                    size_t n,
+                                    std::span<const double> lambda) {
+  // The n best rows sum to at most n * sum_e lambda_e <= n * seen_weight(): keep
+  // (n + 1) * seen_weight() * 2^bits below 2^63.
+  const int used_bits = std::bit_width((static_cast<uint64_t>(n) + 1) * matrix.seen_weight());
   const int bits = std::clamp(62 - used_bits, 0, 24);
   const auto scale = static_cast<double>(uint64_t{1} << bits);
   std::vector<uint64_t> fixed(matrix.element_count());
@@ -63,7 +65,7 @@ uint64_t ExactBound(const CoverageMatrix& matrix, size_t n, std::span<const doub
   std::nth_element(rows.begin(), rows.begin() + static_cast<std::ptrdiff_t>(n) - 1, rows.end(),
                    std::greater<>());
   for (size_t j = 0; j < n; ++j) sum += rows[j];
-  return sum >> bits;
+  return {sum, bits};
 }
 
 }  // namespace
@@ -137,7 +139,20 @@ LagrangianBound LagrangianUpperBound(const CoverageMatrix& matrix,
     }
   }
   // Only the exact value of a multiplier vector is a proof; the start is always a candidate.
-  result.upper_bound = ExactBound(matrix, n, best_lambda);
+  const auto [scaled, bits] = ExactBound(matrix, n, best_lambda);
+  result.upper_bound = scaled >> bits;
+  result.value = std::ldexp(static_cast<long double>(scaled), -bits);
+  // lambda = w gives L = the n largest rows: never return more than that.
+  std::vector<uint64_t> row_weights(m);
+  for (uint32_t i = 0; i < m; ++i) row_weights[i] = matrix.RowWeight(i);
+  std::nth_element(row_weights.begin(), row_weights.begin() + static_cast<std::ptrdiff_t>(n) - 1,
+                   row_weights.end(), std::greater<>());
+  const uint64_t top_rows = std::accumulate(
+      row_weights.begin(), row_weights.begin() + static_cast<std::ptrdiff_t>(n), uint64_t{0});
+  if (top_rows < result.upper_bound) {
+    result.upper_bound = top_rows;
+    result.value = static_cast<long double>(top_rows);
+  }
   return result;
 }
 
