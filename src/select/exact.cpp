@@ -46,6 +46,8 @@ constexpr double kMinCbcNonzeros = 20000;
 constexpr double kLagrangianNonzerosPerSecond = 2e8;
 constexpr double kMaxLagrangianSteps = 3000;
 constexpr double kMinLagrangianSteps = 10;
+// Share of the time left that the steps may take (the clock is read once per step).
+constexpr double kLagrangianTimeShare = 0.9;
 
 struct CbcModelDeleter {
   void operator()(Cbc_Model* model) const { Cbc_deleteModel(model); }
@@ -490,7 +492,7 @@ ExactResult SolveExact(const CoverageMatrix& matrix,
   // in the time left.
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
-  TightenByLagrangian(matrix, n, cells, time_limit - elapsed, &result);
+  TightenByLagrangian(matrix, n, cells, kLagrangianTimeShare * (time_limit - elapsed), &result);
   return result;
 }
 
