@@ -55,7 +55,9 @@ std::pair<uint64_t, int> ExactBound(const CoverageMatrix& matrix,
   for (uint32_t e = 0; e < matrix.element_count(); ++e) {
     const uint64_t w = uint64_t{matrix.Weight(e)} << bits;
     const double scaled = std::floor(lambda[e] * scale);
-    fixed[e] = !(scaled > 0) ? 0 : scaled >= static_cast<double>(w) ? w : uint64_t(scaled);
+    fixed[e] = !(scaled > 0)                      ? 0
+               : scaled >= static_cast<double>(w) ? w
+                                                  : static_cast<uint64_t>(scaled);
     sum += w - fixed[e];
   }
   std::vector<uint64_t> rows(matrix.candidate_count(), 0);
@@ -85,7 +87,8 @@ LagrangianBound LagrangianUpperBound(const CoverageMatrix& matrix,
   }
   // Start: each element's weight shared among its seers (an element seen once keeps all of it).
   std::vector<double> lambda(elements);
-  for (uint32_t e = 0; e < elements; ++e) lambda[e] = double(matrix.Weight(e)) / seers[e];
+  for (uint32_t e = 0; e < elements; ++e)
+    lambda[e] = static_cast<double>(matrix.Weight(e)) / seers[e];
   std::vector<double> best_lambda = lambda;
   double best = std::numeric_limits<double>::infinity();
   std::vector<double> rows(m);
@@ -118,7 +121,8 @@ LagrangianBound LagrangianUpperBound(const CoverageMatrix& matrix,
       scale /= 2;
       stale = 0;
     }
-    // Whole cells: below incumbent + 1 the bound proves the incumbent optimal.
+    // Whole cells: below incumbent + 1 the bound proves the incumbent optimal (half a cell is
+    // left for round-off in this estimate; the exact value below decides).
     if (best < static_cast<double>(incumbent) + 0.5) break;
     // Subgradient dL/dlambda_e = (seers of e in the chosen) - 1, projected onto [0, w].
     std::fill(covered.begin(), covered.end(), 0u);
@@ -135,7 +139,7 @@ LagrangianBound LagrangianUpperBound(const CoverageMatrix& matrix,
     if (norm == 0) break;  // lambda is optimal: L(lambda) is the LP bound
     const double t = scale * (value - static_cast<double>(incumbent)) / norm;
     for (uint32_t e = 0; e < elements; ++e) {
-      lambda[e] = std::clamp(lambda[e] - t * step[e], 0.0, double(matrix.Weight(e)));
+      lambda[e] = std::clamp(lambda[e] - t * step[e], 0.0, static_cast<double>(matrix.Weight(e)));
     }
   }
   // Only the exact value of a multiplier vector is a proof; the start is always a candidate.
