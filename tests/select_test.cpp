@@ -578,6 +578,94 @@ TEST(Select, ExactFallsBackToItsStartWhenTheModelIsTooLargeForTheTimeLimit) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Lagrangian bound (issue 14)
+
+// Random instances with weights: cells that the same candidates see merge into one weighted
+// element, and a few candidates are exact copies of others (duplicate rows).
+std::vector<Observation> WeightedRandomInstance(uint64_t seed, size_t m, size_t cells, double p) {
+  std::vector<Observation> obs = RandomInstance(seed, m - m / 4, cells, p);
+  for (size_t j = 0; obs.size() < m; j += 3) obs.push_back(obs[j % obs.size()]);
+  return obs;
+}
+
+TEST(Lagrangian, BoundIsAtLeastTheEnumeratedOptimumAndAtMostTheLargestRows) {
+  for (int trial = 0; trial < 30; ++trial) {
+    const size_t m = 6 + trial % 11;             // 6..16 candidates
+    const size_t r = 20 + (trial * 7) % 41;      // 20..60 cells
+    const double p = 0.08 + 0.04 * (trial % 6);  // sparse to dense
+    const std::vector<Observation> obs = WeightedRandomInstance(900 + trial, m, r, p);
+    const detail::CoverageMatrix matrix(obs, r);
+    for (size_t n = 1; n <= std::min<size_t>(m, 8); ++n) {
+      const size_t optimum = BruteForceOptimum(obs, n);
+      // Incumbent 0: no early stop, the steps run their course.
+      const detail::LagrangianBound bound = detail::LagrangianUpperBound(matrix, n, 0, 500, 1e9);
+      EXPECT_GE(bound.upper_bound, optimum) << "trial " << trial << " n " << n;
+      EXPECT_EQ(static_cast<long double>(bound.upper_bound), std::floor(bound.value));
+      // The n largest rows (lambda = w), counted independently of the library.
+      std::vector<size_t> sizes;
+      for (const Observation& o : obs) sizes.push_back(o.reference_indices.size());
+      std::sort(sizes.rbegin(), sizes.rend());
+      EXPECT_LE(bound.upper_bound, std::accumulate(sizes.begin(), sizes.begin() + n, size_t{0}));
+      // With the enumerated optimum as the incumbent the steps may stop early: still valid.
+      EXPECT_GE(detail::LagrangianUpperBound(matrix, n, optimum, 500, 1e9).upper_bound, optimum);
+      // exact with any time limit: a bound >= the optimum, never looser than the cheap one.
+      const std::vector<uint32_t> start = detail::GreedyComplete(detail::CellScorer(matrix), {}, n);
+      const detail::ExactResult exact = detail::SolveExact(matrix, n, start, 60);
+      EXPECT_GE(exact.upper_bound, optimum);
+      EXPECT_LE(exact.upper_bound,
+                std::max(detail::GreedyUpperBound(matrix, start, n), matrix.CoveredWeight(start)));
+    }
+  }
+}
+
+// Cells: the 10 edges of K5 and one cell `c` that all candidates see; candidate v (5 of them)
+// sees the 4 edges at vertex v and c. N = 2: two vertices see 4 + 4 - 1 edges and c, 8 cells.
+// LP relaxation: the objective is concave and symmetric under permuting the vertices, so the
+// uniform x_v = 2/5 is optimal: every edge is covered 4/5, c fully, LP = 10 * 4/5 + 1 = 9.
+// The cheap bounds are looser: the 2 largest rows 5 + 5 = 10, all cells 11.
+std::vector<Observation> CompleteGraphInstance() {
+  std::vector<Observation> obs(5);
+  uint32_t edge = 0;
+  for (uint32_t u = 0; u < 5; ++u) {
+    for (uint32_t v = u + 1; v < 5; ++v, ++edge) {
+      obs[u].reference_indices.push_back(edge);
+      obs[v].reference_indices.push_back(edge);
+    }
+  }
+  for (Observation& o : obs) {
+    o.reference_indices.push_back(10);
+    std::sort(o.reference_indices.begin(), o.reference_indices.end());
+  }
+  return obs;
+}
+
+TEST(Lagrangian, ConvergesToTheLpBoundOfAHandWorkedInstance) {
+  const std::vector<Observation> obs = CompleteGraphInstance();
+  ASSERT_EQ(BruteForceOptimum(obs, 2), 8u);
+  const detail::CoverageMatrix matrix(obs, 11);
+  const detail::LagrangianBound bound = detail::LagrangianUpperBound(matrix, 2, 8, 3000, 1e9);
+  EXPECT_NEAR(static_cast<double>(bound.value), 9.0, 1e-6);
+  EXPECT_EQ(bound.upper_bound, 9u);
+  EXPECT_GT(bound.iterations, 0);
+  // Deterministic.
+  const detail::LagrangianBound again = detail::LagrangianUpperBound(matrix, 2, 8, 3000, 1e9);
+  EXPECT_EQ(again.value, bound.value);
+  EXPECT_EQ(again.iterations, bound.iterations);
+  // No steps: the start multipliers (each cell's weight shared among its seers: edges 1/2, c 1/5)
+  // give L = 10 * 1/2 + 4/5 + 2 * (4 * 1/2 + 1/5) = 10.2, then the 2 largest rows, 10, is less.
+  const detail::LagrangianBound none = detail::LagrangianUpperBound(matrix, 2, 8, 0, 1e9);
+  EXPECT_EQ(none.iterations, 0);
+  EXPECT_EQ(none.upper_bound, 10u);
+}
+
+TEST(Lagrangian, ProvesTheIncumbentOptimalWhenTheLpHasNoGap) {
+  // Disjoint rows of 5, 4 and 3 cells: with N = 2, L at lambda = w is 9 = the optimum.
+  const std::vector<Observation> obs = {Obs({0, 1, 2, 3, 4}), Obs({5, 6, 7, 8}), Obs({9, 10, 11})};
+  const detail::CoverageMatrix matrix(obs, 12);
+  EXPECT_EQ(detail::LagrangianUpperBound(matrix, 2, 9, 3000, 1e9).upper_bound, 9u);
+}
+
+// ---------------------------------------------------------------------------------------------
 // Further objectives: set cover, k-coverage, budget
 
 // Cells of R seen by at least k of `chosen`, counted independently of the library.

@@ -119,6 +119,27 @@ uint64_t KUpperBound(const CoverageMatrix& matrix,
 /// sizes add up to the goal.
 size_t SetCoverLowerBound(const CoverageMatrix& matrix, uint64_t goal_cells);
 
+/// A Lagrangian upper bound on the cells of any n sensors, and the subgradient steps it took.
+struct LagrangianBound {
+  uint64_t upper_bound = 0;  ///< cells; >= the optimum for every input
+  long double value = 0;     ///< L of the multipliers returned, exact (upper_bound = its floor)
+  int iterations = 0;        ///< subgradient steps taken
+};
+
+/// The Lagrangian relaxation of the coverage rows y_e <= sum_{i sees e} x_i (lagrangian.cpp):
+/// minimises L(lambda) = (the n largest sum_{e in row i} lambda_e) + sum_e (w_e - lambda_e) over
+/// 0 <= lambda <= w by projected subgradient steps (Polyak, towards `incumbent`, the cells of a
+/// known answer) and returns L of the best multipliers found, recomputed exactly in integers and
+/// rounded down (and at most the n largest rows): a valid bound whatever the steps did, converging
+/// to the LP relaxation's optimum.
+/// Deterministic up to `max_iterations`; stops early at `time_limit` seconds, when the bound
+/// falls below incumbent + 1 (proof of optimality) or when the steps stall.
+LagrangianBound LagrangianUpperBound(const CoverageMatrix& matrix,
+                                     size_t n,
+                                     uint64_t incumbent,
+                                     int max_iterations,
+                                     double time_limit);
+
 struct ExactResult {
   std::vector<uint32_t> chosen;
   uint64_t upper_bound = 0;  ///< cells; >= the cells chosen covers
