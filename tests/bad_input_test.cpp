@@ -353,6 +353,36 @@ TEST_F(BadInput, GazeboWorlds) {
   });
 }
 
+// Issue 15: a model that includes itself, or two that include each other, recursed until the
+// stack overflowed (exit 139). The error names the <include> that closes the cycle.
+TEST_F(BadInput, IncludeCycles) {
+  const auto model = [&](const std::string& name, const std::string& includes) {
+    Write("models/" + name + "/model.config",
+          "<?xml version=\"1.0\"?>\n<model><name>" + name +
+              "</name><sdf version=\"1.6\">model.sdf</sdf></model>\n");
+    return Write("models/" + name + "/model.sdf",
+                 "<?xml version=\"1.0\"?>\n<sdf version=\"1.6\">\n  <model name=\"" + name +
+                     "\">\n    <include><uri>model://" + includes +
+                     "</uri></include>\n  </model>\n</sdf>\n");
+  };
+  const std::string self = model("self", "self");
+  const std::string a = model("a", "b");
+  const std::string b = model("b", "a");
+  const auto world = [&](const std::string& name, const std::string& uri) {
+    const std::string path = Write(name + ".world", WorldWith("    <model name=\"cube\">",
+                                                              "    <include><uri>" + uri +
+                                                                  "</uri></include>\n"
+                                                                  "    <model name=\"cube\">"));
+    return "optimize " + path + " --model-path " + dir_.File("models");
+  };
+  ExpectRejected({
+      {"includes_itself", world("self", "model://self"), self + ":4:",
+       "closes an include cycle: 'self' (" + self + ") includes 'self'"},
+      {"include_each_other", world("pair", "model://a"), b + ":4:",
+       "closes an include cycle: 'a' (" + a + ") includes 'a::b' (" + b + ") includes 'a'"},
+  });
+}
+
 TEST_F(BadInput, CommandLineOptions) {
   const std::string scene = CubeCell();
   const std::string example = test::DataPath("../../examples/scenes/bin_picking_cell.yaml");
