@@ -550,6 +550,25 @@ TEST_F(BadInput, CommandLineOptions) {
   });
 }
 
+// Issue 15: `--out ""` ended in an internal error (optimize) or "cannot write (Success)"
+// (observe). Every command that writes names the option.
+TEST_F(BadInput, EmptyOutPath) {
+  const std::string scene = CubeCell();
+  const std::string vis = dir_.File("good.vis");
+  ASSERT_EQ(RunVantage("observe " + scene + " --out " + vis).exit_code, 0);
+  ASSERT_EQ(RunVantage("optimize " + scene + " --out " + dir_.File("o")).exit_code, 0);
+  for (const std::string& command :
+       {"optimize " + scene, "observe " + scene, "select " + vis,
+        "evaluate " + scene + " --constellation " + dir_.File("o/report.json")}) {
+    SCOPED_TRACE(command);
+    const auto run = RunVantage(command + " --out ''");
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+    EXPECT_NE(run.err.find("--out: the path is empty"), std::string::npos) << run.err;
+    EXPECT_EQ(run.err.find("internal"), std::string::npos) << run.err;
+  }
+  ExpectOutputsUntouched();
+}
+
 TEST_F(BadInput, VisibilityFiles) {
   const std::string good = dir_.File("good.vis");
   const auto observe = RunVantage("observe " + CubeCell() + " --out " + good);
