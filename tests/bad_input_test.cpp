@@ -569,6 +569,29 @@ TEST_F(BadInput, EmptyOutPath) {
   ExpectOutputsUntouched();
 }
 
+// Issue 15: a name in Latin-1 reached report.json and ended in nlohmann's type_error (exit 1).
+// Scene files must be UTF-8 (YAML 1.2 and XML say so); the first byte that is not names its line.
+TEST_F(BadInput, NonUtf8Names) {
+  ExpectRejected({
+      Yaml("latin1_object", "name: plate", "name: pl\xE9te", 17, "byte 0xE9 is not UTF-8"),
+      Yaml("latin1_sensor", "- name: ring", "- name: r\xEFng", 31, "byte 0xEF is not UTF-8"),
+      World("latin1_model", "<model name=\"cube\">", "<model name=\"cub\xE9\">", 4,
+            "byte 0xE9 is not UTF-8"),
+      // Overlong and surrogate forms are not UTF-8 either.
+      Yaml("overlong", "name: plate", "name: pl\xC1\xA1te", 17, "byte 0xC1 is not UTF-8"),
+      Yaml("surrogate", "name: plate", "name: pl\xED\xA0\x80te", 17, "byte 0xED is not UTF-8"),
+  });
+  // A scene whose file name is not UTF-8 (legal on Linux) runs; report.json stays valid JSON,
+  // the byte replaced by U+FFFD.
+  const std::string latin1 = Write("sc\xE8ne.yaml", ReadText(CubeCell()));
+  const auto run = RunVantage("optimize '" + latin1 + "' --out " + dir_.File("latin1_out"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json report = json::parse(ReadText(dir_.File("latin1_out/report.json")));
+  EXPECT_NE(report["scene"].get<std::string>().find("sc\xEF\xBF\xBDne.yaml"), std::string::npos)
+      << report["scene"];
+  fs::remove_all(dir_.File("latin1_out"));
+}
+
 TEST_F(BadInput, VisibilityFiles) {
   const std::string good = dir_.File("good.vis");
   const auto observe = RunVantage("observe " + CubeCell() + " --out " + good);
