@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <functional>
@@ -768,6 +769,26 @@ TEST_F(BadInput, Constellations) {
            dir_.File("absent.json"),
        dir_.File("bad.yaml") + ":1:", "must be a list"},
   });
+}
+
+// Issue 15: `vantage sensors > /dev/full` exited 0 with its output lost; --json ended as an
+// internal error. Both now exit 1 saying that stdout could not be written.
+TEST(StdoutFull, WriteFailureIsReported) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  test::TempDir dir;
+  for (const std::string& args : {"sensors", "sensors --json"}) {
+    SCOPED_TRACE(args);
+    const std::string command = std::string(VANTAGE_BINARY) + " " + args + " >/dev/full 2>" +
+                                dir.File("err") + " </dev/null";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 1);
+    const std::string err = ReadText(dir.File("err"));
+    EXPECT_NE(err.find("cannot write to standard output (No space left on device)"),
+              std::string::npos)
+        << err;
+    EXPECT_EQ(err.find("internal"), std::string::npos) << err;
+  }
 }
 
 /// Starts `vantage ARGS --out DIR` with `extra_env` added to the environment, sends `signal`
