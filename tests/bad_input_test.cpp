@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <functional>
@@ -353,6 +354,127 @@ TEST_F(BadInput, GazeboWorlds) {
   });
 }
 
+// Issue 15: a model that includes itself, or two that include each other, recursed until the
+// stack overflowed (exit 139). The error names the <include> that closes the cycle.
+TEST_F(BadInput, IncludeCycles) {
+  const auto model = [&](const std::string& name, const std::string& includes) {
+    Write("models/" + name + "/model.config",
+          "<?xml version=\"1.0\"?>\n<model><name>" + name +
+              "</name><sdf version=\"1.6\">model.sdf</sdf></model>\n");
+    return Write("models/" + name + "/model.sdf",
+                 "<?xml version=\"1.0\"?>\n<sdf version=\"1.6\">\n  <model name=\"" + name +
+                     "\">\n    <include><uri>model://" + includes +
+                     "</uri></include>\n  </model>\n</sdf>\n");
+  };
+  const std::string self = model("self", "self");
+  const std::string a = model("a", "b");
+  const std::string b = model("b", "a");
+  const auto world = [&](const std::string& name, const std::string& uri) {
+    const std::string path = Write(name + ".world", WorldWith("    <model name=\"cube\">",
+                                                              "    <include><uri>" + uri +
+                                                                  "</uri></include>\n"
+                                                                  "    <model name=\"cube\">"));
+    return "optimize " + path + " --model-path " + dir_.File("models");
+  };
+  ExpectRejected({
+      {"includes_itself", world("self", "model://self"), self + ":4:",
+       "closes an include cycle: 'self' (" + self + ") includes 'self'"},
+      {"include_each_other", world("pair", "model://a"), b + ":4:",
+       "closes an include cycle: 'a' (" + a + ") includes 'a::b' (" + b + ") includes 'a'"},
+  });
+}
+
+// Issue 15: finite values that no ray caster can use (Debian's Embree asserted and aborted, or
+// geometry was ray cast wrongly) are refused before any ray, with or without culling.
+TEST_F(BadInput, ExtremeValues) {
+  // kMaxWorldCoordinate, in messages.
+  const std::string beyond = "beyond the ±1e+09 m that vantage can ray cast";
+  const std::string slopes = "that vantage can ray cast (fx = ";
+  const std::string sensor_at = Write(
+      "sensor_at.yaml",
+      CubeCellWith("populations:",
+                   "sensors:\n  - {name: far_cam, type: tiny_cam, position: [1e19, 0, 1]}\n"
+                   "populations:"));
+  const std::vector<Case> yaml = {
+      // A sensor type's own errors name the line of its `- id:`.
+      Yaml("tiny_focal", "hfov: 1.0", "intrinsics: [1e-300, 1e-300, 80, 60]", 11, slopes),
+      Yaml("huge_principal_point", "hfov: 1.0", "intrinsics: [100, 100, 1e300, 60]", 11, slopes),
+      Yaml("far_range", "range: [0.1, 3.0]", "range: [0.1, 1e25]", 11,
+           "far = 1e+25 m is beyond the 1e+09 m"),
+      Yaml("population_far_away", "pose: {xyz: [0, 0, 0.4]}", "pose: {xyz: [1e19, 0, 0.4]}", 31,
+           "population 'ring': ring_0: its position (1e+19, "),
+      {"sensor_far_away", "optimize " + sensor_at, sensor_at + ":31:",
+       "sensor 'far_cam': its position (1e+19, 0, 1) m, " + beyond},
+      {"huge_occluder", "optimize " + Write("huge.yaml", CubeCellWith("size: [0.6, 0.6, 0.02]",
+                                                                      "size: [1e20, 1e20, 0.02]")),
+       dir_.File("huge.yaml") + ": object 'plate' reaches (5e+19, 5e+19, -0.02) m", beyond},
+      World("world_far_range", "<far>3</far>", "<far>1e25</far>", 16, "far = 1e+25 m"),
+      World("world_population_far_away", "<pose>0 0 0.4 0 0 0</pose>",
+            "<pose>1e19 0 0.4 0 0 0</pose>", 13, beyond),
+      {"observation_point_option", "optimize " + CubeCell() + " --observation-point 1e19 0 0",
+       "--observation-point:", beyond},
+  };
+  ExpectRejected(yaml);
+  // --no-cull gives the same outcome: the candidates are checked before culling.
+  std::vector<Case> no_cull = yaml;
+  for (Case& c : no_cull) c.args += " --no-cull";
+  ExpectRejected(no_cull);
+
+  // A run's constellation and visibility file, edited.
+  const auto chosen = RunVantage("optimize " + CubeCell() + " -n 3 --out " + dir_.File("o"));
+  ASSERT_EQ(chosen.exit_code, 0) << chosen.err;
+  const json report = json::parse(ReadText(dir_.File("o/report.json")));
+  const auto constellation = [&](const std::string& name, const std::string& key, double value,
+                                 int index = -1) {
+    json changed = report;
+    json& field = changed["candidates"][0][key];
+    if (index < 0) {
+      field = value;
+    } else {
+      field[index] = value;
+    }
+    return "evaluate " + CubeCell() + " --constellation " + Write(name + ".json", changed.dump(2));
+  };
+  const std::string ring = "candidates[0] ('" + report["candidates"][0]["name"].get<std::string>();
+  const std::string good = dir_.File("good.vis");
+  ASSERT_EQ(RunVantage("observe " + CubeCell() + " --out " + good).exit_code, 0);
+  const VisibilityFile data = LoadVisibilityFile(good);
+  const auto vis = [&](const std::string& name, const std::function<void(Candidate*)>& change) {
+    VisibilityFile copy = data;
+    change(&copy.candidates[1]);
+    SaveVisibilityFile(dir_.File(name + ".vis"), copy);
+    return dir_.File(name + ".vis");
+  };
+  const std::string vis_far =
+      vis("far", [](Candidate* c) { c->world_from_body.position.x() = 1e19; });
+  const std::string vis_focal = vis("focal", [](Candidate* c) { c->sensor.fx = 1e-300; });
+  const std::string vis_range = vis("range", [](Candidate* c) { c->sensor.far = 1e25; });
+  const std::string candidate = "candidate 1 ('" + data.candidates[1].name + "')";
+  ExpectRejected({
+      {"constellation_far_away", constellation("c_far", "position", 1e19, 0),
+       dir_.File("c_far.json") + ": " + ring, "its position (1e+19"},
+      {"constellation_tiny_focal", constellation("c_focal", "fx", 1e-300),
+       dir_.File("c_focal.json") + ": " + ring, slopes},
+      {"constellation_huge_principal_point", constellation("c_cx", "cx", 1e300),
+       dir_.File("c_cx.json") + ": " + ring, slopes},
+      {"constellation_far_range", constellation("c_range", "far", 1e25),
+       dir_.File("c_range.json") + ": " + ring, "far = 1e+25 m"},
+      {"vis_far_away", "select " + vis_far, vis_far + ": " + candidate, "its position (1e+19"},
+      {"vis_tiny_focal", "select " + vis_focal, vis_focal + ": " + candidate, slopes},
+      {"vis_far_range", "select " + vis_range, vis_range + ": " + candidate, "far = 1e+25 m"},
+  });
+  // render's viewpoint (render writes a PNG, not --out).
+  for (const std::string& option : {"--eye 1e308 0 0", "--look-at 0 1e19 0"}) {
+    SCOPED_TRACE(option);
+    const auto run = RunVantage("render " + dir_.File("o") + " " + option + " --png " +
+                                dir_.File("view.png"));
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+    EXPECT_NE(run.err.find(option.substr(0, option.find(' ')) + ") at ("), std::string::npos)
+        << run.err;
+    EXPECT_NE(run.err.find(beyond), std::string::npos) << run.err;
+  }
+}
+
 TEST_F(BadInput, CommandLineOptions) {
   const std::string scene = CubeCell();
   const std::string example = test::DataPath("../../examples/scenes/bin_picking_cell.yaml");
@@ -429,6 +551,48 @@ TEST_F(BadInput, CommandLineOptions) {
       {"observation_point_beyond_range", "optimize " + scene + " --observation-point 1e300 0 0",
        "--observation-point:", "must be finite coordinates within"},
   });
+}
+
+// Issue 15: `--out ""` ended in an internal error (optimize) or "cannot write (Success)"
+// (observe). Every command that writes names the option.
+TEST_F(BadInput, EmptyOutPath) {
+  const std::string scene = CubeCell();
+  const std::string vis = dir_.File("good.vis");
+  ASSERT_EQ(RunVantage("observe " + scene + " --out " + vis).exit_code, 0);
+  ASSERT_EQ(RunVantage("optimize " + scene + " --out " + dir_.File("o")).exit_code, 0);
+  for (const std::string& command :
+       {"optimize " + scene, "observe " + scene, "select " + vis,
+        "evaluate " + scene + " --constellation " + dir_.File("o/report.json")}) {
+    SCOPED_TRACE(command);
+    const auto run = RunVantage(command + " --out ''");
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+    EXPECT_NE(run.err.find("--out: the path is empty"), std::string::npos) << run.err;
+    EXPECT_EQ(run.err.find("internal"), std::string::npos) << run.err;
+  }
+  ExpectOutputsUntouched();
+}
+
+// Issue 15: a name in Latin-1 reached report.json and ended in nlohmann's type_error (exit 1).
+// Scene files must be UTF-8 (YAML 1.2 and XML say so); the first byte that is not names its line.
+TEST_F(BadInput, NonUtf8Names) {
+  ExpectRejected({
+      Yaml("latin1_object", "name: plate", "name: pl\xE9te", 17, "byte 0xE9 is not UTF-8"),
+      Yaml("latin1_sensor", "- name: ring", "- name: r\xEFng", 31, "byte 0xEF is not UTF-8"),
+      World("latin1_model", "<model name=\"cube\">", "<model name=\"cub\xE9\">", 4,
+            "byte 0xE9 is not UTF-8"),
+      // Overlong and surrogate forms are not UTF-8 either.
+      Yaml("overlong", "name: plate", "name: pl\xC1\xA1te", 17, "byte 0xC1 is not UTF-8"),
+      Yaml("surrogate", "name: plate", "name: pl\xED\xA0\x80te", 17, "byte 0xED is not UTF-8"),
+  });
+  // A scene whose file name is not UTF-8 (legal on Linux) runs; report.json stays valid JSON,
+  // the byte replaced by U+FFFD.
+  const std::string latin1 = Write("sc\xE8ne.yaml", ReadText(CubeCell()));
+  const auto run = RunVantage("optimize '" + latin1 + "' --out " + dir_.File("latin1_out"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json report = json::parse(ReadText(dir_.File("latin1_out/report.json")));
+  EXPECT_NE(report["scene"].get<std::string>().find("sc\xEF\xBF\xBDne.yaml"), std::string::npos)
+      << report["scene"];
+  fs::remove_all(dir_.File("latin1_out"));
 }
 
 TEST_F(BadInput, VisibilityFiles) {
@@ -616,6 +780,26 @@ TEST_F(BadInput, Constellations) {
            dir_.File("absent.json"),
        dir_.File("bad.yaml") + ":1:", "must be a list"},
   });
+}
+
+// Issue 15: `vantage sensors > /dev/full` exited 0 with its output lost; --json ended as an
+// internal error. Both now exit 1 saying that stdout could not be written.
+TEST(StdoutFull, WriteFailureIsReported) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  test::TempDir dir;
+  for (const std::string& args : {"sensors", "sensors --json"}) {
+    SCOPED_TRACE(args);
+    const std::string command = std::string(VANTAGE_BINARY) + " " + args + " >/dev/full 2>" +
+                                dir.File("err") + " </dev/null";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 1);
+    const std::string err = ReadText(dir.File("err"));
+    EXPECT_NE(err.find("cannot write to standard output (No space left on device)"),
+              std::string::npos)
+        << err;
+    EXPECT_EQ(err.find("internal"), std::string::npos) << err;
+  }
 }
 
 /// Starts `vantage ARGS --out DIR` with `extra_env` added to the environment, sends `signal`

@@ -42,7 +42,8 @@ void SetupEvaluate(CLI::App* parent) {
                   "report.json (its primary result's sensors, or all its candidates); options "
                   "not given are the run's (its `inputs`)")
       ->required();
-  app->add_option("-o,--out", flags->out, "also write a report folder here");
+  app->add_option("-o,--out", flags->out, "also write a report folder here")
+      ->check(OutPathValidator());
   app->callback([flags] { RunEvaluate(*flags); });
 }
 

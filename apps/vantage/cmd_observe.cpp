@@ -35,6 +35,7 @@ void SetupObserve(CLI::App* parent) {
   app->add_option("-n,--sensors", flags->options.n,
                   "default number of sensors stored with the matrix");
   app->add_option("-o,--out", flags->out, "visibility matrix file to write (e.g. scene.vis)")
+      ->check(OutPathValidator())
       ->required();
   app->callback([flags] { RunObserve(*flags); });
 }

@@ -34,6 +34,7 @@ void SetupOptimize(CLI::App* parent) {
   AddSelectionFlags(app, &flags->options.selection);
   AddRobustnessFlags(app, &flags->options.robustness);
   app->add_option("-o,--out", flags->out, "output folder (replaced atomically)")
+      ->check(OutPathValidator())
       ->capture_default_str();
   app->add_flag("--refine", flags->refine,
                 "after selection, search new poses around the chosen sensors (inside their "

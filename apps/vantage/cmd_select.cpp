@@ -33,6 +33,7 @@ void SetupSelect(CLI::App* parent) {
   app->add_option("--seed", flags->options.seed,
                   "random seed (default: the one stored in the file)");
   app->add_option("-o,--out", flags->out, "output folder (replaced atomically)")
+      ->check(OutPathValidator())
       ->capture_default_str();
   app->callback([flags] { RunSelect(*flags); });
 }

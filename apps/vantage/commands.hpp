@@ -29,6 +29,10 @@ void AddRobustnessFlags(CLI::App* app, RobustnessOptions* robustness);
 /// --seed's check: refuses a sign (CLI11 would wrap "-1" to 2^64 - 1).
 CLI::Validator SeedValidator();
 
+/// --out's check (optimize, select, evaluate, observe): refuses an empty path, which names no
+/// file or folder to write.
+CLI::Validator OutPathValidator();
+
 /// A progress bar with rate and ETA on stderr when it is a terminal; empty otherwise.
 std::function<void(size_t, size_t)> ProgressBar(const std::string& label);
 

@@ -60,6 +60,15 @@ void AddEnumOption(CLI::App* app, const std::string& flag, std::optional<Enum>* 
 
 CLI::Validator SeedValidator() { return CLI::Validator(NonNegativeWholeNumber, "0 or more"); }
 
+CLI::Validator OutPathValidator() {
+  return CLI::Validator(
+      [](const std::string& text) -> std::string {
+        if (!text.empty()) return {};
+        return "the path is empty — give the file or folder to write, e.g. --out results";
+      },
+      "");
+}
+
 std::function<void(size_t, size_t)> ProgressBar(const std::string& label) {
   if (!::isatty(STDERR_FILENO) || spdlog::get_level() > spdlog::level::info) return {};
   const auto start = std::chrono::steady_clock::now();

@@ -7,6 +7,9 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
@@ -77,19 +80,31 @@ int Run(int argc, char** argv, spdlog::logger* logger) {
   return 0;
 }
 
+// A full disk or a closed pipe on stdout (`vantage sensors > /dev/full`) is neither a success
+// nor an internal error: stdout is flushed before exiting and its failure reported.
+bool StdoutFailed(spdlog::logger* logger) {
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return false;
+  logger->error("cannot write to standard output ({}) — check where it goes (a full disk?)",
+                std::strerror(errno));
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   auto logger = spdlog::stderr_color_mt("vantage");
   logger->set_pattern("[%l] %v");
   spdlog::set_default_logger(logger);
+  int code = 0;
   try {
-    return Run(argc, argv, logger.get());
+    code = Run(argc, argv, logger.get());
   } catch (const vantage::InputError& e) {
     logger->error("{}", e.what());
     return 2;
   } catch (const std::exception& e) {
+    if (StdoutFailed(logger.get())) return 1;  // fmt::print throws when a write fails
     logger->critical("internal error: {}", e.what());
     return 1;
   }
+  return StdoutFailed(logger.get()) ? 1 : code;
 }

@@ -22,6 +22,13 @@ struct Candidate {
   std::string population;  ///< population name, or "" for explicit sensors
 };
 
+/// Throws InputError "WHERE: ..." unless `candidate` can become rays (issue 15): a finite pose
+/// with its position within ±kMaxWorldCoordinate, and a valid type (SensorType::Validate: the
+/// range and the pixel rays). The pipeline runs it on every candidate before any ray (Prepare,
+/// Evaluate, SelectFromFile), and Observe on what it is given, before culling, so that culling
+/// cannot hide a candidate that would break the ray caster.
+void CheckCandidate(const Candidate& candidate, const std::string& where);
+
 /// Rotation whose columns are (front, left, up') looking from `eye` to `target` with up = +Z;
 /// when front is parallel to Z, left = +Y (GAZEBO.md). Throws InputError when eye == target.
 Quat LookAt(const Vec3& eye, const Vec3& target);

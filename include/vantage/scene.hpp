@@ -45,6 +45,10 @@ struct Scene {
   Aabb TargetBounds() const;
 };
 
+/// Throws InputError "SOURCE: object 'NAME' reaches ..." when a vertex of any object (target or
+/// occluder) lies beyond ±kMaxWorldCoordinate, where the ray caster is no longer exact (issue 15).
+void CheckSceneExtent(const Scene& scene, const std::string& source);
+
 /// Axis-aligned box of the given edge lengths, centred at the origin (12 triangles, outward).
 TriangleMesh MakeBox(const Vec3& size);
 /// Sphere of `radius` at the origin, tessellated so that the chord error is below

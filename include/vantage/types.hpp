@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 #include <span>
+#include <string>
 
 namespace vantage {
 
@@ -84,5 +85,20 @@ struct Aabb {
     max = max.cwiseMax(b.max);
   }
 };
+
+/// What vantage can ray cast (issue 15), checked where each value enters: geometry when a scene
+/// is loaded, candidates before any ray, render's viewpoint. Embree takes float origins,
+/// directions and vertices and asserts (Debian's build aborts) on rays beyond about 1.8e18, and
+/// builds a wrong BVH for vertices near that. 1e9 m is far beyond any real cell, still resolved
+/// to 64 m by a float, and every ray end (origin + far · direction, at most 1e9 + 1e9 · 1.5e6 m)
+/// stays far inside float and Embree's range.
+constexpr double kMaxWorldCoordinate = 1e9;  ///< |x|, |y|, |z| of geometry, sensors, the eye [m]
+constexpr double kMaxSensorRange = 1e9;      ///< a sensor's far [m]
+/// |y| and |z| of a pixel ray scaled to depth x = 1 (fields of view up to 2 atan(1e6) ≈ 180°).
+constexpr double kMaxRaySlope = 1e6;
+
+/// "" when every coordinate of `p` is finite and within ±kMaxWorldCoordinate; else the words for
+/// a message, e.g. "(1e+19, 0, 0) m, beyond the ±1e+09 m that vantage can ray cast".
+std::string WorldPointProblem(const Vec3& p);
 
 }  // namespace vantage

@@ -169,4 +169,16 @@ std::vector<Candidate> DeployCandidates(const std::vector<Population>& populatio
   return candidates;
 }
 
+void CheckCandidate(const Candidate& candidate, const std::string& where) {
+  const Pose& pose = candidate.world_from_body;
+  if (!pose.rotation.coeffs().allFinite())
+    throw InputError(fmt::format("{}: its rotation is not finite", where));
+  const std::string problem = WorldPointProblem(pose.position);
+  if (!problem.empty()) {
+    throw InputError(fmt::format("{}: its position {} — place sensors near the scene", where,
+                                 problem));
+  }
+  candidate.sensor.Validate(where);
+}
+
 }  // namespace vantage

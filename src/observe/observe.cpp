@@ -109,7 +109,7 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
 
 std::vector<Observation> Observe(const RayScene& rays, const Reference& reference,
                                  std::span<const Candidate> candidates, const ObserveOptions& options) {
-  for (const Candidate& c : candidates) c.sensor.Validate(c.name);
+  for (const Candidate& c : candidates) CheckCandidate(c, c.name);
   options.Validate();
   const std::vector<Aabb> blocks = ReferenceBlocks(reference);
   std::vector<Observation> observations(candidates.size());

@@ -12,9 +12,16 @@ namespace vantage::detail {
 /// Seconds since `start` on the steady clock.
 double SecondsSince(std::chrono::steady_clock::time_point start);
 
-/// InputError naming `option` unless every coordinate is finite and within ±1e9 m (what the
-/// voxel grid and Embree's float rays can represent with room to spare).
+/// InputError naming `option` unless WorldPointProblem finds nothing (kMaxWorldCoordinate: what
+/// the voxel grid and Embree's float rays can represent with room to spare).
 void CheckWorldPoint(const Vec3& point, const std::string& option);
+
+/// CheckCandidate on each candidate, named in messages by `where(i)`.
+void CheckCandidates(std::span<const Candidate> candidates,
+                     const std::function<std::string(size_t)>& where);
+/// CheckCandidates on the deployed candidates of `problem`, each named by the file and line of
+/// its population or sensor.
+void CheckDeployedCandidates(std::span<const Candidate> candidates, const Problem& problem);
 
 /// Refuses a cell size too fine for the memory before R is built, and a run whose observe and
 /// selection estimate exceeds the limit before any ray is cast (issue #8).

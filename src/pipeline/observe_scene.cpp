@@ -79,10 +79,28 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 }
 
 void CheckWorldPoint(const Vec3& point, const std::string& option) {
-  if (!point.allFinite() || (point.array().abs() > 1e9).any())
-    throw InputError(AtPlace(option, 0,
-                             fmt::format("({}, {}, {}) must be finite coordinates within ±1e9 m",
-                                         point.x(), point.y(), point.z())));
+  const std::string problem = WorldPointProblem(point);
+  if (!problem.empty()) throw InputError(AtPlace(option, 0, problem));
+}
+
+void CheckCandidates(std::span<const Candidate> candidates,
+                     const std::function<std::string(size_t)>& where) {
+  for (size_t i = 0; i < candidates.size(); ++i) CheckCandidate(candidates[i], where(i));
+}
+
+void CheckDeployedCandidates(std::span<const Candidate> candidates, const Problem& problem) {
+  CheckCandidates(candidates, [&](size_t i) {
+    const Candidate& c = candidates[i];
+    for (const Population& p : problem.populations) {
+      if (!c.population.empty() && p.name == c.population)
+        return AtPlace(p.file, p.line, fmt::format("population '{}': {}", p.name, c.name));
+    }
+    for (const ExplicitSensor& s : problem.sensors) {
+      if (c.population.empty() && s.name == c.name)
+        return AtPlace(s.file, s.line, fmt::format("sensor '{}'", s.name));
+    }
+    return AtPlace(problem.source, 0, fmt::format("candidate {} ('{}')", i, c.name));
+  });
 }
 
 void CheckObserveMemory(const Scene& scene, size_t reference_size,

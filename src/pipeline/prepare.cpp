@@ -51,6 +51,7 @@ PreparedScene Prepare(const SceneInput& input) {
   deploy.seed = problem.seed;
   prepared.candidates =
       DeployCandidates(problem.populations, problem.sensors, problem.sensor_types, deploy);
+  detail::CheckDeployedCandidates(prepared.candidates, problem);
   if (prepared.candidates.empty())
     throw InputError(
         AtPlace(problem.source, 0, "no candidate sensors — add a population or a sensor"));
@@ -64,8 +65,10 @@ PreparedScene Prepare(const SceneInput& input) {
   }
   // A scene with states: the first state is the scene everything below measures; the others
   // are observed after it with the same candidates.
-  for (const SceneState& state : problem.states)
+  for (const SceneState& state : problem.states) {
     prepared.state_scenes.push_back(ApplyState(problem.scene, state));
+    CheckSceneExtent(prepared.state_scenes.back(), problem.source);
+  }
   if (!prepared.state_scenes.empty()) problem.scene = prepared.state_scenes.front();
   prepared.cell_size_from_option = input.load.cell_size.has_value();
   prepared.timings.load = detail::SecondsSince(start);

@@ -1,4 +1,5 @@
 // `vantage select`: selection from a saved visibility file, then assess and report.
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -35,6 +36,10 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   RunResult run;
   run.data = std::make_unique<VisibilityFile>(LoadVisibilityFile(options.visibility_file));
   const VisibilityFile& data = *run.data;
+  detail::CheckCandidates(data.candidates, [&](size_t i) {
+    return AtPlace(options.visibility_file, 0,
+                   fmt::format("candidate {} ('{}')", i, data.candidates[i].name));
+  });
   Timings timings;
   timings.load = detail::SecondsSince(start);
   if (options.selection.over_states)

@@ -162,8 +162,13 @@ void RenderOptions::Validate() const {
   if (!(vertical_fov > 0 && vertical_fov < kPi))
     throw InputError(
         fmt::format("render: vertical_fov {} rad must be within (0, pi)", vertical_fov));
-  if (eye && !eye->allFinite()) throw InputError("render: eye must be finite numbers");
-  if (look_at && !look_at->allFinite()) throw InputError("render: look_at must be finite numbers");
+  // Both become ray origins and directions (issue 15: --eye 1e308 aborted in Embree).
+  const auto check_point = [](const std::optional<Vec3>& point, const char* name) {
+    if (point && !WorldPointProblem(*point).empty())
+      throw InputError(fmt::format("render: {} at {}", name, WorldPointProblem(*point)));
+  };
+  check_point(eye, "eye (--eye)");
+  check_point(look_at, "look_at (--look-at)");
 }
 
 Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,

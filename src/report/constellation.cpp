@@ -74,7 +74,7 @@ Candidate ParseCandidate(const json& j, const std::string& where) {
     s.fps = catalog->fps;
     s.cost = catalog->cost;
   }
-  s.Validate(at);
+  CheckCandidate(c, at);  // the type (SensorType::Validate) and the position
   return c;
 }
 

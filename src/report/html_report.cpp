@@ -420,7 +420,8 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   }
   const std::string escaped_title = detail::MarkupEscape(title);
   const std::string escaped_subtitle = detail::MarkupEscape(subtitle);
-  const std::string data_json = JsonScriptSafe(page.dump());
+  const std::string data_json =
+      JsonScriptSafe(page.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
   const std::string script = ScriptSafe(embedded::kReportJs);
   return FillTemplate(embedded::kReportHtml, {{"TITLE", escaped_title},
                                               {"SUBTITLE", escaped_subtitle},

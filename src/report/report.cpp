@@ -244,11 +244,13 @@ std::string ReportJson(const Report& report) {
                   {"total", report.timings.total}};
   if (!report.notes.empty()) j["notes"] = report.notes;
   if (report.inputs) j["inputs"] = detail::RunInputsJson(*report.inputs);
-  return j.dump(2) + "\n";
+  // A path that is not UTF-8 (legal on Linux) is written with U+FFFD instead of throwing.
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 std::string RobustnessJsonText(const Robustness& robustness, const VisibilityFile& data) {
-  return RobustnessJson(robustness, data).dump();
+  return RobustnessJson(robustness, data)
+      .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 std::string CandidatesCsv(const Report& report) {

@@ -57,8 +57,11 @@ Problem LoadProblem(const std::string& path, const LoadOptions& options) {
   std::string readers;
   for (const SceneReader& reader : SceneReaders()) {
     const auto& names = reader.extensions;
-    if (std::find(names.begin(), names.end(), extension) != names.end())
-      return reader.load(path, options);
+    if (std::find(names.begin(), names.end(), extension) != names.end()) {
+      Problem problem = reader.load(path, options);
+      CheckSceneExtent(problem.scene, problem.source);
+      return problem;
+    }
     readers += fmt::format("{}{}", readers.empty() ? "" : " or ",
                            fmt::format(fmt::runtime(reader.description), fmt::join(names, "/")));
   }

@@ -371,4 +371,22 @@ TriangleMesh LoadMeshFile(const std::string& path) {
   return mesh;
 }
 
+void CheckSceneExtent(const Scene& scene, const std::string& source) {
+  for (const SceneObject& object : scene.objects) {
+    Aabb bounds;
+    for (const Vec3& v : object.mesh.vertices) bounds.Extend(v);
+    if (bounds.IsEmpty()) continue;
+    // The corner farthest from the origin on each axis.
+    const Vec3 far = bounds.min.cwiseAbs().cwiseMax(bounds.max.cwiseAbs());
+    if (WorldPointProblem(far).empty()) continue;
+    const Vec3 reach = (bounds.max.array() >= -bounds.min.array())
+                           .select(bounds.max.array(), bounds.min.array())
+                           .matrix();
+    throw InputError(AtPlace(source, 0,
+                             fmt::format("object '{}' reaches {} — make it smaller or move it "
+                                         "near the origin",
+                                         object.name, WorldPointProblem(reach))));
+  }
+}
+
 }  // namespace vantage

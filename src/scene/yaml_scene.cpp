@@ -1296,6 +1296,10 @@ Problem LoadYamlScene(const std::string& path, const LoadOptions& options) {
   problem.source = path;
   Diagnostics diag(path);
   const std::string text = ReadWholeFile(path);
+  // yaml-cpp reads UTF-16 and UTF-32 files (a BOM or NUL bytes first, YAML 1.2 5.2) itself.
+  const bool utf8 = text.substr(0, 2) != "\xFE\xFF" && text.substr(0, 2) != "\xFF\xFE" &&
+                    text.substr(0, 4).find('\0') == std::string::npos;
+  if (utf8) detail::CheckUtf8File(text, path);
   YAML::Node root;
   try {
     root = YAML::Load(text);

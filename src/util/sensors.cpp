@@ -89,6 +89,22 @@ void SensorType::Validate(const std::string& where) const {
   if (!std::isfinite(near) || near <= 0) fail(fmt::format("near = {} must be > 0", near));
   if (!std::isfinite(far) || far <= near)
     fail(fmt::format("near = {} must be below far = {} — swap or fix the range", near, far));
+  if (far > kMaxSensorRange)
+    fail(fmt::format("far = {:g} m is beyond the {:g} m that vantage can ray cast — give the "
+                     "sensor's real range",
+                     far, kMaxSensorRange));
+  // The corner pixels have the steepest rays (the slope is linear in u and v).
+  for (const int u : {0, width - 1}) {
+    for (const int v : {0, height - 1}) {
+      const Vec3 ray = PixelRayInBody(*this, u, v);
+      if (!ray.allFinite() || (ray.array().abs() > kMaxRaySlope).any()) {
+        fail(fmt::format("the ray of pixel ({}, {}) has slopes ({:g}, {:g}), beyond the ±{:g} "
+                         "that vantage can ray cast (fx = {:g}, fy = {:g}, cx = {:g}, cy = {:g} "
+                         "px) — give the focal lengths and principal point of a real camera",
+                         u, v, ray.y(), ray.z(), kMaxRaySlope, fx, fy, cx, cy));
+      }
+    }
+  }
   if (!std::isfinite(cost) || cost < 0) fail(fmt::format("cost = {} must be >= 0", cost));
   if (depth_noise) {
     const DepthNoise& n = *depth_noise;

@@ -1,5 +1,7 @@
 #include "vantage/types.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 
 #include "vantage/error.hpp"
@@ -66,6 +68,12 @@ Vec3 VoxelCenter(uint64_t key, double cell_size) {
   return Vec3((static_cast<double>(i[0]) + 0.5) * cell_size,
               (static_cast<double>(i[1]) + 0.5) * cell_size,
               (static_cast<double>(i[2]) + 0.5) * cell_size);
+}
+
+std::string WorldPointProblem(const Vec3& p) {
+  if (p.allFinite() && (p.array().abs() <= kMaxWorldCoordinate).all()) return "";
+  return fmt::format("({:g}, {:g}, {:g}) m, beyond the ±{:g} m that vantage can ray cast", p.x(),
+                     p.y(), p.z(), kMaxWorldCoordinate);
 }
 
 }  // namespace vantage

@@ -1,7 +1,12 @@
 #include "util/words.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cstdint>
 #include <limits>
+
+#include "vantage/error.hpp"
 
 namespace vantage::detail {
 
@@ -38,6 +43,50 @@ std::string JoinQuoted(const std::vector<std::string>& words) {
   std::string all;
   for (const std::string& word : words) all += (all.empty() ? "'" : ", '") + word + "'";
   return all;
+}
+
+size_t FirstNonUtf8Byte(std::string_view text) {
+  size_t i = 0;
+  while (i < text.size()) {
+    const auto byte = [&](size_t k) { return static_cast<unsigned char>(text[k]); };
+    const unsigned char lead = byte(i);
+    size_t length = 0;
+    uint32_t code = 0;
+    if (lead < 0x80) {
+      ++i;
+      continue;
+    } else if (lead >= 0xC2 && lead <= 0xDF) {
+      length = 2;
+      code = lead & 0x1F;
+    } else if (lead >= 0xE0 && lead <= 0xEF) {
+      length = 3;
+      code = lead & 0x0F;
+    } else if (lead >= 0xF0 && lead <= 0xF4) {
+      length = 4;
+      code = lead & 0x07;
+    } else {
+      return i;
+    }
+    if (i + length > text.size()) return i;
+    for (size_t k = 1; k < length; ++k) {
+      if ((byte(i + k) & 0xC0) != 0x80) return i;
+      code = (code << 6) | (byte(i + k) & 0x3F);
+    }
+    const uint32_t smallest = length == 3 ? 0x800 : length == 4 ? 0x10000 : 0x80;
+    if (code < smallest || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return i;
+    i += length;
+  }
+  return std::string_view::npos;
+}
+
+void CheckUtf8File(std::string_view text, const std::string& path) {
+  const size_t at = FirstNonUtf8Byte(text);
+  if (at == std::string_view::npos) return;
+  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + at, '\n'));
+  throw InputError(AtPlace(
+      path, line,
+      fmt::format("byte 0x{:02X} is not UTF-8 (a name in Latin-1?) — save the file as UTF-8",
+                  static_cast<unsigned char>(text[at]))));
 }
 
 }  // namespace vantage::detail

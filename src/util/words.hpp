@@ -16,4 +16,13 @@ const std::string* ClosestWord(std::string_view word, const std::vector<std::str
 /// 'a', 'b', 'c'
 std::string JoinQuoted(const std::vector<std::string>& words);
 
+/// Byte offset of the first byte of `text` that is not part of well-formed UTF-8 (RFC 3629: no
+/// overlong forms, surrogates or code points above U+10FFFF); npos when all of it is.
+size_t FirstNonUtf8Byte(std::string_view text);
+
+/// Throws InputError "PATH:LINE: byte 0xE9 is not UTF-8 ..." unless `text`, the contents of the
+/// scene file `path`, is UTF-8 (issue 15: a Latin-1 name reached report.json and ended in a JSON
+/// type_error). Both scene readers check their files with it before parsing.
+void CheckUtf8File(std::string_view text, const std::string& path);
+
 }  // namespace vantage::detail

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "util/words.hpp"
 #include "vantage/error.hpp"
 
 namespace vantage::detail {
@@ -309,7 +310,9 @@ XmlDocument ReadXmlFile(const std::string& path) {
   std::stringstream buffer;
   buffer << in.rdbuf();
   if (in.bad()) throw InputError(AtPlace(path, 0, "cannot read the file"));
-  return ParseXml(buffer.str(), path);
+  const std::string text = buffer.str();
+  CheckUtf8File(text, path);  // names and paths go into report.json, which is UTF-8
+  return ParseXml(text, path);
 }
 
 }  // namespace vantage::detail

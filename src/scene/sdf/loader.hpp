@@ -165,6 +165,8 @@ class Loader {
   // Walk (model_walk.cpp; frames.cpp: FrameInModel; plugin.cpp; populations.cpp).
   void VisitWorldEntity(const Doc& doc, const XmlElement& e);
   void VisitModel(const Doc& doc, const XmlElement& model, const ModelContext& context);
+  /// Records an error and fails `result` when its model is one the walk is inside.
+  void RefuseCycle(const Doc& doc, const XmlElement& include, IncludeResult* result);
   Pose FrameInModel(const std::string& name,
                     std::map<std::string, FrameEntry>& entries,
                     std::map<std::string, Pose>& resolved,
@@ -199,6 +201,8 @@ class Loader {
   std::vector<SensorRecord> sensors_;
   std::vector<std::pair<std::string, bool>> models_;
   std::set<std::string> top_names_;
+  /// The models the walk is inside, outermost first (scoped name, file), to refuse include cycles.
+  std::vector<std::pair<const XmlElement*, std::string>> open_models_;
   std::set<std::string> population_names_;
 
   // Plugin parameters that later steps need.

@@ -5,6 +5,7 @@
 // afterwards (roles.cpp).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <map>
 #include <set>
 #include <string>
@@ -25,6 +26,11 @@ bool IsDepthSensorType(const std::string& type) {
 }  // namespace
 
 void Loader::VisitModel(const Doc& doc, const XmlElement& model, const ModelContext& context) {
+  open_models_.emplace_back(&model, fmt::format("'{}' ({})", context.scoped, doc.xml.path));
+  struct Close {
+    std::vector<std::pair<const XmlElement*, std::string>>& open;
+    ~Close() { open.pop_back(); }
+  } close{open_models_};
   if (context.sink.models) context.sink.models->emplace_back(context.scoped, context.hidden);
   const std::string* own_name = model.Attribute("name");
   const std::string type_name = own_name ? Trim(*own_name) : context.scoped;
@@ -68,6 +74,7 @@ void Loader::VisitModel(const Doc& doc, const XmlElement& model, const ModelCont
                            child.line});
     } else if (child.name == "include") {
       IncludeResult result = ResolveInclude(doc, child);
+      RefuseCycle(doc, child, &result);
       if (result.kind == IncludeResult::Kind::kModel && child.Child("pose") == nullptr) {
         // No include pose: the model's own <pose>, relative to the parent model.
         add_entry(result.name, child,
@@ -161,6 +168,22 @@ void Loader::VisitModel(const Doc& doc, const XmlElement& model, const ModelCont
       }
     }
   }
+}
+
+void Loader::RefuseCycle(const Doc& doc, const XmlElement& include, IncludeResult* result) {
+  if (result->kind != IncludeResult::Kind::kModel) return;
+  const auto open = std::find_if(open_models_.begin(), open_models_.end(),
+                                 [&](const auto& entry) { return entry.first == result->model; });
+  if (open == open_models_.end()) return;
+  // Walking it again would recurse without end (a stack overflow before this check).
+  std::vector<std::string> cycle;
+  for (auto it = open; it != open_models_.end(); ++it) cycle.push_back(it->second);
+  cycle.push_back(open->second);
+  Error(doc, include.line,
+        fmt::format("<include> of '{}' closes an include cycle: {} — remove one of these "
+                    "includes",
+                    result->name, Join(cycle, " includes ")));
+  result->kind = IncludeResult::Kind::kFailed;
 }
 
 void Loader::VisitWorldEntity(const Doc& doc, const XmlElement& e) {
