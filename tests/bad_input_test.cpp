@@ -464,7 +464,7 @@ TEST_F(BadInput, ExtremeValues) {
       {"vis_far_range", "select " + vis_range, vis_range + ": " + candidate, "far = 1e+25 m"},
   });
   // render's viewpoint (render writes a PNG, not --out).
-  for (const char* option : {"--eye 1e308 0 0", "--look-at 0 1e19 0"}) {
+  for (const std::string option : {"--eye 1e308 0 0", "--look-at 0 1e19 0"}) {
     SCOPED_TRACE(option);
     const auto run = RunVantage("render " + dir_.File("o") + " " + option + " --png " +
                                 dir_.File("view.png"));
