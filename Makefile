@@ -5,22 +5,37 @@ JOBS ?= 2
 EXAMPLE ?= examples/scenes/bin_picking_cell.yaml
 OUT ?= out/example
 
-.PHONY: deps build run test bench paper clean
+PREFIX ?= /usr/local
+
+.PHONY: deps build tool run test sanitize install bench paper clean
 
 deps:
 	bash scripts/install-deps.sh
 
+# Everything: the library, the tool, the tests and the benchmarks (the compiler's output goes to
+# $(BUILD)/build.log; warnings and the time taken are printed).
 build: deps
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
-	cmake --build $(BUILD) -j$(JOBS)
+	@BUILD=$(BUILD) JOBS=$(JOBS) bash scripts/build.sh
 
-run: build
-	BUILD=$(BUILD) EXAMPLE=$(EXAMPLE) OUT=$(OUT) bash scripts/run_example.sh
+# Only the tool: the newcomer's first run does not wait for the test binaries.
+tool: deps
+	@BUILD=$(BUILD) JOBS=$(JOBS) bash scripts/build.sh vantage
 
-# The whole suite, then the same suite built with ASan + UBSan (scripts/sanitize.sh, build-asan/).
+run: tool
+	@BUILD=$(BUILD) EXAMPLE=$(EXAMPLE) OUT=$(OUT) bash scripts/run_example.sh
+
+# The whole suite, then the suites of hostile input again under ASan + UBSan (scripts/sanitize.sh,
+# build-asan/; `make sanitize` runs every suite there).
 test: build
-	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
-	JOBS=$(JOBS) bash scripts/sanitize.sh
+	@start=$$(date +%s); cd $(BUILD) && ctest --output-on-failure -j$(JOBS); \
+	  echo "tests: done in $$(( $$(date +%s) - start )) s"
+	@SCOPE=hostile JOBS=$(JOBS) bash scripts/sanitize.sh
+
+sanitize: deps
+	@JOBS=$(JOBS) bash scripts/sanitize.sh
+
+install: tool
+	cmake --install $(BUILD) --prefix $(PREFIX)
 
 bench: build
 	bash scripts/bench_e2e.sh

@@ -498,6 +498,12 @@ TEST_F(BadInput, CommandLineOptions) {
        "--cell-size:", "cell_size = -1 must be a positive length"},
       {"nan_cell_size", "optimize " + scene + " --cell-size nan",
        "--cell-size:", "cell_size = nan"},
+      // Found in issue 15: 1e308 put cell centres of ±inf into reference.ply.
+      {"huge_cell_size", "optimize " + scene + " --cell-size 1e308", "--cell-size:",
+       "cell_size = 1e+308 m is larger than the world vantage ray casts (at most 1e+09 m)"},
+      {"huge_cell_size_in_file",
+       "optimize " + Write("huge_cell.yaml", CubeCellWith("cell_size: 0.01", "cell_size: 1e300")),
+       "huge_cell.yaml:4:", "settings.cell_size = 1e+300 m is larger than the world"},
       {"tiny_cell_size", "optimize " + boxes + " --cell-size 1e-300", boxes + ": targets reach",
        "a cell size of 1e-300 m can index"},
       // The same error as cube_cell.yaml with `cell_size: 1e-300` gives (before the fix the
@@ -520,6 +526,9 @@ TEST_F(BadInput, CommandLineOptions) {
        "not in range"},
       {"word_seed", "optimize " + scene + " --seed abc", "--seed", "abc"},
       {"negative_seed", "optimize " + scene + " --seed -1", "--seed:", "-1 is negative"},
+      // 2^64: one more than a seed can hold (CLI11 clamped it to 2^64 - 1).
+      {"seed_beyond_64_bits", "optimize " + scene + " --seed 18446744073709551616", "--seed:",
+       "18446744073709551616 is too large — give a whole number from 0 to 18446744073709551615"},
       {"negative_max_memory", "optimize " + scene + " --max-memory -5",
        "--max-memory:", "-5 is not a positive number of MiB"},
       {"zero_max_memory", "optimize " + scene + " --max-memory 0",
@@ -547,7 +556,20 @@ TEST_F(BadInput, CommandLineOptions) {
       {"huge_alternatives_within", "optimize " + scene + " --alternatives-within 500", "--alternatives-within",
        "not in range"},
       {"zero_refine_rounds", "optimize " + scene + " --refine --refine-rounds 0", "--refine-rounds", "not in range"},
-      {"unknown_option", "optimize " + scene + " --frobnicate", "--frobnicate", "not expected"},
+      {"unknown_option", "optimize " + scene + " --frobnicate", "unknown option '--frobnicate'",
+       "`vantage help optimize` lists the options"},
+      // Typos name the word and the nearest option (issue 16: CLI11 said "The following arguments
+      // were not expected: greedy --methd", and "unknown command '2'" for a misspelt --threads).
+      {"misspelt_option", "optimize " + scene + " --methd greedy", "unknown option '--methd'",
+       "did you mean '--method'?"},
+      {"misspelt_option_with_value", "optimize " + scene + " --metod=greedy",
+       "unknown option '--metod'", "did you mean '--method'?"},
+      {"misspelt_global_option", "--threds 2 optimize " + scene, "unknown option '--threds'",
+       "did you mean '--threads'?"},
+      {"misspelt_command", "optimise " + scene, "unknown command 'optimise'",
+       "did you mean 'optimize'?"},
+      {"extra_positional", "optimize " + scene + " " + scene, "unexpected argument",
+       "`vantage help optimize` shows what it takes"},
       {"observation_point_beyond_range", "optimize " + scene + " --observation-point 1e300 0 0",
        "--observation-point:", "beyond the ±1e+09 m that vantage can ray cast"},
   });
@@ -873,6 +895,78 @@ TEST_F(BadInput, InterruptWhileWritingOutputs) {
     EXPECT_TRUE(EndedBy(status, signal)) << "status " << status;
     ExpectOutputsUntouched();
   }
+}
+
+// A matrix on which exact cannot prove the optimum quickly: 240 candidates, each seeing a
+// pseudo-random fifth of 6000 cells (the same file every run), copied from one real candidate.
+std::string HardVisibilityFile(const test::TempDir& dir, const std::string& seed_vis) {
+  const VisibilityFile seed = LoadVisibilityFile(seed_vis);
+  VisibilityFile hard = seed;
+  constexpr uint32_t kCells = 6000, kCandidates = 240;
+  hard.reference.keys.clear();
+  for (uint64_t key = 0; key < kCells; ++key) hard.reference.keys.push_back(key);
+  hard.candidates.clear();
+  hard.observations.clear();
+  uint64_t state = 12345;
+  for (uint32_t i = 0; i < kCandidates; ++i) {
+    Candidate candidate = seed.candidates.front();
+    candidate.name = "hard_" + std::to_string(i);
+    hard.candidates.push_back(candidate);
+    Observation o;
+    for (uint32_t cell = 0; cell < kCells; ++cell) {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;  // Knuth's MMIX LCG
+      if ((state >> 33) % 5 == 0) o.reference_indices.push_back(cell);
+    }
+    o.rays_traced = o.target_pixels = o.quality_pixels = o.reference_indices.size();
+    hard.observations.push_back(std::move(o));
+  }
+  const std::string path = dir.File("hard.vis");
+  SaveVisibilityFile(path, hard);
+  return path;
+}
+
+// Issue 16: Ctrl-C during `exact` was ignored for 54 s (CBC's own SIGINT handler swallowed it)
+// and the results were written. Now any stage stops within a second: exit 130, "interrupted",
+// the earlier outputs as they were. SIGTERM too (exit 143).
+TEST_F(BadInput, InterruptDuringExactStopsWithinASecond) {
+  const std::string good = dir_.File("seed.vis");
+  ASSERT_EQ(RunVantage("observe " + CubeCell() + " --out " + good).exit_code, 0);
+  const std::string hard = HardVisibilityFile(dir_, good);
+  for (const int signal : {SIGINT, SIGTERM}) {
+    SCOPED_TRACE(signal == SIGINT ? "SIGINT" : "SIGTERM");
+    const auto start = std::chrono::steady_clock::now();
+    const auto since_start = [&] { return std::chrono::steady_clock::now() - start; };
+    const int status =
+        Interrupt({"select", hard, "-n", "8", "--method", "exact", "--time-limit", "120", "--out",
+                   out_},
+                  {}, signal, [&] { return since_start() > std::chrono::milliseconds(1500); });
+    EXPECT_LT(since_start(), std::chrono::milliseconds(2500)) << "it went on after the signal";
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 128 + signal) << "status " << status;
+    ExpectOutputsUntouched();
+  }
+}
+
+// Issue 14: CBC overran its time limit (60 s gave 67.6 s): its root LP does not look at the
+// clock. It now runs in a child process that is stopped at the limit, so the whole method ends
+// within it (plus the write), with a proven bound from the fallback.
+TEST_F(BadInput, ExactKeepsItsTimeLimit) {
+  const std::string good = dir_.File("seed.vis");
+  ASSERT_EQ(RunVantage("observe " + CubeCell() + " --out " + good).exit_code, 0);
+  const std::string hard = HardVisibilityFile(dir_, good);
+  const auto start = std::chrono::steady_clock::now();
+  // 8 s lets CBC take the model (288 k nonzeros; fewer seconds refuse it from the start).
+  const auto run = RunVantage("select " + hard + " -n 8 --method exact --time-limit 8 --out " +
+                              dir_.File("limited"));
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_LT(seconds, 9.5) << run.out;
+  const nlohmann::json report = nlohmann::json::parse(ReadText(dir_.File("limited/report.json")));
+  const nlohmann::json& result = report["results"][0];
+  EXPECT_EQ(result["method"], "exact");
+  EXPECT_FALSE(result["optimal"].get<bool>()) << result.dump();
+  EXPECT_GE(result["upper_bound"].get<double>(), result["coverage"].get<double>());
+  EXPECT_EQ(result.dump().find("secondary status"), std::string::npos) << result.dump();
 }
 
 }  // namespace

@@ -4,11 +4,15 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
+#include <iterator>
 #include <nlohmann/json.hpp>
-#include <regex>
+#include <sstream>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "test_util.hpp"
 
@@ -225,15 +229,33 @@ TEST(ObjectivesCli, AllPrintsTheCoverageByNTable) {
   const auto run = RunVantage("optimize " + Scene() + " -n 3 --out " + dir.File("o"));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("coverage by n (%)"), std::string::npos) << run.out;
-  EXPECT_TRUE(std::regex_search(
-      run.out, std::regex(R"(\n\s+n\s+best\s+ransac\s+greedy\s+local\s+exact\s+bound\n)")))
-      << run.out;
-  // One row per n, each ending in the bound.
+  // The header row, then one row per n: n, five percentages (or "-") and the bound.
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream lines(run.out);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream words(line);
+    rows.emplace_back(std::istream_iterator<std::string>(words), std::istream_iterator<std::string>());
+  }
+  const std::vector<std::string> header = {"n", "best", "ransac", "greedy", "local", "exact", "bound"};
+  const auto at = std::find(rows.begin(), rows.end(), header);
+  ASSERT_NE(at, rows.end()) << run.out;
+  // "47.30": digits, a point and two decimals.
+  const auto is_percent = [](std::string word) {
+    const size_t point = word.find('.');
+    return point != std::string::npos && point > 0 && word.size() == point + 3 &&
+           std::all_of(word.begin(), word.end(),
+                       [](char c) { return c == '.' || std::isdigit(static_cast<unsigned char>(c)); });
+  };
   for (int n = 1; n <= 3; ++n) {
-    EXPECT_TRUE(std::regex_search(run.out, std::regex("\\n\\s+" + std::to_string(n) +
-                                                      R"((\s+(\d+\.\d\d|-)){5}\s+\d+\.\d\d\*?\n)")))
-        << n << "\n"
-        << run.out;
+    ASSERT_LT(at + n, rows.end()) << run.out;
+    const std::vector<std::string>& row = at[n];
+    ASSERT_EQ(row.size(), 7u) << n << "\n" << run.out;
+    EXPECT_EQ(row[0], std::to_string(n));
+    for (size_t column = 1; column <= 5; ++column)
+      EXPECT_TRUE(row[column] == "-" || is_percent(row[column])) << row[column];
+    std::string bound = row[6];
+    if (!bound.empty() && bound.back() == '*') bound.pop_back();
+    EXPECT_TRUE(is_percent(bound)) << row[6];
   }
 }
 

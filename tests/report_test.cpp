@@ -6,7 +6,6 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <regex>
 
 #include "test_util.hpp"
 #include "vantage/error.hpp"
@@ -224,16 +223,23 @@ TEST(Report, PlyHeaderAndBinaryBodyMatchTheVoxelCentres) {
   EXPECT_FLOAT_EQ(xyz[5], 2.75f);
 }
 
-TEST(Report, WriteOutputsReplacesAPreviousRunAndRefusesForeignFolders) {
+TEST(Report, WriteOutputsReplacesAPreviousRunKeepsTheUsersFilesAndRefusesForeignFolders) {
   test::TempDir dir;
   const VisibilityFile data = SmallData();
   const std::string out = dir.File("out");
-  WriteOutputs(out, SmallReport(data));
+  WriteOutputs(out, SmallReport(data), {{"constellation.yaml", "from the first run"}});
   for (const char* name : {"report.json", "candidates.csv", "reference.ply", "observed.ply"})
     EXPECT_TRUE(std::filesystem::exists(out + "/" + name)) << name;
-  test::WriteText(out + "/stale.txt", "old");
+  // The user's notes and a folder of theirs survive a rerun; an output of the first run that the
+  // second does not write goes, so that the folder describes one run only.
+  test::WriteText(out + "/notes.txt", "mine");
+  test::WriteText(out + "/photos/cell.jpg", "jpeg");
+  test::WriteText(out + "/report.json", "stale");
   WriteOutputs(out, SmallReport(data));
-  EXPECT_FALSE(std::filesystem::exists(out + "/stale.txt"));
+  EXPECT_EQ(test::ReadText(out + "/notes.txt"), "mine");
+  EXPECT_EQ(test::ReadText(out + "/photos/cell.jpg"), "jpeg");
+  EXPECT_NE(test::ReadText(out + "/report.json"), "stale");
+  EXPECT_FALSE(std::filesystem::exists(out + "/constellation.yaml"));
   // A non-empty folder that vantage did not write is never replaced.
   test::WriteText(dir.File("home/notes.txt"), "precious");
   EXPECT_THROW(WriteOutputs(dir.File("home"), SmallReport(data)), InputError);
@@ -260,6 +266,11 @@ TEST(Report, BadConstellationsNameTheFile) {
       {"nearfar.json", R"({"candidates":[{"name":"a","position":[0,0,0],"quaternion":[1,0,0,0],"width":10,"height":10,"fx":1,"fy":1,"cx":5,"cy":5,"near":2,"far":1}]})"},
       {"unknown.json", R"({"candidates":[{"name":"a","position":[0,0,0],"quaternion":[1,0,0,0],"width":10,"height":10,"fx":1,"fy":1,"cx":5,"cy":5,"near":0.1,"far":1}],"results":[{"sensors":["zzz"]}]})"},
       {"zeroq.json", R"({"candidates":[{"name":"a","position":[0,0,0],"quaternion":[0,0,0,0],"width":10,"height":10,"fx":1,"fy":1,"cx":5,"cy":5,"near":0.1,"far":1}]})"},
+      // Issue 15: [1e300, 1e300, 0, 0] overflowed the norm and normalised to zero; it is a
+      // rotation of 90 degrees about x, so a candidate with it is accepted (below); these are not.
+      {"nanq.json", R"({"candidates":[{"name":"a","position":[0,0,0],"quaternion":[1,0,0,1e400],"width":10,"height":10,"fx":1,"fy":1,"cx":5,"cy":5,"near":0.1,"far":1}]})"},
+      {"primary.json", R"({"candidates":[{"name":"a","position":[0,0,0],"quaternion":[1,0,0,0],"width":10,"height":10,"fx":1,"fy":1,"cx":5,"cy":5,"near":0.1,"far":1}],"results":[{"sensors":["a"]}],"primary_result":3})"},
+      {"twice.json", R"({"candidates":[{"name":"a","position":[0,0,0],"quaternion":[1,0,0,0],"width":10,"height":10,"fx":1,"fy":1,"cx":5,"cy":5,"near":0.1,"far":1}],"results":[{"sensors":["a","a"]}]})"},
   };
   for (const auto& [name, text] : cases) {
     test::WriteText(dir.File(name), text);
@@ -270,6 +281,12 @@ TEST(Report, BadConstellationsNameTheFile) {
       EXPECT_EQ(std::string(e.what()).rfind(dir.File(name) + ":", 0), 0u) << e.what();
     }
   }
+  // [1e300, 1e300, 0, 0] is w = x: a turn of 90 degrees about x, which maps y onto z.
+  test::WriteText(dir.File("hugeq.json"), R"({"candidates":[{"name":"a","position":[0,0,0],"quaternion":[1e300,1e300,0,0],"width":10,"height":10,"fx":1,"fy":1,"cx":5,"cy":5,"near":0.1,"far":1}]})");
+  const Constellation huge = LoadConstellation(dir.File("hugeq.json"));
+  ASSERT_EQ(huge.sensors.size(), 1u);
+  const Vec3 y_turned = huge.sensors[0].world_from_body.rotation * Vec3::UnitY();
+  EXPECT_NEAR((y_turned - Vec3::UnitZ()).norm(), 0.0, 1e-12) << y_turned.transpose();
   // The syntax error is on line 3.
   try {
     LoadConstellation(dir.File("syntax.json"));

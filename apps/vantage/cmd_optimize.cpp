@@ -33,7 +33,8 @@ void SetupOptimize(CLI::App* parent) {
   AddObserveFlags(app, &flags->options.observe, &flags->options.limits);
   AddSelectionFlags(app, &flags->options.selection);
   AddRobustnessFlags(app, &flags->options.robustness);
-  app->add_option("-o,--out", flags->out, "output folder (replaced atomically)")
+  app->add_option("-o,--out", flags->out, "output folder, default ./vantage_out (vantage's files in it are replaced "
+                  "atomically; your own files there are kept)")
       ->check(OutPathValidator())
       ->capture_default_str();
   app->add_flag("--refine", flags->refine,

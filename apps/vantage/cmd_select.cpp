@@ -32,7 +32,8 @@ void SetupSelect(CLI::App* parent) {
   AddRobustnessFlags(app, &flags->options.robustness);
   app->add_option("--seed", flags->options.seed,
                   "random seed (default: the one stored in the file)");
-  app->add_option("-o,--out", flags->out, "output folder (replaced atomically)")
+  app->add_option("-o,--out", flags->out, "output folder, default ./vantage_out (vantage's files in it are replaced "
+                  "atomically; your own files there are kept)")
       ->check(OutPathValidator())
       ->capture_default_str();
   app->callback([flags] { RunSelect(*flags); });

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -19,8 +20,20 @@ namespace {
 // --seed: CLI11 reads "-1" into an unsigned as 2^64 - 1; refuse a sign instead.
 std::string NonNegativeWholeNumber(std::string& text) {
   const size_t first = text.find_first_not_of(" \t");
+  const size_t last = text.find_last_not_of(" \t");
   if (first != std::string::npos && text[first] == '-')
     return fmt::format("{} is negative — give a whole number from 0 to {}", text,
+                       std::numeric_limits<uint64_t>::max());
+  // CLI11 clamps 18446744073709551616 to 2^64 - 1 (issue 15): parse it here, exactly.
+  uint64_t value = 0;
+  const char* begin = text.data() + (first == std::string::npos ? 0 : first);
+  const char* end = text.data() + (last == std::string::npos ? 0 : last + 1);
+  const auto [stop, error] = std::from_chars(begin, end, value);
+  if (error == std::errc::result_out_of_range)
+    return fmt::format("{} is too large — give a whole number from 0 to {}", text,
+                       std::numeric_limits<uint64_t>::max());
+  if (error != std::errc() || stop != end)
+    return fmt::format("{} is not a whole number — give one from 0 to {}", text,
                        std::numeric_limits<uint64_t>::max());
   return {};
 }
@@ -136,7 +149,9 @@ void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {
   AddEnumOption<Method>(app, "--method", &request->method,
                         {Method::kBest, Method::kRansac, Method::kGreedy, Method::kLocal,
                          Method::kExact, Method::kAll},
-                        MethodName, ParseMethod, "best | ransac | greedy | local | exact | all");
+                        MethodName, ParseMethod,
+                        "best | ransac | greedy | local | exact | all (default: the scene's, "
+                        "else all: every method, compared)");
   app->add_option("--iterations", request->ransac_iterations,
                   "RANSAC iteration cap (default: the scene's)");
   app->add_option("--stop", request->ransac_stop_coverage,

@@ -8,19 +8,75 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
+#include "vantage/interrupt.hpp"
+#include "vantage/words.hpp"
 
 namespace {
 
+// The long and short names of the options of `app` (a command) and of the top level.
+std::vector<std::string> OptionNames(const CLI::App& app) {
+  std::vector<std::string> names;
+  for (const CLI::App* level = &app; level != nullptr; level = level->get_parent())
+    for (const CLI::Option* option : level->get_options()) {
+      for (const std::string& name : option->get_lnames()) names.push_back("--" + name);
+      for (const std::string& name : option->get_snames()) names.push_back("-" + name);
+    }
+  return names;
+}
+
+// What CLI11 says of a word it does not know ("The following arguments were not expected: greedy
+// --methd", or "unknown command '2'" for `--threds 2 optimize`) names neither the word nor the fix:
+// name the first unknown word of the command line — an option with the closest known one, a
+// command, or an argument too many. Empty when the error is of another kind.
+std::optional<std::string> UnknownWordMessage(const CLI::App& app,
+                                              const std::vector<std::string>& commands,
+                                              const std::vector<std::string>& command_line) {
+  const std::vector<CLI::App*> chosen = app.get_subcommands();
+  const CLI::App& command = chosen.empty() ? app : *chosen.front();
+  std::vector<std::string> rest = command.remaining();
+  if (!chosen.empty()) {
+    const std::vector<std::string> top = app.remaining();
+    rest.insert(rest.end(), top.begin(), top.end());
+  }
+  // CLI11 lists them in no useful order: the first on the command line is the one to name.
+  const auto first = std::find_if(command_line.begin(), command_line.end(), [&](const std::string& a) {
+    return std::find(rest.begin(), rest.end(), a) != rest.end();
+  });
+  if (first == command_line.end()) return std::nullopt;
+  const std::string& word = *first;
+  const std::string where = chosen.empty() ? "" : fmt::format(" of `{}`", command.get_name());
+  const std::string help = chosen.empty() ? "`vantage --help`"
+                                           : fmt::format("`vantage help {}`", command.get_name());
+  if (word.size() >= 2 && word[0] == '-') {
+    const std::string flag = word.substr(0, word.find('='));
+    const std::vector<std::string> names = OptionNames(command);
+    if (const std::string* best = vantage::ClosestWord(flag, names))
+      return fmt::format("unknown option '{}'{} — did you mean '{}'? ({} lists them)", flag, where,
+                         *best, help);
+    return fmt::format("unknown option '{}'{} — {} lists the options", flag, where, help);
+  }
+  if (chosen.empty()) {
+    const std::string* best = vantage::ClosestWord(word, commands);
+    return fmt::format("unknown command '{}' — {}use one of {} (`vantage --help` describes them)",
+                       word, best ? fmt::format("did you mean '{}'? ", *best) : "",
+                       fmt::join(commands, ", "));
+  }
+  return fmt::format("unexpected argument '{}'{} — {} shows what it takes", word, where, help);
+}
+
 int Run(int argc, char** argv, spdlog::logger* logger) {
   CLI::App app{"vantage — choose where to put depth cameras to see the most of the targets.\n"
-               "Run `vantage help COMMAND` for the options of a command."};
+               "Run `vantage help COMMAND` for the options of a command.",
+               "vantage"};
   app.require_subcommand(1);
   app.set_version_flag("--version", vantage::Version());
   int threads = 0;
@@ -67,13 +123,11 @@ int Run(int argc, char** argv, spdlog::logger* logger) {
   try {
     app.parse(args);
   } catch (const CLI::ParseError& e) {
-    // A first word that names no command: CLI11 would only say "A subcommand is required".
-    const std::vector<std::string> rest = app.remaining();
-    if (app.get_subcommands().empty() && !rest.empty() && !rest.front().empty() &&
-        rest.front()[0] != '-' && e.get_exit_code() != 0)
-      throw vantage::InputError(
-          fmt::format("unknown command '{}' — use one of {} (`vantage --help` describes them)",
-                      rest.front(), fmt::join(commands, ", ")));
+    if (e.get_exit_code() != 0) {
+      std::vector<std::string> command_line(argv + 1, argv + argc);
+      if (auto message = UnknownWordMessage(app, commands, command_line))
+        throw vantage::InputError(*message);
+    }
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
   }
@@ -96,8 +150,14 @@ int main(int argc, char** argv) {
   logger->set_pattern("[%l] %v");
   spdlog::set_default_logger(logger);
   int code = 0;
+  // Ctrl-C and SIGTERM stop the running stage within a fraction of a second (it throws
+  // Interrupted); nothing is written after that, so the earlier outputs stay as they were.
+  const vantage::InterruptOnSignals interrupts;
   try {
     code = Run(argc, argv, logger.get());
+  } catch (const vantage::Interrupted& e) {
+    logger->error("{} — stopped; nothing was written, earlier outputs are as they were", e.what());
+    return 128 + (e.signal() != 0 ? e.signal() : SIGINT);  // as a shell reports a signal
   } catch (const vantage::InputError& e) {
     logger->error("{}", e.what());
     return 2;

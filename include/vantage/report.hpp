@@ -3,6 +3,7 @@
 /// reference.ply, observed.ply; written into a temporary folder and renamed into place.
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -140,8 +141,13 @@ std::vector<uint64_t> ObservedKeys(const VisibilityFile& data, const std::vector
 /// file name. Requires a derived report.
 std::map<std::string, std::string> ReportFiles(const Report& report);
 
+/// Every file name a vantage command may write into a run folder. A rerun into the same folder
+/// replaces or drops these; any other file there is the user's and is kept.
+const std::set<std::string>& RunFolderFileNames();
+
 /// Writes every output into `out_dir` atomically: a temporary sibling folder, renamed over the
-/// old one only once complete. `extra_files` (name -> content) are written beside the others.
+/// old one only once complete (the user's own files in it are kept, see RunFolderFileNames).
+/// `extra_files` (name -> content) are written beside the others.
 void WriteOutputs(const std::string& out_dir, const Report& report,
                   const std::map<std::string, std::string>& extra_files = {});
 

@@ -19,6 +19,7 @@
 
 #include "vantage/error.hpp"
 #include "vantage/rng.hpp"
+#include "vantage/interrupt.hpp"
 
 namespace vantage {
 namespace {
@@ -287,6 +288,7 @@ RefineResult Refine(const RayScene& rays,
   double turn = options.turn_deg * std::numbers::pi / 180.0;
   int halvings = 0;
   for (int round = 1; round <= options.max_rounds; ++round) {
+    ThrowIfInterrupted();
     // Where the constellation is still blind: all of it, and per sensor what lies within range.
     const std::vector<uint32_t> unobserved =
         Unobserved(observations, current.chosen, reference.size(), k);

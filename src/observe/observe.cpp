@@ -12,6 +12,7 @@
 #include "observe/culling.hpp"
 #include "vantage/ray_scene.hpp"
 #include "vantage/error.hpp"
+#include "vantage/interrupt.hpp"
 
 namespace vantage {
 namespace {
@@ -117,10 +118,12 @@ std::vector<Observation> Observe(const RayScene& rays, const Reference& referenc
   // Candidates are independent; each fills its own slot, so the result does not depend on the
   // thread count or the order of completion.
   tbb::parallel_for(size_t{0}, candidates.size(), [&](size_t i) {
+    if (InterruptRequested()) return;  // the rest is skipped; thrown once the loop is left
     observations[i] = ObserveOne(rays, reference, candidates[i], blocks, options);
     const size_t finished = ++done;
     if (options.progress) options.progress(finished, candidates.size());
   });
+  ThrowIfInterrupted();
   return observations;
 }
 

@@ -67,7 +67,9 @@ void FinishRun(const Scene& scene, std::map<std::string, std::string> extra, Run
 
 void WriteRun(const std::string& out_dir, const RunResult& result) {
   VANTAGE_CHECK(!result.files.empty());
-  detail::WriteFolderAtomically(out_dir, result.files);
+  // A name missing from RunFolderFileNames would survive a later run that does not write it.
+  for (const auto& [name, content] : result.files) VANTAGE_CHECK(RunFolderFileNames().count(name));
+  detail::WriteFolderAtomically(out_dir, result.files, RunFolderFileNames());
 }
 
 }  // namespace vantage

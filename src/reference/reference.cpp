@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "util/cell_size.hpp"
 #include "vantage/error.hpp"
 
 namespace vantage {
@@ -113,9 +114,8 @@ void VisitBlock(const Vec3 (&tri)[3], const Cell& lo, const Cell& hi, std::vecto
 }  // namespace
 
 void ReferenceOptions::Validate() const {
-  if (!std::isfinite(cell_size) || cell_size <= 0)
-    throw InputError(fmt::format("cell_size = {} must be a positive length in metres (e.g. 0.005)",
-                                 cell_size));
+  if (const std::string problem = detail::CellSizeProblem(cell_size); !problem.empty())
+    throw InputError(problem);
 }
 
 int64_t Reference::IndexOf(uint64_t key) const {

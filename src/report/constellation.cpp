@@ -114,16 +114,30 @@ Constellation LoadConstellation(const std::string& path) {
   } else {
     // The primary result when the report names one, else the first entry.
     size_t which = 0;
-    if (j.contains("primary_result") && j["primary_result"].is_number_unsigned() &&
-        j["primary_result"].get<size_t>() < j["results"].size())
-      which = j["primary_result"].get<size_t>();
+    if (j.contains("primary_result") && !j["primary_result"].is_null()) {
+      // An index that names no result is an error, not result 0 (issue 15).
+      const json& primary = j["primary_result"];
+      if (!primary.is_number_unsigned() || primary.get<size_t>() >= j["results"].size())
+        throw InputError(AtPlace(
+            path, 0,
+            fmt::format("primary_result {} names no result — give an index from 0 to {} (there "
+                        "are {} results)",
+                        primary.dump(), j["results"].size() - 1, j["results"].size())));
+      which = primary.get<size_t>();
+    }
     const json& result = j["results"][which];
     if (result.is_object() && result.contains("coverage") && result["coverage"].is_number())
       constellation.coverage = result["coverage"].get<double>();
     if (!result.is_object() || !result.contains("sensors") || !result["sensors"].is_array())
       throw InputError(AtPlace(path, 0, fmt::format("results[{}]: 'sensors' must be an array of names", which)));
+    std::set<std::string> chosen;
     for (const json& name : result["sensors"]) {
       if (!name.is_string()) throw InputError(AtPlace(path, 0, "results: sensor names must be strings"));
+      // One sensor named twice would be scored as two (issue 15).
+      if (!chosen.insert(name.get<std::string>()).second)
+        throw InputError(AtPlace(path, 0, fmt::format("results[{}] names sensor '{}' twice — list "
+                                                      "each chosen sensor once",
+                                                      which, name.get<std::string>())));
       const auto it = std::find_if(all.begin(), all.end(),
                                    [&](const Candidate& c) { return c.name == name.get<std::string>(); });
       if (it == all.end())

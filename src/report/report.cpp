@@ -318,11 +318,19 @@ std::map<std::string, std::string> ReportFiles(const Report& report) {
   return files;
 }
 
+const std::set<std::string>& RunFolderFileNames() {
+  static const std::set<std::string> names = {
+      "report.json",         "report.html",   "candidates.csv",      "reference.ply",
+      "observed.ply",        "view.png",      "constellation.world", "constellation.yaml",
+      "static_transforms.yaml"};
+  return names;
+}
+
 void WriteOutputs(const std::string& out_dir, const Report& report,
                   const std::map<std::string, std::string>& extra_files) {
   std::map<std::string, std::string> files = ReportFiles(report);
   files.insert(extra_files.begin(), extra_files.end());
-  detail::WriteFolderAtomically(out_dir, files);
+  detail::WriteFolderAtomically(out_dir, files, RunFolderFileNames());
 }
 
 }  // namespace vantage

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "util/cell_size.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
 
@@ -44,12 +45,9 @@ std::string LowerExtension(const std::string& path) {
 void LoadOptions::Validate() const {
   // Worded as ReferenceOptions::Validate words it (the scene layer cannot call the reference
   // stage above it), placed at the option.
-  if (cell_size && (!std::isfinite(*cell_size) || *cell_size <= 0)) {
-    throw InputError(
-        AtPlace("--cell-size", 0,
-                fmt::format("cell_size = {} must be a positive length in metres (e.g. 0.005)",
-                            *cell_size)));
-  }
+  if (!cell_size) return;
+  if (const std::string problem = detail::CellSizeProblem(*cell_size); !problem.empty())
+    throw InputError(AtPlace("--cell-size", 0, problem));
 }
 
 Problem LoadProblem(const std::string& path, const LoadOptions& options) {

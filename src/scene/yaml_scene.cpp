@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "util/cell_size.hpp"
 #include "util/words.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
@@ -40,6 +41,20 @@ constexpr double kDegree = kPi / 180.0;
 std::string Suggest(std::string_view word, const std::vector<std::string>& valid) {
   if (const std::string* best = detail::ClosestWord(word, valid)) return fmt::format("did you mean '{}'?", *best);
   return "valid: " + detail::JoinQuoted(valid);
+}
+
+/// The id nearest to a mistyped one: the shortest id that contains it (`d435` ->
+/// `intel_realsense_d435`), else the one the fewest edits away. Ids are long, so ClosestWord's
+/// tolerance of a third of the length would often suggest nothing.
+const std::string& NearestId(const std::string& word, const std::vector<std::string>& ids) {
+  const std::string* containing = nullptr;
+  const std::string* closest = &ids.front();
+  for (const std::string& id : ids) {
+    if (id.find(word) != std::string::npos && (!containing || id.size() < containing->size()))
+      containing = &id;
+    if (EditDistance(word, id) < EditDistance(word, *closest)) closest = &id;
+  }
+  return containing ? *containing : *closest;
 }
 
 int LineOf(const YAML::Node& node) {
@@ -194,6 +209,7 @@ class SceneReader {
                                 const std::string& what);
   void ReadObjects(const Value& input);
   std::optional<SceneObject> ReadObject(const Value& input);
+  bool PlaceOn(const Value& input, const std::string& what, TriangleMesh* mesh);
   std::optional<TriangleMesh> ReadShape(const Fields& fields, const std::string& what);
   std::optional<TriangleMesh> ReadPrimitive(const std::string& shape,
                                             const Value& input,
@@ -218,6 +234,7 @@ class SceneReader {
   size_t ErrorCount() const { return reporter_.count(); }
 
   fs::path folder_;
+  bool observation_point_given_ = false;  // settings.observation_point, else the targets' centre
   const LoadOptions& options_;
   Reporter reporter_;
   Problem* problem_;
@@ -345,20 +362,23 @@ std::optional<Vec3> SceneReader::Vector(const Value& input, const std::string& w
   return Vec3((*numbers)[0], (*numbers)[1], (*numbers)[2]);
 }
 
-/// `rpy: [roll, pitch, yaw]` (R = Rz·Ry·Rx, as SDF) or `quaternion: [w, x, y, z]`; identity when
-/// neither is given.
+/// `rpy: [roll, pitch, yaw]` in radians (R = Rz·Ry·Rx, as SDF), `rpy_deg:` the same in degrees,
+/// or `quaternion: [w, x, y, z]`; identity when none is given.
 std::optional<Quat> SceneReader::Rotation(const Fields& fields, const std::string& what) {
-  const auto rpy = fields.Get("rpy");
+  const auto radians = fields.Get("rpy");
+  const auto degrees = fields.Get("rpy_deg");
   const auto quaternion = fields.Get("quaternion");
-  if (rpy && quaternion) {
-    Error(quaternion->line,
-          fmt::format("{}: both rpy and quaternion are given — keep one of them", what));
+  if ((radians ? 1 : 0) + (degrees ? 1 : 0) + (quaternion ? 1 : 0) > 1) {
+    Error(fields.line(), fmt::format("{}: give one of rpy, rpy_deg and quaternion — they all set "
+                                     "the rotation",
+                                     what));
     return std::nullopt;
   }
-  if (rpy) {
-    const auto v = Vector(*rpy, what + ".rpy");
+  if (radians || degrees) {
+    const auto v = Vector(radians ? *radians : *degrees, what + (radians ? ".rpy" : ".rpy_deg"));
     if (!v) return std::nullopt;
-    return Quat(RotationFromRpy(v->x(), v->y(), v->z())).normalized();
+    const Vec3 rpy = radians ? *v : Vec3(*v * kDegree);
+    return Quat(RotationFromRpy(rpy.x(), rpy.y(), rpy.z())).normalized();
   }
   if (quaternion) {
     const auto q = Numbers(*quaternion, 4, what + ".quaternion");
@@ -375,7 +395,7 @@ std::optional<Quat> SceneReader::Rotation(const Fields& fields, const std::strin
 }
 
 std::optional<Pose> SceneReader::PoseOf(const Value& input, const std::string& what) {
-  const Fields fields(input, what, {"xyz", "rpy", "quaternion"}, &reporter_);
+  const Fields fields(input, what, {"xyz", "rpy", "rpy_deg", "quaternion"}, &reporter_);
   Pose pose;
   bool ok = true;
   if (const auto xyz = fields.Get("xyz")) {
@@ -427,7 +447,13 @@ void SceneReader::ReadSettings(const Value& input) {
                       &reporter_);
   Problem& p = *problem_;
   if (const auto v = fields.Get("cell_size")) {
-    if (const auto f = Positive(*v, "settings.cell_size")) p.cell_size = *f;
+    if (const auto f = Positive(*v, "settings.cell_size")) {
+      if (const std::string problem = detail::CellSizeProblem(*f); !problem.empty()) {
+        Error(v->line, "settings." + problem);
+      } else {
+        p.cell_size = *f;
+      }
+    }
   }
   if (const auto v = fields.Get("n")) {
     if (const auto n = Integer(*v, "settings.n", 1, std::numeric_limits<int>::max()))
@@ -446,6 +472,7 @@ void SceneReader::ReadSettings(const Value& input) {
   }
   if (const auto v = fields.Get("observation_point")) {
     if (const auto point = Vector(*v, "settings.observation_point")) p.observation_point = *point;
+    observation_point_given_ = true;
   }
   if (const auto v = fields.Get("random_roll")) {
     if (const auto roll = Boolean(*v, "settings.random_roll")) p.random_roll = *roll;
@@ -759,7 +786,7 @@ void SceneReader::ReadObjects(const Value& input) {
 
 std::optional<SceneObject> SceneReader::ReadObject(const Value& input) {
   const Fields fields(input, "object",
-                      {"name", "role", "pose", "mesh", "box", "cylinder", "sphere", "plane"},
+                      {"name", "role", "pose", "on", "mesh", "box", "cylinder", "sphere", "plane"},
                       &reporter_);
   const size_t errors_before = ErrorCount();
   const auto name = Name(fields, "object");
@@ -781,8 +808,33 @@ std::optional<SceneObject> SceneReader::ReadObject(const Value& input) {
   std::optional<TriangleMesh> mesh = ReadShape(fields, what);
   if (!mesh || ErrorCount() != errors_before) return std::nullopt;
   mesh->Transform(pose);
+  if (const auto v = fields.Get("on")) {
+    if (!PlaceOn(*v, what, &*mesh)) return std::nullopt;
+  }
   object.mesh = std::move(*mesh);
   return object;
+}
+
+/// `on: other`: the mesh, posed, moves up or down so that its lowest point rests on the highest
+/// point of `other` (an object listed before it); the pose's z is then the gap between them.
+bool SceneReader::PlaceOn(const Value& input, const std::string& what, TriangleMesh* mesh) {
+  const auto other = Text(input, what + ".on");
+  if (!other) return false;
+  std::vector<std::string> names;
+  for (const SceneObject& object : problem_->scene.objects) {
+    if (object.name == *other) {
+      const double dz = object.mesh.Bounds().max.z() - mesh->Bounds().min.z();
+      Pose lift;
+      lift.position = Vec3(0, 0, dz);
+      mesh->Transform(lift);
+      return true;
+    }
+    names.push_back(object.name);
+  }
+  Error(input.line, fmt::format("{}.on: no object '{}' is listed before it — {}", what, *other,
+                                names.empty() ? std::string("list that object first")
+                                              : Suggest(*other, names)));
+  return false;
 }
 
 /// Exactly one of mesh, box, cylinder, sphere, plane.
@@ -918,9 +970,9 @@ std::optional<std::string> SceneReader::TypeReference(const Fields& fields,
     return std::nullopt;
   std::vector<std::string> ids = CatalogIds();
   for (const SensorType& type : problem_->sensor_types) ids.push_back(type.id);
-  Error(node->line, fmt::format("{}: unknown sensor type '{}' — {} (declare your own under "
-                                "sensor_types; `vantage sensors` lists the catalog)",
-                                what, *id, Suggest(*id, ids)));
+  Error(node->line, fmt::format("{}: unknown sensor type '{}' — did you mean '{}'? (`vantage "
+                                "sensors` lists the catalog; declare your own under sensor_types)",
+                                what, *id, NearestId(*id, ids)));
   return std::nullopt;
 }
 
@@ -1105,8 +1157,9 @@ std::optional<ExplicitSensor> SceneReader::ReadSensor(const Value& input) {
   // Without an orientation the sensor looks at the observation point, as the plugin re-orients
   // every sensor (GAZEBO.md, "Sensor orientation").
   if (const auto v = fields.Get("orientation")) {
-    const Fields orientation(*v, what + ".orientation", {"rpy", "quaternion"}, &reporter_);
-    if (!orientation.Has("rpy") && !orientation.Has("quaternion"))
+    const Fields orientation(*v, what + ".orientation", {"rpy", "rpy_deg", "quaternion"},
+                             &reporter_);
+    if (!orientation.Has("rpy") && !orientation.Has("rpy_deg") && !orientation.Has("quaternion"))
       Missing(orientation, "rpy", "rpy: [0, 0.5, 3.14]");
     sensor.pose.rotation = Rotation(orientation, what + ".orientation").value_or(Quat::Identity());
     sensor.look_at = false;
@@ -1268,6 +1321,16 @@ void SceneReader::Read(const YAML::Node& root) {
           "pass --target NAME");
   }
   if (ErrorCount() == 0) CheckStates();
+  if (ErrorCount() == 0 && !observation_point_given_) {
+    // Candidates look at the part, not at the world's origin, unless told otherwise.
+    const Aabb bounds = problem_->scene.TargetBounds();
+    problem_->observation_point = 0.5 * (bounds.min + bounds.max);
+    const Vec3& p = problem_->observation_point;
+    problem_->notes.push_back(fmt::format(
+        "settings.observation_point not given: candidates look at the centre of the targets' "
+        "bounds, [{:.4g}, {:.4g}, {:.4g}] m",
+        p.x(), p.y(), p.z()));
+  }
 }
 
 std::string ReadWholeFile(const std::string& path) {

@@ -17,12 +17,18 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <exception>
 #include <limits>
 #include <memory>
+#include <optional>
+#include <string>
 
+#include "select/child_process.hpp"
 #include "select/methods.hpp"
 #include "vantage/error.hpp"
+#include "vantage/interrupt.hpp"
 
 namespace vantage::detail {
 namespace {
@@ -32,8 +38,10 @@ namespace {
 // of the candidates that see anything, exhaustive search is faster and equally exact.
 constexpr double kMaxEnumeratedSubsets = 300000;
 
-// Share of the time limit given to CBC's search (see RunCbc).
+// Share of the time limit given to CBC's search (see RunCbc), and the share after which its child
+// process is killed when CBC has not noticed its limit (the root LP does not look at it).
 constexpr double kCbcTimeShare = 0.85;
+constexpr double kCbcKillShare = 0.9;
 
 // Largest MILP (in constraint matrix nonzeros) given to CBC per second of time limit; see RunCbc.
 constexpr double kCbcNonzerosPerSecond = 40000;
@@ -144,6 +152,85 @@ struct CbcOutcome {
   bool proven_optimal = false;
   std::string note;
 };
+
+// What the CBC child process reports (RunInChildProcess): its bound, status and chosen columns.
+struct CbcAnswer {
+  double bound = std::numeric_limits<double>::quiet_NaN();
+  bool has_solution = false;
+  bool proven_optimal = false;
+  int status = 0;
+  int secondary_status = 0;
+  std::vector<int> chosen_columns;  // of the x columns, those at 1
+};
+
+template <typename T>
+void Append(std::string* bytes, const T& value) {
+  bytes->append(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+
+template <typename T>
+T Take(const std::string& bytes, size_t* offset) {
+  T value;
+  VANTAGE_CHECK(*offset + sizeof(T) <= bytes.size());
+  std::memcpy(&value, bytes.data() + *offset, sizeof(T));
+  *offset += sizeof(T);
+  return value;
+}
+
+std::string EncodeAnswer(Cbc_Model* cbc, int x_count) {
+  std::string bytes;
+  Append(&bytes, Cbc_getBestPossibleObjValue(cbc));
+  Append(&bytes, static_cast<int32_t>(Cbc_isProvenOptimal(cbc) != 0));
+  Append(&bytes, static_cast<int32_t>(Cbc_status(cbc)));
+  Append(&bytes, static_cast<int32_t>(Cbc_secondaryStatus(cbc)));
+  const double* solution = Cbc_bestSolution(cbc);
+  std::vector<int32_t> chosen;
+  for (int q = 0; solution != nullptr && q < x_count; ++q)
+    if (solution[q] > 0.5) chosen.push_back(q);
+  Append(&bytes, static_cast<int32_t>(solution != nullptr));
+  Append(&bytes, static_cast<int32_t>(chosen.size()));
+  for (const int32_t q : chosen) Append(&bytes, q);
+  return bytes;
+}
+
+CbcAnswer DecodeAnswer(const std::string& bytes, int x_count) {
+  CbcAnswer answer;
+  size_t offset = 0;
+  answer.bound = Take<double>(bytes, &offset);
+  answer.proven_optimal = Take<int32_t>(bytes, &offset) != 0;
+  answer.status = Take<int32_t>(bytes, &offset);
+  answer.secondary_status = Take<int32_t>(bytes, &offset);
+  answer.has_solution = Take<int32_t>(bytes, &offset) != 0;
+  const int32_t count = Take<int32_t>(bytes, &offset);
+  VANTAGE_CHECK(count >= 0 && count <= x_count);
+  for (int32_t i = 0; i < count; ++i) {
+    answer.chosen_columns.push_back(Take<int32_t>(bytes, &offset));
+    VANTAGE_CHECK(answer.chosen_columns.back() >= 0 && answer.chosen_columns.back() < x_count);
+  }
+  VANTAGE_CHECK(offset == bytes.size());
+  return answer;
+}
+
+// CBC's secondary status in words (CbcModel::secondaryStatus), with what the user can change.
+std::string StatusInWords(const CbcAnswer& answer) {
+  switch (answer.secondary_status) {
+    case 2:
+      return "stopped at its allowed gap";
+    case 3:
+      return "stopped at its node limit";
+    case 4:
+      return "reached the time limit — raise --time-limit to prove more";
+    case 5:
+      return "was stopped by a signal";
+    case 6:
+      return "stopped at its solution limit";
+    case 8:
+      return "stopped at its iteration limit";
+    default:
+      return fmt::format("stopped (status {}, secondary status {})", answer.status,
+                         answer.secondary_status);
+  }
+}
 
 CbcOutcome RunCbc(const CoverageMatrix& matrix,
                   const MilpSpec& spec,
@@ -325,23 +412,29 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
   Cbc_setMIPStartI(cbc, static_cast<int>(start_columns.size()), start_columns.data(),
                    start_values.data());
 
-  Cbc_solve(cbc);
-  const double bound = Cbc_getBestPossibleObjValue(cbc);
-  if (std::isfinite(bound)) outcome.bound = bound;
-  const double* solution = Cbc_bestSolution(cbc);
-  if (solution == nullptr) {
-    outcome.note = fmt::format("CBC found no solution (status {}, secondary {})", Cbc_status(cbc),
-                               Cbc_secondaryStatus(cbc));
+  // CBC runs in a child process: its root LP does not look at the time limit, and its SIGINT
+  // handler swallows Ctrl-C; a child can be stopped at the limit or on an interrupt, at once.
+  std::string why;
+  const std::optional<std::string> answer = detail::RunInChildProcess(
+      [&] {
+        Cbc_solve(cbc);
+        return EncodeAnswer(cbc, x_count);
+      },
+      kCbcKillShare * time_limit, &why);
+  if (!answer) {
+    outcome.note = fmt::format("CBC {} — raise --time-limit to let it finish", why);
     return outcome;
   }
-  for (int q = 0; q < x_count; ++q) {
-    if (solution[q] > 0.5) outcome.chosen.push_back(kept[q]);
+  const CbcAnswer solved = DecodeAnswer(*answer, x_count);
+  if (std::isfinite(solved.bound)) outcome.bound = solved.bound;
+  if (!solved.has_solution) {
+    outcome.note = fmt::format("CBC found no solution ({})", StatusInWords(solved));
+    return outcome;
   }
-  outcome.proven_optimal = Cbc_isProvenOptimal(cbc) != 0;
-  if (!outcome.proven_optimal) {
-    outcome.note = fmt::format("CBC stopped before proving optimality (secondary status {})",
-                               Cbc_secondaryStatus(cbc));
-  }
+  for (const int q : solved.chosen_columns) outcome.chosen.push_back(kept[q]);
+  outcome.proven_optimal = solved.proven_optimal;
+  if (!outcome.proven_optimal)
+    outcome.note = fmt::format("not proved optimal: CBC {}", StatusInWords(solved));
   return outcome;
 }
 
@@ -351,6 +444,8 @@ CbcOutcome GuardedCbc(const CoverageMatrix& matrix,
                       double time_limit) {
   try {
     return RunCbc(matrix, spec, start, time_limit);
+  } catch (const Interrupted&) {
+    throw;
   } catch (const std::exception& e) {
     CbcOutcome outcome;
     outcome.note = fmt::format("CBC failed: {}", e.what());

@@ -7,6 +7,7 @@
 
 #include "select/methods.hpp"
 #include "vantage/error.hpp"
+#include "vantage/interrupt.hpp"
 
 namespace vantage::detail {
 namespace {
@@ -170,6 +171,7 @@ std::vector<uint32_t> KGreedyComplete(const CoverageMatrix& matrix,
   for (const uint32_t c : chosen) add(c);
   std::vector<uint64_t> gains(levels), best_gains(levels);
   while (chosen.size() < n) {
+    ThrowIfInterrupted();
     int64_t best = -1;
     for (uint32_t i = 0; i < m; ++i) {
       if (is_chosen[i]) continue;

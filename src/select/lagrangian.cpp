@@ -19,6 +19,7 @@
 
 #include "select/methods.hpp"
 #include "vantage/error.hpp"
+#include "vantage/interrupt.hpp"
 
 namespace vantage::detail {
 namespace {
@@ -99,6 +100,7 @@ LagrangianBound LagrangianUpperBound(const CoverageMatrix& matrix,
   int stale = 0;
   LagrangianBound result;
   for (int it = 0; it < max_iterations && scale >= kMinStepScale; ++it) {
+    ThrowIfInterrupted();
     if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count() >
         time_limit) {
       break;

@@ -6,6 +6,7 @@
 
 #include "select/methods.hpp"
 #include "vantage/error.hpp"
+#include "vantage/interrupt.hpp"
 
 namespace vantage::detail {
 namespace {
@@ -142,6 +143,7 @@ std::vector<uint32_t> LocalSearch(const Scorer& scorer,
   Bitset base(matrix.word_count());
   Bitset target;
   while (true) {
+    ThrowIfInterrupted();
     // Elements one more seer would bring to k (bits past the last element never meet a row).
     std::fill(base.begin(), base.end(), k == 1 ? ~uint64_t{0} : 0);
     if (k > 1) {

@@ -5,6 +5,7 @@
 #include "select/methods.hpp"
 #include "vantage/error.hpp"
 #include "vantage/rng.hpp"
+#include "vantage/interrupt.hpp"
 
 namespace vantage::detail {
 namespace {
@@ -48,6 +49,7 @@ std::vector<uint32_t> RansacChoice(
   // keeping the first draw instead changes no other outcome.
   for (int i = 0;
        i < iterations && (best.empty() || scorer.Fraction(best_tally) < stop_coverage);) {
+    if (i % 64 == 0) ThrowIfInterrupted();
     RansacDraw(seed, static_cast<uint64_t>(i), n, &order, &drawn);
     // Merge, filter, coverage (k-coverage: the cells at least k of the draw see).
     typename Scorer::Tally tally = scorer.Covered(drawn);

@@ -1,10 +1,13 @@
 #include "util/atomic_file.hpp"
 
 #include <fmt/format.h>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <array>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
@@ -12,8 +15,10 @@
 #include <fstream>
 #include <mutex>
 #include <thread>
+#include <vector>
 
 #include "vantage/error.hpp"
+#include "vantage/interrupt.hpp"
 
 namespace vantage::detail {
 namespace fs = std::filesystem;
@@ -59,11 +64,15 @@ class InterruptGuard {
   InterruptGuard(const InterruptGuard&) = delete;
   InterruptGuard& operator=(const InterruptGuard&) = delete;
 
-  /// True once SIGINT or SIGTERM arrived during the write.
-  static bool Interrupted() { return g_pending_signal.load() != 0; }
+  /// True once SIGINT or SIGTERM arrived during the write, or once the run was asked to stop
+  /// (vantage/interrupt.hpp: the CLI's handler, which then stands in for this one).
+  static bool Interrupted() { return g_pending_signal.load() != 0 || InterruptRequested(); }
 
  private:
-  static constexpr std::array<int, 2> kSignals = {SIGINT, SIGTERM};
+  // Every signal whose default action ends the process and that a user or a scheduler sends
+  // (issue 15: SIGHUP, SIGALRM and SIGUSR1 left `OUT.tmp-PID` behind).
+  static constexpr std::array<int, 7> kSignals = {SIGINT,  SIGTERM, SIGHUP, SIGALRM,
+                                                  SIGUSR1, SIGUSR2, SIGPIPE};
   static std::mutex& Mutex() {
     static std::mutex mutex;
     return mutex;
@@ -72,8 +81,8 @@ class InterruptGuard {
     static int depth = 0;
     return depth;
   }
-  std::array<struct sigaction, 2> previous_{};
-  std::array<bool, 2> installed_{};
+  std::array<struct sigaction, kSignals.size()> previous_{};
+  std::array<bool, kSignals.size()> installed_{};
 };
 
 // Test hook: VANTAGE_TEST_WRITE_DELAY_S seconds of sleep after each file of a folder is written,
@@ -85,6 +94,26 @@ void TestWriteDelay() {
   }();
   if (seconds > 0) std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
 }
+
+/// An exclusive flock(2) on a folder while alive; none when the folder cannot be opened (the
+/// renames then report their own errors).
+class FolderLock {
+ public:
+  explicit FolderLock(const fs::path& folder)
+      : fd_(::open(folder.empty() ? "." : folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)) {
+    if (fd_ >= 0)
+      while (::flock(fd_, LOCK_EX) != 0 && errno == EINTR) {
+      }
+  }
+  ~FolderLock() {
+    if (fd_ >= 0) ::close(fd_);  // closing releases the lock
+  }
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+
+ private:
+  int fd_;
+};
 
 void WriteFile(const fs::path& path, const std::string& content) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -109,7 +138,8 @@ void WriteFileAtomically(const std::string& path, const std::string& content) {
   }
   if (InterruptGuard::Interrupted()) {
     fs::remove(temp, ec);
-    return;  // ~InterruptGuard raises the signal
+    ThrowIfInterrupted();  // a run that handles its own interrupts is told so
+    return;                // ~InterruptGuard raises the signal
   }
   fs::rename(temp, target, ec);
   if (ec) {
@@ -118,7 +148,8 @@ void WriteFileAtomically(const std::string& path, const std::string& content) {
   }
 }
 
-void WriteFolderAtomically(const std::string& dir, const std::map<std::string, std::string>& files) {
+void WriteFolderAtomically(const std::string& dir, const std::map<std::string, std::string>& files,
+                           const std::set<std::string>& owned) {
   fs::path target = fs::absolute(fs::path(dir)).lexically_normal();
   if (target.filename().empty()) target = target.parent_path();
   std::error_code ec;
@@ -149,21 +180,49 @@ void WriteFolderAtomically(const std::string& dir, const std::map<std::string, s
   }
   if (InterruptGuard::Interrupted()) {
     fs::remove_all(temp, ec);
+    ThrowIfInterrupted();  // a run that handles its own interrupts is told so
     return;  // ~InterruptGuard raises the signal; the earlier outputs stay as they were
   }
   // From here on the renames complete (a few system calls) before the signal is acted on.
+  // Two runs writing the same folder take turns (issue 15: one of them failed when the other
+  // had just moved the old folder away); the lock is the parent folder's, so no file is left.
+  const FolderLock lock(target.parent_path());
   const bool had_old = fs::exists(target, ec);
+  std::vector<fs::path> kept;  // the user's entries, moved from the old folder into the new one
+  const auto restore_kept = [&] {
+    for (const fs::path& name : kept) fs::rename(temp / name, target / name, ec);
+  };
   if (had_old) {
+    std::vector<fs::path> users;  // listed first: the loop below changes the folder
+    for (const fs::directory_entry& entry : fs::directory_iterator(target, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (!files.count(name) && !owned.count(name)) users.push_back(name);
+    }
+    for (const fs::path& name : users) {
+      fs::rename(target / name, temp / name, ec);
+      if (ec) {
+        const std::string why = ec.message();
+        restore_kept();
+        fs::remove_all(temp, ec);
+        throw InputError(fmt::format("{}: cannot keep {} ({})", dir, name.string(), why));
+      }
+      kept.push_back(name);
+    }
     fs::rename(target, old, ec);
     if (ec) {
+      const std::string why = ec.message();
+      restore_kept();
       fs::remove_all(temp, ec);
-      throw InputError(fmt::format("{}: cannot replace ({})", dir, ec.message()));
+      throw InputError(fmt::format("{}: cannot replace ({})", dir, why));
     }
   }
   fs::rename(temp, target, ec);
   if (ec) {
     const std::string why = ec.message();
-    if (had_old) fs::rename(old, target, ec);
+    if (had_old) {
+      fs::rename(old, target, ec);
+      restore_kept();
+    }
     fs::remove_all(temp, ec);
     throw InputError(fmt::format("{}: cannot write ({})", dir, why));
   }

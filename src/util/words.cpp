@@ -8,7 +8,7 @@
 
 #include "vantage/error.hpp"
 
-namespace vantage::detail {
+namespace vantage {
 
 size_t EditDistance(std::string_view a, std::string_view b) {
   std::vector<size_t> row(b.size() + 1);
@@ -38,6 +38,10 @@ const std::string* ClosestWord(std::string_view word, const std::vector<std::str
   const size_t tolerance = std::max<size_t>(2, word.size() / 3);
   return best && best_distance <= tolerance ? best : nullptr;
 }
+
+}  // namespace vantage
+
+namespace vantage::detail {
 
 std::string JoinQuoted(const std::vector<std::string>& words) {
   std::string all;

@@ -1,0 +1,16 @@
+#pragma once
+/// "Did you mean" suggestions for names the user typed (options, commands, ids, objects).
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace vantage {
+
+/// Levenshtein distance: insertions, deletions and substitutions of one character each.
+size_t EditDistance(std::string_view a, std::string_view b);
+
+/// The word of `valid` closest to `word` when within a third of its length (at least 2 edits);
+/// nullptr otherwise. Ties: the first.
+const std::string* ClosestWord(std::string_view word, const std::vector<std::string>& valid);
+
+}  // namespace vantage
