@@ -960,10 +960,11 @@ TEST_F(BadInput, ExactKeepsItsTimeLimit) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_LT(seconds, 9.5) << run.out;
+  EXPECT_LT(seconds, 12.0) << run.out;  // loading, the start set and the writes on a busy machine
   const nlohmann::json report = nlohmann::json::parse(ReadText(dir_.File("limited/report.json")));
   const nlohmann::json& result = report["results"][0];
   EXPECT_EQ(result["method"], "exact");
+  EXPECT_LE(result["seconds"].get<double>(), 8.8) << result.dump();  // the method itself, 10 % slack
   EXPECT_FALSE(result["optimal"].get<bool>()) << result.dump();
   EXPECT_GE(result["upper_bound"].get<double>(), result["coverage"].get<double>());
   EXPECT_EQ(result.dump().find("secondary status"), std::string::npos) << result.dump();

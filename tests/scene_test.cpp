@@ -406,6 +406,30 @@ TEST(YamlScene, BoxPoseRotatesThenTranslates) {
   EXPECT_TRUE(b.max.isApprox(Vec3(1 + 0.2, 2 + 0.1, 3 + 0.3), 1e-9));
 }
 
+// Issue 16: degrees beside radians, stacking without arithmetic, and candidates that look at the
+// part when no observation point is given.
+TEST(YamlScene, RpyDegreesAndOnAndTheDefaultObservationPoint) {
+  TempDir dir;
+  WriteText(dir.File("stack.yaml"),
+            "objects:\n"
+            "  - {name: table, box: {size: [1, 1, 0.1]}, pose: {xyz: [0, 0, 0.5]}}\n"
+            "  - name: part\n"
+            "    role: target\n"
+            "    on: table\n"
+            "    box: {size: [0.2, 0.1, 0.3]}\n"
+            "    pose: {xyz: [0.2, 0, 0.01], rpy_deg: [0, 0, 90]}\n");
+  const Problem p = LoadYamlScene(dir.File("stack.yaml"));
+  // Yaw 90° swaps the x and y extents; the table's top is at 0.55, the gap 0.01.
+  const Aabb b = ObjectNamed(p, "part").mesh.Bounds();
+  EXPECT_TRUE(b.min.isApprox(Vec3(0.2 - 0.05, -0.1, 0.56), 1e-9)) << b.min.transpose();
+  EXPECT_TRUE(b.max.isApprox(Vec3(0.2 + 0.05, 0.1, 0.86), 1e-9)) << b.max.transpose();
+  // No settings.observation_point: the centre of the target's box, with a note saying so.
+  EXPECT_TRUE(p.observation_point.isApprox(Vec3(0.2, 0, 0.71), 1e-9))
+      << p.observation_point.transpose();
+  ASSERT_EQ(p.notes.size(), 1u);
+  EXPECT_NE(p.notes[0].find("observation_point not given"), std::string::npos) << p.notes[0];
+}
+
 TEST(YamlScene, MeshIsScaledThenPosed) {
   TempDir dir;
   const Problem p = LoadYamlScene(WriteCompleteScene(dir));
@@ -754,6 +778,17 @@ const BadScene kBadScenes[] = {
      3, "did you mean 'kinect_xbox_360'?"},
     {"unknown_sensor_id_far", "sensors:\n  - name: s\n    type: lidar\n    position: [0, 0, 1]\n",
      3, "kinect_xbox_360"},
+    // A long id typed without its vendor prefix is too many edits for a third of its length.
+    {"unknown_sensor_id_without_vendor",
+     "sensors:\n  - name: s\n    type: realsense_d435\n    position: [0, 0, 1]\n", 3,
+     "did you mean 'intel_realsense_d435'?"},
+    {"pose_rpy_deg_and_rpy",
+     "objects:\n  - name: a\n    role: target\n    box: {size: [1, 1, 1]}\n    pose:\n"
+     "      rpy: [0, 0, 0]\n      rpy_deg: [0, 0, 0]\n",
+     7, "both rpy and rpy_deg are given — keep one"},
+    {"on_unknown_object",
+     "objects:\n  - name: a\n    role: target\n    on: tabel\n    box: {size: [1, 1, 1]}\n",
+     4, "object 'a'.on: no object 'tabel' is listed before it"},
     {"hfov_too_wide",
      "sensor_types:\n  - id: t\n    resolution: [640, 480]\n    hfov_deg: 180\n"
      "    range: [0.3, 3]\n",

@@ -44,17 +44,20 @@ std::string Suggest(std::string_view word, const std::vector<std::string>& valid
 }
 
 /// The id nearest to a mistyped one: the shortest id that contains it (`d435` ->
-/// `intel_realsense_d435`), else the one the fewest edits away. Ids are long, so ClosestWord's
-/// tolerance of a third of the length would often suggest nothing.
-const std::string& NearestId(const std::string& word, const std::vector<std::string>& ids) {
+/// `intel_realsense_d435`), else the one the fewest edits away when at most half the word's
+/// length (ids are long: ClosestWord's third would miss `realsense_d435`); nullptr when none is
+/// near (`lidar`: the caller lists them all).
+const std::string* NearestId(const std::string& word, const std::vector<std::string>& ids) {
   const std::string* containing = nullptr;
-  const std::string* closest = &ids.front();
+  const std::string* closest = nullptr;
   for (const std::string& id : ids) {
     if (id.find(word) != std::string::npos && (!containing || id.size() < containing->size()))
       containing = &id;
-    if (EditDistance(word, id) < EditDistance(word, *closest)) closest = &id;
+    if (!closest || EditDistance(word, id) < EditDistance(word, *closest)) closest = &id;
   }
-  return containing ? *containing : *closest;
+  if (containing) return containing;
+  return closest && EditDistance(word, *closest) <= std::max<size_t>(2, word.size() / 2) ? closest
+                                                                                        : nullptr;
 }
 
 int LineOf(const YAML::Node& node) {
@@ -209,7 +212,7 @@ class SceneReader {
                                 const std::string& what);
   void ReadObjects(const Value& input);
   std::optional<SceneObject> ReadObject(const Value& input);
-  bool PlaceOn(const Value& input, const std::string& what, TriangleMesh* mesh);
+  bool PlaceOn(const Value& input, const std::string& what, double gap, TriangleMesh* mesh);
   std::optional<TriangleMesh> ReadShape(const Fields& fields, const std::string& what);
   std::optional<TriangleMesh> ReadPrimitive(const std::string& shape,
                                             const Value& input,
@@ -368,10 +371,14 @@ std::optional<Quat> SceneReader::Rotation(const Fields& fields, const std::strin
   const auto radians = fields.Get("rpy");
   const auto degrees = fields.Get("rpy_deg");
   const auto quaternion = fields.Get("quaternion");
-  if ((radians ? 1 : 0) + (degrees ? 1 : 0) + (quaternion ? 1 : 0) > 1) {
-    Error(fields.line(), fmt::format("{}: give one of rpy, rpy_deg and quaternion — they all set "
-                                     "the rotation",
-                                     what));
+  std::vector<std::pair<const char*, int>> given;  // the rotation keys present, with their lines
+  if (radians) given.emplace_back("rpy", radians->line);
+  if (degrees) given.emplace_back("rpy_deg", degrees->line);
+  if (quaternion) given.emplace_back("quaternion", quaternion->line);
+  if (given.size() > 1) {
+    Error(std::max(given[0].second, given[1].second),
+          fmt::format("{}: both {} and {} are given — keep one of them (each sets the rotation)",
+                      what, given[0].first, given[1].first));
     return std::nullopt;
   }
   if (radians || degrees) {
@@ -809,7 +816,7 @@ std::optional<SceneObject> SceneReader::ReadObject(const Value& input) {
   if (!mesh || ErrorCount() != errors_before) return std::nullopt;
   mesh->Transform(pose);
   if (const auto v = fields.Get("on")) {
-    if (!PlaceOn(*v, what, &*mesh)) return std::nullopt;
+    if (!PlaceOn(*v, what, pose.position.z(), &*mesh)) return std::nullopt;
   }
   object.mesh = std::move(*mesh);
   return object;
@@ -817,13 +824,14 @@ std::optional<SceneObject> SceneReader::ReadObject(const Value& input) {
 
 /// `on: other`: the mesh, posed, moves up or down so that its lowest point rests on the highest
 /// point of `other` (an object listed before it); the pose's z is then the gap between them.
-bool SceneReader::PlaceOn(const Value& input, const std::string& what, TriangleMesh* mesh) {
+bool SceneReader::PlaceOn(const Value& input, const std::string& what, double gap,
+                          TriangleMesh* mesh) {
   const auto other = Text(input, what + ".on");
   if (!other) return false;
   std::vector<std::string> names;
   for (const SceneObject& object : problem_->scene.objects) {
     if (object.name == *other) {
-      const double dz = object.mesh.Bounds().max.z() - mesh->Bounds().min.z();
+      const double dz = object.mesh.Bounds().max.z() + gap - mesh->Bounds().min.z();
       Pose lift;
       lift.position = Vec3(0, 0, dz);
       mesh->Transform(lift);
@@ -970,9 +978,13 @@ std::optional<std::string> SceneReader::TypeReference(const Fields& fields,
     return std::nullopt;
   std::vector<std::string> ids = CatalogIds();
   for (const SensorType& type : problem_->sensor_types) ids.push_back(type.id);
-  Error(node->line, fmt::format("{}: unknown sensor type '{}' — did you mean '{}'? (`vantage "
-                                "sensors` lists the catalog; declare your own under sensor_types)",
-                                what, *id, NearestId(*id, ids)));
+  const std::string* nearest = NearestId(*id, ids);
+  Error(node->line,
+        fmt::format("{}: unknown sensor type '{}' — {} (`vantage sensors` lists the catalog; "
+                    "declare your own under sensor_types)",
+                    what, *id,
+                    nearest ? fmt::format("did you mean '{}'?", *nearest)
+                            : "valid: " + detail::JoinQuoted(ids)));
   return std::nullopt;
 }
 
