@@ -147,6 +147,22 @@ SceneInput SceneInputOf(const py::object& path, const py::object& model_path,
   return input;
 }
 
+ObserveOptions ObserveOptionsOf(const py::object& quality, bool cull, const py::object& progress) {
+  ObserveOptions options;
+  options.cull = cull;
+  options.quality = QualityOf(quality);
+  options.progress = ProgressOf(progress);
+  return options;
+}
+
+// `out`: None (nothing written) or the folder to write (the CLI's --out).
+std::optional<std::string> OutDirOf(const py::object& out) {
+  std::optional<std::string> folder = OptionalPathOf(out);
+  if (folder && folder->empty())
+    throw InputError(AtPlace("out", 0, "the path is empty — give the folder to write, or None"));
+  return folder;
+}
+
 RunLimits LimitsOf(std::optional<double> max_memory) {
   RunLimits limits;
   if (max_memory) limits.max_memory_mib = *max_memory;
@@ -632,10 +648,7 @@ void Bind(py::module_& m) {
           "observe",
           [](const ProblemHandle& p, const py::object& quality, std::optional<int> threads,
              const py::object& progress, bool cull, std::optional<double> max_memory) {
-            ObserveOptions options;
-            options.cull = cull;
-            options.quality = QualityOf(quality);
-            options.progress = ProgressOf(progress);
+            const ObserveOptions options = ObserveOptionsOf(quality, cull, progress);
             const RunLimits limits = LimitsOf(max_memory);
             const std::shared_ptr<const PreparedScene> prepared = p.prepared;
             VisibilityHandle result;
@@ -718,9 +731,7 @@ void Bind(py::module_& m) {
         OptimizeOptions options;
         options.scene = SceneInputOf(scene, model_path, resource_path, targets, cell_size, seed,
                                      observation_point, random_roll);
-        options.observe.cull = cull;
-        options.observe.quality = QualityOf(quality);
-        options.observe.progress = ProgressOf(progress);
+        options.observe = ObserveOptionsOf(quality, cull, progress);
         options.limits = LimitsOf(max_memory);
         options.selection = RequestOf(n, OptionalMethodOf(method), time_limit, k, goal, budget,
                                       iterations, stop, OverStatesOf(over_states));
@@ -730,9 +741,7 @@ void Bind(py::module_& m) {
           if (refine_rounds) refine_options.max_rounds = *refine_rounds;
           options.refine = refine_options;
         }
-        const std::optional<std::string> out_dir = OptionalPathOf(out);
-        if (out_dir && out_dir->empty())
-          throw InputError(AtPlace("out", 0, "the path is empty — give the folder to write"));
+        const std::optional<std::string> out_dir = OutDirOf(out);
         const std::string report = WithoutGil(threads, [&] {
           const RunResult run = Optimize(options);
           if (out_dir) WriteRun(*out_dir, run);
@@ -774,13 +783,9 @@ void Bind(py::module_& m) {
         options.scene = SceneInputOf(scene, model_path, resource_path, targets, cell_size, seed,
                                      std::nullopt, std::nullopt);
         options.constellation = PathOf(constellation);
-        options.observe.cull = cull;
-        options.observe.quality = QualityOf(quality);
-        options.observe.progress = ProgressOf(progress);
+        options.observe = ObserveOptionsOf(quality, cull, progress);
         options.limits = LimitsOf(max_memory);
-        const std::optional<std::string> out_dir = OptionalPathOf(out);
-        if (out_dir && out_dir->empty())
-          throw InputError(AtPlace("out", 0, "the path is empty — give the folder to write"));
+        const std::optional<std::string> out_dir = OutDirOf(out);
         struct Outcome {
           Strings sensors;
           std::vector<double> sensor_coverage;
