@@ -13,7 +13,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev libpng-dev libstb-dev libjs-three chromium
   clang libclang-rt-14-dev
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib
-  python3-setuptools python3-pip
+  python3-setuptools python3-wheel python3-pip python3-venv
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
