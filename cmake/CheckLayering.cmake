@@ -101,7 +101,9 @@ foreach(entry IN LISTS entries)
     list(APPEND _problems "src/${name}: a folder that is no stage (add it to cmake/Layering.cmake)")
   endif()
 endforeach()
-file(GLOB_RECURSE cli_files "${SOURCE_DIR}/apps/*.cpp" "${SOURCE_DIR}/apps/*.hpp")
+# The faces over the pipeline, the CLI and the Python module, use public headers only too.
+file(GLOB_RECURSE cli_files "${SOURCE_DIR}/apps/*.cpp" "${SOURCE_DIR}/apps/*.hpp"
+     "${SOURCE_DIR}/python/*.cpp" "${SOURCE_DIR}/python/*.hpp")
 foreach(file IN LISTS cli_files)
   _vantage_check_file("${file}" "" FALSE)
 endforeach()

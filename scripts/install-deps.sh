@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs every Debian package vantage needs to build, test and benchmark.
 # Idempotent; run as root (or with sudo available). Chromium is for the HTML report test; clang
-# and libclang-rt-14-dev (libFuzzer) for `make fuzz`.
+# and libclang-rt-14-dev (libFuzzer) for `make fuzz`; pybind11 and the python3 packages for the
+# Python module, its tests and examples (docs/python.md), setuptools and pip for `pip install .`.
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
@@ -11,6 +12,8 @@ PACKAGES=(
   libcli11-dev libfmt-dev libspdlog-dev libsdformat-dev coinor-libcbc-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpng-dev libstb-dev libjs-three chromium
   clang libclang-rt-14-dev
+  pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib
+  python3-setuptools python3-wheel python3-pip python3-venv
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -1,0 +1,249 @@
+"""Type stubs of the vantage module (python/vantage_module.cpp; docs/python.md).
+
+Lengths are metres, option angles degrees, quaternions [w, x, y, z]. Bad input raises
+InputError (a ValueError) with the CLI's `file:line: message`; internal failures RuntimeError.
+"""
+
+import os
+from typing import Any, Callable, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+import scipy.sparse
+
+__version__: str
+
+PathLike = Union[str, os.PathLike]
+Paths = Union[PathLike, Sequence[PathLike], None]
+Names = Union[str, Sequence[str], None]
+Quality = Optional[dict[str, Optional[float]]]
+Progress = Optional[Callable[[int, int], Any]]
+
+class InputError(ValueError):
+    """Bad input the user can fix; the message is the CLI's `file:line: message`."""
+
+class Candidate:
+    """One candidate sensor: a sensor type at a world pose of its body frame (x forward)."""
+    @property
+    def name(self) -> str: ...
+    @property
+    def type(self) -> str: ...
+    @property
+    def sensor(self) -> str: ...
+    @property
+    def technology(self) -> str: ...
+    @property
+    def population(self) -> str: ...
+    @property
+    def position(self) -> npt.NDArray[np.float64]:
+        """(3,) [m], world."""
+    @property
+    def quaternion(self) -> npt.NDArray[np.float64]:
+        """(4,) world_from_body, [w, x, y, z]."""
+    @property
+    def width(self) -> int: ...
+    @property
+    def height(self) -> int: ...
+    @property
+    def fx(self) -> float: ...
+    @property
+    def fy(self) -> float: ...
+    @property
+    def cx(self) -> float: ...
+    @property
+    def cy(self) -> float: ...
+    @property
+    def near(self) -> float: ...
+    @property
+    def far(self) -> float: ...
+    @property
+    def cost(self) -> float: ...
+    @property
+    def coverage(self) -> Optional[float]:
+        """Share of R it sees alone, 0..1; None before observe."""
+    @property
+    def observed_voxels(self) -> Optional[int]:
+        """Cells of R it sees alone (its row sum of Visibility.matrix); None before observe."""
+
+class Selection:
+    """A chosen constellation and how good it is."""
+    @property
+    def method(self) -> str: ...
+    @property
+    def n(self) -> int: ...
+    @property
+    def sensors(self) -> list[str]: ...
+    @property
+    def indices(self) -> list[int]: ...
+    @property
+    def coverage(self) -> float: ...
+    @property
+    def paper_coverage(self) -> float: ...
+    @property
+    def upper_bound(self) -> Optional[float]: ...
+    @property
+    def optimal(self) -> bool: ...
+    @property
+    def objective(self) -> str: ...
+    @property
+    def k(self) -> int: ...
+    @property
+    def goal(self) -> Optional[float]: ...
+    @property
+    def budget(self) -> Optional[float]: ...
+    @property
+    def cost(self) -> Optional[float]: ...
+    @property
+    def n_lower_bound(self) -> Optional[int]: ...
+    @property
+    def seconds(self) -> float: ...
+
+class Visibility:
+    """The visibility matrix of an observed scene, with R and the candidates."""
+    @property
+    def matrix(self) -> scipy.sparse.csr_matrix:
+        """(candidates, reference cells), float64, 1.0 where seen; built once."""
+    @property
+    def reference(self) -> npt.NDArray[np.float64]:
+        """(R, 3) cell centres [m], in column order."""
+    @property
+    def reference_keys(self) -> npt.NDArray[np.uint64]: ...
+    @property
+    def cell_size(self) -> float: ...
+    @property
+    def candidates(self) -> list[Candidate]: ...
+    @property
+    def scene(self) -> str: ...
+    @property
+    def seed(self) -> int: ...
+    @property
+    def quality(self) -> dict[str, Optional[float]]: ...
+    def select(
+        self,
+        n: Optional[int] = None,
+        method: str = "exact",
+        time_limit: Optional[float] = None,
+        k: Optional[int] = None,
+        goal: Optional[float] = None,
+        budget: Optional[float] = None,
+        *,
+        iterations: Optional[int] = None,
+        stop: Optional[float] = None,
+        seed: Optional[int] = None,
+        threads: Optional[int] = None,
+    ) -> Selection:
+        """n sensors with one method, as `vantage select FILE -n N --method M`."""
+    def select_all(
+        self,
+        n: Optional[int] = None,
+        method: Optional[str] = None,
+        time_limit: Optional[float] = None,
+        k: Optional[int] = None,
+        goal: Optional[float] = None,
+        budget: Optional[float] = None,
+        *,
+        iterations: Optional[int] = None,
+        stop: Optional[float] = None,
+        seed: Optional[int] = None,
+        threads: Optional[int] = None,
+    ) -> list[Selection]:
+        """Every result of `vantage select FILE` (report.json's results), in order."""
+    def save(self, path: PathLike) -> None:
+        """Writes the .vis file of `vantage observe --out`."""
+
+class Problem:
+    """A loaded scene with its candidates deployed, before any ray is cast."""
+    @property
+    def source(self) -> str: ...
+    @property
+    def cell_size(self) -> float: ...
+    @property
+    def seed(self) -> int: ...
+    @property
+    def n(self) -> int: ...
+    @property
+    def candidates(self) -> list[Candidate]: ...
+    @property
+    def states(self) -> list[str]: ...
+    def observe(
+        self,
+        quality: Quality = None,
+        threads: Optional[int] = None,
+        progress: Progress = None,
+        *,
+        cull: bool = True,
+        max_memory: Optional[float] = None,
+    ) -> Visibility:
+        """R and every candidate's depth image ray cast (GIL released), as `vantage observe`."""
+
+def load(
+    path: PathLike,
+    *,
+    model_path: Paths = None,
+    resource_path: Paths = None,
+    targets: Names = None,
+    cell_size: Optional[float] = None,
+    seed: Optional[int] = None,
+    observation_point: Optional[Sequence[float]] = None,
+    random_roll: Optional[bool] = None,
+) -> Problem:
+    """Loads a scene (.yaml) or Gazebo world (.world/.sdf) and deploys its candidates."""
+
+def load_visibility(path: PathLike) -> Visibility:
+    """Reads a .vis file of Visibility.save() or `vantage observe --out`."""
+
+def optimize(
+    scene: PathLike,
+    n: Optional[int] = None,
+    method: Optional[str] = None,
+    out: Optional[PathLike] = None,
+    *,
+    model_path: Paths = None,
+    resource_path: Paths = None,
+    targets: Names = None,
+    cell_size: Optional[float] = None,
+    seed: Optional[int] = None,
+    observation_point: Optional[Sequence[float]] = None,
+    random_roll: Optional[bool] = None,
+    quality: Quality = None,
+    cull: bool = True,
+    max_memory: Optional[float] = None,
+    iterations: Optional[int] = None,
+    stop: Optional[float] = None,
+    time_limit: Optional[float] = None,
+    goal: Optional[float] = None,
+    k: Optional[int] = None,
+    budget: Optional[float] = None,
+    over_states: Optional[str] = None,
+    fov_tolerance: Optional[float] = None,
+    alternatives_within: Optional[float] = None,
+    refine: bool = False,
+    refine_rounds: Optional[int] = None,
+    threads: Optional[int] = None,
+    progress: Progress = None,
+) -> dict[str, Any]:
+    """`vantage optimize SCENE`: the same files into `out`; returns report.json as a dict."""
+
+def evaluate(
+    scene: Optional[PathLike] = None,
+    *,
+    constellation: PathLike,
+    out: Optional[PathLike] = None,
+    model_path: Paths = None,
+    resource_path: Paths = None,
+    targets: Names = None,
+    cell_size: Optional[float] = None,
+    seed: Optional[int] = None,
+    quality: Quality = None,
+    cull: bool = True,
+    max_memory: Optional[float] = None,
+    threads: Optional[int] = None,
+    progress: Progress = None,
+) -> dict[str, Any]:
+    """`vantage evaluate`: sensors, sensor_coverage, coverage, paper_coverage, report."""
+
+def sensors() -> list[dict[str, Any]]:
+    """The sensor catalog, the keys of `vantage sensors --json` plus depth_noise."""
+
+def set_log_level(level: str) -> None:
+    """'debug', 'info', 'warning' (default), 'error' or 'off'."""

@@ -1,0 +1,851 @@
+// The Python module `vantage` (docs/python.md): the pipeline's functions for scripts, notebooks
+// and robot stacks. Like the CLI it is a face over include/vantage/pipeline.hpp: keyword
+// arguments go onto the pipeline's option structs, results come back as NumPy/SciPy values, and
+// every C++ exception is turned into a Python one at the boundary (InputError -> vantage.InputError,
+// a ValueError; anything else -> RuntimeError), so that the interpreter never aborts. The GIL is
+// released while the library works, so that other Python threads run meanwhile.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <tbb/task_arena.h>
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "vantage/error.hpp"
+#include "vantage/pipeline.hpp"
+#include "vantage/select_states.hpp"
+#include "vantage/sensors.hpp"
+#include "vantage/types.hpp"
+
+namespace py = pybind11;
+
+namespace vantage::python {
+namespace {
+
+using Strings = std::vector<std::string>;
+
+// ---- arguments --------------------------------------------------------------------------------
+
+// A path given as str or os.PathLike.
+std::string PathOf(const py::handle& value) {
+  return py::str(py::module_::import("os").attr("fspath")(value)).cast<std::string>();
+}
+
+std::optional<std::string> OptionalPathOf(const py::object& value) {
+  if (value.is_none()) return std::nullopt;
+  return PathOf(value);
+}
+
+// One path or a list of them (the CLI's repeatable --model-path).
+Strings PathsOf(const py::object& value) {
+  if (value.is_none()) return {};
+  if (py::isinstance<py::str>(value) || py::hasattr(value, "__fspath__")) return {PathOf(value)};
+  Strings paths;
+  for (const py::handle item : value) paths.push_back(PathOf(item));
+  return paths;
+}
+
+// One name or a list of them (--target).
+Strings NamesOf(const py::object& value) {
+  if (value.is_none()) return {};
+  if (py::isinstance<py::str>(value)) return {value.cast<std::string>()};
+  return value.cast<Strings>();
+}
+
+Method MethodOf(const std::string& name) {
+  try {
+    return ParseMethod(name);
+  } catch (const InputError& e) {
+    throw InputError(AtPlace("method", 0, e.what()));
+  }
+}
+
+std::optional<Method> OptionalMethodOf(const std::optional<std::string>& name) {
+  if (!name) return std::nullopt;
+  return MethodOf(*name);
+}
+
+std::optional<OverStates> OverStatesOf(const std::optional<std::string>& name) {
+  if (!name) return std::nullopt;
+  try {
+    return ParseOverStates(*name);
+  } catch (const InputError& e) {
+    throw InputError(AtPlace("over_states", 0, e.what()));
+  }
+}
+
+// `quality`: None or a dict with max_incidence [deg] and max_depth_noise [mm], as the CLI's flags.
+QualityFilter QualityOf(const py::object& value) {
+  QualityFilter quality;
+  if (value.is_none()) return quality;
+  if (!py::isinstance<py::dict>(value))
+    throw InputError(AtPlace("quality", 0,
+                             "give a dict such as {'max_incidence': 60, 'max_depth_noise': 2} "
+                             "(degrees, millimetres) or None"));
+  for (const auto& [key, item] : value.cast<py::dict>()) {
+    const std::string name = py::str(key);
+    if (item.is_none()) continue;
+    if (name == "max_incidence") {
+      quality.max_incidence_deg = item.cast<double>();
+    } else if (name == "max_depth_noise") {
+      quality.max_depth_noise = item.cast<double>() / 1000.0;
+    } else {
+      throw InputError(AtPlace("quality", 0,
+                               "unknown key '" + name +
+                                   "' — use max_incidence [deg] and max_depth_noise [mm]"));
+    }
+  }
+  return quality;
+}
+
+// The progress callable, called as progress(done, total) from the library's worker threads with
+// the GIL taken; its exception stops the run and is raised to the caller. The callable is held
+// by a shared pointer whose deleter takes the GIL, since the option structs are copied and
+// destroyed inside the library, without it.
+std::function<void(size_t, size_t)> ProgressOf(const py::object& progress) {
+  if (progress.is_none()) return {};
+  if (!PyCallable_Check(progress.ptr()))
+    throw InputError(AtPlace("progress", 0, "give a callable progress(done, total) or None"));
+  std::shared_ptr<py::object> callable(new py::object(progress), [](py::object* held) {
+    py::gil_scoped_acquire gil;
+    delete held;
+  });
+  return [callable](size_t done, size_t total) {
+    py::gil_scoped_acquire gil;
+    (*callable)(done, total);
+  };
+}
+
+SceneInput SceneInputOf(const py::object& path, const py::object& model_path,
+                        const py::object& resource_path, const py::object& targets,
+                        std::optional<double> cell_size, std::optional<uint64_t> seed,
+                        std::optional<std::array<double, 3>> observation_point,
+                        std::optional<bool> random_roll) {
+  SceneInput input;
+  input.path = OptionalPathOf(path).value_or("");
+  input.load.model_paths = PathsOf(model_path);
+  input.load.resource_paths = PathsOf(resource_path);
+  input.load.targets = NamesOf(targets);
+  input.load.cell_size = cell_size;
+  input.seed = seed;
+  if (observation_point) {
+    const auto& p = *observation_point;
+    input.observation_point = Vec3(p[0], p[1], p[2]);
+  }
+  input.random_roll = random_roll;
+  return input;
+}
+
+ObserveOptions ObserveOptionsOf(const py::object& quality, bool cull, const py::object& progress) {
+  ObserveOptions options;
+  options.cull = cull;
+  options.quality = QualityOf(quality);
+  options.progress = ProgressOf(progress);
+  return options;
+}
+
+// `out`: None (nothing written) or the folder to write (the CLI's --out).
+std::optional<std::string> OutDirOf(const py::object& out) {
+  std::optional<std::string> folder = OptionalPathOf(out);
+  if (folder && folder->empty())
+    throw InputError(AtPlace("out", 0, "the path is empty — give the folder to write, or None"));
+  return folder;
+}
+
+RunLimits LimitsOf(std::optional<double> max_memory) {
+  RunLimits limits;
+  if (max_memory) limits.max_memory_mib = *max_memory;
+  return limits;
+}
+
+RobustnessOptions RobustnessOf(std::optional<double> fov_tolerance,
+                               std::optional<double> alternatives_within) {
+  RobustnessOptions robustness;
+  if (fov_tolerance) robustness.fov_tolerance_deg = *fov_tolerance;
+  if (alternatives_within) robustness.within = *alternatives_within / 100.0;  // points
+  return robustness;
+}
+
+// ---- running without the GIL ------------------------------------------------------------------
+
+void CheckThreads(std::optional<int> threads) {
+  if (threads && (*threads < 0 || *threads > 4096))
+    throw InputError(AtPlace("threads", 0,
+                             std::to_string(*threads) +
+                                 " is out of range — give 1 to 4096 worker threads, or None "
+                                 "(0) for all cores"));
+}
+
+// Runs `work` with the GIL released, on at most `threads` worker threads (None or 0: all cores;
+// results are the same for any number). `work` must not touch Python objects.
+template <typename Work>
+auto WithoutGil(std::optional<int> threads, Work&& work) {
+  CheckThreads(threads);
+  py::gil_scoped_release release;
+  if (!threads || *threads == 0) return work();
+  tbb::task_arena arena(*threads);
+  return arena.execute(std::forward<Work>(work));
+}
+
+// ---- results ----------------------------------------------------------------------------------
+
+/// One candidate sensor as Python sees it (vantage.Candidate).
+struct CandidateInfo {
+  std::string name;
+  std::string type;        // catalog id, or the type's own name
+  std::string sensor;      // display name of the type
+  std::string technology;
+  std::string population;  // "" for an explicit sensor
+  std::array<double, 3> position{};    // [m], world
+  std::array<double, 4> quaternion{};  // world_from_body, [w, x, y, z]
+  int width = 0, height = 0;
+  double fx = 0, fy = 0, cx = 0, cy = 0, near = 0, far = 0, cost = 0;
+  std::optional<double> coverage;           // |O_i ∩ R| / |R|, once observed
+  std::optional<size_t> observed_voxels;    // |O_i ∩ R|, once observed
+};
+
+CandidateInfo InfoOf(const Candidate& c) {
+  CandidateInfo info;
+  info.name = c.name;
+  info.type = c.type_id;
+  info.sensor = c.sensor.name;
+  info.technology = c.sensor.technology;
+  info.population = c.population;
+  for (int a = 0; a < 3; ++a) info.position[static_cast<size_t>(a)] = c.world_from_body.position[a];
+  info.quaternion = WxyzOf(c.world_from_body.rotation);
+  info.width = c.sensor.width;
+  info.height = c.sensor.height;
+  info.fx = c.sensor.fx;
+  info.fy = c.sensor.fy;
+  info.cx = c.sensor.cx;
+  info.cy = c.sensor.cy;
+  info.near = c.sensor.near;
+  info.far = c.sensor.far;
+  info.cost = c.sensor.cost;
+  return info;
+}
+
+std::vector<CandidateInfo> CandidatesOf(const VisibilityFile& data) {
+  std::vector<CandidateInfo> list;
+  list.reserve(data.candidates.size());
+  const double cells = static_cast<double>(data.reference.size());
+  for (size_t i = 0; i < data.candidates.size(); ++i) {
+    CandidateInfo info = InfoOf(data.candidates[i]);
+    const size_t seen = data.observations[i].reference_indices.size();
+    info.observed_voxels = seen;
+    info.coverage = cells > 0 ? static_cast<double>(seen) / cells : 0.0;
+    list.push_back(std::move(info));
+  }
+  return list;
+}
+
+/// A chosen constellation (vantage.Selection).
+struct SelectionInfo {
+  Selection selection;
+  Strings sensors;  // names of the chosen candidates, in the order chosen
+};
+
+SelectionInfo SelectionInfoOf(Selection selection, const VisibilityFile& data) {
+  SelectionInfo info;
+  for (uint32_t i : selection.chosen) info.sensors.push_back(data.candidates[i].name);
+  info.selection = std::move(selection);
+  return info;
+}
+
+py::object JsonOf(const std::string& text) {
+  return py::module_::import("json").attr("loads")(text);
+}
+
+// The CSR matrix of the sets: the index lists are copied once, straight into the NumPy array
+// SciPy keeps (no intermediate vector, no conversion afterwards: SciPy takes arrays of one index
+// dtype as they are).
+template <typename Index>
+py::object CsrOf(const VisibilityFile& data, size_t nonzeros) {
+  const size_t rows = data.observations.size();
+  py::array_t<Index> indptr(static_cast<py::ssize_t>(rows + 1));
+  py::array_t<Index> indices(static_cast<py::ssize_t>(nonzeros));
+  Index* row_start = indptr.mutable_data();
+  Index* column = indices.mutable_data();
+  size_t at = 0;
+  row_start[0] = 0;
+  for (size_t i = 0; i < rows; ++i) {
+    for (uint32_t r : data.observations[i].reference_indices) column[at++] = static_cast<Index>(r);
+    row_start[i + 1] = static_cast<Index>(at);
+  }
+  py::object ones = py::module_::import("numpy").attr("ones")(nonzeros, "float64");
+  py::object csr = py::module_::import("scipy.sparse").attr("csr_matrix")(
+      py::make_tuple(ones, indices, indptr),
+      py::make_tuple(rows, data.reference.size()));
+  csr.attr("has_sorted_indices") = true;  // each O_i is sorted and unique
+  return csr;
+}
+
+py::object MatrixOf(const VisibilityFile& data) {
+  size_t nonzeros = 0;
+  for (const Observation& o : data.observations) nonzeros += o.reference_indices.size();
+  constexpr size_t kInt32 = static_cast<size_t>(std::numeric_limits<int32_t>::max());
+  if (nonzeros <= kInt32 && data.reference.size() <= kInt32) return CsrOf<int32_t>(data, nonzeros);
+  return CsrOf<int64_t>(data, nonzeros);
+}
+
+/// A loaded, deployed scene (vantage.Problem); immutable, so observe may run from many threads.
+struct ProblemHandle {
+  std::shared_ptr<const PreparedScene> prepared;
+};
+
+/// An observed scene's matrix (vantage.Visibility); immutable but for the matrix built lazily.
+struct VisibilityHandle {
+  std::shared_ptr<const VisibilityFile> data;
+  py::object matrix;  // scipy.sparse.csr_matrix, built on first use
+};
+
+SelectionRequest RequestOf(std::optional<int> n, std::optional<Method> method,
+                           std::optional<double> time_limit, std::optional<int> k,
+                           std::optional<double> goal, std::optional<double> budget,
+                           std::optional<int> iterations, std::optional<double> stop,
+                           std::optional<OverStates> over_states = std::nullopt) {
+  SelectionRequest request;
+  request.n = n;
+  request.method = method;
+  request.time_limit = time_limit;
+  request.k = k;
+  request.goal = goal;
+  request.budget = budget;
+  request.ransac_iterations = iterations;
+  request.ransac_stop_coverage = stop;
+  request.over_states = over_states;
+  return request;
+}
+
+std::vector<Selection> SelectOn(const VisibilityFile& data, const SelectionRequest& request,
+                                std::optional<uint64_t> seed, Method default_method,
+                                std::optional<int> threads) {
+  const SelectOptions options = ResolveSelection(data.selection, request, seed.value_or(data.seed),
+                                                 data.candidates, data.scene, default_method);
+  return WithoutGil(threads, [&] {
+    return Select(data.observations, data.reference.size(), options);
+  });
+}
+
+py::list SensorCatalog() {
+  py::list list;
+  for (const SensorType& s : Catalog()) {
+    py::dict entry;
+    entry["id"] = s.id;
+    entry["name"] = s.name;
+    entry["technology"] = s.technology;
+    entry["width"] = s.width;
+    entry["height"] = s.height;
+    entry["hfov"] = s.HorizontalFov();
+    entry["vfov"] = s.VerticalFov();
+    entry["fx"] = s.fx;
+    entry["fy"] = s.fy;
+    entry["cx"] = s.cx;
+    entry["cy"] = s.cy;
+    entry["near"] = s.near;
+    entry["far"] = s.far;
+    entry["fps"] = s.fps;
+    entry["cost"] = s.cost;
+    if (s.depth_noise) {
+      py::dict noise;
+      noise["a"] = s.depth_noise->a;
+      noise["b"] = s.depth_noise->b;
+      noise["c"] = s.depth_noise->c;
+      noise["source"] = s.depth_noise->source;
+      entry["depth_noise"] = noise;
+    } else {
+      entry["depth_noise"] = py::none();
+    }
+    list.append(entry);
+  }
+  return list;
+}
+
+void SetLogLevel(const std::string& level) {
+  const spdlog::level::level_enum parsed = spdlog::level::from_str(level);
+  if (parsed == spdlog::level::off && level != "off")
+    throw InputError(AtPlace("level", 0,
+                             "unknown log level '" + level +
+                                 "' — use debug, info, warning, error or off"));
+  spdlog::default_logger()->set_level(parsed);
+}
+
+py::array_t<double> ArrayOf(const double* values, size_t count) {
+  return py::array_t<double>(static_cast<py::ssize_t>(count), values);
+}
+
+py::object OptionalDouble(const std::optional<double>& value) {
+  return value ? py::object(py::float_(*value)) : py::object(py::none());
+}
+
+}  // namespace
+
+void Bind(py::module_& m) {
+  m.doc() =
+      "vantage: where to put 3D depth cameras so that together they see as much as possible of "
+      "the targets.\n\nThe library's pipeline (load, observe, select, optimize, evaluate) for "
+      "Python; docs/python.md describes the API, units and frames. Lengths are metres, angles "
+      "degrees in options, quaternions [w, x, y, z]. Bad input raises vantage.InputError (a "
+      "ValueError) with the CLI's `file:line: message`; internal failures raise RuntimeError.";
+  m.attr("__version__") = Version();
+
+  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+  m.attr("InputError").attr("__doc__") =
+      "Bad input that the user can fix: a scene, visibility or report file (the message starts "
+      "with `file:line:` as the CLI's) or an option (the message names it). A ValueError.";
+
+  py::class_<CandidateInfo>(m, "Candidate",
+                            "One candidate sensor: a sensor type at a world pose of its camera "
+                            "body frame (x forward, y left, z up).")
+      .def_readonly("name", &CandidateInfo::name, "unique name, e.g. 'kinect_ring_3'")
+      .def_readonly("type", &CandidateInfo::type,
+                    "catalog id of the sensor type (vantage.sensors()), or the type's own name")
+      .def_readonly("sensor", &CandidateInfo::sensor, "display name of the sensor type")
+      .def_readonly("technology", &CandidateInfo::technology, "e.g. 'structured light'")
+      .def_readonly("population", &CandidateInfo::population,
+                    "the population it was deployed from; '' for an explicit sensor")
+      .def_property_readonly(
+          "position", [](const CandidateInfo& c) { return ArrayOf(c.position.data(), 3); },
+          "position of the camera body frame in the world [m], shape (3,)")
+      .def_property_readonly(
+          "quaternion", [](const CandidateInfo& c) { return ArrayOf(c.quaternion.data(), 4); },
+          "rotation world_from_body as a unit quaternion [w, x, y, z], shape (4,)")
+      .def_readonly("width", &CandidateInfo::width, "image width [px]")
+      .def_readonly("height", &CandidateInfo::height, "image height [px]")
+      .def_readonly("fx", &CandidateInfo::fx, "focal length [px]")
+      .def_readonly("fy", &CandidateInfo::fy, "focal length [px]")
+      .def_readonly("cx", &CandidateInfo::cx, "principal point [px] (continuous coordinates)")
+      .def_readonly("cy", &CandidateInfo::cy, "principal point [px] (continuous coordinates)")
+      .def_readonly("near", &CandidateInfo::near, "nearest valid depth [m]")
+      .def_readonly("far", &CandidateInfo::far, "farthest valid depth [m]")
+      .def_readonly("cost", &CandidateInfo::cost, "unit cost of the type (budget objective)")
+      .def_readonly("coverage", &CandidateInfo::coverage,
+                    "share of the reference cells it sees alone, 0..1 (None before observe)")
+      .def_readonly("observed_voxels", &CandidateInfo::observed_voxels,
+                    "reference cells it sees alone (its row sum of Visibility.matrix; None "
+                    "before observe)")
+      .def("__repr__", [](const CandidateInfo& c) {
+        return "<vantage.Candidate " + c.name + " (" + c.type + ")>";
+      });
+
+  py::class_<SelectionInfo>(m, "Selection", "A chosen constellation and how good it is.")
+      .def_property_readonly(
+          "method", [](const SelectionInfo& s) { return s.selection.method; },
+          "the method that chose it: best, ransac, greedy, local or exact")
+      .def_property_readonly(
+          "n", [](const SelectionInfo& s) { return s.selection.n; }, "number of sensors chosen")
+      .def_readonly("sensors", &SelectionInfo::sensors,
+                    "names of the chosen candidates, in the order chosen")
+      .def_property_readonly(
+          "indices", [](const SelectionInfo& s) { return s.selection.chosen; },
+          "rows of Visibility.matrix (candidate indices) of the chosen, in the order chosen")
+      .def_property_readonly(
+          "coverage", [](const SelectionInfo& s) { return s.selection.coverage; },
+          "|(union of O_i) ∩ R| / |R| of the chosen, 0..1 (k-coverage: the share seen by k)")
+      .def_property_readonly(
+          "paper_coverage", [](const SelectionInfo& s) { return s.selection.paper_coverage; },
+          "|union of O_i| / |R|, cells outside R included (the paper's metric)")
+      .def_property_readonly(
+          "upper_bound", [](const SelectionInfo& s) { return OptionalDouble(s.selection.upper_bound); },
+          "proven bound on the best coverage for the same objective and n (exact), else None")
+      .def_property_readonly(
+          "optimal", [](const SelectionInfo& s) { return s.selection.proven_optimal; },
+          "True when proven optimal (coverage == upper_bound, or set cover's least n)")
+      .def_property_readonly(
+          "objective", [](const SelectionInfo& s) { return s.selection.objective; },
+          "coverage, set-cover, k-coverage or budget")
+      .def_property_readonly(
+          "k", [](const SelectionInfo& s) { return s.selection.k; }, "k of k-coverage (else 1)")
+      .def_property_readonly(
+          "goal", [](const SelectionInfo& s) { return OptionalDouble(s.selection.goal); },
+          "set cover's coverage goal, 0..1, else None")
+      .def_property_readonly(
+          "budget", [](const SelectionInfo& s) { return OptionalDouble(s.selection.budget); },
+          "the budget of the budget objective, else None")
+      .def_property_readonly(
+          "cost", [](const SelectionInfo& s) { return OptionalDouble(s.selection.cost); },
+          "total cost of the chosen (budget objective), else None")
+      .def_property_readonly(
+          "n_lower_bound", [](const SelectionInfo& s) { return s.selection.n_lower_bound; },
+          "set cover: proven least number of sensors, else None")
+      .def_property_readonly(
+          "seconds", [](const SelectionInfo& s) { return s.selection.seconds; },
+          "time the method took [s]")
+      .def("__repr__", [](const SelectionInfo& s) {
+        return "<vantage.Selection " + s.selection.method + " n=" + std::to_string(s.selection.n) +
+               " coverage=" + std::to_string(s.selection.coverage) + ">";
+      });
+
+  py::class_<VisibilityHandle>(m, "Visibility",
+                               "The visibility matrix of an observed scene: which reference "
+                               "cells each candidate sees, with R and the candidates.")
+      .def_property_readonly(
+          "matrix",
+          [](VisibilityHandle& v) {
+            if (!v.matrix) v.matrix = MatrixOf(*v.data);
+            return v.matrix;
+          },
+          "scipy.sparse.csr_matrix of shape (candidates, reference cells), float64, 1.0 where "
+          "the candidate sees the cell (its observation set O_i, quality filter applied). Built "
+          "once, on first use, then shared.")
+      .def_property_readonly(
+          "reference",
+          [](const VisibilityHandle& v) {
+            const Reference& r = v.data->reference;
+            py::array_t<double> centres({static_cast<py::ssize_t>(r.size()), py::ssize_t{3}});
+            double* out = centres.mutable_data();
+            for (size_t i = 0; i < r.size(); ++i) {
+              const Vec3 c = VoxelCenter(r.keys[i], r.cell_size);
+              for (int a = 0; a < 3; ++a) out[3 * i + static_cast<size_t>(a)] = c[a];
+            }
+            return centres;
+          },
+          "numpy array (R, 3): centres of the reference cells in the world [m], in the order of "
+          "the matrix's columns")
+      .def_property_readonly(
+          "reference_keys",
+          [](const VisibilityHandle& v) {
+            const std::vector<uint64_t>& keys = v.data->reference.keys;
+            return py::array_t<uint64_t>(static_cast<py::ssize_t>(keys.size()), keys.data());
+          },
+          "numpy uint64 array (R,): the packed cell keys (21 bits per axis, offset 2^20, x "
+          "highest), ascending")
+      .def_property_readonly(
+          "cell_size", [](const VisibilityHandle& v) { return v.data->reference.cell_size; },
+          "edge of the cubic cells F [m]")
+      .def_property_readonly(
+          "candidates", [](const VisibilityHandle& v) { return CandidatesOf(*v.data); },
+          "list of vantage.Candidate in row order, with coverage and observed_voxels")
+      .def_property_readonly(
+          "scene", [](const VisibilityHandle& v) { return v.data->scene; },
+          "path of the scene it was observed in")
+      .def_property_readonly(
+          "seed", [](const VisibilityHandle& v) { return v.data->seed; },
+          "the run's seed (selection's default)")
+      .def_property_readonly(
+          "quality",
+          [](const VisibilityHandle& v) {
+            py::dict quality;
+            const QualityFilter& q = v.data->quality;
+            quality["max_incidence"] = OptionalDouble(q.max_incidence_deg);
+            quality["max_depth_noise"] = q.max_depth_noise
+                                             ? py::object(py::float_(*q.max_depth_noise * 1000.0))
+                                             : py::object(py::none());
+            return quality;
+          },
+          "the quality filter the sets were made with: max_incidence [deg], max_depth_noise [mm]")
+      .def(
+          "select",
+          [](const VisibilityHandle& v, std::optional<int> n, const std::string& method,
+             std::optional<double> time_limit, std::optional<int> k, std::optional<double> goal,
+             std::optional<double> budget, std::optional<int> iterations,
+             std::optional<double> stop, std::optional<uint64_t> seed,
+             std::optional<int> threads) {
+            const Method chosen = MethodOf(method);
+            if (chosen == Method::kAll)
+              throw InputError(AtPlace("method", 0,
+                                       "'all' gives one result per method and n — use "
+                                       "select_all(), or name one method"));
+            const SelectionRequest request =
+                RequestOf(n, chosen, time_limit, k, goal, budget, iterations, stop);
+            std::vector<Selection> results =
+                SelectOn(*v.data, request, seed, Method::kExact, threads);
+            return SelectionInfoOf(std::move(results.back()), *v.data);
+          },
+          py::arg("n") = py::none(), py::arg("method") = "exact",
+          py::arg("time_limit") = py::none(), py::arg("k") = py::none(),
+          py::arg("goal") = py::none(), py::arg("budget") = py::none(), py::kw_only(),
+          py::arg("iterations") = py::none(), py::arg("stop") = py::none(),
+          py::arg("seed") = py::none(), py::arg("threads") = py::none(),
+          "Chooses n sensors with one method, as `vantage select FILE -n N --method M`.\n\n"
+          "n: sensors (None: the scene's n); method: best, ransac, greedy, local or exact;\n"
+          "time_limit: seconds for exact (None: 60); k: k-coverage when >= 2; goal: set cover,\n"
+          "the fewest sensors reaching this coverage fraction; budget: the most coverage for a\n"
+          "total cost within it; iterations, stop: RANSAC's cap and stop coverage (fraction).\n"
+          "None takes the scene's own setting (goal, k and budget given replace its objective).\n"
+          "seed: None for the run's; threads: None for all cores (same result for any).\n"
+          "Returns a vantage.Selection; raises InputError for invalid options.")
+      .def(
+          "select_all",
+          [](const VisibilityHandle& v, std::optional<int> n,
+             const std::optional<std::string>& method, std::optional<double> time_limit,
+             std::optional<int> k, std::optional<double> goal, std::optional<double> budget,
+             std::optional<int> iterations, std::optional<double> stop,
+             std::optional<uint64_t> seed, std::optional<int> threads) {
+            const SelectionRequest request = RequestOf(n, OptionalMethodOf(method), time_limit, k,
+                                                       goal, budget, iterations, stop);
+            std::vector<SelectionInfo> list;
+            for (Selection& s : SelectOn(*v.data, request, seed, Method::kAll, threads))
+              list.push_back(SelectionInfoOf(std::move(s), *v.data));
+            return list;
+          },
+          py::arg("n") = py::none(), py::arg("method") = py::none(),
+          py::arg("time_limit") = py::none(), py::arg("k") = py::none(),
+          py::arg("goal") = py::none(), py::arg("budget") = py::none(), py::kw_only(),
+          py::arg("iterations") = py::none(), py::arg("stop") = py::none(),
+          py::arg("seed") = py::none(), py::arg("threads") = py::none(),
+          "Every result of `vantage select FILE` (report.json's `results`, in order): with\n"
+          "method None or 'all', best for n = 1, then ransac, greedy, local and exact for each\n"
+          "n from 1 to n. Arguments as select(). Returns a list of vantage.Selection.")
+      .def(
+          "save",
+          [](const VisibilityHandle& v, const py::object& path) {
+            const std::string file = PathOf(path);
+            WithoutGil(std::nullopt, [&] { SaveVisibilityFile(file, *v.data); });
+          },
+          py::arg("path"),
+          "Writes the matrix as a .vis file (the format of `vantage observe --out`, "
+          "docs/outputs.md), atomically; `vantage select` and load_visibility() read it.")
+      .def("__repr__", [](const VisibilityHandle& v) {
+        return "<vantage.Visibility " + std::to_string(v.data->candidates.size()) +
+               " candidates x " + std::to_string(v.data->reference.size()) + " cells>";
+      });
+
+  py::class_<ProblemHandle>(m, "Problem",
+                            "A loaded scene with its candidates deployed, before any ray is "
+                            "cast (vantage.load). Immutable: observe() may run from several "
+                            "threads at once.")
+      .def_property_readonly(
+          "source", [](const ProblemHandle& p) { return p.prepared->problem.source; },
+          "path of the scene file")
+      .def_property_readonly(
+          "cell_size", [](const ProblemHandle& p) { return p.prepared->problem.cell_size; },
+          "edge of the cubic cells F [m] (the scene's, or load's cell_size)")
+      .def_property_readonly(
+          "seed", [](const ProblemHandle& p) { return p.prepared->problem.seed; },
+          "the run's seed")
+      .def_property_readonly(
+          "n", [](const ProblemHandle& p) { return p.prepared->problem.selection.n; },
+          "the scene's number of sensors wanted")
+      .def_property_readonly(
+          "candidates",
+          [](const ProblemHandle& p) {
+            std::vector<CandidateInfo> list;
+            for (const Candidate& c : p.prepared->candidates) list.push_back(InfoOf(c));
+            return list;
+          },
+          "list of vantage.Candidate as deployed (coverage None until observed)")
+      .def_property_readonly(
+          "states",
+          [](const ProblemHandle& p) {
+            Strings names;
+            for (const SceneState& s : p.prepared->problem.states) names.push_back(s.name);
+            return names;
+          },
+          "names of the scene's states (empty when it does not change)")
+      .def(
+          "observe",
+          [](const ProblemHandle& p, const py::object& quality, std::optional<int> threads,
+             const py::object& progress, bool cull, std::optional<double> max_memory) {
+            const ObserveOptions options = ObserveOptionsOf(quality, cull, progress);
+            const RunLimits limits = LimitsOf(max_memory);
+            const std::shared_ptr<const PreparedScene> prepared = p.prepared;
+            VisibilityHandle result;
+            result.data = WithoutGil(threads, [&] {
+              ObservedScene observed = ObservePrepared(*prepared, options, limits);
+              return std::make_shared<const VisibilityFile>(std::move(observed.data));
+            });
+            return result;
+          },
+          py::arg("quality") = py::none(), py::arg("threads") = py::none(),
+          py::arg("progress") = py::none(), py::kw_only(), py::arg("cull") = true,
+          py::arg("max_memory") = py::none(),
+          "Builds R and ray casts every candidate's depth image, as `vantage observe`; the GIL\n"
+          "is released meanwhile.\n\n"
+          "quality: None or {'max_incidence': deg, 'max_depth_noise': mm} (a pixel counts only\n"
+          "when it meets that quality); threads: worker threads (None: all cores; the result is\n"
+          "the same for any); progress: None or a callable progress(done, total), called from\n"
+          "worker threads; cull: False traces every pixel (slower, same result); max_memory:\n"
+          "refuse runs estimated above this many MiB (None: 75 % of the RAM).\n"
+          "A scene with states: the first state's matrix (optimize() selects over all).\n"
+          "Returns a vantage.Visibility.")
+      .def("__repr__", [](const ProblemHandle& p) {
+        return "<vantage.Problem " + p.prepared->problem.source + ": " +
+               std::to_string(p.prepared->candidates.size()) + " candidates>";
+      });
+
+  m.def(
+      "load",
+      [](const py::object& path, const py::object& model_path, const py::object& resource_path,
+         const py::object& targets, std::optional<double> cell_size, std::optional<uint64_t> seed,
+         std::optional<std::array<double, 3>> observation_point, std::optional<bool> random_roll) {
+        const SceneInput input = SceneInputOf(path, model_path, resource_path, targets, cell_size,
+                                              seed, observation_point, random_roll);
+        ProblemHandle problem;
+        problem.prepared = WithoutGil(std::nullopt, [&] {
+          return std::make_shared<const PreparedScene>(Prepare(input));
+        });
+        return problem;
+      },
+      py::arg("path"), py::kw_only(), py::arg("model_path") = py::none(),
+      py::arg("resource_path") = py::none(), py::arg("targets") = py::none(),
+      py::arg("cell_size") = py::none(), py::arg("seed") = py::none(),
+      py::arg("observation_point") = py::none(), py::arg("random_roll") = py::none(),
+      "Loads a scene (.yaml/.yml, docs/scene-format.md) or a Gazebo world (.world/.sdf) and\n"
+      "deploys its candidate sensors, as the CLI's commands do before any ray is cast.\n\n"
+      "model_path, resource_path: a folder or a list of folders (--model-path,\n"
+      "--resource-path); targets: a name or a list overriding the scene's targets; cell_size:\n"
+      "F [m] overriding the scene's; seed: None for the scene's (else 1); observation_point:\n"
+      "(x, y, z) [m] every candidate looks at; random_roll: True/False. None keeps the scene's.\n"
+      "Returns a vantage.Problem; raises InputError ('file:line: ...') for a broken scene.");
+
+  m.def(
+      "load_visibility",
+      [](const py::object& path) {
+        const std::string file = PathOf(path);
+        VisibilityHandle result;
+        result.data = WithoutGil(std::nullopt, [&] {
+          return std::make_shared<const VisibilityFile>(LoadVisibilityFile(file));
+        });
+        return result;
+      },
+      py::arg("path"),
+      "Reads a .vis file written by Visibility.save() or `vantage observe --out`. Returns a\n"
+      "vantage.Visibility; raises InputError naming the file when it is not one, is corrupt or\n"
+      "of another format version.");
+
+  m.def(
+      "optimize",
+      [](const py::object& scene, std::optional<int> n, const std::optional<std::string>& method,
+         const py::object& out, const py::object& model_path, const py::object& resource_path,
+         const py::object& targets, std::optional<double> cell_size, std::optional<uint64_t> seed,
+         std::optional<std::array<double, 3>> observation_point, std::optional<bool> random_roll,
+         const py::object& quality, bool cull, std::optional<double> max_memory,
+         std::optional<int> iterations, std::optional<double> stop,
+         std::optional<double> time_limit, std::optional<double> goal, std::optional<int> k,
+         std::optional<double> budget, const std::optional<std::string>& over_states,
+         std::optional<double> fov_tolerance, std::optional<double> alternatives_within,
+         bool refine, std::optional<int> refine_rounds, std::optional<int> threads,
+         const py::object& progress) {
+        OptimizeOptions options;
+        options.scene = SceneInputOf(scene, model_path, resource_path, targets, cell_size, seed,
+                                     observation_point, random_roll);
+        options.observe = ObserveOptionsOf(quality, cull, progress);
+        options.limits = LimitsOf(max_memory);
+        options.selection = RequestOf(n, OptionalMethodOf(method), time_limit, k, goal, budget,
+                                      iterations, stop, OverStatesOf(over_states));
+        options.robustness = RobustnessOf(fov_tolerance, alternatives_within);
+        if (refine) {
+          RefineOptions refine_options;
+          if (refine_rounds) refine_options.max_rounds = *refine_rounds;
+          options.refine = refine_options;
+        }
+        const std::optional<std::string> out_dir = OutDirOf(out);
+        const std::string report = WithoutGil(threads, [&] {
+          const RunResult run = Optimize(options);
+          if (out_dir) WriteRun(*out_dir, run);
+          return run.files.at("report.json");
+        });
+        return JsonOf(report);
+      },
+      py::arg("scene"), py::arg("n") = py::none(), py::arg("method") = py::none(),
+      py::arg("out") = py::none(), py::kw_only(), py::arg("model_path") = py::none(),
+      py::arg("resource_path") = py::none(), py::arg("targets") = py::none(),
+      py::arg("cell_size") = py::none(), py::arg("seed") = py::none(),
+      py::arg("observation_point") = py::none(), py::arg("random_roll") = py::none(),
+      py::arg("quality") = py::none(), py::arg("cull") = true,
+      py::arg("max_memory") = py::none(), py::arg("iterations") = py::none(),
+      py::arg("stop") = py::none(), py::arg("time_limit") = py::none(),
+      py::arg("goal") = py::none(), py::arg("k") = py::none(), py::arg("budget") = py::none(),
+      py::arg("over_states") = py::none(), py::arg("fov_tolerance") = py::none(),
+      py::arg("alternatives_within") = py::none(), py::arg("refine") = false,
+      py::arg("refine_rounds") = py::none(), py::arg("threads") = py::none(),
+      py::arg("progress") = py::none(),
+      "The whole pipeline, as `vantage optimize SCENE`: the same outputs (report.json,\n"
+      "report.html, candidates.csv, ...) written atomically into the folder `out` (None: none\n"
+      "written). Returns report.json as a dict (docs/outputs.md).\n\n"
+      "Each keyword is the CLI flag of the same name (docs/python.md lists them): n, method\n"
+      "('all' by default: every method), model_path, resource_path, targets, cell_size, seed,\n"
+      "observation_point, random_roll, quality ({'max_incidence': deg, 'max_depth_noise':\n"
+      "mm}), cull, max_memory [MiB], iterations, stop, time_limit [s], goal, k, budget,\n"
+      "over_states ('mean'/'min'), fov_tolerance [deg], alternatives_within [points], refine,\n"
+      "refine_rounds, threads, progress. None keeps the scene's setting.");
+
+  m.def(
+      "evaluate",
+      [](const py::object& scene, const py::object& constellation, const py::object& out,
+         const py::object& model_path, const py::object& resource_path, const py::object& targets,
+         std::optional<double> cell_size, std::optional<uint64_t> seed, const py::object& quality,
+         bool cull, std::optional<double> max_memory, std::optional<int> threads,
+         const py::object& progress) {
+        EvaluateOptions options;
+        options.scene = SceneInputOf(scene, model_path, resource_path, targets, cell_size, seed,
+                                     std::nullopt, std::nullopt);
+        options.constellation = PathOf(constellation);
+        options.observe = ObserveOptionsOf(quality, cull, progress);
+        options.limits = LimitsOf(max_memory);
+        const std::optional<std::string> out_dir = OutDirOf(out);
+        struct Outcome {
+          Strings sensors;
+          std::vector<double> sensor_coverage;
+          double coverage = 0, paper_coverage = 0;
+          std::string report;
+        };
+        const Outcome outcome = WithoutGil(threads, [&] {
+          const EvaluateResult result = Evaluate(options);
+          if (out_dir) WriteRun(*out_dir, result.run);
+          Outcome o;
+          for (const Candidate& c : result.run.data->candidates) o.sensors.push_back(c.name);
+          o.sensor_coverage = result.sensor_coverage;
+          const Selection& given = result.run.report.results.front();
+          o.coverage = given.coverage;
+          o.paper_coverage = given.paper_coverage;
+          o.report = result.run.files.at("report.json");
+          return o;
+        });
+        py::dict result;
+        result["sensors"] = outcome.sensors;
+        result["sensor_coverage"] = outcome.sensor_coverage;
+        result["coverage"] = outcome.coverage;
+        result["paper_coverage"] = outcome.paper_coverage;
+        result["report"] = JsonOf(outcome.report);
+        return result;
+      },
+      py::arg("scene") = py::none(), py::kw_only(), py::arg("constellation"),
+      py::arg("out") = py::none(), py::arg("model_path") = py::none(),
+      py::arg("resource_path") = py::none(), py::arg("targets") = py::none(),
+      py::arg("cell_size") = py::none(), py::arg("seed") = py::none(),
+      py::arg("quality") = py::none(), py::arg("cull") = true,
+      py::arg("max_memory") = py::none(), py::arg("threads") = py::none(),
+      py::arg("progress") = py::none(),
+      "The coverage of given sensor poses, as `vantage evaluate [SCENE] --constellation\n"
+      "FILE`: the primary result's sensors of a report.json (or all candidates of a\n"
+      "constellation file). scene None, and options left None, take the constellation run's\n"
+      "own (its report.json `inputs`). out: also write a report folder there.\n"
+      "Returns a dict: sensors (names), sensor_coverage (each alone, 0..1), coverage and\n"
+      "paper_coverage of them together, report (report.json as a dict).");
+
+  m.def("sensors", &SensorCatalog,
+        "The sensor catalog (SENSORS.md) as a list of dicts: id, name, technology, width,\n"
+        "height, hfov, vfov [rad], fx, fy, cx, cy [px], near, far [m], fps, cost, and\n"
+        "depth_noise ({a, b, c, source}: sigma(z) = a + b z + c z^2 [m]) or None. The keys of\n"
+        "`vantage sensors --json`, plus depth_noise.");
+
+  m.def("set_log_level", &SetLogLevel, py::arg("level"),
+        "The library's log on stderr: 'debug', 'info', 'warning' (the default), 'error' or\n"
+        "'off'.");
+}
+
+}  // namespace vantage::python
+
+PYBIND11_MODULE(vantage, m) {
+  // The library logs through spdlog's default logger (and one named "vantage"): on stderr, as
+  // the CLI's, warnings and errors only unless set_log_level says otherwise.
+  std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
+  if (!logger) logger = spdlog::stderr_color_mt("vantage");
+  logger->set_pattern("[vantage %l] %v");
+  logger->set_level(spdlog::level::warn);
+  spdlog::set_default_logger(logger);
+  vantage::python::Bind(m);
+}

@@ -1,0 +1,88 @@
+"""Bad input raises vantage.InputError (a ValueError) with the CLI's message; the interpreter
+never aborts."""
+
+import pytest
+
+import vantage
+from conftest import EXAMPLE, run_cli
+
+
+def cli_error(*args):
+    result = run_cli(*args, check=False)
+    assert result.returncode == 2, result.stderr
+    return result.stderr.strip().removeprefix("[error] ")
+
+
+def test_broken_scene_names_the_line(tmp_path):
+    lines = EXAMPLE.read_text(encoding="utf-8").splitlines()
+    at = next(i for i, line in enumerate(lines) if line.strip().startswith("cell_size:"))
+    lines[at] = lines[at].split(":")[0] + ": -0.5"
+    (tmp_path / "scenes").mkdir()
+    (tmp_path / "meshes").symlink_to(EXAMPLE.parent.parent / "meshes")  # ../meshes/ as written
+    broken = tmp_path / "scenes" / "broken.yaml"
+    broken.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    with pytest.raises(vantage.InputError) as error:
+        vantage.load(broken)
+    assert isinstance(error.value, ValueError)
+    message = str(error.value)
+    assert message.startswith(f"{broken}:{at + 1}:"), message
+    assert message == cli_error("optimize", broken, "--out", tmp_path / "out")
+    with pytest.raises(vantage.InputError, match=f"^{broken}:{at + 1}:"):
+        vantage.optimize(broken, out=tmp_path / "py")
+    assert not (tmp_path / "py").exists()
+
+
+def test_yaml_syntax_error(tmp_path):
+    broken = tmp_path / "syntax.yaml"
+    broken.write_text("objects:\n  - name: a\n    mesh: [unclosed\n", encoding="utf-8")
+    with pytest.raises(vantage.InputError) as error:
+        vantage.load(broken)
+    assert str(error.value) == cli_error("optimize", broken, "--out", tmp_path / "out")
+    assert str(error.value).startswith(f"{broken}:")
+
+
+def test_missing_file():
+    with pytest.raises(vantage.InputError, match="nowhere.yaml"):
+        vantage.load("nowhere.yaml")
+
+
+def test_option_errors_name_the_option(example_vis, example_problem, tmp_path):
+    with pytest.raises(vantage.InputError, match=r"^-n: "):
+        example_vis.select(n=0, method="greedy")
+    with pytest.raises(vantage.InputError, match=r"^method: unknown method 'fastest'"):
+        example_vis.select(n=2, method="fastest")
+    with pytest.raises(vantage.InputError, match=r"^method: 'all'"):
+        example_vis.select(n=2, method="all")
+    with pytest.raises(vantage.InputError, match=r"^--max-incidence"):
+        example_problem.observe(quality={"max_incidence": 120})
+    with pytest.raises(vantage.InputError, match=r"^quality: unknown key 'incidence'"):
+        example_problem.observe(quality={"incidence": 60})
+    with pytest.raises(vantage.InputError, match=r"^threads: "):
+        example_problem.observe(threads=-1)
+    with pytest.raises(vantage.InputError, match=r"^--cell-size"):
+        vantage.load(EXAMPLE, cell_size=-1.0)
+    with pytest.raises(vantage.InputError, match=r"^-n: "):
+        vantage.optimize(EXAMPLE, n=1000, out=tmp_path / "out")
+    with pytest.raises(TypeError):
+        example_vis.select(n="three")
+
+
+def test_corrupt_visibility_file(tmp_path):
+    bad = tmp_path / "bad.vis"
+    bad.write_bytes(b"not a matrix at all")
+    with pytest.raises(vantage.InputError) as error:
+        vantage.load_visibility(bad)
+    assert str(error.value) == cli_error("select", bad, "--out", tmp_path / "out")
+
+
+def test_progress_exception_reaches_the_caller(example_problem):
+    calls = []
+
+    def progress(done, total):
+        calls.append((done, total))
+        raise KeyboardInterrupt("stop")
+
+    with pytest.raises(KeyboardInterrupt, match="stop"):
+        example_problem.observe(progress=progress, threads=2)
+    assert calls
+    assert example_problem.observe(threads=1).matrix.shape[0] == len(example_problem.candidates)

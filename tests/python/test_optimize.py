@@ -1,0 +1,77 @@
+"""vantage.optimize writes what `vantage optimize` writes (report.json equal, timings aside)."""
+
+import pathlib
+
+import pytest
+
+import vantage
+from conftest import COSTA, EXAMPLE, needs_shared, normalised, read_report, run_cli
+
+
+def compare_folders(cli_folder, py_folder, returned):
+    cli_report, py_report = read_report(cli_folder), read_report(py_folder)
+    assert normalised(py_report) == normalised(cli_report)
+    assert normalised(returned) == normalised(py_report)
+    cli_files = sorted(p.name for p in pathlib.Path(cli_folder).iterdir())
+    assert sorted(p.name for p in pathlib.Path(py_folder).iterdir()) == cli_files
+    for name in ("candidates.csv", "observed.ply", "reference.ply"):
+        assert (pathlib.Path(py_folder) / name).read_bytes() == \
+            (pathlib.Path(cli_folder) / name).read_bytes(), name
+
+
+def test_example_defaults(cli_example, tmp_path):
+    returned = vantage.optimize(EXAMPLE, out=tmp_path / "py")
+    compare_folders(cli_example / "optimize", tmp_path / "py", returned)
+    assert returned["results"], "the run chose nothing"
+
+
+def test_example_with_options(tmp_path):
+    run_cli("optimize", EXAMPLE, "-n", 2, "--method", "local", "--max-incidence", 60,
+            "--seed", 7, "--alternatives-within", 2, "--out", tmp_path / "cli")
+    returned = vantage.optimize(EXAMPLE, n=2, method="local", out=tmp_path / "py",
+                                quality={"max_incidence": 60}, seed=7, alternatives_within=2,
+                                threads=1)
+    compare_folders(tmp_path / "cli", tmp_path / "py", returned)
+    assert [r["method"] for r in returned["results"]] == ["local"]
+
+
+def test_without_out_writes_nothing(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    report = vantage.optimize(EXAMPLE, n=1, method="best")
+    assert report["results"][0]["method"] == "best"
+    assert list(tmp_path.iterdir()) == []
+
+
+@needs_shared()
+def test_shared_world(tmp_path):
+    world = COSTA / "worlds" / "bin_picking.world"
+    paths = ["--model-path", COSTA / "media" / "models", "--resource-path", COSTA / "media"]
+    run_cli("optimize", world, *paths, "--out", tmp_path / "cli")
+    returned = vantage.optimize(world, out=tmp_path / "py", model_path=COSTA / "media" / "models",
+                                resource_path=[str(COSTA / "media")])
+    compare_folders(tmp_path / "cli", tmp_path / "py", returned)
+    assert (tmp_path / "py" / "constellation.world").read_bytes() == \
+        (tmp_path / "cli" / "constellation.world").read_bytes()
+
+
+def test_evaluate_matches_cli(cli_example, tmp_path):
+    constellation = cli_example / "optimize" / "report.json"
+    cli = run_cli("evaluate", EXAMPLE, "--constellation", constellation, "--out", tmp_path / "cli")
+    result = vantage.evaluate(EXAMPLE, constellation=constellation, out=tmp_path / "py")
+    assert normalised(read_report(tmp_path / "py")) == normalised(read_report(tmp_path / "cli"))
+    # The CLI prints "sensor  NAME  xx.xx %" per sensor, then the union.
+    printed = [line.split() for line in cli.stdout.splitlines() if line.startswith("sensor ")]
+    assert result["sensors"] == [words[1] for words in printed]
+    for coverage, words in zip(result["sensor_coverage"], printed):
+        assert 100 * coverage == pytest.approx(float(words[2]), abs=0.005)
+    primary = read_report(cli_example / "optimize")
+    chosen = primary["results"][primary["primary_result"]]
+    assert result["coverage"] == pytest.approx(chosen["coverage"], abs=1e-12)
+
+
+def test_sensors_match_cli_json():
+    import json
+    cli = json.loads(run_cli("sensors", "--json").stdout)
+    ours = vantage.sensors()
+    assert [{k: entry[k] for k in cli[0]} for entry in ours] == cli
+    assert all(set(entry) == set(cli[0]) | {"depth_noise"} for entry in ours)

@@ -1,0 +1,67 @@
+"""Visibility.select gives what `vantage select FILE` gives, for every method."""
+
+import pytest
+
+import vantage
+from conftest import METHODS, read_report, run_cli
+
+
+@pytest.fixture(scope="module")
+def cli_vis(cli_example):
+    return vantage.load_visibility(cli_example / "example.vis")
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_each_method_as_cli(cli_example, cli_vis, example_vis, method, tmp_path):
+    run_cli("select", cli_example / "example.vis", "-n", 3, "--method", method,
+            "--out", tmp_path / "cli")
+    (expected,) = read_report(tmp_path / "cli")["results"]
+    for vis in (cli_vis, example_vis):  # the CLI's matrix and the module's own
+        selection = vis.select(n=3, method=method)
+        assert selection.method == expected["method"] == method
+        assert selection.sensors == expected["sensors"]
+        assert selection.n == expected["n"] == len(selection.sensors)
+        assert selection.coverage == expected["coverage"]
+        assert selection.paper_coverage == expected["paper_coverage"]
+        assert selection.upper_bound == expected.get("upper_bound")
+        assert selection.optimal == expected.get("optimal", False)
+        names = [c.name for c in vis.candidates]
+        assert [names[i] for i in selection.indices] == selection.sensors
+
+
+def test_coverage_from_the_matrix(cli_vis):
+    """coverage = |(union of the chosen rows) ∩ R| / |R|, recomputed with SciPy."""
+    selection = cli_vis.select(n=3, method="greedy")
+    union = cli_vis.matrix[selection.indices].sum(axis=0)
+    assert (union > 0).sum() / cli_vis.matrix.shape[1] == pytest.approx(selection.coverage,
+                                                                        abs=1e-15)
+
+
+def test_exact_bound_holds(cli_vis):
+    for n in (1, 2, 3):
+        exact = cli_vis.select(n=n, method="exact")
+        assert exact.upper_bound is not None and exact.coverage <= exact.upper_bound + 1e-12
+        for method in ("ransac", "greedy", "local"):
+            assert cli_vis.select(n=n, method=method).coverage <= exact.upper_bound + 1e-12
+
+
+def test_select_all_as_cli(cli_example, cli_vis, tmp_path):
+    run_cli("select", cli_example / "example.vis", "-n", 2, "--out", tmp_path / "cli")
+    expected = read_report(tmp_path / "cli")["results"]
+    ours = cli_vis.select_all(n=2)
+    assert [(s.method, s.n, s.sensors, s.coverage) for s in ours] == \
+        [(r["method"], r["n"], r["sensors"], r["coverage"]) for r in expected]
+
+
+@pytest.mark.parametrize("flags,kwargs", [
+    (["--goal", "0.6", "--method", "greedy"], {"goal": 0.6, "method": "greedy"}),
+    (["-n", "3", "--k", "2", "--method", "local"], {"n": 3, "k": 2, "method": "local"}),
+    (["--budget", "2000", "--method", "exact"], {"budget": 2000, "method": "exact"}),
+])
+def test_objectives_as_cli(cli_example, cli_vis, tmp_path, flags, kwargs):
+    run_cli("select", cli_example / "example.vis", *flags, "--out", tmp_path / "cli")
+    (expected,) = read_report(tmp_path / "cli")["results"]
+    selection = cli_vis.select(**kwargs)
+    assert selection.sensors == expected["sensors"]
+    assert selection.coverage == expected["coverage"]
+    assert selection.objective == expected["objective"]

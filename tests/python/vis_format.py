@@ -1,0 +1,117 @@
+"""An independent reader of the .vis file (docs/outputs.md, "The visibility matrix"), in plain
+Python, so that the tests can compare the module's matrix with the file's sets without the
+module's own code."""
+
+import dataclasses
+import struct
+
+
+@dataclasses.dataclass
+class VisCandidate:
+    name: str
+    type_id: str
+    population: str
+    position: tuple
+    quaternion: tuple  # [w, x, y, z]
+    reference_indices: list
+    rays_traced: int
+
+
+@dataclasses.dataclass
+class VisFile:
+    version: int
+    scene: str
+    seed: int
+    cell_size: float
+    keys: list
+    candidates: list
+
+
+class _Reader:
+    def __init__(self, data):
+        self.data = data
+        self.at = 0
+
+    def take(self, fmt):
+        size = struct.calcsize(fmt)
+        values = struct.unpack_from(fmt, self.data, self.at)
+        self.at += size
+        return values
+
+    def u32(self):
+        return self.take("<I")[0]
+
+    def u64(self):
+        return self.take("<Q")[0]
+
+    def f64(self):
+        return self.take("<d")[0]
+
+    def string(self):
+        length = self.u64()
+        text = self.data[self.at:self.at + length].decode("utf-8")
+        self.at += length
+        return text
+
+    def u32s(self):
+        count = self.u64()
+        return list(self.take(f"<{count}I"))
+
+    def u64s(self):
+        count = self.u64()
+        return list(self.take(f"<{count}Q"))
+
+    def optional(self):
+        present, value = self.u32(), self.f64()
+        return value if present else None
+
+
+def fnv1a64(data):
+    h = 0xCBF29CE484222325
+    for byte in data:
+        h ^= byte
+        h = (h * 0x100000001B3) & 0xFFFFFFFFFFFFFFFF
+    return h
+
+
+def read_vis(path):
+    """The sets of a format-3 .vis file, its checksum verified."""
+    with open(path, "rb") as f:
+        data = f.read()
+    assert data[:8] == b"VANTVIS\0", "not a vantage visibility file"
+    (stored,) = struct.unpack_from("<Q", data, len(data) - 8)
+    assert stored == fnv1a64(data[:-8]), "checksum mismatch"
+    r = _Reader(data[:-8])
+    r.at = 8
+    version = r.u32()
+    assert version == 3, f"format version {version}"
+    scene, seed = r.string(), r.u64()
+    r.u32(), r.u32(), r.f64()  # n, RANSAC iterations and stop coverage
+    r.string(), r.optional(), r.u32(), r.optional()  # method, goal, k, budget
+    r.optional(), r.optional()  # quality: max incidence, max depth noise
+    cell_size = r.f64()
+    keys = r.u64s()
+    candidates = []
+    for _ in range(r.u64()):
+        name, type_id, population = r.string(), r.string(), r.string()
+        r.string(), r.string(), r.string()  # sensor id, name, technology
+        r.u32(), r.u32()  # width, height
+        r.take("<8d")  # fx, fy, cx, cy, near, far, fps, cost
+        r.u32(), r.take("<3d"), r.string()  # depth noise: presence, a, b, c, source
+        position = r.take("<3d")
+        quaternion = r.take("<4d")
+        indices = r.u32s()
+        r.u64s()  # keys seen outside R
+        rays = r.u64()
+        r.u32s(), r.u64(), r.u64()  # plain cells, target and quality pixels
+        candidates.append(VisCandidate(name, type_id, population, position, quaternion, indices,
+                                       rays))
+    assert r.at == len(r.data), "trailing bytes"
+    return VisFile(version, scene, seed, cell_size, keys, candidates)
+
+
+def unpack_key(key):
+    """The integer cell (i, j, k) of a packed key: 21 bits per axis, offset 2^20, x highest."""
+    mask = (1 << 21) - 1
+    offset = 1 << 20
+    return ((key >> 42) & mask) - offset, ((key >> 21) & mask) - offset, (key & mask) - offset
