@@ -18,11 +18,13 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <thread>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "vantage/error.hpp"
+#include "vantage/interrupt.hpp"
 #include "vantage/pipeline.hpp"
 #include "vantage/select_states.hpp"
 #include "vantage/sensors.hpp"
@@ -187,15 +189,32 @@ void CheckThreads(std::optional<int> threads) {
                                  "(0) for all cores"));
 }
 
+// The interpreter's main thread, where Python handles signals (set when the module is imported).
+std::thread::id g_main_thread;
+
 // Runs `work` with the GIL released, on at most `threads` worker threads (None or 0: all cores;
-// results are the same for any number). `work` must not touch Python objects.
+// results are the same for any number). `work` must not touch Python objects. Called from the
+// main thread, Ctrl-C stops the work within a second (vantage/interrupt.hpp) and raises
+// KeyboardInterrupt; Python's own handler is back once the call returns.
 template <typename Work>
 auto WithoutGil(std::optional<int> threads, Work&& work) {
   CheckThreads(threads);
-  py::gil_scoped_release release;
-  if (!threads || *threads == 0) return work();
-  tbb::task_arena arena(*threads);
-  return arena.execute(std::forward<Work>(work));
+  std::optional<InterruptOnSignals> interrupts;
+  if (std::this_thread::get_id() == g_main_thread) {
+    ClearInterrupt();
+    interrupts.emplace();
+  }
+  try {
+    py::gil_scoped_release release;
+    if (!threads || *threads == 0) return work();
+    tbb::task_arena arena(*threads);
+    return arena.execute(std::forward<Work>(work));
+  } catch (const Interrupted&) {
+    interrupts.reset();
+    ClearInterrupt();
+    PyErr_SetNone(PyExc_KeyboardInterrupt);
+    throw py::error_already_set();
+  }
 }
 
 // ---- results ----------------------------------------------------------------------------------
@@ -840,6 +859,7 @@ void Bind(py::module_& m) {
 }  // namespace vantage::python
 
 PYBIND11_MODULE(vantage, m) {
+  g_main_thread = std::this_thread::get_id();
   // The library logs through spdlog's default logger (and one named "vantage"): on stderr, as
   // the CLI's, warnings and errors only unless set_log_level says otherwise.
   std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
