@@ -43,8 +43,9 @@ std::vector<size_t> SplitByCost(std::span<const uint64_t> costs, size_t parts) {
   long double prefix = 0;
   for (size_t p = 1; p < parts; ++p) {
     const long double target = total * static_cast<long double>(p) / parts;
-    // Take the candidate when that brings the prefix closer to the target than leaving it.
-    while (i < costs.size() && prefix + static_cast<long double>(costs[i]) / 2 <= target) {
+    // Take the candidate when that brings the prefix closer to the target than leaving it (a
+    // tie leaves it to the next part).
+    while (i < costs.size() && prefix + static_cast<long double>(costs[i]) / 2 < target) {
       prefix += static_cast<long double>(costs[i]);
       ++i;
     }
