@@ -225,7 +225,8 @@ size_t ChunkBytes(int size) {
 }
 
 // Every rank's bytes to rank 0, in rounds of at most ChunkBytes each; rank 0 gets them by rank.
-std::vector<std::string> GatherBytes(const std::string& mine, int rank, int size) {
+std::vector<std::string> GatherBytes(const std::string& mine, int rank, int size,
+                                     size_t* rounds) {
   std::vector<uint64_t> sizes(static_cast<size_t>(size));
   const uint64_t my_size = mine.size();
   MPI_Request request;
@@ -237,7 +238,8 @@ std::vector<std::string> GatherBytes(const std::string& mine, int rank, int size
   std::vector<std::string> parts(rank == 0 ? static_cast<size_t>(size) : 0);
   std::vector<int> counts(static_cast<size_t>(size)), displacements(static_cast<size_t>(size));
   std::string buffer;
-  for (uint64_t offset = 0; offset < largest; offset += chunk) {
+  *rounds = 0;
+  for (uint64_t offset = 0; offset < largest; offset += chunk, ++*rounds) {
     const auto piece = [&](uint64_t total) {
       return static_cast<int>(total > offset ? std::min<uint64_t>(chunk, total - offset) : 0);
     };
@@ -335,19 +337,23 @@ TraceFunction MpiJob::Tracer() {
     spdlog::debug("rank {} of {}: traced candidates {} to {} of {}", rank_, size_, begin, end,
                   candidates.size());
     const auto gather_start = std::chrono::steady_clock::now();
-    const std::vector<std::string> parts = GatherBytes(bytes, rank_, size_);
+    size_t rounds = 0;
+    const std::vector<std::string> parts = GatherBytes(bytes, rank_, size_, &rounds);
     std::vector<Observation> all(candidates.size());
     uint64_t gathered = 0;
     for (size_t r = 0; r < parts.size(); ++r) {
       Decode(parts[r], std::span<Observation>(all).subspan(bounds[r], bounds[r + 1] - bounds[r]));
       gathered += parts[r].size();
     }
-    if (rank_ == 0)
-      spdlog::info("gather: {} sets from {} ranks, {:.2f} MiB ({:.0f} bytes per set) in {:.3f} s",
-                   candidates.size(), size_, gathered / 1048576.0,
-                   candidates.empty() ? 0.0 : double(gathered) / double(candidates.size()),
-                   std::chrono::duration<double>(std::chrono::steady_clock::now() - gather_start)
-                       .count());
+    if (rank_ == 0) {
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - gather_start).count();
+      spdlog::info(
+          "gather: {} sets from {} ranks, {:.2f} MiB ({:.0f} bytes per set), {} rounds, {:.3f} s",
+          candidates.size(), size_, gathered / 1048576.0,
+          candidates.empty() ? 0.0 : double(gathered) / double(candidates.size()), rounds,
+          seconds);
+    }
     return all;
   };
 }
