@@ -181,7 +181,8 @@ TEST(Shards, MergeRefusesForeignMissingAndRepeatedParts) {
   refused(dir.File("one_missing.vis"), "one_missing.vis");
   refused(Example(), "not a shard");
   // The three right parts merge.
-  const auto run = RunVantage("merge " + p0 + " " + p1 + " " + dir.File("p2.vis") + " --out " + out);
+  const auto run =
+      RunVantage("merge " + p0 + " " + p1 + " " + dir.File("p2.vis") + " --out " + out);
   EXPECT_EQ(run.exit_code, 0) << run.err;
 }
 

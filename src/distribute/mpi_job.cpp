@@ -161,7 +161,7 @@ std::vector<Vote> Agree(const Vote& mine, int size) {
 // alike, the message once (rank 0).
 std::string Attribution(const std::vector<Vote>& votes, int rank, const std::string& message) {
   const Vote& mine = votes[static_cast<size_t>(rank)];
-  if (mine.code == 0) return {};
+  if (mine.code == 0 || message.empty()) return {};  // empty: already reported (CLI11's own)
   const bool alike = std::all_of(votes.begin(), votes.end(), [&](const Vote& v) {
     return v.code == mine.code && v.message_hash == mine.message_hash;
   });
@@ -312,8 +312,25 @@ TraceFunction MpiJob::Tracer() {
                                         r, size_)
                           : std::string());
     }
-    const std::vector<size_t> bounds =
-        SplitByCost(TraceCosts(reference, candidates, options), static_cast<size_t>(size_));
+    const auto split_start = std::chrono::steady_clock::now();
+    const std::vector<uint64_t> costs = TraceCosts(reference, candidates, options);
+    const std::vector<size_t> bounds = SplitByCost(costs, static_cast<size_t>(size_));
+    if (rank_ == 0) {
+      uint64_t total = 0, largest = 0;
+      for (uint64_t c : costs) total += c;
+      for (int r = 0; r < size_; ++r) {
+        uint64_t share = 0;
+        for (size_t i = bounds[static_cast<size_t>(r)]; i < bounds[static_cast<size_t>(r) + 1]; ++i)
+          share += costs[i];
+        largest = std::max(largest, share);
+      }
+      spdlog::info("split: {} candidates over {} ranks by estimated rays in {:.3f} s, the largest "
+                   "share {:.1f} % of them",
+                   candidates.size(), size_,
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - split_start)
+                       .count(),
+                   total ? 100.0 * double(largest) / double(total) : 0.0);
+    }
     const size_t begin = bounds[static_cast<size_t>(rank_)];
     const size_t end = bounds[static_cast<size_t>(rank_) + 1];
     Vote traced;
