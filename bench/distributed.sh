@@ -19,30 +19,35 @@ CORES=$(nproc)
 echo "machine: $CORES cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)"
 echo "commit: $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
 echo
-echo "| candidates | ranks × threads | observe s | ms per candidate | rays M | gathered MiB | bytes per set | same .vis |"
-echo "|---|---|---|---|---|---|---|---|"
+echo "| candidates | ranks × threads | observe s | CPU s (all ranks) | CPU ms per candidate |" \
+  "rays M | gathered MiB | bytes per set | same .vis |"
+echo "|---|---|---|---|---|---|---|---|---|"
 for count in "${COUNTS[@]}"; do
   scene="$TMP/scene_$count.yaml"
   sed -e "s/count: 40 *$/count: $count/" examples/scenes/bin_picking_cell.yaml >"$scene"
   sed -i "s#file: \.\./meshes/#file: $(pwd)/examples/meshes/#" "$scene"
-  for layout in "1 1" "1 $CORES" "2 1" "2 $((CORES / 2 > 0 ? CORES / 2 : 1))"; do
+  layouts=("1 1" "1 $CORES" "2 1")
+  [ "$CORES" -ge 4 ] && layouts+=("2 $((CORES / 2))")
+  for layout in "${layouts[@]}"; do
     read -r ranks threads <<<"$layout"
     out="$TMP/${count}_${ranks}x${threads}.vis"
-    if [ "$ranks" -eq 1 ]; then
-      "$VANTAGE" --threads "$threads" observe "$scene" --out "$out" >"$out.stdout" 2>"$out.log"
-    else
-      mpirun --bind-to none -np "$ranks" "$VANTAGE" --threads "$threads" observe "$scene" \
-        --out "$out" >"$out.stdout" 2>"$out.log"
-    fi
+    launch=()
+    [ "$ranks" -eq 1 ] || launch=(mpirun --bind-to none -np "$ranks")
+    # CPU seconds of the whole command, every rank included (mpirun's children).
+    /usr/bin/time -f "%U %S" -o "$out.cpu" "${launch[@]}" "$VANTAGE" --threads "$threads" \
+      observe "$scene" --out "$out" >"$out.stdout" 2>"$out.log"
     seconds=$(awk '/^observe /{print $2}' "$out.stdout")
-    rays=$(grep -o '[0-9.]* M rays traced' "$out.log" | head -1 | cut -d' ' -f1)
-    gathered=$(grep -o 'gather: .*' "$out.log" | head -1 | sed -E 's/.* ([0-9.]+) MiB \(([0-9]+) bytes.*/\1 \2/')
+    rays=$(grep -o '[0-9.]* M rays traced' "$out.log" | head -1 | cut -d' ' -f1 || true)
+    gathered=$(grep -o 'gather: .*' "$out.log" | head -1 |
+      sed -E 's/.* ([0-9.]+) MiB \(([0-9]+) bytes.*/\1 \2/' || true)
     [ -n "$gathered" ] || gathered="- -"
     same="-"
     [ -f "$TMP/${count}_1x1.vis" ] && cmp -s "$out" "$TMP/${count}_1x1.vis" && same=yes
     total=$((count + 33))
-    awk -v c="$total" -v s="$seconds" -v l="$ranks × $threads" -v r="$rays" -v g="$gathered" \
-        -v same="$same" 'BEGIN { split(g, G, " ");
-      printf "| %d | %s | %.3f | %.3f | %s | %s | %s | %s |\n", c, l, s, 1000 * s / c, r, G[1], G[2], same }'
+    cpu=$(awk '{print $1 + $2}' "$out.cpu")
+    awk -v c="$total" -v s="$seconds" -v cpu="$cpu" -v l="$ranks × $threads" -v r="$rays" \
+        -v g="$gathered" -v same="$same" 'BEGIN { split(g, G, " ");
+      printf "| %d | %s | %.3f | %.2f | %.2f | %s | %s | %s | %s |\n", c, l, s, cpu,
+             1000 * cpu / c, r, G[1], G[2], same }'
   done
 done
