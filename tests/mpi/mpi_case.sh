@@ -5,6 +5,7 @@
 #   mpi_case.sh MPIEXEC BIN vis NP SCENE [ARGS...]     mpirun -np NP observe: the same .vis bytes
 #   mpi_case.sh MPIEXEC BIN bad_rank SCENE             rank 1 has a missing scene: exit 2 naming
 #                                                      rank 1, no output folder
+#   mpi_case.sh MPIEXEC BIN disagree SCENE             rank 1 has another --seed: exit 2 naming it
 #   mpi_case.sh MPIEXEC BIN killed SCENE               rank 1 killed mid-run: failure, no output
 set -uo pipefail
 MPIEXEC=$1 BIN=$2 CASE=$3
@@ -19,7 +20,8 @@ normalised() {
 case "$CASE" in
   report)
     NP=$1; shift
-    "$BIN" -q optimize "$@" --threads 1 --out "$WORK/one" >/dev/null || fail "one process: exit $?"
+    "$BIN" -q optimize "$@" --threads 1 --out "$WORK/one" >/dev/null ||
+      fail "one process: exit $?"
     "${MPI[@]}" -np "$NP" "$BIN" -q optimize "$@" --threads 1 --out "$WORK/ranks" >/dev/null ||
       fail "mpirun -np $NP: exit $?"
     diff <(normalised "$WORK/one/report.json") <(normalised "$WORK/ranks/report.json") ||
@@ -41,6 +43,16 @@ case "$CASE" in
     cat "$WORK/err"
     [ "$rc" -eq 2 ] || fail "exit $rc, not 2"
     grep -q "rank 1 of 2: .*missing.yaml" "$WORK/err" || fail "no message naming rank 1"
+    [ ! -e "$WORK/out" ] || fail "an output folder was left"
+    ;;
+  disagree)
+    # Rank 1 deploys other candidates (another seed): the job refuses to mix them.
+    "${MPI[@]}" -np 1 "$BIN" -q optimize "$1" --out "$WORK/out" : \
+      -np 1 "$BIN" -q optimize "$1" --seed 7 --out "$WORK/out" 2>"$WORK/err"
+    rc=$?
+    cat "$WORK/err"
+    [ "$rc" -eq 2 ] || fail "exit $rc, not 2"
+    grep -q "rank 1 of 2 has another scene, candidates or R" "$WORK/err" || fail "no message"
     [ ! -e "$WORK/out" ] || fail "an output folder was left"
     ;;
   killed)
