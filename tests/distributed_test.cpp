@@ -82,6 +82,30 @@ TEST(TraceCosts, CountsTheRaysObserveTraces) {
   }
 }
 
+// The pipeline traces through the TraceFunction once per geometry: the example's three states
+// (idle, a gripper added, the motor moved) are three geometries, each traced over all 73
+// candidates, and what the function returns is what the run keeps.
+TEST(TraceFunction, CalledOncePerStateGeometryWithEveryCandidate) {
+  SceneInput input;
+  input.path = std::string(VANTAGE_SOURCE_DIR) + "/examples/scenes/bin_picking_states.yaml";
+  std::vector<size_t> calls;
+  const TraceFunction trace = [&](const RayScene& rays, const Reference& reference,
+                                  std::span<const Candidate> candidates,
+                                  const ObserveOptions& options) {
+    calls.push_back(candidates.size());
+    std::vector<Observation> observations = Observe(rays, reference, candidates, options);
+    observations[0].rays_traced = 12345;  // marks what the run kept
+    return observations;
+  };
+  const ObservedScene observed = ObservePrepared(Prepare(input), ObserveOptions{}, RunLimits{},
+                                                 trace);
+  EXPECT_EQ(calls, (std::vector<size_t>{73, 73, 73}));
+  ASSERT_EQ(observed.states.size(), 3u);
+  for (const ObservedState& state : observed.states)
+    EXPECT_EQ(state.observations[0].rays_traced, 12345u) << state.name;
+  EXPECT_EQ(observed.data.observations[0].rays_traced, 12345u);
+}
+
 TEST(ParseShard, IndexFromTheFlagOrTheJobArray) {
   const ShardSpec s = ParseShard("1/4");
   EXPECT_EQ(s.index, 1u);
