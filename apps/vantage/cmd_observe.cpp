@@ -25,7 +25,8 @@ void RunObserve(ObserveFlags flags) {
   flags.options.observe.progress = ProgressBar("observe");
   if (!flags.shard.empty()) {
     const ShardSpec spec = ParseShard(flags.shard);
-    if (MpiJob::Current())
+    // A launcher's job of one rank (srun under Slurm's PMIx default) is one process: a shard.
+    if (const MpiJob* job = MpiJob::Current(); job && job->size() > 1)
       throw InputError(AtPlace("--shard", 0,
                                "shards are for job arrays, not mpirun — drop --shard or mpirun"));
     const VisibilityShard shard = ObserveShard(flags.options, spec);
