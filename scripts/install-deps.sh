@@ -2,7 +2,7 @@
 # Installs every Debian package vantage needs to build, test and benchmark.
 # Idempotent; run as root (or with sudo available). Chromium is for the HTML report test; clang
 # and libclang-rt-14-dev (libFuzzer) for `make fuzz`; Open MPI for `mpirun vantage`
-# (docs/distributed.md).
+# (docs/distributed.md), jq for its tests' report comparison.
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
@@ -12,7 +12,7 @@ PACKAGES=(
   libcli11-dev libfmt-dev libspdlog-dev libsdformat-dev coinor-libcbc-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpng-dev libstb-dev libjs-three chromium
   clang libclang-rt-14-dev
-  libopenmpi-dev openmpi-bin
+  libopenmpi-dev openmpi-bin jq
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
