@@ -3,7 +3,7 @@
 # which fails the configure step and the `layering` test when a file includes a header of a stage
 # it may not use.
 set(VANTAGE_STAGES util scene reference candidates visibility observe select assess report render
-    pipeline)
+    pipeline distribute)
 
 # Public headers (include/vantage/<name>.hpp) by owning stage.
 set(VANTAGE_HEADERS_util types error rng sensors settings interrupt words)
@@ -17,6 +17,7 @@ set(VANTAGE_HEADERS_assess refine robustness)
 set(VANTAGE_HEADERS_report report visualize yaml_export gazebo_export)
 set(VANTAGE_HEADERS_render render)
 set(VANTAGE_HEADERS_pipeline pipeline)
+set(VANTAGE_HEADERS_distribute distribute)
 
 # Stages each stage may include (itself included). Selection sees only the matrix header of the
 # visibility stage (VANTAGE_EXTRA_select): no scene, no candidate geometry, no Embree.
@@ -32,12 +33,15 @@ set(VANTAGE_USES_assess util scene reference candidates visibility observe selec
 set(VANTAGE_USES_report util scene reference candidates visibility observe select assess report)
 set(VANTAGE_USES_render ${VANTAGE_USES_report} render)
 set(VANTAGE_USES_pipeline ${VANTAGE_USES_render} pipeline)
+# The distribution layer sits on the pipeline: its TraceFunction, ObserveForOptimize/FinishOptimize.
+set(VANTAGE_USES_distribute ${VANTAGE_USES_pipeline} distribute)
 
 # Third-party headers (the first path component of <...>) that only these stages may include.
 set(VANTAGE_ONLY_embree3 observe)
 set(VANTAGE_ONLY_coin select)
 set(VANTAGE_ONLY_assimp scene)
 set(VANTAGE_ONLY_CLI "")
+set(VANTAGE_ONLY_mpi.h distribute)
 
 # Headers generated into the build tree, by the stage that includes them (cmake/EmbedFiles.cmake).
 set(VANTAGE_GENERATED_embedded report)

@@ -2,7 +2,8 @@
 # Installs every Debian package vantage needs to build, test and benchmark.
 # Idempotent; run as root (or with sudo available). Chromium is for the HTML report test; clang
 # and libclang-rt-14-dev (libFuzzer) for `make fuzz`; pybind11 and the python3 packages for the
-# Python module, its tests and examples (docs/python.md), setuptools and pip for `pip install .`.
+# Python module, its tests and examples (docs/python.md), setuptools and pip for `pip install .`;
+# Open MPI for `mpirun vantage` (docs/distributed.md), jq for its tests' report comparison.
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
@@ -14,6 +15,7 @@ PACKAGES=(
   clang libclang-rt-14-dev
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib
   python3-setuptools python3-wheel python3-pip python3-venv
+  libopenmpi-dev openmpi-bin jq
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

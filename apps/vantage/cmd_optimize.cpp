@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <memory>
+#include <optional>
 
 #include "commands.hpp"
 
@@ -18,9 +19,11 @@ struct OptimizeFlags {
 void RunOptimize(OptimizeFlags flags) {
   if (flags.refine) flags.options.refine = flags.refine_options;
   flags.options.observe.progress = ProgressBar("observe");
-  const RunResult run = Optimize(flags.options);
-  WriteRun(flags.out, run);
-  PrintSummary(run.report, flags.out);
+  // Under mpirun every rank traces its share; rank 0 alone writes and prints.
+  const std::optional<RunResult> run = OptimizeInJob(flags.options);
+  if (!run) return;
+  WriteRun(flags.out, *run);
+  PrintSummary(run->report, flags.out);
 }
 
 }  // namespace

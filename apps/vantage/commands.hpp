@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "vantage/distribute.hpp"
 #include "vantage/error.hpp"
 #include "vantage/pipeline.hpp"
 
@@ -45,5 +46,6 @@ void SetupSelect(CLI::App* parent);
 void SetupEvaluate(CLI::App* parent);
 void SetupSensors(CLI::App* parent);
 void SetupRender(CLI::App* parent);
+void SetupMerge(CLI::App* parent);
 
 }  // namespace vantage::cli

@@ -73,7 +73,7 @@ std::optional<std::string> UnknownWordMessage(const CLI::App& app,
   return fmt::format("unexpected argument '{}'{} — {} shows what it takes", word, where, help);
 }
 
-int Run(int argc, char** argv, spdlog::logger* logger) {
+int Run(int argc, char** argv, spdlog::logger* logger, const vantage::MpiJob* job) {
   CLI::App app{"vantage — choose where to put depth cameras to see the most of the targets.\n"
                "Run `vantage help COMMAND` for the options of a command.",
                "vantage"};
@@ -92,6 +92,15 @@ int Run(int argc, char** argv, spdlog::logger* logger) {
   // applies --threads once).
   std::unique_ptr<tbb::global_control> thread_limit;
   app.parse_complete_callback([&] {
+    // Under mpirun only optimize and observe spread their work; the others run in one process.
+    for (const CLI::App* command : app.get_subcommands()) {
+      const std::string& name = command->get_name();
+      if (job && job->size() > 1 && name != "optimize" && name != "observe")
+        throw vantage::InputError(fmt::format(
+            "mpirun: `vantage {}` runs in one process — run it without mpirun (only optimize and "
+            "observe spread over ranks, docs/distributed.md)",
+            name));
+    }
     if (quiet) logger->set_level(spdlog::level::err);
     if (verbosity > 0) logger->set_level(spdlog::level::debug);
     if (threads > 0)
@@ -105,6 +114,7 @@ int Run(int argc, char** argv, spdlog::logger* logger) {
   vantage::cli::SetupEvaluate(&app);
   vantage::cli::SetupSensors(&app);
   vantage::cli::SetupRender(&app);
+  vantage::cli::SetupMerge(&app);
   auto* help = app.add_subcommand("help", "show the options of a command");
   std::string help_topic;
   help->add_option("command", help_topic, "command name");
@@ -150,21 +160,41 @@ int main(int argc, char** argv) {
   logger->set_pattern("[%l] %v");
   spdlog::set_default_logger(logger);
   int code = 0;
+  std::string message;  // the failure to report
+  bool internal = false;
+  std::unique_ptr<vantage::MpiJob> job;
   // Ctrl-C and SIGTERM stop the running stage within a fraction of a second (it throws
   // Interrupted); nothing is written after that, so the earlier outputs stay as they were.
+  // (mpirun forwards the signal to every rank, and each stops alike.)
   const vantage::InterruptOnSignals interrupts;
   try {
-    code = Run(argc, argv, logger.get());
+    job = vantage::MpiJob::Start(&argc, &argv);  // under mpirun: MPI_Init
+    code = Run(argc, argv, logger.get(), job.get());
   } catch (const vantage::Interrupted& e) {
     logger->error("{} — stopped; nothing was written, earlier outputs are as they were", e.what());
     return 128 + (e.signal() != 0 ? e.signal() : SIGINT);  // as a shell reports a signal
+  } catch (const vantage::JobStopped& e) {
+    code = e.code();  // the ranks agreed to stop; this rank prints its part, if any
+    if (*e.what()) logger->error("{}", e.what());
+    return code;
   } catch (const vantage::InputError& e) {
-    logger->error("{}", e.what());
-    return 2;
+    code = 2;
+    message = e.what();
   } catch (const std::exception& e) {
-    if (StdoutFailed(logger.get())) return 1;  // fmt::print throws when a write fails
-    logger->critical("internal error: {}", e.what());
-    return 1;
+    code = 1;
+    // fmt::print throws when a write fails; StdoutFailed then says so.
+    internal = !StdoutFailed(logger.get());
+    if (internal) message = fmt::format("internal error: {}", e.what());
   }
-  return StdoutFailed(logger.get()) ? 1 : code;
+  if (code != 1 && message.empty() && StdoutFailed(logger.get())) code = 1;
+  // An MPI job ends together: every rank's code, each failure reported once, naming its rank.
+  if (job && !job->stopped()) code = job->Finish(code, message, &message);
+  if (!message.empty()) {
+    if (internal) {
+      logger->critical("{}", message);
+    } else {
+      logger->error("{}", message);
+    }
+  }
+  return code;
 }

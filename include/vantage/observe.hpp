@@ -40,6 +40,13 @@ std::vector<Observation> Observe(const Scene& scene, const Reference& reference,
                                  std::span<const Candidate> candidates,
                                  const ObserveOptions& options = {});
 
+/// The rays Observe will trace for each candidate, in candidate order: the pixels left after
+/// culling (the whole image without it), counted without casting a ray. The cost of observing a
+/// candidate, by which the distributed layer splits the work.
+std::vector<uint64_t> CountRaysToTrace(const Reference& reference,
+                                       std::span<const Candidate> candidates,
+                                       const ObserveOptions& options = {});
+
 /// Peak memory that Observe and selection will need, estimated before any ray is cast (upper
 /// bounds where cheap to know, else typical sizes). Bytes.
 struct MemoryEstimate {

@@ -4,7 +4,9 @@
 /// so will the Python module and the distributed mode); the CLI only maps flags onto these option
 /// structs and prints. Option problems are InputErrors naming the option (`-n: ...`), or the
 /// scene file when its own settings are at fault; they are found before any ray is cast.
+#include <chrono>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -108,11 +110,20 @@ struct ObservedScene {
   std::vector<std::string> notes;
 };
 
+/// How the candidates of one geometry are traced: empty, by Observe in this process. The
+/// distributed layer (vantage/distribute.hpp) traces a share in each process and gathers the rest
+/// (MPI), or keeps its share only (--shard). Called once per traced geometry, the scene's first,
+/// then each state of another geometry, in the same order in every process; returns one
+/// observation per candidate.
+using TraceFunction = std::function<std::vector<Observation>(
+    const RayScene& rays, const Reference& reference, std::span<const Candidate> candidates,
+    const ObserveOptions& options)>;
+
 /// Memory checks, R, observe (every state): the candidates traced once per distinct geometry,
-/// each geometry's BVH built once. The scene's selection settings go into the visibility file for
-/// `vantage select`.
+/// each geometry's BVH built once, through `trace` when it is set. The scene's selection settings
+/// go into the visibility file for `vantage select`.
 ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& observe,
-                              const RunLimits& limits);
+                              const RunLimits& limits, const TraceFunction& trace = {});
 
 /// A finished run: the data its report points into (owned, so the report stays valid when the
 /// result moves) and every output file by name.
@@ -134,8 +145,20 @@ struct OptimizeOptions {
   RobustnessOptions robustness;
   /// Set: refine the primary result (--refine); its seed and observe options are the run's.
   std::optional<RefineOptions> refine;
+  TraceFunction trace;  ///< how observe traces (ObservePrepared); empty: in this process
 };
 RunResult Optimize(const OptimizeOptions& options);
+
+/// Optimize in its two halves, for the distributed layer, which runs the first in every process
+/// and the second in one: every check, Prepare and ObservePrepared (through options.trace); then
+/// selection, refinement, assessment and the outputs. Optimize runs one after the other.
+struct OptimizeObserved {
+  ObservedScene observed;
+  SelectOptions select;
+  std::chrono::steady_clock::time_point start;  ///< for timings.total
+};
+OptimizeObserved ObserveForOptimize(const OptimizeOptions& options);
+RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved observed);
 
 /// `vantage observe`: the visibility file of a scene.
 struct ObserveRunOptions {
@@ -143,6 +166,7 @@ struct ObserveRunOptions {
   ObserveOptions observe;
   RunLimits limits;
   std::optional<int> n;  ///< -n: the default number of sensors stored with the matrix
+  TraceFunction trace;   ///< how observe traces (ObservePrepared); empty: in this process
 };
 struct ObserveRunResult {
   VisibilityFile data;

@@ -31,4 +31,24 @@ void SaveVisibilityFile(const std::string& path, const VisibilityFile& file);
 /// Reads it back; InputError naming the file when it is not one, corrupt, or another version.
 VisibilityFile LoadVisibilityFile(const std::string& path);
 
+/// FNV-1a 64 of everything the file holds but its observations: the scene, seed, settings, quality
+/// filter, R and the candidates. Equal for the shards of one run, different for another scene or
+/// other settings.
+uint64_t VisibilityFingerprint(const VisibilityFile& file);
+
+/// One part of a visibility file observed in shards (`vantage observe SCENE --shard i/K`,
+/// docs/distributed.md): the whole file with only this shard's candidates observed.
+struct VisibilityShard {
+  uint32_t index = 0;                ///< i of i/K
+  uint32_t count = 1;                ///< K
+  uint64_t fingerprint = 0;          ///< VisibilityFingerprint(file)
+  std::vector<uint32_t> candidates;  ///< the candidates this shard observed, ascending
+  VisibilityFile file;               ///< the other candidates' observations are empty
+};
+
+/// Writes a shard (its own magic and version, the file inside, a checksum) atomically.
+void SaveVisibilityShard(const std::string& path, const VisibilityShard& shard);
+/// Reads it back; InputError naming the file when it is not one, corrupt, or another version.
+VisibilityShard LoadVisibilityShard(const std::string& path);
+
 }  // namespace vantage

@@ -127,6 +127,18 @@ std::vector<Observation> Observe(const RayScene& rays, const Reference& referenc
   return observations;
 }
 
+std::vector<uint64_t> CountRaysToTrace(const Reference& reference,
+                                       std::span<const Candidate> candidates,
+                                       const ObserveOptions& options) {
+  const std::vector<Aabb> blocks = ReferenceBlocks(reference);
+  std::vector<uint64_t> rays(candidates.size(), 0);
+  tbb::parallel_for(size_t{0}, candidates.size(), [&](size_t i) {
+    for (const RowSpan& span : SpansToTrace(candidates[i], blocks, options.cull))
+      rays[i] += static_cast<uint64_t>(span.u1 - span.u0 + 1);
+  });
+  return rays;
+}
+
 std::vector<Observation> Observe(const Scene& scene, const Reference& reference,
                                  std::span<const Candidate> candidates, const ObserveOptions& options) {
   return Observe(RayScene(scene), reference, candidates, options);

@@ -152,7 +152,7 @@ void CheckReferenceMemory(const PreparedScene& prepared, double limit_mib) {
 }  // namespace detail
 
 ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& observe,
-                              const RunLimits& limits) {
+                              const RunLimits& limits, const TraceFunction& trace) {
   observe.Validate();
   limits.Validate();
   Problem& problem = prepared.problem;
@@ -170,6 +170,10 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
                result.timings.reference);
 
   const std::vector<Candidate>& candidates = prepared.candidates;
+  const auto trace_all = [&](const RayScene& rays, const Reference& cells) {
+    return trace ? trace(rays, cells, candidates, observe)
+                 : Observe(rays, cells, candidates, observe);
+  };
   int64_t pixels = 0;
   for (const Candidate& c : candidates) pixels += c.sensor.PixelCount();
   spdlog::info("observe: {} candidates, {:.1f} Mpx in all images", candidates.size(),
@@ -178,7 +182,7 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
                              problem.source);
   start = std::chrono::steady_clock::now();
   result.rays = std::make_unique<RayScene>(problem.scene);
-  std::vector<Observation> observations = Observe(*result.rays, reference, candidates, observe);
+  std::vector<Observation> observations = trace_all(*result.rays, reference);
   result.timings.observe = detail::SecondsSince(start);
   uint64_t rays = 0;
   for (const Observation& o : observations) rays += o.rays_traced;
@@ -207,8 +211,7 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
         throw InputError(AtPlace(problem.source, problem.states[i].line,
                                  fmt::format("state '{}': {}", state.name, e.what())));
       }
-      state.observations =
-          Observe(RayScene(state_scenes[i]), state.reference, candidates, observe);
+      state.observations = trace_all(RayScene(state_scenes[i]), state.reference);
       result.timings.observe += detail::SecondsSince(state_start);
     }
     spdlog::info("state '{}': {} reference voxels{}", state.name, state.reference.size(),
@@ -251,7 +254,8 @@ ObserveRunResult ObserveRun(const ObserveRunOptions& options) {
                       *options.n, count, count)));
     prepared.problem.selection.n = *options.n;
   }
-  ObservedScene observed = ObservePrepared(std::move(prepared), options.observe, options.limits);
+  ObservedScene observed =
+      ObservePrepared(std::move(prepared), options.observe, options.limits, options.trace);
   ObserveRunResult result;
   for (const ObservedState& state : observed.states) result.state_names.push_back(state.name);
   if (!result.state_names.empty())

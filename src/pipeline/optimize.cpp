@@ -47,7 +47,7 @@ std::optional<RefinementInfo> RefinePrimary(const RefineOptions& options,
 
 }  // namespace
 
-RunResult Optimize(const OptimizeOptions& options) {
+OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   // Every option is checked before the scene is read, the selection before any ray is cast.
   options.observe.Validate();
@@ -68,8 +68,15 @@ RunResult Optimize(const OptimizeOptions& options) {
     throw InputError(AtPlace("--refine", 0,
                              "refinement over scene states is not supported yet — drop --refine "
                              "or the scene's states"));
-  ObservedScene observed = ObservePrepared(std::move(prepared), options.observe, options.limits);
+  ObservedScene observed =
+      ObservePrepared(std::move(prepared), options.observe, options.limits, options.trace);
+  return OptimizeObserved{std::move(observed), select, start};
+}
 
+RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first) {
+  ObservedScene& observed = first.observed;
+  const SelectOptions& select = first.select;
+  const auto start = first.start;
   const auto select_start = std::chrono::steady_clock::now();
   RunResult run;
   Report& report = run.report;
@@ -130,6 +137,10 @@ RunResult Optimize(const OptimizeOptions& options) {
   }
   detail::FinishRun(observed.scene, std::move(extra), &run);
   return run;
+}
+
+RunResult Optimize(const OptimizeOptions& options) {
+  return FinishOptimize(options, ObserveForOptimize(options));
 }
 
 }  // namespace vantage

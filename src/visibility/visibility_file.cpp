@@ -80,9 +80,9 @@ bool StrictlyIncreasing(const std::vector<uint64_t>& keys) {
                             [](uint64_t a, uint64_t b) { return a >= b; }) == keys.end();
 }
 
-}  // namespace
-
-void SaveVisibilityFile(const std::string& path, const VisibilityFile& file) {
+// The whole file (magic to checksum); with `observations` false, every observation written empty
+// (the fingerprint of what the matrix was made from).
+std::string EncodeVisibilityFile(const VisibilityFile& file, bool observations) {
   detail::BinaryWriter w;
   w.Bytes(kMagic, sizeof(kMagic));
   w.U32(kFormatVersion);
@@ -114,7 +114,8 @@ void SaveVisibilityFile(const std::string& path, const VisibilityFile& file) {
     for (double v : {noise ? noise->a : 0.0, noise ? noise->b : 0.0, noise ? noise->c : 0.0}) w.F64(v);
     w.Str(noise ? noise->source : std::string());
     WritePose(&w, c.world_from_body);
-    const Observation& o = file.observations[i];
+    static const Observation kNone;
+    const Observation& o = observations ? file.observations[i] : kNone;
     w.U32Vector(o.reference_indices);
     w.U64Vector(o.outside_keys);
     w.U64(o.rays_traced);
@@ -123,13 +124,18 @@ void SaveVisibilityFile(const std::string& path, const VisibilityFile& file) {
     w.U64(o.quality_pixels);
   }
   w.U64(detail::Fnv1a64(w.data()));
-  detail::WriteFileAtomically(path, w.data());
+  return w.data();
 }
 
-VisibilityFile LoadVisibilityFile(const std::string& path) {
+std::string ReadWholeFile(const std::string& path, const char* what) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(AtPlace(path, 0, "cannot open the visibility file — check the path"));
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in)
+    throw InputError(AtPlace(path, 0, fmt::format("cannot open the {} — check the path", what)));
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// The file of `bytes`, read from `path` (for messages).
+VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string& path) {
   const auto corrupt = [&](const std::string& what) {
     return InputError(AtPlace(path, 0, what + " — recreate it with `vantage observe`"));
   };
@@ -243,6 +249,75 @@ VisibilityFile LoadVisibilityFile(const std::string& path) {
   }
   if (!r.AtEnd()) throw corrupt("trailing bytes after the payload");
   return file;
+}
+
+// A shard: its own magic and version, index, count, fingerprint, the candidates it observed,
+// then the whole visibility file (with its own checksum), then FNV-1a 64 of everything before.
+constexpr char kShardMagic[8] = {'V', 'A', 'N', 'T', 'P', 'R', 'T', '\0'};
+constexpr uint32_t kShardVersion = 1;
+
+}  // namespace
+
+void SaveVisibilityFile(const std::string& path, const VisibilityFile& file) {
+  detail::WriteFileAtomically(path, EncodeVisibilityFile(file, true));
+}
+
+VisibilityFile LoadVisibilityFile(const std::string& path) {
+  return DecodeVisibilityFile(ReadWholeFile(path, "visibility file"), path);
+}
+
+uint64_t VisibilityFingerprint(const VisibilityFile& file) {
+  return detail::Fnv1a64(EncodeVisibilityFile(file, false));
+}
+
+void SaveVisibilityShard(const std::string& path, const VisibilityShard& shard) {
+  VANTAGE_CHECK(shard.index < shard.count);
+  detail::BinaryWriter w;
+  w.Bytes(kShardMagic, sizeof(kShardMagic));
+  w.U32(kShardVersion);
+  w.U32(shard.index);
+  w.U32(shard.count);
+  w.U64(shard.fingerprint);
+  w.U32Vector(shard.candidates);
+  w.Str(EncodeVisibilityFile(shard.file, true));
+  w.U64(detail::Fnv1a64(w.data()));
+  detail::WriteFileAtomically(path, w.data());
+}
+
+VisibilityShard LoadVisibilityShard(const std::string& path) {
+  const std::string bytes = ReadWholeFile(path, "shard");
+  const auto corrupt = [&](const std::string& what) {
+    return InputError(AtPlace(
+        path, 0, what + " — write the parts with `vantage observe SCENE --shard i/K --out FILE`"));
+  };
+  if (bytes.size() < sizeof(kShardMagic) + 8 ||
+      std::memcmp(bytes.data(), kShardMagic, sizeof(kShardMagic)) != 0)
+    throw corrupt("not a shard of a visibility file");
+  const std::string_view body(bytes.data(), bytes.size() - 8);
+  uint64_t stored = 0;
+  std::memcpy(&stored, bytes.data() + body.size(), 8);
+  if (stored != detail::Fnv1a64(body)) throw corrupt("checksum mismatch: the shard is corrupt");
+  detail::BinaryReader r(body, path);
+  r.Skip(sizeof(kShardMagic));
+  const uint32_t version = r.U32();
+  if (version != kShardVersion)
+    throw corrupt(fmt::format("shard format version {}, this vantage reads version {}", version,
+                              kShardVersion));
+  VisibilityShard shard;
+  shard.index = r.U32();
+  shard.count = r.U32();
+  shard.fingerprint = r.U64();
+  shard.candidates = r.U32Vector();
+  shard.file = DecodeVisibilityFile(r.Str(), path);
+  if (!r.AtEnd()) throw corrupt("trailing bytes after the payload");
+  if (shard.count == 0 || shard.index >= shard.count)
+    throw corrupt(fmt::format("shard {}/{} is no shard", shard.index, shard.count));
+  for (size_t k = 0; k < shard.candidates.size(); ++k) {
+    if (shard.candidates[k] >= shard.file.candidates.size() ||
+        (k > 0 && shard.candidates[k] <= shard.candidates[k - 1]))
+      throw corrupt("its candidate indices are out of range or unsorted");
+  }
+  return shard;
 }
 
 }  // namespace vantage

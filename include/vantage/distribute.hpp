@@ -1,0 +1,109 @@
+#pragma once
+/// Beyond one process (docs/distributed.md), on the pipeline's TraceFunction: observe spread over
+/// the ranks of an MPI job (`mpirun -np K vantage optimize|observe ...`), or over the tasks of a
+/// job array as shards (`vantage observe --shard i/K`, then `vantage merge`). Either way the
+/// candidates are split into contiguous ranges of about equal estimated cost, and the result is
+/// byte for byte the one process's.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "vantage/pipeline.hpp"
+#include "vantage/visibility_file.hpp"
+
+namespace vantage {
+
+/// The estimated cost of tracing each candidate: the rays left after culling (CountRaysToTrace,
+/// which grows with the resolution) plus a fixed overhead per candidate.
+std::vector<uint64_t> TraceCosts(const Reference& reference, std::span<const Candidate> candidates,
+                                 const ObserveOptions& options);
+
+/// Splits `costs` into `parts` contiguous ranges of about equal total cost: parts + 1 boundaries,
+/// the first 0 and the last costs.size(); part p is [b[p], b[p + 1]) and may be empty. Each part
+/// is within one candidate's cost of its share.
+std::vector<size_t> SplitByCost(std::span<const uint64_t> costs, size_t parts);
+
+/// Shard i of K (`--shard i/K`).
+struct ShardSpec {
+  uint32_t index = 0;
+  uint32_t count = 1;
+};
+
+/// Parses --shard: "i/K", or "env/K" for the index of a job array (SLURM_ARRAY_TASK_ID, else
+/// JOB_COMPLETION_INDEX of a Kubernetes Indexed Job). InputError naming --shard.
+ShardSpec ParseShard(const std::string& text);
+
+/// `vantage observe --shard i/K`: ObserveRun tracing only shard i's candidates of each geometry.
+VisibilityShard ObserveShard(const ObserveRunOptions& options, const ShardSpec& shard);
+
+/// `vantage merge`: the visibility file of all shards, byte for byte the one process's once saved.
+/// InputError naming the part that comes from another scene or other settings, repeats a shard or
+/// has another K, or naming the shard that is missing.
+VisibilityFile MergeShards(std::span<const std::string> paths);
+
+/// Whether this process was started by an MPI launcher (mpirun, or srun with PMI/PMIx): read from
+/// the launcher's environment, before MPI_Init. `ranks` gets the job's size when it is known.
+bool LaunchedByMpi(int* ranks = nullptr);
+/// Whether this vantage was built with MPI.
+bool BuiltWithMpi();
+
+/// Thrown on every rank once the ranks agreed to stop because one failed: `code` is the exit
+/// status agreed on; what() is what this rank prints (empty: another rank reports).
+class JobStopped : public std::runtime_error {
+ public:
+  JobStopped(int code, const std::string& message) : std::runtime_error(message), code_(code) {}
+  int code() const { return code_; }
+
+ private:
+  int code_;
+};
+
+/// The MPI job of this process: MPI_Init on Start, MPI_Finalize on destruction. Every collective
+/// step begins with the ranks' agreement (each one's status), so that one rank's failure ends the
+/// job on all of them with one exit code and a message naming the rank.
+class MpiJob {
+ public:
+  /// The job when this process was started by an MPI launcher (MPI_Init), else nullptr.
+  /// InputError when started with several ranks by a vantage built without MPI.
+  static std::unique_ptr<MpiJob> Start(int* argc, char*** argv);
+  /// The started job of this process, or nullptr.
+  static MpiJob* Current();
+  ~MpiJob();
+  MpiJob(const MpiJob&) = delete;
+  MpiJob& operator=(const MpiJob&) = delete;
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+
+  /// Each rank traces its share of the candidates (split by TraceCosts), the observation sets are
+  /// gathered to rank 0 (MPI_Gatherv in chunks: its counts are 32-bit). Rank 0 returns them all,
+  /// the others empty ones. JobStopped when a rank failed or the ranks' scenes differ.
+  TraceFunction Tracer();
+
+  /// The job's end: every rank gives its exit code and message (empty on success). Returns the
+  /// code agreed on (the largest) and sets `print` to what this rank reports: its own failure,
+  /// naming the rank, or once for all when every rank failed alike.
+  int Finish(int code, const std::string& message, std::string* print);
+  /// True once the ranks agreed to stop (JobStopped): no collective step follows.
+  bool stopped() const { return stopped_; }
+
+ private:
+  MpiJob(int rank, int size) : rank_(rank), size_(size) {}
+  int rank_ = 0;
+  int size_ = 1;
+  bool stopped_ = false;
+  friend struct MpiJobAccess;
+};
+
+/// `vantage optimize` in this process: Optimize when it runs alone; in an MPI job every rank
+/// observes its share and rank 0 alone selects, assesses and returns the run (the others nullopt).
+std::optional<RunResult> OptimizeInJob(const OptimizeOptions& options);
+/// `vantage observe` likewise: rank 0 returns the matrix, the others nullopt.
+std::optional<ObserveRunResult> ObserveInJob(const ObserveRunOptions& options);
+
+}  // namespace vantage
