@@ -50,6 +50,14 @@ void LoadOptions::Validate() const {
                 fmt::format("cell_size = {} must be a positive length in metres (e.g. 0.005)",
                             *cell_size)));
   }
+  for (const std::string& folder : package_paths) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(folder, ec))
+      throw InputError(AtPlace("--package-path", 0,
+                               fmt::format("'{}' is not a folder — give a folder holding ROS "
+                                           "packages, or an install prefix with share/PKG",
+                                           folder)));
+  }
 }
 
 Problem LoadProblem(const std::string& path, const LoadOptions& options) {
