@@ -226,6 +226,24 @@ TEST(Robot, UnknownJointAndOutOfLimitPositionNameTheJointAtItsLine) {
             std::string::npos);
 }
 
+TEST(Robot, LinkMountErrorsAndNoSecondErrorForARejectedRobot) {
+  const std::string arm = test::DataPath("urdf/arm3.urdf");
+  const std::string mounted = "  - {name: wrist, type: intel_realsense_d415, mount: {link: LINK}}\n";
+  const auto with_mount = [&](const std::string& joints, const std::string& link) {
+    std::string yaml = ArmScene(arm, joints) + mounted;
+    yaml.replace(yaml.find("LINK"), 4, link);
+    return LoadError(yaml);
+  };
+  std::string error = with_mount("      j1: 0.5", "tool9");
+  EXPECT_NE(error.find("scene.yaml:10: sensor 'wrist'.mount: robot 'arm'"), std::string::npos)
+      << error;
+  EXPECT_NE(error.find("has no link 'tool9' — did you mean 'tool0'?"), std::string::npos) << error;
+  // The robot's own error only: the mount on it adds none.
+  error = with_mount("      j9: 0.5", "tool0");
+  EXPECT_NE(error.find("has no joint 'j9'"), std::string::npos) << error;
+  EXPECT_EQ(error.find("mount"), std::string::npos) << error;
+}
+
 TEST(Robot, StateJointsAreCheckedToo) {
   const std::string yaml = ArmScene(test::DataPath("urdf/arm3.urdf"), "      j1: 0.5") +
                            "states:\n  - name: a\n  - name: b\n    joints: {arm: {j3: 2.5}}\n"
@@ -278,6 +296,30 @@ TEST(Robot, PackagePathsResolveMeshesAndAMissingPackageIsNamed) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("--package-path: "), std::string::npos) << e.what();
   }
+}
+
+// From the command line: exit 2 with file:line, and --package-path recorded in report.json's
+// inputs so that `evaluate` of the run finds the package again without the option.
+TEST(Robot, CommandLinePackagePath) {
+  unsetenv("ROS_PACKAGE_PATH");   // NOLINT(concurrency-mt-unsafe)
+  unsetenv("AMENT_PREFIX_PATH");  // NOLINT(concurrency-mt-unsafe)
+  test::TempDir dir;
+  const std::string scene = dir.File("scene.yaml");
+  test::WriteText(scene, ArmScene(test::DataPath("urdf/mesh_arm.urdf"), "      {}"));
+  const std::string out = dir.File("out");
+  test::CommandResult run = test::RunVantage("optimize " + scene + " --out " + out + " -q");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("scene.yaml:5: robot 'arm' link 'base_link': package 'arm3_description'"),
+            std::string::npos)
+      << run.err;
+  const std::string packages = test::DataPath("urdf/packages");
+  run = test::RunVantage("optimize " + scene + " --out " + out + " -q --package-path " + packages);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(test::ReadText(out + "/report.json").find("\"package_paths\": [\n      \"" + packages),
+            std::string::npos);
+  run = test::RunVantage("evaluate --constellation " + out + "/report.json --out " +
+                         dir.File("eval") + " -q");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
 }
 
 TEST(Robot, BadUrdfIsReportedAtItsLine) {

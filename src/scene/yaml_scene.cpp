@@ -266,6 +266,10 @@ class SceneReader {
   void ApplyTargetOverride();
   void AddReferencedCatalogTypes();
   bool IsCustomType(const std::string& id) const { return problem_->FindType(id) != nullptr; }
+  bool IsRejectedRobot(const std::string& name) const {
+    return std::find(rejected_robots_.begin(), rejected_robots_.end(), name) !=
+           rejected_robots_.end();
+  }
 
   void Error(int line, const std::string& message) { reporter_.Error(line, message); }
   size_t ErrorCount() const { return reporter_.count(); }
@@ -276,7 +280,8 @@ class SceneReader {
   Problem* problem_;
   int objects_line_ = 0;
   std::map<std::string, TriangleMesh> mesh_cache_;  ///< by resolved path
-  std::vector<SceneRobot> robots_;                  ///< `robots:`, in file order
+  std::vector<SceneRobot> robots_;                  ///< `robots:` read without errors, in order
+  std::vector<std::string> rejected_robots_;        ///< names of robots that had errors
   std::vector<LinkMount> link_mounts_;              ///< sensors mounted on a robot link
   std::vector<std::string> rejected_type_ids_;      ///< declared sensor types that had errors
 };
@@ -982,6 +987,8 @@ void SceneReader::ReadRobot(const Value& input) {
           fmt::format("robot name '{}' is used twice — names must be unique", robot.name));
     return;
   }
+  // A robot with errors is reported once: mounts and states that name it add none.
+  rejected_robots_.push_back(robot.name);
   if (const auto v = fields.Get("pose"))
     robot.world_from_base = PoseOf(*v, what + ".pose").value_or(Pose{});
   const auto urdf = fields.Get("urdf");
@@ -1053,6 +1060,7 @@ void SceneReader::ReadRobot(const Value& input) {
     }
     problem_->scene.objects.push_back(std::move(object));
   }
+  rejected_robots_.pop_back();
   robots_.push_back(std::move(robot));
 }
 
@@ -1383,7 +1391,7 @@ bool SceneReader::ReadLinkMount(const Value& input,
   for (const SceneRobot& robot : robots_) robot_names.push_back(robot.name);
   if (const auto v = fields.Get("robot")) {
     const auto name = Text(*v, what + ".mount.robot");
-    if (!name) return false;
+    if (!name || IsRejectedRobot(*name)) return false;
     const auto it = std::find(robot_names.begin(), robot_names.end(), *name);
     if (it == robot_names.end()) {
       Error(v->line, fmt::format("{}.mount: no robot '{}' — {}", what, *name,
@@ -1393,6 +1401,7 @@ bool SceneReader::ReadLinkMount(const Value& input,
     }
     mount.robot = static_cast<size_t>(it - robot_names.begin());
   } else if (robots_.size() != 1) {
+    if (robots_.empty() && rejected_robots_.size() == 1) return false;  // reported already
     Error(fields.line(), fmt::format("{}.mount: the scene has {} robots — name one with "
                                      "`robot: NAME`",
                                      what, robots_.size()));
@@ -1505,6 +1514,7 @@ void SceneReader::ReadStateJoints(const Value& input, const std::string& what, S
     const Value key{entry.first, LineOf(entry.first)};
     const auto name = Text(key, what + ".joints key");
     if (!name) continue;
+    if (IsRejectedRobot(*name)) continue;
     const auto it = std::find(robot_names.begin(), robot_names.end(), *name);
     if (it == robot_names.end()) {
       Error(key.line, fmt::format("{}.joints: no robot '{}' — {}", what, *name,
