@@ -228,7 +228,8 @@ TEST(Robot, UnknownJointAndOutOfLimitPositionNameTheJointAtItsLine) {
 
 TEST(Robot, LinkMountErrorsAndNoSecondErrorForARejectedRobot) {
   const std::string arm = test::DataPath("urdf/arm3.urdf");
-  const std::string mounted = "  - {name: wrist, type: intel_realsense_d415, mount: {link: LINK}}\n";
+  const std::string mounted =
+      "  - {name: wrist, type: intel_realsense_d415, mount: {link: LINK}}\n";
   const auto with_mount = [&](const std::string& joints, const std::string& link) {
     std::string yaml = ArmScene(arm, joints) + mounted;
     yaml.replace(yaml.find("LINK"), 4, link);

@@ -9,9 +9,7 @@
 #include <cstdlib>
 #include <deque>
 #include <filesystem>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <string_view>
 
 #include "util/words.hpp"
@@ -46,17 +44,6 @@ class CapturedLog : public console_bridge::OutputHandler {
  private:
   std::vector<std::string> errors_;
 };
-
-std::string ReadText(const std::string& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    throw InputError(AtPlace(path, 0, "cannot open the URDF file — check the path"));
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (!in) throw InputError(AtPlace(path, 0, "cannot read the URDF file — check permissions"));
-  return text.str();
-}
 
 /// Lines of the `<joint>` and `<link>` elements directly under `<robot>`, by name.
 struct ElementLines {
@@ -187,7 +174,7 @@ const RobotJoint* RobotModel::FindJoint(const std::string& joint_name) const {
 }
 
 RobotModel LoadUrdf(const std::string& path) {
-  const std::string text = ReadText(path);
+  const std::string text = detail::ReadInputFile(path, "URDF file");
   detail::CheckUtf8File(text, path);
   // vantage's XML reader first: malformed XML with its line, and the elements' lines for
   // urdfdom's messages, which carry none.

@@ -1624,17 +1624,6 @@ void SceneReader::Read(const YAML::Node& root) {
   if (ErrorCount() == 0) CheckStates();
 }
 
-std::string ReadWholeFile(const std::string& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    throw InputError(AtPlace(path, 0, "cannot open the scene file — check the path"));
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (!in) throw InputError(AtPlace(path, 0, "cannot read the scene file — check permissions"));
-  return text.str();
-}
-
 }  // namespace
 
 const SensorType* Problem::FindType(const std::string& id) const {
@@ -1649,7 +1638,7 @@ Problem LoadYamlScene(const std::string& path, const LoadOptions& options) {
   Problem problem;
   problem.source = path;
   Diagnostics diag(path);
-  const std::string text = ReadWholeFile(path);
+  const std::string text = detail::ReadInputFile(path, "scene file");
   // yaml-cpp reads UTF-16 and UTF-32 files (a BOM or NUL bytes first, YAML 1.2 5.2) itself.
   const bool utf8 = text.substr(0, 2) != "\xFE\xFF" && text.substr(0, 2) != "\xFF\xFE" &&
                     text.substr(0, 4).find('\0') == std::string::npos;
