@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdlib>
 #include <map>
@@ -320,6 +321,24 @@ TEST(Robot, CommandLinePackagePath) {
             std::string::npos);
   run = test::RunVantage("evaluate --constellation " + out + "/report.json --out " +
                          dir.File("eval") + " -q");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+}
+
+// The occlusion cell from the command line: report.json's candidates carry the first state's
+// coverage (861 of 1681 cells for "top"), and constellation.yaml, written in the output folder,
+// loads from there (its URDF path made absolute).
+TEST(Robot, CommandLineRunOverArmStatesAndItsConstellation) {
+  test::TempDir dir;
+  const std::string out = dir.File("out");
+  test::CommandResult run = test::RunVantage(
+      "optimize " + test::DataPath("urdf/occlusion_cell.yaml") + " --method greedy -q --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json report = nlohmann::json::parse(test::ReadText(out + "/report.json"));
+  ASSERT_EQ(report["candidates"][0]["name"], "top");
+  EXPECT_NEAR(report["candidates"][0]["coverage"].get<double>(), 861.0 / 1681.0, 1e-12);
+  ASSERT_EQ(report["states"]["states"].size(), 2u);
+  run = test::RunVantage("optimize " + out + "/constellation.yaml --method greedy -q --out " +
+                         dir.File("again"));
   EXPECT_EQ(run.exit_code, 0) << run.err;
 }
 
