@@ -7,7 +7,7 @@ set(VANTAGE_STAGES util scene reference candidates visibility observe select ass
 
 # Public headers (include/vantage/<name>.hpp) by owning stage.
 set(VANTAGE_HEADERS_util types error rng sensors settings interrupt words)
-set(VANTAGE_HEADERS_scene scene population scene_states problem)
+set(VANTAGE_HEADERS_scene scene population scene_states robot problem)
 set(VANTAGE_HEADERS_reference reference)
 set(VANTAGE_HEADERS_candidates candidates)
 set(VANTAGE_HEADERS_visibility visibility visibility_file)
@@ -40,6 +40,8 @@ set(VANTAGE_USES_distribute ${VANTAGE_USES_pipeline} distribute)
 set(VANTAGE_ONLY_embree3 observe)
 set(VANTAGE_ONLY_coin select)
 set(VANTAGE_ONLY_assimp scene)
+set(VANTAGE_ONLY_urdf_parser scene)
+set(VANTAGE_ONLY_console_bridge scene)
 set(VANTAGE_ONLY_CLI "")
 set(VANTAGE_ONLY_mpi.h distribute)
 

@@ -859,7 +859,7 @@ void Bind(py::module_& m) {
 }  // namespace vantage::python
 
 PYBIND11_MODULE(vantage, m) {
-  g_main_thread = std::this_thread::get_id();
+  vantage::python::g_main_thread = std::this_thread::get_id();
   // The library logs through spdlog's default logger (and one named "vantage"): on stderr, as
   // the CLI's, warnings and errors only unless set_log_level says otherwise.
   std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");

@@ -10,7 +10,7 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 PACKAGES=(
   build-essential cmake pkg-config git
   libembree-dev libassimp-dev libeigen3-dev libtbb-dev libyaml-cpp-dev nlohmann-json3-dev
-  libcli11-dev libfmt-dev libspdlog-dev libsdformat-dev coinor-libcbc-dev
+  libcli11-dev libfmt-dev libspdlog-dev libsdformat-dev liburdfdom-dev coinor-libcbc-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpng-dev libstb-dev libjs-three chromium
   clang libclang-rt-14-dev
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib

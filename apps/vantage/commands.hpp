@@ -14,7 +14,7 @@
 
 namespace vantage::cli {
 
-/// --model-path, --resource-path, --target: where the scene's parts are found.
+/// --model-path, --resource-path, --package-path, --target: where the scene's parts are found.
 void AddSourceFlags(CLI::App* app, SceneInput* scene);
 /// --model-path, --resource-path, --target, --cell-size, --seed, --observation-point,
 /// --random-roll (and the positional scene when `scene_positional`), into `scene`.

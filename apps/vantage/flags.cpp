@@ -107,6 +107,10 @@ void AddSourceFlags(CLI::App* app, SceneInput* scene) {
   app->add_option("--model-path", scene->load.model_paths, "folder of Gazebo models (repeatable)");
   app->add_option("--resource-path", scene->load.resource_paths,
                   "folder of Gazebo resources, e.g. materials (repeatable)");
+  app->add_option("--package-path", scene->load.package_paths,
+                  "folder where a URDF's package://PKG paths are found: holding PKG/, or an "
+                  "install prefix holding share/PKG/ (repeatable; then ROS_PACKAGE_PATH, "
+                  "AMENT_PREFIX_PATH)");
   app->add_option("--target", scene->load.targets,
                   "target object/model name, overrides the scene (repeatable)");
 }

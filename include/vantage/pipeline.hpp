@@ -77,6 +77,10 @@ Problem LoadScene(const SceneInput& input);
 struct PreparedScene {
   Problem problem;                   ///< overrides applied; `scene` is the first state's
   std::vector<Scene> state_scenes;   ///< one per state of problem.states (empty: no states)
+  /// One per state when a state moves sensors (SceneState::sensor_poses: sensors on a robot
+  /// link), each state's candidates; empty when every state has `candidates`. `candidates` are
+  /// then the first state's.
+  std::vector<std::vector<Candidate>> state_candidates;
   std::vector<Candidate> candidates; ///< deployed, in order
   Timings timings;                   ///< load
   std::vector<std::string> notes;    ///< non-fatal remarks for the report

@@ -41,12 +41,15 @@ struct LoadOptions {
   std::vector<std::string> model_paths;     ///< --model-path (Gazebo), searched first
   std::vector<std::string> resource_paths;  ///< --resource-path (Gazebo)
   std::vector<std::string> targets;         ///< --target NAME: overrides the file's targets
+  /// --package-path: folders where a URDF's `package://PKG/...` paths are found (FOLDER/share/PKG,
+  /// FOLDER/PKG, or FOLDER named PKG), searched before ROS_PACKAGE_PATH and AMENT_PREFIX_PATH.
+  std::vector<std::string> package_paths;
   /// --cell-size F [m]: replaces the file's cell size (still validated) before any primitive is
   /// tessellated, so that cylinders and spheres get the chord error F / 10 of the F used.
   std::optional<double> cell_size;
 
-  /// Throws InputError naming --cell-size when it is not a positive finite length. Every reader
-  /// calls it before reading the file.
+  /// Throws InputError naming --cell-size when it is not a positive finite length, or
+  /// --package-path when one is not a folder. Every reader calls it before reading the file.
   void Validate() const;
 };
 

@@ -52,6 +52,7 @@ struct RunInputs {
   std::string scene;    ///< the scene file
   std::vector<std::string> model_paths;     ///< --model-path
   std::vector<std::string> resource_paths;  ///< --resource-path
+  std::vector<std::string> package_paths;   ///< --package-path (written only when given)
   std::vector<std::string> targets;         ///< --target
   std::optional<double> cell_size;          ///< --cell-size
   std::optional<uint64_t> seed;             ///< --seed

@@ -23,6 +23,7 @@ SceneInput InheritScene(SceneInput scene, const Constellation& constellation) {
   if (!inputs) return scene;
   if (scene.load.model_paths.empty()) scene.load.model_paths = inputs->model_paths;
   if (scene.load.resource_paths.empty()) scene.load.resource_paths = inputs->resource_paths;
+  if (scene.load.package_paths.empty()) scene.load.package_paths = inputs->package_paths;
   if (scene.load.targets.empty()) scene.load.targets = inputs->targets;
   if (!scene.load.cell_size) scene.load.cell_size = inputs->cell_size;
   return scene;

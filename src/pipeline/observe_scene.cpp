@@ -170,9 +170,9 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
                result.timings.reference);
 
   const std::vector<Candidate>& candidates = prepared.candidates;
-  const auto trace_all = [&](const RayScene& rays, const Reference& cells) {
-    return trace ? trace(rays, cells, candidates, observe)
-                 : Observe(rays, cells, candidates, observe);
+  const auto trace_all = [&](const RayScene& rays, const Reference& cells,
+                             const std::vector<Candidate>& sensors) {
+    return trace ? trace(rays, cells, sensors, observe) : Observe(rays, cells, sensors, observe);
   };
   int64_t pixels = 0;
   for (const Candidate& c : candidates) pixels += c.sensor.PixelCount();
@@ -182,7 +182,7 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
                              problem.source);
   start = std::chrono::steady_clock::now();
   result.rays = std::make_unique<RayScene>(problem.scene);
-  std::vector<Observation> observations = trace_all(*result.rays, reference);
+  std::vector<Observation> observations = trace_all(*result.rays, reference, candidates);
   result.timings.observe = detail::SecondsSince(start);
   uint64_t rays = 0;
   for (const Observation& o : observations) rays += o.rays_traced;
@@ -192,8 +192,24 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
   for (size_t i = 0; i < state_scenes.size(); ++i) {
     ObservedState state;
     state.name = problem.states[i].name;
+    // A state's candidates differ from the first's only when it moves sensors on robot links.
+    const auto candidates_of = [&](size_t s) -> const std::vector<Candidate>& {
+      return prepared.state_candidates.empty() ? candidates : prepared.state_candidates[s];
+    };
+    const auto same_candidates = [&](size_t a, size_t b) {
+      const std::vector<Candidate>& x = candidates_of(a);
+      const std::vector<Candidate>& y = candidates_of(b);
+      return &x == &y ||
+             std::equal(x.begin(), x.end(), y.begin(), y.end(),
+                        [](const Candidate& p, const Candidate& q) {
+                          return p.world_from_body.position == q.world_from_body.position &&
+                                 p.world_from_body.rotation.coeffs() ==
+                                     q.world_from_body.rotation.coeffs();
+                        });
+    };
     for (size_t j = 0; j < i && state.same_as < 0; ++j) {
-      if (SameGeometry(state_scenes[j], state_scenes[i])) state.same_as = static_cast<int>(j);
+      if (SameGeometry(state_scenes[j], state_scenes[i]) && same_candidates(j, i))
+        state.same_as = static_cast<int>(j);
     }
     if (i == 0) {
       state.reference = reference;
@@ -211,7 +227,8 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
         throw InputError(AtPlace(problem.source, problem.states[i].line,
                                  fmt::format("state '{}': {}", state.name, e.what())));
       }
-      state.observations = trace_all(RayScene(state_scenes[i]), state.reference);
+      state.observations =
+          trace_all(RayScene(state_scenes[i]), state.reference, candidates_of(i));
       result.timings.observe += detail::SecondsSince(state_start);
     }
     spdlog::info("state '{}': {} reference voxels{}", state.name, state.reference.size(),

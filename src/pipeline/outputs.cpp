@@ -33,6 +33,7 @@ RunInputs InputsOf(const std::string& command, const SceneInput& scene,
   inputs.scene = Absolute(scene.path);
   inputs.model_paths = Absolute(scene.load.model_paths);
   inputs.resource_paths = Absolute(scene.load.resource_paths);
+  inputs.package_paths = Absolute(scene.load.package_paths);
   inputs.targets = scene.load.targets;
   inputs.cell_size = scene.load.cell_size;
   inputs.seed = scene.seed;

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -24,6 +25,28 @@ void RunLimits::Validate() const {
                                          "--max-memory 4096",
                                          max_memory_mib)));
 }
+
+namespace {
+
+// The candidates in a state that moves sensors on robot links: each moved explicit sensor's model
+// pose composed with its mount, as DeployCandidates composes them.
+std::vector<Candidate> MovedCandidates(const std::vector<Candidate>& candidates,
+                                       const Problem& problem,
+                                       const SceneState& state) {
+  std::vector<Candidate> moved = candidates;
+  for (const auto& [name, world_from_model] : state.sensor_poses) {
+    const auto sensor = std::find_if(problem.sensors.begin(), problem.sensors.end(),
+                                     [&](const ExplicitSensor& s) { return s.name == name; });
+    const auto candidate = std::find_if(moved.begin(), moved.end(), [&](const Candidate& c) {
+      return c.population.empty() && c.name == name;
+    });
+    VANTAGE_CHECK(sensor != problem.sensors.end() && candidate != moved.end());
+    candidate->world_from_body = world_from_model * sensor->model_from_camera;
+  }
+  return moved;
+}
+
+}  // namespace
 
 Problem LoadScene(const SceneInput& input) {
   input.Validate();
@@ -68,6 +91,14 @@ PreparedScene Prepare(const SceneInput& input) {
   for (const SceneState& state : problem.states) {
     prepared.state_scenes.push_back(ApplyState(problem.scene, state));
     CheckSceneExtent(prepared.state_scenes.back(), problem.source);
+  }
+  const auto moves_sensors = [](const SceneState& state) { return !state.sensor_poses.empty(); };
+  if (std::any_of(problem.states.begin(), problem.states.end(), moves_sensors)) {
+    for (const SceneState& state : problem.states) {
+      prepared.state_candidates.push_back(MovedCandidates(prepared.candidates, problem, state));
+      detail::CheckDeployedCandidates(prepared.state_candidates.back(), problem);
+    }
+    prepared.candidates = prepared.state_candidates.front();
   }
   if (!prepared.state_scenes.empty()) problem.scene = prepared.state_scenes.front();
   prepared.cell_size_from_option = input.load.cell_size.has_value();

@@ -96,6 +96,7 @@ ordered_json RunInputsJson(const RunInputs& in) {
   j["scene"] = in.scene;
   j["model_paths"] = in.model_paths;
   j["resource_paths"] = in.resource_paths;
+  if (!in.package_paths.empty()) j["package_paths"] = in.package_paths;
   j["targets"] = in.targets;
   Put(&j, "cell_size", in.cell_size);
   Put(&j, "seed", in.seed);
@@ -135,6 +136,7 @@ RunInputs ParseRunInputs(const json& j, const std::string& where) {
   r.String("scene", &in.scene);
   r.Strings("model_paths", &in.model_paths);
   r.Strings("resource_paths", &in.resource_paths);
+  r.Strings("package_paths", &in.package_paths);
   r.Strings("targets", &in.targets);
   r.Number("cell_size", &in.cell_size);
   r.Unsigned("seed", &in.seed);

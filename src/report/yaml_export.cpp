@@ -27,13 +27,20 @@ std::string ConstellationYaml(const std::string& scene_path, const std::vector<C
   } catch (const YAML::Exception& e) {
     throw InputError(AtPlace(scene_path, e.mark.line + 1, e.msg));
   }
-  // Relative mesh paths were relative to the scene's folder; the export lives elsewhere.
+  // Relative mesh and URDF paths were relative to the scene's folder; the export lives elsewhere.
   const std::filesystem::path folder = std::filesystem::absolute(scene_path).parent_path();
   if (scene["objects"] && scene["objects"].IsSequence()) {
     for (YAML::Node object : scene["objects"]) {
       if (!object.IsMap() || !object["mesh"] || !object["mesh"].IsMap() || !object["mesh"]["file"]) continue;
       const std::filesystem::path file = object["mesh"]["file"].as<std::string>();
       if (file.is_relative()) object["mesh"]["file"] = (folder / file).lexically_normal().string();
+    }
+  }
+  if (scene["robots"] && scene["robots"].IsSequence()) {
+    for (YAML::Node robot : scene["robots"]) {
+      if (!robot.IsMap() || !robot["urdf"] || !robot["urdf"].IsScalar()) continue;
+      const std::filesystem::path file = robot["urdf"].as<std::string>();
+      if (file.is_relative()) robot["urdf"] = (folder / file).lexically_normal().string();
     }
   }
   scene.remove("populations");

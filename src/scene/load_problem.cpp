@@ -45,9 +45,18 @@ std::string LowerExtension(const std::string& path) {
 void LoadOptions::Validate() const {
   // Worded as ReferenceOptions::Validate words it (the scene layer cannot call the reference
   // stage above it), placed at the option.
-  if (!cell_size) return;
-  if (const std::string problem = detail::CellSizeProblem(*cell_size); !problem.empty())
-    throw InputError(AtPlace("--cell-size", 0, problem));
+  if (cell_size) {
+    if (const std::string problem = detail::CellSizeProblem(*cell_size); !problem.empty())
+      throw InputError(AtPlace("--cell-size", 0, problem));
+  }
+  for (const std::string& folder : package_paths) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(folder, ec))
+      throw InputError(AtPlace("--package-path", 0,
+                               fmt::format("'{}' is not a folder — give a folder holding ROS "
+                                           "packages, or an install prefix with share/PKG",
+                                           folder)));
+  }
 }
 
 Problem LoadProblem(const std::string& path, const LoadOptions& options) {

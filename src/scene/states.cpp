@@ -1,4 +1,5 @@
-// Changing scenes (issue 9): the states of a scene, applied to its objects (remove, move, add).
+// Changing scenes (issue 9): the states of a scene, applied to its objects (reshape, remove, move,
+// add).
 #include "vantage/scene_states.hpp"
 
 #include <fmt/format.h>
@@ -43,6 +44,14 @@ std::vector<SceneObject> Applied(const Scene& base,
     problems->push_back(fmt::format("state '{}': {}: no object named '{}' — {}", state.name, verb,
                                     name, ObjectsHint(name, NamesOf(objects))));
   };
+  for (const auto& [name, mesh] : state.reshape) {
+    const auto it = find(name);
+    if (it == objects.end()) {
+      unknown("reshape", name);
+    } else {
+      it->mesh = mesh;
+    }
+  }
   for (const std::string& name : state.remove) {
     const auto it = find(name);
     if (it == objects.end()) {

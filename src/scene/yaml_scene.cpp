@@ -22,8 +22,9 @@
 #include "util/words.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
-#include "vantage/settings.hpp"
+#include "vantage/robot.hpp"
 #include "vantage/scene_states.hpp"
+#include "vantage/settings.hpp"
 
 namespace vantage {
 namespace {
@@ -156,6 +157,44 @@ class Fields {
 };
 
 // ---------------------------------------------------------------------------------------------
+// Robots (issue 19): a URDF robot placed in the scene, its links' visuals as objects.
+
+/// One `robots:` entry, read: its model, base pose, joint positions and, per link with visuals,
+/// the link's mesh in the link frame (the object "NAME::LINK" is it at the link's pose).
+struct SceneRobot {
+  std::string name;
+  RobotModel model;
+  Pose world_from_base;
+  JointPositions joints;
+  std::vector<std::pair<std::string, TriangleMesh>> link_meshes;  ///< link frame, tree order
+  int line = 0;
+
+  std::string ObjectName(const std::string& link) const { return name + "::" + link; }
+  /// The link objects' world meshes at the given joint positions.
+  std::vector<std::pair<std::string, TriangleMesh>> WorldMeshes(
+      const JointPositions& positions) const {
+    const std::map<std::string, Pose> world_from_link =
+        LinkPoses(model, world_from_base, positions);
+    std::vector<std::pair<std::string, TriangleMesh>> meshes;
+    for (const auto& [link, mesh] : link_meshes) {
+      TriangleMesh world = mesh;
+      world.Transform(world_from_link.at(link));
+      meshes.emplace_back(ObjectName(link), std::move(world));
+    }
+    return meshes;
+  }
+};
+
+/// A sensor on a robot link (`mount: {robot, link, pose}`): its model pose is
+/// world_from_link · link_from_model, in the base scene and in every state.
+struct LinkMount {
+  std::string sensor;
+  size_t robot = 0;  ///< index into the reader's robots
+  std::string link;
+  Pose link_from_model;
+};
+
+// ---------------------------------------------------------------------------------------------
 // The reader of one scene file.
 
 class SceneReader {
@@ -218,7 +257,21 @@ class SceneReader {
                                             const Value& input,
                                             const std::string& what);
   std::optional<TriangleMesh> ReadMesh(const Value& input, const std::string& what);
+  std::optional<TriangleMesh> CachedMesh(const fs::path& resolved,
+                                         int line,
+                                         const std::string& not_found);
   std::optional<Vec3> ReadScale(const Value& input, const std::string& what);
+  void ReadRobots(const Value& input);
+  void ReadRobot(const Value& input);
+  std::optional<JointPositions> ReadJoints(const Value& input,
+                                           const RobotModel& robot,
+                                           const std::string& what);
+  std::optional<TriangleMesh> ReadRobotVisual(const RobotVisual& visual,
+                                              const std::string& urdf_folder,
+                                              int line,
+                                              const std::string& what);
+  void ReadStateJoints(const Value& input, const std::string& what, SceneState* state);
+  bool ReadLinkMount(const Value& input, const std::string& what, ExplicitSensor* sensor);
   void ReadPopulations(const Value& input);
   std::optional<Population> ReadPopulation(const Value& input);
   bool ReadRegion(const Fields& fields, const std::string& what, Population* population);
@@ -232,6 +285,10 @@ class SceneReader {
   void ApplyTargetOverride();
   void AddReferencedCatalogTypes();
   bool IsCustomType(const std::string& id) const { return problem_->FindType(id) != nullptr; }
+  bool IsRejectedRobot(const std::string& name) const {
+    return std::find(rejected_robots_.begin(), rejected_robots_.end(), name) !=
+           rejected_robots_.end();
+  }
 
   void Error(int line, const std::string& message) { reporter_.Error(line, message); }
   size_t ErrorCount() const { return reporter_.count(); }
@@ -243,6 +300,9 @@ class SceneReader {
   Problem* problem_;
   int objects_line_ = 0;
   std::map<std::string, TriangleMesh> mesh_cache_;  ///< by resolved path
+  std::vector<SceneRobot> robots_;                  ///< `robots:` read without errors, in order
+  std::vector<std::string> rejected_robots_;        ///< names of robots that had errors
+  std::vector<LinkMount> link_mounts_;              ///< sensors mounted on a robot link
   std::vector<std::string> rejected_type_ids_;      ///< declared sensor types that had errors
 };
 
@@ -936,12 +996,21 @@ std::optional<TriangleMesh> SceneReader::ReadMesh(const Value& input, const std:
   if (!file) return std::nullopt;
   // Paths are relative to the scene file's folder, so a scene and its meshes move together.
   const fs::path resolved = fs::path(*file).is_absolute() ? fs::path(*file) : folder_ / *file;
+  std::optional<TriangleMesh> mesh = CachedMesh(
+      resolved, file_node->line,
+      fmt::format("{}: mesh file '{}' not found (looked for '{}') — paths are relative to the "
+                  "scene file's folder",
+                  what, *file, resolved.string()));
+  if (mesh) mesh->Scale(scale);
+  return mesh;
+}
+
+std::optional<TriangleMesh> SceneReader::CachedMesh(const fs::path& resolved,
+                                                    int line,
+                                                    const std::string& not_found) {
   std::error_code ec;
   if (!fs::is_regular_file(resolved, ec)) {
-    Error(file_node->line,
-          fmt::format("{}: mesh file '{}' not found (looked for '{}') — paths are relative to the "
-                      "scene file's folder",
-                      what, *file, resolved.string()));
+    Error(line, not_found);
     return std::nullopt;
   }
   const std::string key = resolved.lexically_normal().string();
@@ -950,12 +1019,188 @@ std::optional<TriangleMesh> SceneReader::ReadMesh(const Value& input, const std:
     try {
       cached = mesh_cache_.emplace(key, LoadMeshFile(key)).first;
     } catch (const InputError& e) {
-      Error(file_node->line, e.what());
+      Error(line, e.what());
       return std::nullopt;
     }
   }
-  TriangleMesh mesh = cached->second;
-  mesh.Scale(scale);
+  return cached->second;
+}
+
+// ----- robots --------------------------------------------------------------------------------
+
+void SceneReader::ReadRobots(const Value& input) {
+  for (const Value& item : Items(input, "robots")) ReadRobot(item);
+}
+
+/// `{name, urdf, pose, joints: {joint: q}, targets: [links]}`: every link with visuals becomes
+/// the object "NAME::LINK", an occluder unless `targets` lists the link.
+void SceneReader::ReadRobot(const Value& input) {
+  const Fields fields(input, "robot", {"name", "urdf", "pose", "joints", "targets"}, &reporter_);
+  const size_t errors_before = ErrorCount();
+  SceneRobot robot;
+  robot.name = Name(fields, "robot").value_or("?");
+  robot.line = fields.line();
+  const std::string what = fmt::format("robot '{}'", robot.name);
+  const auto same = [&](const SceneRobot& r) { return r.name == robot.name; };
+  if (std::any_of(robots_.begin(), robots_.end(), same)) {
+    Error(robot.line,
+          fmt::format("robot name '{}' is used twice — names must be unique", robot.name));
+    return;
+  }
+  // A robot with errors is reported once: mounts and states that name it add none.
+  rejected_robots_.push_back(robot.name);
+  if (const auto v = fields.Get("pose"))
+    robot.world_from_base = PoseOf(*v, what + ".pose").value_or(Pose{});
+  const auto urdf = fields.Get("urdf");
+  if (!urdf) Missing(fields, "urdf", "urdf: ../robots/arm.urdf");
+  const auto file = urdf ? Text(*urdf, what + ".urdf") : std::nullopt;
+  if (!file) return;
+  // Relative to the scene file's folder, as mesh files are.
+  const fs::path path = fs::path(*file).is_absolute() ? fs::path(*file) : folder_ / *file;
+  try {
+    robot.model = LoadUrdf(path.lexically_normal().string());
+  } catch (const InputError& e) {
+    Error(urdf->line, fmt::format("{}: {}", what, e.what()));
+    return;
+  }
+  if (const auto v = fields.Get("joints")) {
+    if (const auto joints = ReadJoints(*v, robot.model, what + ".joints")) robot.joints = *joints;
+  }
+  std::vector<std::string> targets;
+  if (const auto v = fields.Get("targets")) {
+    if (!v->node.IsSequence()) {
+      Error(v->line, fmt::format("{}.targets must be a list of link names, got {} — write e.g. "
+                                 "[tool0]",
+                                 what, Shown(v->node)));
+    } else {
+      for (size_t i = 0; i < v->node.size(); ++i) {
+        const Value element = ElementOf(*v, i);
+        const auto link = Text(element, fmt::format("{}.targets[{}]", what, i));
+        if (!link) continue;
+        const auto& links = robot.model.links;
+        if (std::find(links.begin(), links.end(), *link) == links.end()) {
+          Error(element.line,
+                fmt::format("{}: no link '{}' — {}", what, *link, Suggest(*link, links)));
+        } else {
+          targets.push_back(*link);
+        }
+      }
+    }
+  }
+  const std::string urdf_folder = path.parent_path().string();
+  for (const std::string& link : robot.model.links) {
+    TriangleMesh mesh;
+    bool has_visual = false;
+    for (const RobotVisual& visual : robot.model.visuals) {
+      if (visual.link != link) continue;
+      has_visual = true;
+      std::optional<TriangleMesh> part =
+          ReadRobotVisual(visual, urdf_folder, urdf->line, fmt::format("{} link '{}'", what, link));
+      if (part) mesh.Append(*part);
+    }
+    if (has_visual) robot.link_meshes.emplace_back(link, std::move(mesh));
+    if (!has_visual && std::find(targets.begin(), targets.end(), link) != targets.end())
+      Error(fields.Get("targets")->line,
+            fmt::format("{}: link '{}' has no <visual> — it cannot be a target", what, link));
+  }
+  if (ErrorCount() != errors_before) return;
+  for (auto& [name, mesh] : robot.WorldMeshes(robot.joints)) {
+    SceneObject object;
+    object.name = std::move(name);
+    const std::string link = object.name.substr(robot.name.size() + 2);
+    const bool is_target = std::find(targets.begin(), targets.end(), link) != targets.end();
+    object.role = is_target ? Role::kTarget : Role::kOccluder;
+    object.mesh = std::move(mesh);
+    const auto same_object = [&](const SceneObject& o) { return o.name == object.name; };
+    if (std::any_of(problem_->scene.objects.begin(), problem_->scene.objects.end(), same_object)) {
+      Error(robot.line, fmt::format("{}: object name '{}' is already used — rename the object or "
+                                    "the robot",
+                                    what, object.name));
+      return;
+    }
+    problem_->scene.objects.push_back(std::move(object));
+  }
+  rejected_robots_.pop_back();
+  robots_.push_back(std::move(robot));
+}
+
+/// `{joint: position, ...}` [rad or m], each checked against the robot's joints at its own line
+/// (JointPositionProblems); nullopt when any is wrong (reported).
+std::optional<JointPositions> SceneReader::ReadJoints(const Value& input,
+                                                      const RobotModel& robot,
+                                                      const std::string& what) {
+  if (!input.node.IsMap()) {
+    Error(input.line, fmt::format("{} must be a mapping `joint: position` [rad or m], got {} — "
+                                  "write e.g. {{elbow: 0.5}}",
+                                  what, Shown(input.node)));
+    return std::nullopt;
+  }
+  JointPositions joints;
+  bool ok = true;
+  for (const auto& entry : input.node) {
+    const Value key{entry.first, LineOf(entry.first)};
+    const auto name = Text(key, what + " key");
+    const auto q =
+        Number(Value{entry.second, key.line}, fmt::format("{}.{}", what, name.value_or("?")));
+    if (!name || !q) {
+      ok = false;
+      continue;
+    }
+    if (!joints.emplace(*name, *q).second) {
+      Error(key.line, fmt::format("{}: '{}' appears twice — keep one", what, *name));
+      ok = false;
+      continue;
+    }
+    for (const std::string& problem : JointPositionProblems(robot, {{*name, *q}})) {
+      Error(key.line, fmt::format("{}: {}", what, problem));
+      ok = false;
+    }
+  }
+  if (!ok) return std::nullopt;
+  return joints;
+}
+
+/// One visual in its link's frame: primitives tessellated as objects' are (chord F / 10), meshes
+/// through the mesh loader, package:// paths through --package-path.
+std::optional<TriangleMesh> SceneReader::ReadRobotVisual(const RobotVisual& visual,
+                                                         const std::string& urdf_folder,
+                                                         int line,
+                                                         const std::string& what) {
+  const double chord = problem_->cell_size / 10.0;
+  std::optional<TriangleMesh> mesh;
+  try {
+    switch (visual.shape) {
+      case RobotVisual::Shape::kBox:
+        if ((visual.size.array() <= 0).any())
+          throw InputError(fmt::format("box size {} {} {} must be positive — fix the URDF",
+                                       visual.size.x(), visual.size.y(), visual.size.z()));
+        mesh = MakeBox(visual.size);
+        break;
+      case RobotVisual::Shape::kCylinder:
+        if (!(visual.radius > 0) || !(visual.length > 0))
+          throw InputError("a cylinder's radius and length must be positive — fix the URDF");
+        mesh = MakeCylinder(visual.radius, visual.length, chord);
+        break;
+      case RobotVisual::Shape::kSphere:
+        if (!(visual.radius > 0))
+          throw InputError("a sphere's radius must be positive — fix the URDF");
+        mesh = MakeSphere(visual.radius, chord);
+        break;
+      case RobotVisual::Shape::kMesh: {
+        const fs::path resolved =
+            ResolveRobotFile(visual.mesh, urdf_folder, options_.package_paths);
+        mesh = CachedMesh(resolved, line,
+                          fmt::format("{}: mesh '{}' not found (looked for '{}')", what,
+                                      visual.mesh, resolved.string()));
+        if (mesh) mesh->Scale(visual.scale);
+        break;
+      }
+    }
+  } catch (const InputError& e) {
+    Error(line, fmt::format("{}: {}", what, e.what()));
+    return std::nullopt;
+  }
+  if (mesh) mesh->Transform(visual.link_from_visual);
   return mesh;
 }
 
@@ -1161,6 +1406,19 @@ std::optional<ExplicitSensor> SceneReader::ReadSensor(const Value& input) {
   sensor.line = fields.line();
   const std::string what = fmt::format("sensor '{}'", sensor.name);
   sensor.sensor_type = TypeReference(fields, what).value_or("");
+  const auto mount = fields.Get("mount");
+  if (mount && mount->node.IsMap() && mount->node["link"].IsDefined()) {
+    // On a robot link: the link's pose places it (no position, orientation or look-at).
+    for (const char* key : {"position", "orientation"}) {
+      if (const auto v = fields.Get(key))
+        Error(v->line, fmt::format("{}: '{}' does not go with a link mount (the link places the "
+                                   "sensor) — remove it, or give mount.pose",
+                                   what, key));
+    }
+    ReadLinkMount(*mount, what, &sensor);
+    if (ErrorCount() != errors_before) return std::nullopt;
+    return sensor;
+  }
   if (const auto v = fields.Get("position")) {
     sensor.pose.position = Vector(*v, what + ".position").value_or(Vec3::Zero());
   } else {
@@ -1180,6 +1438,57 @@ std::optional<ExplicitSensor> SceneReader::ReadSensor(const Value& input) {
     sensor.model_from_camera = PoseOf(*v, what + ".mount").value_or(Pose{});
   if (ErrorCount() != errors_before) return std::nullopt;
   return sensor;
+}
+
+/// `mount: {robot: NAME, link: LINK, pose: {xyz, rpy}}` (robot optional with one robot): the
+/// sensor's model pose is world_from_link · pose at the scene's joint positions, and follows the
+/// link through the states' joint positions.
+bool SceneReader::ReadLinkMount(const Value& input,
+                                const std::string& what,
+                                ExplicitSensor* sensor) {
+  const Fields fields(input, what + ".mount", {"robot", "link", "pose"}, &reporter_);
+  const size_t errors_before = ErrorCount();
+  LinkMount mount;
+  mount.sensor = sensor->name;
+  if (const auto v = fields.Get("pose"))
+    mount.link_from_model = PoseOf(*v, what + ".mount.pose").value_or(Pose{});
+  std::vector<std::string> robot_names;
+  for (const SceneRobot& robot : robots_) robot_names.push_back(robot.name);
+  if (const auto v = fields.Get("robot")) {
+    const auto name = Text(*v, what + ".mount.robot");
+    if (!name || IsRejectedRobot(*name)) return false;
+    const auto it = std::find(robot_names.begin(), robot_names.end(), *name);
+    if (it == robot_names.end()) {
+      Error(v->line, fmt::format("{}.mount: no robot '{}' — {}", what, *name,
+                                 robot_names.empty() ? std::string("the scene has no `robots:`")
+                                                     : Suggest(*name, robot_names)));
+      return false;
+    }
+    mount.robot = static_cast<size_t>(it - robot_names.begin());
+  } else if (robots_.size() != 1) {
+    if (robots_.empty() && rejected_robots_.size() == 1) return false;  // reported already
+    Error(fields.line(), fmt::format("{}.mount: the scene has {} robots — name one with "
+                                     "`robot: NAME`",
+                                     what, robots_.size()));
+    return false;
+  }
+  const auto link = fields.Get("link");
+  const auto link_name = link ? Text(*link, what + ".mount.link") : std::nullopt;
+  if (!link_name) return false;
+  const SceneRobot& robot = robots_[mount.robot];
+  const auto& links = robot.model.links;
+  if (std::find(links.begin(), links.end(), *link_name) == links.end()) {
+    Error(link->line, fmt::format("{}.mount: robot '{}' has no link '{}' — {}", what, robot.name,
+                                  *link_name, Suggest(*link_name, links)));
+    return false;
+  }
+  mount.link = *link_name;
+  if (ErrorCount() != errors_before) return false;
+  sensor->pose = LinkPoses(robot.model, robot.world_from_base, robot.joints).at(mount.link) *
+                 mount.link_from_model;
+  sensor->look_at = false;
+  link_mounts_.push_back(std::move(mount));
+  return true;
 }
 
 // ----- states --------------------------------------------------------------------------------
@@ -1205,13 +1514,14 @@ void SceneReader::ReadStates(const Value& input) {
 
 /// `{name, remove: [names], move: {name: {xyz, rpy | quaternion}}, add: [objects]}`.
 std::optional<SceneState> SceneReader::ReadState(const Value& input) {
-  const Fields fields(input, "state", {"name", "remove", "move", "add"}, &reporter_);
+  const Fields fields(input, "state", {"name", "joints", "remove", "move", "add"}, &reporter_);
   const size_t errors_before = ErrorCount();
   SceneState state;
   state.name = Name(fields, "state").value_or("?");
   state.file = problem_->source;
   state.line = fields.line();
   const std::string what = fmt::format("state '{}'", state.name);
+  if (const auto v = fields.Get("joints")) ReadStateJoints(*v, what, &state);
   if (const auto v = fields.Get("remove")) {
     if (!v->node.IsSequence()) {
       Error(v->line, fmt::format("{}.remove must be a list of object names, got {} — write e.g. "
@@ -1252,6 +1562,48 @@ std::optional<SceneState> SceneReader::ReadState(const Value& input) {
   }
   if (ErrorCount() != errors_before) return std::nullopt;
   return state;
+}
+
+/// `joints: {ROBOT: {joint: position}}`: the robots' links at the scene's joint positions
+/// overridden by these (reshaped), and the sensors mounted on them moved.
+void SceneReader::ReadStateJoints(const Value& input, const std::string& what, SceneState* state) {
+  if (!input.node.IsMap()) {
+    Error(input.line, fmt::format("{}.joints must be a mapping `robot: {{joint: position}}`, got "
+                                  "{}",
+                                  what, Shown(input.node)));
+    return;
+  }
+  std::vector<std::string> robot_names;
+  for (const SceneRobot& robot : robots_) robot_names.push_back(robot.name);
+  for (const auto& entry : input.node) {
+    const Value key{entry.first, LineOf(entry.first)};
+    const auto name = Text(key, what + ".joints key");
+    if (!name) continue;
+    if (IsRejectedRobot(*name)) continue;
+    const auto it = std::find(robot_names.begin(), robot_names.end(), *name);
+    if (it == robot_names.end()) {
+      Error(key.line, fmt::format("{}.joints: no robot '{}' — {}", what, *name,
+                                  robot_names.empty() ? std::string("the scene has no `robots:`")
+                                                      : Suggest(*name, robot_names)));
+      continue;
+    }
+    const size_t index = static_cast<size_t>(it - robot_names.begin());
+    const SceneRobot& robot = robots_[index];
+    const auto given =
+        ReadJoints(Value{entry.second, key.line}, robot.model, what + ".joints." + *name);
+    if (!given) continue;
+    JointPositions positions = robot.joints;
+    for (const auto& [joint, q] : *given) positions[joint] = q;
+    for (auto& reshaped : robot.WorldMeshes(positions))
+      state->reshape.push_back(std::move(reshaped));
+    const std::map<std::string, Pose> world_from_link =
+        LinkPoses(robot.model, robot.world_from_base, positions);
+    for (const LinkMount& mount : link_mounts_) {
+      if (mount.robot == index)
+        state->sensor_poses.emplace_back(mount.sensor,
+                                         world_from_link.at(mount.link) * mount.link_from_model);
+    }
+  }
 }
 
 /// Object names a state removes, moves or adds are checked against the objects, once --target
@@ -1308,9 +1660,10 @@ void SceneReader::Read(const YAML::Node& root) {
     Error(1, "the scene file is empty — see docs/scene-format.md for an example");
     return;
   }
-  const Fields top(ValueOf(root), "the scene",
-                   {"settings", "sensor_types", "objects", "populations", "sensors", "states"},
-                   &reporter_);
+  const Fields top(
+      ValueOf(root), "the scene",
+      {"settings", "sensor_types", "objects", "robots", "populations", "sensors", "states"},
+      &reporter_);
   if (!root.IsMap()) return;
   // Settings first: the cell size sets the primitives' tessellation (--cell-size replaces it).
   if (const auto v = top.Get("settings")) ReadSettings(*v);
@@ -1322,6 +1675,7 @@ void SceneReader::Read(const YAML::Node& root) {
     Missing(top, "objects", "objects: [{name: part, role: target, box: {size: [0.1, 0.1, 0.1]}}]");
     return;
   }
+  if (const auto v = top.Get("robots")) ReadRobots(*v);
   if (const auto v = top.Get("populations")) ReadPopulations(*v);
   if (const auto v = top.Get("sensors")) ReadSensors(*v);
   if (const auto v = top.Get("states")) ReadStates(*v);
@@ -1345,17 +1699,6 @@ void SceneReader::Read(const YAML::Node& root) {
   }
 }
 
-std::string ReadWholeFile(const std::string& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    throw InputError(AtPlace(path, 0, "cannot open the scene file — check the path"));
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (!in) throw InputError(AtPlace(path, 0, "cannot read the scene file — check permissions"));
-  return text.str();
-}
-
 }  // namespace
 
 const SensorType* Problem::FindType(const std::string& id) const {
@@ -1370,7 +1713,7 @@ Problem LoadYamlScene(const std::string& path, const LoadOptions& options) {
   Problem problem;
   problem.source = path;
   Diagnostics diag(path);
-  const std::string text = ReadWholeFile(path);
+  const std::string text = detail::ReadInputFile(path, "scene file");
   // yaml-cpp reads UTF-16 and UTF-32 files (a BOM or NUL bytes first, YAML 1.2 5.2) itself.
   const bool utf8 = text.substr(0, 2) != "\xFE\xFF" && text.substr(0, 2) != "\xFF\xFE" &&
                     text.substr(0, 4).find('\0') == std::string::npos;

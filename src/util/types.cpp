@@ -35,18 +35,22 @@ std::array<double, 4> WxyzOf(const Quat& rotation) {
 
 std::optional<Quat> QuatFromWxyz(std::span<const double> wxyz) {
   VANTAGE_CHECK(wxyz.size() == 4);
-  // Any length, even near overflow (nullopt also for a non-finite component). Scaled by the
-  // largest component first: the norm of [1e300, 1e300, 0, 0] overflows to inf,
-  // and normalising by it gave a zero quaternion that passed (issue 15).
-  double largest = 0;
   for (const double v : wxyz) {
     if (!std::isfinite(v)) return std::nullopt;
-    largest = std::max(largest, std::abs(v));
   }
-  if (largest == 0) return std::nullopt;
+  const Quat rotation(wxyz[0], wxyz[1], wxyz[2], wxyz[3]);  // Eigen's constructor takes w first
+  const double norm = rotation.norm();
+  if (std::isfinite(norm)) {
+    if (norm < 1e-9) return std::nullopt;
+    return rotation.normalized();
+  }
+  // The norm of [1e300, 1e300, 0, 0] overflows to inf, and normalising by it gave a zero
+  // quaternion that passed (issue 15): scale by the largest component first (only here, so that
+  // every other input keeps its last digits).
+  double largest = 0;
+  for (const double v : wxyz) largest = std::max(largest, std::abs(v));
   const Quat scaled(wxyz[0] / largest, wxyz[1] / largest, wxyz[2] / largest, wxyz[3] / largest);
-  if (largest * scaled.norm() < 1e-9) return std::nullopt;
-  return scaled.normalized();  // Eigen's constructor takes w first
+  return scaled.normalized();
 }
 
 Pose Pose::FromXyzRpy(double x, double y, double z, double roll, double pitch, double yaw) {

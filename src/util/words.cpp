@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <limits>
+#include <sstream>
 
 #include "vantage/error.hpp"
 
@@ -91,6 +94,18 @@ void CheckUtf8File(std::string_view text, const std::string& path) {
       path, line,
       fmt::format("byte 0x{:02X} is not UTF-8 (a name in Latin-1?) — save the file as UTF-8",
                   static_cast<unsigned char>(text[at]))));
+}
+
+std::string ReadInputFile(const std::string& path, std::string_view kind) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw InputError(AtPlace(path, 0, fmt::format("cannot open the {} — check the path", kind)));
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in)
+    throw InputError(AtPlace(path, 0, fmt::format("cannot read the {} — check permissions", kind)));
+  return text.str();
 }
 
 }  // namespace vantage::detail

@@ -23,4 +23,9 @@ size_t FirstNonUtf8Byte(std::string_view text);
 /// type_error). Both scene readers check their files with it before parsing.
 void CheckUtf8File(std::string_view text, const std::string& path);
 
+/// The whole contents of an input file; InputError "PATH: cannot open the KIND — check the path"
+/// (not a regular file) or "PATH: cannot read the KIND — check permissions". `kind` names it:
+/// "scene file", "URDF file".
+std::string ReadInputFile(const std::string& path, std::string_view kind);
+
 }  // namespace vantage::detail

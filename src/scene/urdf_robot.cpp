@@ -1,0 +1,379 @@
+// URDF robots (issue 19): urdfdom reads the file, vantage converts its model to RobotModel and
+// computes the links' poses with Eigen (include/vantage/robot.hpp).
+#include <console_bridge/console.h>
+#include <fmt/format.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <deque>
+#include <filesystem>
+#include <memory>
+#include <string_view>
+
+#include "util/words.hpp"
+#include "util/xml.hpp"
+#include "vantage/error.hpp"
+#include "vantage/robot.hpp"
+
+namespace vantage {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ----- reading -------------------------------------------------------------------------------
+
+/// Collects urdfdom's console_bridge messages while it parses (it reports errors only there),
+/// and restores the previous handler afterwards.
+class CapturedLog : public console_bridge::OutputHandler {
+ public:
+  CapturedLog() { console_bridge::useOutputHandler(this); }
+  ~CapturedLog() override { console_bridge::restorePreviousOutputHandler(); }
+  CapturedLog(const CapturedLog&) = delete;
+  CapturedLog& operator=(const CapturedLog&) = delete;
+
+  void log(const std::string& text,
+           console_bridge::LogLevel level,
+           const char* /*filename*/,
+           int /*line*/) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) errors_.push_back(text);
+  }
+  const std::vector<std::string>& errors() const { return errors_; }
+
+ private:
+  std::vector<std::string> errors_;
+};
+
+/// Lines of the `<joint>` and `<link>` elements directly under `<robot>`, by name.
+struct ElementLines {
+  std::map<std::string, int> joints;
+  std::map<std::string, int> links;
+};
+
+ElementLines LinesOf(const detail::XmlDocument& document) {
+  ElementLines lines;
+  for (const detail::XmlElement& child : document.root.children) {
+    const std::string* name = child.Attribute("name");
+    if (!name) continue;
+    if (child.name == "joint") lines.joints.emplace(*name, child.line);
+    if (child.name == "link") lines.links.emplace(*name, child.line);
+  }
+  return lines;
+}
+
+/// The line of the first joint or link that a urdfdom message names in brackets or quotes
+/// ("Joint [elbow] is missing ...", "child link [x] of joint [y] not found"); 0 when none.
+int LineNamedIn(const std::string& message, const ElementLines& lines) {
+  for (size_t open = message.find_first_of("['"); open != std::string::npos;
+       open = message.find_first_of("['", open + 1)) {
+    const char close = message[open] == '[' ? ']' : '\'';
+    const size_t end = message.find(close, open + 1);
+    if (end == std::string::npos) break;
+    const std::string name = message.substr(open + 1, end - open - 1);
+    for (const auto* table : {&lines.joints, &lines.links}) {
+      if (const auto it = table->find(name); it != table->end()) return it->second;
+    }
+  }
+  return 0;
+}
+
+Pose PoseOf(const urdf::Pose& pose) {
+  const urdf::Rotation& r = pose.rotation;
+  return Pose{Vec3(pose.position.x, pose.position.y, pose.position.z),
+              Quat(r.w, r.x, r.y, r.z).normalized()};
+}
+
+RobotJoint::Type TypeOf(int type) {
+  switch (type) {
+    case urdf::Joint::REVOLUTE:
+      return RobotJoint::Type::kRevolute;
+    case urdf::Joint::CONTINUOUS:
+      return RobotJoint::Type::kContinuous;
+    case urdf::Joint::PRISMATIC:
+      return RobotJoint::Type::kPrismatic;
+    case urdf::Joint::FLOATING:
+      return RobotJoint::Type::kFloating;
+    case urdf::Joint::PLANAR:
+      return RobotJoint::Type::kPlanar;
+    default:
+      return RobotJoint::Type::kFixed;
+  }
+}
+
+std::optional<RobotVisual> VisualOf(const std::string& link, const urdf::Visual& visual) {
+  if (!visual.geometry) return std::nullopt;
+  RobotVisual out;
+  out.link = link;
+  out.link_from_visual = PoseOf(visual.origin);
+  const urdf::Geometry& geometry = *visual.geometry;
+  switch (geometry.type) {
+    case urdf::Geometry::BOX: {
+      const auto& box = static_cast<const urdf::Box&>(geometry);
+      out.shape = RobotVisual::Shape::kBox;
+      out.size = Vec3(box.dim.x, box.dim.y, box.dim.z);
+      break;
+    }
+    case urdf::Geometry::CYLINDER: {
+      const auto& cylinder = static_cast<const urdf::Cylinder&>(geometry);
+      out.shape = RobotVisual::Shape::kCylinder;
+      out.radius = cylinder.radius;
+      out.length = cylinder.length;
+      break;
+    }
+    case urdf::Geometry::SPHERE:
+      out.shape = RobotVisual::Shape::kSphere;
+      out.radius = static_cast<const urdf::Sphere&>(geometry).radius;
+      break;
+    case urdf::Geometry::MESH: {
+      const auto& mesh = static_cast<const urdf::Mesh&>(geometry);
+      out.shape = RobotVisual::Shape::kMesh;
+      out.mesh = mesh.filename;
+      out.scale = Vec3(mesh.scale.x, mesh.scale.y, mesh.scale.z);
+      break;
+    }
+  }
+  return out;
+}
+
+// ----- packages ------------------------------------------------------------------------------
+
+std::vector<std::string> SplitPaths(const char* variable) {
+  std::vector<std::string> paths;
+  // Read while loading only; vantage never sets the environment.
+  const char* value = std::getenv(variable);  // NOLINT(concurrency-mt-unsafe)
+  if (!value) return paths;
+  std::string_view rest(value);
+  while (!rest.empty()) {
+    const size_t colon = rest.find(':');
+    const std::string_view item = rest.substr(0, colon);
+    if (!item.empty()) paths.emplace_back(item);
+    if (colon == std::string_view::npos) break;
+    rest.remove_prefix(colon + 1);
+  }
+  return paths;
+}
+
+bool IsFolder(const fs::path& path) {
+  std::error_code ec;
+  return fs::is_directory(path, ec);
+}
+
+}  // namespace
+
+bool RobotJoint::IsSettable() const {
+  return mimic.empty() &&
+         (type == Type::kRevolute || type == Type::kContinuous || type == Type::kPrismatic);
+}
+
+const RobotJoint* RobotModel::FindJoint(const std::string& joint_name) const {
+  for (const RobotJoint& joint : joints) {
+    if (joint.name == joint_name) return &joint;
+  }
+  return nullptr;
+}
+
+RobotModel LoadUrdf(const std::string& path) {
+  const std::string text = detail::ReadInputFile(path, "URDF file");
+  detail::CheckUtf8File(text, path);
+  // vantage's XML reader first: malformed XML with its line, and the elements' lines for
+  // urdfdom's messages, which carry none.
+  const detail::XmlDocument document = detail::ParseXml(text, path);
+  const ElementLines lines = LinesOf(document);
+  urdf::ModelInterfaceSharedPtr model;
+  std::vector<std::string> errors;
+  {
+    const CapturedLog log;
+    try {
+      model = urdf::parseURDF(text);
+    } catch (const std::exception& e) {
+      model.reset();
+      errors.push_back(e.what());
+    }
+    errors.insert(errors.end(), log.errors().begin(), log.errors().end());
+  }
+  if (!model) {
+    Diagnostics diag(path);
+    if (errors.empty()) errors.push_back("not a URDF robot");
+    for (const std::string& error : errors)
+      diag.Error(LineNamedIn(error, lines), fmt::format("urdfdom: {} — fix the URDF", error));
+    diag.ThrowIfAny();
+  }
+
+  RobotModel robot;
+  robot.name = model->getName();
+  robot.file = path;
+  const urdf::LinkConstSharedPtr root = model->getRoot();
+  VANTAGE_CHECK(root != nullptr);
+  robot.root_link = root->name;
+  Diagnostics diag(path);
+  // Breadth first from the root: each link after its parent, each joint after its parent's.
+  std::deque<urdf::LinkConstSharedPtr> queue = {root};
+  while (!queue.empty()) {
+    const urdf::LinkConstSharedPtr link = queue.front();
+    queue.pop_front();
+    robot.links.push_back(link->name);
+    for (const urdf::VisualSharedPtr& visual : link->visual_array) {
+      if (!visual) continue;
+      if (std::optional<RobotVisual> converted = VisualOf(link->name, *visual))
+        robot.visuals.push_back(std::move(*converted));
+    }
+    for (const urdf::JointSharedPtr& joint : link->child_joints) {
+      RobotJoint out;
+      out.name = joint->name;
+      out.type = TypeOf(joint->type);
+      out.parent_link = joint->parent_link_name;
+      out.child_link = joint->child_link_name;
+      out.parent_from_joint = PoseOf(joint->parent_to_joint_origin_transform);
+      const auto line = lines.joints.find(joint->name);
+      out.line = line == lines.joints.end() ? 0 : line->second;
+      const Vec3 axis(joint->axis.x, joint->axis.y, joint->axis.z);
+      const bool moves = out.type == RobotJoint::Type::kRevolute ||
+                         out.type == RobotJoint::Type::kContinuous ||
+                         out.type == RobotJoint::Type::kPrismatic;
+      if (moves && !(axis.norm() > 1e-12)) {
+        diag.Error(out.line, fmt::format("joint '{}' has a zero <axis> — give a direction, e.g. "
+                                         "xyz=\"0 0 1\"",
+                                         joint->name));
+      } else if (moves) {
+        out.axis = axis.normalized();
+      }
+      if (joint->limits &&
+          (out.type == RobotJoint::Type::kRevolute || out.type == RobotJoint::Type::kPrismatic))
+        out.limits = std::make_pair(joint->limits->lower, joint->limits->upper);
+      if (joint->mimic) {
+        out.mimic = joint->mimic->joint_name;
+        out.mimic_multiplier = joint->mimic->multiplier;
+        out.mimic_offset = joint->mimic->offset;
+      }
+      robot.joints.push_back(std::move(out));
+      for (const urdf::LinkSharedPtr& child : link->child_links) {
+        if (child && child->name == joint->child_link_name) queue.push_back(child);
+      }
+    }
+  }
+  for (const RobotJoint& joint : robot.joints) {
+    if (!joint.mimic.empty() && !robot.FindJoint(joint.mimic))
+      diag.Error(joint.line, fmt::format("joint '{}' mimics '{}', which is no joint of the robot",
+                                         joint.name, joint.mimic));
+  }
+  diag.ThrowIfAny();
+  return robot;
+}
+
+std::vector<std::string> JointPositionProblems(const RobotModel& robot,
+                                               const JointPositions& positions) {
+  std::vector<std::string> problems;
+  std::vector<std::string> settable;
+  for (const RobotJoint& joint : robot.joints) {
+    if (joint.IsSettable()) settable.push_back(joint.name);
+  }
+  for (const auto& [name, q] : positions) {
+    const RobotJoint* joint = robot.FindJoint(name);
+    if (!joint) {
+      const std::string* best = detail::ClosestWord(name, settable);
+      problems.push_back(fmt::format(
+          "robot '{}' has no joint '{}' — {}{}", robot.name, name,
+          best ? fmt::format("did you mean '{}'? ", *best) : std::string(),
+          settable.empty() ? std::string("it has no movable joints")
+                           : "its movable joints are: " + detail::JoinQuoted(settable)));
+    } else if (!joint->mimic.empty()) {
+      problems.push_back(fmt::format("joint '{}' of robot '{}' mimics '{}' — set '{}' instead",
+                                     name, robot.name, joint->mimic, joint->mimic));
+    } else if (!joint->IsSettable()) {
+      problems.push_back(
+          fmt::format("joint '{}' of robot '{}' is not revolute, continuous or "
+                      "prismatic — it has no position to set",
+                      name, robot.name));
+    } else if (!std::isfinite(q)) {
+      problems.push_back(fmt::format("joint '{}': position {} is not a finite number", name, q));
+    } else if (joint->limits && (q < joint->limits->first || q > joint->limits->second)) {
+      problems.push_back(
+          fmt::format("joint '{}' of robot '{}': position {} is outside its limits "
+                      "[{}, {}] ({}:{}) — give a position within them",
+                      name, robot.name, q, joint->limits->first, joint->limits->second, robot.file,
+                      joint->line));
+    }
+  }
+  return problems;
+}
+
+std::map<std::string, Pose> LinkPoses(const RobotModel& robot,
+                                      const Pose& world_from_base,
+                                      const JointPositions& positions) {
+  for (const auto& [name, q] : positions) VANTAGE_CHECK(robot.FindJoint(name) != nullptr);
+  // A mimic joint follows its joint, which may itself mimic another (at most one per joint).
+  const auto position_of = [&](const RobotJoint& start) {
+    const RobotJoint* joint = &start;
+    double multiplier = 1.0, offset = 0.0;
+    for (size_t hops = 0; !joint->mimic.empty(); ++hops) {
+      VANTAGE_CHECK(hops <= robot.joints.size());
+      offset += multiplier * joint->mimic_offset;
+      multiplier *= joint->mimic_multiplier;
+      joint = robot.FindJoint(joint->mimic);
+      VANTAGE_CHECK(joint != nullptr);
+    }
+    const auto it = positions.find(joint->name);
+    return multiplier * (it == positions.end() ? 0.0 : it->second) + offset;
+  };
+  std::map<std::string, Pose> world_from_link;
+  world_from_link[robot.root_link] = world_from_base;
+  for (const RobotJoint& joint : robot.joints) {
+    const auto parent = world_from_link.find(joint.parent_link);
+    VANTAGE_CHECK(parent != world_from_link.end());
+    Pose joint_from_child;  // the joint's motion; identity for fixed, floating, planar
+    const double q = position_of(joint);
+    if (joint.type == RobotJoint::Type::kRevolute || joint.type == RobotJoint::Type::kContinuous)
+      joint_from_child.rotation = Quat(Eigen::AngleAxisd(q, joint.axis));
+    if (joint.type == RobotJoint::Type::kPrismatic) joint_from_child.position = q * joint.axis;
+    world_from_link[joint.child_link] = parent->second * joint.parent_from_joint * joint_from_child;
+  }
+  return world_from_link;
+}
+
+std::string ResolveRobotFile(const std::string& filename,
+                             const std::string& urdf_folder,
+                             const std::vector<std::string>& package_paths) {
+  constexpr std::string_view kPackage = "package://";
+  constexpr std::string_view kFile = "file://";
+  const std::string_view name(filename);
+  if (name.substr(0, kFile.size()) == kFile) return std::string(name.substr(kFile.size()));
+  if (name.substr(0, kPackage.size()) != kPackage) {
+    const fs::path path(filename);
+    return (path.is_absolute() ? path : fs::path(urdf_folder) / path).lexically_normal().string();
+  }
+  const std::string_view rest = name.substr(kPackage.size());
+  const size_t slash = rest.find('/');
+  const std::string package(rest.substr(0, slash));
+  const std::string inside(slash == std::string_view::npos ? "" : rest.substr(slash + 1));
+  // --package-path folders take every layout; ROS_PACKAGE_PATH holds packages (or folders of
+  // them), AMENT_PREFIX_PATH install prefixes (<prefix>/share/<package>).
+  std::vector<fs::path> candidates;
+  std::vector<std::string> searched;
+  for (const std::string& folder : package_paths) {
+    candidates.push_back(fs::path(folder) / "share" / package);
+    candidates.push_back(fs::path(folder) / package);
+    if (fs::path(folder).lexically_normal().filename() == package) candidates.emplace_back(folder);
+    searched.push_back(folder);
+  }
+  for (const std::string& folder : SplitPaths("ROS_PACKAGE_PATH")) {
+    candidates.push_back(fs::path(folder) / package);
+    if (fs::path(folder).lexically_normal().filename() == package) candidates.emplace_back(folder);
+    searched.push_back(folder + " (ROS_PACKAGE_PATH)");
+  }
+  for (const std::string& folder : SplitPaths("AMENT_PREFIX_PATH")) {
+    candidates.push_back(fs::path(folder) / "share" / package);
+    searched.push_back(folder + " (AMENT_PREFIX_PATH)");
+  }
+  for (const fs::path& root : candidates) {
+    if (IsFolder(root)) return (root / inside).lexically_normal().string();
+  }
+  throw InputError(fmt::format(
+      "package '{}' of '{}' is in none of the package folders ({}) — give its folder with "
+      "--package-path (a folder holding {}/, or an install prefix holding share/{}/)",
+      package, filename,
+      searched.empty() ? std::string("none given") : fmt::format("{}", fmt::join(searched, ", ")),
+      package, package));
+}
+
+}  // namespace vantage

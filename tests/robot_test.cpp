@@ -1,0 +1,365 @@
+// URDF robots (issue 19): tests/data/urdf/arm3.urdf, a hand-written arm of boxes, a cylinder and
+// a sphere with three revolute joints. Link poses are checked against forward kinematics written
+// out here from the file's numbers with Eigen (not through vantage's code), the occlusion by a
+// link against cells counted by hand, and the errors for bad joints, packages and URDF files.
+#include "vantage/robot.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <map>
+#include <numbers>
+#include <string>
+#include <tuple>
+
+#include "test_util.hpp"
+#include "vantage/error.hpp"
+#include "vantage/pipeline.hpp"
+#include "vantage/problem.hpp"
+
+namespace vantage {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+using Eigen::AngleAxisd;
+using Eigen::Isometry3d;
+using Eigen::Translation3d;
+
+// arm3.urdf's kinematics, by hand: each joint's <origin> (xyz, rpy as Rz·Ry·Rx), then its motion.
+struct HandArm {
+  Isometry3d base, link1, link2, link3, tool0;
+};
+
+Isometry3d Rpy(double roll, double pitch, double yaw) {
+  return Isometry3d(AngleAxisd(yaw, Vec3::UnitZ()) * AngleAxisd(pitch, Vec3::UnitY()) *
+                    AngleAxisd(roll, Vec3::UnitX()));
+}
+
+HandArm HandKinematics(const Isometry3d& world_from_base, double q1, double q2, double q3) {
+  HandArm arm;
+  arm.base = world_from_base;
+  arm.link1 = arm.base * Translation3d(0, 0, 0.1) * AngleAxisd(q1, Vec3::UnitZ());
+  arm.link2 = arm.link1 * Translation3d(0, 0, 0.1) * AngleAxisd(q2, Vec3::UnitY());
+  arm.link3 = arm.link2 * Translation3d(0.3, 0, 0) * Rpy(0.1, 0.2, 0.3) *
+              AngleAxisd(q3, Vec3(0, 0.6, 0.8).normalized());
+  arm.tool0 = arm.link3 * Translation3d(0.12, 0, 0) * Rpy(0, kPi / 2, 0);
+  return arm;
+}
+
+Isometry3d IsometryOf(const Pose& pose) {
+  return Translation3d(pose.position) * Isometry3d(pose.rotation.toRotationMatrix());
+}
+
+void ExpectSamePose(const Pose& actual, const Isometry3d& expected, const std::string& what) {
+  const Isometry3d got = IsometryOf(actual);
+  EXPECT_LT((got.translation() - expected.translation()).norm(), 1e-12) << what;
+  EXPECT_LT((got.linear() - expected.linear()).norm(), 1e-12) << what;
+}
+
+const SceneObject* FindObject(const Scene& scene, const std::string& name) {
+  for (const SceneObject& object : scene.objects) {
+    if (object.name == name) return &object;
+  }
+  return nullptr;
+}
+
+// Every vertex of a box visual, taken back into the box's own frame, is a corner ±size/2.
+void ExpectBoxAt(const TriangleMesh& mesh, const Isometry3d& world_from_box, const Vec3& size) {
+  ASSERT_FALSE(mesh.vertices.empty());
+  const Isometry3d box_from_world = world_from_box.inverse();
+  for (const Vec3& v : mesh.vertices) {
+    const Vec3 local = box_from_world * v;
+    for (int axis = 0; axis < 3; ++axis)
+      EXPECT_NEAR(std::abs(local[axis]), size[axis] / 2, 1e-12) << local.transpose();
+  }
+}
+
+TEST(Robot, UrdfModelAsWritten) {
+  const RobotModel robot = LoadUrdf(test::DataPath("urdf/arm3.urdf"));
+  EXPECT_EQ(robot.name, "arm3");
+  EXPECT_EQ(robot.root_link, "base_link");
+  EXPECT_EQ(robot.links,
+            (std::vector<std::string>{"base_link", "link1", "link2", "link3", "tool0"}));
+  ASSERT_EQ(robot.joints.size(), 4u);
+  const RobotJoint* j3 = robot.FindJoint("j3");
+  ASSERT_NE(j3, nullptr);
+  EXPECT_EQ(j3->type, RobotJoint::Type::kRevolute);
+  EXPECT_LT((j3->axis - Vec3(0, 0.6, 0.8)).norm(), 1e-15);
+  ASSERT_TRUE(j3->limits);
+  EXPECT_EQ(j3->limits->first, -2.0);
+  EXPECT_EQ(j3->limits->second, 2.0);
+  EXPECT_EQ(j3->line, 39);
+  EXPECT_EQ(robot.FindJoint("tool_joint")->type, RobotJoint::Type::kFixed);
+  EXPECT_EQ(robot.visuals.size(), 5u);  // base, link1, link2, link3's box and sphere
+}
+
+TEST(Robot, LinkPosesAreForwardKinematicsAtTwoJointPositions) {
+  const RobotModel robot = LoadUrdf(test::DataPath("urdf/arm3.urdf"));
+  const Pose world_from_base{Vec3(0.4, -0.2, 0.75),
+                             Quat(AngleAxisd(0.7, Vec3(1, 2, 3).normalized()))};
+  const Isometry3d base = IsometryOf(world_from_base);
+  for (const auto& [q1, q2, q3] : {std::tuple{0.4, -0.7, 1.1}, std::tuple{-2.0, 1.2, -0.5}}) {
+    const std::map<std::string, Pose> poses =
+        LinkPoses(robot, world_from_base, {{"j1", q1}, {"j2", q2}, {"j3", q3}});
+    const HandArm arm = HandKinematics(base, q1, q2, q3);
+    ExpectSamePose(poses.at("base_link"), arm.base, "base_link");
+    ExpectSamePose(poses.at("link1"), arm.link1, "link1");
+    ExpectSamePose(poses.at("link2"), arm.link2, "link2");
+    ExpectSamePose(poses.at("link3"), arm.link3, "link3");
+    ExpectSamePose(poses.at("tool0"), arm.tool0, "tool0");
+  }
+  // Joints not given are at 0.
+  const HandArm zero = HandKinematics(base, 0, 0, 0);
+  ExpectSamePose(LinkPoses(robot, world_from_base, {}).at("tool0"), zero.tool0, "tool0 at 0");
+}
+
+// The YAML scene puts each link's visuals where forward kinematics puts the link.
+TEST(Robot, SceneObjectsFollowTheJoints) {
+  test::TempDir dir;
+  for (const auto& [q1, q2, q3] : {std::tuple{0.4, -0.7, 1.1}, std::tuple{-2.0, 1.2, -0.5}}) {
+    const std::string path = dir.File("arm.yaml");
+    test::WriteText(path, fmt::format(R"(objects:
+  - {{name: part, role: target, box: {{size: [0.1, 0.1, 0.1]}}}}
+robots:
+  - name: arm
+    urdf: {}
+    pose: {{xyz: [1, 2, 0.5], rpy: [0, 0, 0.25]}}
+    joints: {{j1: {}, j2: {}, j3: {}}}
+sensors:
+  - {{name: cam, type: intel_realsense_d415, position: [1, 0, 1]}}
+)",
+                                      test::DataPath("urdf/arm3.urdf"), q1, q2, q3));
+    const Problem problem = LoadYamlScene(path);
+    const HandArm arm = HandKinematics(
+        Translation3d(1, 2, 0.5) * Isometry3d(AngleAxisd(0.25, Vec3::UnitZ())), q1, q2, q3);
+    const SceneObject* base = FindObject(problem.scene, "arm::base_link");
+    const SceneObject* link2 = FindObject(problem.scene, "arm::link2");
+    const SceneObject* link3 = FindObject(problem.scene, "arm::link3");
+    ASSERT_TRUE(base && link2 && link3 && FindObject(problem.scene, "arm::link1"));
+    EXPECT_EQ(FindObject(problem.scene, "arm::tool0"), nullptr);  // no visual, no object
+    EXPECT_EQ(link2->role, Role::kOccluder);
+    ExpectBoxAt(base->mesh, arm.base * Translation3d(0, 0, 0.05), Vec3(0.1, 0.1, 0.1));
+    ExpectBoxAt(link2->mesh, arm.link2 * Translation3d(0.15, 0, 0), Vec3(0.3, 0.3, 0.02));
+    // link3: a box then a sphere; the box's 8 corners come first (MakeBox).
+    TriangleMesh box = MakeBox(Vec3(0.1, 0.04, 0.04));
+    box.vertices.assign(link3->mesh.vertices.begin(),
+                        link3->mesh.vertices.begin() + static_cast<long>(box.vertices.size()));
+    ExpectBoxAt(box, arm.link3 * Translation3d(0.05, 0, 0), Vec3(0.1, 0.04, 0.04));
+  }
+}
+
+// The paddle hides the cells x < 0.1 of the 41 x 41 plate (occlusion_cell.yaml's comment): 21
+// columns of 41 stay in view; standing up (state "away") it hides none.
+TEST(Robot, LinkOccludesAKnownPartAcrossStates) {
+  SceneInput input;
+  input.path = test::DataPath("urdf/occlusion_cell.yaml");
+  PreparedScene prepared = Prepare(input);
+  ASSERT_EQ(prepared.problem.states.size(), 2u);
+  // The wrist camera rides on tool0: its pose in each state is the hand kinematics'.
+  const Isometry3d base = Isometry3d(Translation3d(-0.0475, -0.08, 0));
+  const Isometry3d tool_from_model = Translation3d(0, 0, 0.03) * Rpy(0, 0, 0.5);
+  ASSERT_EQ(prepared.state_candidates.size(), 2u);
+  for (size_t s = 0; s < 2; ++s) {
+    const HandArm arm = HandKinematics(base, kPi / 2, s == 0 ? 0.0 : -1.5, 0);
+    const std::vector<Candidate>& candidates = prepared.state_candidates[s];
+    ASSERT_EQ(candidates.size(), 2u);
+    EXPECT_EQ(candidates[1].name, "wrist");
+    ExpectSamePose(candidates[1].world_from_body, arm.tool0 * tool_from_model, "wrist");
+    ExpectSamePose(candidates[0].world_from_body,
+                   IsometryOf(prepared.candidates[0].world_from_body), "top stays");
+  }
+  ExpectSamePose(prepared.candidates[1].world_from_body,
+                 HandKinematics(base, kPi / 2, 0, 0).tool0 * tool_from_model, "first state's");
+
+  const ObservedScene observed =
+      ObservePrepared(std::move(prepared), ObserveOptions{}, RunLimits{});
+  ASSERT_EQ(observed.states.size(), 2u);
+  for (const ObservedState& state : observed.states) EXPECT_EQ(state.reference.size(), 41u * 41u);
+  EXPECT_EQ(observed.states[1].same_as, -1);
+  EXPECT_EQ(observed.states[0].observations[0].reference_indices.size(), 21u * 41u);
+  EXPECT_EQ(observed.states[1].observations[0].reference_indices.size(), 41u * 41u);
+}
+
+// --- errors ------------------------------------------------------------------------------------
+
+std::string LoadError(const std::string& yaml, const LoadOptions& options = {}) {
+  test::TempDir dir;
+  const std::string path = dir.File("scene.yaml");
+  test::WriteText(path, yaml);
+  try {
+    LoadYamlScene(path, options);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+std::string ArmScene(const std::string& urdf, const std::string& joints) {
+  return fmt::format(R"(objects:
+  - {{name: part, role: target, box: {{size: [0.1, 0.1, 0.1]}}}}
+robots:
+  - name: arm
+    urdf: {}
+    joints:
+{}
+sensors:
+  - {{name: cam, type: intel_realsense_d415, position: [1, 0, 1]}}
+)",
+                     urdf, joints);
+}
+
+TEST(Robot, UnknownJointAndOutOfLimitPositionNameTheJointAtItsLine) {
+  const std::string arm = test::DataPath("urdf/arm3.urdf");
+  const std::string error = LoadError(ArmScene(arm, "      j1: 0.5\n      j4: 0.1\n      j2: 2.0"));
+  EXPECT_NE(error.find("scene.yaml:8: robot 'arm'.joints: robot 'arm3' has no joint 'j4' — did "
+                       "you mean 'j1'?"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("scene.yaml:9: robot 'arm'.joints: joint 'j2' of robot 'arm3': position 2 "
+                       "is outside its limits [-1.6, 1.6]"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(LoadError(ArmScene(arm, "      tool_joint: 0.1")).find("scene.yaml:7:"),
+            std::string::npos);
+  EXPECT_NE(LoadError(ArmScene(arm, "      tool_joint: 0.1")).find("has no position to set"),
+            std::string::npos);
+}
+
+TEST(Robot, LinkMountErrorsAndNoSecondErrorForARejectedRobot) {
+  const std::string arm = test::DataPath("urdf/arm3.urdf");
+  const std::string mounted =
+      "  - {name: wrist, type: intel_realsense_d415, mount: {link: LINK}}\n";
+  const auto with_mount = [&](const std::string& joints, const std::string& link) {
+    std::string yaml = ArmScene(arm, joints) + mounted;
+    yaml.replace(yaml.find("LINK"), 4, link);
+    return LoadError(yaml);
+  };
+  std::string error = with_mount("      j1: 0.5", "tool9");
+  EXPECT_NE(error.find("scene.yaml:10: sensor 'wrist'.mount: robot 'arm'"), std::string::npos)
+      << error;
+  EXPECT_NE(error.find("has no link 'tool9' — did you mean 'tool0'?"), std::string::npos) << error;
+  // The robot's own error only: the mount on it adds none.
+  error = with_mount("      j9: 0.5", "tool0");
+  EXPECT_NE(error.find("has no joint 'j9'"), std::string::npos) << error;
+  EXPECT_EQ(error.find("mount"), std::string::npos) << error;
+}
+
+TEST(Robot, StateJointsAreCheckedToo) {
+  const std::string yaml = ArmScene(test::DataPath("urdf/arm3.urdf"), "      j1: 0.5") +
+                           "states:\n  - name: a\n  - name: b\n    joints: {arm: {j3: 2.5}}\n"
+                           "  - name: c\n    joints: {robot_x: {j1: 0}}\n";
+  const std::string error = LoadError(yaml);
+  EXPECT_NE(error.find("scene.yaml:13: state 'b'.joints.arm: joint 'j3' of robot 'arm3': "
+                       "position 2.5 is outside its limits [-2, 2]"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("scene.yaml:15: state 'c'.joints: no robot 'robot_x'"), std::string::npos)
+      << error;
+}
+
+TEST(Robot, PackagePathsResolveMeshesAndAMissingPackageIsNamed) {
+  unsetenv("ROS_PACKAGE_PATH");   // NOLINT(concurrency-mt-unsafe): the test's own environment
+  unsetenv("AMENT_PREFIX_PATH");  // NOLINT(concurrency-mt-unsafe)
+  const std::string yaml = ArmScene(test::DataPath("urdf/mesh_arm.urdf"), "      {}");
+  const std::string error = LoadError(yaml);
+  EXPECT_NE(error.find("scene.yaml:5: robot 'arm' link 'base_link': package 'arm3_description' "
+                       "of 'package://arm3_description/meshes/tri.obj' is in none of the package "
+                       "folders"),
+            std::string::npos)
+      << error;
+
+  // Through --package-path as an install prefix (<prefix>/share/arm3_description): the
+  // triangle scaled by 2 at the visual's origin (1, 2, 3); Assimp reads the file's floats.
+  test::TempDir dir;
+  const std::string path = dir.File("scene.yaml");
+  test::WriteText(path, yaml);
+  LoadOptions options;
+  options.package_paths = {test::DataPath("urdf/packages")};
+  const Problem problem = LoadYamlScene(path, options);
+  const SceneObject* link = FindObject(problem.scene, "arm::base_link");
+  ASSERT_NE(link, nullptr);
+  ASSERT_EQ(link->mesh.vertices.size(), 3u);
+  EXPECT_LT((link->mesh.vertices[0] - Vec3(1, 2, 3)).norm(), 1e-7);
+  EXPECT_LT((link->mesh.vertices[1] - Vec3(1.2, 2, 3)).norm(), 1e-7);
+  EXPECT_LT((link->mesh.vertices[2] - Vec3(1, 2.2, 3)).norm(), 1e-7);
+  // ...and as a ROS_PACKAGE_PATH-style folder holding the package.
+  options.package_paths = {test::DataPath("urdf/packages/share")};
+  EXPECT_LT((FindObject(LoadYamlScene(path, options).scene, "arm::base_link")->mesh.vertices[1] -
+             Vec3(1.2, 2, 3))
+                .norm(),
+            1e-7);
+
+  options.package_paths = {test::DataPath("urdf/no_such_folder")};
+  try {
+    LoadYamlScene(path, options);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--package-path: "), std::string::npos) << e.what();
+  }
+}
+
+// From the command line: exit 2 with file:line, and --package-path recorded in report.json's
+// inputs so that `evaluate` of the run finds the package again without the option.
+TEST(Robot, CommandLinePackagePath) {
+  unsetenv("ROS_PACKAGE_PATH");   // NOLINT(concurrency-mt-unsafe)
+  unsetenv("AMENT_PREFIX_PATH");  // NOLINT(concurrency-mt-unsafe)
+  test::TempDir dir;
+  const std::string scene = dir.File("scene.yaml");
+  test::WriteText(scene, ArmScene(test::DataPath("urdf/mesh_arm.urdf"), "      {}"));
+  const std::string out = dir.File("out");
+  test::CommandResult run = test::RunVantage("optimize " + scene + " --out " + out + " -q");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("scene.yaml:5: robot 'arm' link 'base_link': package 'arm3_description'"),
+            std::string::npos)
+      << run.err;
+  const std::string packages = test::DataPath("urdf/packages");
+  run = test::RunVantage("optimize " + scene + " --out " + out + " -q --package-path " + packages);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(test::ReadText(out + "/report.json").find("\"package_paths\": [\n      \"" + packages),
+            std::string::npos);
+  run = test::RunVantage("evaluate --constellation " + out + "/report.json --out " +
+                         dir.File("eval") + " -q");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+}
+
+// The occlusion cell from the command line: report.json's candidates carry the first state's
+// coverage (861 of 1681 cells for "top"), and constellation.yaml, written in the output folder,
+// loads from there (its URDF path made absolute).
+TEST(Robot, CommandLineRunOverArmStatesAndItsConstellation) {
+  test::TempDir dir;
+  const std::string out = dir.File("out");
+  test::CommandResult run = test::RunVantage(
+      "optimize " + test::DataPath("urdf/occlusion_cell.yaml") + " --method greedy -q --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json report = nlohmann::json::parse(test::ReadText(out + "/report.json"));
+  ASSERT_EQ(report["candidates"][0]["name"], "top");
+  EXPECT_NEAR(report["candidates"][0]["coverage"].get<double>(), 861.0 / 1681.0, 1e-12);
+  ASSERT_EQ(report["states"]["states"].size(), 2u);
+  run = test::RunVantage("optimize " + out + "/constellation.yaml --method greedy -q --out " +
+                         dir.File("again"));
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+}
+
+TEST(Robot, BadUrdfIsReportedAtItsLine) {
+  // urdfdom rejects the joint without a child; its message names the joint, found at line 6.
+  const std::string bad = test::DataPath("urdf/bad_joint.urdf");
+  std::string error = LoadError(ArmScene(bad, "      {}"));
+  EXPECT_NE(error.find("bad_joint.urdf:6: urdfdom: "), std::string::npos) << error;
+  EXPECT_NE(error.find("[broken]"), std::string::npos) << error;
+  EXPECT_NE(error.find("scene.yaml:5: robot 'arm': "), std::string::npos) << error;
+
+  // Malformed XML: the line of the problem.
+  test::TempDir dir;
+  const std::string urdf = dir.File("broken.urdf");
+  test::WriteText(urdf, "<robot name=\"r\">\n  <link name=\"a\">\n</robot>\n");
+  error = LoadError(ArmScene(urdf, "      {}"));
+  EXPECT_NE(error.find("broken.urdf:3: malformed XML"), std::string::npos) << error;
+
+  error = LoadError(ArmScene(dir.File("missing.urdf"), "      {}"));
+  EXPECT_NE(error.find("missing.urdf: cannot open the URDF file"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace vantage
