@@ -72,7 +72,8 @@ Problem Loader::Load(std::vector<GazeboVisual>* visuals_out) {
     }
   }
 
-  // Explicit sensors: plain models holding a depth sensor (the plugin re-orients them too).
+  // Explicit sensors: plain models holding a camera. The Classic plugin re-orients them; in a
+  // world without it they are a real layout and keep their own orientation.
   std::map<std::string, int> sensors_per_model;
   for (const SensorRecord& r : sensors_) ++sensors_per_model[r.model];
   for (const SensorRecord& r : sensors_) {
@@ -84,7 +85,7 @@ Problem Loader::Load(std::vector<GazeboVisual>* visuals_out) {
     sensor.name = is_many ? r.model + "/" + r.sensor_name : r.model;
     sensor.sensor_type = *id;
     sensor.pose = r.world_from_model;
-    sensor.look_at = true;
+    sensor.look_at = has_classic_plugin_;
     sensor.model_from_camera = r.model_from_camera;
     sensor.file = r.site.file;
     sensor.line = r.site.line;
