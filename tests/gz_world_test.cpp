@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <filesystem>
 #include <map>
 #include <sdf/sdf.hh>
@@ -19,8 +20,11 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "test_util.hpp"
 #include "vantage/candidates.hpp"
+#include "vantage/pipeline.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
 
@@ -184,6 +188,214 @@ TEST(GzWorld, CamerasAreCandidatesWhereSdformatPutsThem) {
   ASSERT_TRUE(reference.count("cam_a"));
   EXPECT_EQ(reference.at("cam_a").fx, 250);
   EXPECT_EQ(reference.at("cam_a").cx, 150);
+}
+
+// The same world in SDF 1.11 (beyond libsdformat12): vantage's own reader, the same cameras.
+TEST(GzWorld, NewerSdfVersionsReadTheSame) {
+  ClearPathEnv();
+  test::TempDir dir;
+  std::string text = test::ReadText(Gz("cell.sdf"));
+  text.replace(text.find("version=\"1.9\""), 13, "version=\"1.11\"");
+  test::WriteText(dir.File("cell.sdf"), text);
+  LoadOptions options;
+  options.model_paths = {Gz("models")};
+  const Problem problem = LoadGazeboWorld(dir.File("cell.sdf"), options);
+  for (const std::string& note : problem.notes) EXPECT_EQ(note.find("SDF version"), std::string::npos);
+  ExpectSameCameras(Deploy(problem), SdformatCameras(Gz("cell.sdf"), ModelDir(Gz("models"))));
+}
+
+// GZ_SIM_RESOURCE_PATH and IGN_GAZEBO_RESOURCE_PATH hold model folders, as gz-sim reads them.
+TEST(GzWorld, ResourcePathVariablesFindModels) {
+  const auto reference = SdformatCameras(Gz("cell.sdf"), ModelDir(Gz("models")));
+  // A copy without the models/ folder beside it.
+  test::TempDir dir;
+  test::WriteText(dir.File("cell.sdf"), test::ReadText(Gz("cell.sdf")));
+  for (const char* variable : {"GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH",
+                               "GAZEBO_MODEL_PATH"}) {
+    ClearPathEnv();
+    SetEnv(variable, "/nonexistent:" + Gz("models"));
+    ExpectSameCameras(Deploy(LoadGazeboWorld(dir.File("cell.sdf"))), reference);
+  }
+  ClearPathEnv();
+  EXPECT_THROW(LoadGazeboWorld(dir.File("cell.sdf")), InputError);  // model://gz_depth_cam
+}
+
+/// A HOME with the test's Fuel cache at HOME/.gz/fuel (gz-fuel-tools' layout).
+struct FuelHome {
+  test::TempDir home;
+  std::string cache = home.File(".gz/fuel");
+  FuelHome() {
+    fs::create_directories(cache);
+    fs::copy(Gz("fuel_cache"), cache, fs::copy_options::recursive);
+  }
+  /// Where gz-fuel-tools keeps a version of the test model, worked out by hand.
+  std::string Model(int version) const {
+    return fmt::format("{}/fuel.gazebosim.org/openrobotics/models/fuel cam/{}", cache, version);
+  }
+};
+
+TEST(GzWorld, FuelUrisResolveFromTheLocalCache) {
+  ClearPathEnv();
+  const FuelHome fuel;
+  const char* old_home = std::getenv("HOME");  // NOLINT(concurrency-mt-unsafe)
+  const std::string saved = old_home ? old_home : "";
+  SetEnv("HOME", fuel.home.path());
+  // sdformat is told by hand where each URI lives: no version = the newest (2), owner and name
+  // matched without case, %20 a space.
+  const std::map<std::string, std::string> where = {
+      {"https://fuel.gazebosim.org/1.0/OpenRobotics/models/Fuel%20Cam", fuel.Model(2)},
+      {"https://fuel.gazebosim.org/1.0/openrobotics/models/fuel cam/1", fuel.Model(1)}};
+  const auto reference = SdformatCameras(Gz("fuel.sdf"), [&](const std::string& uri) {
+    const auto it = where.find(uri);
+    return it == where.end() ? std::string() : it->second;
+  });
+  ASSERT_EQ(reference.size(), 2u);
+  ExpectSameCameras(Deploy(LoadGazeboWorld(Gz("fuel.sdf"))), reference);
+  // GZ_FUEL_CACHE_PATH replaces HOME/.gz/fuel.
+  SetEnv("HOME", "/nonexistent");
+  SetEnv("GZ_FUEL_CACHE_PATH", fuel.cache);
+  ExpectSameCameras(Deploy(LoadGazeboWorld(Gz("fuel.sdf"))), reference);
+
+  // A model that is not in the cache: file:line, the URI and the cache folder; exit 2 from the CLI.
+  test::TempDir dir;
+  std::string text = test::ReadText(Gz("fuel.sdf"));
+  const std::string missing = "https://fuel.gazebosim.org/1.0/OpenRobotics/models/Not%20Here";
+  text.replace(text.find("https://fuel.gazebosim.org/1.0/openrobotics/models/fuel cam/1"),
+               std::string("https://fuel.gazebosim.org/1.0/openrobotics/models/fuel cam/1").size(),
+               missing);
+  test::WriteText(dir.File("w.sdf"), text);
+  int line = 0;
+  for (size_t at = 0; at < text.find(missing); at = text.find('\n', at) + 1) ++line;
+  try {
+    LoadGazeboWorld(dir.File("w.sdf"));
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(fmt::format("{}:{}:", dir.File("w.sdf"), line)), std::string::npos)
+        << message;
+    EXPECT_NE(message.find(missing), std::string::npos) << message;
+    EXPECT_NE(message.find(fuel.cache + "/fuel.gazebosim.org"), std::string::npos) << message;
+  }
+  const test::CommandResult cli = test::RunVantage("optimize '" + dir.File("w.sdf") + "' --out '" +
+                                                   dir.File("out") + "'");
+  EXPECT_EQ(cli.exit_code, 2) << cli.err;
+  EXPECT_NE(cli.err.find(missing), std::string::npos) << cli.err;
+  EXPECT_FALSE(fs::exists(dir.File("out")));
+  UnsetEnv("GZ_FUEL_CACHE_PATH");
+  SetEnv("HOME", saved);
+}
+
+/// The YAML scene of cell.sdf: its objects by hand, its cameras from libsdformat's DOM.
+std::string YamlEquivalent(const std::map<std::string, DomCamera>& cameras) {
+  std::string yaml =
+      "objects:\n"
+      "  - {name: table, role: occluder, box: {size: [1, 1, 0.05]}, pose: {xyz: [0, 0, -0.025]}}\n"
+      "  - {name: part, role: target, box: {size: [0.1, 0.1, 0.1]},\n"
+      "     pose: {xyz: [0, 0, 0.05], rpy: [0, 0, 0.3]}}\n"
+      "  - {name: post, role: occluder, cylinder: {radius: 0.02, length: 0.2},\n"
+      "     pose: {xyz: [0.2, 0.15, 0.1]}}\n"
+      "sensor_types:\n";
+  std::string sensors = "sensors:\n";
+  int i = 0;
+  for (const auto& [name, c] : cameras) {
+    yaml += fmt::format(
+        "  - {{id: cam{}, resolution: [{}, {}], intrinsics: [{:.17g}, {:.17g}, {:.17g}, {:.17g}],"
+        " range: [{:.17g}, {:.17g}]}}\n",
+        i, c.width, c.height, c.fx, c.fy, c.cx, c.cy, c.near, c.far);
+    const Pose& p = c.world_from_camera;
+    sensors += fmt::format(
+        "  - {{name: '{}', type: cam{}, position: [{:.17g}, {:.17g}, {:.17g}],\n"
+        "     orientation: {{quaternion: [{:.17g}, {:.17g}, {:.17g}, {:.17g}]}}}}\n",
+        name, i, p.position.x(), p.position.y(), p.position.z(), p.rotation.w(), p.rotation.x(),
+        p.rotation.y(), p.rotation.z());
+    ++i;
+  }
+  return yaml + sensors;
+}
+
+EvaluateResult EvaluateDeclared(const std::string& path, const std::vector<std::string>& models) {
+  EvaluateOptions options;
+  options.scene.path = path;
+  options.scene.load.model_paths = models;
+  return Evaluate(options);
+}
+
+// `vantage evaluate world.sdf` without --constellation scores the world's own layout; the YAML
+// equivalent of the same scene gives the same coverage, sensor by sensor.
+TEST(GzWorld, EvaluateScoresTheWorldsLayoutAsItsYamlEquivalent) {
+  ClearPathEnv();
+  const auto reference = SdformatCameras(Gz("cell.sdf"), ModelDir(Gz("models")));
+  test::TempDir dir;
+  test::WriteText(dir.File("cell.yaml"), YamlEquivalent(reference));
+  const EvaluateResult world = EvaluateDeclared(Gz("cell.sdf"), {Gz("models")});
+  const EvaluateResult yaml = EvaluateDeclared(dir.File("cell.yaml"), {});
+  ASSERT_EQ(world.sensor_coverage.size(), 3u);
+  ASSERT_EQ(yaml.sensor_coverage.size(), 3u);
+  EXPECT_GT(world.run.report.results[0].coverage, 0.3);
+  EXPECT_EQ(world.run.report.results[0].coverage, yaml.run.report.results[0].coverage);
+  EXPECT_EQ(world.run.data->reference.size(), yaml.run.data->reference.size());
+  const auto& a = world.run.data->candidates;
+  const auto& b = yaml.run.data->candidates;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const auto j = static_cast<size_t>(
+        std::find_if(b.begin(), b.end(), [&](const Candidate& c) { return c.name == a[i].name; }) -
+        b.begin());
+    ASSERT_LT(j, b.size()) << a[i].name;
+    EXPECT_EQ(world.sensor_coverage[i], yaml.sensor_coverage[j]) << a[i].name;
+  }
+}
+
+// --keep-existing: every method's answer holds the world's cameras, and exact's is the best
+// such answer, checked by enumerating every completion.
+TEST(GzWorld, KeepExistingKeepsTheWorldsCamerasInEveryMethod) {
+  ClearPathEnv();
+  test::TempDir dir;
+  std::string text = test::ReadText(Gz("cell.sdf"));
+  text.replace(text.find("  </world>"), 10, test::ReadText(Gz("population.sdf.part")) + "  </world>");
+  test::WriteText(dir.File("cell.sdf"), text);
+  OptimizeOptions options;
+  options.scene.path = dir.File("cell.sdf");
+  options.scene.load.model_paths = {Gz("models")};
+  options.selection.n = 5;
+  options.selection.keep_existing = true;
+  const RunResult run = Optimize(options);
+  const VisibilityFile& data = *run.data;
+  std::vector<uint32_t> kept;
+  for (uint32_t i = 0; i < data.candidates.size(); ++i)
+    if (data.candidates[i].population.empty()) kept.push_back(i);
+  ASSERT_EQ(kept.size(), 3u);
+  ASSERT_GT(data.candidates.size(), 8u);
+  std::set<std::string> methods;
+  const CoverageEvaluator evaluator(data.observations, data.reference.size());
+  for (const Selection& s : run.report.results) {
+    methods.insert(s.method);
+    for (const uint32_t k : kept)
+      EXPECT_NE(std::find(s.chosen.begin(), s.chosen.end(), k), s.chosen.end()) << s.method;
+    if (s.method != "exact" || s.n != 5) continue;
+    // Every pair of the others completes the kept three: exact is the best of them.
+    size_t best = 0;
+    for (uint32_t a = 0; a < data.candidates.size(); ++a)
+      for (uint32_t b = a + 1; b < data.candidates.size(); ++b) {
+        if (!data.candidates[a].population.empty() && !data.candidates[b].population.empty()) {
+          std::vector<uint32_t> chosen = kept;
+          chosen.push_back(a);
+          chosen.push_back(b);
+          best = std::max(best, evaluator.CoveredCount(chosen));
+        }
+      }
+    EXPECT_EQ(evaluator.CoveredCount(s.chosen), best);
+    EXPECT_TRUE(s.proven_optimal);
+  }
+  EXPECT_EQ(methods, (std::set<std::string>{"best", "ransac", "greedy", "local", "exact"}));
+
+  // n below the kept sensors names the option.
+  options.selection.n = 2;
+  try {
+    Optimize(options);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("-n:"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
