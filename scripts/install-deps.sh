@@ -10,7 +10,7 @@ PACKAGES=(
   libembree-dev libassimp-dev libeigen3-dev libtbb-dev libyaml-cpp-dev nlohmann-json3-dev
   libcli11-dev libfmt-dev libspdlog-dev libsdformat-dev coinor-libcbc-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpng-dev libstb-dev libjs-three chromium
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev python3
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -11,12 +11,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <functional>
 #include <filesystem>
 #include <map>
 #include <sdf/sdf.hh>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -395,6 +397,95 @@ TEST(GzWorld, KeepExistingKeepsTheWorldsCamerasInEveryMethod) {
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("-n:"), std::string::npos) << e.what();
+  }
+}
+
+/// Runs a command, returning its standard output.
+std::string Output(const std::string& command) {
+  std::string out;
+  FILE* pipe = ::popen(command.c_str(), "r");  // NOLINT(cert-env33-c): the test's own command
+  if (!pipe) return out;
+  char buffer[4096];
+  while (size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) out.append(buffer, n);
+  EXPECT_EQ(::pclose(pipe), 0) << command;
+  return out;
+}
+
+/// The frame name the exports use ("rig::mount" -> "rig__mount").
+std::string Exported(std::string name) {
+  for (size_t at; (at = name.find("::")) != std::string::npos;) name.replace(at, 2, "__");
+  return name;
+}
+
+// constellation.sdf loads in libsdformat without errors, with each chosen camera exactly at its
+// pose and with its intrinsics; cameras.urdf.xacro and static_transforms.launch.py parse (Python's
+// XML parser and ast) and carry the same poses, the optical frames rotated by rpy(-pi/2, 0, -pi/2).
+TEST(GzWorld, ExportsPutTheChosenCamerasBackExactly) {
+  ClearPathEnv();
+  test::TempDir dir;
+  std::string text = test::ReadText(Gz("cell.sdf"));
+  text.replace(text.find("  </world>"), 10, test::ReadText(Gz("population.sdf.part")) + "  </world>");
+  test::WriteText(dir.File("cell.sdf"), text);
+  OptimizeOptions options;
+  options.scene.path = dir.File("cell.sdf");
+  options.scene.load.model_paths = {Gz("models")};
+  options.selection.n = 5;
+  options.selection.method = Method::kExact;
+  options.selection.keep_existing = true;
+  const RunResult run = Optimize(options);
+  for (const char* name : {"constellation.sdf", "cameras.urdf.xacro", "static_transforms.launch.py",
+                           "constellation.world", "static_transforms.yaml"})
+    ASSERT_TRUE(run.files.count(name)) << name;
+  std::vector<Candidate> chosen;
+  for (const uint32_t i : run.report.PrimaryChosen()) chosen.push_back(run.data->candidates[i]);
+  ASSERT_EQ(chosen.size(), 5u);
+  for (Candidate& c : chosen) c.name = Exported(c.name);
+
+  const std::string sdf = run.files.at("constellation.sdf");
+  test::WriteText(dir.File("out/constellation.sdf"), sdf);
+  ExpectSameCameras(chosen, SdformatCameras(dir.File("out/constellation.sdf"),
+                                            ModelDir(Gz("models"))));
+  // Only cam_a (off-centre, fx != fy) needs <lens><intrinsics>; one Sensors system.
+  size_t intrinsics = 0;
+  for (size_t at = 0; (at = sdf.find("<intrinsics>", at)) != std::string::npos; ++at) ++intrinsics;
+  EXPECT_EQ(intrinsics, 1u);
+  EXPECT_EQ(sdf.find("gz-sim-sensors-system"), sdf.rfind("gz-sim-sensors-system"));
+
+  test::WriteText(dir.File("out/cameras.urdf.xacro"), run.files.at("cameras.urdf.xacro"));
+  test::WriteText(dir.File("out/launch.py"), run.files.at("static_transforms.launch.py"));
+  const std::string lines = Output(fmt::format(
+      "python3 '{}' '{}' '{}'", Gz("read_ros_exports.py"), dir.File("out/cameras.urdf.xacro"),
+      dir.File("out/launch.py")));
+  std::map<std::string, Pose> xacro;
+  std::map<std::string, Pose> launch;
+  std::map<std::string, std::string> parent;
+  std::istringstream in(lines);
+  for (std::string kind, child, from; in >> kind >> child >> from;) {
+    std::vector<double> v(kind == "xacro" ? 6 : 7);
+    for (double& x : v) in >> x;
+    const Pose pose = kind == "xacro"
+                          ? Pose::FromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5])
+                          : Pose{Vec3(v[0], v[1], v[2]), Quat(v[6], v[3], v[4], v[5])};
+    (kind == "xacro" ? xacro : launch)[child] = pose;
+    if (kind == "xacro") parent[child] = from;
+  }
+  ASSERT_EQ(xacro.size(), 10u) << lines;
+  ASSERT_EQ(launch.size(), 10u) << lines;
+  // The optical frame by hand: z forward = body x, x right = body -y, y down = body -z.
+  Mat3 body_from_optical;
+  body_from_optical << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  for (const Candidate& c : chosen) {
+    for (const auto* frames : {&xacro, &launch}) {
+      ASSERT_TRUE(frames->count(c.name)) << c.name;
+      const Pose& body = frames->at(c.name);
+      EXPECT_LT((body.position - c.world_from_body.position).norm(), kTol) << c.name;
+      EXPECT_LT(body.rotation.angularDistance(c.world_from_body.rotation), kTol) << c.name;
+      const Pose& optical = frames->at(c.name + "_optical_frame");
+      EXPECT_LT(optical.position.norm(), kTol);
+      EXPECT_LT(optical.rotation.angularDistance(Quat(body_from_optical)), kTol) << c.name;
+    }
+    EXPECT_EQ(parent.at(c.name), "${parent}");
+    EXPECT_EQ(parent.at(c.name + "_optical_frame"), c.name);
   }
 }
 

@@ -122,6 +122,8 @@ RunResult Optimize(const OptimizeOptions& options) {
       extra["constellation.world"] = ConstellationWorld(options.scene.path, chosen,
                                                         observed.populations, observed.sensors,
                                                         &notes);
+      extra["constellation.sdf"] = ConstellationSdf(options.scene.path, chosen,
+                                                    observed.populations, observed.sensors);
       for (const std::string& note : notes) spdlog::warn("{}", note);
       report.notes.insert(report.notes.end(), notes.begin(), notes.end());
     } else {
