@@ -8,13 +8,14 @@
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <functional>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <sdf/sdf.hh>
 #include <set>
@@ -22,12 +23,10 @@
 #include <string>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include "test_util.hpp"
 #include "vantage/candidates.hpp"
-#include "vantage/pipeline.hpp"
 #include "vantage/error.hpp"
+#include "vantage/pipeline.hpp"
 #include "vantage/problem.hpp"
 
 namespace vantage {
@@ -71,8 +70,10 @@ bool IsCameraType(sdf::SensorType type) {
 
 /// Every camera of `model` and what it nests, by vantage's candidate name ("scoped" or
 /// "scoped/sensor" when a model holds several).
-void CollectCameras(const sdf::Model& model, const Pose& world_from_model,
-                    const std::string& scoped, std::map<std::string, DomCamera>* out) {
+void CollectCameras(const sdf::Model& model,
+                    const Pose& world_from_model,
+                    const std::string& scoped,
+                    std::map<std::string, DomCamera>* out) {
   std::vector<std::pair<std::string, DomCamera>> found;
   for (uint64_t l = 0; l < model.LinkCount(); ++l) {
     const sdf::Link* link = model.LinkByIndex(l);
@@ -202,7 +203,8 @@ TEST(GzWorld, NewerSdfVersionsReadTheSame) {
   LoadOptions options;
   options.model_paths = {Gz("models")};
   const Problem problem = LoadGazeboWorld(dir.File("cell.sdf"), options);
-  for (const std::string& note : problem.notes) EXPECT_EQ(note.find("SDF version"), std::string::npos);
+  for (const std::string& note : problem.notes)
+    EXPECT_EQ(note.find("SDF version"), std::string::npos);
   ExpectSameCameras(Deploy(problem), SdformatCameras(Gz("cell.sdf"), ModelDir(Gz("models"))));
 }
 
@@ -212,8 +214,8 @@ TEST(GzWorld, ResourcePathVariablesFindModels) {
   // A copy without the models/ folder beside it.
   test::TempDir dir;
   test::WriteText(dir.File("cell.sdf"), test::ReadText(Gz("cell.sdf")));
-  for (const char* variable : {"GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH",
-                               "GAZEBO_MODEL_PATH"}) {
+  for (const char* variable :
+       {"GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH", "GAZEBO_MODEL_PATH"}) {
     ClearPathEnv();
     SetEnv(variable, "/nonexistent:" + Gz("models"));
     ExpectSameCameras(Deploy(LoadGazeboWorld(dir.File("cell.sdf"))), reference);
@@ -278,8 +280,8 @@ TEST(GzWorld, FuelUrisResolveFromTheLocalCache) {
     EXPECT_NE(message.find(missing), std::string::npos) << message;
     EXPECT_NE(message.find(fuel.cache + "/fuel.gazebosim.org"), std::string::npos) << message;
   }
-  const test::CommandResult cli = test::RunVantage("optimize '" + dir.File("w.sdf") + "' --out '" +
-                                                   dir.File("out") + "'");
+  const test::CommandResult cli =
+      test::RunVantage("optimize '" + dir.File("w.sdf") + "' --out '" + dir.File("out") + "'");
   EXPECT_EQ(cli.exit_code, 2) << cli.err;
   EXPECT_NE(cli.err.find(missing), std::string::npos) << cli.err;
   EXPECT_FALSE(fs::exists(dir.File("out")));
@@ -347,18 +349,27 @@ TEST(GzWorld, EvaluateScoresTheWorldsLayoutAsItsYamlEquivalent) {
   }
 }
 
-// --keep-existing: every method's answer holds the world's cameras, and exact's is the best
-// such answer, checked by enumerating every completion.
-TEST(GzWorld, KeepExistingKeepsTheWorldsCamerasInEveryMethod) {
-  ClearPathEnv();
-  test::TempDir dir;
+/// optimize on cell.sdf with a population of 12 cameras added (population.sdf.part), written
+/// into `dir`; n = 5, --keep-existing.
+OptimizeOptions PopulatedCell(const test::TempDir& dir) {
   std::string text = test::ReadText(Gz("cell.sdf"));
-  text.replace(text.find("  </world>"), 10, test::ReadText(Gz("population.sdf.part")) + "  </world>");
+  text.replace(text.find("  </world>"), 10,
+               test::ReadText(Gz("population.sdf.part")) + "  </world>");
   test::WriteText(dir.File("cell.sdf"), text);
   OptimizeOptions options;
   options.scene.path = dir.File("cell.sdf");
   options.scene.load.model_paths = {Gz("models")};
   options.selection.n = 5;
+  options.selection.keep_existing = true;
+  return options;
+}
+
+// --keep-existing: every method's answer holds the world's cameras, and exact's is the best
+// such answer, checked by enumerating every completion.
+TEST(GzWorld, KeepExistingKeepsTheWorldsCamerasInEveryMethod) {
+  ClearPathEnv();
+  test::TempDir dir;
+  OptimizeOptions options = PopulatedCell(dir);
   options.selection.keep_existing = true;
   const RunResult run = Optimize(options);
   const VisibilityFile& data = *run.data;
@@ -389,6 +400,30 @@ TEST(GzWorld, KeepExistingKeepsTheWorldsCamerasInEveryMethod) {
     EXPECT_TRUE(s.proven_optimal);
   }
   EXPECT_EQ(methods, (std::set<std::string>{"best", "ransac", "greedy", "local", "exact"}));
+
+  // A goal and a budget count the kept sensors too.
+  options.selection.n.reset();
+  options.selection.goal = 0.65;
+  for (const Selection& s : Optimize(options).report.results) {
+    EXPECT_GE(s.coverage, 0.65) << s.method;
+    for (const uint32_t k : kept)
+      EXPECT_NE(std::find(s.chosen.begin(), s.chosen.end(), k), s.chosen.end()) << s.method;
+  }
+  options.selection.goal.reset();
+  options.selection.budget = 4;  // unit costs: the kept three and one more
+  for (const Selection& s : Optimize(options).report.results) {
+    EXPECT_EQ(s.chosen.size(), 4u) << s.method;
+    for (const uint32_t k : kept)
+      EXPECT_NE(std::find(s.chosen.begin(), s.chosen.end(), k), s.chosen.end()) << s.method;
+  }
+  options.selection.budget = 2;
+  try {
+    Optimize(options);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--budget:"), std::string::npos) << e.what();
+  }
+  options.selection.budget.reset();
 
   // n below the kept sensors names the option.
   options.selection.n = 2;
@@ -423,13 +458,7 @@ std::string Exported(std::string name) {
 TEST(GzWorld, ExportsPutTheChosenCamerasBackExactly) {
   ClearPathEnv();
   test::TempDir dir;
-  std::string text = test::ReadText(Gz("cell.sdf"));
-  text.replace(text.find("  </world>"), 10, test::ReadText(Gz("population.sdf.part")) + "  </world>");
-  test::WriteText(dir.File("cell.sdf"), text);
-  OptimizeOptions options;
-  options.scene.path = dir.File("cell.sdf");
-  options.scene.load.model_paths = {Gz("models")};
-  options.selection.n = 5;
+  OptimizeOptions options = PopulatedCell(dir);
   options.selection.method = Method::kExact;
   options.selection.keep_existing = true;
   const RunResult run = Optimize(options);
@@ -443,8 +472,8 @@ TEST(GzWorld, ExportsPutTheChosenCamerasBackExactly) {
 
   const std::string sdf = run.files.at("constellation.sdf");
   test::WriteText(dir.File("out/constellation.sdf"), sdf);
-  ExpectSameCameras(chosen, SdformatCameras(dir.File("out/constellation.sdf"),
-                                            ModelDir(Gz("models"))));
+  ExpectSameCameras(chosen,
+                    SdformatCameras(dir.File("out/constellation.sdf"), ModelDir(Gz("models"))));
   // Only cam_a (off-centre, fx != fy) needs <lens><intrinsics>; one Sensors system.
   size_t intrinsics = 0;
   for (size_t at = 0; (at = sdf.find("<intrinsics>", at)) != std::string::npos; ++at) ++intrinsics;
@@ -453,9 +482,9 @@ TEST(GzWorld, ExportsPutTheChosenCamerasBackExactly) {
 
   test::WriteText(dir.File("out/cameras.urdf.xacro"), run.files.at("cameras.urdf.xacro"));
   test::WriteText(dir.File("out/launch.py"), run.files.at("static_transforms.launch.py"));
-  const std::string lines = Output(fmt::format(
-      "python3 '{}' '{}' '{}'", Gz("read_ros_exports.py"), dir.File("out/cameras.urdf.xacro"),
-      dir.File("out/launch.py")));
+  const std::string lines =
+      Output(fmt::format("python3 '{}' '{}' '{}'", Gz("read_ros_exports.py"),
+                         dir.File("out/cameras.urdf.xacro"), dir.File("out/launch.py")));
   std::map<std::string, Pose> xacro;
   std::map<std::string, Pose> launch;
   std::map<std::string, std::string> parent;
@@ -463,9 +492,8 @@ TEST(GzWorld, ExportsPutTheChosenCamerasBackExactly) {
   for (std::string kind, child, from; in >> kind >> child >> from;) {
     std::vector<double> v(kind == "xacro" ? 6 : 7);
     for (double& x : v) in >> x;
-    const Pose pose = kind == "xacro"
-                          ? Pose::FromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5])
-                          : Pose{Vec3(v[0], v[1], v[2]), Quat(v[6], v[3], v[4], v[5])};
+    const Pose pose = kind == "xacro" ? Pose::FromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5])
+                                      : Pose{Vec3(v[0], v[1], v[2]), Quat(v[6], v[3], v[4], v[5])};
     (kind == "xacro" ? xacro : launch)[child] = pose;
     if (kind == "xacro") parent[child] = from;
   }

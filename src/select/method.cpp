@@ -139,6 +139,15 @@ void SelectOptions::Validate(size_t candidate_count) const {
     throw FieldError({"n"}, fmt::format("n = {} is below the {} sensors kept — give n >= {}", n,
                                         fixed.size(), fixed.size()));
   }
+  if (budget && costs.size() == candidate_count) {
+    double kept_cost = 0;
+    for (const uint32_t i : fixed) kept_cost += costs[i];
+    if (kept_cost > *budget) {
+      throw FieldError({"budget"}, fmt::format("budget = {:g} is below the {:g} that the kept "
+                                               "sensors cost",
+                                               *budget, kept_cost));
+    }
+  }
   if (method == Method::kBest && static_cast<size_t>(n) != fixed.size() + 1 &&
       objective() == Objective::kCoverage) {
     throw FieldError({"method", "n"},

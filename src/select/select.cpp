@@ -299,14 +299,12 @@ std::vector<Selection> SelectKeeping(std::span<const Observation> observations,
   SelectOptions rest = options;
   rest.fixed.clear();
   rest.n = options.n - static_cast<int>(fixed.size());
+  // Set cover and budget ignore n; it only has to be valid for the residual.
+  if (options.objective() != Objective::kCoverage)
+    rest.n = std::clamp(rest.n, 1, static_cast<int>(std::max<size_t>(residual.size(), 1)));
   double kept_cost = 0;
   if (options.budget) {
-    kept_cost = detail::TotalCost(options.costs, fixed);
-    if (kept_cost > *options.budget) {
-      throw FieldError({"budget"}, fmt::format("budget = {:g} is below the {:g} that the kept "
-                                               "sensors cost",
-                                               *options.budget, kept_cost));
-    }
+    kept_cost = detail::TotalCost(options.costs, fixed);  // within the budget (Validate)
     rest.budget = *options.budget - kept_cost;
     rest.costs.clear();
     for (const uint32_t i : original) rest.costs.push_back(options.costs[i]);
