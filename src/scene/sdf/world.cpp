@@ -23,8 +23,13 @@
 // cross-checked (each disagreement is a note: the plugin segmented by colour); no target at all
 // is an error at <sensorDataSegmentationColorRGB>. --target NAME (LoadOptions::targets) makes
 // exactly those models, with everything they nest, targets; an unknown name is an error.
-// Sensor models: a model with a <sensor type="depth"> in one of its links (and what it nests)
-// adds no geometry; outside populations it becomes an ExplicitSensor named after the instance.
+// Sensor models: a model with a camera <sensor> (depth, depth_camera, rgbd, rgbd_camera; camera
+// too in a world without the Classic plugin) in one of its links (and what it nests) adds no
+// geometry; outside populations it becomes an ExplicitSensor named after the instance, with
+// <lens><intrinsics> and <depth_camera><clip> read (populations.cpp). With the Classic plugin it is
+// re-aimed at the observation point, as the plugin did; without it, it keeps its own orientation
+// (a gz-sim world's cameras are a real layout: docs/from-your-stack.md). Fuel URIs come from the
+// local Fuel cache (resolution.cpp).
 //
 // Files (scene/sdf/): loader.hpp declares the reader; values.cpp, resolution.cpp, frames.cpp,
 // model_walk.cpp, plugin.cpp, populations.cpp, roles.cpp, geometry.cpp and materials.cpp hold its
