@@ -1,4 +1,5 @@
-// `vantage evaluate [SCENE] --constellation report.json`: the coverage of given sensor poses.
+// `vantage evaluate [SCENE] [--constellation report.json]`: the coverage of given sensor poses
+// (without --constellation: of the sensors the scene declares).
 #include <fmt/format.h>
 
 #include <memory>
@@ -40,8 +41,8 @@ void SetupEvaluate(CLI::App* parent) {
   AddObserveFlags(app, &flags->options.observe, &flags->options.limits);
   app->add_option("-c,--constellation", flags->options.constellation,
                   "report.json (its primary result's sensors, or all its candidates); options "
-                  "not given are the run's (its `inputs`)")
-      ->required();
+                  "not given are the run's (its `inputs`). Without it: the sensors the scene "
+                  "declares (a gz-sim world's cameras, a YAML scene's `sensors:`)");
   app->add_option("-o,--out", flags->out, "also write a report folder here")
       ->check(OutPathValidator());
   app->callback([flags] { RunEvaluate(*flags); });

@@ -174,6 +174,9 @@ void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {
                             ParseOverStates,
                             "a scene with states: maximise the mean or the worst (min) coverage "
                             "over them (default mean)");
+  app->add_flag("--keep-existing", request->keep_existing,
+                "every answer keeps the sensors the scene declares (a gz-sim world's cameras, "
+                "a YAML scene's `sensors:`) and adds to them; -n counts them");
 }
 
 void AddRobustnessFlags(CLI::App* app, RobustnessOptions* robustness) {

@@ -36,6 +36,18 @@ std::string ConstellationWorld(const std::string& world_path,
                                const std::vector<ExplicitSensor>& sensors,
                                std::vector<std::string>* notes = nullptr);
 
+/// constellation.sdf (docs/outputs.md): the same edit of the input world as ConstellationWorld,
+/// but each chosen sensor becomes a generated gz-sim model (static, its frame the camera's body
+/// frame at world_from_body) holding one `depth_camera` sensor whose pinhole reproduces the
+/// candidate's exactly: `horizontal_fov` = 2·atan(W / (2·fx)), image W × H, clip near/far, and
+/// `<lens><intrinsics>` (fx, fy, cx, cy) only when the principal point is off centre or fy ≠ fx.
+/// The world gets gz-sim's Sensors system plugin when it has none.
+std::string ConstellationSdf(const std::string& world_path,
+                             const std::vector<Candidate>& chosen,
+                             const std::vector<Population>& populations,
+                             const std::vector<ExplicitSensor>& sensors,
+                             std::vector<std::string>* notes = nullptr);
+
 /// True when `path` names a Gazebo world by its extension (`.world` or `.sdf`, any case).
 bool IsGazeboWorldPath(const std::string& path);
 

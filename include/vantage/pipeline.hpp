@@ -61,6 +61,9 @@ struct SelectionRequest {
   std::optional<int> k;                        ///< --k
   std::optional<double> budget;                ///< --budget
   std::optional<OverStates> over_states;       ///< --over-states, for a scene with states
+  /// --keep-existing: every answer holds the explicitly declared sensors (candidates of no
+  /// population: a world's cameras, a YAML scene's `sensors:`), SelectOptions::fixed.
+  bool keep_existing = false;
 };
 
 /// The selection options of a run: the request over the scene's settings, costs from the
@@ -193,7 +196,9 @@ struct EvaluateOptions {
   /// Empty fields (path, model/resource paths, targets, cell size) take the constellation's
   /// report.json `inputs`, so that a run's folder alone reproduces it.
   SceneInput scene;
-  std::string constellation;  ///< a report.json
+  /// A report.json; empty: the layout the scene declares itself (its explicit sensors: a gz-sim
+  /// world's cameras, a YAML scene's `sensors:`), which needs scene.path.
+  std::string constellation;
   /// A quality filter left unset takes the one the constellation's run used.
   ObserveOptions observe;
   RunLimits limits;

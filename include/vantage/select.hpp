@@ -42,6 +42,11 @@ struct SelectOptions {
   /// Unit cost of every candidate (SensorType::cost), in candidate order, each >= 0; used only
   /// with `budget`, which must afford the cheapest candidate.
   std::vector<double> costs;
+  /// Candidates every answer contains (`--keep-existing`: the sensors already in the cell), by
+  /// index, distinct. Every method then chooses the best additions to them, exactly as it would
+  /// on the residual problem (the cells they see counted already): n counts them too (n >= their
+  /// number), a goal and a budget include them. Not with k-coverage.
+  std::vector<uint32_t> fixed;
 
   /// The objective these options select: goal -> set cover, k >= 2 -> k-coverage, budget ->
   /// budget, none -> coverage.

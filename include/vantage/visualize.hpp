@@ -57,6 +57,14 @@ std::string HtmlReport(const Report& report,
 /// (`<name>_optical_frame`: z forward, x right, y down) as a child of the body frame.
 /// An empty `transforms` list when there is no result. Requires report.data.
 std::string StaticTransformsYaml(const Report& report, const std::string& parent_frame = "world");
+/// cameras.urdf.xacro (docs/outputs.md): the primary result's cameras as fixed joints from
+/// `parent_frame` (a xacro argument; a macro `vantage_cameras parent=...` for use in a robot) to
+/// each camera's body frame, and from it to its optical frame, rpy(-pi/2, 0, -pi/2). Frame names
+/// are the candidates' with "::" -> "__" and other characters outside [A-Za-z0-9_.-] -> '_'.
+std::string CamerasXacro(const Report& report, const std::string& parent_frame = "world");
+/// static_transforms.launch.py: a ROS 2 launch file with one tf2_ros static_transform_publisher
+/// node per frame of CamerasXacro (the same names and poses; argument parent_frame).
+std::string StaticTransformsLaunch(const Report& report, const std::string& parent_frame = "world");
 
 /// A viewpoint: where the eye is and what it looks at (up is +z).
 struct View {

@@ -87,23 +87,52 @@ Reobserved Reobserve(const SceneInput& scene, const Constellation& constellation
   return result;
 }
 
+// The layout a scene declares itself: its explicit sensors (a gz-sim world's cameras, a YAML
+// scene's `sensors:`), deployed as optimize deploys them; populations are not a layout.
+Constellation DeclaredLayout(const SceneInput& scene) {
+  if (scene.path.empty())
+    throw InputError(AtPlace("--constellation", 0,
+                             "give a report.json, or a scene whose declared sensors are the "
+                             "layout to score"));
+  const Problem problem = LoadScene(scene);
+  if (problem.sensors.empty())
+    throw InputError(AtPlace(problem.source, 0,
+                             "declares no sensors of its own (only populations, or none) — give "
+                             "--constellation report.json"));
+  DeployOptions deploy;
+  deploy.observation_point = problem.observation_point;
+  deploy.random_roll = problem.random_roll;
+  deploy.seed = problem.seed;
+  Constellation constellation;
+  constellation.sensors = DeployCandidates({}, problem.sensors, problem.sensor_types, deploy);
+  detail::CheckDeployedCandidates(constellation.sensors, problem);
+  constellation.scene = problem.source;
+  return constellation;
+}
+
 }  // namespace
 
 EvaluateResult Evaluate(const EvaluateOptions& options) {
   options.observe.Validate();
   options.limits.Validate();
   Constellation constellation;
-  try {
-    constellation = LoadConstellation(options.constellation);
-  } catch (const InputError&) {
-    // A scene given on the command line is reported first when both are bad, as it is read
-    // first when the constellation is good.
-    if (!options.scene.path.empty()) LoadScene(options.scene);
-    throw;
+  if (options.constellation.empty()) {
+    constellation = DeclaredLayout(options.scene);
+  } else {
+    try {
+      constellation = LoadConstellation(options.constellation);
+    } catch (const InputError&) {
+      // A scene given on the command line is reported first when both are bad, as it is read
+      // first when the constellation is good.
+      if (!options.scene.path.empty()) LoadScene(options.scene);
+      throw;
+    }
   }
   const SceneInput scene = InheritScene(options.scene, constellation);
   ObserveOptions observe = options.observe;
-  observe.quality = InheritQuality(options.observe.quality, constellation, options.constellation);
+  if (!options.constellation.empty())
+    observe.quality =
+        InheritQuality(options.observe.quality, constellation, options.constellation);
   Reobserved reobserved = Reobserve(scene, constellation, observe, options.limits);
 
   EvaluateResult result;
@@ -122,7 +151,8 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   report.results = {reobserved.given};
   report.timings = reobserved.timings;
   report.inputs = detail::InputsOf("evaluate", scene, observe);
-  report.inputs->constellation = fs::absolute(options.constellation).string();
+  if (!options.constellation.empty())
+    report.inputs->constellation = fs::absolute(options.constellation).string();
   DeriveReport(&report);
   detail::FinishRun(reobserved.problem.scene, {}, &run);
   return result;

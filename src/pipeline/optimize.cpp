@@ -64,6 +64,12 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
     throw InputError(AtPlace("--over-states", 0,
                              "the scene has no states — add a `states:` list "
                              "(docs/scene-format.md) or drop --over-states"));
+  if (options.selection.keep_existing && (has_states || options.refine))
+    throw InputError(AtPlace("--keep-existing", 0,
+                             has_states ? "keeping sensors over scene states is not supported yet "
+                                          "— drop --keep-existing or the scene's states"
+                                        : "--refine may move the kept sensors — drop one of "
+                                          "--refine and --keep-existing"));
   if (has_states && options.refine)
     throw InputError(AtPlace("--refine", 0,
                              "refinement over scene states is not supported yet — drop --refine "
@@ -123,6 +129,8 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
       extra["constellation.world"] = ConstellationWorld(options.scene.path, chosen,
                                                         observed.populations, observed.sensors,
                                                         &notes);
+      extra["constellation.sdf"] = ConstellationSdf(options.scene.path, chosen,
+                                                    observed.populations, observed.sensors);
       for (const std::string& note : notes) spdlog::warn("{}", note);
       report.notes.insert(report.notes.end(), notes.begin(), notes.end());
     } else {

@@ -61,6 +61,8 @@ void FinishRun(const Scene& scene, std::map<std::string, std::string> extra, Run
   run->files = ReportFiles(run->report);
   extra["report.html"] = HtmlReport(run->report, scene);
   extra["static_transforms.yaml"] = StaticTransformsYaml(run->report);
+  extra["static_transforms.launch.py"] = StaticTransformsLaunch(run->report);
+  extra["cameras.urdf.xacro"] = CamerasXacro(run->report);
   run->files.merge(extra);
 }
 

@@ -31,11 +31,20 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
     options.costs.reserve(candidates.size());
     for (const Candidate& c : candidates) options.costs.push_back(c.sensor.cost);
   }
+  if (request.keep_existing) {
+    for (uint32_t i = 0; i < candidates.size(); ++i)
+      if (candidates[i].population.empty()) options.fixed.push_back(i);
+    if (options.fixed.empty())
+      throw InputError(AtPlace("--keep-existing", 0,
+                               fmt::format("{} declares no sensors of its own to keep (only "
+                                           "populations) — drop --keep-existing",
+                                           source)));
+  }
   try {
     options.Validate(candidates.size());
   } catch (const FieldError& e) {
     // The first field at fault that the request gave names its flag; else the scene's own.
-    const std::array<std::pair<const char*, bool>, 8> given = {{
+    const std::array<std::pair<const char*, bool>, 9> given = {{
         {"n", request.n.has_value()},
         {"k", request.k.has_value()},
         {"goal", request.goal.has_value()},
@@ -44,9 +53,11 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
         {"ransac_stop_coverage", request.ransac_stop_coverage.has_value()},
         {"time_limit", request.time_limit.has_value()},
         {"method", request.method.has_value()},
+        {"fixed", request.keep_existing},
     }};
-    static constexpr std::array<const char*, 8> kFlags = {
-        "-n", "--k", "--goal", "--budget", "--iterations", "--stop", "--time-limit", "--method"};
+    static constexpr std::array<const char*, 9> kFlags = {
+        "-n",         "--k",          "--goal",   "--budget",         "--iterations",
+        "--stop",     "--time-limit", "--method", "--keep-existing"};
     for (size_t i = 0; i < given.size(); ++i) {
       const bool is_at_fault = std::find(e.fields().begin(), e.fields().end(), given[i].first) !=
                                e.fields().end();

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -166,13 +167,67 @@ struct SensorSite {
   std::string blocked_by;               ///< when null: the include whose file holds it
 };
 
+/// One gz-sim camera model: the model frame is the camera's body frame (link and sensor at
+/// identity), a depth_camera whose pinhole is the candidate's exactly: horizontal_fov from fx
+/// (Gazebo's fx = W / (2 tan(hfov / 2))), and <lens><intrinsics> when the principal point is off
+/// centre or the pixels are not square, which horizontal_fov alone cannot say.
+std::string GzCameraText(const Candidate& candidate, const std::string& name,
+                         const std::string& indent, const std::string& unit) {
+  const SensorType& t = candidate.sensor;
+  const std::string i1 = indent + unit;
+  const std::string i2 = i1 + unit;
+  const std::string i3 = i2 + unit;
+  const std::string i4 = i3 + unit;
+  const std::string escaped = detail::MarkupEscape(name);
+  std::string out = fmt::format("{}<model name=\"{}\">\n", indent, escaped);
+  out += fmt::format("{}<static>true</static>\n", i1);
+  out += fmt::format("{}<pose>{}</pose>\n", i1, PoseText(candidate.world_from_body));
+  out += fmt::format("{}<link name=\"link\">\n", i1);
+  out += fmt::format("{}<sensor name=\"depth\" type=\"depth_camera\">\n", i2);
+  out += fmt::format("{}<always_on>true</always_on>\n", i3);
+  out += fmt::format("{}<update_rate>{}</update_rate>\n", i3, Number(t.fps > 0 ? t.fps : 30));
+  out += fmt::format("{}<topic>{}/depth</topic>\n", i3, escaped);
+  out += fmt::format("{}<camera>\n", i3);
+  out += fmt::format("{}<horizontal_fov>{}</horizontal_fov>\n", i4,
+                     Number(2 * std::atan(t.width / (2 * t.fx))));
+  out += fmt::format("{}<image><width>{}</width><height>{}</height><format>R_FLOAT32</format>"
+                     "</image>\n",
+                     i4, t.width, t.height);
+  out += fmt::format("{}<clip><near>{}</near><far>{}</far></clip>\n", i4, Number(t.near),
+                     Number(t.far));
+  if (t.cx != t.width / 2.0 || t.cy != t.height / 2.0 || t.fy != t.fx) {
+    out += fmt::format("{}<lens><intrinsics><fx>{}</fx><fy>{}</fy><cx>{}</cx><cy>{}</cy><s>0</s>"
+                       "</intrinsics></lens>\n",
+                       i4, Number(t.fx), Number(t.fy), Number(t.cx), Number(t.cy));
+  }
+  out += fmt::format("{}</camera>\n", i3);
+  out += fmt::format("{}</sensor>\n", i2);
+  out += fmt::format("{}</link>\n", i1);
+  out += fmt::format("{}</model>\n", indent);
+  return out;
+}
+
+/// Whether a <plugin> of the world loads gz-sim's Sensors system (which renders the cameras).
+bool HasSensorsSystem(const XmlElement& world) {
+  for (const XmlElement* plugin : world.Children("plugin")) {
+    const std::string* filename = plugin->Attribute("filename");
+    const std::string* name = plugin->Attribute("name");
+    if ((filename && filename->find("sensors-system") != std::string::npos) ||
+        (name && name->find("systems::Sensors") != std::string::npos))
+      return true;
+  }
+  return false;
+}
+
 class Exporter {
  public:
   Exporter(const std::string& path,
            const std::vector<Population>& populations,
            const std::vector<ExplicitSensor>& sensors,
-           std::vector<std::string>* notes)
+           std::vector<std::string>* notes,
+           bool gz_cameras = false)
       : path_(path),
+        gz_cameras_(gz_cameras),
         text_(ReadText(path)),
         doc_(detail::ParseXml(text_, path)),
         populations_(populations),
@@ -201,6 +256,7 @@ class Exporter {
                          const std::string& indent) const;
 
   std::string path_;
+  bool gz_cameras_;  ///< constellation.sdf: generated gz-sim cameras instead of the sources
   std::string text_;
   detail::XmlDocument doc_;
   const std::vector<Population>& populations_;
@@ -425,6 +481,11 @@ std::string Exporter::Run(const std::vector<Candidate>& chosen) {
       }
     }
     VANTAGE_CHECK(source != nullptr);
+    if (gz_cameras_) {
+      added += GzCameraText(candidate, ModelName(candidate.name), indent, unit_);
+      ++sensors_added;
+      continue;
+    }
     const Pose world_from_model = candidate.world_from_body * model_from_camera.Inverse();
     added += EntityText(*source, ModelName(candidate.name), world_from_model, indent);
     sensors_added += sensor_count;
@@ -449,8 +510,14 @@ std::string Exporter::Run(const std::vector<Candidate>& chosen) {
   edits.reserve(cuts.size() + 2);
   for (const Cut& cut : cuts) edits.push_back(Edit{cut.begin, cut.end, ""});
 
-  const std::string header = fmt::format("{}<!-- vantage: the {} chosen sensor{} -->\n", indent,
-                                         chosen.size(), chosen.size() == 1 ? "" : "s");
+  std::string header = fmt::format("{}<!-- vantage: the {} chosen sensor{} -->\n", indent,
+                                   chosen.size(), chosen.size() == 1 ? "" : "s");
+  if (gz_cameras_ && !HasSensorsSystem(*world_)) {
+    header += fmt::format("{}<plugin filename=\"gz-sim-sensors-system\" "
+                          "name=\"gz::sim::systems::Sensors\">\n{}{}<render_engine>ogre2"
+                          "</render_engine>\n{}</plugin>\n",
+                          indent, indent, unit_, indent);
+  }
   if (!cut_top.empty()) {
     // Where the first removed element was, after the blank line that its cut may have taken.
     const Cut first = CutRange(text_, *cut_top.front());
@@ -498,6 +565,14 @@ std::string ConstellationWorld(const std::string& world_path,
                                const std::vector<ExplicitSensor>& sensors,
                                std::vector<std::string>* notes) {
   return Exporter(world_path, populations, sensors, notes).Run(chosen);
+}
+
+std::string ConstellationSdf(const std::string& world_path,
+                             const std::vector<Candidate>& chosen,
+                             const std::vector<Population>& populations,
+                             const std::vector<ExplicitSensor>& sensors,
+                             std::vector<std::string>* notes) {
+  return Exporter(world_path, populations, sensors, notes, /*gz_cameras=*/true).Run(chosen);
 }
 
 bool IsGazeboWorldPath(const std::string& path) {

@@ -322,7 +322,8 @@ const std::set<std::string>& RunFolderFileNames() {
   static const std::set<std::string> names = {
       "report.json",         "report.html",   "candidates.csv",      "reference.ply",
       "observed.ply",        "view.png",      "constellation.world", "constellation.yaml",
-      "static_transforms.yaml"};
+      "static_transforms.yaml", "constellation.sdf", "cameras.urdf.xacro",
+      "static_transforms.launch.py"};
   return names;
 }
 

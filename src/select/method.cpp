@@ -124,6 +124,36 @@ void SelectOptions::Validate(size_t candidate_count) const {
                      fmt::format("time_limit = {} s must be a positive number of seconds", time_limit));
   }
   ValidateObjective(*this, candidate_count);
+  std::vector<uint32_t> sorted = fixed;
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end() ||
+      (!sorted.empty() && sorted.back() >= candidate_count)) {
+    throw FieldError({"fixed"}, "fixed: the kept candidates must be distinct candidate indices");
+  }
+  if (fixed.empty()) return;
+  if (objective() == Objective::kKCoverage) {
+    throw FieldError({"fixed", "k"},
+                     "sensors to keep work with coverage, goal and budget, not k-coverage");
+  }
+  if (objective() == Objective::kCoverage && static_cast<size_t>(n) < fixed.size()) {
+    throw FieldError({"n"}, fmt::format("n = {} is below the {} sensors kept — give n >= {}", n,
+                                        fixed.size(), fixed.size()));
+  }
+  if (budget && costs.size() == candidate_count) {
+    double kept_cost = 0;
+    for (const uint32_t i : fixed) kept_cost += costs[i];
+    if (kept_cost > *budget) {
+      throw FieldError({"budget"}, fmt::format("budget = {:g} is below the {:g} that the kept "
+                                               "sensors cost",
+                                               *budget, kept_cost));
+    }
+  }
+  if (method == Method::kBest && static_cast<size_t>(n) != fixed.size() + 1 &&
+      objective() == Objective::kCoverage) {
+    throw FieldError({"method", "n"},
+                     fmt::format("method best adds one sensor to the {} kept — give n = {}",
+                                 fixed.size(), fixed.size() + 1));
+  }
 }
 
 }  // namespace vantage

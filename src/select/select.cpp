@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
@@ -248,10 +249,97 @@ Selection SelectGreedy(const CoverageEvaluator& evaluator, int n) {
   return s;
 }
 
+namespace {
+
+/// `values` without the elements of the sorted `removed`.
+template <typename T>
+std::vector<T> Without(const std::vector<T>& values, const std::vector<T>& removed) {
+  std::vector<T> out;
+  out.reserve(values.size());
+  std::set_difference(values.begin(), values.end(), removed.begin(), removed.end(),
+                      std::back_inserter(out));
+  return out;
+}
+
+template <typename T>
+std::vector<T> Union(const std::vector<T>& a, const std::vector<T>& b) {
+  std::vector<T> out;
+  out.reserve(a.size() + b.size());
+  std::set_union(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
+  return out;
+}
+
+// Selection with kept sensors F: the residual problem (the other candidates, each without the
+// cells and keys F sees; n - |F| sensors, the goal less F's share, the budget less F's cost) run
+// by the same methods, and F put in front of each answer. Coverage(F ∪ S) = |F's cells| + S's
+// residual cells, so each method's answer, bound and proof carry over exactly.
+std::vector<Selection> SelectKeeping(std::span<const Observation> observations,
+                                     size_t reference_size, const SelectOptions& options) {
+  const CoverageEvaluator evaluator(observations, reference_size);
+  const std::vector<uint32_t>& fixed = options.fixed;
+  Observation seen;
+  for (const uint32_t i : fixed) {
+    seen.reference_indices = Union(seen.reference_indices, observations[i].reference_indices);
+    seen.outside_keys = Union(seen.outside_keys, observations[i].outside_keys);
+    seen.plain_reference_indices =
+        Union(seen.plain_reference_indices, observations[i].plain_reference_indices);
+  }
+  const double kept_share = Fraction(seen.reference_indices.size(), reference_size);
+  std::vector<Observation> residual;
+  std::vector<uint32_t> original;  // residual index -> candidate index
+  for (uint32_t i = 0; i < observations.size(); ++i) {
+    if (std::find(fixed.begin(), fixed.end(), i) != fixed.end()) continue;
+    Observation o = observations[i];
+    o.reference_indices = Without(o.reference_indices, seen.reference_indices);
+    o.outside_keys = Without(o.outside_keys, seen.outside_keys);
+    o.plain_reference_indices = Without(o.plain_reference_indices, seen.plain_reference_indices);
+    residual.push_back(std::move(o));
+    original.push_back(i);
+  }
+  SelectOptions rest = options;
+  rest.fixed.clear();
+  rest.n = options.n - static_cast<int>(fixed.size());
+  // Set cover and budget ignore n; it only has to be valid for the residual.
+  if (options.objective() != Objective::kCoverage)
+    rest.n = std::clamp(rest.n, 1, static_cast<int>(std::max<size_t>(residual.size(), 1)));
+  double kept_cost = 0;
+  if (options.budget) {
+    kept_cost = detail::TotalCost(options.costs, fixed);  // within the budget (Validate)
+    rest.budget = *options.budget - kept_cost;
+    rest.costs.clear();
+    for (const uint32_t i : original) rest.costs.push_back(options.costs[i]);
+  }
+  const bool kept_reach_goal = options.goal && kept_share + 1e-12 >= *options.goal;
+  if (options.goal) rest.goal = *options.goal - kept_share;
+  const bool no_room = options.objective() == Objective::kCoverage ? rest.n == 0 : false;
+  const bool budget_spent = options.budget && std::none_of(
+                                                  rest.costs.begin(), rest.costs.end(),
+                                                  [&](double c) { return c <= *rest.budget; });
+  if (residual.empty() || no_room || kept_reach_goal || budget_spent) {
+    Selection kept = detail::ScoreSelection(evaluator, fixed, "kept", options);
+    return {kept};
+  }
+  std::vector<Selection> results = Select(residual, reference_size, rest);
+  for (Selection& r : results) {
+    std::vector<uint32_t> chosen = fixed;
+    for (const uint32_t j : r.chosen) chosen.push_back(original[j]);
+    Selection s = detail::ScoreSelection(evaluator, std::move(chosen), r.method, options);
+    s.seconds = r.seconds;
+    if (r.upper_bound) s.upper_bound = std::max(*r.upper_bound + kept_share, s.coverage);
+    s.proven_optimal = r.proven_optimal;
+    if (r.n_lower_bound) s.n_lower_bound = *r.n_lower_bound + static_cast<int>(fixed.size());
+    r = std::move(s);
+  }
+  return results;
+}
+
+}  // namespace
+
 std::vector<Selection> Select(std::span<const Observation> observations,
                               size_t reference_size,
                               const SelectOptions& options) {
   options.Validate(observations.size());
+  if (!options.fixed.empty()) return SelectKeeping(observations, reference_size, options);
   const CoverageEvaluator evaluator(observations, reference_size);
   if (options.method == Method::kBest) return {SelectBest(evaluator)};
 

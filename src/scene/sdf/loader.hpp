@@ -99,6 +99,17 @@ struct FrameEntry {
   int line = 0;
 };
 
+/// A Fuel model URI, https://fuel.gazebosim.org/1.0/<owner>/models/<name>[/<version>][/files/..].
+struct FuelUri {
+  std::string host;     ///< lower case
+  std::string owner;    ///< %XX decoded; matched without case
+  std::string name;     ///< %XX decoded; matched without case
+  std::string version;  ///< "" or "tip": the newest in the cache
+  std::string file;     ///< a file inside the model ("" for the model folder)
+};
+/// nullopt when `uri` is no Fuel model URI (resolution.cpp).
+std::optional<FuelUri> ParseFuelUri(const std::string& uri);
+
 // ---------------------------------------------------------------------------------------------
 
 /// Reads one Gazebo world into a Problem; its member functions live in the files named below.
@@ -159,8 +170,15 @@ class Loader {
   std::optional<std::string> ResolveModelUri(const std::string& uri,
                                              const Doc& from,
                                              std::vector<std::string>* searched);
+  /// The model folder (or file) of a Fuel URI in the local cache; the cache folders looked in
+  /// go to `searched`.
+  std::optional<std::string> FuelCached(const FuelUri& fuel, std::vector<std::string>* searched);
   std::optional<std::string> ResolveResourceUri(const std::string& uri, const Doc& from);
   IncludeResult ResolveInclude(const Doc& doc, const XmlElement& include);
+
+  /// A <sensor type> that vantage reads as a camera: depth, depth_camera, rgbd, rgbd_camera,
+  /// and camera in a world without the Classic plugin (model_walk.cpp).
+  bool IsCameraSensorType(const std::string& type) const;
 
   // Walk (model_walk.cpp; frames.cpp: FrameInModel; plugin.cpp; populations.cpp).
   void VisitWorldEntity(const Doc& doc, const XmlElement& e);
@@ -193,6 +211,7 @@ class Loader {
   std::set<std::string> notes_seen_;
   std::vector<std::string> model_dirs_;
   std::vector<std::string> resource_dirs_;
+  std::vector<std::string> fuel_cache_dirs_;  ///< GZ_FUEL_CACHE_PATH, else ~/.gz/fuel
   std::map<std::string, std::unique_ptr<Doc>> docs_;  ///< by path; null entry: failed to load
   const Doc* world_doc_ = nullptr;
   const XmlElement* world_ = nullptr;
@@ -205,6 +224,10 @@ class Loader {
   std::vector<std::pair<const XmlElement*, std::string>> open_models_;
   std::set<std::string> population_names_;
 
+  /// The world has the original (Classic) plugin: a <plugin> carrying one of its parameters or
+  /// loading libsensor_placement_optimization. Then explicit sensors are re-aimed at the
+  /// observation point, as the plugin did; otherwise the world's cameras are a real layout.
+  bool has_classic_plugin_ = false;
   // Plugin parameters that later steps need.
   std::array<int, 3> segmentation_colour_ = kDefaultSegmentationColour;
   Site segmentation_site_;  ///< the colour's element, else the first plugin, else no line

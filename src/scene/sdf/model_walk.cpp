@@ -16,14 +16,14 @@
 #include "scene/sdf/text.hpp"
 
 namespace vantage::detail::gazebo {
-namespace {
 
-bool IsDepthSensorType(const std::string& type) {
-  // Gazebo classic calls it "depth"; newer SDF spells "depth_camera" and "rgbd_camera".
-  return type == "depth" || type == "depth_camera" || type == "rgbd_camera";
+bool Loader::IsCameraSensorType(const std::string& type) const {
+  // Gazebo classic calls it "depth"; newer SDF spells "depth_camera" and "rgbd_camera" ("rgbd" is
+  // sdformat's alias). The Classic plugin used depth sensors only, so a plain "camera" (an RGB
+  // camera on a robot, say) counts only in a world without it.
+  return type == "depth" || type == "depth_camera" || type == "rgbd_camera" || type == "rgbd" ||
+         (type == "camera" && !has_classic_plugin_);
 }
-
-}  // namespace
 
 void Loader::VisitModel(const Doc& doc, const XmlElement& model, const ModelContext& context) {
   open_models_.emplace_back(&model, fmt::format("'{}' ({})", context.scoped, doc.xml.path));
@@ -64,7 +64,7 @@ void Loader::VisitModel(const Doc& doc, const XmlElement& model, const ModelCont
       if (child.name == "link") {
         for (const XmlElement* sensor : child.Children("sensor")) {
           const std::string* type = sensor->Attribute("type");
-          if (type && IsDepthSensorType(*type)) has_depth_sensor = true;
+          if (type && IsCameraSensorType(*type)) has_depth_sensor = true;
         }
       }
     } else if (child.name == "frame") {
@@ -126,7 +126,7 @@ void Loader::VisitModel(const Doc& doc, const XmlElement& model, const ModelCont
       if (context.sink.sensors) {
         for (const XmlElement* sensor : child.Children("sensor")) {
           const std::string* type = sensor->Attribute("type");
-          if (!type || !IsDepthSensorType(*type)) continue;
+          if (!type || !IsCameraSensorType(*type)) continue;
           const std::string* sensor_name = sensor->Attribute("name");
           SensorRecord record;
           record.model = context.scoped;

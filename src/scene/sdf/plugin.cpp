@@ -47,8 +47,12 @@ void Loader::ReadPlugin() {
   constexpr int64_t kMaxCount = 1'000'000'000;
   // In document order, so that errors come in the file's order.
   for (const XmlElement* plugin : plugins) {
+    const std::string* filename = plugin->Attribute("filename");
+    if (filename && filename->find("sensor_placement_optimization") != std::string::npos)
+      has_classic_plugin_ = true;
     for (const XmlElement& child : plugin->children) {
       if (!kKnown.contains(child.name)) continue;
+      has_classic_plugin_ = true;
       const auto [it, inserted] = params.emplace(child.name, &child);
       if (!inserted) {
         Error(doc, child.line,

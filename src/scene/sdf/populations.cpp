@@ -40,8 +40,8 @@ std::optional<std::string> Loader::AddSensorType(const SensorRecord& record,
     height = static_cast<int>(Integer(doc, *e, 1, 1'000'000).value_or(height));
   }
   const XmlElement* clip = camera->Child("clip");
-  const double near = NumberOr(doc, clip, "near", 0.1, true);
-  const double far = NumberOr(doc, clip, "far", 100.0, true);
+  double near = NumberOr(doc, clip, "near", 0.1, true);
+  double far = NumberOr(doc, clip, "far", 100.0, true);
   double fps = 0;
   if (const XmlElement* e = sensor.Child("update_rate")) {
     if (const auto v = Number(doc, *e, "30")) {
@@ -52,8 +52,29 @@ std::optional<std::string> Loader::AddSensorType(const SensorRecord& record,
       }
     }
   }
+  // A depth image's own range (<depth_camera><clip>, SDF 1.7+) replaces <clip> for it.
+  const XmlElement* depth_camera = camera->Child("depth_camera");
+  const XmlElement* depth_clip = depth_camera ? depth_camera->Child("clip") : nullptr;
+  near = NumberOr(doc, depth_clip, "near", near, true);
+  far = NumberOr(doc, depth_clip, "far", far, true);
   SensorType type = SensorType::FromFov(id, width, height, hfov, std::nullopt, near, far);
   type.fps = fps;
+  // <lens><intrinsics> overrides the field of view (gz-sensors builds the projection from them);
+  // SDF's defaults for the ones left out. cx, cy in vantage's continuous image coordinates,
+  // which are Gazebo's (the default cx = W/2 is the centre).
+  const XmlElement* lens = camera->Child("lens");
+  if (const XmlElement* intrinsics = lens ? lens->Child("intrinsics") : nullptr) {
+    type.fx = NumberOr(doc, intrinsics, "fx", 277, true);
+    type.fy = NumberOr(doc, intrinsics, "fy", 277, true);
+    type.cx = NumberOr(doc, intrinsics, "cx", 160, false);
+    type.cy = NumberOr(doc, intrinsics, "cy", 120, false);
+    if (const XmlElement* skew = intrinsics->Child("s")) {
+      if (const auto s = Number(doc, *skew, "0"); s && *s != 0) {
+        Error(doc, skew->line,
+              fmt::format("<s> {} — vantage's pinhole has no skew; give <s>0</s>", skew->Trimmed()));
+      }
+    }
+  }
   try {
     type.Validate(fmt::format("{}:{}", doc.xml.path, sensor.line));
   } catch (const InputError& e) {

@@ -4,6 +4,8 @@
 // path (ground_plane, sun). GAZEBO.md, "Files and paths".
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -34,16 +36,85 @@ std::string UriBaseName(const std::string& uri) {
   return slash == std::string::npos ? rest : rest.substr(slash + 1);
 }
 
+/// %XX escapes decoded ("Coke%20Can" -> "Coke Can"); a malformed escape stays as written.
+std::string PercentDecoded(const std::string& text) {
+  std::string out;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '%' && i + 2 < text.size() && std::isxdigit(static_cast<unsigned char>(text[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(text[i + 2]))) {
+      out.push_back(static_cast<char>(std::stoi(text.substr(i + 1, 2), nullptr, 16)));
+      i += 2;
+    } else {
+      out.push_back(text[i]);
+    }
+  }
+  return out;
+}
+
+std::string Lower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+/// The entry of `dir` named `name`, compared without case (Fuel's owners and names are
+/// case-insensitive; the cache keeps the owner in lower case); "" when there is none.
+std::string EntryNoCase(const std::string& dir, const std::string& name) {
+  if (IsDirectory((fs::path(dir) / name).string())) return (fs::path(dir) / name).string();
+  std::error_code ec;
+  std::vector<std::string> matches;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    if (Lower(entry.path().filename().string()) == Lower(name)) matches.push_back(entry.path());
+  }
+  std::sort(matches.begin(), matches.end());  // directory order is not stable
+  return matches.empty() ? "" : matches.front();
+}
+
 }  // namespace
+
+std::optional<FuelUri> ParseFuelUri(const std::string& uri) {
+  // https://fuel.gazebosim.org/1.0/<owner>/models/<name>[/<version>][/files/<path>]
+  const size_t scheme = uri.find("://");
+  if (scheme == std::string::npos) return std::nullopt;
+  const std::string protocol = Lower(uri.substr(0, scheme));
+  if (protocol != "https" && protocol != "http") return std::nullopt;
+  std::vector<std::string> parts = SplitList(uri.substr(scheme + 3), '/');
+  parts.erase(std::remove(parts.begin(), parts.end(), std::string()), parts.end());
+  if (parts.size() < 5 || Lower(parts[3]) != "models") return std::nullopt;
+  FuelUri fuel;
+  fuel.host = Lower(parts[0]);
+  fuel.owner = PercentDecoded(parts[2]);
+  fuel.name = PercentDecoded(parts[4]);
+  size_t next = 5;
+  if (next < parts.size() && Lower(parts[next]) != "files") fuel.version = parts[next++];
+  if (next < parts.size() && Lower(parts[next]) == "files") {
+    std::vector<std::string> rest(parts.begin() + static_cast<std::ptrdiff_t>(next + 1), parts.end());
+    fuel.file = PercentDecoded(Join(rest, "/"));
+  } else if (next < parts.size()) {
+    return std::nullopt;
+  }
+  return fuel;
+}
 
 Loader::Loader(std::string path, const LoadOptions& options)
     : path_(std::move(path)), options_(options) {
   for (const std::string& dir : options_.model_paths) model_dirs_.push_back(dir);
+  // gz-sim's resource path (and its Ignition-era name) holds model folders too, and comes first.
+  for (const char* variable : {"GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH"})
+    for (const std::string& dir : PathListFromEnv(variable)) model_dirs_.push_back(dir);
   for (const std::string& dir : PathListFromEnv("GAZEBO_MODEL_PATH")) model_dirs_.push_back(dir);
+  // The local Fuel cache (gz-fuel-tools' layout: <cache>/<host>/<owner>/models/<name>/<version>).
+  if (const std::vector<std::string> cache = PathListFromEnv("GZ_FUEL_CACHE_PATH"); !cache.empty()) {
+    fuel_cache_dirs_ = cache;
+  } else if (const std::vector<std::string> home = PathListFromEnv("HOME"); !home.empty()) {
+    fuel_cache_dirs_ = {(fs::path(home.front()) / ".gz" / "fuel").string(),
+                        (fs::path(home.front()) / ".ignition" / "fuel").string()};
+  }
   model_dirs_.push_back((fs::path(path_).parent_path() / "models").lexically_normal().string());
   for (const std::string& dir : options_.resource_paths) resource_dirs_.push_back(dir);
-  for (const std::string& dir : PathListFromEnv("GAZEBO_RESOURCE_PATH"))
-    resource_dirs_.push_back(dir);
+  for (const char* variable : {"GAZEBO_RESOURCE_PATH", "GZ_SIM_RESOURCE_PATH",
+                               "IGN_GAZEBO_RESOURCE_PATH"})
+    for (const std::string& dir : PathListFromEnv(variable)) resource_dirs_.push_back(dir);
   for (const std::string& dir : model_dirs_) resource_dirs_.push_back(ParentDir(dir + "/"));
 }
 
@@ -78,9 +149,9 @@ const Doc* Loader::LoadSdf(const std::string& path, const std::string& model_dir
                         version ? *version : ""));
       doc.reset();
     } else if (const int minor = parsed.value_or(std::make_pair(0, 0)).second;
-               minor < 4 || minor > 7) {  // parsed is set; value_or spares a false GCC warning
+               minor < 4 || minor > 11) {  // parsed is set; value_or spares a false GCC warning
       Note(AtPlace(path, root.line,
-                   fmt::format("SDF version {} is read as 1.4–1.7 (vantage "
+                   fmt::format("SDF version {} is read as 1.4–1.11 (vantage "
                                "implements those)",
                                *version)));
     }
@@ -148,6 +219,7 @@ std::optional<std::string> Loader::ResolveModelUri(const std::string& uri,
     }
     return std::nullopt;
   }
+  if (const std::optional<FuelUri> fuel = ParseFuelUri(uri)) return FuelCached(*fuel, searched);
   if (uri.find("://") != std::string::npos && uri.rfind("file://", 0) != 0) return std::nullopt;
   rest = uri.rfind("file://", 0) == 0 ? uri.substr(7) : uri;
   if (rest.empty()) return std::nullopt;
@@ -168,8 +240,41 @@ std::optional<std::string> Loader::ResolveModelUri(const std::string& uri,
   return std::nullopt;
 }
 
+std::optional<std::string> Loader::FuelCached(const FuelUri& fuel,
+                                              std::vector<std::string>* searched) {
+  for (const std::string& cache : fuel_cache_dirs_) {
+    const fs::path models = fs::path(cache) / fuel.host;
+    if (searched) searched->push_back(models.string());
+    const std::string owner = EntryNoCase(models.string(), fuel.owner);
+    if (owner.empty()) continue;
+    const std::string model = EntryNoCase((fs::path(owner) / "models").string(), fuel.name);
+    if (model.empty()) continue;
+    std::string version;
+    if (!fuel.version.empty() && Lower(fuel.version) != "tip") {
+      version = (fs::path(model) / fuel.version).string();
+      if (!IsDirectory(version)) continue;
+    } else {
+      // "tip" or none: the newest version in the cache (versions are whole numbers).
+      int newest = -1;
+      std::error_code ec;
+      for (const auto& entry : fs::directory_iterator(model, ec)) {
+        const auto number = ParseInteger(entry.path().filename().string());
+        if (number && entry.is_directory(ec) && *number > newest) {
+          newest = static_cast<int>(*number);
+          version = entry.path().string();
+        }
+      }
+      if (newest < 0) continue;
+    }
+    const fs::path found = fuel.file.empty() ? fs::path(version) : fs::path(version) / fuel.file;
+    std::error_code ec;
+    if (fs::exists(found, ec)) return found.lexically_normal().string();
+  }
+  return std::nullopt;
+}
+
 std::optional<std::string> Loader::ResolveResourceUri(const std::string& uri, const Doc& from) {
-  if (uri.rfind("model://", 0) == 0) return ResolveModelUri(uri, from, nullptr);
+  if (uri.rfind("model://", 0) == 0 || ParseFuelUri(uri)) return ResolveModelUri(uri, from, nullptr);
   if (uri.find("://") != std::string::npos && uri.rfind("file://", 0) != 0) return std::nullopt;
   const std::string rest = uri.rfind("file://", 0) == 0 ? uri.substr(7) : uri;
   if (rest.empty()) return std::nullopt;
@@ -221,6 +326,15 @@ IncludeResult Loader::ResolveInclude(const Doc& doc, const XmlElement& include) 
                                uri, kGroundPlaneSize, kGroundPlaneSize)));
       result.kind = IncludeResult::Kind::kGroundPlane;
       result.name = name_element ? name_element->Trimmed() : "ground_plane";
+      return result;
+    }
+    if (ParseFuelUri(uri)) {
+      Error(doc, line,
+            fmt::format("<include> Fuel model '{}' is not in the local Fuel cache (looked in {}) "
+                        "— vantage works offline: download it with `gz fuel download -u {}`, or "
+                        "set GZ_FUEL_CACHE_PATH to the cache folder",
+                        uri, searched.empty() ? "no cache folder: HOME is not set" : Join(searched, ", "),
+                        uri));
       return result;
     }
     std::string where;

@@ -23,8 +23,13 @@
 // cross-checked (each disagreement is a note: the plugin segmented by colour); no target at all
 // is an error at <sensorDataSegmentationColorRGB>. --target NAME (LoadOptions::targets) makes
 // exactly those models, with everything they nest, targets; an unknown name is an error.
-// Sensor models: a model with a <sensor type="depth"> in one of its links (and what it nests)
-// adds no geometry; outside populations it becomes an ExplicitSensor named after the instance.
+// Sensor models: a model with a camera <sensor> (depth, depth_camera, rgbd, rgbd_camera; camera
+// too in a world without the Classic plugin) in one of its links (and what it nests) adds no
+// geometry; outside populations it becomes an ExplicitSensor named after the instance, with
+// <lens><intrinsics> and <depth_camera><clip> read (populations.cpp). With the Classic plugin it is
+// re-aimed at the observation point, as the plugin did; without it, it keeps its own orientation
+// (a gz-sim world's cameras are a real layout: docs/from-your-stack.md). Fuel URIs come from the
+// local Fuel cache (resolution.cpp).
 //
 // Files (scene/sdf/): loader.hpp declares the reader; values.cpp, resolution.cpp, frames.cpp,
 // model_walk.cpp, plugin.cpp, populations.cpp, roles.cpp, geometry.cpp and materials.cpp hold its
@@ -72,7 +77,8 @@ Problem Loader::Load(std::vector<GazeboVisual>* visuals_out) {
     }
   }
 
-  // Explicit sensors: plain models holding a depth sensor (the plugin re-orients them too).
+  // Explicit sensors: plain models holding a camera. The Classic plugin re-orients them; in a
+  // world without it they are a real layout and keep their own orientation.
   std::map<std::string, int> sensors_per_model;
   for (const SensorRecord& r : sensors_) ++sensors_per_model[r.model];
   for (const SensorRecord& r : sensors_) {
@@ -84,7 +90,7 @@ Problem Loader::Load(std::vector<GazeboVisual>* visuals_out) {
     sensor.name = is_many ? r.model + "/" + r.sensor_name : r.model;
     sensor.sensor_type = *id;
     sensor.pose = r.world_from_model;
-    sensor.look_at = true;
+    sensor.look_at = has_classic_plugin_;
     sensor.model_from_camera = r.model_from_camera;
     sensor.file = r.site.file;
     sensor.line = r.site.line;
