@@ -91,8 +91,9 @@ inline constexpr double kMaxFramedDistance = 12.0;
 
 /// What the default views frame (issue 16): the targets' bounds (R's voxels without meshes), the
 /// primary result's sensors within kMaxFramedDistance, and the direction from the point looked at
-/// towards the eye: 35° above the horizon, from the sensors' side turned by 30° (a fixed oblique
-/// azimuth when they surround the targets). Requires a derived report when report.data is set.
+/// towards the eye: 35° above the horizon, from the sensors' side turned by 30° to the side that
+/// frames them from closer (a fixed oblique azimuth when they surround the targets). Requires a
+/// derived report when report.data is set.
 struct Framing {
   Aabb targets;
   std::vector<Vec3> sensors;
@@ -100,8 +101,8 @@ struct Framing {
 };
 Framing DefaultFraming(const Scene& scene, const Report& report);
 
-/// The view along -direction that frames every point of `points` (10 % margin) for a vertical
-/// field of view [rad] and an aspect ratio (width / height), looking at the centre of their bounds.
+/// The view along -direction that frames every point of `points` (5 % margin) for a vertical
+/// field of view [rad] and an aspect ratio (width / height), centred on their extent in the image.
 View FitView(const std::vector<Vec3>& points, const Vec3& direction, double vertical_fov,
              double aspect);
 

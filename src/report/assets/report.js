@@ -314,7 +314,7 @@
     var scene = new THREE.Scene();
     scene.background = new THREE.Color(0xeef1f5);
     // The default views (default_view.cpp, FitView): along D.view.direction, far enough that
-    // every point lies in the frame with a 10 % margin, for this canvas' aspect.
+    // every point lies in the frame with a 5 % margin, for this canvas' aspect.
     function fitView(points, fovDeg, aspect) {
       var d = new THREE.Vector3().fromArray(D.view.direction).normalize();
       var box = new THREE.Box3().setFromPoints(points), centre = box.getCenter(new THREE.Vector3());
@@ -323,12 +323,32 @@
       right.normalize();
       var up = right.clone().cross(forward).normalize();
       var ty = Math.tan(fovDeg * Math.PI / 360), tx = ty * aspect;
-      var radius = Math.max(0.5 * box.getSize(new THREE.Vector3()).length(), 1e-3), distance = 0.5 * radius;
-      points.forEach(function (p) {
-        var v = p.clone().sub(centre);
-        var lateral = Math.max(Math.abs(v.dot(right)) / tx, Math.abs(v.dot(up)) / ty);
-        distance = Math.max(distance, 1.1 * lateral + v.dot(d), v.dot(d) + 0.2 * radius);
-      });
+      var radius = Math.max(0.5 * box.getSize(new THREE.Vector3()).length(), 1e-3);
+      function fit(c) {
+        var distance = 0.5 * radius;
+        points.forEach(function (p) {
+          var v = p.clone().sub(c);
+          var lateral = Math.max(Math.abs(v.dot(right)) / tx, Math.abs(v.dot(up)) / ty);
+          distance = Math.max(distance, 1.05 * lateral + v.dot(d), v.dot(d) + 0.2 * radius);
+        });
+        return distance;
+      }
+      var distance = fit(centre);
+      // Centred on the points' extent in the image, twice (as FitView).
+      for (var round = 0; round < 2; ++round) {
+        var lx = Infinity, hx = -Infinity, ly = Infinity, hy = -Infinity;
+        points.forEach(function (p) {
+          var v = p.clone().sub(centre), depth = distance - v.dot(d);
+          lx = Math.min(lx, v.dot(right) / depth); hx = Math.max(hx, v.dot(right) / depth);
+          ly = Math.min(ly, v.dot(up) / depth); hy = Math.max(hy, v.dot(up) / depth);
+        });
+        var moved = centre.clone().addScaledVector(right, distance * 0.5 * (lx + hx))
+                                  .addScaledVector(up, distance * 0.5 * (ly + hy));
+        var closer = fit(moved);
+        if (closer >= distance) break;
+        centre = moved;
+        distance = closer;
+      }
       return {eye: centre.clone().addScaledVector(d, distance), target: centre, fov: fovDeg};
     }
     var tb = D.view.targets, targetCorners = [];
