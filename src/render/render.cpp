@@ -241,7 +241,14 @@ void DrawLegend(const Report& report, Image* image) {
   FillRect(image, x0, y0, x0 + width, y0 + height, Rgb{255, 255, 255}, 0.85);
   for (size_t r = 0; r < rows.size(); ++r) {
     const int y = y0 + pad + static_cast<int>(r) * line;
-    FillRect(image, x0 + pad, y, x0 + pad + swatch, y + swatch, rows[r].first, 1.0);
+    if (r == 0) {
+      // The method's row as the chart draws a method (a line), not as a surface colour: local's
+      // red must not read as "not observed".
+      FillRect(image, x0 + pad, y + swatch / 2 - scale, x0 + pad + swatch, y + swatch / 2 + scale,
+               rows[r].first, 1.0);
+    } else {
+      FillRect(image, x0 + pad, y, x0 + pad + swatch, y + swatch, rows[r].first, 1.0);
+    }
     DrawText(image, x0 + pad + swatch + pad, y + scale, rows[r].second, scale, Rgb{29, 35, 43});
   }
 }
