@@ -8,7 +8,6 @@
 #include <stb_image.h>
 #include <yaml-cpp/yaml.h>
 
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
