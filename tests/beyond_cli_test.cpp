@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 
 #include "test_util.hpp"
@@ -232,6 +233,33 @@ TEST(StatesCli, ResultsCarryEveryStateAndTheirMeanOrMin) {
   const auto bad = RunVantage("optimize " + scene + " --over-states max --out " + dir.File("x"));
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("mean"), std::string::npos) << bad.err;
+}
+
+// The coverage-versus-N curve (issue 16) in report.json: a run of one greedy sensor still gets
+// greedy and local answers up to N = 6 in `curve`, `results` stays the run's own, and a curve
+// entry's coverage is what `evaluate` measures for its sensors, traced again.
+TEST(CurveCli, ReportJsonCarriesTheCurveUpToSixAndEvaluateAgrees) {
+  test::TempDir dir;
+  const auto run = RunVantage("optimize " + Scene() + " -n 1 --method greedy --out " + dir.File("o"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json report = Report(dir.File("o"));
+  ASSERT_EQ(report["results"].size(), 1u);
+  EXPECT_EQ(report["results"][0]["n"], 1);
+  std::set<std::pair<std::string, int>> points;
+  for (const json& r : report["curve"]) {
+    for (const char* key : {"method", "n", "sensors", "coverage", "paper_coverage", "seconds"})
+      EXPECT_TRUE(r.contains(key)) << key;
+    EXPECT_EQ(r["sensors"].size(), r["n"].get<size_t>());
+    points.insert({r["method"].get<std::string>(), r["n"].get<int>()});
+  }
+  std::set<std::pair<std::string, int>> expected;
+  for (int n = 1; n <= 6; ++n) {
+    if (n > 1) expected.insert({"greedy", n});
+    expected.insert({"local", n});
+  }
+  EXPECT_EQ(points, expected);
+  const json& six = report["curve"].back();
+  EXPECT_NEAR(Evaluated(dir, "six", report, six["sensors"]), six["coverage"].get<double>(), 1e-12);
 }
 
 }  // namespace

@@ -451,6 +451,53 @@ TEST(Select, EveryMethodAgainstBruteForce) {
   }
 }
 
+// The coverage-versus-n curve (issue 16): greedy and local at every n the results lack, up to
+// max(6, the results' n), each scored as the union of its sets (counted here), greedy the plain
+// greedy of PlainGreedy, local never below greedy nor above the enumerated optimum.
+TEST(CoverageCurve, FillsEveryMissingNUpToSixWithGreedyAndLocal) {
+  const std::vector<Observation> obs = RandomInstance(21, 10, 40, 0.2);
+  SelectOptions options;
+  options.n = 2;
+  options.method = Method::kGreedy;
+  const std::vector<Selection> results = Select(obs, 40, options);  // greedy n = 2 only
+  const std::vector<Selection> curve = CoverageCurve(obs, 40, options, results);
+  std::set<std::pair<std::string, int>> seen;
+  for (const Selection& s : curve) {
+    SCOPED_TRACE(testing::Message() << s.method << " n=" << s.n);
+    EXPECT_TRUE(seen.insert({s.method, s.n}).second);
+    ASSERT_EQ(static_cast<int>(s.chosen.size()), s.n);
+    EXPECT_DOUBLE_EQ(s.coverage, static_cast<double>(UnionSize(obs, s.chosen)) / 40);
+    EXPECT_LE(UnionSize(obs, s.chosen), BruteForceOptimum(obs, static_cast<size_t>(s.n)));
+    EXPECT_FALSE(s.upper_bound.has_value());
+    if (s.method == "greedy") EXPECT_EQ(s.chosen, PlainGreedy(obs, s.n));
+  }
+  std::set<std::pair<std::string, int>> expected;
+  for (int n = 1; n <= 6; ++n) {
+    if (n != 2) expected.insert({"greedy", n});
+    expected.insert({"local", n});
+  }
+  EXPECT_EQ(seen, expected);
+  for (const Selection& s : curve) {
+    if (s.method != "local") continue;
+    const std::vector<uint32_t> greedy = PlainGreedy(obs, s.n);
+    EXPECT_GE(UnionSize(obs, s.chosen), UnionSize(obs, greedy));
+  }
+
+  // A run of n = 8 with every method: the curve adds nothing below 8; with 4 candidates it
+  // stops at 4; set cover and budget have no curve.
+  options.method = Method::kAll;
+  options.n = 8;
+  EXPECT_TRUE(CoverageCurve(obs, 40, options, Select(obs, 40, options)).empty());
+  const std::vector<Observation> four(obs.begin(), obs.begin() + 4);
+  options.n = 1;
+  int largest = 0;
+  for (const Selection& s : CoverageCurve(four, 40, options, Select(four, 40, options)))
+    largest = std::max(largest, s.n);
+  EXPECT_EQ(largest, 4);
+  options.goal = 0.3;
+  EXPECT_TRUE(CoverageCurve(obs, 40, options, {}).empty());
+}
+
 TEST(Select, AllGivesBestThenEachMethodPerNAndIsDeterministic) {
   const std::vector<Observation> obs = RandomInstance(3, 12, 60, 0.2);
   SelectOptions options;

@@ -209,6 +209,91 @@ TEST(Render, CountsColoursAndFrustaOfTwoSensors) {
   EXPECT_EQ(CountPixels(RenderView(run->scene, run->report, options)).frustum, 0);
 }
 
+// The default framing (issue 16): every framed point inside the picture, the frame tight (the
+// farthest point at the 5 % margin), the eye 35° above the horizon.
+TEST(DefaultView, FitViewFramesEveryPointTightly) {
+  const std::vector<Vec3> points = {Vec3(0, 0, 0), Vec3(0.2, 0.1, 0.05), Vec3(-0.6, 0.4, 0.7),
+                                    Vec3(0.5, -0.5, 0.6), Vec3(0.1, 0.9, 0.65)};
+  const double fov = 45.0 * kPi / 180.0, aspect = 4.0 / 3.0;
+  const Vec3 direction = Vec3(std::cos(0.3) * std::cos(35 * kPi / 180), std::sin(0.3) * std::cos(35 * kPi / 180),
+                              std::sin(35 * kPi / 180));
+  const struct View view = FitView(points, direction, fov, aspect);
+  const Vec3 forward = (view.look_at - view.eye).normalized();
+  EXPECT_NEAR(-forward.z(), std::sin(35 * kPi / 180), 1e-9);
+  const Vec3 right = forward.cross(Vec3::UnitZ()).normalized(), up = right.cross(forward);
+  double largest = 0;
+  for (const Vec3& p : points) {
+    const Vec3 v = p - view.eye;
+    const double depth = v.dot(forward);
+    ASSERT_GT(depth, 0);
+    const double x = v.dot(right) / (depth * std::tan(fov / 2) * aspect);
+    const double y = v.dot(up) / (depth * std::tan(fov / 2));
+    EXPECT_LE(std::abs(x), 1.0 / 1.05 + 1e-9);
+    EXPECT_LE(std::abs(y), 1.0 / 1.05 + 1e-9);
+    largest = std::max({largest, std::abs(x), std::abs(y)});
+  }
+  EXPECT_NEAR(largest, 1.0 / 1.05, 1e-6);
+}
+
+// Frusta end at the targets' far side: a sensor on +x at d looking at a cube of half-size r
+// around the origin reaches depth d + r, and never beyond `far`.
+TEST(DefaultView, FrustumDepthIsTheTargetsFarSideWithinFar) {
+  Candidate c = Camera("cam", Vec3(1.0, 0, 0), Vec3::Zero(), 64, 0.5);
+  const Aabb cube{Vec3::Constant(-0.1), Vec3::Constant(0.1)};
+  EXPECT_NEAR(FrustumDepth(c, cube), 1.1, 1e-9);
+  c.sensor.far = 0.8;
+  EXPECT_NEAR(FrustumDepth(c, cube), 0.8, 1e-12);
+  EXPECT_NEAR(FrustumDepth(c, Aabb{}), 0.8, 1e-12);
+}
+
+// The default view of the page and the picture frames the chosen sensors too, not only the
+// targets (issue 16: the example's cameras were out of the frame).
+TEST(DefaultView, FramesTheChosenSensors) {
+  auto run = MakeRun(SphereScene(kRadius),
+                     {Camera("high", Vec3(0.3, 0.2, 0.9), Vec3::Zero(), 200, 0.5),
+                      Camera("side", Vec3(-0.8, 0.1, 0.1), Vec3::Zero(), 200, 0.5)},
+                     2);
+  const double fov = 45.0 * kPi / 180.0;
+  const struct View view = DefaultView(run->scene, run->report, fov, 1.0);
+  const Vec3 forward = (view.look_at - view.eye).normalized();
+  const Vec3 right = forward.cross(Vec3::UnitZ()).normalized(), up = right.cross(forward);
+  for (const Vec3& p : {Vec3(0.3, 0.2, 0.9), Vec3(-0.8, 0.1, 0.1), Vec3(0.1, 0.1, 0.1),
+                        Vec3(-0.1, -0.1, -0.1)}) {
+    const Vec3 v = p - view.eye;
+    const double depth = v.dot(forward);
+    ASSERT_GT(depth, 0);
+    EXPECT_LE(std::abs(v.dot(right)) / (depth * std::tan(fov / 2)), 1.0);
+    EXPECT_LE(std::abs(v.dot(up)) / (depth * std::tan(fov / 2)), 1.0);
+  }
+}
+
+// A box face that lies on a cell boundary shows whole cells (issue 16: moiré stripes). The
+// target cube spans cells 0..9 per axis, so its +x face lies exactly on the boundary x = 10
+// cells; its hit points round to cell 9 or 10 pixel by pixel. Only the layer x = 9 is marked
+// observed: every pixel of the face must show it observed, none the unobserved colour.
+TEST(Render, BoxFaceOnACellBoundaryShowsWholeCells) {
+  Scene scene;
+  TriangleMesh box = MakeBox(Vec3::Constant(10 * kCell));
+  box.Transform(Pose{Vec3::Constant(5 * kCell), Quat::Identity()});
+  scene.objects.push_back({"cube", Role::kTarget, std::move(box)});
+  const Vec3 centre = Vec3::Constant(5 * kCell);
+  auto run = MakeRun(std::move(scene), {Camera("front", centre + Vec3(0.4, 0, 0), centre, 64, 0.3)}, 1);
+  Observation inner_layer;
+  for (int64_t y = 0; y < 10; ++y)
+    for (int64_t z = 0; z < 10; ++z) inner_layer.outside_keys.push_back(PackVoxel({9, y, z}));
+  std::sort(inner_layer.outside_keys.begin(), inner_layer.outside_keys.end());
+  run->data.observations[0] = inner_layer;
+  const std::array<Vec3, 2> eyes = {Vec3(centre + Vec3(0.4, 0.0, 0.0)),
+                                    Vec3(centre + Vec3(0.4, 0.013, -0.021))};
+  for (const Vec3& eye : eyes) {
+    RenderOptions options = View(eye, 240, 0.12);
+    options.look_at = centre;
+    const Counts counts = CountPixels(RenderView(run->scene, run->report, options));
+    EXPECT_GT(counts.observed, 10000);
+    EXPECT_EQ(counts.unobserved, 0) << counts.observed << " observed";
+  }
+}
+
 TEST(Render, BadOptionsAndUnwritablePathsAreInputErrors) {
   auto run =
       MakeRun(SphereScene(kRadius), {Camera("cam", Vec3(1, 0, 0), Vec3::Zero(), 64, 0.3)}, 1);

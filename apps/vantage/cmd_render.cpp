@@ -15,12 +15,14 @@ struct RenderFlags {
   RenderRunOptions options;
   double fov_deg = 45;
   bool no_frusta = false;
+  bool no_legend = false;
 };
 
 void RunRender(RenderFlags flags) {
   const auto start = std::chrono::steady_clock::now();
   flags.options.render.vertical_fov = flags.fov_deg * std::numbers::pi / 180.0;
   flags.options.render.draw_frusta = !flags.no_frusta;
+  flags.options.render.draw_legend = !flags.no_legend;
   const RenderRunResult result = RenderRun(flags.options);
   fmt::print("render  {}  {}x{}  {} sensors, coverage {:.2f} %  {:.3f} s\n", result.png,
              flags.options.render.width, flags.options.render.height, result.sensors,
@@ -51,7 +53,7 @@ void SetupRender(CLI::App* parent) {
   AddPointFlag(app, "--eye", &options.render.eye,
                "viewpoint x y z [m] (default: framing targets and sensors)");
   AddPointFlag(app, "--look-at", &options.render.look_at,
-               "point looked at x y z [m] (default: the targets' centre)");
+               "point looked at x y z [m] (default: the centre of the targets and sensors)");
   app->add_option("--width", options.render.width, "picture width [px]")
       ->check(CLI::Range(16, 8192))
       ->capture_default_str();
@@ -62,6 +64,7 @@ void SetupRender(CLI::App* parent) {
       ->check(CLI::Range(1.0, 170.0))
       ->capture_default_str();
   app->add_flag("--no-frusta", flags->no_frusta, "do not draw the sensors' frusta");
+  app->add_flag("--no-legend", flags->no_legend, "do not draw the legend");
   app->add_option("--scene", options.scene.path,
                   "scene file (default: the one the run used, report.json `inputs`)");
   AddSourceFlags(app, &options.scene);

@@ -55,17 +55,21 @@ void PrintRobustness(const VisibilityFile& data, const std::vector<Selection>& r
                      const Robustness& robustness) {
   const Selection& result = results.at(static_cast<size_t>(robustness.result));
   const auto name = [&](uint32_t i) { return data.candidates.at(i).name; };
-  std::string line = fmt::format("of {} n={}:", result.method, result.n);
-  if (robustness.worst) {
-    line += fmt::format(" worst single failure {} -> {:.2f} % ({:+.2f})", name(robustness.worst->sensor),
-                        100.0 * robustness.worst->coverage, 100.0 * (robustness.worst->coverage - result.coverage));
+  std::vector<std::string> parts;
+  // With one sensor its failure leaves nothing: the read-out says nothing (issue 16).
+  if (robustness.worst && result.n >= 2) {
+    parts.push_back(fmt::format("worst single failure {} -> {:.2f} % ({:+.2f})", name(robustness.worst->sensor),
+                                100.0 * robustness.worst->coverage, 100.0 * (robustness.worst->coverage - result.coverage)));
   }
   if (robustness.fov_shrunk_coverage) {
-    line += fmt::format("; fields of view -{:g} deg -> {:.2f} % ({:+.2f})", *robustness.fov_tolerance_deg,
-                        100.0 * *robustness.fov_shrunk_coverage,
-                        100.0 * (*robustness.fov_shrunk_coverage - result.coverage));
+    parts.push_back(fmt::format("fields of view -{:g} deg -> {:.2f} % ({:+.2f})", *robustness.fov_tolerance_deg,
+                                100.0 * *robustness.fov_shrunk_coverage,
+                                100.0 * (*robustness.fov_shrunk_coverage - result.coverage)));
   }
-  fmt::print("robustness       {}\n", line);
+  if (!parts.empty())
+    fmt::print("robustness       of {} n={}: {}\n", result.method, result.n, fmt::join(parts, "; "));
+  if (robustness.fov_shrunk_coverage)
+    fmt::print("                 (a narrower field of view can also raise coverage: the same pixels, denser)\n");
   for (const Alternative& a : robustness.alternatives) {
     fmt::print("alternative      {} instead of {}: {:.2f} % ({:+.2f})\n", name(a.replacement), name(a.replaced),
                100.0 * a.coverage, 100.0 * (a.coverage - result.coverage));

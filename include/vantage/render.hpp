@@ -32,12 +32,16 @@ struct RenderOptions {
   int width = 1280;                          ///< pixels, 16..8192
   int height = 960;                          ///< pixels, 16..8192
   double vertical_fov = 0.7853981633974483;  ///< [rad], in (0, pi); default 45°
-  /// Viewpoint [m, world]. Default: outside the targets and the chosen sensors, on the side the
-  /// chosen sensors look from, framing all of them.
+  /// Viewpoint [m, world]. Default: DefaultView, a three-quarter view framing the targets and
+  /// the chosen sensors.
   std::optional<Vec3> eye;
-  /// Point looked at [m, world]. Default: the centre of the targets' bounds.
+  /// Point looked at [m, world]. Default: DefaultView's (the centre of what it frames).
   std::optional<Vec3> look_at;
-  bool draw_frusta = true;  ///< chosen sensors' frusta (cut at `far`) and markers
+  /// Chosen sensors' frusta and markers; each frustum ends at the targets' far side
+  /// (FrustumDepth), never beyond `far`.
+  bool draw_frusta = true;
+  /// A legend in the top left corner: the colours, the result shown (in its method's colour).
+  bool draw_legend = false;
   /// Throws InputError naming the field.
   void Validate() const;
 };

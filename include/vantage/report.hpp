@@ -91,6 +91,9 @@ struct Report {
   uint64_t seed = 1;
   const VisibilityFile* data = nullptr;  ///< reference, candidates, observations (not owned)
   std::vector<Selection> results;
+  /// The coverage-versus-n curve's extra answers (CoverageCurve; report.json `curve`): results at
+  /// the n that `results` lacks. Never primary.
+  std::vector<Selection> curve;
   Timings timings;
   std::vector<std::string> notes;
   /// Read-outs for one result (usually the primary), when computed (issue 9).

@@ -108,6 +108,19 @@ std::vector<Selection> Select(std::span<const Observation> observations,
                               size_t reference_size,
                               const SelectOptions& options);
 
+/// The coverage-versus-n curve always reaches at least this n (issue 16).
+inline constexpr int kCurveMinN = 6;
+
+/// The coverage-versus-n curve beside a run's `results` (issue 16): greedy and local (cheap, for
+/// any size) at every n from 1 (k for k-coverage) to max(up_to, the largest n of `results`),
+/// capped at the number of candidates, where `results` has no answer of that method and n; each
+/// scored as Select scores its answers. Exact is not run for the curve (its bounds are those of
+/// `results`, where it ran). Empty for set cover and budget (they do not choose n). Deterministic.
+std::vector<Selection> CoverageCurve(std::span<const Observation> observations,
+                                     size_t reference_size, const SelectOptions& options,
+                                     const std::vector<Selection>& results,
+                                     int up_to = kCurveMinN);
+
 /// `chosen` named `method`, scored under the objective of `options` exactly as Select scores its
 /// answers (coverage or k-coverage, goal, budget and cost filled in); seconds 0, no bound.
 Selection ScoreChosen(const CoverageEvaluator& evaluator, std::vector<uint32_t> chosen,

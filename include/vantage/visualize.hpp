@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "vantage/report.hpp"
@@ -25,6 +26,26 @@ inline constexpr std::array<Rgb, 3> kObservedColors = {Rgb{70, 180, 75}, Rgb{30,
 inline constexpr Rgb kOccluderColor = {168, 168, 168};
 /// Frusta and markers of the chosen sensors.
 inline constexpr Rgb kFrustumColor = {255, 200, 0};
+
+/// One colour per selection method, the same in every page and picture (report.html's chart and
+/// tables, render's legend), whatever methods a run has.
+struct MethodColorEntry {
+  std::string_view method;
+  Rgb color;
+};
+inline constexpr std::array<MethodColorEntry, 7> kMethodColors = {{
+    {"best", {31, 119, 180}},     // blue
+    {"ransac", {255, 127, 14}},   // orange
+    {"greedy", {44, 160, 44}},    // green
+    {"local", {214, 39, 40}},     // red
+    {"exact", {148, 103, 189}},   // purple
+    {"refined", {140, 86, 75}},   // brown
+    {"given", {23, 190, 207}},    // cyan
+}};
+/// Methods that kMethodColors does not list.
+inline constexpr Rgb kOtherMethodColor = {110, 110, 110};
+/// The colour of `method`: its kMethodColors entry, else kOtherMethodColor.
+Rgb MethodColor(std::string_view method);
 
 /// Options of the HTML report.
 struct HtmlReportOptions {
@@ -72,7 +93,35 @@ struct View {
   Vec3 look_at = Vec3::Zero();
 };
 
-/// The default viewpoint of RenderView and of the page's 3D view for a vertical field of view.
-View DefaultView(const Scene& scene, const Report& report, double vertical_fov);
+/// Chosen sensors farther from the targets' centre than this many targets' radii stay out of the
+/// default frame (the targets would shrink to a few pixels); their frusta still cross it.
+inline constexpr double kMaxFramedDistance = 12.0;
+
+/// What the default views frame (issue 16): the targets' bounds (R's voxels without meshes), the
+/// primary result's sensors within kMaxFramedDistance, and the direction from the point looked at
+/// towards the eye: 35° above the horizon, from the sensors' side turned by 30° to the side that
+/// frames them from closer (a fixed oblique azimuth when they surround the targets). Requires a
+/// derived report when report.data is set.
+struct Framing {
+  Aabb targets;
+  std::vector<Vec3> sensors;
+  Vec3 direction = Vec3::UnitZ();  ///< unit
+};
+Framing DefaultFraming(const Scene& scene, const Report& report);
+
+/// The view along -direction that frames every point of `points` (5 % margin) for a vertical
+/// field of view [rad] and an aspect ratio (width / height), centred on their extent in the image.
+View FitView(const std::vector<Vec3>& points, const Vec3& direction, double vertical_fov,
+             double aspect);
+
+/// The default viewpoint of RenderView (and, computed again for the canvas' aspect by the page's
+/// script, of the page's 3D view): FitView of DefaultFraming's targets' corners and sensors.
+View DefaultView(const Scene& scene, const Report& report, double vertical_fov,
+                 double aspect = 1.0);
+
+/// The depth along a sensor's optical axis where its drawn frustum ends, so that frusta stop at
+/// the scene instead of running to `far`: the far side of the targets' bounds, within
+/// [near, far]; `far` when there are no targets.
+double FrustumDepth(const Candidate& sensor, const Aabb& targets);
 
 }  // namespace vantage

@@ -5,6 +5,8 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "pipeline/common.hpp"
 #include "vantage/error.hpp"
@@ -158,6 +160,28 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   return result;
 }
 
+namespace {
+
+// The method of the result a report.json's sensors were taken from (its primary result, as
+// LoadConstellation takes them), for the picture's legend; "given" when it names none.
+std::string ShownMethod(const std::string& report_path) {
+  std::ifstream in(report_path);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.contains("results") || !j["results"].is_array() ||
+      j["results"].empty())
+    return "given";
+  size_t which = 0;
+  if (j.contains("primary_result") && j["primary_result"].is_number_unsigned() &&
+      j["primary_result"].get<size_t>() < j["results"].size())
+    which = j["primary_result"].get<size_t>();
+  const nlohmann::json& result = j["results"][which];
+  return result.contains("method") && result["method"].is_string()
+             ? result["method"].get<std::string>()
+             : "given";
+}
+
+}  // namespace
+
 RenderRunResult RenderRun(const RenderRunOptions& options) {
   options.render.Validate();
   const std::string report_path = fs::is_directory(options.run)
@@ -198,6 +222,7 @@ RenderRunResult RenderRun(const RenderRunOptions& options) {
   report.scene = scene.path;
   report.data = reobserved.data.get();
   report.results = {reobserved.given};
+  report.results.front().method = ShownMethod(report_path);
   DeriveReport(&report);
   RenderRunResult result;
   result.png = options.png.empty() ? (fs::path(options.run) / "view.png").string() : options.png;

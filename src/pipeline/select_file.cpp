@@ -52,6 +52,7 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   const auto select_start = std::chrono::steady_clock::now();
   Report& report = run.report;
   report.results = Select(data.observations, data.reference.size(), select);
+  report.curve = CoverageCurve(data.observations, data.reference.size(), select, report.results);
   timings.select = detail::SecondsSince(select_start);
   timings.total = detail::SecondsSince(start);
   report.scene = data.scene;

@@ -77,6 +77,8 @@ void SelectResults(const ObservedScene& observed, const SelectionRequest& reques
   if (observed.states.empty()) {
     report->results =
         Select(observed.data.observations, observed.data.reference.size(), options);
+    report->curve = CoverageCurve(observed.data.observations, observed.data.reference.size(),
+                                  options, report->results);
     return;
   }
   const OverStates over = request.over_states.value_or(OverStates::kMean);

@@ -3,12 +3,19 @@
 // chosen sensors observe the voxel each pixel lands in, the chosen sensors' frusta drawn over it.
 #include <fmt/format.h>
 #include <stb_image_write.h>
+// The legend's letters: stb's quad font (static functions, some unused here).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#include <stb_easy_font.h>
+#pragma GCC diagnostic pop
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <unordered_map>
 
@@ -144,12 +151,106 @@ class Overlay {
   std::vector<float> alpha_;
 };
 
-// Corner of a sensor's image at depth `far`, in the world: body x forward, u right = -y,
+// Corner of a sensor's image at `depth`, in the world: body x forward, u right = -y,
 // v down = -z (sensors.hpp).
-Vec3 FarCorner(const Candidate& c, double u, double v) {
+Vec3 FrustumCorner(const Candidate& c, double u, double v, double depth) {
   const SensorType& s = c.sensor;
   const Vec3 body(1.0, -(u - s.cx) / s.fx, -(v - s.cy) / s.fy);
-  return c.world_from_body * (s.far * body);
+  return c.world_from_body * (depth * body);
+}
+
+// Sensors observing the surface cell a pixel lands in. A face that lies on a cell boundary has
+// hit points that round to either side of it, pixel by pixel (moiré stripes): the cells a
+// third of a cell in front of and behind the hit point are looked up too, so each face shows
+// whole cells.
+int CellCount(const std::unordered_map<uint64_t, int>& counts, const Vec3& point,
+              const Vec3& normal, double cell_size) {
+  int seeing = 0;
+  for (const double offset : {0.0, 1.0 / 3.0, -1.0 / 3.0}) {
+    const VoxelIndex key = VoxelKeyOf(point + offset * cell_size * normal, cell_size);
+    if (!VoxelIndexFits(key)) continue;
+    const auto it = counts.find(PackVoxel(key));
+    if (it != counts.end()) seeing = std::max(seeing, it->second);
+  }
+  return seeing;
+}
+
+// Fills the rectangle [x0, x1) x [y0, y1) with `color` at opacity `alpha`.
+void FillRect(Image* image, int x0, int y0, int x1, int y1, const Rgb& color, double alpha) {
+  for (int y = std::max(0, y0); y < std::min(image->height, y1); ++y) {
+    for (int x = std::max(0, x0); x < std::min(image->width, x1); ++x) {
+      const size_t i = 3 * (static_cast<size_t>(y) * static_cast<size_t>(image->width) +
+                            static_cast<size_t>(x));
+      for (int c = 0; c < 3; ++c)
+        image->rgb[i + c] = static_cast<uint8_t>(
+            std::lround((1.0 - alpha) * image->rgb[i + c] + alpha * color[c]));
+    }
+  }
+}
+
+// `text` at (x, y) (its top left), stb_easy_font's quads scaled by `scale`.
+void DrawText(Image* image, int x, int y, const std::string& text, int scale, const Rgb& color) {
+  std::vector<char> buffer(text.size() * 300 + 64);
+  std::string copy = text;
+  const int quads = stb_easy_font_print(0, 0, copy.data(), nullptr, buffer.data(),
+                                        static_cast<int>(buffer.size()));
+  for (int q = 0; q < quads; ++q) {
+    float lo[2] = {1e9f, 1e9f}, hi[2] = {-1e9f, -1e9f};
+    for (int v = 0; v < 4; ++v) {
+      float xy[2];
+      std::memcpy(xy, buffer.data() + 16 * (4 * q + v), sizeof(xy));
+      for (int a = 0; a < 2; ++a) {
+        lo[a] = std::min(lo[a], xy[a]);
+        hi[a] = std::max(hi[a], xy[a]);
+      }
+    }
+    FillRect(image, x + static_cast<int>(std::lround(lo[0] * scale)),
+             y + static_cast<int>(std::lround(lo[1] * scale)),
+             x + static_cast<int>(std::lround(hi[0] * scale)),
+             y + static_cast<int>(std::lround(hi[1] * scale)), color, 1.0);
+  }
+}
+
+// The legend, top left: the result shown in its method's colour, then the picture's colours.
+void DrawLegend(const Report& report, Image* image) {
+  std::vector<std::pair<Rgb, std::string>> rows;
+  if (report.primary >= 0) {
+    const Selection& s = report.results.at(static_cast<size_t>(report.primary));
+    rows.emplace_back(MethodColor(s.method),
+                      fmt::format("{}, N = {}: coverage {:.2f} %", s.method, s.n, 100 * s.coverage));
+  } else {
+    rows.emplace_back(kOtherMethodColor, "no result: no chosen sensors");
+  }
+  rows.emplace_back(kUnobservedColor, "target not observed");
+  for (size_t k = 0; k < kObservedColors.size(); ++k)
+    rows.emplace_back(kObservedColors[k],
+                      fmt::format("observed by {}{} chosen sensor{}", k + 1,
+                                  k + 1 == kObservedColors.size() ? "+" : "", k ? "s" : ""));
+  rows.emplace_back(kOccluderColor, "occluder");
+  rows.emplace_back(kFrustumColor, "chosen sensors, frusta to the targets");
+  const int scale = std::max(1, static_cast<int>(std::lround(image->height / 480.0)));
+  const int line = 14 * scale, pad = 6 * scale, swatch = 9 * scale;
+  int text_width = 0;
+  for (const auto& row : rows) {
+    std::string copy = row.second;
+    text_width = std::max(text_width, stb_easy_font_width(copy.data()) * scale);
+  }
+  const int x0 = pad, y0 = pad;
+  const int width = pad + swatch + pad + text_width + pad;
+  const int height = pad + static_cast<int>(rows.size()) * line + pad / 2;
+  FillRect(image, x0, y0, x0 + width, y0 + height, Rgb{255, 255, 255}, 0.85);
+  for (size_t r = 0; r < rows.size(); ++r) {
+    const int y = y0 + pad + static_cast<int>(r) * line;
+    if (r == 0) {
+      // The method's row as the chart draws a method (a line), not as a surface colour: local's
+      // red must not read as "not observed".
+      FillRect(image, x0 + pad, y + swatch / 2 - scale, x0 + pad + swatch, y + swatch / 2 + scale,
+               rows[r].first, 1.0);
+    } else {
+      FillRect(image, x0 + pad, y, x0 + pad + swatch, y + swatch, rows[r].first, 1.0);
+    }
+    DrawText(image, x0 + pad + swatch + pad, y + scale, rows[r].second, scale, Rgb{29, 35, 43});
+  }
 }
 
 }  // namespace
@@ -179,7 +280,8 @@ Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
   const std::vector<uint32_t>& chosen = report.PrimaryChosen();
   const std::unordered_map<uint64_t, int> counts = ObservationCounts(data, chosen);
 
-  View view = DefaultView(scene, report, options.vertical_fov);
+  View view = DefaultView(scene, report, options.vertical_fov,
+                          static_cast<double>(options.width) / options.height);
   if (options.look_at) view.look_at = *options.look_at;
   if (options.eye) view.eye = *options.eye;
   if ((view.eye - view.look_at).norm() < 1e-9)
@@ -233,13 +335,7 @@ Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
               shade = 0.3 + 0.45 * facing + 0.3 * key;
               if (hit.is_target) {
                 const Vec3 point = view.eye + static_cast<double>(hit.t) * dir;
-                const VoxelIndex key = VoxelKeyOf(point, cell_size);
-                int seeing = 0;
-                if (VoxelIndexFits(key)) {
-                  const auto it = counts.find(PackVoxel(key));
-                  if (it != counts.end()) seeing = it->second;
-                }
-                color = TargetColor(seeing);
+                color = TargetColor(CellCount(counts, point, normal, cell_size));
               } else {
                 // Neighbouring occluders (a table on a floor) differ a little in lightness.
                 const double tint =
@@ -258,12 +354,13 @@ Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
 
   if (options.draw_frusta) {
     Overlay overlay(camera, depth);
+    const Aabb targets = DefaultFraming(scene, report).targets;
     for (uint32_t index : chosen) {
       const Candidate& c = data.candidates.at(index);
       const Vec3 apex = c.world_from_body.position;
-      const double w = c.sensor.width, h = c.sensor.height;
-      const std::array<Vec3, 4> corners = {FarCorner(c, 0, 0), FarCorner(c, w, 0),
-                                           FarCorner(c, w, h), FarCorner(c, 0, h)};
+      const double w = c.sensor.width, h = c.sensor.height, d = FrustumDepth(c, targets);
+      const std::array<Vec3, 4> corners = {FrustumCorner(c, 0, 0, d), FrustumCorner(c, w, 0, d),
+                                           FrustumCorner(c, w, h, d), FrustumCorner(c, 0, h, d)};
       for (int k = 0; k < 4; ++k) {
         overlay.Segment(apex, corners[k]);
         overlay.Segment(corners[k], corners[(k + 1) % 4]);
@@ -272,6 +369,7 @@ Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
     }
     overlay.Composite(kFrustumColor, &image);
   }
+  if (options.draw_legend) DrawLegend(report, &image);
   return image;
 }
 

@@ -251,10 +251,8 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
          {"paper_coverage", fraction(o.reference_indices.size() + o.outside_keys.size())}});
   }
 
-  // Results.
-  ordered_json results = ordered_json::array();
-  for (size_t index = 0; index < report.results.size(); ++index) {
-    const Selection& s = report.results[index];
+  // Results, and the coverage curve's extra answers (report.json `curve`).
+  const auto result_json = [](const Selection& s) {
     ordered_json r = {{"method", s.method},
                       {"n", s.n},
                       {"sensors", s.chosen},
@@ -265,10 +263,17 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
       r["upper_bound"] = *s.upper_bound;
       r["optimal"] = s.proven_optimal;
     }
-    if (!report.result_plain_coverage.empty()) r["plain_coverage"] = report.result_plain_coverage[index];
     if (!s.state_coverage.empty()) r["state_coverage"] = s.state_coverage;
-    results.push_back(std::move(r));
+    return r;
+  };
+  ordered_json results = ordered_json::array();
+  for (size_t index = 0; index < report.results.size(); ++index) {
+    results.push_back(result_json(report.results[index]));
+    if (!report.result_plain_coverage.empty())
+      results.back()["plain_coverage"] = report.result_plain_coverage[index];
   }
+  ordered_json curve = ordered_json::array();
+  for (const Selection& s : report.curve) curve.push_back(result_json(s));
 
   // Chosen sensors in the order chosen, with their marginal gains (derived), and per reference
   // voxel how many of them observe it (the page's colours).
@@ -359,8 +364,17 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
         "page was written. Install Debian's libjs-three and run vantage again.",
         three_path, orbit_path);
 
+  // The page fits the default view again for its canvas' aspect (report.js, fitView); the eye
+  // given here is FitView's for the view's usual 2.5 : 1.
   const double fov = 0.7853981633974483;
-  const View view = DefaultView(scene, report, fov);
+  const Framing framing = DefaultFraming(scene, report);
+  const View view = DefaultView(scene, report, fov, 2.5);
+  for (size_t k = 0; k < chosen_json.size(); ++k) {
+    const Candidate& c = data.candidates.at(report.primary_sensors[k].index);
+    chosen_json[k]["frustum_depth"] = FrustumDepth(c, framing.targets);
+  }
+  ordered_json framed = ordered_json::array();
+  for (const Vec3& p : framing.sensors) framed.push_back(Vec3Json(p));
 
   page["meta"] = {{"scene", report.scene},
                   {"version", Version()},
@@ -374,18 +388,29 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   } else {
     page["primary"] = nullptr;
   }
-  page["view"] = {
-      {"eye", Vec3Json(view.eye)}, {"look_at", Vec3Json(view.look_at)}, {"fov_deg", 45.0}};
+  page["view"] = {{"eye", Vec3Json(view.eye)},
+                  {"look_at", Vec3Json(view.look_at)},
+                  {"fov_deg", 45.0},
+                  {"direction", Vec3Json(framing.direction)},
+                  {"targets", ordered_json::array({Vec3Json(framing.targets.min),
+                                                   Vec3Json(framing.targets.max)})},
+                  {"sensors", std::move(framed)}};
+  ordered_json method_colors = ordered_json::object();
+  for (const MethodColorEntry& entry : kMethodColors)
+    method_colors[std::string(entry.method)] = RgbJson(entry.color);
   page["colors"] = {
       {"unobserved", RgbJson(kUnobservedColor)},
       {"observed", ordered_json::array({RgbJson(kObservedColors[0]), RgbJson(kObservedColors[1]),
                                         RgbJson(kObservedColors[2])})},
       {"occluder", RgbJson(kOccluderColor)},
-      {"frustum", RgbJson(kFrustumColor)}};
+      {"frustum", RgbJson(kFrustumColor)},
+      {"methods", std::move(method_colors)},
+      {"other_method", RgbJson(kOtherMethodColor)}};
   page["notes"] = notes;
   page["three_note"] = three_note;
   page["candidates"] = std::move(candidates);
   page["results"] = std::move(results);
+  page["curve"] = std::move(curve);
   page["chosen"] = std::move(chosen_json);
   page["quality"] = data.quality.active();
   if (report.states) {

@@ -67,6 +67,38 @@ ordered_json QualityJson(const VisibilityFile& data) {
   return j;
 }
 
+// One entry of report.json's `results` (or `curve`); `plain_coverage` may be null.
+ordered_json ResultJson(const Selection& s, const VisibilityFile& data,
+                        const double* plain_coverage) {
+  ordered_json r;
+  r["method"] = s.method;
+  r["n"] = s.n;
+  ordered_json names = ordered_json::array();
+  for (uint32_t index : s.chosen) names.push_back(data.candidates.at(index).name);
+  r["sensors"] = std::move(names);
+  r["coverage"] = s.coverage;
+  r["paper_coverage"] = s.paper_coverage;
+  if (plain_coverage) r["plain_coverage"] = *plain_coverage;
+  if (!s.state_coverage.empty()) r["state_coverage"] = s.state_coverage;
+  if (s.upper_bound) {
+    r["upper_bound"] = *s.upper_bound;
+    r["gap"] = std::max(0.0, *s.upper_bound - s.coverage);
+    r["optimal"] = s.proven_optimal;
+  }
+  r["seconds"] = s.seconds;
+  // The objective (SYSTEM.md, Select: further objectives); coverage is measured under it.
+  r["objective"] = s.objective;
+  if (s.goal) r["goal"] = *s.goal;
+  if (s.k >= 2) r["k"] = s.k;
+  if (s.budget) r["budget"] = *s.budget;
+  if (s.cost) r["cost"] = *s.cost;
+  if (s.n_lower_bound) {
+    r["n_lower_bound"] = *s.n_lower_bound;
+    r["optimal"] = s.proven_optimal;
+  }
+  return r;
+}
+
 ordered_json RobustnessJson(const Robustness& robustness, const VisibilityFile& data) {
   const auto name = [&](uint32_t index) { return data.candidates.at(index).name; };
   const auto failure = [&](const SensorFailure& f) {
@@ -187,37 +219,16 @@ std::string ReportJson(const Report& report) {
   if (quality) j["quality"] = QualityJson(data);
   ordered_json results = ordered_json::array();
   for (size_t index = 0; index < report.results.size(); ++index) {
-    const Selection& s = report.results[index];
-    ordered_json r;
-    r["method"] = s.method;
-    r["n"] = s.n;
-    ordered_json names = ordered_json::array();
-    for (uint32_t index : s.chosen) names.push_back(data.candidates.at(index).name);
-    r["sensors"] = std::move(names);
-    r["coverage"] = s.coverage;
-    r["paper_coverage"] = s.paper_coverage;
     // Plain coverage from `data` is the first state's: shown only without states.
-    if (!report.result_plain_coverage.empty()) r["plain_coverage"] = report.result_plain_coverage.at(index);
-    if (!s.state_coverage.empty()) r["state_coverage"] = s.state_coverage;
-    if (s.upper_bound) {
-      r["upper_bound"] = *s.upper_bound;
-      r["gap"] = std::max(0.0, *s.upper_bound - s.coverage);
-      r["optimal"] = s.proven_optimal;
-    }
-    r["seconds"] = s.seconds;
-    // The objective (SYSTEM.md, Select: further objectives); coverage is measured under it.
-    r["objective"] = s.objective;
-    if (s.goal) r["goal"] = *s.goal;
-    if (s.k >= 2) r["k"] = s.k;
-    if (s.budget) r["budget"] = *s.budget;
-    if (s.cost) r["cost"] = *s.cost;
-    if (s.n_lower_bound) {
-      r["n_lower_bound"] = *s.n_lower_bound;
-      r["optimal"] = s.proven_optimal;
-    }
-    results.push_back(std::move(r));
+    const double* plain =
+        report.result_plain_coverage.empty() ? nullptr : &report.result_plain_coverage.at(index);
+    results.push_back(ResultJson(report.results[index], data, plain));
   }
   j["results"] = std::move(results);
+  // The coverage-versus-n curve's extra answers (docs/outputs.md), shaped as results entries.
+  ordered_json curve = ordered_json::array();
+  for (const Selection& s : report.curve) curve.push_back(ResultJson(s, data, nullptr));
+  j["curve"] = std::move(curve);
   if (report.primary >= 0) j["primary_result"] = report.primary;
   if (report.robustness) j["robustness"] = RobustnessJson(*report.robustness, data);
   if (report.states) {

@@ -412,4 +412,35 @@ std::vector<Selection> Select(std::span<const Observation> observations,
   return results;
 }
 
+std::vector<Selection> CoverageCurve(std::span<const Observation> observations,
+                                     size_t reference_size, const SelectOptions& options,
+                                     const std::vector<Selection>& results, int up_to) {
+  const Objective objective = options.objective();
+  if (objective == Objective::kSetCover || objective == Objective::kBudget) return {};
+  int last_n = up_to;
+  for (const Selection& s : results) last_n = std::max(last_n, s.n);
+  last_n = std::min(last_n, static_cast<int>(observations.size()));
+  const int first_n = objective == Objective::kKCoverage ? options.k : 1;
+  const auto has = [&](const std::string& method, int n) {
+    return std::any_of(results.begin(), results.end(), [&](const Selection& s) {
+      return s.method == method && s.n == n && s.k == (objective == Objective::kKCoverage ? options.k : 1);
+    });
+  };
+  std::vector<Selection> curve;
+  if (last_n < first_n) return curve;
+  const CoverageEvaluator evaluator(observations, reference_size);
+  const Clock::time_point start = Clock::now();
+  const detail::CoverageMatrix matrix(observations, reference_size);
+  Pipeline pipeline(evaluator, matrix, options, SecondsSince(start));
+  const std::string greedy = MethodName(Method::kGreedy), local = MethodName(Method::kLocal);
+  for (int n = first_n; n <= last_n; ++n) {
+    const bool want_greedy = !has(greedy, n), want_local = !has(local, n);
+    if (!want_greedy && !want_local) continue;
+    Selection g = pipeline.Greedy(n);  // local starts from greedy's answer
+    if (want_greedy) curve.push_back(std::move(g));
+    if (want_local) curve.push_back(pipeline.Local());
+  }
+  return curve;
+}
+
 }  // namespace vantage

@@ -12,6 +12,8 @@
   function pct(x) { return x === null || x === undefined ? '' : (100 * x).toFixed(2) + ' %'; }
   function fix(x, d) { return x === null || x === undefined ? '' : Number(x).toFixed(d); }
   function css(rgb) { return 'rgb(' + rgb[0] + ',' + rgb[1] + ',' + rgb[2] + ')'; }
+  // One colour per method, the same in every report (visualize.hpp, kMethodColors).
+  function methodColor(method) { return css(C.methods[method] || C.other_method); }
   function bytes(b64) {
     var bin = atob(b64), out = new Uint8Array(bin.length);
     for (var i = 0; i < bin.length; ++i) out[i] = bin.charCodeAt(i);
@@ -115,6 +117,7 @@
     makeTable(document.getElementById('results-table'), [
       {label: 'method', value: function (r) { return r.method; }},
       {label: 'N', num: true, value: function (r) { return r.n; }},
+      {label: 'from', value: function (r) { return r.curve ? 'curve' : 'run'; }},
       {label: 'coverage', num: true, value: function (r) { return r.coverage; }, show: pct},
       {label: 'paper coverage', num: true, value: function (r) { return r.paper_coverage; }, show: pct},
       {label: 'upper bound', num: true, value: function (r) { return r.upper_bound; }, show: pct},
@@ -125,7 +128,10 @@
                            value: function (r) { return r.plain_coverage; }, show: pct}] : [])
      .concat(D.states ? D.states.names.map(function (name, k) {
        return {label: 'state ' + name, num: true, value: function (r) { return r.state_coverage[k]; }, show: pct};
-     }) : []), D.results);
+     }) : []), D.results.concat(D.curve.map(function (r) {
+       var row = {curve: true}; for (var key in r) row[key] = r[key];
+       return row;
+     })));
 
     // Robustness of the primary result: each sensor failing, the narrower fields of view and
     // one-sensor alternatives.
@@ -138,9 +144,12 @@
       var base = D.results[rb.result];
       var text = 'For ' + base.method + ', N = ' + base.n + ' (' + pct(base.coverage) + ').';
       if (rb.fov_shrunk_coverage !== undefined)
-        text += ' With every field of view ' + rb.fov_tolerance_deg + '° narrower: ' + pct(rb.fov_shrunk_coverage) + '.';
+        text += ' With every field of view ' + rb.fov_tolerance_deg + '° narrower: ' + pct(rb.fov_shrunk_coverage) +
+                ' (a narrower field of view can also raise coverage: the same pixels, denser).';
+      // With one sensor its failure leaves nothing: that row would say nothing.
+      if (base.n < 2) text += ' Sensor failures are not listed for one sensor.';
       document.getElementById('robustness-text').textContent = text;
-      var rows = rb.sensor_failures.map(function (f) {
+      var rows = rb.sensor_failures.filter(function () { return base.n >= 2; }).map(function (f) {
         return {what: 'fails', sensor: f.sensor, other: '', coverage: f.coverage, change: f.coverage - base.coverage};
       }).concat(rb.alternatives.map(function (a) {
         return {what: 'replaced by', sensor: a.replaced, other: a.replacement, coverage: a.coverage, change: a.coverage - base.coverage};
@@ -181,13 +190,20 @@
   guarded('chart', function () {
     var SVG = 'http://www.w3.org/2000/svg';
     var W = 760, H = 340, L = 56, R = 200, T = 16, B = 44;
+    // The run's results and the curve's extra answers (report.json `curve`, drawn hollow): every
+    // point drawn is an entry of report.json.
     var series = {}, order = [];
-    D.results.forEach(function (r) {
+    var points = D.results.concat(D.curve.map(function (r) {
+      var copy = {}; for (var key in r) copy[key] = r[key];
+      copy.curve = true;
+      return copy;
+    }));
+    points.forEach(function (r) {
       if (!series[r.method]) { series[r.method] = []; order.push(r.method); }
       series[r.method].push(r);
     });
     var maxN = 1, maxY = 0;
-    D.results.forEach(function (r) {
+    points.forEach(function (r) {
       maxN = Math.max(maxN, r.n);
       maxY = Math.max(maxY, r.coverage, r.upper_bound === undefined ? 0 : r.upper_bound);
     });
@@ -220,17 +236,24 @@
     el('text', {x: (L + W - R) / 2, y: H - 8, 'text-anchor': 'middle', fill: '#1d232b'}, grid, 'number of sensors N');
     el('text', {x: 14, y: (T + H - B) / 2, 'text-anchor': 'middle', fill: '#1d232b',
                 transform: 'rotate(-90 14 ' + (T + H - B) / 2 + ')'}, grid, 'coverage');
-    var palette = ['#1f77b4', '#ff7f0e', '#2ca02c', '#d62728', '#9467bd', '#8c564b', '#e377c2', '#17becf'];
+    // The run's N.
+    if (D.primary) {
+      el('line', {x1: X(D.primary.n), x2: X(D.primary.n), y1: T, y2: H - B, stroke: '#1d232b',
+                  'stroke-width': 1, 'stroke-dasharray': '3 3', 'class': 'run-n'}, grid);
+      el('text', {x: X(D.primary.n) + (D.primary.n === maxN ? -4 : 4), y: T + 10, fill: '#1d232b',
+                  'text-anchor': D.primary.n === maxN ? 'end' : 'start'}, grid, 'this run: N = ' + D.primary.n);
+    }
     order.forEach(function (method, m) {
-      var color = palette[m % palette.length];
+      var color = methodColor(method);
       var pts = series[method].slice().sort(function (a, b) { return a.n - b.n; });
       var g = el('g', {'class': 'series', 'data-method': method}, svg);
       if (pts.length > 1)
         el('polyline', {points: pts.map(function (r) { return X(r.n) + ',' + Y(r.coverage); }).join(' '),
                         fill: 'none', stroke: color, 'stroke-width': 2}, g);
       pts.forEach(function (r) {
-        var c = el('circle', {cx: X(r.n), cy: Y(r.coverage), r: 4, fill: color}, g);
-        el('title', {}, c, method + ', N = ' + r.n + ': ' + pct(r.coverage));
+        var c = el('circle', {cx: X(r.n), cy: Y(r.coverage), r: 4, fill: r.curve ? '#fff' : color,
+                              stroke: color, 'stroke-width': 1.5}, g);
+        el('title', {}, c, method + ', N = ' + r.n + ': ' + pct(r.coverage) + (r.curve ? ' (computed for the curve)' : ''));
       });
       var bounds = pts.filter(function (r) { return r.upper_bound !== undefined; });
       if (bounds.length) {
@@ -259,9 +282,15 @@
         el('title', {}, r, 'primary result, first ' + (k + 1) + ' sensor' + (k ? 's' : '') + ' in the order chosen: ' + pct(s.cumulative));
       });
       var cy = T + 8 + order.length * 20;
+      order.push('');  // the legend's next row
       el('line', {x1: W - R + 14, x2: W - R + 38, y1: cy, y2: cy, stroke: '#5d6875', 'stroke-width': 1.5,
                   'stroke-dasharray': '2 3'}, svg);
       el('text', {x: W - R + 44, y: cy + 4, fill: '#1d232b'}, svg, 'primary, in order chosen');
+    }
+    if (D.curve.length) {
+      var hy = T + 8 + order.length * 20;
+      el('circle', {cx: W - R + 26, cy: hy, r: 4, fill: '#fff', stroke: '#5d6875', 'stroke-width': 1.5}, svg);
+      el('text', {x: W - R + 44, y: hy + 4, fill: '#1d232b'}, svg, 'computed for the curve');
     }
     if (!D.results.length) el('text', {x: (L + W - R) / 2, y: (T + H - B) / 2, 'text-anchor': 'middle'}, svg, 'no results');
     document.getElementById('chart-box').appendChild(svg);
@@ -284,10 +313,72 @@
     view.insertBefore(renderer.domElement, view.firstChild);
     var scene = new THREE.Scene();
     scene.background = new THREE.Color(0xeef1f5);
-    var eye = new THREE.Vector3().fromArray(D.view.eye), target = new THREE.Vector3().fromArray(D.view.look_at);
+    // The default views (default_view.cpp, FitView): along D.view.direction, far enough that
+    // every point lies in the frame with a 5 % margin, for this canvas' aspect.
+    function fitView(points, fovDeg, aspect) {
+      var d = new THREE.Vector3().fromArray(D.view.direction).normalize();
+      var box = new THREE.Box3().setFromPoints(points), centre = box.getCenter(new THREE.Vector3());
+      var forward = d.clone().negate(), right = forward.clone().cross(new THREE.Vector3(0, 0, 1));
+      if (right.length() < 1e-6) right = forward.clone().cross(new THREE.Vector3(0, 1, 0));
+      right.normalize();
+      var up = right.clone().cross(forward).normalize();
+      var ty = Math.tan(fovDeg * Math.PI / 360), tx = ty * aspect;
+      var radius = Math.max(0.5 * box.getSize(new THREE.Vector3()).length(), 1e-3);
+      function fit(c) {
+        var distance = 0.5 * radius;
+        points.forEach(function (p) {
+          var v = p.clone().sub(c);
+          var lateral = Math.max(Math.abs(v.dot(right)) / tx, Math.abs(v.dot(up)) / ty);
+          distance = Math.max(distance, 1.05 * lateral + v.dot(d), v.dot(d) + 0.2 * radius);
+        });
+        return distance;
+      }
+      var distance = fit(centre);
+      // Centred on the points' extent in the image, twice (as FitView).
+      for (var round = 0; round < 2; ++round) {
+        var lx = Infinity, hx = -Infinity, ly = Infinity, hy = -Infinity;
+        points.forEach(function (p) {
+          var v = p.clone().sub(centre), depth = distance - v.dot(d);
+          lx = Math.min(lx, v.dot(right) / depth); hx = Math.max(hx, v.dot(right) / depth);
+          ly = Math.min(ly, v.dot(up) / depth); hy = Math.max(hy, v.dot(up) / depth);
+        });
+        var moved = centre.clone().addScaledVector(right, distance * 0.5 * (lx + hx))
+                                  .addScaledVector(up, distance * 0.5 * (ly + hy));
+        var closer = fit(moved);
+        if (closer >= distance) break;
+        centre = moved;
+        distance = closer;
+      }
+      return {eye: centre.clone().addScaledVector(d, distance), target: centre, fov: fovDeg};
+    }
+    var tb = D.view.targets, targetCorners = [];
+    for (var corner = 0; corner < 8; ++corner)
+      targetCorners.push(new THREE.Vector3(tb[corner & 1 ? 1 : 0][0], tb[corner & 2 ? 1 : 0][1], tb[corner & 4 ? 1 : 0][2]));
+    var aspect = view.clientWidth / view.clientHeight;
+    var views = [{name: 'chosen sensors and targets', key: 'sensors',
+                  make: function () {
+                    return fitView(targetCorners.concat(D.view.sensors.map(function (p) { return new THREE.Vector3().fromArray(p); })),
+                                   D.view.fov_deg, camera.aspect);
+                  }},
+                 {name: 'targets only', key: 'targets',
+                  make: function () { return fitView(targetCorners, D.view.fov_deg, camera.aspect); }}];
+    // Each chosen sensor's own view: from its optical centre along its axis, with its vertical
+    // field of view (up stays +z: the picture is not rolled as the sensor's image may be).
+    D.chosen.forEach(function (s, k) {
+      var c = D.candidates[s.index];
+      views.push({name: 'from sensor ' + (k + 1) + ': ' + c.name, key: 'sensor' + (k + 1), make: function () {
+        var q = new THREE.Quaternion(c.q[1], c.q[2], c.q[3], c.q[0]);
+        var apex = new THREE.Vector3().fromArray(c.p);
+        var axis = new THREE.Vector3(1, 0, 0).applyQuaternion(q);
+        return {eye: apex, target: apex.clone().addScaledVector(axis, s.frustum_depth),
+                fov: 2 * Math.atan(0.5 * c.h / c.fy) * 180 / Math.PI};
+      }});
+    });
+    var first = fitView(targetCorners.concat(D.view.sensors.map(function (p) { return new THREE.Vector3().fromArray(p); })),
+                        D.view.fov_deg, aspect);
+    var eye = first.eye, target = first.target;
     var dist = eye.distanceTo(target);
-    var camera = new THREE.PerspectiveCamera(D.view.fov_deg, view.clientWidth / view.clientHeight,
-                                             dist / 2000, dist * 200);
+    var camera = new THREE.PerspectiveCamera(D.view.fov_deg, aspect, dist / 2000, dist * 200);
     camera.up.set(0, 0, 1);
     camera.position.copy(eye);
     scene.add(camera);
@@ -352,12 +443,13 @@
     ctx.beginPath(); ctx.arc(32, 32, 29, 0, 2 * Math.PI); ctx.fillStyle = '#fff'; ctx.fill();
     ctx.lineWidth = 5; ctx.strokeStyle = '#333'; ctx.stroke();
     var discTexture = new THREE.CanvasTexture(disc);
-    function points(pos, colors, size, attenuate, round, pull) {
+    function points(pos, colors, size, attenuate, round, pull, opacity) {
       var g = new THREE.BufferGeometry();
       g.setAttribute('position', new THREE.BufferAttribute(pos, 3));
       g.setAttribute('color', new THREE.BufferAttribute(colors, 3));
       var options = {size: size, sizeAttenuation: attenuate, vertexColors: THREE.VertexColors};
-      if (round) { options.map = discTexture; options.alphaTest = 0.5; }
+      if (round) { options.map = discTexture; options.alphaTest = 0.1; }
+      if (opacity) { options.transparent = true; options.opacity = opacity; options.depthWrite = false; }
       var material = new THREE.PointsMaterial(options);
       if (pull) {
         // A voxel centre lies up to 0.87 cell behind the surface it stands for, where the target
@@ -378,16 +470,18 @@
     layer('observed voxels', points(posO, colO, voxelSize, true, false, F), true);
     layer('unobserved voxels', points(posU, colU, voxelSize, true, false, F), true);
 
-    // Candidates: points coloured by their own coverage.
+    // Candidates: small faded points coloured by their own coverage, so that hundreds of them do
+    // not hide the targets.
     var cpos = new Float32Array(3 * D.candidates.length), ccol = new Float32Array(3 * D.candidates.length);
     D.candidates.forEach(function (c, i) {
       var rgb = candidateColor(c);
       cpos[3 * i] = c.p[0]; cpos[3 * i + 1] = c.p[1]; cpos[3 * i + 2] = c.p[2];
       ccol[3 * i] = rgb[0] / 255; ccol[3 * i + 1] = rgb[1] / 255; ccol[3 * i + 2] = rgb[2] / 255;
     });
-    var candidatePoints = layer('candidates', points(cpos, ccol, 9, false, true), true);
+    var candidatePoints = layer('candidates', points(cpos, ccol, 5, false, true, 0, 0.45), true);
 
-    // Chosen sensors: markers and frusta cut at `far` (body x forward, image u right = -y, v down = -z).
+    // Chosen sensors: markers and frusta that end at the targets' far side (frustum_depth, never
+    // beyond `far`; body x forward, image u right = -y, v down = -z).
     var sensors = new THREE.Group(), frusta = [];
     var markerSize = Math.max(dist * 0.008, 1e-4);
     var markerGeometry = new THREE.SphereBufferGeometry(markerSize, 12, 8);
@@ -401,7 +495,7 @@
       sensors.add(marker);
       var corners = [[0, 0], [c.w, 0], [c.w, c.h], [0, c.h]].map(function (uv) {
         return new THREE.Vector3(1, -(uv[0] - c.cx) / c.fx, -(uv[1] - c.cy) / c.fy)
-          .multiplyScalar(c.far).applyQuaternion(q).add(apex);
+          .multiplyScalar(s.frustum_depth).applyQuaternion(q).add(apex);
       });
       for (var k = 0; k < 4; ++k) {
         frusta.push(apex, corners[k], corners[k], corners[(k + 1) % 4]);
@@ -422,12 +516,38 @@
       label.appendChild(document.createTextNode(' ' + l.name));
       panel.appendChild(label);
     });
-    var reset = document.createElement('button');
-    reset.textContent = 'reset view';
-    reset.addEventListener('click', function () {
-      camera.position.copy(eye); controls.target.copy(target); controls.update(); render();
+    // Views to pick (the page opens on the first, or on #view=KEY of its address: sensors,
+    // targets, sensor1, ...); picking one again resets the orbit.
+    var pickView = document.createElement('select');
+    pickView.id = 'view-pick';
+    views.forEach(function (v, k) {
+      var option = document.createElement('option');
+      option.value = String(k);
+      option.textContent = v.name;
+      pickView.appendChild(option);
     });
-    panel.appendChild(reset);
+    function show(k) {
+      var v = views[k].make();
+      camera.fov = v.fov;
+      camera.updateProjectionMatrix();
+      camera.position.copy(v.eye);
+      controls.target.copy(v.target);
+      controls.update();
+      render();
+    }
+    pickView.addEventListener('change', function () { show(Number(pickView.value)); });
+    var again = document.createElement('button');
+    again.textContent = 'reset view';
+    again.addEventListener('click', function () { show(Number(pickView.value)); });
+    var row = document.createElement('div');
+    row.className = 'views';
+    row.appendChild(document.createTextNode('view '));
+    row.appendChild(pickView);
+    row.appendChild(again);
+    panel.appendChild(row);
+    var wanted = /(?:^#|&)view=([A-Za-z0-9]+)/.exec(window.location.hash);
+    views.forEach(function (v, k) { if (wanted && wanted[1] === v.key) pickView.value = String(k); });
+    show(Number(pickView.value));
 
     // Click a candidate: its name and numbers, and its row in the table.
     var raycaster = new THREE.Raycaster(), mouse = new THREE.Vector2(), pick = document.getElementById('pick');
@@ -465,7 +585,7 @@
     C.observed.forEach(function (c, k) {
       rows.push(['sw', css(c), 'observed by ' + (k + 1) + (k === C.observed.length - 1 ? '+' : '') + ' chosen sensor' + (k ? 's' : '')]);
     });
-    rows.push(['sw', css(C.frustum), 'chosen sensors, frusta cut at far']);
+    rows.push(['sw', css(C.frustum), 'chosen sensors, frusta to the targets']);
     var stops = [0, 0.25, 0.5, 0.75, 1].map(function (t) { return css(ramp(t).map(Math.round)); }).join(',');
     lg.innerHTML = rows.map(function (r) {
       return '<div class="row"><span class="' + r[0] + '" style="background:' + r[1] + '"></span>' + esc(r[2]) + '</div>';
