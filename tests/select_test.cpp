@@ -469,7 +469,9 @@ TEST(CoverageCurve, FillsEveryMissingNUpToSixWithGreedyAndLocal) {
     EXPECT_DOUBLE_EQ(s.coverage, static_cast<double>(UnionSize(obs, s.chosen)) / 40);
     EXPECT_LE(UnionSize(obs, s.chosen), BruteForceOptimum(obs, static_cast<size_t>(s.n)));
     EXPECT_FALSE(s.upper_bound.has_value());
-    if (s.method == "greedy") EXPECT_EQ(s.chosen, PlainGreedy(obs, s.n));
+    if (s.method == "greedy") {
+      EXPECT_EQ(s.chosen, PlainGreedy(obs, s.n));
+    }
   }
   std::set<std::pair<std::string, int>> expected;
   for (int n = 1; n <= 6; ++n) {
