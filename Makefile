@@ -17,9 +17,9 @@ deps:
 build: deps
 	@BUILD=$(BUILD) JOBS=$(JOBS) bash scripts/build.sh
 
-# Only the tool: the newcomer's first run does not wait for the test binaries.
+# Only the tool (and the Python module): the newcomer's first run does not wait for the tests.
 tool: deps
-	@BUILD=$(BUILD) JOBS=$(JOBS) bash scripts/build.sh vantage
+	@BUILD=$(BUILD) JOBS=$(JOBS) bash scripts/build.sh tool
 
 run: tool
 	@BUILD=$(BUILD) EXAMPLE=$(EXAMPLE) OUT=$(OUT) bash scripts/run_example.sh
