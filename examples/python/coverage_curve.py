@@ -56,8 +56,9 @@ def main():
                     label="exact: found .. proven bound")
     ax.plot(ns, bound, color="tab:purple", alpha=0.2, linewidth=9, solid_capstyle="round",
             label="proven upper bound")
-    styles = {"best": ("tab:gray", "s", ":"), "ransac": ("tab:orange", "^", "-"),
-              "greedy": ("tab:green", "o", "-"), "local": ("tab:blue", "D", "--"),
+    # The colours of report.html and render (kMethodColors in vantage/visualize.hpp: tab10).
+    styles = {"best": ("tab:blue", "s", ":"), "ransac": ("tab:orange", "^", "-"),
+              "greedy": ("tab:green", "o", "-"), "local": ("tab:red", "D", "--"),
               "exact": ("tab:purple", "*", "-")}
     for m in METHODS:
         color, marker, line = styles[m]
