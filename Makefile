@@ -27,8 +27,8 @@ run: tool
 # The whole suite, then the suites of hostile input again under ASan + UBSan (scripts/sanitize.sh,
 # build-asan/; `make sanitize` runs every suite there).
 test: build
-	@start=$$(date +%s); cd $(BUILD) && ctest --output-on-failure -j$(JOBS); \
-	  echo "tests: done in $$(( $$(date +%s) - start )) s"
+	@start=$$(date +%s); cd $(BUILD) && ctest --output-on-failure -j$(JOBS); status=$$?; \
+	  echo "tests: done in $$(( $$(date +%s) - start )) s"; exit $$status
 	@SCOPE=hostile JOBS=$(JOBS) bash scripts/sanitize.sh
 
 sanitize: deps
