@@ -51,14 +51,18 @@ std::string Suggest(std::string_view word, const std::vector<std::string>& valid
 const std::string* NearestId(const std::string& word, const std::vector<std::string>& ids) {
   const std::string* containing = nullptr;
   const std::string* closest = nullptr;
+  size_t closest_distance = std::numeric_limits<size_t>::max();
   for (const std::string& id : ids) {
     if (id.find(word) != std::string::npos && (!containing || id.size() < containing->size()))
       containing = &id;
-    if (!closest || EditDistance(word, id) < EditDistance(word, *closest)) closest = &id;
+    const size_t distance = EditDistance(word, id);  // once per id
+    if (distance < closest_distance) {
+      closest_distance = distance;
+      closest = &id;
+    }
   }
   if (containing) return containing;
-  return closest && EditDistance(word, *closest) <= std::max<size_t>(2, word.size() / 2) ? closest
-                                                                                        : nullptr;
+  return closest_distance <= std::max<size_t>(2, word.size() / 2) ? closest : nullptr;
 }
 
 int LineOf(const YAML::Node& node) {
