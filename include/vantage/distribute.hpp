@@ -85,6 +85,13 @@ class MpiJob {
   /// the others empty ones. JobStopped when a rank failed or the ranks' scenes differ.
   TraceFunction Tracer();
 
+  /// --refine in a job: rank 0's tracer of the new poses, which only rank 0 knows. It sends them
+  /// to the other ranks, waiting in ServeTraces, and then traces them as Tracer does.
+  TraceFunction BroadcastTracer();
+  /// The other ranks' side of BroadcastTracer while rank 0 selects and refines: traces each batch
+  /// of poses rank 0 sends, in `rays` with `reference`, until rank 0 ends the job (Finish).
+  void ServeTraces(const RayScene& rays, const Reference& reference, const ObserveOptions& options);
+
   /// The job's end: every rank gives its exit code and message (empty on success). Returns the
   /// code agreed on (the largest) and sets `print` to what this rank reports: its own failure,
   /// naming the rank, or once for all when every rank failed alike.
@@ -97,6 +104,9 @@ class MpiJob {
   int rank_ = 0;
   int size_ = 1;
   bool stopped_ = false;
+  /// Rank 0's Finish as ServeTraces received it (the agreement of every rank's code), for this
+  /// rank's Finish.
+  std::vector<uint64_t> served_finish_;
   friend struct MpiJobAccess;
 };
 

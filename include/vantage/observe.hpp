@@ -27,6 +27,14 @@ struct ObserveOptions {
   void Validate() const { quality.Validate(); }
 };
 
+/// How candidates are traced where the caller may spread the work: empty, by Observe in this
+/// process. The distributed layer (vantage/distribute.hpp) traces a share in each process and
+/// gathers the rest (MPI), or keeps its share only (--shard). Returns one observation per
+/// candidate, as Observe does.
+using TraceFunction = std::function<std::vector<Observation>(
+    const RayScene& rays, const Reference& reference, std::span<const Candidate> candidates,
+    const ObserveOptions& options)>;
+
 /// One Observation per candidate, in candidate order, traced in `rays` (the RayScene of the scene
 /// whose targets `reference` was built from: culling traces only the pixels whose rays can reach
 /// its cells). Deterministic whatever the thread count. InputError for an invalid sensor or

@@ -117,14 +117,8 @@ struct ObservedScene {
   std::vector<std::string> notes;
 };
 
-/// How the candidates of one geometry are traced: empty, by Observe in this process. The
-/// distributed layer (vantage/distribute.hpp) traces a share in each process and gathers the rest
-/// (MPI), or keeps its share only (--shard). Called once per traced geometry, the scene's first,
-/// then each state of another geometry, in the same order in every process; returns one
-/// observation per candidate.
-using TraceFunction = std::function<std::vector<Observation>(
-    const RayScene& rays, const Reference& reference, std::span<const Candidate> candidates,
-    const ObserveOptions& options)>;
+// TraceFunction (observe.hpp): ObservePrepared calls it once per traced geometry, the scene's
+// first, then each state of another geometry, in the same order in every process.
 
 /// Memory checks, R, observe (every state): the candidates traced once per distinct geometry,
 /// each geometry's BVH built once, through `trace` when it is set. The scene's selection settings

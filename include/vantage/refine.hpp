@@ -26,6 +26,9 @@ struct RefineOptions {
   /// How the new poses are traced: the culling and quality filter the given observations were
   /// made with, so that old and new candidates are scored alike.
   ObserveOptions observe;
+  /// How the new poses are traced (observe.hpp): empty, by Observe in this process; an MPI job's
+  /// spreads them over its ranks (distribute.hpp).
+  TraceFunction trace;
 
   /// Throws InputError naming the field when a value is out of range or not finite.
   void Validate() const;

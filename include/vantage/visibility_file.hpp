@@ -31,6 +31,11 @@ void SaveVisibilityFile(const std::string& path, const VisibilityFile& file);
 /// Reads it back; InputError naming the file when it is not one, corrupt, or another version.
 VisibilityFile LoadVisibilityFile(const std::string& path);
 
+/// The bytes SaveVisibilityFile writes, and back (`where` names their source in messages, as the
+/// path does for LoadVisibilityFile): a file sent from one process to another.
+std::string EncodeVisibility(const VisibilityFile& file);
+VisibilityFile DecodeVisibility(const std::string& bytes, const std::string& where);
+
 /// FNV-1a 64 of everything the file holds but its observations: the scene, seed, settings, quality
 /// filter, R and the candidates. Equal for the shards of one run, different for another scene or
 /// other settings.

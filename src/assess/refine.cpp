@@ -349,7 +349,9 @@ RefineResult Refine(const RayScene& rays,
     if (!fresh.empty()) {
       ++result.rounds;
       // The new poses are traced as the others were: the run's culling and quality filter.
-      std::vector<Observation> seen = Observe(rays, reference, fresh, options.observe);
+      std::vector<Observation> seen = options.trace
+                                          ? options.trace(rays, reference, fresh, options.observe)
+                                          : Observe(rays, reference, fresh, options.observe);
       for (size_t i = 0; i < fresh.size(); ++i) {
         result.extra_rays += seen[i].rays_traced;
         candidates.push_back(std::move(fresh[i]));

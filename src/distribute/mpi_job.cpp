@@ -52,8 +52,17 @@ std::optional<RunResult> OptimizeInJob(const OptimizeOptions& options) {
   if (!job) return Optimize(options);
   OptimizeOptions spread = options;
   spread.trace = job->Tracer();
+  if (spread.refine && job->rank() == 0) spread.refine->trace = job->BroadcastTracer();
   OptimizeObserved observed = ObserveForOptimize(spread);
-  if (job->rank() != 0) return std::nullopt;
+  if (job->rank() != 0) {
+    // Rank 0 selects; its refinement's new poses are traced by every rank, as observe's were.
+    if (spread.refine) {
+      ObserveOptions refine_observe = spread.observe;  // as FinishOptimize traces them
+      refine_observe.progress = nullptr;
+      job->ServeTraces(*observed.observed.rays, observed.observed.data.reference, refine_observe);
+    }
+    return std::nullopt;
+  }
   return FinishOptimize(spread, std::move(observed));
 }
 
@@ -83,6 +92,8 @@ std::unique_ptr<MpiJob> MpiJob::Start(int*, char***) {
 MpiJob::~MpiJob() = default;
 
 TraceFunction MpiJob::Tracer() { return {}; }
+TraceFunction MpiJob::BroadcastTracer() { return {}; }
+void MpiJob::ServeTraces(const RayScene&, const Reference&, const ObserveOptions&) {}
 
 int MpiJob::Finish(int code, const std::string& message, std::string* print) {
   *print = message;
@@ -100,7 +111,10 @@ struct MpiJobAccess {
 
 namespace {
 
-constexpr uint64_t kPhaseTrace = 1, kPhaseTraced = 2, kPhaseFinish = 3;
+// kPhaseServe: waiting in ServeTraces for rank 0, which says kPhaseRefine (poses follow) or
+// kPhaseFinish (the job ends).
+constexpr uint64_t kPhaseTrace = 1, kPhaseTraced = 2, kPhaseFinish = 3, kPhaseServe = 4,
+                   kPhaseRefine = 5;
 
 // What each rank says at an agreement: its exit code so far, a hash of its message, the
 // fingerprint of its inputs (trace), and where it is.
@@ -262,6 +276,18 @@ std::vector<std::string> GatherBytes(const std::string& mine, int rank, int size
   return parts;
 }
 
+// Rank 0's `bytes` to every rank (the others' `bytes` already have the size), in rounds below
+// INT_MAX bytes: MPI's counts are ints.
+void BroadcastBytes(std::string* bytes) {
+  constexpr size_t kRound = size_t{1} << 30;
+  for (size_t offset = 0; offset < bytes->size(); offset += kRound) {
+    const int count = static_cast<int>(std::min(kRound, bytes->size() - offset));
+    MPI_Request request;
+    MPI_Ibcast(bytes->data() + offset, count, MPI_BYTE, 0, MPI_COMM_WORLD, &request);
+    Wait(&request);
+  }
+}
+
 // TraceCosts of every candidate, each rank estimating a slice (by count) and all of them
 // gathering all: the estimate projects R's blocks as tracing does, so done in full on every rank
 // it would cost each rank a tenth of a whole observe.
@@ -400,17 +426,77 @@ TraceFunction MpiJob::Tracer() {
   };
 }
 
+TraceFunction MpiJob::BroadcastTracer() {
+  return [this](const RayScene& rays, const Reference& reference,
+                std::span<const Candidate> candidates, const ObserveOptions& options) {
+    VANTAGE_CHECK(rank_ == 0);
+    // The poses travel as a visibility file's candidates (its encoder checks and versions them);
+    // R follows from the scene every rank has, and Tracer's fingerprint confirms it.
+    VisibilityFile poses;
+    poses.reference.cell_size = reference.cell_size;
+    poses.candidates.assign(candidates.begin(), candidates.end());
+    poses.observations.resize(candidates.size());
+    std::string bytes = EncodeVisibility(poses);
+    Vote ask;
+    ask.phase = kPhaseRefine;
+    ask.fingerprint = bytes.size();
+    const std::vector<Vote> votes = Agree(ask, size_);
+    for (int r = 1; r < size_; ++r) {
+      if (votes[static_cast<size_t>(r)].phase != kPhaseServe) {
+        MpiJobAccess::Stop(this);
+        throw JobStopped(1, fmt::format("rank {} of {} was not waiting for refinement's poses",
+                                        r, size_));
+      }
+    }
+    BroadcastBytes(&bytes);
+    return Tracer()(rays, reference, candidates, options);
+  };
+}
+
+void MpiJob::ServeTraces(const RayScene& rays, const Reference& reference,
+                         const ObserveOptions& options) {
+  VANTAGE_CHECK(rank_ != 0);
+  const TraceFunction trace = Tracer();
+  while (true) {
+    Vote wait;
+    wait.phase = kPhaseServe;
+    const std::vector<Vote> votes = Agree(wait, size_);
+    if (votes[0].phase != kPhaseRefine) {
+      // Rank 0's Finish (or its failure): this was the job's last agreement.
+      served_finish_.resize(votes.size() * 4);
+      std::memcpy(served_finish_.data(), votes.data(), served_finish_.size() * 8);
+      return;
+    }
+    std::string bytes(votes[0].fingerprint, '\0');
+    BroadcastBytes(&bytes);
+    const VisibilityFile poses = DecodeVisibility(bytes, "rank 0's refined poses");
+    trace(rays, reference, poses.candidates, options);
+  }
+}
+
 int MpiJob::Finish(int code, const std::string& message, std::string* print) {
   Vote last;
   last.code = static_cast<uint64_t>(code);
   last.message_hash = HashText(message);
   last.phase = kPhaseFinish;
-  const std::vector<Vote> votes = Agree(last, size_);
+  std::vector<Vote> votes;
+  if (served_finish_.empty()) {
+    votes = Agree(last, size_);
+  } else {
+    // ServeTraces took part in rank 0's Finish already: the others decided on what it said then
+    // (nothing had failed here); a failure since is this rank's own exit code.
+    static_assert(sizeof(Vote) == 4 * sizeof(uint64_t));
+    votes.resize(served_finish_.size() / 4);
+    std::memcpy(static_cast<void*>(votes.data()), served_finish_.data(),
+                served_finish_.size() * 8);
+    votes[static_cast<size_t>(rank_)] = last;
+  }
   stopped_ = true;
   *print = Attribution(votes, rank_, message);
   uint64_t agreed = AgreedCode(votes);
-  const bool together = std::all_of(votes.begin(), votes.end(),
-                                    [](const Vote& v) { return v.phase == kPhaseFinish; });
+  const bool together = std::all_of(votes.begin(), votes.end(), [](const Vote& v) {
+    return v.phase == kPhaseFinish || v.phase == kPhaseServe;
+  });
   if (agreed == 0 && !together) agreed = 1;  // a rank still traced: the run is incomplete
   return static_cast<int>(agreed);
 }

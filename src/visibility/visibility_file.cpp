@@ -266,6 +266,14 @@ VisibilityFile LoadVisibilityFile(const std::string& path) {
   return DecodeVisibilityFile(ReadWholeFile(path, "visibility file"), path);
 }
 
+std::string EncodeVisibility(const VisibilityFile& file) {
+  return EncodeVisibilityFile(file, true);
+}
+
+VisibilityFile DecodeVisibility(const std::string& bytes, const std::string& where) {
+  return DecodeVisibilityFile(bytes, where);
+}
+
 uint64_t VisibilityFingerprint(const VisibilityFile& file) {
   return detail::Fnv1a64(EncodeVisibilityFile(file, false));
 }

@@ -2,6 +2,8 @@
 # One MPI case of CTest (tests/CMakeLists.txt sets Open MPI's environment for containers):
 #   mpi_case.sh MPIEXEC BIN report NP SCENE [ARGS...]  mpirun -np NP gives the single process's
 #                                                      report.json (timings, seconds aside)
+#   mpi_case.sh MPIEXEC BIN refine NP SCENE [ARGS...]  as report, with --refine: and every round's
+#                                                      new poses were split over the ranks too
 #   mpi_case.sh MPIEXEC BIN vis NP SCENE [ARGS...]     mpirun -np NP observe: the same .vis bytes
 #   mpi_case.sh MPIEXEC BIN bad_rank SCENE             rank 1 has a missing scene: exit 2 naming
 #                                                      rank 1, no output folder
@@ -27,6 +29,22 @@ case "$CASE" in
     diff <(normalised "$WORK/one/report.json") <(normalised "$WORK/ranks/report.json") ||
       fail "report.json differs"
     cmp "$WORK/one/candidates.csv" "$WORK/ranks/candidates.csv" || fail "candidates.csv differs"
+    ;;
+  refine)
+    NP=$1; shift
+    "$BIN" -q optimize "$@" --refine --threads 1 --out "$WORK/one" >/dev/null ||
+      fail "one process: exit $?"
+    "${MPI[@]}" -np "$NP" "$BIN" optimize "$@" --refine --threads 1 --out "$WORK/ranks" \
+      >/dev/null 2>"$WORK/log" || fail "mpirun -np $NP: exit $?"
+    diff <(normalised "$WORK/one/report.json") <(normalised "$WORK/ranks/report.json") ||
+      fail "report.json differs"
+    cmp "$WORK/one/candidates.csv" "$WORK/ranks/candidates.csv" || fail "candidates.csv differs"
+    # Rank 0 logs one split per traced batch: observe's, then each round that traced new poses.
+    rounds=$(jq '.refinement.rounds' "$WORK/ranks/report.json")
+    splits=$(grep -c "split: .* over $NP ranks" "$WORK/log")
+    [ "$rounds" -ge 1 ] || fail "no refinement round"
+    [ "$splits" -eq $((rounds + 1)) ] ||
+      fail "$splits batches split over the ranks, not 1 + $rounds rounds"
     ;;
   vis)
     NP=$1; shift
