@@ -3,8 +3,9 @@
 # and runs them there (STYLE.md: "an ASan/UBSan preset"). Any sanitizer report fails the test that
 # triggered it (halt_on_error; leaks are checked at exit).
 #   scripts/sanitize.sh                 # the whole suite (`make sanitize`)
-#   SCOPE=hostile scripts/sanitize.sh   # the suites labelled `hostile` (`make test`): those that
-#                                       # feed the readers and the CLI broken and hostile input
+#   SCOPE=hostile scripts/sanitize.sh   # the suites labelled `hostile` (`make sanitize
+#                                       # SCOPE=hostile`): those that feed the readers and the CLI
+#                                       # broken and hostile input
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${BUILD:-build-asan}
