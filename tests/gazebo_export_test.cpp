@@ -492,5 +492,82 @@ TEST(GazeboExportCli, RenderReproducesAGazeboRunFromItsFolderAlone) {
       << render.out;
 }
 
+// Issue 19: a YAML scene's run writes constellation.sdf too — its objects as SDF shapes. Checked
+// against the scene file's own numbers (typed here from examples/scenes/bin_picking_cell.yaml),
+// through libsdformat's pose resolution, and by vantage's Gazebo reader: evaluating the exported
+// world scores the chosen cameras exactly as the run did.
+TEST(GazeboExportCli, YamlSceneRunWritesAGzWorldOfItsObjectsAndCameras) {
+  const std::string scene = std::string(VANTAGE_SOURCE_DIR) + "/examples/scenes/bin_picking_cell.yaml";
+  test::TempDir dir;
+  const auto run = test::RunVantage("-q optimize " + scene + " -n 3 --method greedy --out " +
+                                    dir.File("out"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string exported = dir.File("out/constellation.sdf");
+  const nlohmann::json report = nlohmann::json::parse(test::ReadText(dir.File("out/report.json")));
+
+  sdf::Console::Instance()->SetQuiet(true);
+  sdf::Root root;
+  const sdf::Errors errors = root.Load(exported);
+  for (const sdf::Error& e : errors) ADD_FAILURE() << e.Message();
+  ASSERT_EQ(root.WorldCount(), 1u);
+  const sdf::World* world = root.WorldByIndex(0);
+  std::map<const sdf::Visual*, const sdf::Model*> model_of;
+  const auto visual_of = [&](const std::string& name) -> const sdf::Visual* {
+    const sdf::Model* model = world->ModelByName(name);
+    if (!model || model->LinkCount() != 1 || model->LinkByIndex(0)->VisualCount() != 1)
+      return nullptr;
+    model_of[model->LinkByIndex(0)->VisualByIndex(0)] = model;
+    return model->LinkByIndex(0)->VisualByIndex(0);
+  };
+  // world_from_model · model_from_visual, as libsdformat resolves them.
+  const auto world_pose = [&](const sdf::Visual* visual) {
+    ignition::math::Pose3d world_from_model, model_from_visual;
+    EXPECT_TRUE(model_of.at(visual)->SemanticPose().Resolve(world_from_model, "world").empty());
+    EXPECT_TRUE(visual->SemanticPose().Resolve(model_from_visual, "__model__").empty());
+    return FromIgnition(world_from_model) * FromIgnition(model_from_visual);
+  };
+  // The table: a box of 1.2 x 0.8 x 0.04 m at z = 0.72.
+  const sdf::Visual* table = visual_of("table");
+  ASSERT_NE(table, nullptr);
+  ASSERT_NE(table->Geom()->BoxShape(), nullptr);
+  EXPECT_EQ(table->Geom()->BoxShape()->Size(), ignition::math::Vector3d(1.2, 0.8, 0.04));
+  ExpectPose(world_pose(table), Pose{Vec3(0, 0, 0.72), Quat::Identity()}, 1e-12, "table");
+  // The pipe: a cylinder of r 0.02, l 0.25, turned by 1.5707963 rad about y.
+  const sdf::Visual* pipe = visual_of("pipe");
+  ASSERT_NE(pipe, nullptr);
+  ASSERT_NE(pipe->Geom()->CylinderShape(), nullptr);
+  EXPECT_DOUBLE_EQ(pipe->Geom()->CylinderShape()->Radius(), 0.02);
+  EXPECT_DOUBLE_EQ(pipe->Geom()->CylinderShape()->Length(), 0.25);
+  // (Pitch 1.5707963 is 3e-8 from gimbal lock: the roll-pitch-yaw text holds it to ~1e-9 rad.)
+  ExpectPose(world_pose(pipe),
+             Pose{Vec3(0, -0.045, 0.77), Quat(Eigen::AngleAxisd(1.5707963, Vec3::UnitY()))},
+             kTol, "pipe");
+  // The floor: a 4 x 4 m plane; the motor: the mesh file by its absolute path.
+  const sdf::Visual* floor = visual_of("floor");
+  ASSERT_NE(floor, nullptr);
+  ASSERT_NE(floor->Geom()->PlaneShape(), nullptr);
+  EXPECT_EQ(floor->Geom()->PlaneShape()->Size(), ignition::math::Vector2d(4, 4));
+  const sdf::Visual* motor = visual_of("motor");
+  ASSERT_NE(motor, nullptr);
+  ASSERT_NE(motor->Geom()->MeshShape(), nullptr);
+  EXPECT_EQ(std::filesystem::path(motor->Geom()->MeshShape()->Uri()),
+            std::filesystem::weakly_canonical(std::string(VANTAGE_SOURCE_DIR) + "/examples/meshes/small_motor.obj"));
+  EXPECT_EQ(world->ModelCount(), 10u + 3u);  // 10 objects, 3 cameras
+
+  // Read back by vantage's Gazebo reader: the cameras keep their poses and intrinsics (no
+  // plugin: a real layout), so the layout scores what the run's result scored.
+  const auto evaluated = test::RunVantage("-q evaluate " + exported + " --target motor --out " +
+                                          dir.File("again"));
+  ASSERT_EQ(evaluated.exit_code, 0) << evaluated.err;
+  const nlohmann::json again =
+      nlohmann::json::parse(test::ReadText(dir.File("again/report.json")));
+  EXPECT_EQ(again["reference_voxels"], report["reference_voxels"]);
+  EXPECT_DOUBLE_EQ(again["results"][0]["coverage"].get<double>(),
+                   report["results"][0]["coverage"].get<double>());
+  // evaluate writes the constellation files of what it scored, too.
+  EXPECT_TRUE(std::filesystem::exists(dir.File("again/constellation.sdf")));
+  EXPECT_TRUE(std::filesystem::exists(dir.File("again/constellation.world")));
+}
+
 }  // namespace
 }  // namespace vantage

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "vantage/candidates.hpp"
+#include "vantage/scene.hpp"
 
 namespace vantage {
 
@@ -47,6 +48,16 @@ std::string ConstellationSdf(const std::string& world_path,
                              const std::vector<Population>& populations,
                              const std::vector<ExplicitSensor>& sensors,
                              std::vector<std::string>* notes = nullptr);
+
+/// constellation.sdf of a scene that is not a Gazebo world (a YAML scene): a gz-sim world (SDF
+/// 1.9) of one static model per object, its shapes as SDF geometry at their world poses (visual
+/// and collision; meshes by absolute path, with their scale), plus the chosen cameras as
+/// ConstellationSdf writes them, and gz-sim's Physics, UserCommands, SceneBroadcaster and Sensors
+/// systems. A comment names the targets for `vantage evaluate constellation.sdf --target ...`.
+/// An object whose shapes are unknown (a robot link, one a state reshaped) is left out with a
+/// line in `notes`.
+std::string SceneConstellationSdf(const Scene& scene, const std::vector<Candidate>& chosen,
+                                  std::vector<std::string>* notes = nullptr);
 
 /// True when `path` names a Gazebo world by its extension (`.world` or `.sdf`, any case).
 bool IsGazeboWorldPath(const std::string& path);

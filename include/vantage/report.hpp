@@ -69,6 +69,7 @@ struct RunInputs {
   std::optional<int> k;                     ///< --k
   std::optional<double> budget;             ///< --budget
   std::optional<std::string> over_states;   ///< --over-states
+  bool keep_existing = false;               ///< --keep-existing
   bool refine = false;                      ///< --refine
   std::optional<int> refine_rounds;         ///< --refine-rounds
   std::optional<double> fov_tolerance_deg;  ///< --fov-tolerance

@@ -28,11 +28,26 @@ struct TriangleMesh {
 
 enum class Role { kTarget, kOccluder };
 
+/// A shape as a simulator declares it (SDF `<geometry>`), placed in the world: what an object's
+/// triangles were made from, for exports that write shapes (constellation.sdf).
+struct ShapeSource {
+  enum class Kind { kBox, kCylinder, kSphere, kPlane, kMesh };
+  Kind kind = Kind::kBox;
+  /// box: edge lengths; plane: x, y edge lengths (z unused); cylinder: radius, length (along z);
+  /// sphere: radius. Centred at the shape's origin, as MakeBox and the others build them.
+  Vec3 size = Vec3::Zero();
+  std::string mesh_path;     ///< kMesh: the file, absolute
+  Vec3 scale = Vec3::Ones();  ///< kMesh: applied to the file's coordinates before the pose
+  Pose world_from_shape;
+};
+
 /// One object of the scene, already in world coordinates.
 struct SceneObject {
   std::string name;
   Role role = Role::kOccluder;
   TriangleMesh mesh;  ///< world frame
+  /// The shapes `mesh` was made of, when the reader knows them (YAML objects); empty otherwise.
+  std::vector<ShapeSource> shapes;
   bool is_target() const { return role == Role::kTarget; }
 };
 

@@ -49,6 +49,17 @@ RunInputs InputsOf(const std::string& command, const SceneInput& scene,
 /// Adds the selection request to an inputs block.
 void AddSelectionInputs(const SelectionRequest& request, RunInputs* inputs);
 
+/// The constellation exports of `chosen` sensors in the scene at `scene_path`: a Gazebo world
+/// gives constellation.world and constellation.sdf (its own text edited: `populations` and
+/// `sensors` are the world's), another scene constellation.yaml and a generated
+/// constellation.sdf of `scene`'s objects. What could not be carried over goes to `notes`.
+std::map<std::string, std::string> ConstellationFiles(const std::string& scene_path,
+                                                      const Scene& scene,
+                                                      const std::vector<Candidate>& chosen,
+                                                      const std::vector<Population>& populations,
+                                                      const std::vector<ExplicitSensor>& sensors,
+                                                      std::vector<std::string>* notes);
+
 /// Serialises every output of a derived report: report.json, candidates.csv, the PLY clouds,
 /// report.html (with `scene`'s meshes) and static_transforms.yaml, plus `extra`.
 void FinishRun(const Scene& scene, std::map<std::string, std::string> extra, RunResult* run);

@@ -156,7 +156,21 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   if (!options.constellation.empty())
     report.inputs->constellation = fs::absolute(options.constellation).string();
   DeriveReport(&report);
-  detail::FinishRun(reobserved.problem.scene, {}, &run);
+  // The layout evaluated, as the exports of optimize: a Gazebo world's edit finds each sensor's
+  // element by its population or name, so a constellation from elsewhere may not fit it.
+  std::map<std::string, std::string> extra;
+  std::vector<std::string> notes;
+  try {
+    extra = detail::ConstellationFiles(scene.path, reobserved.problem.scene, run.data->candidates,
+                                       reobserved.problem.populations,
+                                       reobserved.problem.sensors, &notes);
+  } catch (const InputError& e) {
+    extra.clear();
+    notes.push_back(fmt::format("constellation files not written: {}", e.what()));
+  }
+  for (const std::string& note : notes) spdlog::warn("{}", note);
+  report.notes.insert(report.notes.end(), notes.begin(), notes.end());
+  detail::FinishRun(reobserved.problem.scene, std::move(extra), &run);
   return result;
 }
 

@@ -124,18 +124,11 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
   if (report.primary >= 0) {
     std::vector<Candidate> chosen;
     for (uint32_t i : report.PrimaryChosen()) chosen.push_back(data.candidates[i]);
-    if (IsGazeboWorldPath(options.scene.path)) {
-      std::vector<std::string> notes;
-      extra["constellation.world"] = ConstellationWorld(options.scene.path, chosen,
-                                                        observed.populations, observed.sensors,
-                                                        &notes);
-      extra["constellation.sdf"] = ConstellationSdf(options.scene.path, chosen,
-                                                    observed.populations, observed.sensors);
-      for (const std::string& note : notes) spdlog::warn("{}", note);
-      report.notes.insert(report.notes.end(), notes.begin(), notes.end());
-    } else {
-      extra["constellation.yaml"] = ConstellationYaml(options.scene.path, chosen);
-    }
+    std::vector<std::string> notes;
+    extra = detail::ConstellationFiles(options.scene.path, observed.scene, chosen,
+                                       observed.populations, observed.sensors, &notes);
+    for (const std::string& note : notes) spdlog::warn("{}", note);
+    report.notes.insert(report.notes.end(), notes.begin(), notes.end());
     // Robustness reads `data`, the first state's sets: not meaningful over states.
     if (!report.states) {
       report.robustness = AssessRobustness(data, report.results, report.primary,

@@ -5,7 +5,9 @@
 #include "pipeline/common.hpp"
 #include "util/atomic_file.hpp"
 #include "vantage/error.hpp"
+#include "vantage/gazebo_export.hpp"
 #include "vantage/visualize.hpp"
+#include "vantage/yaml_export.hpp"
 
 namespace vantage {
 namespace detail {
@@ -54,6 +56,25 @@ void AddSelectionInputs(const SelectionRequest& request, RunInputs* inputs) {
   inputs->k = request.k;
   inputs->budget = request.budget;
   if (request.over_states) inputs->over_states = OverStatesName(*request.over_states);
+  inputs->keep_existing = request.keep_existing;
+}
+
+std::map<std::string, std::string> ConstellationFiles(const std::string& scene_path,
+                                                      const Scene& scene,
+                                                      const std::vector<Candidate>& chosen,
+                                                      const std::vector<Population>& populations,
+                                                      const std::vector<ExplicitSensor>& sensors,
+                                                      std::vector<std::string>* notes) {
+  std::map<std::string, std::string> files;
+  if (IsGazeboWorldPath(scene_path)) {
+    files["constellation.world"] =
+        ConstellationWorld(scene_path, chosen, populations, sensors, notes);
+    files["constellation.sdf"] = ConstellationSdf(scene_path, chosen, populations, sensors);
+  } else {
+    files["constellation.yaml"] = ConstellationYaml(scene_path, chosen);
+    files["constellation.sdf"] = SceneConstellationSdf(scene, chosen, notes);
+  }
+  return files;
 }
 
 void FinishRun(const Scene& scene, std::map<std::string, std::string> extra, RunResult* run) {

@@ -9,6 +9,7 @@
 // re-orients every explicit sensor towards the observation point, finds the same pose again when
 // the random roll is off (the position is unchanged, so is the look-at).
 #include "util/markup.hpp"
+#include "util/words.hpp"
 #include "vantage/gazebo_export.hpp"
 
 #include <fmt/format.h>
@@ -28,14 +29,13 @@
 
 #include "util/xml.hpp"
 #include "vantage/error.hpp"
+#include "vantage/scene.hpp"
 #include "vantage/types.hpp"
 
 namespace vantage {
 namespace {
 
 using detail::XmlElement;
-
-bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
 
 std::string ReadText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -45,7 +45,6 @@ std::string ReadText(const std::string& path) {
   if (in.bad()) throw InputError(AtPlace(path, 0, "cannot read the world file"));
   return buffer.str();
 }
-
 
 /// Shortest text that reads back as the same double; never "-0".
 std::string Number(double v) {
@@ -74,20 +73,12 @@ std::string ModelName(const std::string& name) {
   return out;
 }
 
-std::string Trimmed(std::string_view s) {
-  size_t begin = 0;
-  size_t end = s.size();
-  while (begin < end && IsSpace(s[begin])) ++begin;
-  while (end > begin && IsSpace(s[end - 1])) --end;
-  return std::string(s.substr(begin, end - begin));
-}
-
 /// The declared instance name of a world child or nested entity: the model's name attribute, or
 /// an include's <name> ("" when the include takes the model file's own name).
 std::string DeclaredName(const XmlElement& e) {
   if (e.name == "model") {
     const std::string* name = e.Attribute("name");
-    return name ? Trimmed(*name) : "";
+    return name ? detail::TrimXmlSpace(*name) : "";
   }
   const XmlElement* name = e.Child("name");
   return name ? name->Trimmed() : "";
@@ -396,7 +387,7 @@ std::string Exporter::Run(const std::vector<Candidate>& chosen) {
   for (const XmlElement& child : world_->children) {
     if (child.name != "population") continue;
     const std::string* name = child.Attribute("name");
-    if (name) population_elements[Trimmed(*name)] = &child;
+    if (name) population_elements[detail::TrimXmlSpace(*name)] = &child;
     cut_top.push_back(&child);
   }
 
@@ -573,6 +564,93 @@ std::string ConstellationSdf(const std::string& world_path,
                              const std::vector<ExplicitSensor>& sensors,
                              std::vector<std::string>* notes) {
   return Exporter(world_path, populations, sensors, notes, /*gz_cameras=*/true).Run(chosen);
+}
+
+namespace {
+
+/// One SDF `<geometry>` of a shape (SDF's box, cylinder, sphere and plane are centred at their
+/// origin, the cylinder along z, the plane facing +z: as MakeBox and the others build them).
+std::string GeometryText(const ShapeSource& shape) {
+  const Vec3& s = shape.size;
+  switch (shape.kind) {
+    case ShapeSource::Kind::kBox:
+      return fmt::format("<box><size>{} {} {}</size></box>", Number(s.x()), Number(s.y()),
+                         Number(s.z()));
+    case ShapeSource::Kind::kCylinder:
+      return fmt::format("<cylinder><radius>{}</radius><length>{}</length></cylinder>",
+                         Number(s.x()), Number(s.y()));
+    case ShapeSource::Kind::kSphere:
+      return fmt::format("<sphere><radius>{}</radius></sphere>", Number(s.x()));
+    case ShapeSource::Kind::kPlane:
+      return fmt::format("<plane><normal>0 0 1</normal><size>{} {}</size></plane>",
+                         Number(s.x()), Number(s.y()));
+    case ShapeSource::Kind::kMesh:
+      return fmt::format("<mesh><uri>{}</uri><scale>{} {} {}</scale></mesh>",
+                         detail::MarkupEscape(shape.mesh_path), Number(shape.scale.x()),
+                         Number(shape.scale.y()), Number(shape.scale.z()));
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string SceneConstellationSdf(const Scene& scene, const std::vector<Candidate>& chosen,
+                                  std::vector<std::string>* notes) {
+  // (An XML comment may not hold "--": the option is named in words.)
+  std::string out =
+      "<?xml version=\"1.0\"?>\n"
+      "<!-- vantage constellation: the scene's objects and the chosen cameras, for gz-sim.\n"
+      "     Score it again with `vantage evaluate constellation.sdf`, each of these models\n"
+      "     given as a target (the target option):";
+  std::set<std::string> models;
+  for (const SceneObject& object : scene.objects) {
+    if (object.is_target() && !object.shapes.empty())
+      out += fmt::format(" {}", detail::MarkupEscape(ModelName(object.name)));
+  }
+  out += " -->\n<sdf version=\"1.9\">\n  <world name=\"constellation\">\n";
+  // A world that names any system loads no default ones: these are gz-sim's usual four.
+  for (const auto& [file, name] :
+       {std::pair{"physics", "Physics"}, {"user-commands", "UserCommands"},
+        {"scene-broadcaster", "SceneBroadcaster"}, {"sensors", "Sensors"}}) {
+    out += fmt::format("    <plugin filename=\"gz-sim-{}-system\" name=\"gz::sim::systems::{}\">",
+                       file, name);
+    out += std::string_view(name) == "Sensors"
+               ? "\n      <render_engine>ogre2</render_engine>\n    </plugin>\n"
+               : "</plugin>\n";
+  }
+  std::vector<std::string> left_out;
+  for (const SceneObject& object : scene.objects) {
+    if (object.shapes.empty()) {
+      left_out.push_back(object.name);
+      continue;
+    }
+    const std::string name = ModelName(object.name);
+    models.insert(name);
+    out += fmt::format("    <model name=\"{}\">\n      <static>true</static>\n"
+                       "      <link name=\"link\">\n",
+                       detail::MarkupEscape(name));
+    for (size_t k = 0; k < object.shapes.size(); ++k) {
+      const ShapeSource& shape = object.shapes[k];
+      for (const char* element : {"visual", "collision"}) {
+        out += fmt::format("        <{0} name=\"{0}_{1}\"><pose>{2}</pose><geometry>{3}"
+                           "</geometry></{0}>\n",
+                           element, k, PoseText(shape.world_from_shape), GeometryText(shape));
+      }
+    }
+    out += "      </link>\n    </model>\n";
+  }
+  for (const Candidate& candidate : chosen) {
+    std::string name = ModelName(candidate.name);
+    while (!models.insert(name).second) name += "_camera";
+    out += GzCameraText(candidate, name, "    ", "  ");
+  }
+  out += "  </world>\n</sdf>\n";
+  if (notes && !left_out.empty())
+    notes->push_back(fmt::format("constellation.sdf: {} object{} left out ({}): robot links and "
+                                 "objects a state reshaped are known only as triangles",
+                                 left_out.size(), left_out.size() == 1 ? " is" : "s are",
+                                 detail::JoinQuoted(left_out)));
+  return out;
 }
 
 bool IsGazeboWorldPath(const std::string& path) {

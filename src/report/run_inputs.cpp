@@ -117,6 +117,7 @@ ordered_json RunInputsJson(const RunInputs& in) {
   Put(&j, "k", in.k);
   Put(&j, "budget", in.budget);
   Put(&j, "over_states", in.over_states);
+  if (in.keep_existing) j["keep_existing"] = true;
   if (in.refine) j["refine"] = true;
   Put(&j, "refine_rounds", in.refine_rounds);
   Put(&j, "fov_tolerance_deg", in.fov_tolerance_deg);
@@ -156,6 +157,7 @@ RunInputs ParseRunInputs(const json& j, const std::string& where) {
   r.Integer("k", &in.k);
   r.Number("budget", &in.budget);
   r.String("over_states", &in.over_states);
+  r.Boolean("keep_existing", &in.keep_existing);
   r.Boolean("refine", &in.refine);
   r.Integer("refine_rounds", &in.refine_rounds);
   r.Number("fov_tolerance_deg", &in.fov_tolerance_deg);

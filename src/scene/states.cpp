@@ -50,6 +50,7 @@ std::vector<SceneObject> Applied(const Scene& base,
       unknown("reshape", name);
     } else {
       it->mesh = mesh;
+      it->shapes.clear();  // a robot's new pose: the links' shapes are not tracked
     }
   }
   for (const std::string& name : state.remove) {
@@ -66,6 +67,7 @@ std::vector<SceneObject> Applied(const Scene& base,
       unknown("move", name);
     } else {
       it->mesh.Transform(displacement);
+      for (ShapeSource& shape : it->shapes) shape.world_from_shape = displacement * shape.world_from_shape;
     }
   }
   for (const SceneObject& object : state.add) {

@@ -256,11 +256,14 @@ class SceneReader {
   void ReadObjects(const Value& input);
   std::optional<SceneObject> ReadObject(const Value& input);
   bool PlaceOn(const Value& input, const std::string& what, double gap, TriangleMesh* mesh);
-  std::optional<TriangleMesh> ReadShape(const Fields& fields, const std::string& what);
+  std::optional<TriangleMesh> ReadShape(const Fields& fields, const std::string& what,
+                                        ShapeSource* source);
   std::optional<TriangleMesh> ReadPrimitive(const std::string& shape,
                                             const Value& input,
-                                            const std::string& what);
-  std::optional<TriangleMesh> ReadMesh(const Value& input, const std::string& what);
+                                            const std::string& what,
+                                            ShapeSource* source);
+  std::optional<TriangleMesh> ReadMesh(const Value& input, const std::string& what,
+                                       ShapeSource* source);
   std::optional<TriangleMesh> CachedMesh(const fs::path& resolved,
                                          int line,
                                          const std::string& not_found);
@@ -876,13 +879,18 @@ std::optional<SceneObject> SceneReader::ReadObject(const Value& input) {
   }
   Pose pose;
   if (const auto v = fields.Get("pose")) pose = PoseOf(*v, what + ".pose").value_or(Pose{});
-  std::optional<TriangleMesh> mesh = ReadShape(fields, what);
+  ShapeSource source;
+  std::optional<TriangleMesh> mesh = ReadShape(fields, what, &source);
   if (!mesh || ErrorCount() != errors_before) return std::nullopt;
   mesh->Transform(pose);
+  source.world_from_shape = pose;
   if (const auto v = fields.Get("on")) {
+    const double z_before = mesh->Bounds().min.z();
     if (!PlaceOn(*v, what, pose.position.z(), &*mesh)) return std::nullopt;
+    source.world_from_shape.position.z() += mesh->Bounds().min.z() - z_before;
   }
   object.mesh = std::move(*mesh);
+  object.shapes.push_back(std::move(source));
   return object;
 }
 
@@ -910,7 +918,8 @@ bool SceneReader::PlaceOn(const Value& input, const std::string& what, double ga
 }
 
 /// Exactly one of mesh, box, cylinder, sphere, plane.
-std::optional<TriangleMesh> SceneReader::ReadShape(const Fields& fields, const std::string& what) {
+std::optional<TriangleMesh> SceneReader::ReadShape(const Fields& fields, const std::string& what,
+                                                   ShapeSource* source) {
   std::vector<std::pair<std::string, Value>> shapes;
   for (const char* key : {"mesh", "box", "cylinder", "sphere", "plane"}) {
     if (const auto v = fields.Get(key)) shapes.emplace_back(key, *v);
@@ -923,13 +932,14 @@ std::optional<TriangleMesh> SceneReader::ReadShape(const Fields& fields, const s
     return std::nullopt;
   }
   const auto& [shape, input] = shapes.front();
-  if (shape == "mesh") return ReadMesh(input, what + ".mesh");
-  return ReadPrimitive(shape, input, what + "." + shape);
+  if (shape == "mesh") return ReadMesh(input, what + ".mesh", source);
+  return ReadPrimitive(shape, input, what + "." + shape, source);
 }
 
 std::optional<TriangleMesh> SceneReader::ReadPrimitive(const std::string& shape,
                                                        const Value& input,
-                                                       const std::string& what) {
+                                                       const std::string& what,
+                                                       ShapeSource* source) {
   // SYSTEM.md: primitives are tessellated with a chord error below F / 10.
   const double chord = problem_->cell_size / 10.0;
   const bool is_box = shape == "box", is_plane = shape == "plane";
@@ -958,6 +968,14 @@ std::optional<TriangleMesh> SceneReader::ReadPrimitive(const std::string& shape,
     }
   }
   if (ErrorCount() != errors_before) return std::nullopt;
+  if (is_box || is_plane) {
+    source->kind = is_box ? ShapeSource::Kind::kBox : ShapeSource::Kind::kPlane;
+    for (size_t k = 0; k < size->size(); ++k) source->size[static_cast<Eigen::Index>(k)] = (*size)[k];
+  } else {
+    source->kind = shape == "sphere" ? ShapeSource::Kind::kSphere : ShapeSource::Kind::kCylinder;
+    source->size.x() = *radius;
+    if (length) source->size.y() = *length;
+  }
   try {
     if (is_box) return MakeBox(Vec3((*size)[0], (*size)[1], (*size)[2]));
     if (is_plane) return MakePlane((*size)[0], (*size)[1]);
@@ -983,7 +1001,8 @@ std::optional<Vec3> SceneReader::ReadScale(const Value& input, const std::string
   return scale;
 }
 
-std::optional<TriangleMesh> SceneReader::ReadMesh(const Value& input, const std::string& what) {
+std::optional<TriangleMesh> SceneReader::ReadMesh(const Value& input, const std::string& what,
+                                                  ShapeSource* source) {
   const Fields fields(input, what, {"file", "scale"}, &reporter_);
   const auto file_node = fields.Get("file");
   if (!file_node) {
@@ -1006,6 +1025,9 @@ std::optional<TriangleMesh> SceneReader::ReadMesh(const Value& input, const std:
                   "scene file's folder",
                   what, *file, resolved.string()));
   if (mesh) mesh->Scale(scale);
+  source->kind = ShapeSource::Kind::kMesh;
+  source->mesh_path = fs::absolute(resolved).lexically_normal().string();
+  source->scale = scale;
   return mesh;
 }
 

@@ -19,7 +19,7 @@ namespace {
 /// Deeper nesting than any SDF file has: a guard against stack exhaustion on hostile input.
 constexpr int kMaxDepth = 256;
 
-bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+bool IsSpace(char c) { return IsXmlSpace(c); }
 
 bool IsNameStart(char c) {
   const auto u = static_cast<unsigned char>(c);
@@ -292,12 +292,16 @@ const std::string* XmlElement::Attribute(std::string_view key) const {
   return nullptr;
 }
 
-std::string XmlElement::Trimmed() const {
+std::string XmlElement::Trimmed() const { return TrimXmlSpace(text); }
+
+bool IsXmlSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+
+std::string TrimXmlSpace(std::string_view text) {
   size_t begin = 0;
   size_t end = text.size();
-  while (begin < end && IsSpace(text[begin])) ++begin;
-  while (end > begin && IsSpace(text[end - 1])) --end;
-  return text.substr(begin, end - begin);
+  while (begin < end && IsXmlSpace(text[begin])) ++begin;
+  while (end > begin && IsXmlSpace(text[end - 1])) --end;
+  return std::string(text.substr(begin, end - begin));
 }
 
 XmlDocument ParseXml(std::string_view text, const std::string& path) {

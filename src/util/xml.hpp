@@ -45,6 +45,11 @@ struct XmlElement {
   std::string Trimmed() const;
 };
 
+/// XML's white space (the S production): space, tab, line feed, carriage return.
+bool IsXmlSpace(char c);
+/// `text` without leading and trailing XML white space.
+std::string TrimXmlSpace(std::string_view text);
+
 /// A parsed file: its path (as given) and its root element.
 struct XmlDocument {
   std::string path;

@@ -7,19 +7,15 @@
 #include <filesystem>
 #include <system_error>
 
+#include "util/xml.hpp"
+
 namespace vantage::detail::gazebo {
 
 namespace fs = std::filesystem;
 
-bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+bool IsSpace(char c) { return IsXmlSpace(c); }
 
-std::string Trim(std::string_view s) {
-  size_t begin = 0;
-  size_t end = s.size();
-  while (begin < end && IsSpace(s[begin])) ++begin;
-  while (end > begin && IsSpace(s[end - 1])) --end;
-  return std::string(s.substr(begin, end - begin));
-}
+std::string Trim(std::string_view s) { return TrimXmlSpace(s); }
 
 std::vector<std::string> SplitWords(std::string_view s) {
   std::vector<std::string> words;
