@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -712,6 +713,63 @@ TEST(Lagrangian, ProvesTheIncumbentOptimalWhenTheLpHasNoGap) {
   const std::vector<Observation> obs = {Obs({0, 1, 2, 3, 4}), Obs({5, 6, 7, 8}), Obs({9, 10, 11})};
   const detail::CoverageMatrix matrix(obs, 12);
   EXPECT_EQ(detail::LagrangianUpperBound(matrix, 2, 9, 3000, 1e9).upper_bound, 9u);
+}
+
+// Cells of R (at most 64) seen by the candidates of each mask (bit i = candidate i), counted
+// independently of the library: the union of each candidate's cells as a 64-bit set.
+std::vector<size_t> MaskUnions(const std::vector<Observation>& obs) {
+  std::vector<uint64_t> sets(size_t{1} << obs.size(), 0);
+  std::vector<size_t> cells(sets.size(), 0);
+  for (uint32_t mask = 1; mask < sets.size(); ++mask) {
+    const int i = std::countr_zero(mask);
+    uint64_t own = 0;
+    for (const uint32_t c : obs[i].reference_indices) own |= uint64_t{1} << c;
+    sets[mask] = sets[mask & (mask - 1)] | own;
+    cells[mask] = static_cast<size_t>(std::popcount(sets[mask]));
+  }
+  return cells;
+}
+
+TEST(Lagrangian, FixingKeepsEverySelectionThatReachesTheThreshold) {
+  int fixed_in = 0, removed = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const size_t m = 6 + trial % 11;             // 6..16 candidates
+    const size_t r = 20 + (trial * 7) % 41;      // 20..60 cells
+    const double p = 0.08 + 0.04 * (trial % 6);  // sparse to dense
+    const std::vector<Observation> obs = WeightedRandomInstance(1300 + trial, m, r, p);
+    const detail::CoverageMatrix matrix(obs, r);
+    std::vector<uint32_t> weights;
+    for (uint32_t e = 0; e < matrix.element_count(); ++e) weights.push_back(matrix.Weight(e));
+    const std::vector<size_t> cells = MaskUnions(obs);
+    for (size_t n = 1; n <= std::min<size_t>(m - 1, 6); ++n) {
+      size_t optimum = 0;
+      for (uint32_t mask = 0; mask < cells.size(); ++mask) {
+        if (std::popcount(mask) <= static_cast<int>(n)) optimum = std::max(optimum, cells[mask]);
+      }
+      // Thresholds: the optimum (fixing then keeps every optimum) and one cell below it.
+      for (const size_t threshold : {optimum, optimum - 1}) {
+        const detail::LagrangianBound bound =
+            detail::LagrangianUpperBound(matrix, n, threshold - 1, 500, 1e9);
+        const detail::LagrangianProblem problem{matrix.rows(), weights, n};
+        const detail::Fixing fixing = detail::LagrangianFixing(
+            problem, detail::EvaluateExactly(problem, bound.lambda), threshold);
+        fixed_in += static_cast<int>(fixing.fixed_in.size());
+        removed += static_cast<int>(fixing.removed.size());
+        for (uint32_t mask = 0; mask < cells.size(); ++mask) {
+          if (std::popcount(mask) > static_cast<int>(n) || cells[mask] < threshold) continue;
+          for (const uint32_t i : fixing.removed) {
+            EXPECT_FALSE(mask & (1u << i)) << "trial " << trial << " n " << n << " removed " << i;
+          }
+          for (const uint32_t i : fixing.fixed_in) {
+            EXPECT_TRUE(mask & (1u << i)) << "trial " << trial << " n " << n << " fixed " << i;
+          }
+        }
+      }
+    }
+  }
+  // The bound is tight enough here to fix many candidates both ways.
+  EXPECT_GT(fixed_in, 20);
+  EXPECT_GT(removed, 100);
 }
 
 // ---------------------------------------------------------------------------------------------
