@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -770,6 +771,60 @@ TEST(Lagrangian, FixingKeepsEverySelectionThatReachesTheThreshold) {
   // The bound is tight enough here to fix many candidates both ways.
   EXPECT_GT(fixed_in, 20);
   EXPECT_GT(removed, 100);
+}
+
+TEST(BranchAndBound, FindsAndProvesTheEnumeratedOptimum) {
+  for (int trial = 0; trial < 40; ++trial) {
+    const size_t m = 8 + trial % 13;              // 8..20 candidates
+    const size_t r = 20 + (trial * 11) % 41;      // 20..60 cells
+    const double p = 0.06 + 0.03 * (trial % 7);  // sparse to dense
+    const std::vector<Observation> obs = WeightedRandomInstance(1700 + trial, m, r, p);
+    const detail::CoverageMatrix matrix(obs, r);
+    const std::vector<size_t> cells = MaskUnions(obs);
+    for (size_t n = 2; n <= std::min<size_t>(m - 1, 6); n += 2) {
+      size_t optimum = 0;
+      for (uint32_t mask = 0; mask < cells.size(); ++mask) {
+        if (std::popcount(mask) <= static_cast<int>(n)) optimum = std::max(optimum, cells[mask]);
+      }
+      // From the plain greedy answer (often not optimal here) and the trivial bound: all cells.
+      const std::vector<uint32_t> start = PlainGreedy(obs, n);
+      detail::BranchAndBoundLimits limits;
+      limits.seconds = 60;
+      const detail::BranchAndBoundResult found =
+          detail::BranchAndBound(matrix, n, start, r, limits);
+      EXPECT_TRUE(found.proven_optimal) << "trial " << trial << " n " << n;
+      EXPECT_EQ(found.cells, optimum) << "trial " << trial << " n " << n;
+      EXPECT_EQ(found.upper_bound, optimum);
+      EXPECT_GE(found.root_bound, optimum);
+      EXPECT_EQ(found.chosen.size(), n);
+      EXPECT_EQ(UnionSize(obs, found.chosen), optimum);
+      // Stopped after the root (no time to branch): still a valid bound, never below the start.
+      limits.seconds = 0;
+      const detail::BranchAndBoundResult stopped =
+          detail::BranchAndBound(matrix, n, start, r, limits);
+      EXPECT_GE(stopped.upper_bound, optimum);
+      EXPECT_EQ(stopped.chosen, start);
+    }
+  }
+}
+
+// A hard instance: 400 random candidates over 4,000 cells, n = 25 (no proof in seconds): exact
+// returns within its time limit (+10 %) with a valid bound.
+TEST(BranchAndBound, ExactKeepsItsTimeLimitOnAHardInstance) {
+  const std::vector<Observation> obs = RandomInstance(23, 400, 4000, 0.02);
+  const detail::CoverageMatrix matrix(obs, 4000);
+  const std::vector<uint32_t> start = detail::GreedyComplete(detail::CellScorer(matrix), {}, 25);
+  const auto begin = std::chrono::steady_clock::now();
+  const detail::ExactResult exact = detail::SolveExact(matrix, 25, start, 1.5);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  EXPECT_LE(seconds, 1.65);
+  const uint64_t cells = matrix.CoveredWeight(exact.chosen);
+  EXPECT_GE(cells, matrix.CoveredWeight(start));
+  EXPECT_GE(exact.upper_bound, cells);
+  EXPECT_LE(exact.upper_bound,
+            std::max(detail::GreedyUpperBound(matrix, start, 25), matrix.CoveredWeight(start)));
+  EXPECT_FALSE(exact.proven_optimal);
 }
 
 // ---------------------------------------------------------------------------------------------

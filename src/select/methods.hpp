@@ -199,6 +199,36 @@ LagrangianBound LagrangianUpperBound(const CoverageMatrix& matrix,
                                      int max_iterations,
                                      double time_limit);
 
+/// Limits of BranchAndBound.
+struct BranchAndBoundLimits {
+  double seconds = 0;      ///< wall clock for the whole search
+  int root_steps = 1000;   ///< subgradient steps at the root (from the start multipliers)
+  double root_share = 0.5;  ///< share of `seconds` the root's steps may take
+};
+
+struct BranchAndBoundResult {
+  std::vector<uint32_t> chosen;  ///< n sensors, never covering less than the start
+  uint64_t cells = 0;            ///< what `chosen` covers
+  uint64_t upper_bound = 0;      ///< cells; >= the optimum
+  bool proven_optimal = false;
+  bool timed_out = false;        ///< stopped by the time limit
+  long nodes = 0;
+  uint64_t root_bound = 0;       ///< the Lagrangian bound at the root (before branching)
+  size_t root_fixed_in = 0;      ///< candidates Lagrangian fixing settled at the root
+  size_t root_removed = 0;
+  int root_steps = 0;
+};
+
+/// Maximum coverage with n sensors by branch and bound on the Lagrangian bound with fixing at
+/// every node (branch_and_bound.cpp), from the incumbent `start` (n sensors) and a known bound
+/// `upper_bound` (>= the optimum), within `limits`. Deterministic for a given stopping point;
+/// throws Interrupted when asked to stop.
+BranchAndBoundResult BranchAndBound(const CoverageMatrix& matrix,
+                                    size_t n,
+                                    const std::vector<uint32_t>& start,
+                                    uint64_t upper_bound,
+                                    const BranchAndBoundLimits& limits);
+
 struct ExactResult {
   std::vector<uint32_t> chosen;
   uint64_t upper_bound = 0;  ///< cells; >= the cells chosen covers
