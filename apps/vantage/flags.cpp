@@ -162,7 +162,7 @@ void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {
                   "RANSAC stops at this coverage, fraction 0..1 (default: the scene's)");
   app->add_option("--time-limit", request->time_limit,
                   "seconds for the exact solver (default: 60); --method all shares the smaller "
-                  "of it and 10 s among its N's, each N an equal part of what the N's before "
+                  "of it and 6 s among its N's, each N an equal part of what the N's before "
                   "it left");
   app->add_option("--goal", request->goal,
                   "objective: the fewest sensors whose coverage reaches this fraction 0..1 (set "

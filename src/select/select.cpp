@@ -34,7 +34,7 @@ using Clock = std::chrono::steady_clock;
 // (time a quick proof leaves goes to the larger, harder n). `--method exact` alone has no size
 // cap and the full time limit.
 constexpr size_t kAllExactMaxCandidates = 2000;
-constexpr double kAllExactSeconds = 10.0;
+constexpr double kAllExactSeconds = 6.0;
 
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
