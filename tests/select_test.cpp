@@ -13,6 +13,8 @@
 #include <numeric>
 #include <set>
 
+#include <coin/Clp_C_Interface.h>
+
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
 #include "vantage/error.hpp"
@@ -771,6 +773,63 @@ TEST(Lagrangian, FixingKeepsEverySelectionThatReachesTheThreshold) {
   // The bound is tight enough here to fix many candidates both ways.
   EXPECT_GT(fixed_in, 20);
   EXPECT_GT(removed, 100);
+}
+
+// The LP relaxation of maximum coverage on the cells themselves (no merging), solved by CLP:
+// max sum_c y_c s.t. y_c <= sum_{i sees c} x_i, sum_i x_i <= n, 0 <= x, y <= 1.
+double ClpLpBound(const std::vector<Observation>& obs, size_t cells, size_t n) {
+  const int m = static_cast<int>(obs.size());
+  const int columns = m + static_cast<int>(cells);
+  const int rows = static_cast<int>(cells) + 1;  // a row per cell, then the cardinality row
+  std::vector<CoinBigIndex> starts{0};
+  std::vector<int> index;
+  std::vector<double> value;
+  for (const Observation& o : obs) {
+    for (const uint32_t c : o.reference_indices) {
+      index.push_back(static_cast<int>(c));
+      value.push_back(-1.0);
+    }
+    index.push_back(static_cast<int>(cells));
+    value.push_back(1.0);
+    starts.push_back(static_cast<CoinBigIndex>(index.size()));
+  }
+  for (size_t c = 0; c < cells; ++c) {
+    index.push_back(static_cast<int>(c));
+    value.push_back(1.0);
+    starts.push_back(static_cast<CoinBigIndex>(index.size()));
+  }
+  std::vector<double> lower(columns, 0.0), upper(columns, 1.0), objective(columns, 0.0);
+  std::fill(objective.begin() + m, objective.end(), 1.0);
+  std::vector<double> row_lower(rows, -1e30), row_upper(rows, 0.0);
+  row_upper.back() = static_cast<double>(n);
+  Clp_Simplex* model = Clp_newModel();
+  Clp_setLogLevel(model, 0);
+  Clp_loadProblem(model, columns, rows, starts.data(), index.data(), value.data(), lower.data(),
+                  upper.data(), objective.data(), row_lower.data(), row_upper.data());
+  Clp_setObjSense(model, -1);
+  Clp_initialSolve(model);
+  EXPECT_EQ(Clp_status(model), 0);
+  const double lp = Clp_objectiveValue(model);
+  Clp_deleteModel(model);
+  return lp;
+}
+
+TEST(Lagrangian, IsNeverBelowClpsLpOptimumAndConvergesToIt) {
+  for (int trial = 0; trial < 12; ++trial) {
+    const size_t m = 8 + trial;
+    const size_t r = 30 + 2 * trial;
+    const std::vector<Observation> obs = WeightedRandomInstance(2100 + trial, m, r, 0.15);
+    const detail::CoverageMatrix matrix(obs, r);
+    for (size_t n = 2; n <= 5; ++n) {
+      const double lp = ClpLpBound(obs, r, n);
+      const detail::LagrangianBound bound = detail::LagrangianUpperBound(matrix, n, 0, 3000, 1e9);
+      // Weak duality: L(lambda) >= the LP optimum for every lambda, exactly.
+      EXPECT_GE(static_cast<double>(bound.value), lp - 1e-7) << "trial " << trial << " n " << n;
+      EXPECT_GE(bound.upper_bound, static_cast<uint64_t>(std::floor(lp + 1e-7)));
+      // 3,000 subgradient steps reach the LP optimum here (to about 1e-6 cells).
+      EXPECT_LE(static_cast<double>(bound.value), lp + 0.01) << "trial " << trial << " n " << n;
+    }
+  }
 }
 
 TEST(BranchAndBound, FindsAndProvesTheEnumeratedOptimum) {
