@@ -203,7 +203,8 @@ class Search {
       for (const uint32_t q : exact.chosen) completed.push_back(node->free[q]);
       Offer(std::move(completed));
       if (bound <= best_cells_) return std::nullopt;
-      if (round + 1 >= kMaxFixingRounds) break;  // rows and exact must match node->free
+      // Out of rounds or of time: branch on what is bounded (rows and exact match node->free).
+      if (round + 1 >= kMaxFixingRounds || Clock::now() >= end_) break;
       const Fixing fixing = LagrangianFixing(problem, exact, best_cells_ + 1 - node->base);
       if (fixing.fixed_in.empty() && fixing.removed.empty()) break;
       if (fixing.fixed_in.size() > slots) return std::nullopt;  // no answer here beats it
@@ -243,11 +244,14 @@ class Search {
     }
   }
 
-  // A better answer (at most n sensors) becomes the incumbent, improved by local search.
+  // A better answer (at most n sensors) becomes the incumbent, improved by 1-swap local search
+  // (2-swaps can take seconds on large instances) while time is left.
   void Offer(std::vector<uint32_t> chosen) {
     if (matrix_.CoveredWeight(chosen) <= best_cells_) return;
     chosen = GreedyComplete(CellScorer(matrix_), std::move(chosen), n_);
-    chosen = LocalSearch(CellScorer(matrix_), std::move(chosen));
+    LocalOptions options;
+    options.two_swap = false;
+    if (Clock::now() < end_) chosen = LocalSearch(CellScorer(matrix_), std::move(chosen), options);
     best_cells_ = matrix_.CoveredWeight(chosen);
     best_ = std::move(chosen);
   }
