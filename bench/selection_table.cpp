@@ -5,7 +5,7 @@
 // the same N; exact optimal or within 0.1 point (0.5 on the second 450-candidate world, *_b, and
 // the generated instance) for N <= 10 within the time limit (issue 14).
 //
-// Usage: selection_table [--n-max 10] [--time-limit 10] [--iterations 1000] [--seed 1]
+// Usage: selection_table [--n-min 1] [--n-max 10] [--time-limit 10] [--iterations 1000] [--seed 1]
 //                        [--generated] [FILE.vis ...]
 #include <fmt/format.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -83,6 +83,7 @@ Row Run(const Instance& instance, Method method, int n, const SelectOptions& bas
 int Main(int argc, char** argv) {
   // The library logs (e.g. exact's warnings) to the "vantage" logger: stderr, as the CLI does.
   spdlog::set_default_logger(spdlog::stderr_color_mt("vantage"));
+  int n_min = 1;
   int n_max = 10;
   SelectOptions base;
   base.ransac_iterations = 1000;  // the paper's
@@ -95,7 +96,9 @@ int Main(int argc, char** argv) {
       if (a + 1 >= argc) throw InputError(arg + " needs a value");
       return argv[++a];
     };
-    if (arg == "--n-max") {
+    if (arg == "--n-min") {
+      n_min = std::stoi(next());
+    } else if (arg == "--n-max") {
       n_max = std::stoi(next());
     } else if (arg == "--time-limit") {
       base.time_limit = std::stod(next());
@@ -129,7 +132,7 @@ int Main(int argc, char** argv) {
   int greedy_checks = 0, exact_checks = 0;
   for (const Instance& instance : instances) {
     const int top = std::min<int>(n_max, static_cast<int>(instance.observations.size()));
-    for (int n = 1; n <= top; ++n) {
+    for (int n = n_min; n <= top; ++n) {
       std::vector<Row> rows;
       for (const Method m : {Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact})
         rows.push_back(Run(instance, m, n, base));
