@@ -641,12 +641,31 @@ std::vector<Observation> WeightedRandomInstance(uint64_t seed, size_t m, size_t 
   return obs;
 }
 
+// Trial t of a sweep over small weighted instances: m_min + t % m_count candidates, 20..60 cells
+// (r_stride apart from one trial to the next, modulo 41), p_min + p_step * (t % p_count) density.
+struct Sweep {
+  size_t m_min, m_count, r_stride;
+  double p_min, p_step;
+  int p_count;
+  uint64_t seed;
+};
+struct SweepTrial {
+  size_t m, r;
+  std::vector<Observation> obs;
+};
+SweepTrial SweepInstance(const Sweep& sweep, int t) {
+  SweepTrial trial;
+  trial.m = sweep.m_min + static_cast<size_t>(t) % sweep.m_count;
+  trial.r = 20 + (static_cast<size_t>(t) * sweep.r_stride) % 41;
+  const double p = sweep.p_min + sweep.p_step * (t % sweep.p_count);
+  trial.obs = WeightedRandomInstance(sweep.seed + static_cast<uint64_t>(t), trial.m, trial.r, p);
+  return trial;
+}
+
 TEST(Lagrangian, BoundIsAtLeastTheEnumeratedOptimumAndAtMostTheLargestRows) {
   for (int trial = 0; trial < 30; ++trial) {
-    const size_t m = 6 + trial % 11;             // 6..16 candidates
-    const size_t r = 20 + (trial * 7) % 41;      // 20..60 cells
-    const double p = 0.08 + 0.04 * (trial % 6);  // sparse to dense
-    const std::vector<Observation> obs = WeightedRandomInstance(900 + trial, m, r, p);
+    // 6..16 candidates, sparse to dense.
+    const auto [m, r, obs] = SweepInstance({6, 11, 7, 0.08, 0.04, 6, 900}, trial);
     const detail::CoverageMatrix matrix(obs, r);
     for (size_t n = 1; n <= std::min<size_t>(m, 8); ++n) {
       const size_t optimum = BruteForceOptimum(obs, n);
@@ -736,10 +755,7 @@ std::vector<size_t> MaskUnions(const std::vector<Observation>& obs) {
 TEST(Lagrangian, FixingKeepsEverySelectionThatReachesTheThreshold) {
   int fixed_in = 0, removed = 0;
   for (int trial = 0; trial < 40; ++trial) {
-    const size_t m = 6 + trial % 11;             // 6..16 candidates
-    const size_t r = 20 + (trial * 7) % 41;      // 20..60 cells
-    const double p = 0.08 + 0.04 * (trial % 6);  // sparse to dense
-    const std::vector<Observation> obs = WeightedRandomInstance(1300 + trial, m, r, p);
+    const auto [m, r, obs] = SweepInstance({6, 11, 7, 0.08, 0.04, 6, 1300}, trial);
     const detail::CoverageMatrix matrix(obs, r);
     std::vector<uint32_t> weights;
     for (uint32_t e = 0; e < matrix.element_count(); ++e) weights.push_back(matrix.Weight(e));
@@ -834,10 +850,8 @@ TEST(Lagrangian, IsNeverBelowClpsLpOptimumAndConvergesToIt) {
 
 TEST(BranchAndBound, FindsAndProvesTheEnumeratedOptimum) {
   for (int trial = 0; trial < 40; ++trial) {
-    const size_t m = 8 + trial % 13;              // 8..20 candidates
-    const size_t r = 20 + (trial * 11) % 41;      // 20..60 cells
-    const double p = 0.06 + 0.03 * (trial % 7);  // sparse to dense
-    const std::vector<Observation> obs = WeightedRandomInstance(1700 + trial, m, r, p);
+    // 8..20 candidates, sparse to dense.
+    const auto [m, r, obs] = SweepInstance({8, 13, 11, 0.06, 0.03, 7, 1700}, trial);
     const detail::CoverageMatrix matrix(obs, r);
     const std::vector<size_t> cells = MaskUnions(obs);
     for (size_t n = 2; n <= std::min<size_t>(m - 1, 6); n += 2) {

@@ -1,4 +1,4 @@
-// A Lagrangian upper bound for maximum coverage with n sensors, and the fixing it allows (issue 14).
+// A Lagrangian upper bound for maximum coverage with n sensors and the fixing it allows (issue 14).
 //
 // The problem on the merged matrix: max sum_e w_e y_e s.t. y_e <= sum_{i sees e} x_i,
 // sum_i x_i <= n, x binary, y in [0, 1]. Relaxing the coverage rows with multipliers lambda_e >= 0:
@@ -191,7 +191,9 @@ Fixing LagrangianFixing(const LagrangianProblem& problem,
   for (uint32_t i = 0; i < problem.rows.size(); ++i) {
     if (in[i]) {
       // x_i = 0: the (slots + 1)-th row takes its place.
-      if (exact.scaled_value - exact.rows[i] + exact.next_row < target) fixing.fixed_in.push_back(i);
+      if (exact.scaled_value - exact.rows[i] + exact.next_row < target) {
+        fixing.fixed_in.push_back(i);
+      }
     } else if (exact.scaled_value - exact.last_chosen + exact.rows[i] < target) {
       fixing.removed.push_back(i);  // x_i = 1: it replaces the smallest chosen row
     }
