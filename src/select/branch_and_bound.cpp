@@ -29,8 +29,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 // Subgradient steps at a node, warm-started from its parent's multipliers with this step scale
-// (small: the parent's multipliers are close), and how often fixing may re-bound one node.
-constexpr int kNodeSteps = 40;
+// (small: the parent's multipliers are close), and how often fixing may re-bound one node. Few
+// steps per node prove more per second than many (multi_bin_picking, N = 5: 5 steps proved it in
+// 7.7 s and 671 nodes, 40 steps in 10.8 s, 1 step in 9.7 s and 3,291 nodes).
+constexpr int kNodeSteps = 5;
 constexpr double kNodeStepScale = 0.5;
 constexpr int kMaxFixingRounds = 4;
 

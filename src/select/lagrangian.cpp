@@ -77,6 +77,11 @@ SubgradientResult SubgradientSteps(const LagrangianProblem& problem,
   const size_t m = problem.rows.size();
   const size_t elements = problem.weights.size();
   VANTAGE_CHECK(lambda->size() == elements);
+  // Warm starts may come from a problem with more weight (branch and bound zeroes the elements
+  // its fixed candidates cover): project onto [0, w] first, or the estimates would run low.
+  for (size_t e = 0; e < elements; ++e) {
+    (*lambda)[e] = std::clamp((*lambda)[e], 0.0, static_cast<double>(problem.weights[e]));
+  }
   std::vector<double> best_lambda = *lambda;
   SubgradientResult result;
   std::vector<double> rows(m);
