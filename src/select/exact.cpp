@@ -51,7 +51,7 @@ constexpr double kMinCbcNonzeros = 20000;
 // few seconds); larger ones, and whatever CBC leaves unproved, go to BranchAndBound, which gets
 // this share of the time limit (the rest absorbs its last node and the caller's scoring).
 constexpr size_t kCbcFirstNonzeros = 100000;
-constexpr double kBranchAndBoundTimeShare = 0.95;
+constexpr double kBranchAndBoundTimeShare = 0.9;
 // Below this many seconds left the root bound cannot improve on the cheap one: not started.
 constexpr double kMinBranchAndBoundSeconds = 0.02;
 
