@@ -2,9 +2,10 @@
 // and optionally a generated instance of 1,000 candidates) and every N = 1..N_max, the coverage of
 // ransac, greedy, local and exact, exact's proven bound and gap, and the seconds of each method run
 // alone (matrix building included). Ends with the targets: greedy and local never below ransac at
-// the same N; exact optimal or within a 1 % relative gap for N <= 5.
+// the same N; exact optimal or within 0.1 point (0.5 on the second 450-candidate world, *_b, and
+// the generated instance) for N <= 10 within the time limit (issue 14).
 //
-// Usage: selection_table [--n-max 10] [--time-limit 60] [--iterations 1000] [--seed 1]
+// Usage: selection_table [--n-min 1] [--n-max 10] [--time-limit 10] [--iterations 1000] [--seed 1]
 //                        [--generated] [FILE.vis ...]
 #include <fmt/format.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -82,10 +83,11 @@ Row Run(const Instance& instance, Method method, int n, const SelectOptions& bas
 int Main(int argc, char** argv) {
   // The library logs (e.g. exact's warnings) to the "vantage" logger: stderr, as the CLI does.
   spdlog::set_default_logger(spdlog::stderr_color_mt("vantage"));
+  int n_min = 1;
   int n_max = 10;
   SelectOptions base;
   base.ransac_iterations = 1000;  // the paper's
-  base.time_limit = 60;
+  base.time_limit = 10;
   bool with_generated = false;
   std::vector<std::string> files;
   for (int a = 1; a < argc; ++a) {
@@ -94,7 +96,9 @@ int Main(int argc, char** argv) {
       if (a + 1 >= argc) throw InputError(arg + " needs a value");
       return argv[++a];
     };
-    if (arg == "--n-max") {
+    if (arg == "--n-min") {
+      n_min = std::stoi(next());
+    } else if (arg == "--n-max") {
       n_max = std::stoi(next());
     } else if (arg == "--time-limit") {
       base.time_limit = std::stod(next());
@@ -128,7 +132,7 @@ int Main(int argc, char** argv) {
   int greedy_checks = 0, exact_checks = 0;
   for (const Instance& instance : instances) {
     const int top = std::min<int>(n_max, static_cast<int>(instance.observations.size()));
-    for (int n = 1; n <= top; ++n) {
+    for (int n = n_min; n <= top; ++n) {
       std::vector<Row> rows;
       for (const Method m : {Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact})
         rows.push_back(Run(instance, m, n, base));
@@ -151,15 +155,18 @@ int Main(int argc, char** argv) {
         }
       }
       const Row& exact = rows[3];
-      if (n <= 5) {
+      // Issue 14: proven or within `max_gap` points in the time limit, for every N <= 10; the
+      // 450-candidate second draw (name ending in _b) and the generated instance: 0.5 points.
+      const bool loose = instance.name.ends_with("_b") || instance.name.starts_with("generated");
+      const double max_gap = loose ? 0.5 : 0.1;
+      if (n <= 10) {
         ++exact_checks;
-        const double relative =
-            exact.bound && *exact.bound > 0 ? (*exact.bound - exact.coverage) / *exact.bound : 0.0;
-        if (!exact.is_optimal && relative > 0.01) {
-          misses.push_back(fmt::format("{} N={}: exact gap {:.2f} % of the bound (not optimal)",
-                                       instance.name, n, 100 * relative));
+        const double gap = exact.bound ? 100 * (*exact.bound - exact.coverage) : 0.0;
+        if (!exact.is_optimal && gap > max_gap + 1e-9) {
+          misses.push_back(fmt::format("{} N={}: exact gap {:.2f} points > {}", instance.name, n,
+                                       gap, max_gap));
         }
-        if (exact.seconds > base.time_limit) {
+        if (exact.seconds > 1.1 * base.time_limit) {
           misses.push_back(
               fmt::format("{} N={}: exact took {:.1f} s", instance.name, n, exact.seconds));
         }
@@ -167,8 +174,9 @@ int Main(int argc, char** argv) {
     }
   }
   fmt::print(
-      "\nTargets: greedy and local >= ransac at the same N ({} checks); exact optimal or "
-      "relative gap <= 1 % within the time limit for N <= 5 ({} checks).\n",
+      "\nTargets: greedy and local >= ransac at the same N ({} checks); exact optimal or gap <= "
+      "0.1 point (0.5 on *_b and generated) within 1.1 x the time limit for N <= 10 ({} "
+      "checks).\n",
       greedy_checks, exact_checks);
   if (misses.empty()) fmt::print("All targets met.\n");
   for (const std::string& miss : misses) fmt::print("MISSED: {}\n", miss);

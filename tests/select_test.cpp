@@ -5,11 +5,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <numeric>
 #include <set>
+
+#include <coin/Clp_C_Interface.h>
 
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
@@ -637,12 +641,31 @@ std::vector<Observation> WeightedRandomInstance(uint64_t seed, size_t m, size_t 
   return obs;
 }
 
+// Trial t of a sweep over small weighted instances: m_min + t % m_count candidates, 20..60 cells
+// (r_stride apart from one trial to the next, modulo 41), p_min + p_step * (t % p_count) density.
+struct Sweep {
+  size_t m_min, m_count, r_stride;
+  double p_min, p_step;
+  int p_count;
+  uint64_t seed;
+};
+struct SweepTrial {
+  size_t m, r;
+  std::vector<Observation> obs;
+};
+SweepTrial SweepInstance(const Sweep& sweep, int t) {
+  SweepTrial trial;
+  trial.m = sweep.m_min + static_cast<size_t>(t) % sweep.m_count;
+  trial.r = 20 + (static_cast<size_t>(t) * sweep.r_stride) % 41;
+  const double p = sweep.p_min + sweep.p_step * (t % sweep.p_count);
+  trial.obs = WeightedRandomInstance(sweep.seed + static_cast<uint64_t>(t), trial.m, trial.r, p);
+  return trial;
+}
+
 TEST(Lagrangian, BoundIsAtLeastTheEnumeratedOptimumAndAtMostTheLargestRows) {
   for (int trial = 0; trial < 30; ++trial) {
-    const size_t m = 6 + trial % 11;             // 6..16 candidates
-    const size_t r = 20 + (trial * 7) % 41;      // 20..60 cells
-    const double p = 0.08 + 0.04 * (trial % 6);  // sparse to dense
-    const std::vector<Observation> obs = WeightedRandomInstance(900 + trial, m, r, p);
+    // 6..16 candidates, sparse to dense.
+    const auto [m, r, obs] = SweepInstance({6, 11, 7, 0.08, 0.04, 6, 900}, trial);
     const detail::CoverageMatrix matrix(obs, r);
     for (size_t n = 1; n <= std::min<size_t>(m, 8); ++n) {
       const size_t optimum = BruteForceOptimum(obs, n);
@@ -712,6 +735,169 @@ TEST(Lagrangian, ProvesTheIncumbentOptimalWhenTheLpHasNoGap) {
   const std::vector<Observation> obs = {Obs({0, 1, 2, 3, 4}), Obs({5, 6, 7, 8}), Obs({9, 10, 11})};
   const detail::CoverageMatrix matrix(obs, 12);
   EXPECT_EQ(detail::LagrangianUpperBound(matrix, 2, 9, 3000, 1e9).upper_bound, 9u);
+}
+
+// Cells of R (at most 64) seen by the candidates of each mask (bit i = candidate i), counted
+// independently of the library: the union of each candidate's cells as a 64-bit set.
+std::vector<size_t> MaskUnions(const std::vector<Observation>& obs) {
+  std::vector<uint64_t> sets(size_t{1} << obs.size(), 0);
+  std::vector<size_t> cells(sets.size(), 0);
+  for (uint32_t mask = 1; mask < sets.size(); ++mask) {
+    const int i = std::countr_zero(mask);
+    uint64_t own = 0;
+    for (const uint32_t c : obs[i].reference_indices) own |= uint64_t{1} << c;
+    sets[mask] = sets[mask & (mask - 1)] | own;
+    cells[mask] = static_cast<size_t>(std::popcount(sets[mask]));
+  }
+  return cells;
+}
+
+TEST(Lagrangian, FixingKeepsEverySelectionThatReachesTheThreshold) {
+  int fixed_in = 0, removed = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const auto [m, r, obs] = SweepInstance({6, 11, 7, 0.08, 0.04, 6, 1300}, trial);
+    const detail::CoverageMatrix matrix(obs, r);
+    std::vector<uint32_t> weights;
+    for (uint32_t e = 0; e < matrix.element_count(); ++e) weights.push_back(matrix.Weight(e));
+    const std::vector<size_t> cells = MaskUnions(obs);
+    for (size_t n = 1; n <= std::min<size_t>(m - 1, 6); ++n) {
+      size_t optimum = 0;
+      for (uint32_t mask = 0; mask < cells.size(); ++mask) {
+        if (std::popcount(mask) <= static_cast<int>(n)) optimum = std::max(optimum, cells[mask]);
+      }
+      // Thresholds: the optimum (fixing then keeps every optimum) and one cell below it.
+      for (const size_t threshold : {optimum, optimum - 1}) {
+        const detail::LagrangianBound bound =
+            detail::LagrangianUpperBound(matrix, n, threshold - 1, 500, 1e9);
+        const detail::LagrangianProblem problem{matrix.rows(), weights, n};
+        const detail::Fixing fixing = detail::LagrangianFixing(
+            problem, detail::EvaluateExactly(problem, bound.lambda), threshold);
+        fixed_in += static_cast<int>(fixing.fixed_in.size());
+        removed += static_cast<int>(fixing.removed.size());
+        for (uint32_t mask = 0; mask < cells.size(); ++mask) {
+          if (std::popcount(mask) > static_cast<int>(n) || cells[mask] < threshold) continue;
+          for (const uint32_t i : fixing.removed) {
+            EXPECT_FALSE(mask & (1u << i)) << "trial " << trial << " n " << n << " removed " << i;
+          }
+          for (const uint32_t i : fixing.fixed_in) {
+            EXPECT_TRUE(mask & (1u << i)) << "trial " << trial << " n " << n << " fixed " << i;
+          }
+        }
+      }
+    }
+  }
+  // The bound is tight enough here to fix many candidates both ways.
+  EXPECT_GT(fixed_in, 20);
+  EXPECT_GT(removed, 100);
+}
+
+// The LP relaxation of maximum coverage on the cells themselves (no merging), solved by CLP:
+// max sum_c y_c s.t. y_c <= sum_{i sees c} x_i, sum_i x_i <= n, 0 <= x, y <= 1.
+double ClpLpBound(const std::vector<Observation>& obs, size_t cells, size_t n) {
+  const int m = static_cast<int>(obs.size());
+  const int columns = m + static_cast<int>(cells);
+  const int rows = static_cast<int>(cells) + 1;  // a row per cell, then the cardinality row
+  std::vector<CoinBigIndex> starts{0};
+  std::vector<int> index;
+  std::vector<double> value;
+  for (const Observation& o : obs) {
+    for (const uint32_t c : o.reference_indices) {
+      index.push_back(static_cast<int>(c));
+      value.push_back(-1.0);
+    }
+    index.push_back(static_cast<int>(cells));
+    value.push_back(1.0);
+    starts.push_back(static_cast<CoinBigIndex>(index.size()));
+  }
+  for (size_t c = 0; c < cells; ++c) {
+    index.push_back(static_cast<int>(c));
+    value.push_back(1.0);
+    starts.push_back(static_cast<CoinBigIndex>(index.size()));
+  }
+  std::vector<double> lower(columns, 0.0), upper(columns, 1.0), objective(columns, 0.0);
+  std::fill(objective.begin() + m, objective.end(), 1.0);
+  std::vector<double> row_lower(rows, -1e30), row_upper(rows, 0.0);
+  row_upper.back() = static_cast<double>(n);
+  Clp_Simplex* model = Clp_newModel();
+  Clp_setLogLevel(model, 0);
+  Clp_loadProblem(model, columns, rows, starts.data(), index.data(), value.data(), lower.data(),
+                  upper.data(), objective.data(), row_lower.data(), row_upper.data());
+  Clp_setObjSense(model, -1);
+  Clp_initialSolve(model);
+  EXPECT_EQ(Clp_status(model), 0);
+  const double lp = Clp_objectiveValue(model);
+  Clp_deleteModel(model);
+  return lp;
+}
+
+TEST(Lagrangian, IsNeverBelowClpsLpOptimumAndConvergesToIt) {
+  for (int trial = 0; trial < 12; ++trial) {
+    const size_t m = 8 + trial;
+    const size_t r = 30 + 2 * trial;
+    const std::vector<Observation> obs = WeightedRandomInstance(2100 + trial, m, r, 0.15);
+    const detail::CoverageMatrix matrix(obs, r);
+    for (size_t n = 2; n <= 5; ++n) {
+      const double lp = ClpLpBound(obs, r, n);
+      const detail::LagrangianBound bound = detail::LagrangianUpperBound(matrix, n, 0, 3000, 1e9);
+      // Weak duality: L(lambda) >= the LP optimum for every lambda, exactly.
+      EXPECT_GE(static_cast<double>(bound.value), lp - 1e-7) << "trial " << trial << " n " << n;
+      EXPECT_GE(bound.upper_bound, static_cast<uint64_t>(std::floor(lp + 1e-7)));
+      // 3,000 subgradient steps reach the LP optimum here (to about 1e-6 cells).
+      EXPECT_LE(static_cast<double>(bound.value), lp + 0.01) << "trial " << trial << " n " << n;
+    }
+  }
+}
+
+TEST(BranchAndBound, FindsAndProvesTheEnumeratedOptimum) {
+  for (int trial = 0; trial < 40; ++trial) {
+    // 8..20 candidates, sparse to dense.
+    const auto [m, r, obs] = SweepInstance({8, 13, 11, 0.06, 0.03, 7, 1700}, trial);
+    const detail::CoverageMatrix matrix(obs, r);
+    const std::vector<size_t> cells = MaskUnions(obs);
+    for (size_t n = 2; n <= std::min<size_t>(m - 1, 6); n += 2) {
+      size_t optimum = 0;
+      for (uint32_t mask = 0; mask < cells.size(); ++mask) {
+        if (std::popcount(mask) <= static_cast<int>(n)) optimum = std::max(optimum, cells[mask]);
+      }
+      // From the plain greedy answer (often not optimal here) and the trivial bound: all cells.
+      const std::vector<uint32_t> start = PlainGreedy(obs, n);
+      detail::BranchAndBoundLimits limits;
+      limits.seconds = 60;
+      const detail::BranchAndBoundResult found =
+          detail::BranchAndBound(matrix, n, start, r, limits);
+      EXPECT_TRUE(found.proven_optimal) << "trial " << trial << " n " << n;
+      EXPECT_EQ(found.cells, optimum) << "trial " << trial << " n " << n;
+      EXPECT_EQ(found.upper_bound, optimum);
+      EXPECT_GE(found.root_bound, optimum);
+      EXPECT_EQ(found.chosen.size(), n);
+      EXPECT_EQ(UnionSize(obs, found.chosen), optimum);
+      // Stopped after the root (no time to branch): still a valid bound, never below the start.
+      limits.seconds = 0;
+      const detail::BranchAndBoundResult stopped =
+          detail::BranchAndBound(matrix, n, start, r, limits);
+      EXPECT_GE(stopped.upper_bound, optimum);
+      EXPECT_EQ(stopped.chosen, start);
+    }
+  }
+}
+
+// A hard instance: 400 random candidates over 4,000 cells, n = 25 (no proof in seconds): exact
+// returns within its time limit (+10 %) with a valid bound.
+TEST(BranchAndBound, ExactKeepsItsTimeLimitOnAHardInstance) {
+  const std::vector<Observation> obs = RandomInstance(23, 400, 4000, 0.02);
+  const detail::CoverageMatrix matrix(obs, 4000);
+  const std::vector<uint32_t> start = detail::GreedyComplete(detail::CellScorer(matrix), {}, 25);
+  const auto begin = std::chrono::steady_clock::now();
+  const detail::ExactResult exact = detail::SolveExact(matrix, 25, start, 1.5);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  EXPECT_LE(seconds, 1.65);
+  const uint64_t cells = matrix.CoveredWeight(exact.chosen);
+  EXPECT_GE(cells, matrix.CoveredWeight(start));
+  EXPECT_GE(exact.upper_bound, cells);
+  EXPECT_LE(exact.upper_bound,
+            std::max(detail::GreedyUpperBound(matrix, start, 25), matrix.CoveredWeight(start)));
+  EXPECT_FALSE(exact.proven_optimal);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -161,7 +161,9 @@ void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {
   app->add_option("--stop", request->ransac_stop_coverage,
                   "RANSAC stops at this coverage, fraction 0..1 (default: the scene's)");
   app->add_option("--time-limit", request->time_limit,
-                  "seconds for the exact solver (default: 60)");
+                  "seconds for the exact solver (default: 60); --method all shares the smaller "
+                  "of it and 6 s among its N's, each N an equal part of what the N's before "
+                  "it left");
   app->add_option("--goal", request->goal,
                   "objective: the fewest sensors whose coverage reaches this fraction 0..1 (set "
                   "cover)");

@@ -47,16 +47,17 @@ constexpr double kCbcKillShare = 0.9;
 constexpr double kCbcNonzerosPerSecond = 40000;
 constexpr double kMinCbcNonzeros = 20000;
 
-// The Lagrangian bound (LagrangianUpperBound) gets as many subgradient steps as the time left
-// allows at this many row nonzeros per second (each step reads every row once; 1.5-3x below what
-// the contended 2-core machine measured, and the clock stops them anyway), at most
-// kMaxLagrangianSteps (on the 450-candidate bench world the bound stops improving after about 800)
-// and none below kMinLagrangianSteps (too few to beat the cheap bound).
-constexpr double kLagrangianNonzerosPerSecond = 2e8;
-constexpr double kMaxLagrangianSteps = 1000;
-constexpr double kMinLagrangianSteps = 10;
-// Share of the time left that the steps may take (the clock is read once per step).
-constexpr double kLagrangianTimeShare = 0.9;
+// Models up to this many row nonzeros go to CBC first (it proves the small shared worlds in a
+// few seconds); larger ones, and whatever CBC leaves unproved, go to BranchAndBound, which gets
+// this share of the time limit (the rest absorbs its last node and the caller's scoring).
+constexpr size_t kCbcFirstNonzeros = 100000;
+constexpr double kBranchAndBoundTimeShare = 0.9;
+// Below this many seconds left the root bound cannot improve on the cheap one: not started.
+constexpr double kMinBranchAndBoundSeconds = 0.02;
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 struct CbcModelDeleter {
   void operator()(Cbc_Model* model) const { Cbc_deleteModel(model); }
@@ -534,24 +535,6 @@ void SettleUpperBound(uint64_t cells, double cbc_bound, bool is_cbc_optimal, Exa
   result->proven_optimal = cells == result->upper_bound;
 }
 
-// Lowers result->upper_bound to the Lagrangian bound when that is smaller and there is time
-// (`seconds` left) for enough subgradient steps; `cells` is what result->chosen covers.
-void TightenByLagrangian(
-    const CoverageMatrix& matrix, size_t n, uint64_t cells, double seconds, ExactResult* result) {
-  if (result->proven_optimal) return;
-  size_t nonzeros = 1;
-  for (const std::vector<uint32_t>& row : matrix.rows()) nonzeros += row.size();
-  const double steps = std::min(
-      kMaxLagrangianSteps, seconds * kLagrangianNonzerosPerSecond / static_cast<double>(nonzeros));
-  if (!(steps >= kMinLagrangianSteps)) return;
-  const LagrangianBound bound =
-      LagrangianUpperBound(matrix, n, cells, static_cast<int>(steps), seconds);
-  if (bound.upper_bound < result->upper_bound) {
-    result->upper_bound = std::max(bound.upper_bound, cells);
-  }
-  result->proven_optimal = cells == result->upper_bound;
-}
-
 }  // namespace
 
 ExactResult SolveExact(const CoverageMatrix& matrix,
@@ -576,19 +559,40 @@ ExactResult SolveExact(const CoverageMatrix& matrix,
     result.proven_optimal = true;
     return result;
   }
-  CbcOutcome outcome = CardinalityCbc(matrix, 1, n, start, time_limit);
-  result.note = outcome.note;
-  if (!outcome.chosen.empty()) {
-    std::vector<uint32_t> padded = GreedyComplete(CellScorer(matrix), outcome.chosen, n);
-    if (matrix.CoveredWeight(padded) > start_cells) result.chosen = std::move(padded);
+  size_t nonzeros = 0;
+  for (const std::vector<uint32_t>& row : matrix.rows()) nonzeros += row.size();
+  if (nonzeros <= kCbcFirstNonzeros) {
+    CbcOutcome outcome = CardinalityCbc(matrix, 1, n, start, time_limit);
+    result.note = outcome.note;
+    if (!outcome.chosen.empty()) {
+      std::vector<uint32_t> padded = GreedyComplete(CellScorer(matrix), outcome.chosen, n);
+      if (matrix.CoveredWeight(padded) > start_cells) result.chosen = std::move(padded);
+    }
+    SettleUpperBound(matrix.CoveredWeight(result.chosen), outcome.bound, outcome.proven_optimal,
+                     &result);
+    if (result.proven_optimal) return result;
   }
-  const uint64_t cells = matrix.CoveredWeight(result.chosen);
-  SettleUpperBound(cells, outcome.bound, outcome.proven_optimal, &result);
-  // CBC refused the model, failed or ran out of time: the Lagrangian bound (the LP's strength)
-  // in the time left.
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
-  TightenByLagrangian(matrix, n, cells, kLagrangianTimeShare * (time_limit - elapsed), &result);
+  // Branch and bound on the Lagrangian bound in the time left.
+  BranchAndBoundLimits limits;
+  limits.seconds = kBranchAndBoundTimeShare * time_limit - SecondsSince(start_time);
+  if (limits.seconds < kMinBranchAndBoundSeconds) return result;
+  const BranchAndBoundResult search =
+      BranchAndBound(matrix, n, result.chosen, result.upper_bound, limits);
+  if (search.cells > matrix.CoveredWeight(result.chosen)) result.chosen = search.chosen;
+  result.upper_bound = std::max(std::min(result.upper_bound, search.upper_bound),
+                                matrix.CoveredWeight(result.chosen));
+  result.proven_optimal = result.upper_bound == matrix.CoveredWeight(result.chosen);
+  const std::string what = fmt::format(
+      "branch and bound: {} nodes, root bound {} cells ({} candidates fixed in, {} removed)",
+      search.nodes, search.root_bound, search.root_fixed_in, search.root_removed);
+  if (result.proven_optimal) {
+    result.note = what;
+  } else {
+    result.note = fmt::format("{}{}{}", result.note.empty() ? "" : result.note + "; ", what,
+                              search.timed_out ? " — reached the time limit; raise --time-limit "
+                                                 "to prove more"
+                                               : "");
+  }
   return result;
 }
 

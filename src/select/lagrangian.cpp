@@ -1,15 +1,20 @@
-// A Lagrangian upper bound for maximum coverage with n sensors (issue 14).
+// A Lagrangian upper bound for maximum coverage with n sensors and the fixing it allows (issue 14).
 //
 // The problem on the merged matrix: max sum_e w_e y_e s.t. y_e <= sum_{i sees e} x_i,
-// sum_i x_i = n, x binary, y in [0, 1]. Relaxing the coverage rows with multipliers lambda_e >= 0:
+// sum_i x_i <= n, x binary, y in [0, 1]. Relaxing the coverage rows with multipliers lambda_e >= 0:
 //
-//   L(lambda) = max_{|S| = n} sum_{i in S} r_i + sum_e max(0, w_e - lambda_e),
+//   L(lambda) = max_{|S| <= n} sum_{i in S} r_i + sum_e max(0, w_e - lambda_e),
 //   r_i = sum_{e in row i} lambda_e,
 //
 // an upper bound on the optimum for every lambda >= 0, and min_lambda L = the LP relaxation's
 // optimum (the subproblem's polytope is integral). Multipliers above w_e never help, so lambda
 // stays in [0, w]. The minimum is sought by projected subgradient steps (Polyak, towards the
 // incumbent); the bound returned is L of the best multipliers re-evaluated exactly in fixed point.
+//
+// Fixing: L with x_i = 1 forced is L - r_(n) + r_i for i outside the n chosen rows, and L with
+// x_i = 0 forced is L - r_i + r_(n+1) for i among them (r_(j) the j-th largest row). Each is an
+// upper bound on the problem with that constraint added, so when it is below a threshold T, no
+// answer with that value of x_i reaches T.
 #include <algorithm>
 #include <bit>
 #include <chrono>
@@ -24,54 +29,182 @@
 namespace vantage::detail {
 namespace {
 
-// Polyak step scale: starts at kStartStepScale, halved after kPatience steps without a better
-// bound, and the search ends once it falls below kMinStepScale.
-constexpr double kStartStepScale = 2.0;
+// Polyak step scale: halved after kPatience steps without a better bound, and the search ends
+// once it falls below kMinStepScale.
 constexpr double kMinStepScale = 1e-7;
 constexpr int kPatience = 30;
 
-// The indices of the n largest `values` (ties: the lower index), in no particular order.
-void TopN(std::span<const double> values, size_t n, std::vector<uint32_t>* order) {
+// The indices of the `count` largest `values` (ties: the lower index), in no particular order.
+template <typename T>
+void TopN(std::span<const T> values, size_t count, std::vector<uint32_t>* order) {
   order->resize(values.size());
   std::iota(order->begin(), order->end(), 0u);
-  std::nth_element(order->begin(), order->begin() + static_cast<std::ptrdiff_t>(n) - 1,
+  count = std::min(count, values.size());
+  if (count == 0) {
+    order->clear();
+    return;
+  }
+  std::nth_element(order->begin(), order->begin() + static_cast<std::ptrdiff_t>(count) - 1,
                    order->end(), [&](uint32_t a, uint32_t b) {
                      return values[a] > values[b] || (values[a] == values[b] && a < b);
                    });
-  order->resize(n);
+  order->resize(count);
 }
 
-// L(lambda) exactly: lambda is truncated to multiples of 2^-bits (still >= 0, so still a valid
-// multiplier) and L is summed in integers. Returns L * 2^bits and bits.
-std::pair<uint64_t, int> ExactBound(const CoverageMatrix& matrix,
-                                    size_t n,
-                                    std::span<const double> lambda) {
-  // The n best rows sum to at most n * sum_e lambda_e <= n * seen_weight(): keep
-  // (n + 1) * seen_weight() * 2^bits below 2^63.
-  const int used_bits = std::bit_width((static_cast<uint64_t>(n) + 1) * matrix.seen_weight());
-  const int bits = std::clamp(62 - used_bits, 0, 24);
-  const auto scale = static_cast<double>(uint64_t{1} << bits);
-  std::vector<uint64_t> fixed(matrix.element_count());
+}  // namespace
+
+std::vector<double> StartMultipliers(const LagrangianProblem& problem) {
+  std::vector<uint32_t> seers(problem.weights.size(), 0);
+  for (const std::vector<uint32_t>& row : problem.rows) {
+    for (const uint32_t e : row) ++seers[e];
+  }
+  // Each element's weight shared among its seers (an element seen once keeps all of it; one seen
+  // by nobody gets its whole weight, which removes it from L).
+  std::vector<double> lambda(problem.weights.size());
+  for (size_t e = 0; e < lambda.size(); ++e) {
+    lambda[e] = static_cast<double>(problem.weights[e]) / std::max<uint32_t>(seers[e], 1);
+  }
+  return lambda;
+}
+
+SubgradientResult SubgradientSteps(const LagrangianProblem& problem,
+                                   uint64_t incumbent,
+                                   int max_steps,
+                                   double step_scale,
+                                   double seconds,
+                                   std::vector<double>* lambda) {
+  const auto start_time = std::chrono::steady_clock::now();
+  const size_t m = problem.rows.size();
+  const size_t elements = problem.weights.size();
+  VANTAGE_CHECK(lambda->size() == elements);
+  // Warm starts may come from a problem with more weight (branch and bound zeroes the elements
+  // its fixed candidates cover): project onto [0, w] first, or the estimates would run low.
+  for (size_t e = 0; e < elements; ++e) {
+    (*lambda)[e] = std::clamp((*lambda)[e], 0.0, static_cast<double>(problem.weights[e]));
+  }
+  std::vector<double> best_lambda = *lambda;
+  SubgradientResult result;
+  std::vector<double> rows(m);
+  std::vector<uint32_t> chosen;
+  std::vector<uint32_t> covered(elements);
+  std::vector<double> step(elements);
+  double scale = step_scale;
+  int stale = 0;
+  for (int it = 0; it < max_steps && scale >= kMinStepScale; ++it) {
+    ThrowIfInterrupted();
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count() >
+        seconds) {
+      break;
+    }
+    ++result.iterations;
+    std::vector<double>& l = *lambda;
+    double value = 0;
+    for (size_t e = 0; e < elements; ++e) value += problem.weights[e] - l[e];
+    for (size_t i = 0; i < m; ++i) {
+      double r = 0;
+      for (const uint32_t e : problem.rows[i]) r += l[e];
+      rows[i] = r;
+    }
+    TopN(std::span<const double>(rows), problem.slots, &chosen);
+    for (const uint32_t i : chosen) value += rows[i];
+    if (value < result.estimate - 1e-9) {
+      result.estimate = value;
+      best_lambda = l;
+      stale = 0;
+    } else if (++stale >= kPatience) {
+      scale /= 2;
+      stale = 0;
+    }
+    // Whole cells: below incumbent + 1 the bound proves the incumbent optimal (half a cell is
+    // left for round-off in this estimate; the exact value decides).
+    if (result.estimate < static_cast<double>(incumbent) + 0.5) break;
+    // Subgradient dL/dlambda_e = (seers of e in the chosen) - 1, projected onto [0, w].
+    std::fill(covered.begin(), covered.end(), 0u);
+    for (const uint32_t i : chosen) {
+      for (const uint32_t e : problem.rows[i]) ++covered[e];
+    }
+    double norm = 0;
+    for (size_t e = 0; e < elements; ++e) {
+      double g = static_cast<double>(covered[e]) - 1.0;
+      if ((g > 0 && l[e] <= 0) || (g < 0 && l[e] >= problem.weights[e])) g = 0;
+      step[e] = g;
+      norm += g * g;
+    }
+    if (norm == 0) break;  // lambda is optimal: L(lambda) is the LP bound
+    const double t = scale * (value - static_cast<double>(incumbent)) / norm;
+    for (size_t e = 0; e < elements; ++e) {
+      l[e] = std::clamp(l[e] - t * step[e], 0.0, static_cast<double>(problem.weights[e]));
+    }
+  }
+  *lambda = std::move(best_lambda);
+  return result;
+}
+
+ExactLagrangian EvaluateExactly(const LagrangianProblem& problem, std::span<const double> lambda) {
+  VANTAGE_CHECK(lambda.size() == problem.weights.size());
+  uint64_t total_weight = 0;
+  for (const uint32_t w : problem.weights) total_weight += w;
+  // The chosen rows sum to at most slots * total_weight: keep (slots + 1) * total_weight * 2^bits
+  // below 2^63.
+  const size_t slots = std::min(problem.slots, problem.rows.size());
+  const int used_bits = std::bit_width((static_cast<uint64_t>(slots) + 1) * total_weight);
+  ExactLagrangian exact;
+  exact.bits = std::clamp(62 - used_bits, 0, 24);
+  const auto scale = static_cast<double>(uint64_t{1} << exact.bits);
+  // lambda truncated to multiples of 2^-bits: still in [0, w], so still a valid multiplier.
+  std::vector<uint64_t> fixed(problem.weights.size());
   uint64_t sum = 0;  // sum_e (w_e - lambda_e), scaled
-  for (uint32_t e = 0; e < matrix.element_count(); ++e) {
-    const uint64_t w = uint64_t{matrix.Weight(e)} << bits;
+  for (size_t e = 0; e < fixed.size(); ++e) {
+    const uint64_t w = uint64_t{problem.weights[e]} << exact.bits;
     const double scaled = std::floor(lambda[e] * scale);
     fixed[e] = !(scaled > 0)                      ? 0
                : scaled >= static_cast<double>(w) ? w
                                                   : static_cast<uint64_t>(scaled);
     sum += w - fixed[e];
   }
-  std::vector<uint64_t> rows(matrix.candidate_count(), 0);
-  for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
-    for (const uint32_t e : matrix.Row(i)) rows[i] += fixed[e];
+  exact.rows.assign(problem.rows.size(), 0);
+  for (size_t i = 0; i < problem.rows.size(); ++i) {
+    for (const uint32_t e : problem.rows[i]) exact.rows[i] += fixed[e];
   }
-  std::nth_element(rows.begin(), rows.begin() + static_cast<std::ptrdiff_t>(n) - 1, rows.end(),
-                   std::greater<>());
-  for (size_t j = 0; j < n; ++j) sum += rows[j];
-  return {sum, bits};
+  TopN(std::span<const uint64_t>(exact.rows), slots, &exact.chosen);
+  std::sort(exact.chosen.begin(), exact.chosen.end());
+  for (const uint32_t i : exact.chosen) sum += exact.rows[i];
+  exact.scaled_value = sum;
+  // The (slots + 1)-th largest row (0 when there is none): what replaces a chosen row left out.
+  std::vector<bool> in(problem.rows.size(), false);
+  for (const uint32_t i : exact.chosen) in[i] = true;
+  uint64_t smallest_chosen = std::numeric_limits<uint64_t>::max();
+  for (const uint32_t i : exact.chosen) smallest_chosen = std::min(smallest_chosen, exact.rows[i]);
+  exact.next_row = 0;
+  for (size_t i = 0; i < problem.rows.size(); ++i) {
+    if (!in[i]) exact.next_row = std::max(exact.next_row, exact.rows[i]);
+  }
+  // With fewer rows than slots every row is chosen, and one more fits for free.
+  exact.last_chosen = slots < problem.slots || exact.chosen.empty() ? 0 : smallest_chosen;
+  return exact;
 }
 
-}  // namespace
+Fixing LagrangianFixing(const LagrangianProblem& problem,
+                        const ExactLagrangian& exact,
+                        uint64_t threshold) {
+  Fixing fixing;
+  // threshold << bits must fit (it does whenever the threshold is at most the total weight + 1).
+  if (std::bit_width(threshold) + exact.bits > 63) return fixing;
+  const uint64_t target = threshold << exact.bits;
+  std::vector<bool> in(problem.rows.size(), false);
+  for (const uint32_t i : exact.chosen) in[i] = true;
+  for (uint32_t i = 0; i < problem.rows.size(); ++i) {
+    if (in[i]) {
+      // x_i = 0: the (slots + 1)-th row takes its place.
+      if (exact.scaled_value - exact.rows[i] + exact.next_row < target) {
+        fixing.fixed_in.push_back(i);
+      }
+    } else if (exact.scaled_value - exact.last_chosen + exact.rows[i] < target) {
+      fixing.removed.push_back(i);  // x_i = 1: it replaces the smallest chosen row
+    }
+  }
+  return fixing;
+}
 
 LagrangianBound LagrangianUpperBound(const CoverageMatrix& matrix,
                                      size_t n,
@@ -79,78 +212,22 @@ LagrangianBound LagrangianUpperBound(const CoverageMatrix& matrix,
                                      int max_iterations,
                                      double time_limit) {
   VANTAGE_CHECK(n >= 1 && n <= matrix.candidate_count());
-  const auto start_time = std::chrono::steady_clock::now();
-  const size_t m = matrix.candidate_count();
-  const size_t elements = matrix.element_count();
-  std::vector<uint32_t> seers(elements, 0);
-  for (uint32_t i = 0; i < m; ++i) {
-    for (const uint32_t e : matrix.Row(i)) ++seers[e];
-  }
-  // Start: each element's weight shared among its seers (an element seen once keeps all of it).
-  std::vector<double> lambda(elements);
-  for (uint32_t e = 0; e < elements; ++e)
-    lambda[e] = static_cast<double>(matrix.Weight(e)) / seers[e];
-  std::vector<double> best_lambda = lambda;
-  double best = std::numeric_limits<double>::infinity();
-  std::vector<double> rows(m);
-  std::vector<uint32_t> chosen;
-  std::vector<uint32_t> covered(elements);
-  std::vector<double> step(elements);
-  double scale = kStartStepScale;
-  int stale = 0;
+  std::vector<uint32_t> weights(matrix.element_count());
+  for (uint32_t e = 0; e < weights.size(); ++e) weights[e] = matrix.Weight(e);
+  const LagrangianProblem problem{matrix.rows(), weights, n};
+  std::vector<double> lambda = StartMultipliers(problem);
   LagrangianBound result;
-  for (int it = 0; it < max_iterations && scale >= kMinStepScale; ++it) {
-    ThrowIfInterrupted();
-    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count() >
-        time_limit) {
-      break;
-    }
-    ++result.iterations;
-    double value = 0;
-    for (uint32_t e = 0; e < elements; ++e) value += matrix.Weight(e) - lambda[e];
-    for (uint32_t i = 0; i < m; ++i) {
-      double r = 0;
-      for (const uint32_t e : matrix.Row(i)) r += lambda[e];
-      rows[i] = r;
-    }
-    TopN(rows, n, &chosen);
-    for (const uint32_t i : chosen) value += rows[i];
-    if (value < best - 1e-9) {
-      best = value;
-      best_lambda = lambda;
-      stale = 0;
-    } else if (++stale >= kPatience) {
-      scale /= 2;
-      stale = 0;
-    }
-    // Whole cells: below incumbent + 1 the bound proves the incumbent optimal (half a cell is
-    // left for round-off in this estimate; the exact value below decides).
-    if (best < static_cast<double>(incumbent) + 0.5) break;
-    // Subgradient dL/dlambda_e = (seers of e in the chosen) - 1, projected onto [0, w].
-    std::fill(covered.begin(), covered.end(), 0u);
-    for (const uint32_t i : chosen) {
-      for (const uint32_t e : matrix.Row(i)) ++covered[e];
-    }
-    double norm = 0;
-    for (uint32_t e = 0; e < elements; ++e) {
-      double g = static_cast<double>(covered[e]) - 1.0;
-      if ((g > 0 && lambda[e] <= 0) || (g < 0 && lambda[e] >= matrix.Weight(e))) g = 0;
-      step[e] = g;
-      norm += g * g;
-    }
-    if (norm == 0) break;  // lambda is optimal: L(lambda) is the LP bound
-    const double t = scale * (value - static_cast<double>(incumbent)) / norm;
-    for (uint32_t e = 0; e < elements; ++e) {
-      lambda[e] = std::clamp(lambda[e] - t * step[e], 0.0, static_cast<double>(matrix.Weight(e)));
-    }
-  }
+  result.iterations =
+      SubgradientSteps(problem, incumbent, max_iterations, kStartStepScale, time_limit, &lambda)
+          .iterations;
   // Only the exact value of a multiplier vector is a proof; the start is always a candidate.
-  const auto [scaled, bits] = ExactBound(matrix, n, best_lambda);
-  result.upper_bound = scaled >> bits;
-  result.value = std::ldexp(static_cast<long double>(scaled), -bits);
+  const ExactLagrangian exact = EvaluateExactly(problem, lambda);
+  result.upper_bound = exact.scaled_value >> exact.bits;
+  result.value = std::ldexp(static_cast<long double>(exact.scaled_value), -exact.bits);
+  result.lambda = std::move(lambda);
   // lambda = w gives L = the n largest rows: never return more than that.
-  std::vector<uint64_t> row_weights(m);
-  for (uint32_t i = 0; i < m; ++i) row_weights[i] = matrix.RowWeight(i);
+  std::vector<uint64_t> row_weights(matrix.candidate_count());
+  for (uint32_t i = 0; i < row_weights.size(); ++i) row_weights[i] = matrix.RowWeight(i);
   std::nth_element(row_weights.begin(), row_weights.begin() + static_cast<std::ptrdiff_t>(n) - 1,
                    row_weights.end(), std::greater<>());
   const uint64_t top_rows = std::accumulate(
@@ -158,6 +235,7 @@ LagrangianBound LagrangianUpperBound(const CoverageMatrix& matrix,
   if (top_rows < result.upper_bound) {
     result.upper_bound = top_rows;
     result.value = static_cast<long double>(top_rows);
+    result.lambda.assign(weights.begin(), weights.end());
   }
   return result;
 }

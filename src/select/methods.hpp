@@ -4,6 +4,7 @@
 /// instantiated for CellScorer and StatesScorer where they are templates.
 #include <concepts>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -124,7 +125,65 @@ struct LagrangianBound {
   uint64_t upper_bound = 0;  ///< cells; >= the optimum for every input
   long double value = 0;     ///< L of the multipliers returned, exact (upper_bound = its floor)
   int iterations = 0;        ///< subgradient steps taken
+  std::vector<double> lambda;  ///< the multipliers of `value`, one per element
 };
+
+/// Maximum coverage in the Lagrangian's terms (lagrangian.cpp): at most `slots` of `rows` (sorted
+/// element indices), covering elements of `weights` (an element of weight 0 counts for nothing).
+struct LagrangianProblem {
+  std::span<const std::vector<uint32_t>> rows;
+  std::span<const uint32_t> weights;
+  size_t slots = 0;
+};
+
+/// Where the multiplier search starts: each element's weight shared among the rows that see it.
+std::vector<double> StartMultipliers(const LagrangianProblem& problem);
+
+/// What SubgradientSteps did.
+struct SubgradientResult {
+  double estimate = std::numeric_limits<double>::infinity();  ///< L of the best, in doubles
+  int iterations = 0;
+};
+
+/// Projected subgradient steps on L from `lambda` (Polyak steps towards `incumbent`, scaled by
+/// `step_scale`, halved when the bound stalls); leaves the best multipliers met in `lambda`. Stops
+/// after `max_steps`, after `seconds`, or once the estimate is below incumbent + 1/2.
+SubgradientResult SubgradientSteps(const LagrangianProblem& problem,
+                                   uint64_t incumbent,
+                                   int max_steps,
+                                   double step_scale,
+                                   double seconds,
+                                   std::vector<double>* lambda);
+
+/// Step scale of a search from StartMultipliers (warm starts take smaller ones).
+inline constexpr double kStartStepScale = 2.0;
+
+/// L(lambda) in exact integers: lambda truncated to multiples of 2^-bits (still a valid
+/// multiplier), every value below scaled by 2^bits.
+struct ExactLagrangian {
+  uint64_t scaled_value = 0;     ///< L; floor(L) cells is an upper bound on the optimum
+  int bits = 0;
+  std::vector<uint64_t> rows;    ///< r_i of every row
+  std::vector<uint32_t> chosen;  ///< the slots largest rows (ties: lower index), sorted
+  uint64_t last_chosen = 0;      ///< the smallest chosen r (0 when fewer rows than slots)
+  uint64_t next_row = 0;         ///< the largest r not chosen (0 when none)
+};
+
+/// L(lambda) exactly (see ExactLagrangian).
+ExactLagrangian EvaluateExactly(const LagrangianProblem& problem, std::span<const double> lambda);
+
+/// Rows fixed by the bound: every selection that reaches `threshold` cells contains each of
+/// `fixed_in` and none of `removed`.
+struct Fixing {
+  std::vector<uint32_t> fixed_in;
+  std::vector<uint32_t> removed;
+};
+
+/// Lagrangian fixing: a row whose forced inclusion (exclusion) brings L below `threshold` is
+/// removed (fixed in). A proof from exact integers, whatever the multipliers.
+Fixing LagrangianFixing(const LagrangianProblem& problem,
+                        const ExactLagrangian& exact,
+                        uint64_t threshold);
 
 /// The Lagrangian relaxation of the coverage rows y_e <= sum_{i sees e} x_i (lagrangian.cpp):
 /// minimises L(lambda) = (the n largest sum_{e in row i} lambda_e) + sum_e (w_e - lambda_e) over
@@ -139,6 +198,36 @@ LagrangianBound LagrangianUpperBound(const CoverageMatrix& matrix,
                                      uint64_t incumbent,
                                      int max_iterations,
                                      double time_limit);
+
+/// Limits of BranchAndBound.
+struct BranchAndBoundLimits {
+  double seconds = 0;      ///< wall clock for the whole search
+  int root_steps = 1000;   ///< subgradient steps at the root (from the start multipliers)
+  double root_share = 0.5;  ///< share of `seconds` the root's steps may take
+};
+
+struct BranchAndBoundResult {
+  std::vector<uint32_t> chosen;  ///< n sensors, never covering less than the start
+  uint64_t cells = 0;            ///< what `chosen` covers
+  uint64_t upper_bound = 0;      ///< cells; >= the optimum
+  bool proven_optimal = false;
+  bool timed_out = false;        ///< stopped by the time limit
+  long nodes = 0;
+  uint64_t root_bound = 0;       ///< the Lagrangian bound at the root (before branching)
+  size_t root_fixed_in = 0;      ///< candidates Lagrangian fixing settled at the root
+  size_t root_removed = 0;
+  int root_steps = 0;
+};
+
+/// Maximum coverage with n sensors by branch and bound on the Lagrangian bound with fixing at
+/// every node (branch_and_bound.cpp), from the incumbent `start` (n sensors) and a known bound
+/// `upper_bound` (>= the optimum), within `limits`. Deterministic for a given stopping point;
+/// throws Interrupted when asked to stop.
+BranchAndBoundResult BranchAndBound(const CoverageMatrix& matrix,
+                                    size_t n,
+                                    const std::vector<uint32_t>& start,
+                                    uint64_t upper_bound,
+                                    const BranchAndBoundLimits& limits);
 
 struct ExactResult {
   std::vector<uint32_t> chosen;

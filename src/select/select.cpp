@@ -28,11 +28,13 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// In "all", `exact` runs for every n only on instances of at most this many candidates, each run
-// limited to the smaller of options.time_limit and kAllExactSeconds, so that "all" stays
-// interactive; `--method exact` alone has no size cap and the full time limit.
+// In "all", `exact` runs for every n only on instances of at most this many candidates, and all
+// its runs together take at most the smaller of options.time_limit and kAllExactSeconds, so that
+// "all" stays interactive: each n gets an equal share of what is left for the n's still to run
+// (time a quick proof leaves goes to the larger, harder n). `--method exact` alone has no size
+// cap and the full time limit.
 constexpr size_t kAllExactMaxCandidates = 2000;
-constexpr double kAllExactSeconds = 10.0;
+constexpr double kAllExactSeconds = 6.0;
 
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -371,7 +373,10 @@ std::vector<Selection> Select(std::span<const Observation> observations,
     case Method::kExact:
       pipeline.Greedy(options.n);
       if (objective != Objective::kSetCover) pipeline.Local();
-      return {pipeline.Exact(options.time_limit)};
+      // The time limit bounds the whole method: the matrix, greedy and local it started from
+      // count (at least a tenth of the limit is left to exact itself).
+      return {pipeline.Exact(
+          std::max(0.1 * options.time_limit, options.time_limit - SecondsSince(start)))};
     case Method::kBest:
     case Method::kAll:
       break;
@@ -402,12 +407,16 @@ std::vector<Selection> Select(std::span<const Observation> observations,
     Logger()->info("select: exact skipped in 'all' ({} candidates > {}); use --method exact",
                    observations.size(), kAllExactMaxCandidates);
   }
+  double exact_seconds_left = std::min(options.time_limit, kAllExactSeconds);
   for (int n = first_n; n <= options.n; ++n) {
     results.push_back(pipeline.Ransac(n));
     results.push_back(pipeline.Greedy(n));
     results.push_back(pipeline.Local());
-    if (run_exact)
-      results.push_back(pipeline.Exact(std::min(options.time_limit, kAllExactSeconds)));
+    if (!run_exact) continue;
+    const Clock::time_point exact_start = Clock::now();
+    const double share = std::max(1e-3, exact_seconds_left / (options.n - n + 1));
+    results.push_back(pipeline.Exact(share));
+    exact_seconds_left = std::max(0.0, exact_seconds_left - SecondsSince(exact_start));
   }
   return results;
 }
