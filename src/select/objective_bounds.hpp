@@ -24,7 +24,7 @@ namespace vantage::detail {
 /// usable (no answer contains them), which only tightens it.
 struct CoverageLp {
   const CoverageMatrix* matrix = nullptr;
-  std::vector<uint64_t> weights;  ///< per element of matrix; at most 2^40 in total
+  std::vector<uint64_t> weights;  ///< per element of matrix; below 2^43 in total
   uint32_t k = 1;                 ///< >= 1
   size_t n = 0;                   ///< cardinality, when costs is empty: 1 <= n
   std::span<const double> costs;  ///< per candidate, >= 0; empty: the cardinality row
@@ -96,6 +96,17 @@ struct StatesExactResult {
   bool proven_optimal = false;
   std::string note;  ///< why CBC was not used or did not finish; empty when it proved
 };
+
+/// A proven upper bound on the aggregate `over` (a fraction) of any n sensors over the states of
+/// the stacked `matrix`: the least CoverageLp bound, over G = 2^40, of the weights
+/// ceil(G a_s w_e / |R_s|) for the state multipliers a tried (mean: a = 1/S; min: a on the simplex,
+/// from uniform by exponentiated-gradient steps), within `seconds`; +inf when no steps fit.
+/// `start` (n sensors) is the Polyak target.
+double StatesLagrangianBound(const CoverageMatrix& matrix,
+                             OverStates over,
+                             size_t n,
+                             const std::vector<uint32_t>& start,
+                             double seconds);
 
 /// Exact selection over states on their stacked matrix (n sensors, the aggregate `over`):
 /// mean: max sum_e v_e y_e, v_e = w_e / (S |R_s(e)|); min: max t s.t. t <= sum_{e in s} w_e y_e /
