@@ -7,7 +7,8 @@
 //   min:   max t  s.t.  t <= sum_{e in s} w_e / |R_s| y_e  for every state s
 //   both:  y_e <= sum_{i sees e} x_i,  sum_i x_i <= n,  x binary, y and t in [0, 1].
 //
-// CBC solves it in a child process within the time limit. The bound when it cannot finish is the
+// Dominated candidates are dropped and elements seen by one kept candidate fold into its column
+// (as exact.cpp does for one state); CBC solves it in a child process within the time limit. The bound when it cannot finish is the
 // Lagrangian of a weighted coverage LP (objective_bounds.cpp) with integer weights rounded up
 // from G a_s w_e / |R_s|: for any a >= 0 with sum_s a_s >= 1, min_s f_s <= sum_s a_s f_s (and the
 // mean is a = 1/S), so the bound over G is a bound on the aggregate whatever a is; for min,
@@ -120,38 +121,104 @@ std::optional<StatesCbcAnswer> RunStatesCbc(const CoverageMatrix& matrix,
   size_t largest = 1;
   for (int s = 0; s < states; ++s) largest = std::max(largest, matrix.StateReferenceSize(s));
   const double objective_scale = static_cast<double>(largest) * (by_min ? 1.0 : states);
-  // Columns: x (m), y (elements), t (min). Rows: coupling (elements), cardinality, states (min).
-  const int columns = m + elements + (by_min ? 1 : 0);
-  const int rows = elements + 1 + (by_min ? states : 0);
+  // Reduction (as for plain coverage, exact.cpp): a candidate whose stacked row is inside
+  // another's (strictly, or equal at a higher index) is dominated — every state's coverage is
+  // monotone, so dropping them keeps an optimum of "at most n" for both aggregates — and an
+  // element seen by one kept candidate folds into that candidate's column.
+  std::vector<std::vector<uint32_t>> seers(elements);
+  for (int i = 0; i < m; ++i) {
+    for (const uint32_t e : matrix.Row(static_cast<uint32_t>(i))) seers[e].push_back(i);
+  }
+  std::vector<int> dominator(m, -1);  // -1: kept
+  for (int i = 0; i < m; ++i) {
+    const std::vector<uint32_t>& row = matrix.Row(static_cast<uint32_t>(i));
+    if (row.empty()) {
+      dominator[i] = m;  // sees nothing: never needed
+      continue;
+    }
+    const uint32_t rarest = *std::min_element(row.begin(), row.end(), [&](uint32_t a, uint32_t b) {
+      return seers[a].size() < seers[b].size();
+    });
+    for (const uint32_t j : seers[rarest]) {
+      const size_t size_j = matrix.Row(j).size();
+      if (static_cast<int>(j) == i || size_j < row.size()) continue;
+      if ((size_j > row.size() || static_cast<int>(j) < i) &&
+          matrix.IsSubset(static_cast<uint32_t>(i), j)) {
+        dominator[i] = static_cast<int>(j);
+        break;
+      }
+    }
+  }
+  std::vector<uint32_t> kept;
+  std::vector<int> column_of(m, -1);
+  for (int i = 0; i < m; ++i) {
+    if (dominator[i] >= 0) continue;
+    column_of[i] = static_cast<int>(kept.size());
+    kept.push_back(static_cast<uint32_t>(i));
+  }
+  if (kept.size() <= n) {  // all kept candidates fit: nothing covers more
+    StatesCbcAnswer answer;
+    answer.proven_optimal = answer.has_solution = true;
+    answer.chosen = kept;
+    return answer;
+  }
+  std::vector<int> kept_seers(elements, 0), y_of(elements, -1);
+  int y_count = 0;
+  for (int e = 0; e < elements; ++e) {
+    for (const uint32_t i : seers[e]) kept_seers[e] += column_of[i] >= 0 ? 1 : 0;
+    if (kept_seers[e] >= 2) y_of[e] = y_count++;
+  }
+  std::vector<int> state_of(elements);
+  for (int st = 0; st < states; ++st) {
+    for (uint32_t e = matrix.StateBegin(st); e < matrix.StateBegin(st + 1); ++e) state_of[e] = st;
+  }
+  // Columns: x (kept), y (elements seen by >= 2 kept), t (min). Rows: coupling (y), cardinality,
+  // states (min).
+  const auto x_count = static_cast<int>(kept.size());
+  const int columns = x_count + y_count + (by_min ? 1 : 0);
+  const int rows = y_count + 1 + (by_min ? states : 0);
   std::vector<CoinBigIndex> starts{0};
   std::vector<int> indices;
   std::vector<double> coefficients;
   std::vector<double> objective(columns, 0.0);
-  for (int i = 0; i < m; ++i) {
-    for (const uint32_t e : matrix.Row(static_cast<uint32_t>(i))) {
-      indices.push_back(static_cast<int>(e));
-      coefficients.push_back(-1.0);
+  for (int q = 0; q < x_count; ++q) {
+    std::vector<double> own(states, 0.0);  // folded elements, per state
+    for (const uint32_t e : matrix.Row(kept[q])) {
+      if (y_of[e] >= 0) {
+        indices.push_back(y_of[e]);
+        coefficients.push_back(-1.0);
+      } else {
+        own[state_of[e]] += value[e];
+      }
     }
-    indices.push_back(elements);
+    indices.push_back(y_count);
     coefficients.push_back(1.0);
+    for (int st = 0; st < states; ++st) {
+      if (own[st] == 0) continue;
+      if (by_min) {
+        indices.push_back(y_count + 1 + st);
+        coefficients.push_back(-own[st]);
+      } else {
+        objective[q] += own[st] * objective_scale;
+      }
+    }
     starts.push_back(static_cast<CoinBigIndex>(indices.size()));
   }
-  int state = 0;
   for (int e = 0; e < elements; ++e) {
-    while (static_cast<uint32_t>(e) >= matrix.StateBegin(state + 1)) ++state;
-    indices.push_back(e);
+    if (y_of[e] < 0) continue;
+    indices.push_back(y_of[e]);
     coefficients.push_back(1.0);
     if (by_min) {
-      indices.push_back(elements + 1 + state);
+      indices.push_back(y_count + 1 + state_of[e]);
       coefficients.push_back(-value[e]);
     } else {
-      objective[m + e] = value[e] * objective_scale;
+      objective[x_count + y_of[e]] = value[e] * objective_scale;
     }
     starts.push_back(static_cast<CoinBigIndex>(indices.size()));
   }
   if (by_min) {
-    for (int s = 0; s < states; ++s) {
-      indices.push_back(elements + 1 + s);
+    for (int st = 0; st < states; ++st) {
+      indices.push_back(y_count + 1 + st);
       coefficients.push_back(1.0);
     }
     starts.push_back(static_cast<CoinBigIndex>(indices.size()));
@@ -168,7 +235,7 @@ std::optional<StatesCbcAnswer> RunStatesCbc(const CoverageMatrix& matrix,
   const std::vector<double> column_lower(columns, 0.0), column_upper(columns, 1.0);
   std::vector<double> row_lower(rows, -std::numeric_limits<double>::max());
   std::vector<double> row_upper(rows, 0.0);
-  row_upper[elements] = static_cast<double>(n);
+  row_upper[y_count] = static_cast<double>(n);
 
   const std::unique_ptr<Cbc_Model, CbcModelDeleter> model(Cbc_newModel());
   if (!model) {
@@ -179,7 +246,7 @@ std::optional<StatesCbcAnswer> RunStatesCbc(const CoverageMatrix& matrix,
   Cbc_loadProblem(cbc, columns, rows, starts.data(), indices.data(), coefficients.data(),
                   column_lower.data(), column_upper.data(), objective.data(), row_lower.data(),
                   row_upper.data());
-  for (int q = 0; q < m; ++q) Cbc_setInteger(cbc, q);
+  for (int q = 0; q < x_count; ++q) Cbc_setInteger(cbc, q);
   Cbc_setObjSense(cbc, -1);
   Cbc_setLogLevel(cbc, 0);
   Cbc_setParameter(cbc, "timeMode", "elapsed");
@@ -187,20 +254,21 @@ std::optional<StatesCbcAnswer> RunStatesCbc(const CoverageMatrix& matrix,
   // Aggregates are fractions with no common grain worth relying on: prove to round-off only.
   Cbc_setAllowableGap(cbc, 1e-10 * objective_scale);
   Cbc_setAllowableFractionGap(cbc, 0.0);
-  // Warm start on every column (CBC completes a partial one by an LP that ignores its limit).
+  // Warm start on every column (CBC completes a partial one by an LP that ignores its limit):
+  // the start, each dominated sensor replaced by a kept one that sees all it sees.
   std::vector<double> start_values(columns, 0.0);
   Bitset covered = matrix.EmptySet();
-  for (const uint32_t c : start) {
-    start_values[c] = 1.0;
+  for (uint32_t c : start) {
+    while (dominator[c] >= 0 && dominator[c] < m) c = static_cast<uint32_t>(dominator[c]);
+    if (column_of[c] < 0) continue;
+    start_values[column_of[c]] = 1.0;
     matrix.AddTo(c, &covered);
   }
   std::vector<double> state_value(states, 0.0);
-  state = 0;
   for (int e = 0; e < elements; ++e) {
-    while (static_cast<uint32_t>(e) >= matrix.StateBegin(state + 1)) ++state;
     if (!Contains(covered, static_cast<uint32_t>(e))) continue;
-    start_values[m + e] = 1.0;
-    state_value[state] += value[e];
+    if (y_of[e] >= 0) start_values[x_count + y_of[e]] = 1.0;
+    state_value[state_of[e]] += value[e];
   }
   if (by_min) start_values[columns - 1] = *std::min_element(state_value.begin(), state_value.end());
   std::vector<int> start_columns(columns);
@@ -211,14 +279,15 @@ std::optional<StatesCbcAnswer> RunStatesCbc(const CoverageMatrix& matrix,
   const std::optional<std::string> bytes = RunInChildProcess(
       [&] {
         Cbc_solve(cbc);
-        return PackAnswer(cbc, m);
+        return PackAnswer(cbc, x_count);
       },
       kKillShare * time_limit, &why);
   if (!bytes) {
     *note = fmt::format("CBC {} — raise --time-limit to let it finish", why);
     return std::nullopt;
   }
-  StatesCbcAnswer answer = UnpackAnswer(*bytes, m);
+  StatesCbcAnswer answer = UnpackAnswer(*bytes, x_count);
+  for (uint32_t& c : answer.chosen) c = kept[c];
   answer.bound /= objective_scale;
   if (!answer.proven_optimal) *note = "not proved optimal: CBC stopped at its time limit";
   return answer;
