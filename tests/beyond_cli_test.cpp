@@ -225,6 +225,20 @@ TEST(StatesCli, ResultsCarryEveryStateAndTheirMeanOrMin) {
       EXPECT_NEAR(r["coverage"].get<double>(), expected, 1e-12);
     }
     EXPECT_TRUE(slab_hides);  // at n = 2 the ring camera sees the top, which the slab covers
+    // Exact over states (issue 14): a proven bound, never below local search's answer of n = 2.
+    const auto exact = RunVantage("optimize " + scene + " -n 2 --method exact --over-states " +
+                                  over + " --out " + dir.File(over + "_exact"));
+    ASSERT_EQ(exact.exit_code, 0) << exact.err;
+    const json exact_report = Report(dir.File(over + "_exact"));
+    ASSERT_EQ(exact_report["results"].size(), 1u);
+    const json& e = exact_report["results"][0];
+    EXPECT_EQ(e["method"], "exact");
+    EXPECT_EQ(e["state_coverage"].size(), 3u);
+    EXPECT_GE(e["upper_bound"].get<double>(), e["coverage"].get<double>());
+    for (const json& r : report["results"]) {
+      if (r["method"] == "local" && r["n"] == 2)
+        EXPECT_GE(e["coverage"].get<double>() + 1e-12, r["coverage"].get<double>());
+    }
   }
   // Options that cannot apply.
   const auto no_states = RunVantage("optimize " + Scene() + " --over-states min --out " + dir.File("x"));

@@ -17,6 +17,8 @@
 
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
+#include "select/objective_bounds.hpp"
+#include "test_util.hpp"
 #include "vantage/error.hpp"
 #include "vantage/rng.hpp"
 
@@ -1390,6 +1392,156 @@ TEST(Objectives, DeterministicForASeed) {
       EXPECT_EQ(a[i].n_lower_bound, b[i].n_lower_bound);
     }
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// LP-strength bounds of the further objectives (issue 14), against enumeration and CLP
+
+// The coverage LP of `obs` cell by cell for CLP (unit cell weights).
+test::CoverageLpSpec LpSpec(const std::vector<Observation>& obs, size_t cells, int k,
+                            std::vector<double> coefficients, double capacity) {
+  test::CoverageLpSpec spec;
+  for (const Observation& o : obs) spec.rows.push_back(o.reference_indices);
+  spec.weights.assign(cells, 1.0);
+  spec.k = k;
+  spec.coefficients = std::move(coefficients);
+  spec.capacity = capacity;
+  return spec;
+}
+
+TEST(ObjectiveBounds, KCoverageLpBoundHoldsAndMeetsClp) {
+  int trials = 0;
+  for (uint64_t trial = 0; trial < 12; ++trial) {
+    const size_t m = 8 + trial % 13;             // 8..20 candidates
+    const size_t r = 30 + (trial * 11) % 31;     // 30..60 cells
+    const double p = 0.15 + 0.05 * static_cast<double>(trial % 4);
+    const std::vector<Observation> obs = WeightedRandomInstance(1400 + trial, m, r, p);
+    const detail::CoverageMatrix matrix(obs, r);
+    for (int k = 2; k <= 3; ++k) {
+      for (size_t n = static_cast<size_t>(k); n <= 4; ++n) {
+        SCOPED_TRACE(testing::Message() << "trial " << trial << " k " << k << " n " << n);
+        size_t best = 0;
+        for (const auto& s : AllSubsets(std::min<size_t>(m, 12))) {
+          if (s.size() == n) best = std::max(best, KUnionSize(obs, s, k));
+        }
+        if (m > 12) {  // the subsets of all m candidates of size n, by combination
+          std::vector<bool> pick(m, false);
+          std::fill(pick.begin(), pick.begin() + static_cast<std::ptrdiff_t>(n), true);
+          do {
+            std::vector<uint32_t> s;
+            for (uint32_t i = 0; i < m; ++i) {
+              if (pick[i]) s.push_back(i);
+            }
+            best = std::max(best, KUnionSize(obs, s, k));
+          } while (std::prev_permutation(pick.begin(), pick.end()));
+        }
+        const detail::CoverageLpBound bound =
+            detail::BoundCoverageLp(detail::CardinalityLp(matrix, n, k), 0, 3000, 1e9);
+        EXPECT_GE(bound.upper_bound, best);
+        const double lp =
+            test::CoverageLpOptimum(LpSpec(obs, r, k, std::vector<double>(m, 1.0), n));
+        // No multipliers go below the LP optimum; the steps come within 2 % of it.
+        EXPECT_GE(static_cast<double>(bound.upper_bound), std::floor(lp + 1e-7));
+        EXPECT_LE(static_cast<double>(bound.upper_bound), lp * 1.02 + 1);
+        // exact: the optimum, and its bound no looser than the LP's when CBC does not prove it.
+        const std::vector<uint32_t> start = detail::KGreedyComplete(matrix, {}, n, k);
+        detail::ExactResult result;
+        result.chosen = start;
+        result.upper_bound = matrix.seen_weight();
+        const uint64_t cells = KCoveredWeight(matrix, start, k);
+        detail::TightenByLpBound(detail::CardinalityLp(matrix, n, k), cells,
+                                 std::chrono::steady_clock::now(), 1e9, &result);
+        EXPECT_GE(result.upper_bound, best);
+        EXPECT_LE(result.upper_bound, std::max<uint64_t>(cells, bound.upper_bound));
+        ++trials;
+      }
+    }
+  }
+  EXPECT_EQ(trials, 12 * 5);
+}
+
+TEST(ObjectiveBounds, BudgetLpBoundHoldsAndMeetsClp) {
+  for (uint64_t trial = 0; trial < 12; ++trial) {
+    const size_t m = 6 + trial % 7;  // 6..12 candidates: every subset is enumerated
+    const size_t r = 30 + (trial * 13) % 31;
+    const std::vector<Observation> obs = WeightedRandomInstance(1500 + trial, m, r, 0.2);
+    const detail::CoverageMatrix matrix(obs, r);
+    std::vector<double> costs(m);
+    Rng rng(1600 + trial, Stream::kTest, 0);
+    for (double& c : costs) c = 0.25 * static_cast<double>(rng.Below(17));  // 0..4, some free
+    const std::vector<std::vector<uint32_t>> subsets = AllSubsets(m);
+    for (const double budget : {1.0, 3.5, 6.0, 9.75}) {
+      SCOPED_TRACE(testing::Message() << "trial " << trial << " budget " << budget);
+      size_t best = 0;
+      for (const auto& s : subsets) {
+        if (SumOfCosts(costs, s) <= budget) best = std::max(best, UnionSize(obs, s));
+      }
+      const detail::CoverageLpBound bound =
+          detail::BoundCoverageLp(detail::BudgetLp(matrix, costs, budget), 0, 3000, 1e9);
+      EXPECT_GE(bound.upper_bound, best);
+      const double lp = test::CoverageLpOptimum(LpSpec(obs, r, 1, costs, budget));
+      EXPECT_GE(static_cast<double>(bound.upper_bound), std::floor(lp + 1e-7));
+      EXPECT_LE(static_cast<double>(bound.upper_bound), lp * 1.02 + 1);
+      // exact finds the optimum and its bound holds.
+      if (*std::min_element(costs.begin(), costs.end()) > budget) continue;
+      const std::vector<uint32_t> start = detail::GreedyBudget(matrix, costs, budget);
+      const detail::ExactResult exact = detail::SolveExactBudget(matrix, costs, budget, start, 60);
+      EXPECT_EQ(UnionSize(obs, exact.chosen), best) << exact.note;
+      EXPECT_LE(detail::TotalCost(costs, exact.chosen), budget);
+      EXPECT_GE(exact.upper_bound, best);
+    }
+  }
+}
+
+// The hand-worked K5 instance (CompleteGraphInstance) with a budget: each vertex costs 1, the
+// budget 2 is its cardinality LP, 9; the same vertices at cost 2 with budget 3 allow 1.5 of them:
+// uniform x_v = 3/10 covers every edge 3/5 and c fully, LP = 10 * 3/5 + 1 = 7 (concave and
+// symmetric, as for N = 2).
+TEST(ObjectiveBounds, BudgetBoundOfAHandWorkedInstance) {
+  const std::vector<Observation> obs = CompleteGraphInstance();
+  const detail::CoverageMatrix matrix(obs, 11);
+  const std::vector<double> unit(5, 1.0), two(5, 2.0);
+  EXPECT_EQ(detail::BoundCoverageLp(detail::BudgetLp(matrix, unit, 2), 8, 3000, 1e9).upper_bound,
+            9u);
+  EXPECT_EQ(detail::BoundCoverageLp(detail::BudgetLp(matrix, two, 3), 5, 3000, 1e9).upper_bound,
+            7u);
+}
+
+TEST(ObjectiveBounds, SetCoverLpLowerBoundNeverExceedsTheFewest) {
+  int tighter = 0;
+  for (uint64_t trial = 0; trial < 10; ++trial) {
+    const size_t m = 8 + trial % 5;  // 8..12
+    const size_t r = 30 + (trial * 7) % 31;
+    const std::vector<Observation> obs = WeightedRandomInstance(1700 + trial, m, r, 0.15);
+    const detail::CoverageMatrix matrix(obs, r);
+    const std::vector<std::vector<uint32_t>> subsets = AllSubsets(m);
+    for (uint64_t goal = 2; goal <= matrix.seen_weight(); goal += 5) {
+      SCOPED_TRACE(testing::Message() << "trial " << trial << " goal " << goal);
+      size_t fewest = m;
+      for (const auto& s : subsets) {
+        if (UnionSize(obs, s) >= goal) fewest = std::min(fewest, s.size());
+      }
+      // The least t whose LP (CLP) reaches the goal: no valid bound proves it too few.
+      size_t lp_least = 1;
+      while (test::CoverageLpOptimum(LpSpec(obs, r, 1, std::vector<double>(m, 1.0),
+                                            static_cast<double>(lp_least))) <
+             static_cast<double>(goal) - 1e-7) {
+        ++lp_least;
+      }
+      const size_t lower = detail::SetCoverLpLowerBound(matrix, goal, 1, m, 1e9);
+      EXPECT_LE(lower, fewest);
+      EXPECT_LE(lower, lp_least);
+      EXPECT_GE(lower, 1u);
+      if (lower > detail::SetCoverLowerBound(matrix, goal)) ++tighter;
+      // exact reaches the goal with the fewest sensors and proves it.
+      const std::vector<uint32_t> start = detail::GreedyToGoal(matrix, goal);
+      const detail::SetCoverResult exact = detail::SolveSetCover(matrix, goal, start, 60);
+      EXPECT_EQ(exact.chosen.size(), fewest);
+      EXPECT_LE(exact.lower_bound, fewest);
+      EXPECT_TRUE(exact.proven_optimal);
+    }
+  }
+  EXPECT_GT(tighter, 0);  // the LP bound improves on the largest rows somewhere
 }
 
 }  // namespace

@@ -1,7 +1,9 @@
 #include "test_util.hpp"
 
+#include <coin/Clp_C_Interface.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
@@ -98,6 +100,69 @@ int RimVertices(const TriangleMesh& mesh, double z, double radius) {
     if (std::abs(v.z() - z) < 1e-12 && std::abs(v.head<2>().norm() - radius) < 1e-12) ++rim;
   }
   return rim;
+}
+
+double CoverageLpOptimum(const CoverageLpSpec& spec) {
+  const size_t m = spec.rows.size();
+  const size_t cells = spec.weights.size();
+  const bool by_group = !spec.groups.empty();
+  int group_count = 0;
+  for (const int g : spec.groups) group_count = std::max(group_count, g + 1);
+  // Columns: x_0..x_{m-1}, y_0..y_{cells-1}, then t (groups). Rows: one per cell, the capacity
+  // row, then one per group.
+  std::vector<std::vector<std::pair<int, double>>> columns(m + cells + (by_group ? 1 : 0));
+  std::vector<int> seers(cells, 0);
+  for (size_t i = 0; i < m; ++i) {
+    const bool usable = spec.coefficients[i] <= spec.capacity;
+    for (const uint32_t c : spec.rows[i]) {
+      columns[i].push_back({static_cast<int>(c), -1.0});
+      if (usable) ++seers[c];
+    }
+    columns[i].push_back({static_cast<int>(cells), spec.coefficients[i]});
+  }
+  std::vector<double> lower(columns.size(), 0.0), upper(columns.size(), 1.0);
+  std::vector<double> objective(columns.size(), 0.0);
+  for (size_t i = 0; i < m; ++i) upper[i] = spec.coefficients[i] <= spec.capacity ? 1.0 : 0.0;
+  for (size_t c = 0; c < cells; ++c) {
+    const size_t q = m + c;
+    columns[q].push_back({static_cast<int>(c), static_cast<double>(spec.k)});
+    if (by_group) {
+      columns[q].push_back({static_cast<int>(cells) + 1 + spec.groups[c], -spec.weights[c]});
+    } else {
+      objective[q] = spec.weights[c];
+    }
+    upper[q] = seers[c] >= spec.k ? 1.0 : 0.0;
+  }
+  if (by_group) {
+    for (int g = 0; g < group_count; ++g)
+      columns.back().push_back({static_cast<int>(cells) + 1 + g, 1.0});
+    objective.back() = 1.0;
+  }
+  std::vector<CoinBigIndex> starts{0};
+  std::vector<int> indices;
+  std::vector<double> values;
+  for (const auto& column : columns) {
+    for (const auto& [row, value] : column) {
+      indices.push_back(row);
+      values.push_back(value);
+    }
+    starts.push_back(static_cast<CoinBigIndex>(indices.size()));
+  }
+  const size_t row_count = cells + 1 + static_cast<size_t>(group_count);
+  std::vector<double> row_lower(row_count, -1e30), row_upper(row_count, 0.0);
+  row_upper[cells] = spec.capacity;
+  Clp_Simplex* clp = Clp_newModel();
+  Clp_setLogLevel(clp, 0);
+  Clp_loadProblem(clp, static_cast<int>(columns.size()), static_cast<int>(row_count),
+                  starts.data(), indices.data(), values.data(), lower.data(), upper.data(),
+                  objective.data(), row_lower.data(), row_upper.data());
+  Clp_setObjSense(clp, -1);
+  Clp_initialSolve(clp);
+  const int status = Clp_status(clp);
+  const double optimum = Clp_objectiveValue(clp);
+  Clp_deleteModel(clp);
+  if (status != 0) throw std::runtime_error("CLP did not solve the LP");
+  return optimum;
 }
 
 }  // namespace vantage::test

@@ -1,6 +1,8 @@
 #pragma once
 /// Helpers shared by the tests: temporary folders, running the CLI, reading files.
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "vantage/scene.hpp"
 
@@ -43,5 +45,23 @@ std::string Costa2017Dir();
 std::string SceneDifference(const Scene& a, const Scene& b);
 /// Vertices of `mesh` on the circle of `radius` about the z axis in the plane z = `z` (1e-12).
 int RimVertices(const TriangleMesh& mesh, double z, double radius);
+
+/// A weighted coverage LP written out cell by cell (no merging), for CoverageLpOptimum:
+///   max sum_c weights_c y_c   (groups empty), or
+///   max t s.t. t <= sum_{c in group g} weights_c y_c for every group g   (groups: per cell),
+///   s.t. k y_c <= sum_{i sees c} x_i,  sum_i coefficients_i x_i <= capacity,  x, y in [0, 1],
+/// with x_i = 0 where coefficients_i > capacity and y_c = 0 where fewer than k candidates with
+/// x_i free see c (no integer answer covers it).
+struct CoverageLpSpec {
+  std::vector<std::vector<uint32_t>> rows;  ///< cells each candidate sees
+  std::vector<double> weights;              ///< per cell
+  std::vector<int> groups;                  ///< per cell (0, 1, ...), or empty
+  int k = 1;
+  std::vector<double> coefficients;  ///< per candidate
+  double capacity = 0;
+};
+
+/// The LP optimum of `spec`, solved by CLP (coin-or-clp) on the explicit model.
+double CoverageLpOptimum(const CoverageLpSpec& spec);
 
 }  // namespace vantage::test

@@ -43,10 +43,13 @@ struct StateSelection {
 /// aggregate), ransac (Algorithm 2's draws, as Select's, each kept when its aggregate is strictly
 /// better), greedy (adds the candidate that raises the aggregate most; ties: for min the larger
 /// mean, then the lowest index), local (greedy, then the best 1-swap while the aggregate
-/// improves), all (best, then ransac, greedy and local for every n from 1 to options.n).
+/// improves), exact (a MILP solved by CBC within options.time_limit, warm-started from local, with
+/// a proven upper_bound on the aggregate and proven_optimal; when CBC cannot finish, the bound is
+/// a Lagrangian relaxation's, LP strength), all (best, then ransac, greedy and local for every n
+/// from 1 to options.n; exact is not part of it over states).
 /// Aggregates are compared exactly (whole numbers of cells per state, on a common denominator);
 /// deterministic, single-threaded.
-/// InputError (naming --over-states) for exact and the goal, k and budget objectives;
+/// InputError (naming --over-states) for the goal, k and budget objectives;
 /// for no state, states with different candidate counts, an empty R_s, or indices beyond R_s;
 /// and for what SelectOptions::Validate rejects.
 std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> states,

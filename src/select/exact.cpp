@@ -27,6 +27,7 @@
 
 #include "select/child_process.hpp"
 #include "select/methods.hpp"
+#include "select/objective_bounds.hpp"
 #include "vantage/error.hpp"
 #include "vantage/interrupt.hpp"
 
@@ -604,6 +605,7 @@ ExactResult SolveExactK(const CoverageMatrix& matrix,
                         bool may_enumerate) {
   VANTAGE_CHECK(k >= 1 && n >= 1 && n <= matrix.candidate_count() && start.size() == n);
   if (k == 1) return SolveExact(matrix, n, start, time_limit);
+  const auto start_time = std::chrono::steady_clock::now();
   ExactResult result;
   result.chosen = start;
   const uint64_t start_cells = KCoveredWeight(matrix, start, k);
@@ -634,8 +636,9 @@ ExactResult SolveExactK(const CoverageMatrix& matrix,
     std::vector<uint32_t> padded = KGreedyComplete(matrix, outcome.chosen, n, k);
     if (KCoveredWeight(matrix, padded, k) > start_cells) result.chosen = std::move(padded);
   }
-  SettleUpperBound(KCoveredWeight(matrix, result.chosen, k), outcome.bound, outcome.proven_optimal,
-                   &result);
+  const uint64_t cells = KCoveredWeight(matrix, result.chosen, k);
+  SettleUpperBound(cells, outcome.bound, outcome.proven_optimal, &result);
+  TightenByLpBound(CardinalityLp(matrix, n, k), cells, start_time, time_limit, &result);
   return result;
 }
 
@@ -646,6 +649,7 @@ ExactResult SolveExactBudget(const CoverageMatrix& matrix,
                              double time_limit) {
   VANTAGE_CHECK(costs.size() == matrix.candidate_count() && !start.empty() &&
                 TotalCost(costs, start) <= budget);
+  const auto start_time = std::chrono::steady_clock::now();
   ExactResult result;
   result.chosen = start;
   const uint64_t start_cells = matrix.CoveredWeight(start);
@@ -669,8 +673,9 @@ ExactResult SolveExactBudget(const CoverageMatrix& matrix,
   result.note = outcome.note;
   if (!outcome.chosen.empty() && matrix.CoveredWeight(outcome.chosen) > start_cells)
     result.chosen = outcome.chosen;
-  SettleUpperBound(matrix.CoveredWeight(result.chosen), outcome.bound, outcome.proven_optimal,
-                   &result);
+  const uint64_t cells = matrix.CoveredWeight(result.chosen);
+  SettleUpperBound(cells, outcome.bound, outcome.proven_optimal, &result);
+  TightenByLpBound(BudgetLp(matrix, costs, budget), cells, start_time, time_limit, &result);
   return result;
 }
 
@@ -692,6 +697,8 @@ SetCoverResult SolveSetCover(const CoverageMatrix& matrix,
   SetCoverResult result;
   result.chosen = start;
   size_t lower = std::max<size_t>(1, SetCoverLowerBound(matrix, goal_cells));
+  lower = SetCoverLpLowerBound(matrix, goal_cells, std::min(lower, start.size()), start.size(),
+                               time_limit);
   for (size_t t = lower; t < result.chosen.size(); ++t) {
     const std::vector<uint32_t> greedy = GreedyComplete(CellScorer(matrix), {}, t);
     if (GreedyUpperBound(matrix, greedy, t) < goal_cells) {

@@ -9,12 +9,14 @@
 #include "vantage/select_states.hpp"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <chrono>
 
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
+#include "select/objective_bounds.hpp"
 #include "select/scorer.hpp"
 #include "vantage/error.hpp"
 
@@ -174,11 +176,6 @@ StateSelection Scored(std::span<const StateObservations> states,
 }
 
 void Validate(std::span<const StateObservations> states, const SelectOptions& options) {
-  if (options.method == Method::kExact) {
-    throw InputError(fmt::format("method '{}' is not available with --over-states — use best, "
-                                 "ransac, greedy, local or all",
-                                 MethodName(options.method)));
-  }
   const Objective objective = options.objective();
   if (objective != Objective::kCoverage) {
     throw InputError(fmt::format("the {} objective (--goal, --k, --budget) is not available with "
@@ -262,6 +259,25 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
                                                         options.ransac_stop_coverage, options.seed);
     return Scored(states, over, Method::kRansac, std::move(chosen), setup + SecondsSince(t));
   };
+  // Exact: CBC on the states' MILP, warm-started from local search, with a Lagrangian bound when
+  // CBC cannot finish (objective_bounds.hpp, SolveExactStates).
+  const auto exact = [&](size_t k) {
+    const Clock::time_point t = Clock::now();
+    const std::vector<uint32_t> local =
+        detail::LocalSearch(scorer, detail::GreedyComplete(scorer, {}, k));
+    const detail::StatesExactResult solved = detail::SolveExactStates(
+        matrix, over, k, local, std::max(0.0, options.time_limit - SecondsSince(t)));
+    if (!solved.proven_optimal && !solved.note.empty()) {
+      const std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
+      (logger ? logger : spdlog::default_logger())
+          ->warn("exact over states, n = {}: {}; reporting the best answer found and a bound", k,
+                 solved.note);
+    }
+    StateSelection s = Scored(states, over, Method::kExact, solved.chosen, setup + SecondsSince(t));
+    s.selection.upper_bound = std::max(solved.upper_bound, s.selection.coverage);
+    s.selection.proven_optimal = solved.proven_optimal;
+    return s;
+  };
   const auto n = static_cast<size_t>(options.n);
   switch (options.method) {
     case Method::kBest:
@@ -284,7 +300,8 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
       }
       break;
     case Method::kExact:
-      VANTAGE_CHECK(false);  // rejected by Validate
+      results.push_back(exact(n));
+      break;
   }
   return results;
 }

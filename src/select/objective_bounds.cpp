@@ -1,0 +1,328 @@
+// The Lagrangian bound of a weighted coverage LP (objective_bounds.hpp), for k-coverage, budget,
+// set cover and selection over states (issue 14).
+//
+// The LP: max sum_e w_e y_e s.t. k y_e <= sum_{i sees e} x_i, x, y in [0, 1], plus a cardinality
+// or a knapsack row on x. Relaxing the coverage rows with lambda_e = mu_e / k >= 0:
+//
+//   L(mu) = sum_e max(0, w_e - mu_e) + max_x sum_i x_i r_i / k,  r_i = sum_{e in row i} mu_e,
+//
+// an upper bound for every mu >= 0 (mu above w never helps, so mu stays in [0, w]). The max over
+// x is the n largest r_i, or the fractional knapsack, whose LP dual gives, for any theta >= 0,
+// theta B + sum_i max(0, r_i - theta c_i) >= it. Only L evaluated exactly is a proof: mu is
+// truncated to fixed point and summed in 128-bit integers, the knapsack dual in long double with
+// its worst-case round-off added.
+#include "select/objective_bounds.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "select/methods.hpp"
+#include "vantage/error.hpp"
+#include "vantage/interrupt.hpp"
+
+namespace vantage::detail {
+namespace {
+
+__extension__ typedef unsigned __int128 Wide;
+
+// Fixed-point bits of the multipliers in the exact evaluation (weights stay below 2^40, so a
+// scaled weight fits in 64 bits and a row sum in 128).
+constexpr int kFixedBits = 20;
+// Polyak step scale: halved after kPatience steps without a better bound; the search ends below
+// kMinStepScale.
+constexpr double kStartStepScale = 2.0;
+constexpr double kMinStepScale = 1e-6;
+constexpr int kPatience = 25;
+// Steps: as many as fit at this many row nonzeros per second, at most kMaxSteps, none when fewer
+// than kMinSteps fit (the same pace as maximum coverage's bound, exact.cpp).
+constexpr double kNonzerosPerSecond = 2e8;
+constexpr double kMaxSteps = 1000;
+constexpr double kMinSteps = 10;
+// Shares of the time limit: the bound after a solver (the solver used the rest), set cover's
+// lower bound (the rest settles the sensor counts above it).
+constexpr double kTightenTimeShare = 0.9;
+constexpr double kSetCoverTimeShare = 0.25;
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The candidates an answer may contain: all, or those within the budget.
+std::vector<uint32_t> UsableCandidates(const CoverageLp& lp) {
+  std::vector<uint32_t> usable;
+  for (uint32_t i = 0; i < lp.matrix->candidate_count(); ++i) {
+    if (lp.costs.empty() || lp.costs[i] <= lp.budget) usable.push_back(i);
+  }
+  return usable;
+}
+
+// The fractional knapsack of values r (>= 0) over `usable` within the budget: x (per candidate,
+// 0 outside `usable`) and the critical ratio theta (0 when everything fits), at which the dual
+// theta B + sum max(0, r_i - theta c_i) equals the knapsack LP.
+long double FractionalKnapsack(std::span<const long double> r,
+                               const CoverageLp& lp,
+                               std::span<const uint32_t> usable,
+                               std::vector<double>* x) {
+  std::vector<uint32_t> order(usable.begin(), usable.end());
+  // By r / c, largest first (free ones first of all), compared without dividing; ties: index.
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    const long double left = r[a] * lp.costs[b];
+    const long double right = r[b] * lp.costs[a];
+    return left != right ? left > right : a < b;
+  });
+  x->assign(lp.matrix->candidate_count(), 0.0);
+  double left = lp.budget;
+  for (const uint32_t i : order) {
+    if (r[i] <= 0) break;
+    if (lp.costs[i] <= left) {
+      (*x)[i] = 1.0;
+      left -= lp.costs[i];
+      continue;
+    }
+    (*x)[i] = left / lp.costs[i];
+    return r[i] / lp.costs[i];
+  }
+  return 0;
+}
+
+// The weights the LP counts (an element seen by fewer than k usable candidates: none) and the
+// usable seers of each element.
+struct Prepared {
+  std::vector<uint32_t> usable;
+  std::vector<uint64_t> weights;
+  std::vector<uint32_t> seers;
+};
+
+Prepared Prepare(const CoverageLp& lp) {
+  const CoverageMatrix& matrix = *lp.matrix;
+  Prepared p;
+  p.usable = UsableCandidates(lp);
+  p.seers.assign(matrix.element_count(), 0);
+  for (const uint32_t i : p.usable) {
+    for (const uint32_t e : matrix.Row(i)) ++p.seers[e];
+  }
+  p.weights = lp.weights;
+  for (uint32_t e = 0; e < matrix.element_count(); ++e) {
+    if (p.seers[e] < lp.k) p.weights[e] = 0;
+  }
+  return p;
+}
+
+// floor(L(mu)) exactly (see the top of this file).
+uint64_t ExactValue(const CoverageLp& lp, const Prepared& p, std::span<const double> mu) {
+  const CoverageMatrix& matrix = *lp.matrix;
+  const auto scale = static_cast<double>(uint64_t{1} << kFixedBits);
+  std::vector<uint64_t> fixed(matrix.element_count());
+  Wide rest = 0;  // sum_e (w_e - mu_e), scaled
+  for (uint32_t e = 0; e < matrix.element_count(); ++e) {
+    const uint64_t w = p.weights[e] << kFixedBits;
+    const double scaled = std::floor(mu[e] * scale);
+    fixed[e] = !(scaled > 0)                      ? 0
+               : scaled >= static_cast<double>(w) ? w
+                                                  : static_cast<uint64_t>(scaled);
+    rest += w - fixed[e];
+  }
+  std::vector<Wide> rows(matrix.candidate_count(), 0);
+  for (const uint32_t i : p.usable) {
+    for (const uint32_t e : matrix.Row(i)) rows[i] += fixed[e];
+  }
+  Wide chosen = 0;  // max_x sum_i x_i r_i, scaled (k times the x part of L)
+  if (lp.costs.empty()) {
+    std::vector<Wide> usable_rows;
+    for (const uint32_t i : p.usable) usable_rows.push_back(rows[i]);
+    const size_t n = std::min(lp.n, usable_rows.size());
+    std::nth_element(usable_rows.begin(), usable_rows.begin() + static_cast<std::ptrdiff_t>(n),
+                     usable_rows.end(), std::greater<>());
+    for (size_t j = 0; j < n; ++j) chosen += usable_rows[j];
+  } else {
+    std::vector<long double> r(rows.size());
+    for (size_t i = 0; i < rows.size(); ++i) r[i] = static_cast<long double>(rows[i]);
+    std::vector<double> x;
+    const long double theta = FractionalKnapsack(r, lp, p.usable, &x);
+    long double dual = theta * static_cast<long double>(lp.budget);
+    long double magnitude = dual;
+    for (const uint32_t i : p.usable) {
+      const long double price = theta * static_cast<long double>(lp.costs[i]);
+      dual += std::max<long double>(0, r[i] - price);
+      magnitude += r[i] + price;
+    }
+    // Each conversion, product and sum errs by at most 2^-63 of the magnitude summed so far.
+    const long double slack = magnitude * (static_cast<long double>(p.usable.size()) + 8) *
+                              std::ldexp(1.0L, -60);
+    chosen = static_cast<Wide>(std::ceil(dual + slack)) + 1;
+  }
+  const Wide total = rest * lp.k + chosen;
+  return static_cast<uint64_t>(total / (static_cast<Wide>(lp.k) << kFixedBits));
+}
+
+}  // namespace
+
+std::vector<uint64_t> CellWeights(const CoverageMatrix& matrix) {
+  std::vector<uint64_t> weights(matrix.element_count());
+  for (uint32_t e = 0; e < matrix.element_count(); ++e) weights[e] = matrix.Weight(e);
+  return weights;
+}
+
+CoverageLp CardinalityLp(const CoverageMatrix& matrix, size_t n, int k) {
+  CoverageLp lp;
+  lp.matrix = &matrix;
+  lp.weights = CellWeights(matrix);
+  lp.k = static_cast<uint32_t>(k);
+  lp.n = n;
+  return lp;
+}
+
+CoverageLp BudgetLp(const CoverageMatrix& matrix, std::span<const double> costs, double budget) {
+  CoverageLp lp;
+  lp.matrix = &matrix;
+  lp.weights = CellWeights(matrix);
+  lp.costs = costs;
+  lp.budget = budget;
+  return lp;
+}
+
+int LpBoundSteps(const CoverageMatrix& matrix, double seconds) {
+  size_t nonzeros = 1;
+  for (const std::vector<uint32_t>& row : matrix.rows()) nonzeros += row.size();
+  const double steps =
+      std::min(kMaxSteps, seconds * kNonzerosPerSecond / static_cast<double>(nonzeros));
+  return steps >= kMinSteps ? static_cast<int>(steps) : 0;
+}
+
+CoverageLpBound BoundCoverageLp(const CoverageLp& lp,
+                                uint64_t target,
+                                int max_iterations,
+                                double time_limit) {
+  const CoverageMatrix& matrix = *lp.matrix;
+  VANTAGE_CHECK(lp.k >= 1 && lp.weights.size() == matrix.element_count() &&
+                (lp.costs.empty() ? lp.n >= 1 : lp.costs.size() == matrix.candidate_count()));
+  const auto start_time = std::chrono::steady_clock::now();
+  const Prepared p = Prepare(lp);
+  const size_t elements = matrix.element_count();
+  const auto k = static_cast<double>(lp.k);
+  // Start: each element's weight shared among its usable seers, k shares covering it.
+  std::vector<double> mu(elements);
+  for (uint32_t e = 0; e < elements; ++e) {
+    mu[e] = p.seers[e] == 0 ? 0.0
+                            : static_cast<double>(p.weights[e]) *
+                                  std::min(1.0, k / static_cast<double>(p.seers[e]));
+  }
+  std::vector<double> best_mu = mu;
+  double best = std::numeric_limits<double>::infinity();
+  CoverageLpBound result;
+  std::vector<long double> rows(matrix.candidate_count(), 0);
+  std::vector<double> x(matrix.candidate_count(), 0.0);
+  std::vector<double> covered(elements);
+  std::vector<double> step(elements);
+  std::vector<uint32_t> order;
+  double scale = kStartStepScale;
+  int stale = 0;
+  for (int it = 0; it < max_iterations && scale >= kMinStepScale; ++it) {
+    ThrowIfInterrupted();
+    if (SecondsSince(start_time) > time_limit) break;
+    ++result.iterations;
+    double value = 0;
+    for (uint32_t e = 0; e < elements; ++e) value += static_cast<double>(p.weights[e]) - mu[e];
+    for (const uint32_t i : p.usable) {
+      double r = 0;
+      for (const uint32_t e : matrix.Row(i)) r += mu[e];
+      rows[i] = r;
+    }
+    // The subproblem's x.
+    if (lp.costs.empty()) {
+      order = p.usable;
+      const size_t n = std::min(lp.n, order.size());
+      std::nth_element(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(n), order.end(),
+                       [&](uint32_t a, uint32_t b) {
+                         return rows[a] > rows[b] || (rows[a] == rows[b] && a < b);
+                       });
+      std::fill(x.begin(), x.end(), 0.0);
+      for (size_t j = 0; j < n; ++j) x[order[j]] = 1.0;
+    } else {
+      FractionalKnapsack(rows, lp, p.usable, &x);
+    }
+    for (const uint32_t i : p.usable) value += x[i] * static_cast<double>(rows[i]) / k;
+    if (value < best - 1e-9) {
+      best = value;
+      best_mu = mu;
+      result.chosen.clear();
+      for (const uint32_t i : p.usable) {
+        if (x[i] > 0) result.chosen.push_back(i);
+      }
+      stale = 0;
+    } else if (++stale >= kPatience) {
+      scale /= 2;
+      stale = 0;
+    }
+    if (best < static_cast<double>(target) + 0.5) break;  // the exact value decides below
+    // dL/dmu_e = (sum of x over e's seers) / k - 1, projected onto [0, w].
+    std::fill(covered.begin(), covered.end(), 0.0);
+    for (const uint32_t i : p.usable) {
+      if (x[i] == 0) continue;
+      for (const uint32_t e : matrix.Row(i)) covered[e] += x[i];
+    }
+    double norm = 0;
+    for (uint32_t e = 0; e < elements; ++e) {
+      double g = covered[e] / k - 1.0;
+      if ((g > 0 && mu[e] <= 0) || (g < 0 && mu[e] >= static_cast<double>(p.weights[e]))) g = 0;
+      step[e] = g;
+      norm += g * g;
+    }
+    if (norm == 0) break;  // mu is optimal
+    const double t = scale * (value - static_cast<double>(target)) / norm;
+    for (uint32_t e = 0; e < elements; ++e) {
+      mu[e] = std::clamp(mu[e] - t * step[e], 0.0, static_cast<double>(p.weights[e]));
+    }
+  }
+  result.upper_bound = ExactValue(lp, p, best_mu);
+  return result;
+}
+
+size_t SetCoverLpLowerBound(const CoverageMatrix& matrix,
+                            uint64_t goal_cells,
+                            size_t lower,
+                            size_t upper,
+                            double time_limit) {
+  VANTAGE_CHECK(goal_cells >= 1 && lower >= 1 && lower <= upper);
+  const auto start_time = std::chrono::steady_clock::now();
+  time_limit *= kSetCoverTimeShare;
+  CoverageLp lp = CardinalityLp(matrix, lower);
+  // Bisection: too_few sensors are proven too few, enough reach the goal (or are not disproved).
+  size_t too_few = lower - 1, enough = upper;
+  int probes = 1;
+  for (size_t span = upper - lower + 1; span > 1; span /= 2) ++probes;
+  while (enough - too_few > 1) {
+    const double left = time_limit - SecondsSince(start_time);
+    const int steps = LpBoundSteps(matrix, left / probes);
+    if (steps == 0) break;
+    lp.n = too_few + (enough - too_few) / 2;
+    const CoverageLpBound bound = BoundCoverageLp(lp, goal_cells - 1, steps, left / probes);
+    if (bound.upper_bound < goal_cells) {
+      too_few = lp.n;
+    } else {
+      enough = lp.n;
+    }
+    probes = std::max(1, probes - 1);
+  }
+  return too_few + 1;
+}
+
+void TightenByLpBound(const CoverageLp& lp,
+                      uint64_t cells,
+                      std::chrono::steady_clock::time_point start,
+                      double time_limit,
+                      ExactResult* result) {
+  if (result->proven_optimal) return;
+  const double seconds = kTightenTimeShare * (time_limit - SecondsSince(start));
+  const int steps = LpBoundSteps(*lp.matrix, seconds);
+  if (steps == 0) return;
+  const CoverageLpBound bound = BoundCoverageLp(lp, cells, steps, seconds);
+  if (bound.upper_bound < result->upper_bound)
+    result->upper_bound = std::max(bound.upper_bound, cells);
+  result->proven_optimal = cells == result->upper_bound;
+}
+
+}  // namespace vantage::detail
