@@ -475,6 +475,30 @@ TEST_F(BadInput, ExtremeValues) {
   }
 }
 
+// Issue 15: a scene's n (a world's numberOfIntendedSensors) above the candidates was found after
+// the ray cast (observe: not at all), without its line. Every check that needs no ray comes
+// before the first one: the log never reaches "rays traced".
+TEST_F(BadInput, ChecksBeforeObserving) {
+  const std::string rays = "rays traced";
+  // cube_cell.yaml deploys 10 + 2 x 3 = 16 candidates; kWorld 6.
+  const Case yaml_n = Yaml("n_above_candidates", "  n: 2", "  n: 17", 5,
+                           "n = 17 is out of range: there are 16 candidates");
+  const Case world_n = World("intended_above_candidates", "<numberOfIntendedSensors>2",
+                             "<numberOfIntendedSensors>7", 33,
+                             "n = 7 is out of range: there are 6 candidates");
+  ExpectRejected({
+      {yaml_n.name, yaml_n.args, yaml_n.place, yaml_n.what, rays},
+      {"observe_" + yaml_n.name, "observe " + yaml_n.args.substr(9), yaml_n.place, yaml_n.what,
+       rays},
+      {world_n.name, world_n.args, world_n.place, world_n.what, rays},
+      {"observe_" + world_n.name, "observe " + world_n.args.substr(9), world_n.place,
+       world_n.what, rays},
+      // The option names itself, whatever the scene says.
+      {"observe_n_above_candidates", "observe " + CubeCell() + " -n 17", "-n:",
+       "n = 17 is out of range: there are 16 candidates", rays},
+  });
+}
+
 TEST_F(BadInput, CommandLineOptions) {
   const std::string scene = CubeCell();
   const std::string example = test::DataPath("../../examples/scenes/bin_picking_cell.yaml");
