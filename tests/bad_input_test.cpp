@@ -475,6 +475,69 @@ TEST_F(BadInput, ExtremeValues) {
   }
 }
 
+// Issue 15: a scene's n (a world's numberOfIntendedSensors) above the candidates was found after
+// the ray cast (observe: not at all), without its line. Every check that needs no ray comes
+// before the first one: the log never reaches "rays traced".
+TEST_F(BadInput, ChecksBeforeObserving) {
+  const std::string rays = "rays traced";
+  // cube_cell.yaml deploys 10 + 2 x 3 = 16 candidates; kWorld 6.
+  const Case yaml_n = Yaml("n_above_candidates", "  n: 2", "  n: 17", 5,
+                           "n = 17 is out of range: there are 16 candidates");
+  const Case world_n = World("intended_above_candidates", "<numberOfIntendedSensors>2",
+                             "<numberOfIntendedSensors>7", 33,
+                             "n = 7 is out of range: there are 6 candidates");
+  ExpectRejected({
+      {yaml_n.name, yaml_n.args, yaml_n.place, yaml_n.what, rays},
+      {"observe_" + yaml_n.name, "observe " + yaml_n.args.substr(9), yaml_n.place, yaml_n.what,
+       rays},
+      {world_n.name, world_n.args, world_n.place, world_n.what, rays},
+      {"observe_" + world_n.name, "observe " + world_n.args.substr(9), world_n.place,
+       world_n.what, rays},
+      // The option names itself, whatever the scene says.
+      {"observe_n_above_candidates", "observe " + CubeCell() + " -n 17", "-n:",
+       "n = 17 is out of range: there are 16 candidates", rays},
+  });
+}
+
+// Issue 15: a target coloured by an Ogre material script that is not found was reported only as
+// "matches no visual's material colour". The script (or the material) is named at its line, with
+// the folders looked in: --resource-path's and GAZEBO_RESOURCE_PATH's.
+TEST_F(BadInput, MissingMaterials) {
+  const std::string inline_colour = "<material><diffuse>0 1 0 1</diffuse></material>";
+  const auto script = [](const std::string& uri) {
+    return "<material><script><uri>" + uri + "</uri><name>Cell/Green</name></script></material>";
+  };
+  // A script that defines another material than the one named.
+  Write("media/materials/cell.material",
+        "material Cell/Red\n{\n  technique\n  {\n    pass\n    {\n      diffuse 1 0 0 1\n    }\n"
+        "  }\n}\n");
+  const std::string option_dir = dir_.File("from_option");
+  const std::string env_dir = dir_.File("from_env");
+  fs::create_directories(option_dir);
+  fs::create_directories(env_dir);
+  const Case no_script = World("script_not_found", inline_colour,
+                               script("file://materials/nope.material"), 9,
+                               "material script 'file://materials/nope.material' of visual "
+                               "'visual' of model 'cube' not found (looked in " +
+                                   option_dir + ", " + env_dir + ",");
+  const Case no_material = World("material_not_defined", inline_colour,
+                                 script("file://materials/cell.material"), 9,
+                                 "material 'Cell/Green' of visual 'visual' of model 'cube' is "
+                                 "not defined in file://materials/cell.material");
+  ASSERT_EQ(::setenv("GAZEBO_RESOURCE_PATH", env_dir.c_str(), 1), 0);
+  ExpectRejected({
+      {no_script.name, no_script.args + " --resource-path " + option_dir, no_script.place,
+       no_script.what},
+      {no_material.name, no_material.args + " --resource-path " + dir_.File("media"),
+       no_material.place, no_material.what},
+      // The consequence is still said, at the plugin's line.
+      {"consequence", no_script.args + " --resource-path " + option_dir,
+       no_script.place.substr(0, no_script.place.size() - 2) + "30:",
+       "matches no visual's material colour"},
+  });
+  ::unsetenv("GAZEBO_RESOURCE_PATH");
+}
+
 TEST_F(BadInput, CommandLineOptions) {
   const std::string scene = CubeCell();
   const std::string example = test::DataPath("../../examples/scenes/bin_picking_cell.yaml");

@@ -2,6 +2,7 @@
 /// Settings that a scene declares for the stages after it, in the util layer (std only): the
 /// scene readers fill them without seeing selection, and select.hpp includes this header for
 /// Method.
+#include <map>
 #include <optional>
 #include <string>
 
@@ -23,6 +24,10 @@ struct SelectionSettings {
   std::optional<double> goal;         ///< fewest sensors reaching this coverage
   int k = 1;                          ///< k-coverage when >= 2
   std::optional<double> budget;       ///< total sensor cost cap
+  /// The scene file's line of each setting it gives, by SelectOptions' field name ("n",
+  /// "ransac_iterations", ...), so that a setting found invalid later (n above the candidates)
+  /// names its line. Empty for defaults and visibility files (not stored there).
+  std::map<std::string, int> lines;
 };
 
 }  // namespace vantage

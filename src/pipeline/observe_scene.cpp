@@ -260,17 +260,13 @@ ObserveRunResult ObserveRun(const ObserveRunOptions& options) {
   options.observe.Validate();  // option errors before any work
   options.limits.Validate();
   PreparedScene prepared = Prepare(options.scene);
-  const size_t count = prepared.candidates.size();
-  if (options.n) {
-    // -n names the option before any ray is cast (the scene's own n is checked by select).
-    if (*options.n < 1 || static_cast<size_t>(*options.n) > count)
-      throw InputError(AtPlace(
-          "-n", 0,
-          fmt::format("n = {} is out of range: there are {} candidates, so n must be between 1 "
-                      "and {} — give -n in that range",
-                      *options.n, count, count)));
-    prepared.problem.selection.n = *options.n;
-  }
+  // The selection stored with the matrix is checked before any ray is cast, as optimize checks
+  // it: -n names the option, the scene's own n (or any other setting) its line.
+  SelectionRequest request;
+  request.n = options.n;
+  ResolveSelection(prepared.problem.selection, request, prepared.problem.seed,
+                   prepared.candidates, prepared.problem.source, Method::kAll);
+  if (options.n) prepared.problem.selection.n = *options.n;
   ObservedScene observed =
       ObservePrepared(std::move(prepared), options.observe, options.limits, options.trace);
   ObserveRunResult result;

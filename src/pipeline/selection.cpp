@@ -63,6 +63,11 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
                                e.fields().end();
       if (is_at_fault && given[i].second) throw InputError(AtPlace(kFlags[i], 0, e.what()));
     }
+    // Else the scene's line of the first field at fault that the scene gives.
+    for (const std::string& field : e.fields()) {
+      if (const auto line = settings.lines.find(field); line != settings.lines.end())
+        throw InputError(AtPlace(source, line->second, e.what()));
+    }
     throw InputError(AtPlace(source, 0, e.what()));
   } catch (const InputError& e) {
     throw InputError(AtPlace(source, 0, e.what()));

@@ -529,6 +529,9 @@ void SceneReader::ReadSettings(const Value& input) {
       }
     }
   }
+  for (const char* key : {"n", "method", "goal", "k", "budget"}) {
+    if (const auto v = fields.Get(key)) p.selection.lines[key] = v->line;
+  }
   if (const auto v = fields.Get("n")) {
     if (const auto n = Integer(*v, "settings.n", 1, std::numeric_limits<int>::max()))
       p.selection.n = static_cast<int>(*n);
@@ -605,6 +608,11 @@ void SceneReader::ReadSettings(const Value& input) {
 
 void SceneReader::ReadRansac(const Value& input) {
   const Fields fields(input, "settings.ransac", {"iterations", "stop_coverage"}, &reporter_);
+  for (const auto& [key, field] : {std::pair<const char*, const char*>{"iterations",
+                                                                       "ransac_iterations"},
+                                    {"stop_coverage", "ransac_stop_coverage"}}) {
+    if (const auto v = fields.Get(key)) problem_->selection.lines[field] = v->line;
+  }
   if (const auto v = fields.Get("iterations")) {
     if (const auto n =
             Integer(*v, "settings.ransac.iterations", 1, std::numeric_limits<int>::max()))

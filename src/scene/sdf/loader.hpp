@@ -5,6 +5,7 @@
 /// them in order), sharing the documents, the collected errors and notes, and the Problem being
 /// filled. The records below are what the walk over world -> model -> link -> visual/sensor
 /// collects before the scene is built.
+#include <algorithm>
 #include <array>
 #include <map>
 #include <memory>
@@ -173,7 +174,10 @@ class Loader {
   /// The model folder (or file) of a Fuel URI in the local cache; the cache folders looked in
   /// go to `searched`.
   std::optional<std::string> FuelCached(const FuelUri& fuel, std::vector<std::string>* searched);
-  std::optional<std::string> ResolveResourceUri(const std::string& uri, const Doc& from);
+  /// A file:// or relative resource (a material script, a mesh) on the resource path; the
+  /// folders looked in go to `searched` (each once) when it is given.
+  std::optional<std::string> ResolveResourceUri(const std::string& uri, const Doc& from,
+                                                std::vector<std::string>* searched = nullptr);
   IncludeResult ResolveInclude(const Doc& doc, const XmlElement& include);
 
   /// A <sensor type> that vantage reads as a camera: depth, depth_camera, rgbd, rgbd_camera,
@@ -199,6 +203,13 @@ class Loader {
 
   // Scene (roles.cpp: ColoursOf, BuildScene; geometry.cpp: GeometryOf, LoadMesh).
   MaterialColours ColoursOf(const VisualRecord& visual);
+  /// A note now; an error too when no visual ends up with the target colour (BuildScene).
+  void MissingMaterial(const std::string& message) {
+    Note(message);
+    if (std::find(missing_materials_.begin(), missing_materials_.end(), message) ==
+        missing_materials_.end())
+      missing_materials_.push_back(message);
+  }
   std::optional<TriangleMesh> GeometryOf(const VisualRecord& visual);
   const TriangleMesh* LoadMesh(const std::string& path, const Doc& doc, int line);
   void BuildScene(std::vector<GazeboVisual>* visuals_out);
@@ -237,6 +248,9 @@ class Loader {
 
   MaterialLibrary materials_;
   std::set<std::string> material_files_;
+  /// Material scripts and materials that were not found ("file:line: what, where looked"):
+  /// reported with the error when no visual has the target colour (the likely cause).
+  std::vector<std::string> missing_materials_;
   std::map<std::string, std::unique_ptr<TriangleMesh>> meshes_;  ///< null: failed
 };
 

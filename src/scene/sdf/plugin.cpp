@@ -62,6 +62,14 @@ void Loader::ReadPlugin() {
       }
       const XmlElement* e = &child;
       const std::string& name = child.name;
+      // The selection settings' lines, for errors found after deployment (n above the
+      // candidates). The plugin is read from the world file, the problem's source.
+      static const std::map<std::string, std::string> kFields = {
+          {"numberOfIntendedSensors", "n"},
+          {"ransacNumberOfIterations", "ransac_iterations"},
+          {"ransacSurfacePercentageStopThreshold", "ransac_stop_coverage"}};
+      if (const auto field = kFields.find(name); field != kFields.end())
+        problem_.selection.lines[field->second] = e->line;
       if (name == "numberOfIntendedSensors") {
         if (const auto v = Integer(doc, *e, 1, kMaxCount))
           problem_.selection.n = static_cast<int>(*v);

@@ -273,19 +273,28 @@ std::optional<std::string> Loader::FuelCached(const FuelUri& fuel,
   return std::nullopt;
 }
 
-std::optional<std::string> Loader::ResolveResourceUri(const std::string& uri, const Doc& from) {
-  if (uri.rfind("model://", 0) == 0 || ParseFuelUri(uri)) return ResolveModelUri(uri, from, nullptr);
+std::optional<std::string> Loader::ResolveResourceUri(const std::string& uri, const Doc& from,
+                                                      std::vector<std::string>* searched) {
+  if (uri.rfind("model://", 0) == 0 || ParseFuelUri(uri)) {
+    std::vector<std::string> looked;
+    const std::optional<std::string> found = ResolveModelUri(uri, from, &looked);
+    if (searched) AppendOnce(looked, searched);
+    return found;
+  }
   if (uri.find("://") != std::string::npos && uri.rfind("file://", 0) != 0) return std::nullopt;
   const std::string rest = uri.rfind("file://", 0) == 0 ? uri.substr(7) : uri;
   if (rest.empty()) return std::nullopt;
   std::error_code ec;
-  if (fs::path(rest).is_absolute())
+  if (fs::path(rest).is_absolute()) {
+    if (searched) AppendOnce({fs::path(rest).parent_path().string()}, searched);
     return fs::exists(rest, ec) ? std::optional<std::string>(rest) : std::nullopt;
+  }
   // GAZEBO.md: --resource-path, GAZEBO_RESOURCE_PATH, the parent of each model directory; then
   // the file's own model folder and folder.
   std::vector<std::string> bases = resource_dirs_;
   if (!from.model_dir.empty()) bases.push_back(from.model_dir);
   bases.push_back(from.dir);
+  if (searched) AppendOnce(bases, searched);
   for (const std::string& base : bases) {
     const fs::path candidate = fs::path(base) / rest;
     if (fs::exists(candidate, ec)) return candidate.lexically_normal().string();

@@ -40,16 +40,23 @@ MaterialColours Loader::ColoursOf(const VisualRecord& visual) {
     const XmlElement* name_element = script->Child("name");
     const std::string name = name_element ? name_element->Trimmed() : "";
     std::vector<std::string> uris;
+    bool is_script_missing = false;  // then the script, not the name, is the cause
     for (const XmlElement* uri : script->Children("uri")) {
       const std::string text = uri->Trimmed();
       if (text.empty() || text == "__default__") continue;
       uris.push_back(text);
-      const std::optional<std::string> location = ResolveResourceUri(text, doc);
+      std::vector<std::string> searched;
+      const std::optional<std::string> location = ResolveResourceUri(text, doc, &searched);
       if (!location) {
-        Note(AtPlace(doc.xml.path, uri->line,
-                     fmt::format("material script {} not found on the resource path (--resource-"
-                                 "path, GAZEBO_RESOURCE_PATH)",
-                                 text)));
+        for (std::string& folder : searched) folder = folder.empty() ? "." : folder;
+        MissingMaterial(AtPlace(
+            doc.xml.path, uri->line,
+            fmt::format("<script><uri> material script '{}' of visual '{}' of model '{}' not "
+                        "found (looked in {}) — add the folder that holds it with "
+                        "--resource-path or GAZEBO_RESOURCE_PATH",
+                        text, visual.name, visual.model,
+                        searched.empty() ? "no folder" : Join(searched, ", "))));
+        is_script_missing = true;
         continue;
       }
       std::vector<std::string> files;
@@ -74,11 +81,13 @@ MaterialColours Loader::ColoursOf(const VisualRecord& visual) {
     if (!name.empty()) {
       if (const MaterialColours* found = materials_.Find(name)) {
         colours = *found;
-      } else {
-        Note(AtPlace(doc.xml.path, name_element->line,
-                     fmt::format("material '{}' is not defined in {}: its visuals have no colour "
-                                 "(never targets)",
-                                 name, uris.empty() ? "any loaded script" : Join(uris, ", "))));
+      } else if (!is_script_missing) {
+        MissingMaterial(AtPlace(
+            doc.xml.path, name_element->line,
+            fmt::format("<script><name> material '{}' of visual '{}' of model '{}' is not "
+                        "defined in {}: the visual has no colour (never a target)",
+                        name, visual.name, visual.model,
+                        uris.empty() ? "any loaded material script" : Join(uris, ", "))));
       }
     }
   }
@@ -188,6 +197,8 @@ void Loader::BuildScene(std::vector<GazeboVisual>* visuals_out) {
                       is_segmentation_given_ ? "<sensorDataSegmentationColorRGB>"
                                              : "the plugin's default segmentation colour",
                       colour_text, listed));
+    // The likely cause: a visual whose material script or material was not found.
+    for (const std::string& missing : missing_materials_) AddError(missing);
     return;
   }
   if (!scene_model_names_) return;

@@ -2,6 +2,7 @@
 // every part of the reader shares, in one place.
 #include "scene/sdf/text.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
 #include <filesystem>
@@ -88,6 +89,20 @@ bool IsFile(const std::string& path) {
 
 std::string ParentDir(const std::string& path) {
   return fs::path(path).parent_path().lexically_normal().string();
+}
+
+void AppendOnce(const std::vector<std::string>& folders, std::vector<std::string>* list) {
+  const auto normal = [](const std::string& folder) {
+    std::string text = fs::path(folder).lexically_normal().string();
+    while (text.size() > 1 && text.back() == '/') text.pop_back();
+    return text;
+  };
+  for (const std::string& folder : folders) {
+    const std::string key = normal(folder);
+    const bool known = std::any_of(list->begin(), list->end(),
+                                   [&](const std::string& f) { return normal(f) == key; });
+    if (!known) list->push_back(folder);
+  }
 }
 
 std::string Join(const std::vector<std::string>& items, std::string_view separator) {

@@ -34,5 +34,8 @@ bool IsFile(const std::string& path);
 std::string ParentDir(const std::string& path);
 /// `items` joined by `separator`.
 std::string Join(const std::vector<std::string>& items, std::string_view separator);
+/// Appends each folder of `folders` that `list` does not hold yet (compared normalised, without
+/// a trailing '/'), so that a message lists each searched folder once.
+void AppendOnce(const std::vector<std::string>& folders, std::vector<std::string>* list);
 
 }  // namespace vantage::detail::gazebo
