@@ -161,7 +161,8 @@ void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {
   app->add_option("--stop", request->ransac_stop_coverage,
                   "RANSAC stops at this coverage, fraction 0..1 (default: the scene's)");
   app->add_option("--time-limit", request->time_limit,
-                  "seconds for the exact solver (default: 60); --method all shares the smaller "
+                  "seconds for the exact method, the greedy and local search it starts from "
+                  "included (default: 60); --method all shares the smaller "
                   "of it and 6 s among its N's, each N an equal part of what the N's before "
                   "it left");
   app->add_option("--goal", request->goal,

@@ -236,11 +236,14 @@ struct ExactResult {
   std::string note;  ///< why the solver was not used or failed; empty when it ran normally
 };
 
-/// Maximum coverage as a MILP solved by CBC, warm-started from `start` (n sensors). The model is
-/// shrunk first: dominated candidates are dropped (with "at most n" sensors that loses nothing;
-/// the answer is padded back to n), elements are re-merged over the remaining candidates, and
-/// elements that only one candidate sees go into that candidate's objective. If CBC fails the
-/// answer is `start` with GreedyUpperBound. Never returns fewer cells than `start` covers.
+/// Maximum coverage with n sensors from `start` (n sensors) within `time_limit` seconds. Matrices
+/// of up to 100 k row nonzeros go to CBC first, as a MILP warm-started from `start` and shrunk
+/// first: dominated candidates are dropped (with "at most n" sensors that loses nothing; the
+/// answer is padded back to n), elements are re-merged over the remaining candidates, and
+/// elements that only one candidate sees go into that candidate's objective. Larger matrices,
+/// and whatever CBC leaves unproved, go to BranchAndBound in the time left (none when too
+/// little is left: then `start` or CBC's answer with the better of GreedyUpperBound and CBC's
+/// bound). Never returns fewer cells than `start` covers.
 ExactResult SolveExact(const CoverageMatrix& matrix,
                        size_t n,
                        const std::vector<uint32_t>& start,
