@@ -31,9 +31,8 @@ __extension__ typedef unsigned __int128 Wide;
 // Fixed-point bits of the multipliers in the exact evaluation (weights stay below 2^40, so a
 // scaled weight fits in 64 bits and a row sum in 128).
 constexpr int kFixedBits = 20;
-// Polyak step scale: halved after kPatience steps without a better bound; the search ends below
-// kMinStepScale.
-constexpr double kStartStepScale = 2.0;
+// Polyak step scale: from kStartStepScale (methods.hpp, as maximum coverage's bound), halved
+// after kPatience steps without a better bound; the search ends below kMinStepScale.
 constexpr double kMinStepScale = 1e-6;
 constexpr int kPatience = 25;
 // Steps: as many as fit at this many row nonzeros per second, at most kMaxSteps, none when fewer
