@@ -452,8 +452,10 @@ struct RandomState {
 
 // Three states of `sizes` cells; a candidate sees a cell of state s with probability
 // p + step * s.
-std::vector<RandomState> RandomStates(uint64_t seed, size_t candidates,
-                                      std::array<size_t, 3> sizes = {37, 50, 61}, double p = 0.15,
+std::vector<RandomState> RandomStates(uint64_t seed,
+                                      size_t candidates,
+                                      std::array<size_t, 3> sizes = {37, 50, 61},
+                                      double p = 0.15,
                                       double step = 0.1) {
   Rng rng(seed, Stream::kTest, 0);
   std::vector<RandomState> states;
@@ -668,8 +670,8 @@ TEST(SelectOverStates, ExactAgainstBruteForceWithValidBounds) {
     const detail::CoverageMatrix matrix(blocks);
     for (const OverStates over : {OverStates::kMean, OverStates::kMin}) {
       for (int n = 1; n <= 4; ++n) {
-        SCOPED_TRACE(testing::Message() << "seed " << seed << " " << OverStatesName(over) << " n "
-                                        << n);
+        SCOPED_TRACE(testing::Message()
+                     << "seed " << seed << " " << OverStatesName(over) << " n " << n);
         const double optimum = BruteForceAggregate(states, static_cast<size_t>(n), over);
         const auto exact = SelectOverStates(views, over, Options(Method::kExact, n));
         ASSERT_EQ(exact.size(), 1u);
@@ -718,8 +720,7 @@ TEST(SelectOverStates, MinBoundOfAHandWorkedInstance) {
   // n = 2: {0, 1} covers both states fully.
   const detail::StatesExactResult two =
       detail::SolveExactStates(matrix, OverStates::kMin, 2, {2, 0}, 10);
-  EXPECT_EQ(std::set<uint32_t>(two.chosen.begin(), two.chosen.end()),
-            (std::set<uint32_t>{0, 1}));
+  EXPECT_EQ(std::set<uint32_t>(two.chosen.begin(), two.chosen.end()), (std::set<uint32_t>{0, 1}));
   EXPECT_TRUE(two.proven_optimal);
   EXPECT_DOUBLE_EQ(two.upper_bound, 1.0);
 }
