@@ -1398,8 +1398,11 @@ TEST(Objectives, DeterministicForASeed) {
 // LP-strength bounds of the further objectives (issue 14), against enumeration and CLP
 
 // The coverage LP of `obs` cell by cell for CLP (unit cell weights).
-test::CoverageLpSpec LpSpec(const std::vector<Observation>& obs, size_t cells, int k,
-                            std::vector<double> coefficients, double capacity) {
+test::CoverageLpSpec LpSpec(const std::vector<Observation>& obs,
+                            size_t cells,
+                            int k,
+                            std::vector<double> coefficients,
+                            double capacity) {
   test::CoverageLpSpec spec;
   for (const Observation& o : obs) spec.rows.push_back(o.reference_indices);
   spec.weights.assign(cells, 1.0);
@@ -1412,8 +1415,8 @@ test::CoverageLpSpec LpSpec(const std::vector<Observation>& obs, size_t cells, i
 TEST(ObjectiveBounds, KCoverageLpBoundHoldsAndMeetsClp) {
   int trials = 0;
   for (uint64_t trial = 0; trial < 12; ++trial) {
-    const size_t m = 8 + trial % 13;             // 8..20 candidates
-    const size_t r = 30 + (trial * 11) % 31;     // 30..60 cells
+    const size_t m = 8 + trial % 13;          // 8..20 candidates
+    const size_t r = 30 + (trial * 11) % 31;  // 30..60 cells
     const double p = 0.15 + 0.05 * static_cast<double>(trial % 4);
     const std::vector<Observation> obs = WeightedRandomInstance(1400 + trial, m, r, p);
     const detail::CoverageMatrix matrix(obs, r);
@@ -1523,8 +1526,8 @@ TEST(ObjectiveBounds, SetCoverLpLowerBoundNeverExceedsTheFewest) {
       }
       // The least t whose LP (CLP) reaches the goal: no valid bound proves it too few.
       size_t lp_least = 1;
-      while (test::CoverageLpOptimum(LpSpec(obs, r, 1, std::vector<double>(m, 1.0),
-                                            static_cast<double>(lp_least))) <
+      while (test::CoverageLpOptimum(
+                 LpSpec(obs, r, 1, std::vector<double>(m, 1.0), static_cast<double>(lp_least))) <
              static_cast<double>(goal) - 1e-7) {
         ++lp_least;
       }

@@ -153,9 +153,9 @@ double CoverageLpOptimum(const CoverageLpSpec& spec) {
   row_upper[cells] = spec.capacity;
   Clp_Simplex* clp = Clp_newModel();
   Clp_setLogLevel(clp, 0);
-  Clp_loadProblem(clp, static_cast<int>(columns.size()), static_cast<int>(row_count),
-                  starts.data(), indices.data(), values.data(), lower.data(), upper.data(),
-                  objective.data(), row_lower.data(), row_upper.data());
+  Clp_loadProblem(clp, static_cast<int>(columns.size()), static_cast<int>(row_count), starts.data(),
+                  indices.data(), values.data(), lower.data(), upper.data(), objective.data(),
+                  row_lower.data(), row_upper.data());
   Clp_setObjSense(clp, -1);
   Clp_initialSolve(clp);
   const int status = Clp_status(clp);

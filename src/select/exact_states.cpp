@@ -8,11 +8,12 @@
 //   both:  y_e <= sum_{i sees e} x_i,  sum_i x_i <= n,  x binary, y and t in [0, 1].
 //
 // Dominated candidates are dropped and elements seen by one kept candidate fold into its column
-// (as exact.cpp does for one state); CBC solves it in a child process within the time limit. The bound when it cannot finish is the
-// Lagrangian of a weighted coverage LP (objective_bounds.cpp) with integer weights rounded up
-// from G a_s w_e / |R_s|: for any a >= 0 with sum_s a_s >= 1, min_s f_s <= sum_s a_s f_s (and the
-// mean is a = 1/S), so the bound over G is a bound on the aggregate whatever a is; for min,
-// several a are tried (exponentiated-gradient steps away from the states the relaxation favours).
+// (as exact.cpp does for one state); CBC solves it in a child process within the time limit. The
+// bound when it cannot finish is the Lagrangian of a weighted coverage LP (objective_bounds.cpp)
+// with integer weights rounded up from G a_s w_e / |R_s|: for any a >= 0 with sum_s a_s >= 1,
+// min_s f_s <= sum_s a_s f_s (and the mean is a = 1/S), so the bound over G is a bound on the
+// aggregate whatever a is; for min, several a are tried (exponentiated-gradient steps away from
+// the states the relaxation favours).
 #include <coin/Cbc_C_Interface.h>
 #include <fmt/format.h>
 
@@ -405,8 +406,8 @@ StatesExactResult SolveExactStates(const CoverageMatrix& matrix,
   }
   double cbc_bound = std::numeric_limits<double>::infinity();
   bool cbc_proved = false;
-  const std::optional<StatesCbcAnswer> answer = RunStatesCbc(
-      matrix, over, n, start, time_limit - SecondsSince(begin), &result.note);
+  const std::optional<StatesCbcAnswer> answer =
+      RunStatesCbc(matrix, over, n, start, time_limit - SecondsSince(begin), &result.note);
   if (answer) {
     if (std::isfinite(answer->bound)) cbc_bound = answer->bound;
     if (answer->has_solution && answer->chosen.size() <= n) {

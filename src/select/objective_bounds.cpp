@@ -149,8 +149,8 @@ uint64_t ExactValue(const CoverageLp& lp, const Prepared& p, std::span<const dou
       magnitude += r[i] + price;
     }
     // Each conversion, product and sum errs by at most 2^-63 of the magnitude summed so far.
-    const long double slack = magnitude * (static_cast<long double>(p.usable.size()) + 8) *
-                              std::ldexp(1.0L, -60);
+    const long double slack =
+        magnitude * (static_cast<long double>(p.usable.size()) + 8) * std::ldexp(1.0L, -60);
     chosen = static_cast<Wide>(std::ceil(dual + slack)) + 1;
   }
   const Wide total = rest * lp.k + chosen;
