@@ -54,6 +54,10 @@ void AddSelectionInputs(const SelectionRequest& request, RunInputs* inputs) {
   inputs->k = request.k;
   inputs->budget = request.budget;
   if (request.over_states) inputs->over_states = OverStatesName(*request.over_states);
+  inputs->interference = request.constraints.interference;
+  inputs->interference_overlap = request.constraints.interference_overlap;
+  inputs->calibration_overlap = request.constraints.calibration_overlap;
+  inputs->calibration_overlap_frac = request.constraints.calibration_overlap_frac;
 }
 
 void FinishRun(const Scene& scene, std::map<std::string, std::string> extra, RunResult* run) {
