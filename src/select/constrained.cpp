@@ -230,10 +230,18 @@ class ConstrainedPipeline {
     return Scored(Method::kGreedy, greedy_, greedy_seconds_);
   }
 
-  /// After Greedy(n).
+  /// After Greedy(n). The unconstrained local search's answer too, when it is feasible and covers
+  /// more (constraints that do not bind then change nothing).
   Selection Local() {
     const Clock::time_point start = Clock::now();
     local_ = ConstrainedLocal(matrix_, feasible_, greedy_, n_);
+    free_local_.clear();
+    if (n_ <= matrix_.candidate_count()) {
+      free_local_ = LocalSearch(CellScorer(matrix_), GreedyComplete(CellScorer(matrix_), {}, n_));
+      if (feasible_.IsFeasible(free_local_) &&
+          matrix_.CoveredWeight(free_local_) > matrix_.CoveredWeight(local_))
+        local_ = free_local_;
+    }
     local_seconds_ = greedy_seconds_ + SecondsSince(start);
     return Scored(Method::kLocal, local_, local_seconds_);
   }
@@ -241,7 +249,26 @@ class ConstrainedPipeline {
   /// After Local() (or Greedy).
   Selection Exact(double time_limit) const {
     const Clock::time_point start = Clock::now();
-    const ExactResult exact = SolveExactConstrained(matrix_, feasible_, n_, local_, time_limit);
+    ExactResult exact;
+    bool solved = false;
+    if (free_local_.size() == n_) {
+      // The unconstrained optimum (half the time): when it is feasible it is the constrained one,
+      // proof included; else its bound still bounds the constrained optimum.
+      ExactResult free = SolveExact(matrix_, n_, free_local_, 0.5 * time_limit);
+      if (feasible_.IsFeasible(free.chosen) &&
+          matrix_.CoveredWeight(free.chosen) >= matrix_.CoveredWeight(local_)) {
+        exact = std::move(free);
+        solved = true;
+      } else {
+        exact = SolveExactConstrained(matrix_, feasible_, n_, local_,
+                                      std::max(0.1, time_limit - SecondsSince(start)));
+        const uint64_t cells = matrix_.CoveredWeight(exact.chosen);
+        exact.upper_bound = std::max(cells, std::min(exact.upper_bound, free.upper_bound));
+        exact.proven_optimal = exact.upper_bound == cells;
+        solved = true;
+      }
+    }
+    if (!solved) exact = SolveExactConstrained(matrix_, feasible_, n_, local_, time_limit);
     if (!exact.proven_optimal && !exact.note.empty()) {
       Logger()->warn("exact, n = {} (constrained): {}; reporting the best answer found and a bound",
                      n_, exact.note);
@@ -271,6 +298,7 @@ class ConstrainedPipeline {
   size_t n_ = 0;
   std::vector<uint32_t> greedy_;
   std::vector<uint32_t> local_;
+  std::vector<uint32_t> free_local_;  // unconstrained local search's answer for n_
   double greedy_seconds_ = 0;
   double local_seconds_ = 0;
 };
