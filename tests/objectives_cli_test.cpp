@@ -259,5 +259,134 @@ TEST(ObjectivesCli, AllPrintsTheCoverageByNTable) {
   }
 }
 
+
+// ----- installation constraints (issue 20, docs/constraints.md) ------------------------------
+
+// A 10 cm cube (cells of 1 cm) and explicit sensors at its mid-height, each looking at its
+// centre: `sensors` is the YAML list.
+std::string CubeWithSensors(const test::TempDir& dir, const std::string& sensors) {
+  const std::string text = "settings:\n  cell_size: 0.01\n  n: 2\n"
+                           "  observation_point: [0, 0, 0.05]\n"
+                           "sensor_types:\n"
+                           "  - id: fine_cam\n    resolution: [640, 480]\n    hfov: 1.0\n"
+                           "    range: [0.1, 3.0]\n"
+                           "objects:\n"
+                           "  - name: cube\n    role: target\n    box: {size: [0.1, 0.1, 0.1]}\n"
+                           "    pose: {xyz: [0, 0, 0.05]}\n"
+                           "sensors:\n" + sensors;
+  const std::string path = dir.File("cube.yaml");
+  test::WriteText(path, text);
+  return path;
+}
+
+std::set<std::string> Names(const json& sensors) {
+  std::set<std::string> names;
+  for (const json& s : sensors) names.insert(s.get<std::string>());
+  return names;
+}
+
+TEST(ConstraintsCli, CalibrationRefusesDisjointViewsAndTakesTheBridge) {
+  test::TempDir dir;
+  // a sees the +x and +y faces, b the -x and -y faces (they share at most the two corner columns
+  // of 11 cells), the bridge sees +x and -y: a whole face with each.
+  const std::string scene = CubeWithSensors(
+      dir,
+      "  - {name: a, type: fine_cam, position: [0.5, 0.5, 0.05]}\n"
+      "  - {name: b, type: fine_cam, position: [-0.5, -0.5, 0.05]}\n"
+      "  - {name: bridge, type: fine_cam, position: [0.5, -0.5, 0.05]}\n");
+  const auto plain = RunVantage("optimize " + scene + " --method exact --out " + dir.File("p"));
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  const json p = Report(dir.File("p"));
+  EXPECT_EQ(Names(p["results"][0]["sensors"]), (std::set<std::string>{"a", "b"}));
+  EXPECT_FALSE(p.contains("constraints"));  // tiny cameras project nothing; no rule given
+
+  const auto run = RunVantage("optimize " + scene +
+                              " --method exact --calibration-overlap 40 --out " + dir.File("c"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json c = Report(dir.File("c"));
+  const json& r = c["results"][0];
+  ExpectSchemaKeys(r);
+  const std::set<std::string> chosen = Names(r["sensors"]);
+  EXPECT_EQ(chosen.size(), 2u);
+  EXPECT_TRUE(chosen.count("bridge"));
+  EXPECT_LT(r["coverage"].get<double>(), p["results"][0]["coverage"].get<double>());
+  EXPECT_TRUE(r["optimal"].get<bool>());
+  EXPECT_EQ(c["constraints"]["calibration"]["min_cells"], 40);
+  EXPECT_TRUE(r["constraints"]["connected"].get<bool>());
+  EXPECT_TRUE(r["constraints"]["satisfied"].get<bool>());
+  ASSERT_EQ(r["constraints"]["overlap_graph"].size(), 1u);
+  // The shared face: 11 x 11 cells through which it passes (a face on a grid plane), less what
+  // the two grazing views miss; at least the face's interior 9 x 9.
+  const int shared = r["constraints"]["overlap_graph"][0]["cells"].get<int>();
+  EXPECT_GE(shared, 81);
+  EXPECT_LE(shared, 121);
+  EXPECT_NE(run.out.find("(connected)"), std::string::npos) << run.out;
+
+  // evaluate: the unconstrained layout breaks the rule.
+  const auto check = RunVantage("evaluate --constellation " + dir.File("p") +
+                                "/report.json --calibration-overlap 40 --out " + dir.File("e"));
+  ASSERT_EQ(check.exit_code, 0) << check.err;
+  const json e = Report(dir.File("e"));
+  EXPECT_FALSE(e["constraints"]["applied"].get<bool>());
+  EXPECT_FALSE(e["results"][0]["constraints"]["connected"].get<bool>());
+  EXPECT_FALSE(e["results"][0]["constraints"]["satisfied"].get<bool>());
+  EXPECT_EQ(e["results"][0]["constraints"]["components"].size(), 2u);
+  EXPECT_NE(check.out.find("NOT connected: 2 parts"), std::string::npos) << check.out;
+}
+
+TEST(ConstraintsCli, StructuredLightPairConflictsTofWithStereoDoesNot) {
+  test::TempDir dir;
+  // Two Kinect 360 (structured light) facing the +x face from 3 cm apart see nearly the same
+  // cells; an Azure Kinect (time of flight) and a MultiSense S7 (stereo) both face -x: only one
+  // of them projects. Opposite faces share no cell.
+  const std::string scene = CubeWithSensors(
+      dir,
+      "  - {name: sl_1, type: kinect_xbox_360, position: [0.8, 0.015, 0.05]}\n"
+      "  - {name: sl_2, type: kinect_xbox_360, position: [0.8, -0.015, 0.05]}\n"
+      "  - {name: tof, type: azure_kinect_nfov, position: [-0.8, 0.015, 0.05]}\n"
+      "  - {name: stereo, type: multisense_s7, position: [-0.8, -0.015, 0.05]}\n");
+  const auto run = RunVantage("evaluate " + scene + " --out " + dir.File("e"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json e = Report(dir.File("e"));
+  EXPECT_EQ(e["constraints"]["interference"]["projecting_candidates"], 3);
+  EXPECT_EQ(e["constraints"]["interference"]["conflicting_pairs"], 1);
+  const json& broken = e["results"][0]["constraints"]["conflicts"];
+  ASSERT_EQ(broken.size(), 1u);
+  EXPECT_EQ(broken[0]["a"], "sl_1");
+  EXPECT_EQ(broken[0]["b"], "sl_2");
+  EXPECT_GT(broken[0]["shared"].get<double>(), 0.9);
+  EXPECT_NE(run.out.find("breaks           sl_1 ~ sl_2 (interference"), std::string::npos)
+      << run.out;
+  // optimize -n 2 never takes both Kinects; without interference it may.
+  const auto opt = RunVantage("optimize " + scene + " --method exact --out " + dir.File("o"));
+  ASSERT_EQ(opt.exit_code, 0) << opt.err;
+  const json o = Report(dir.File("o"));
+  const std::set<std::string> chosen = Names(o["results"][0]["sensors"]);
+  EXPECT_FALSE(chosen.count("sl_1") && chosen.count("sl_2"));
+  EXPECT_TRUE(o["results"][0]["constraints"]["satisfied"].get<bool>());
+  // Turning interference off removes the block.
+  const auto off = RunVantage("optimize " + scene + " --interference false --out " + dir.File("f"));
+  ASSERT_EQ(off.exit_code, 0) << off.err;
+  EXPECT_FALSE(Report(dir.File("f")).contains("constraints"));
+}
+
+TEST(ConstraintsCli, ConstraintOptionsThatCannotApplyExitTwoNamingThem) {
+  test::TempDir dir;
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--k 2 --calibration-overlap 5", "--calibration-overlap: works with the coverage objective"},
+      {"--goal 0.5 --interference true", "--interference: works with the coverage objective"},
+      {"--interference-overlap 1.5", "--interference-overlap: 1.5 must be a fraction in [0, 1]"},
+      {"--calibration-overlap 0", "--calibration-overlap: must be at least 1 common cell"},
+      {"--calibration-overlap 3 --calibration-overlap-frac 0.1",
+       "--calibration-overlap-frac: give one of"},
+  };
+  for (const auto& [flags, message] : cases) {
+    const auto run = RunVantage("optimize " + Scene() + " " + flags + " --out " + dir.File("x"));
+    EXPECT_EQ(run.exit_code, 2) << flags;
+    EXPECT_NE(run.err.find(message), std::string::npos) << flags << ": " << run.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.File("x")));
+  }
+}
+
 }  // namespace
 }  // namespace vantage

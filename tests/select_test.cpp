@@ -1547,5 +1547,199 @@ TEST(ObjectiveBounds, SetCoverLpLowerBoundNeverExceedsTheFewest) {
   EXPECT_GT(tighter, 0);  // the LP bound improves on the largest rows somewhere
 }
 
+// ----- installation constraints (issue 20, docs/constraints.md) ------------------------------
+
+namespace constraints_test {
+
+// The best coverage (cells) over every subset of at most n candidates that satisfies the
+// constraints, checked here independently: no conflicting pair inside, and (with a rule) the
+// subset's overlap graph connected, by a union-find over pairwise intersections.
+uint64_t EnumeratedOptimum(const std::vector<Observation>& obs, size_t n,
+                           const InstallConstraints& constraints) {
+  const size_t m = obs.size();
+  uint64_t best = 0;
+  for (uint32_t mask = 1; mask < (1u << m); ++mask) {
+    std::vector<uint32_t> set;
+    for (uint32_t i = 0; i < m; ++i)
+      if (mask & (1u << i)) set.push_back(i);
+    if (set.size() > n) continue;
+    bool ok = true;
+    for (const Conflict& c : constraints.conflicts)
+      ok = ok && !((mask >> c.a) & 1 && (mask >> c.b) & 1);
+    if (!ok) continue;
+    if (constraints.calibration) {
+      std::vector<uint32_t> group(set.size());
+      std::iota(group.begin(), group.end(), 0U);
+      for (size_t p = 0; p < set.size(); ++p) {
+        for (size_t q = p + 1; q < set.size(); ++q) {
+          std::vector<uint32_t> common;
+          std::set_intersection(obs[set[p]].reference_indices.begin(),
+                                obs[set[p]].reference_indices.end(),
+                                obs[set[q]].reference_indices.begin(),
+                                obs[set[q]].reference_indices.end(), std::back_inserter(common));
+          const uint64_t smaller = std::min(obs[set[p]].reference_indices.size(),
+                                            obs[set[q]].reference_indices.size());
+          const bool joined =
+              !common.empty() &&
+              (constraints.calibration->min_cells
+                   ? common.size() >= *constraints.calibration->min_cells
+                   : common.size() >= *constraints.calibration->min_fraction * smaller - 1e-9);
+          if (!joined) continue;
+          const uint32_t from = group[q], to = group[p];
+          for (uint32_t& g : group)
+            if (g == from) g = to;
+        }
+      }
+      ok = std::all_of(group.begin(), group.end(), [&](uint32_t g) { return g == group[0]; });
+    }
+    if (!ok) continue;
+    std::set<uint32_t> cells;
+    for (const uint32_t i : set)
+      cells.insert(obs[i].reference_indices.begin(), obs[i].reference_indices.end());
+    best = std::max<uint64_t>(best, cells.size());
+  }
+  return best;
+}
+
+// Random conflicting pairs among m candidates, sorted.
+std::vector<Conflict> RandomConflicts(uint64_t seed, size_t m, double p) {
+  Rng rng(seed, Stream::kTest, 1);
+  std::vector<Conflict> conflicts;
+  for (uint32_t a = 0; a < m; ++a)
+    for (uint32_t b = a + 1; b < m; ++b)
+      if (rng.Uniform01() < p) conflicts.push_back({a, b, ConflictKind::kSeparation, 0});
+  return conflicts;
+}
+
+}  // namespace constraints_test
+
+TEST(Constraints, InterferenceConflictsUseTheShareOfTheSmallerSet) {
+  // 0 and 1 share 3 of 1's 4 cells (75 %); 0 and 2 share 1 of 2's 10 (10 %): not above 0.1;
+  // 3 does not project.
+  std::vector<Observation> obs = {Obs({0, 1, 2, 3, 4, 5, 6, 7, 8, 9}), Obs({0, 1, 2, 20}),
+                                  Obs({9, 10, 11, 12, 13, 14, 15, 16, 17, 18}), Obs({0, 1, 2})};
+  const std::vector<bool> projecting = {true, true, true, false};
+  const std::vector<Conflict> conflicts = InterferenceConflicts(obs, projecting, 0.1);
+  ASSERT_EQ(conflicts.size(), 1u);
+  EXPECT_EQ(conflicts[0].a, 0u);
+  EXPECT_EQ(conflicts[0].b, 1u);
+  EXPECT_DOUBLE_EQ(conflicts[0].value, 0.75);
+  // Lower the threshold below 10 %: 0 ~ 2 conflicts too.
+  EXPECT_EQ(InterferenceConflicts(obs, projecting, 0.09).size(), 2u);
+  // Illumination ignores the quality filter: the plain cells count.
+  obs[1].plain_reference_indices = {0, 1, 2, 20};
+  obs[1].reference_indices = {20};
+  EXPECT_EQ(InterferenceConflicts(obs, projecting, 0.1).size(), 1u);
+}
+
+TEST(Constraints, BridgingSensorJoinsTwoDisjointViews) {
+  // 0 and 1 see disjoint halves; 2 sees a little of both (the bridge). Unconstrained, n = 2
+  // takes 0 and 1 (all 20 cells); connected by >= 2 common cells, the bridge must be in.
+  std::vector<uint32_t> left(10), right(10);
+  std::iota(left.begin(), left.end(), 0U);
+  std::iota(right.begin(), right.end(), 10U);
+  const std::vector<Observation> obs = {Obs(left), Obs(right), Obs({7, 8, 9, 10, 11, 12})};
+  SelectOptions options;
+  options.n = 2;
+  options.method = Method::kExact;
+  const std::vector<Selection> plain = Select(obs, 20, options);
+  EXPECT_EQ(std::set<uint32_t>(plain[0].chosen.begin(), plain[0].chosen.end()),
+            (std::set<uint32_t>{0, 1}));
+  options.constraints.calibration = CalibrationRule{2, std::nullopt};
+  for (const Method method : {Method::kGreedy, Method::kLocal, Method::kExact, Method::kRansac}) {
+    options.method = method;
+    const Selection s = Select(obs, 20, options).front();
+    EXPECT_EQ(s.chosen.size(), 2u) << s.method;
+    EXPECT_TRUE(std::count(s.chosen.begin(), s.chosen.end(), 2u)) << s.method;
+    // Either half with the bridge: 10 + 3 cells.
+    EXPECT_DOUBLE_EQ(s.coverage, 13.0 / 20.0) << s.method;
+    EXPECT_TRUE(CheckConstraints(obs, s.chosen, options.constraints).connected()) << s.method;
+  }
+  const ConstraintCheck apart = CheckConstraints(obs, plain[0].chosen, options.constraints);
+  EXPECT_FALSE(apart.connected());
+  EXPECT_EQ(apart.components.size(), 2u);
+  // A share of the smaller set: 3 of the bridge's 6 cells = 0.5.
+  options.constraints.calibration = CalibrationRule{std::nullopt, 0.5};
+  const std::vector<uint32_t> all = {0, 1, 2};
+  const std::vector<OverlapEdge> edges = OverlapGraph(obs, all, options.constraints.calibration);
+  ASSERT_EQ(edges.size(), 2u);
+  EXPECT_EQ(edges[0].cells, 3u);
+  options.constraints.calibration = CalibrationRule{std::nullopt, 0.51};
+  EXPECT_TRUE(OverlapGraph(obs, all, options.constraints.calibration).empty());
+}
+
+TEST(Constraints, ExactMatchesEnumerationOnRandomInstances) {
+  int instances = 0;
+  for (uint64_t seed = 1; seed <= 8; ++seed) {
+    const size_t m = 8 + seed % 5;  // 8..12 candidates
+    const std::vector<Observation> obs = RandomInstance(seed, m, 40, 0.25);
+    for (int variant = 0; variant < 3; ++variant) {
+      SelectOptions options;
+      options.n = 2 + static_cast<int>(seed % 2);
+      options.seed = seed;
+      options.ransac_iterations = 50;
+      if (variant != 1)
+        options.constraints.conflicts = constraints_test::RandomConflicts(seed, m, 0.3);
+      if (variant == 1) options.constraints.calibration = CalibrationRule{3, std::nullopt};
+      if (variant == 2) options.constraints.calibration = CalibrationRule{std::nullopt, 0.2};
+      const uint64_t optimum = constraints_test::EnumeratedOptimum(
+          obs, static_cast<size_t>(options.n), options.constraints);
+      const double optimum_share = static_cast<double>(optimum) / 40.0;
+      // The heuristics: feasible, never above the optimum (one CBC run per instance: exact's).
+      for (const Method method : {Method::kRansac, Method::kGreedy, Method::kLocal}) {
+        options.method = method;
+        const Selection s = Select(obs, 40, options).front();
+        const ConstraintCheck check = CheckConstraints(obs, s.chosen, options.constraints);
+        EXPECT_TRUE(check.conflicts.empty()) << s.method << " seed " << seed;
+        if (options.constraints.calibration) {
+          EXPECT_TRUE(check.connected()) << s.method << " seed " << seed;
+        }
+        EXPECT_LE(s.coverage, optimum_share + 1e-12) << s.method << " seed " << seed;
+      }
+      options.method = Method::kExact;
+      const Selection exact = Select(obs, 40, options).front();
+      EXPECT_DOUBLE_EQ(exact.coverage, optimum_share) << "seed " << seed << " variant " << variant;
+      const ConstraintCheck exact_check = CheckConstraints(obs, exact.chosen, options.constraints);
+      EXPECT_TRUE(exact_check.conflicts.empty() &&
+                  (!options.constraints.calibration || exact_check.connected()))
+          << "seed " << seed;
+      ASSERT_TRUE(exact.upper_bound.has_value());
+      EXPECT_GE(*exact.upper_bound + 1e-12, optimum_share);
+      EXPECT_TRUE(exact.proven_optimal);
+      ++instances;
+    }
+  }
+  EXPECT_EQ(instances, 24);
+}
+
+TEST(Constraints, ValidateNamesTheField) {
+  const std::vector<Observation> obs = {Obs({0}), Obs({1}), Obs({2})};
+  SelectOptions options;
+  options.n = 2;
+  options.constraints.conflicts = {{1, 0, ConflictKind::kInterference, 1}};
+  try {
+    options.Validate(obs.size());
+    ADD_FAILURE() << "accepted a >= b";
+  } catch (const FieldError& e) {
+    EXPECT_EQ(e.fields(), std::vector<std::string>{"conflicts"});
+  }
+  options.constraints.conflicts = {{0, 1, ConflictKind::kInterference, 1}};
+  options.k = 2;
+  try {
+    options.Validate(obs.size());
+    ADD_FAILURE() << "accepted k-coverage";
+  } catch (const FieldError& e) {
+    EXPECT_EQ(e.fields(), std::vector<std::string>{"constraints"});
+  }
+  options.k = 1;
+  options.constraints.calibration = CalibrationRule{0, std::nullopt};
+  try {
+    options.Validate(obs.size());
+    ADD_FAILURE() << "accepted 0 cells";
+  } catch (const FieldError& e) {
+    EXPECT_EQ(e.fields(), std::vector<std::string>{"calibration_overlap"});
+  }
+}
+
 }  // namespace
 }  // namespace vantage

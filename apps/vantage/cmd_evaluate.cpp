@@ -24,6 +24,7 @@ void RunEvaluate(EvaluateFlags flags) {
   const Selection& given = result.run.report.results.front();
   fmt::print("union   {} sensors            {:6.2f} %  (paper metric {:.2f} %)\n",
              given.chosen.size(), 100.0 * given.coverage, 100.0 * given.paper_coverage);
+  if (result.run.report.constraints) PrintConstraints(result.run.report);
   if (flags.out.empty()) return;
   WriteRun(flags.out, result.run);
   fmt::print("outputs {}/\n", flags.out);
@@ -43,6 +44,7 @@ void SetupEvaluate(CLI::App* parent) {
                   "report.json (its primary result's sensors, or all its candidates); options "
                   "not given are the run's (its `inputs`). Without it: the sensors the scene "
                   "declares (a gz-sim world's cameras, a YAML scene's `sensors:`)");
+  AddConstraintFlags(app, &flags->options.constraints);
   app->add_option("-o,--out", flags->out, "also write a report folder here")
       ->check(OutPathValidator());
   app->callback([flags] { RunEvaluate(*flags); });

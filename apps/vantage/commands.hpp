@@ -24,6 +24,8 @@ void AddSceneFlags(CLI::App* app, SceneInput* scene, bool scene_positional = tru
 void AddObserveFlags(CLI::App* app, ObserveOptions* observe, RunLimits* limits);
 /// -n, --method, --iterations, --stop, --time-limit, --goal, --k, --budget, --over-states.
 void AddSelectionFlags(CLI::App* app, SelectionRequest* request);
+/// --interference, --interference-overlap, --calibration-overlap(-frac) (docs/constraints.md).
+void AddConstraintFlags(CLI::App* app, ConstraintOptions* constraints);
 /// --fov-tolerance, --alternatives-within (points, stored as a fraction).
 void AddRobustnessFlags(CLI::App* app, RobustnessOptions* robustness);
 
@@ -39,6 +41,8 @@ std::function<void(size_t, size_t)> ProgressBar(const std::string& label);
 
 /// Prints the human summary of a run to stdout: its results, states, refinement, robustness.
 void PrintSummary(const Report& report, const std::string& out_dir);
+/// The installation constraints of a run and what its primary result avoided or breaks.
+void PrintConstraints(const Report& report);
 
 void SetupOptimize(CLI::App* parent);
 void SetupObserve(CLI::App* parent);

@@ -180,6 +180,23 @@ void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {
   app->add_flag("--keep-existing", request->keep_existing,
                 "every answer keeps the sensors the scene declares (a gz-sim world's cameras, "
                 "a YAML scene's `sensors:`) and adds to them; -n counts them");
+  AddConstraintFlags(app, &request->constraints);
+}
+
+void AddConstraintFlags(CLI::App* app, ConstraintOptions* c) {
+  app->add_option("--interference", c->interference,
+                  "true|false: two chosen structured-light or time-of-flight sensors may not "
+                  "light up more than --interference-overlap of each other's observed cells "
+                  "(default: true where it applies, docs/constraints.md)");
+  app->add_option("--interference-overlap", c->interference_overlap,
+                  "interference: the largest share of the smaller of two projecting sensors' "
+                  "observed cells they may both light up, fraction 0..1 (default 0.1)");
+  app->add_option("--calibration-overlap", c->calibration_overlap,
+                  "calibration: the chosen sensors must form a connected graph, an edge joining "
+                  "two that see at least this many common cells of the targets");
+  app->add_option("--calibration-overlap-frac", c->calibration_overlap_frac,
+                  "calibration: as --calibration-overlap, an edge needing this share (0..1] of "
+                  "the smaller of the two sensors' observed cells");
 }
 
 void AddRobustnessFlags(CLI::App* app, RobustnessOptions* robustness) {

@@ -79,7 +79,70 @@ void PrintRobustness(const VisibilityFile& data, const std::vector<Selection>& r
                100.0 * robustness.alternatives_within);
 }
 
+std::string ConflictText(const Conflict& c, const VisibilityFile& data) {
+  return fmt::format("{} ~ {} ({})", data.candidates.at(c.a).name, data.candidates.at(c.b).name,
+                     c.kind == ConflictKind::kInterference
+                         ? fmt::format("interference, {:.0f} % shared", 100.0 * c.value)
+                         : fmt::format("separation, {:.3f} m", c.value));
+}
+
 }  // namespace
+
+// The installation constraints (docs/constraints.md) and the primary result's check: what it
+// avoided (or, when only checked, breaks) and its overlap graph.
+void PrintConstraints(const Report& report) {
+  const ConstraintsInfo& info = *report.constraints;
+  const VisibilityFile& data = *report.data;
+  const InstallConstraints& constraints = info.constraints;
+  if (info.interference_overlap) {
+    size_t pairs = 0;
+    for (const Conflict& c : constraints.conflicts) pairs += c.kind == ConflictKind::kInterference;
+    fmt::print("constraints      interference: {} of {} candidates project light; {} pairs light "
+               "up more than {:g} % of each other's cells{}\n",
+               info.projecting, data.candidates.size(), pairs, 100.0 * *info.interference_overlap,
+               info.is_applied ? " (never both chosen)" : "");
+  }
+  if (info.min_separation) {
+    size_t pairs = 0;
+    for (const Conflict& c : constraints.conflicts) pairs += c.kind == ConflictKind::kSeparation;
+    fmt::print("constraints      separation: {} pairs closer than {:g} m{}\n", pairs,
+               *info.min_separation, info.is_applied ? " (never both chosen)" : "");
+  }
+  if (constraints.calibration) {
+    const CalibrationRule& rule = *constraints.calibration;
+    fmt::print("constraints      calibration: the chosen must be connected by views sharing {}\n",
+               rule.min_cells ? fmt::format("at least {} cells", *rule.min_cells)
+                              : fmt::format("at least {:g} % of the smaller set",
+                                            100.0 * rule.min_fraction.value_or(0.0)));
+  }
+  if (report.primary < 0) return;
+  const Selection& primary = report.results.at(static_cast<size_t>(report.primary));
+  const ConstraintCheck check = CheckConstraints(data.observations, primary.chosen, constraints);
+  for (const Conflict& c : check.conflicts)
+    fmt::print("breaks           {}\n", ConflictText(c, data));
+  if (info.is_applied) {
+    const std::vector<Conflict> avoided = ConflictsAvoided(primary.chosen, constraints);
+    const size_t shown = std::min<size_t>(avoided.size(), 5);
+    for (size_t i = 0; i < shown; ++i)
+      fmt::print("avoided          {}\n", ConflictText(avoided[i], data));
+    if (avoided.size() > shown)
+      fmt::print("avoided          ... {} more (report.json)\n", avoided.size() - shown);
+  }
+  std::vector<std::string> edges;
+  for (const OverlapEdge& e : check.edges) {
+    edges.push_back(fmt::format("{} - {} {}", data.candidates.at(e.a).name,
+                                data.candidates.at(e.b).name, e.cells));
+  }
+  if (constraints.calibration || !edges.empty()) {
+    fmt::print("overlap graph    of {} n={}: {}{}\n", primary.method, primary.n,
+               edges.empty() ? "no edges" : fmt::format("{}", fmt::join(edges, ", ")),
+               constraints.calibration
+                   ? (check.connected()
+                          ? " (connected)"
+                          : fmt::format(" (NOT connected: {} parts)", check.components.size()))
+                   : std::string(" (common cells)"));
+  }
+}
 
 void PrintSummary(const Report& report, const std::string& out_dir) {
   const VisibilityFile& data = *report.data;
@@ -161,6 +224,7 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
                names, s->seconds);
   }
   PrintCoverageByN(results);
+  if (report.constraints) PrintConstraints(report);
   if (refinement) {
     const Selection& from = results.at(static_cast<size_t>(refinement->from_result));
     fmt::print("refinement       {:+.2f} points over {} n={}: {} rounds, {} new poses, {:.1f} M extra rays, {:.2f} s\n",

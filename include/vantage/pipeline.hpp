@@ -48,6 +48,24 @@ struct RunLimits {
   void Validate() const;      ///< InputError naming --max-memory
 };
 
+/// Installation constraints of a run (docs/constraints.md), from the command line.
+struct ConstraintOptions {
+  /// --interference true|false: projecting sensors (ProjectsLight) may not light up more than
+  /// `interference_overlap` of each other's observed cells. Unset: on wherever it applies (the
+  /// coverage objective without states, kept sensors or refinement), off elsewhere.
+  std::optional<bool> interference;
+  std::optional<double> interference_overlap;  ///< --interference-overlap, fraction; default 0.1
+  /// --calibration-overlap C: the chosen sensors' overlap graph (an edge: at least C common
+  /// cells of R) must be connected.
+  std::optional<uint64_t> calibration_overlap;
+  /// --calibration-overlap-frac f: an edge needs a share f of the smaller of the two sets.
+  std::optional<double> calibration_overlap_frac;
+  double Overlap() const { return interference_overlap.value_or(0.1); }
+  /// InputError naming the option: an overlap outside [0, 1], C < 1, f outside (0, 1], or both
+  /// calibration options.
+  void Validate() const;
+};
+
 /// Selection settings given by the caller; unset: the scene's (SelectionSettings). Any of goal,
 /// k and budget given replaces the scene's objective altogether (so --k 2 over a scene's goal
 /// works).
@@ -64,6 +82,7 @@ struct SelectionRequest {
   /// --keep-existing: every answer holds the explicitly declared sensors (candidates of no
   /// population: a world's cameras, a YAML scene's `sensors:`), SelectOptions::fixed.
   bool keep_existing = false;
+  ConstraintOptions constraints;  ///< installation constraints
 };
 
 /// The selection options of a run: the request over the scene's settings, costs from the
@@ -196,6 +215,9 @@ struct EvaluateOptions {
   /// A quality filter left unset takes the one the constellation's run used.
   ObserveOptions observe;
   RunLimits limits;
+  /// The constraints the layout is checked against (report.json results[0].constraints); fields
+  /// left unset take the constellation's run's. Interference is checked by default.
+  ConstraintOptions constraints;
 };
 struct EvaluateResult {
   RunResult run;                         ///< one result, method "given": every sensor

@@ -70,6 +70,10 @@ struct RunInputs {
   std::optional<double> budget;             ///< --budget
   std::optional<std::string> over_states;   ///< --over-states
   bool keep_existing = false;               ///< --keep-existing
+  std::optional<bool> interference;         ///< --interference
+  std::optional<double> interference_overlap;  ///< --interference-overlap
+  std::optional<uint64_t> calibration_overlap;  ///< --calibration-overlap, cells
+  std::optional<double> calibration_overlap_frac;  ///< --calibration-overlap-frac
   bool refine = false;                      ///< --refine
   std::optional<int> refine_rounds;         ///< --refine-rounds
   std::optional<double> fov_tolerance_deg;  ///< --fov-tolerance
@@ -87,6 +91,16 @@ struct ChosenSensor {
 
 /// Everything one report holds. The writers (ReportJson, HtmlReport, ...) only serialise it: the
 /// values derived from the results are computed once, by DeriveReport, before any writer runs.
+/// The installation constraints of a run (docs/constraints.md): what selection had to satisfy, or
+/// (evaluate) what the layout is checked against.
+struct ConstraintsInfo {
+  InstallConstraints constraints;              ///< conflicting pairs, calibration rule
+  std::optional<double> interference_overlap;  ///< set when interference is on
+  size_t projecting = 0;                       ///< candidates whose type projects light
+  std::optional<double> min_separation;        ///< [m], the scene's, when set
+  bool is_applied = true;  ///< selection obeyed them (false: evaluate only checks them)
+};
+
 struct Report {
   std::string scene;
   uint64_t seed = 1;
@@ -104,6 +118,8 @@ struct Report {
   std::optional<StatesInfo> states;
   /// What shaped the run (report.json `inputs`); absent for reports built by hand.
   std::optional<RunInputs> inputs;
+  /// Set when any installation constraint is on (report.json `constraints`, per result too).
+  std::optional<ConstraintsInfo> constraints;
 
   // Derived by DeriveReport.
   bool is_derived = false;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "vantage/constraints.hpp"
 #include "vantage/settings.hpp"
 #include "vantage/visibility.hpp"
 
@@ -47,6 +48,10 @@ struct SelectOptions {
   /// on the residual problem (the cells they see counted already): n counts them too (n >= their
   /// number), a goal and a budget include them. Not with k-coverage.
   std::vector<uint32_t> fixed;
+  /// Installation constraints (docs/constraints.md): conflicting pairs and calibration
+  /// connectivity. Not empty: every method chooses only sets that satisfy them (the coverage
+  /// objective only, without `fixed`).
+  InstallConstraints constraints;
 
   /// The objective these options select: goal -> set cover, k >= 2 -> k-coverage, budget ->
   /// budget, none -> coverage.

@@ -34,6 +34,9 @@ struct SensorType {
   double cost = 1.0;       ///< unit cost for budgeted selection
   /// Depth noise model; unset when no published model is known for the type.
   std::optional<DepthNoise> depth_noise;
+  /// Whether its projector washes out another projecting sensor's pattern (projector
+  /// interference, docs/constraints.md); unset: from the technology (ProjectsLight).
+  std::optional<bool> interferes;
 
   /// Horizontal / vertical field of view [rad] implied by the intrinsics.
   double HorizontalFov() const;
@@ -56,6 +59,12 @@ const SensorType* FindCatalogType(std::string_view id);
 /// The id of the catalog entry with the same resolution, intrinsics and range (relative
 /// tolerance 1e-6), or "" when none matches.
 std::string MatchCatalogId(const SensorType& type);
+
+/// Whether sensors of `type` interfere: `type.interferes` when set, else whether its technology
+/// (or, when empty, that of the catalog entry `catalog_id`) is structured light or time of
+/// flight. Active stereo (a texture projector that stereo matching does not rely on) and passive
+/// stereo do not.
+bool ProjectsLight(const SensorType& type, std::string_view catalog_id = {});
 
 /// Body-frame direction of the ray through the centre of pixel (u, v), scaled so that its x
 /// (depth) component is 1: a hit at ray parameter t has depth t.

@@ -38,8 +38,30 @@ Reference BuildRunReference(const Scene& scene, double cell_size, const std::str
 /// Every candidate of `evaluator` as one "given" selection, with its coverage (evaluate, render).
 Selection GivenSelection(const CoverageEvaluator& evaluator);
 
+/// InputError naming the constraint option (docs/constraints.md) that is invalid or cannot apply
+/// to `options` (another objective, kept sensors, states, refinement). Before any ray is cast.
+void CheckConstraintRequest(const ConstraintOptions& request, const SelectOptions& options,
+                            bool has_states, bool refine);
+
+/// Per candidate, whether its type projects light (ProjectsLight, by its catalog id).
+std::vector<bool> ProjectingCandidates(std::span<const Candidate> candidates);
+
+/// The constraints selection must satisfy, from the request over the observed candidates:
+/// interference (on by default where it applies, with at least two projecting candidates) and
+/// calibration. nullopt when none is on or they cannot apply (CheckConstraintRequest refused
+/// explicit ones already).
+std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& request,
+                                                  const SelectOptions& options,
+                                                  std::span<const Candidate> candidates,
+                                                  std::span<const Observation> observations,
+                                                  bool has_states, bool refine);
+
+/// Removes the one-sensor alternatives that break the constraints selection obeyed.
+void DropInfeasibleAlternatives(const ConstraintsInfo& info, const VisibilityFile& data,
+                                Robustness* robustness);
+
 /// Runs selection: over the states (SelectOverStates) when the scene has them, else Select.
-/// Fills `report`'s results and states block.
+/// Fills `report`'s results and states block. With report->constraints set, selection obeys them.
 void SelectResults(const ObservedScene& observed, const SelectionRequest& request,
                    const SelectOptions& options, Report* report);
 

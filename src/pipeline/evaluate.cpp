@@ -117,6 +117,7 @@ Constellation DeclaredLayout(const SceneInput& scene) {
 EvaluateResult Evaluate(const EvaluateOptions& options) {
   options.observe.Validate();
   options.limits.Validate();
+  options.constraints.Validate();
   Constellation constellation;
   if (options.constellation.empty()) {
     constellation = DeclaredLayout(options.scene);
@@ -152,7 +153,27 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   report.data = run.data.get();
   report.results = {reobserved.given};
   report.timings = reobserved.timings;
+  ConstraintOptions constraints = options.constraints;
+  if (constellation.inputs) {
+    const RunInputs& run_inputs = *constellation.inputs;
+    if (!constraints.interference) constraints.interference = run_inputs.interference;
+    if (!constraints.interference_overlap)
+      constraints.interference_overlap = run_inputs.interference_overlap;
+    if (!constraints.calibration_overlap && !constraints.calibration_overlap_frac) {
+      constraints.calibration_overlap = run_inputs.calibration_overlap;
+      constraints.calibration_overlap_frac = run_inputs.calibration_overlap_frac;
+    }
+  }
+  constraints.Validate();
+  report.constraints = detail::ResolveConstraints(constraints, SelectOptions{},
+                                                  run.data->candidates, run.data->observations,
+                                                  false, false);
+  if (report.constraints) report.constraints->is_applied = false;
   report.inputs = detail::InputsOf("evaluate", scene, observe);
+  report.inputs->interference = options.constraints.interference;
+  report.inputs->interference_overlap = options.constraints.interference_overlap;
+  report.inputs->calibration_overlap = options.constraints.calibration_overlap;
+  report.inputs->calibration_overlap_frac = options.constraints.calibration_overlap_frac;
   if (!options.constellation.empty())
     report.inputs->constellation = fs::absolute(options.constellation).string();
   DeriveReport(&report);

@@ -74,6 +74,8 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
     throw InputError(AtPlace("--refine", 0,
                              "refinement over scene states is not supported yet — drop --refine "
                              "or the scene's states"));
+  detail::CheckConstraintRequest(options.selection.constraints, select, has_states,
+                                 options.refine.has_value());
   ObservedScene observed =
       ObservePrepared(std::move(prepared), options.observe, options.limits, options.trace);
   return OptimizeObserved{std::move(observed), select, start};
@@ -86,6 +88,9 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
   const auto select_start = std::chrono::steady_clock::now();
   RunResult run;
   Report& report = run.report;
+  report.constraints = detail::ResolveConstraints(
+      options.selection.constraints, select, observed.data.candidates, observed.data.observations,
+      !observed.states.empty(), options.refine.has_value());
   detail::SelectResults(observed, options.selection, select, &report);
   if (options.refine) {
     RefineOptions refine = *options.refine;
@@ -134,6 +139,8 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
       report.robustness = AssessRobustness(data, report.results, report.primary,
                                            observed.rays.get(), options.observe,
                                            options.robustness);
+      if (report.constraints)
+        detail::DropInfeasibleAlternatives(*report.constraints, data, &*report.robustness);
     }
   }
   detail::FinishRun(observed.scene, std::move(extra), &run);

@@ -57,6 +57,10 @@ void AddSelectionInputs(const SelectionRequest& request, RunInputs* inputs) {
   inputs->budget = request.budget;
   if (request.over_states) inputs->over_states = OverStatesName(*request.over_states);
   inputs->keep_existing = request.keep_existing;
+  inputs->interference = request.constraints.interference;
+  inputs->interference_overlap = request.constraints.interference_overlap;
+  inputs->calibration_overlap = request.constraints.calibration_overlap;
+  inputs->calibration_overlap_frac = request.constraints.calibration_overlap_frac;
 }
 
 std::map<std::string, std::string> ConstellationFiles(const std::string& scene_path,

@@ -49,10 +49,16 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   const SelectOptions select =
       ResolveSelection(data.selection, options.selection, options.seed.value_or(data.seed),
                        data.candidates, data.scene, Method::kAll);
+  detail::CheckConstraintRequest(options.selection.constraints, select, false, false);
   const auto select_start = std::chrono::steady_clock::now();
   Report& report = run.report;
-  report.results = Select(data.observations, data.reference.size(), select);
-  report.curve = CoverageCurve(data.observations, data.reference.size(), select, report.results);
+  report.constraints = detail::ResolveConstraints(options.selection.constraints, select,
+                                                  data.candidates, data.observations, false, false);
+  SelectOptions constrained = select;
+  if (report.constraints) constrained.constraints = report.constraints->constraints;
+  report.results = Select(data.observations, data.reference.size(), constrained);
+  report.curve =
+      CoverageCurve(data.observations, data.reference.size(), constrained, report.results);
   timings.select = detail::SecondsSince(select_start);
   timings.total = detail::SecondsSince(start);
   report.scene = data.scene;
@@ -78,6 +84,8 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
         scene.objects.empty() ? nullptr : std::make_unique<RayScene>(scene);
     report.robustness = AssessRobustness(data, report.results, report.primary, rays.get(),
                                          ObserveOptions{}, options.robustness);
+    if (report.constraints)
+      detail::DropInfeasibleAlternatives(*report.constraints, data, &*report.robustness);
   }
   detail::FinishRun(scene, {}, &run);
   return run;

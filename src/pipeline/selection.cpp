@@ -78,7 +78,9 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
 namespace detail {
 
 void SelectResults(const ObservedScene& observed, const SelectionRequest& request,
-                   const SelectOptions& options, Report* report) {
+                   const SelectOptions& given, Report* report) {
+  SelectOptions options = given;
+  if (report->constraints) options.constraints = report->constraints->constraints;
   if (observed.states.empty()) {
     report->results =
         Select(observed.data.observations, observed.data.reference.size(), options);

@@ -412,6 +412,16 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   page["results"] = std::move(results);
   page["curve"] = std::move(curve);
   page["chosen"] = std::move(chosen_json);
+  // The primary result's overlap graph (docs/constraints.md): lines between the chosen sensors
+  // that share cells, under the calibration rule when there is one.
+  if (report.constraints && report.primary >= 0) {
+    ordered_json overlap = ordered_json::array();
+    for (const OverlapEdge& e : CheckConstraints(data.observations, report.PrimaryChosen(),
+                                                 report.constraints->constraints)
+                                    .edges)
+      overlap.push_back({{"a", e.a}, {"b", e.b}, {"cells", e.cells}});
+    page["overlap"] = std::move(overlap);
+  }
   page["quality"] = data.quality.active();
   if (report.states) {
     ordered_json names = ordered_json::array();

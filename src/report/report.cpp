@@ -7,6 +7,7 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
+#include "report/constraints_json.hpp"
 #include "report/run_inputs.hpp"
 #include "util/atomic_file.hpp"
 #include "vantage/error.hpp"
@@ -223,6 +224,10 @@ std::string ReportJson(const Report& report) {
     const double* plain =
         report.result_plain_coverage.empty() ? nullptr : &report.result_plain_coverage.at(index);
     results.push_back(ResultJson(report.results[index], data, plain));
+    if (report.constraints) {
+      results.back()["constraints"] =
+          detail::ResultConstraintsJson(report.results[index], *report.constraints, data);
+    }
   }
   j["results"] = std::move(results);
   // The coverage-versus-n curve's extra answers (docs/outputs.md), shaped as results entries.
@@ -230,6 +235,7 @@ std::string ReportJson(const Report& report) {
   for (const Selection& s : report.curve) curve.push_back(ResultJson(s, data, nullptr));
   j["curve"] = std::move(curve);
   if (report.primary >= 0) j["primary_result"] = report.primary;
+  if (report.constraints) j["constraints"] = detail::ConstraintsJson(*report.constraints);
   if (report.robustness) j["robustness"] = RobustnessJson(*report.robustness, data);
   if (report.states) {
     ordered_json states = ordered_json::array();

@@ -118,6 +118,10 @@ ordered_json RunInputsJson(const RunInputs& in) {
   Put(&j, "budget", in.budget);
   Put(&j, "over_states", in.over_states);
   if (in.keep_existing) j["keep_existing"] = true;
+  Put(&j, "interference", in.interference);
+  Put(&j, "interference_overlap", in.interference_overlap);
+  Put(&j, "calibration_overlap", in.calibration_overlap);
+  Put(&j, "calibration_overlap_frac", in.calibration_overlap_frac);
   if (in.refine) j["refine"] = true;
   Put(&j, "refine_rounds", in.refine_rounds);
   Put(&j, "fov_tolerance_deg", in.fov_tolerance_deg);
@@ -158,6 +162,10 @@ RunInputs ParseRunInputs(const json& j, const std::string& where) {
   r.Number("budget", &in.budget);
   r.String("over_states", &in.over_states);
   r.Boolean("keep_existing", &in.keep_existing);
+  r.Boolean("interference", &in.interference);
+  r.Number("interference_overlap", &in.interference_overlap);
+  r.Unsigned("calibration_overlap", &in.calibration_overlap);
+  r.Number("calibration_overlap_frac", &in.calibration_overlap_frac);
   r.Boolean("refine", &in.refine);
   r.Integer("refine_rounds", &in.refine_rounds);
   r.Number("fov_tolerance_deg", &in.fov_tolerance_deg);

@@ -796,7 +796,7 @@ std::optional<SensorType> SceneReader::ReadSensorType(const Value& input) {
   const size_t errors_before = ErrorCount();
   const Fields fields(input, "sensor type",
                       {"id", "base", "name", "technology", "resolution", "hfov", "hfov_deg", "vfov",
-                       "vfov_deg", "intrinsics", "range", "fps", "cost", "depth_noise"},
+                       "vfov_deg", "intrinsics", "range", "fps", "cost", "depth_noise", "interferes"},
                       &reporter_);
   const auto id_node = fields.Get("id");
   if (!id_node) {
@@ -829,6 +829,9 @@ std::optional<SensorType> SceneReader::ReadSensorType(const Value& input) {
   if (const auto v = fields.Get("name")) type.name = Text(*v, what + ".name").value_or(type.name);
   if (const auto v = fields.Get("technology"))
     type.technology = Text(*v, what + ".technology").value_or(type.technology);
+  if (const auto v = fields.Get("interferes")) {
+    if (const auto interferes = Boolean(*v, what + ".interferes")) type.interferes = *interferes;
+  }
   bool resolution_changed = false;
   ReadResolution(fields, what, &type, &resolution_changed);
   ReadIntrinsics(fields, what, base, resolution_changed, &type);

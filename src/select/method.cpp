@@ -124,6 +124,12 @@ void SelectOptions::Validate(size_t candidate_count) const {
                      fmt::format("time_limit = {} s must be a positive number of seconds", time_limit));
   }
   ValidateObjective(*this, candidate_count);
+  constraints.Validate(candidate_count);
+  if (!constraints.empty() && (objective() != Objective::kCoverage || !fixed.empty())) {
+    throw FieldError({"constraints"},
+                     "installation constraints work with the coverage objective only, not with a "
+                     "goal, k-coverage, a budget or kept sensors");
+  }
   std::vector<uint32_t> sorted = fixed;
   std::sort(sorted.begin(), sorted.end());
   if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end() ||

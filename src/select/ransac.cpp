@@ -2,13 +2,13 @@
 #include <numeric>
 #include <utility>
 
+#include "select/constrained.hpp"
 #include "select/methods.hpp"
 #include "vantage/error.hpp"
 #include "vantage/rng.hpp"
 #include "vantage/interrupt.hpp"
 
 namespace vantage::detail {
-namespace {
 
 // Draw `iteration` of SelectSensorsRandomly: n distinct candidates of order->size(), from
 // Rng(seed, Stream::kRansac, iteration). `order` must hold the identity permutation: a partial
@@ -31,8 +31,6 @@ void RansacDraw(uint64_t seed,
   }
   for (size_t k = n; k-- > 0;) std::swap((*order)[k], (*order)[swapped_with[k]]);
 }
-
-}  // namespace
 
 template <MethodScorer Scorer>
 std::vector<uint32_t> RansacChoice(

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <iterator>
 
+#include "select/constrained.hpp"
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
 #include "vantage/error.hpp"
@@ -342,6 +343,8 @@ std::vector<Selection> Select(std::span<const Observation> observations,
                               const SelectOptions& options) {
   options.Validate(observations.size());
   if (!options.fixed.empty()) return SelectKeeping(observations, reference_size, options);
+  if (!options.constraints.empty())
+    return detail::SelectConstrained(observations, reference_size, options);
   const CoverageEvaluator evaluator(observations, reference_size);
   if (options.method == Method::kBest) return {SelectBest(evaluator)};
 
@@ -429,6 +432,8 @@ std::vector<Selection> CoverageCurve(std::span<const Observation> observations,
   int last_n = up_to;
   for (const Selection& s : results) last_n = std::max(last_n, s.n);
   last_n = std::min(last_n, static_cast<int>(observations.size()));
+  if (!options.constraints.empty())
+    return detail::ConstrainedCurve(observations, reference_size, options, results, last_n);
   const int first_n = objective == Objective::kKCoverage ? options.k : 1;
   const auto has = [&](const std::string& method, int n) {
     return std::any_of(results.begin(), results.end(), [&](const Selection& s) {

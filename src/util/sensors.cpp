@@ -200,4 +200,13 @@ std::optional<Eigen::Vector2d> ProjectBodyPoint(const SensorType& type, const Ve
                          type.cy + type.fy * (-p_body.z() / p_body.x()));
 }
 
+bool ProjectsLight(const SensorType& type, std::string_view catalog_id) {
+  if (type.interferes) return *type.interferes;
+  std::string_view technology = type.technology;
+  if (technology.empty() && !catalog_id.empty()) {
+    if (const SensorType* entry = FindCatalogType(catalog_id)) technology = entry->technology;
+  }
+  return technology.starts_with("structured light") || technology.starts_with("time of flight");
+}
+
 }  // namespace vantage

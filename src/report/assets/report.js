@@ -504,6 +504,16 @@
     layer('chosen sensors', sensors, true);
     var fg = new THREE.BufferGeometry().setFromPoints(frusta);
     layer('frusta', new THREE.LineSegments(fg, new THREE.LineBasicMaterial({color: css(C.frustum)})), true);
+    // The overlap graph of the chosen sensors (installation constraints): a line per edge.
+    if (D.overlap && D.overlap.length) {
+      var ends = [];
+      D.overlap.forEach(function (e) {
+        ends.push(new THREE.Vector3().fromArray(D.candidates[e.a].p),
+                  new THREE.Vector3().fromArray(D.candidates[e.b].p));
+      });
+      var og = new THREE.BufferGeometry().setFromPoints(ends);
+      layer('overlap graph', new THREE.LineSegments(og, new THREE.LineBasicMaterial({color: 0xc2185b})), true);
+    }
 
     // Layer toggles and legend.
     var panel = document.getElementById('layers');
@@ -586,6 +596,10 @@
       rows.push(['sw', css(c), 'observed by ' + (k + 1) + (k === C.observed.length - 1 ? '+' : '') + ' chosen sensor' + (k ? 's' : '')]);
     });
     rows.push(['sw', css(C.frustum), 'chosen sensors, frusta to the targets']);
+    if (D.overlap && D.overlap.length) {
+      rows.push(['sw', '#c2185b', 'overlap graph: chosen sensors sharing cells (' +
+        D.overlap.map(function (e) { return e.cells; }).join(', ') + ' cells)']);
+    }
     var stops = [0, 0.25, 0.5, 0.75, 1].map(function (t) { return css(ramp(t).map(Math.round)); }).join(',');
     lg.innerHTML = rows.map(function (r) {
       return '<div class="row"><span class="' + r[0] + '" style="background:' + r[1] + '"></span>' + esc(r[2]) + '</div>';
