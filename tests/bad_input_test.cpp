@@ -517,13 +517,14 @@ TEST_F(BadInput, MissingMaterials) {
   fs::create_directories(env_dir);
   const Case no_script = World("script_not_found", inline_colour,
                                script("file://materials/nope.material"), 9,
-                               "material script 'file://materials/nope.material' of visual "
-                               "'visual' of model 'cube' not found (looked in " +
+                               "material script 'file://materials/nope.material' "
+                               "(<script><uri>) of visual 'visual' of model 'cube' not found "
+                               "(looked in " +
                                    option_dir + ", " + env_dir + ",");
   const Case no_material = World("material_not_defined", inline_colour,
                                  script("file://materials/cell.material"), 9,
-                                 "material 'Cell/Green' of visual 'visual' of model 'cube' is "
-                                 "not defined in file://materials/cell.material");
+                                 "material 'Cell/Green' (<script><name>) of visual 'visual' of "
+                                 "model 'cube' is not defined in file://materials/cell.material");
   ASSERT_EQ(::setenv("GAZEBO_RESOURCE_PATH", env_dir.c_str(), 1), 0);
   ExpectRejected({
       {no_script.name, no_script.args + " --resource-path " + option_dir, no_script.place,

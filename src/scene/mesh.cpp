@@ -362,10 +362,9 @@ TriangleMesh MakePlane(double size_x, double size_y) {
 TriangleMesh LoadMeshFile(const std::string& path) {
   std::error_code error;
   if (std::filesystem::is_directory(path, error))
-    throw InputError(fmt::format("{}: is a folder, not a mesh file — name the mesh file in it",
-                                 path));
+    FailMesh(path, "it is a folder, not a mesh file (name the mesh file in it)");
   if (!std::filesystem::is_regular_file(path, error))
-    throw InputError(fmt::format("{}: not found, or not a regular file — name a mesh file", path));
+    FailMesh(path, "it is missing or not a regular file (a device or a pipe?)");
   Assimp::Importer importer;
   // Gazebo uses a Collada file's coordinates as they are (Z up in practice), with only the
   // <unit> scale applied; Assimp would otherwise rotate Z_UP files to Y up.
