@@ -46,6 +46,16 @@ std::string PositiveMiB(std::string& text) {
   return {};
 }
 
+// --max-seconds: a finite number of seconds >= 0 (0: no limit).
+std::string NonNegativeSeconds(std::string& text) {
+  double value = 0;
+  if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value) || value < 0)
+    return fmt::format("{} is not a number of seconds >= 0 — give e.g. --max-seconds 3600 "
+                       "(0: no limit)",
+                       text);
+  return {};
+}
+
 // An enum flag: the library's own parser names the valid values (its message, unchanged), then
 // CLI11's CheckedTransformer maps the name onto the enum.
 template <typename Enum>
@@ -146,6 +156,10 @@ void AddObserveFlags(CLI::App* app, ObserveOptions* observe, RunLimits* limits) 
   app->add_option("--max-memory", limits->max_memory_mib,
                   "refuse runs estimated above this many MiB (default: 75 % of RAM)")
       ->check(CLI::Validator(PositiveMiB, "MiB > 0"));
+  app->add_option("--max-seconds", limits->max_seconds,
+                  "refuse runs whose ray casting is estimated above this many seconds, before "
+                  "any ray (default 0: no limit; the estimate is logged)")
+      ->check(CLI::Validator(NonNegativeSeconds, "s >= 0"));
 }
 
 void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {

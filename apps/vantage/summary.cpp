@@ -66,6 +66,7 @@ void PrintRobustness(const VisibilityFile& data, const std::vector<Selection>& r
                                 100.0 * *robustness.fov_shrunk_coverage,
                                 100.0 * (*robustness.fov_shrunk_coverage - result.coverage)));
   }
+  if (!robustness.fov_note.empty()) parts.push_back(robustness.fov_note);
   if (!parts.empty())
     fmt::print("robustness       of {} n={}: {}\n", result.method, result.n, fmt::join(parts, "; "));
   if (robustness.fov_shrunk_coverage)

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "vantage/candidates.hpp"
@@ -34,6 +35,10 @@ struct Robustness {
   std::optional<SensorFailure> worst;       ///< the failure that loses the most coverage
   std::optional<double> fov_tolerance_deg;  ///< set when the shrunk-FOV read-out was computed
   std::optional<double> fov_shrunk_coverage;
+  /// Why the shrunk-FOV read-out was skipped (a chosen sensor's field of view is not wider than
+  /// the tolerance, e.g. a 2.5 deg camera and the default 3 deg); empty when it was computed or
+  /// not asked for.
+  std::string fov_note;
   double alternatives_within = 0.01;        ///< coverage points (fraction) an alternative may lose
   std::vector<Alternative> alternatives;    ///< best first
 };
@@ -67,7 +72,8 @@ struct RobustnessOptions {
 /// options.within (fraction) that keep set cover's goal, and, when `rays` is given (the RayScene
 /// of the scene `data` was observed in), the coverage with every chosen sensor's field of view
 /// shrunk by options.fov_tolerance_deg, those sensors re-traced with `observe` (the run's culling
-/// and the data's quality filter). Budget results get no alternatives (a swap may break the
+/// and the data's quality filter); skipped with `fov_note` when a chosen sensor's field of view is
+/// not wider than the tolerance (never an error: the tolerance is a read-out, not an input). Budget results get no alternatives (a swap may break the
 /// budget).
 Robustness AssessRobustness(const VisibilityFile& data, const std::vector<Selection>& results,
                             int index, const RayScene* rays, const ObserveOptions& observe,

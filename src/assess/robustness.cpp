@@ -99,6 +99,24 @@ Robustness AssessRobustness(const VisibilityFile& data, const std::vector<Select
   if (rays && !result.chosen.empty()) {
     std::vector<Candidate> chosen;
     for (uint32_t i : result.chosen) chosen.push_back(data.candidates.at(i));
+    // Issue 15: a legal 2.5 deg camera failed the whole run here, after the ray cast, on the
+    // default tolerance of 3 deg. The read-out is skipped instead, saying why.
+    const auto narrowest = std::min_element(
+        chosen.begin(), chosen.end(), [](const Candidate& a, const Candidate& b) {
+          return std::min(a.sensor.HorizontalFov(), a.sensor.VerticalFov()) <
+                 std::min(b.sensor.HorizontalFov(), b.sensor.VerticalFov());
+        });
+    const double narrowest_deg =
+        std::min(narrowest->sensor.HorizontalFov(), narrowest->sensor.VerticalFov()) * 180.0 /
+        std::numbers::pi;
+    if (options.fov_tolerance_deg * std::numbers::pi / 180.0 >=
+        std::min(narrowest->sensor.HorizontalFov(), narrowest->sensor.VerticalFov())) {
+      r.fov_note = fmt::format(
+          "fields of view -{:g} deg: skipped — chosen sensor {} has a field of view of {:.2f} "
+          "deg, not wider than the tolerance (give a smaller --fov-tolerance for this read-out)",
+          options.fov_tolerance_deg, narrowest->name, narrowest_deg);
+      return r;
+    }
     ObserveOptions shrunk_options = observe;
     shrunk_options.quality = data.quality;
     shrunk_options.progress = nullptr;

@@ -30,6 +30,12 @@ void CheckObserveMemory(const Scene& scene, size_t reference_size,
                         std::span<const Candidate> candidates, double limit_mib,
                         const std::string& source);
 
+/// Logs the estimated ray casting time (EstimateObserveSeconds of the rays after culling) and
+/// refuses a run above `limit_seconds` (0: no limit) before any ray is cast.
+void CheckObserveTime(const Reference& reference, std::span<const Candidate> candidates,
+                      const ObserveOptions& observe, double limit_seconds,
+                      const std::string& source);
+
 /// R of `scene` at `cell_size`, errors named after `source`; `before_build` (may be empty) runs
 /// once the targets are known to fit the grid (the memory check).
 Reference BuildRunReference(const Scene& scene, double cell_size, const std::string& source,

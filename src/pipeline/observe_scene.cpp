@@ -109,6 +109,26 @@ void CheckObserveMemory(const Scene& scene, size_t reference_size,
   CheckMemory(EstimateMemory(scene, reference_size, candidates, Threads()), limit_mib, source);
 }
 
+// Issue 15: a 1000 x 1000 grid population passed the memory estimate and ray cast for hours
+// without a word. The rays after culling are counted (no ray is cast) and priced.
+void CheckObserveTime(const Reference& reference, std::span<const Candidate> candidates,
+                      const ObserveOptions& observe, double limit_seconds,
+                      const std::string& source) {
+  uint64_t rays = 0;
+  for (const uint64_t r : CountRaysToTrace(reference, candidates, observe)) rays += r;
+  const double seconds = EstimateObserveSeconds(rays, candidates.size(), Threads());
+  spdlog::info("time estimate: ray casting {:.3g} M rays of {} candidates and selecting takes at "
+               "most about {:.3g} s on {} threads",
+               rays / 1e6, candidates.size(), seconds, Threads());
+  if (limit_seconds > 0 && seconds > limit_seconds)
+    throw InputError(AtPlace(
+        source, 0,
+        fmt::format("ray casting {:.3g} M rays of {} candidates and selecting is estimated at "
+                    "about {:.3g} s, above the --max-seconds limit of {:g} s — use fewer "
+                    "candidates or lower resolutions, or raise --max-seconds",
+                    rays / 1e6, candidates.size(), seconds, limit_seconds)));
+}
+
 // Issue #8: 1e-5 m on the example asked for 4·10⁸ cells and ran out of memory. R is estimated
 // from the targets' triangles (EstimateReferenceCells, within 20 % of the cells appended on the
 // example from 2 mm to 50 µm). Building R holds about 32 bytes per appended cell (per-thread keys
@@ -180,6 +200,7 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
                pixels / 1e6);
   detail::CheckObserveMemory(problem.scene, reference.size(), candidates, limits.max_memory_mib,
                              problem.source);
+  detail::CheckObserveTime(reference, candidates, observe, limits.max_seconds, problem.source);
   start = std::chrono::steady_clock::now();
   result.rays = std::make_unique<RayScene>(problem.scene);
   std::vector<Observation> observations = trace_all(*result.rays, reference, candidates);

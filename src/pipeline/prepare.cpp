@@ -24,6 +24,17 @@ void RunLimits::Validate() const {
                              fmt::format("{} is not a positive number of MiB — give e.g. "
                                          "--max-memory 4096",
                                          max_memory_mib)));
+  if (!(max_seconds >= 0) || !std::isfinite(max_seconds))
+    throw InputError(AtPlace("--max-seconds", 0,
+                             fmt::format("{} is not a number of seconds >= 0 — give e.g. "
+                                         "--max-seconds 3600 (0: no limit)",
+                                         max_seconds)));
+}
+
+double EstimateObserveSeconds(uint64_t rays, size_t candidates, size_t threads) {
+  return (static_cast<double>(rays) * kSecondsPerRay +
+          static_cast<double>(candidates) * kSecondsPerCandidate) /
+         static_cast<double>(std::max<size_t>(1, threads));
 }
 
 namespace {

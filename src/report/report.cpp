@@ -115,6 +115,7 @@ ordered_json RobustnessJson(const Robustness& robustness, const VisibilityFile& 
     j["fov_tolerance_deg"] = *robustness.fov_tolerance_deg;
     j["fov_shrunk_coverage"] = *robustness.fov_shrunk_coverage;
   }
+  if (!robustness.fov_note.empty()) j["fov_note"] = robustness.fov_note;
   j["alternatives_within"] = robustness.alternatives_within;
   ordered_json alternatives = ordered_json::array();
   for (const Alternative& a : robustness.alternatives) {

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <assimp/Importer.hpp>
 #include <cmath>
 #include <numbers>
@@ -148,8 +149,22 @@ void CompactVertices(TriangleMesh* mesh) {
 
 /// Appends the triangles of one Assimp mesh, placed by `world_from_mesh`; lines and points
 /// (left by aiProcess_SortByPType) are skipped.
-void AppendAssimpMesh(const aiMesh& mesh, const aiMatrix4x4& world_from_mesh, TriangleMesh* out) {
+/// Appends the triangles of `mesh`; a face whose vertex index is beyond the mesh's vertices
+/// (a broken PLY) sets `problem` instead of reading past them.
+void AppendAssimpMesh(const aiMesh& mesh, const aiMatrix4x4& world_from_mesh, TriangleMesh* out,
+                      std::string* problem) {
   if (!(mesh.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return;
+  for (unsigned f = 0; f < mesh.mNumFaces && problem->empty(); ++f) {
+    const aiFace& face = mesh.mFaces[f];
+    for (unsigned k = 0; k < face.mNumIndices; ++k) {
+      if (face.mIndices[k] < mesh.mNumVertices) continue;
+      *problem = fmt::format("face {} refers to vertex index {}, out of range: the mesh has {} "
+                             "vertices (indices 0 to {})",
+                             f, face.mIndices[k], mesh.mNumVertices,
+                             static_cast<int64_t>(mesh.mNumVertices) - 1);
+      return;
+    }
+  }
   const auto base = static_cast<uint32_t>(out->vertices.size());
   for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
     const aiVector3D p = world_from_mesh * mesh.mVertices[v];
@@ -167,14 +182,15 @@ void AppendAssimpMesh(const aiMesh& mesh, const aiMatrix4x4& world_from_mesh, Tr
 void Flatten(const aiScene& scene,
              const aiNode& node,
              const aiMatrix4x4& parent,
-             TriangleMesh* out) {
+             TriangleMesh* out,
+             std::string* problem) {
   const aiMatrix4x4 world_from_node = parent * node.mTransformation;
   for (unsigned i = 0; i < node.mNumMeshes; ++i) {
     if (node.mMeshes[i] < scene.mNumMeshes)
-      AppendAssimpMesh(*scene.mMeshes[node.mMeshes[i]], world_from_node, out);
+      AppendAssimpMesh(*scene.mMeshes[node.mMeshes[i]], world_from_node, out, problem);
   }
   for (unsigned i = 0; i < node.mNumChildren; ++i) {
-    Flatten(scene, *node.mChildren[i], world_from_node, out);
+    Flatten(scene, *node.mChildren[i], world_from_node, out, problem);
   }
 }
 
@@ -344,6 +360,11 @@ TriangleMesh MakePlane(double size_x, double size_y) {
 }
 
 TriangleMesh LoadMeshFile(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error))
+    FailMesh(path, "it is a folder, not a mesh file (name the mesh file in it)");
+  if (!std::filesystem::is_regular_file(path, error))
+    FailMesh(path, "it is missing or not a regular file (a device or a pipe?)");
   Assimp::Importer importer;
   // Gazebo uses a Collada file's coordinates as they are (Z up in practice), with only the
   // <unit> scale applied; Assimp would otherwise rotate Z_UP files to Y up.
@@ -355,7 +376,9 @@ TriangleMesh LoadMeshFile(const std::string& path) {
   if (!scene || !scene->mRootNode) FailMesh(path, importer.GetErrorString());
 
   TriangleMesh raw;
-  Flatten(*scene, *scene->mRootNode, aiMatrix4x4(), &raw);
+  std::string problem;
+  Flatten(*scene, *scene->mRootNode, aiMatrix4x4(), &raw, &problem);
+  if (!problem.empty()) FailMesh(path, problem);
   if (raw.triangles.empty()) FailMesh(path, "it holds no triangles");
   for (const Vec3& v : raw.vertices) {
     if (!v.allFinite()) FailMesh(path, "it has a vertex that is not finite (NaN or infinity)");

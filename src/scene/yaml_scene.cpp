@@ -1046,7 +1046,7 @@ std::optional<TriangleMesh> SceneReader::CachedMesh(const fs::path& resolved,
                                                     int line,
                                                     const std::string& not_found) {
   std::error_code ec;
-  if (!fs::is_regular_file(resolved, ec)) {
+  if (!fs::exists(resolved, ec)) {  // a folder or device: LoadMeshFile says which
     Error(line, not_found);
     return std::nullopt;
   }

@@ -165,8 +165,14 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
     if (!method.empty()) {
       try {
         settings.method = ParseMethod(method);
-      } catch (const InputError& e) {
-        throw corrupt(fmt::format("its method: {}", e.what()));
+      } catch (const InputError&) {
+        // Named as a field of the file, beside the file (ParseMethod's own text names neither).
+        std::string names;
+        for (const Method m : {Method::kBest, Method::kRansac, Method::kGreedy, Method::kLocal,
+                               Method::kExact, Method::kAll})
+          names += (names.empty() ? "" : ", ") + MethodName(m);
+        throw corrupt(fmt::format("its stored settings.method '{}' is unknown (valid: {})",
+                                  method, names));
       }
     }
     settings.goal = ReadOptional(&r, "goal", corrupt);

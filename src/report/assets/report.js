@@ -146,6 +146,7 @@
       if (rb.fov_shrunk_coverage !== undefined)
         text += ' With every field of view ' + rb.fov_tolerance_deg + '° narrower: ' + pct(rb.fov_shrunk_coverage) +
                 ' (a narrower field of view can also raise coverage: the same pixels, denser).';
+      else if (rb.fov_note) text += ' ' + rb.fov_note + '.';
       // With one sensor its failure leaves nothing: that row would say nothing.
       if (base.n < 2) text += ' Sensor failures are not listed for one sensor.';
       document.getElementById('robustness-text').textContent = text;

@@ -134,7 +134,7 @@ std::optional<TriangleMesh> Loader::GeometryOf(const VisualRecord& visual) {
     }
     std::string text = uri->Trimmed();
     std::optional<std::string> path = ResolveResourceUri(text, doc);
-    if (!path || !IsFile(*path)) {
+    if (!path) {  // a folder or device is found: LoadMesh says what it is
       Error(doc, uri->line,
             fmt::format("<mesh><uri> '{}' of {} not found (model path: {}) — check the file "
                         "name, or add its model folder's parent with --model-path",

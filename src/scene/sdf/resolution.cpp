@@ -144,8 +144,9 @@ const Doc* Loader::LoadSdf(const std::string& path, const std::string& model_dir
       doc.reset();
     } else if (!parsed || parsed->first != 1) {
       Error(*doc, root.line,
-            fmt::format("<sdf> needs a version attribute 1.4 to 1.7 (got '{}') — "
-                        "write <sdf version=\"1.6\">",
+            fmt::format("<sdf> needs a version attribute 1.N (got '{}'): vantage reads "
+                        "SDF 1.4 to 1.11, and other 1.N as those with a note — write "
+                        "<sdf version=\"1.6\">",
                         version ? *version : ""));
       doc.reset();
     } else if (const int minor = parsed.value_or(std::make_pair(0, 0)).second;
@@ -209,13 +210,20 @@ std::optional<std::string> Loader::ResolveModelUri(const std::string& uri,
     const std::string name = rest.substr(0, slash);
     const std::string sub = slash == std::string::npos ? "" : rest.substr(slash + 1);
     if (name.empty()) return std::nullopt;
-    for (const std::string& dir : model_dirs_) {
-      if (searched) searched->push_back(dir);
-      const fs::path model_dir = fs::path(dir) / name;
-      if (!IsDirectory(model_dir.string())) continue;
-      const fs::path candidate = sub.empty() ? model_dir : model_dir / sub;
-      std::error_code ec;
-      if (fs::exists(candidate, ec)) return candidate.lexically_normal().string();
+    // A URI's percent-escapes are decoded once ("My%20Part" is the folder "My Part"); the text
+    // as written is tried after, for a folder whose name holds a literal '%'.
+    std::vector<std::pair<std::string, std::string>> spellings = {
+        {PercentDecoded(name), PercentDecoded(sub)}};
+    if (spellings.front() != std::make_pair(name, sub)) spellings.emplace_back(name, sub);
+    if (searched) AppendOnce(model_dirs_, searched);  // each folder once, however often given
+    for (const auto& [folder, file] : spellings) {
+      for (const std::string& dir : model_dirs_) {
+        const fs::path model_dir = fs::path(dir) / folder;
+        if (!IsDirectory(model_dir.string())) continue;
+        const fs::path candidate = file.empty() ? model_dir : model_dir / file;
+        std::error_code ec;
+        if (fs::exists(candidate, ec)) return candidate.lexically_normal().string();
+      }
     }
     return std::nullopt;
   }
@@ -233,7 +241,7 @@ std::optional<std::string> Loader::ResolveModelUri(const std::string& uri,
   }
   for (const std::string& base : bases) {
     const fs::path candidate = base.empty() ? fs::path(rest) : fs::path(base) / rest;
-    if (searched) searched->push_back(candidate.parent_path().string());
+    if (searched) AppendOnce({candidate.parent_path().string()}, searched);
     std::error_code ec;
     if (fs::exists(candidate, ec)) return candidate.lexically_normal().string();
   }

@@ -51,7 +51,7 @@ MaterialColours Loader::ColoursOf(const VisualRecord& visual) {
         for (std::string& folder : searched) folder = folder.empty() ? "." : folder;
         MissingMaterial(AtPlace(
             doc.xml.path, uri->line,
-            fmt::format("<script><uri> material script '{}' of visual '{}' of model '{}' not "
+            fmt::format("material script '{}' (<script><uri>) of visual '{}' of model '{}' not "
                         "found (looked in {}) — add the folder that holds it with "
                         "--resource-path or GAZEBO_RESOURCE_PATH",
                         text, visual.name, visual.model,
@@ -84,7 +84,7 @@ MaterialColours Loader::ColoursOf(const VisualRecord& visual) {
       } else if (!is_script_missing) {
         MissingMaterial(AtPlace(
             doc.xml.path, name_element->line,
-            fmt::format("<script><name> material '{}' of visual '{}' of model '{}' is not "
+            fmt::format("material '{}' (<script><name>) of visual '{}' of model '{}' is not "
                         "defined in {}: the visual has no colour (never a target)",
                         name, visual.name, visual.model,
                         uris.empty() ? "any loaded material script" : Join(uris, ", "))));
