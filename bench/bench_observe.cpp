@@ -14,10 +14,10 @@ namespace {
 Scene BenchScene() {
   Scene scene;
   TriangleMesh ball = MakeSphere(0.1, 0.0005);
-  scene.objects.push_back({"ball", Role::kTarget, ball});
+  scene.objects.push_back({"ball", Role::kTarget, ball, {}});
   TriangleMesh floor = MakeBox(Vec3(2, 2, 0.02));
   floor.Transform(Pose{Vec3(0, 0, -0.12), Quat::Identity()});
-  scene.objects.push_back({"floor", Role::kOccluder, floor});
+  scene.objects.push_back({"floor", Role::kOccluder, floor, {}});
   return scene;
 }
 

@@ -236,8 +236,9 @@ TEST(StatesCli, ResultsCarryEveryStateAndTheirMeanOrMin) {
     EXPECT_EQ(e["state_coverage"].size(), 3u);
     EXPECT_GE(e["upper_bound"].get<double>(), e["coverage"].get<double>());
     for (const json& r : report["results"]) {
-      if (r["method"] == "local" && r["n"] == 2)
+      if (r["method"] == "local" && r["n"] == 2) {
         EXPECT_GE(e["coverage"].get<double>() + 1e-12, r["coverage"].get<double>());
+      }
     }
   }
   // Options that cannot apply.

@@ -345,7 +345,8 @@ TEST(ConstraintsCli, StructuredLightPairConflictsTofWithStereoDoesNot) {
       "  - {name: sl_2, type: kinect_xbox_360, position: [0.8, -0.015, 0.05]}\n"
       "  - {name: tof, type: azure_kinect_nfov, position: [-0.8, 0.015, 0.05]}\n"
       "  - {name: stereo, type: multisense_s7, position: [-0.8, -0.015, 0.05]}\n");
-  const auto run = RunVantage("evaluate " + scene + " --out " + dir.File("e"));
+  const auto run =
+      RunVantage("evaluate " + scene + " --interference true --out " + dir.File("e"));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const json e = Report(dir.File("e"));
   EXPECT_EQ(e["constraints"]["interference"]["projecting_candidates"], 3);
@@ -358,14 +359,15 @@ TEST(ConstraintsCli, StructuredLightPairConflictsTofWithStereoDoesNot) {
   EXPECT_NE(run.out.find("breaks           sl_1 ~ sl_2 (interference"), std::string::npos)
       << run.out;
   // optimize -n 2 never takes both Kinects; without interference it may.
-  const auto opt = RunVantage("optimize " + scene + " --method exact --out " + dir.File("o"));
+  const auto opt = RunVantage("optimize " + scene + " --method exact --interference true --out " +
+                              dir.File("o"));
   ASSERT_EQ(opt.exit_code, 0) << opt.err;
   const json o = Report(dir.File("o"));
   const std::set<std::string> chosen = Names(o["results"][0]["sensors"]);
   EXPECT_FALSE(chosen.count("sl_1") && chosen.count("sl_2"));
   EXPECT_TRUE(o["results"][0]["constraints"]["satisfied"].get<bool>());
-  // Turning interference off removes the block.
-  const auto off = RunVantage("optimize " + scene + " --interference false --out " + dir.File("f"));
+  // Without it (the default) there is no block.
+  const auto off = RunVantage("optimize " + scene + " --out " + dir.File("f"));
   ASSERT_EQ(off.exit_code, 0) << off.err;
   EXPECT_FALSE(Report(dir.File("f")).contains("constraints"));
 }

@@ -22,7 +22,7 @@ constexpr double kPi = std::numbers::pi;
 SceneObject Box(const std::string& name, Role role, const Vec3& center, const Vec3& size) {
   TriangleMesh mesh = MakeBox(size);
   mesh.Transform(Pose{center, Quat::Identity()});
-  return {name, role, std::move(mesh)};
+  return {name, role, std::move(mesh), {}};
 }
 
 // A camera at `eye` whose optical axis points along -x (body x -> world -x, body y -> -y).
@@ -131,7 +131,7 @@ TEST(Observe, SphereSeenFromDistanceShowsItsCap) {
   // rim of ≈ 300 cells, against ≈ 47 000 cells of R ≈ 1.3 %), plus partly visible rim cells.
   const double r = 0.1, d = 0.5, cell = 0.002;
   Scene scene;
-  scene.objects.push_back({"ball", Role::kTarget, MakeSphere(r, cell / 10)});
+  scene.objects.push_back({"ball", Role::kTarget, MakeSphere(r, cell / 10), {}});
   const double hfov = 2 * std::asin(r / d) * 1.05;
   const Candidate cam = CameraLookingMinusX(Vec3(d, 0, 0), 2000, hfov, 0.1, 2.0);
   const double coverage = CoverageOf(scene, cell, {cam});

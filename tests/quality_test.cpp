@@ -29,7 +29,7 @@ struct TiltedPlane {
     const Quat turn(Eigen::AngleAxisd(a, Vec3::UnitZ()));
     mesh.Transform(Pose{Vec3::Zero(), turn * to_x});
     Scene scene;
-    scene.objects.push_back({"plane", Role::kTarget, std::move(mesh)});
+    scene.objects.push_back({"plane", Role::kTarget, std::move(mesh), {}});
     return scene;
   }
 };

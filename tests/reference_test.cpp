@@ -14,7 +14,7 @@ namespace {
 
 Scene TargetScene(TriangleMesh mesh) {
   Scene scene;
-  scene.objects.push_back({"target", Role::kTarget, std::move(mesh)});
+  scene.objects.push_back({"target", Role::kTarget, std::move(mesh), {}});
   return scene;
 }
 
@@ -125,7 +125,7 @@ TEST(Reference, RejectsNonPositiveCellSize) {
 
 TEST(Reference, RejectsSceneWithoutTarget) {
   Scene scene;
-  scene.objects.push_back({"wall", Role::kOccluder, SplitCube(0, 1, 1)});
+  scene.objects.push_back({"wall", Role::kOccluder, SplitCube(0, 1, 1), {}});
   EXPECT_THROW(BuildReference(scene, {0.1}), InputError);
 }
 

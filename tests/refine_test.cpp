@@ -26,7 +26,7 @@ constexpr double kFace = 6 * 6;
 Scene CubeScene() {
   Scene scene;
   TriangleMesh mesh = MakeBox(Vec3::Constant(2 * kHalf));
-  scene.objects.push_back({"cube", Role::kTarget, std::move(mesh)});
+  scene.objects.push_back({"cube", Role::kTarget, std::move(mesh), {}});
   return scene;
 }
 

@@ -167,8 +167,8 @@ TEST(Scene, SceneCountsAndTargetBounds) {
   EXPECT_TRUE(scene.TargetBounds().IsEmpty());
   TriangleMesh target = MakeBox(Vec3(1, 1, 1));
   target.Transform(Pose::FromXyzRpy(5, 0, 0, 0, 0, 0));
-  scene.objects.push_back({"wall", Role::kOccluder, MakeBox(Vec3(10, 10, 10))});
-  scene.objects.push_back({"part", Role::kTarget, target});
+  scene.objects.push_back({"wall", Role::kOccluder, MakeBox(Vec3(10, 10, 10)), {}});
+  scene.objects.push_back({"part", Role::kTarget, target, {}});
   EXPECT_EQ(scene.TargetCount(), 1u);
   EXPECT_EQ(scene.TriangleCount(), 24u);
   EXPECT_TRUE(scene.TargetBounds().min.isApprox(Vec3(4.5, -0.5, -0.5)));

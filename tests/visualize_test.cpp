@@ -46,7 +46,7 @@ Candidate Camera(
 
 Scene SphereScene(double radius) {
   Scene scene;
-  scene.objects.push_back({"ball", Role::kTarget, MakeSphere(radius, kCell / 10)});
+  scene.objects.push_back({"ball", Role::kTarget, MakeSphere(radius, kCell / 10), {}});
   return scene;
 }
 
@@ -275,7 +275,7 @@ TEST(Render, BoxFaceOnACellBoundaryShowsWholeCells) {
   Scene scene;
   TriangleMesh box = MakeBox(Vec3::Constant(10 * kCell));
   box.Transform(Pose{Vec3::Constant(5 * kCell), Quat::Identity()});
-  scene.objects.push_back({"cube", Role::kTarget, std::move(box)});
+  scene.objects.push_back({"cube", Role::kTarget, std::move(box), {}});
   const Vec3 centre = Vec3::Constant(5 * kCell);
   auto run = MakeRun(std::move(scene), {Camera("front", centre + Vec3(0.4, 0, 0), centre, 64, 0.3)}, 1);
   Observation inner_layer;
@@ -566,10 +566,10 @@ TEST(HtmlReport, OpensInHeadlessChromiumOfflineWithA3dViewAndAChart) {
                             << " — install Debian's libjs-three (scripts/install-deps.sh)";
 
   auto run = std::make_unique<SceneRun>();
-  run->scene.objects.push_back({"ball", Role::kTarget, MakeSphere(0.36, kCell / 10)});
+  run->scene.objects.push_back({"ball", Role::kTarget, MakeSphere(0.36, kCell / 10), {}});
   TriangleMesh floor = MakeBox(Vec3(2.0, 2.0, 0.05));
   floor.Transform(Pose{Vec3(0, 0, -0.45), Quat::Identity()});
-  run->scene.objects.push_back({"floor", Role::kOccluder, std::move(floor)});
+  run->scene.objects.push_back({"floor", Role::kOccluder, std::move(floor), {}});
   VisibilityFile& data = run->data;
   data.scene = "synthetic";
   data.reference = BuildReference(run->scene, ReferenceOptions{kCell});

@@ -24,6 +24,7 @@
 #include <limits>
 #include <memory>
 
+#include "select/cbc_answer.hpp"
 #include "select/child_process.hpp"
 #include "select/constrained.hpp"
 #include "vantage/error.hpp"
@@ -43,54 +44,6 @@ constexpr int kLagrangianSteps = 300;
 struct CbcDeleter {
   void operator()(Cbc_Model* model) const { Cbc_deleteModel(model); }
 };
-
-struct Answer {
-  double bound = std::numeric_limits<double>::quiet_NaN();
-  bool proven_optimal = false;
-  bool has_solution = false;
-  int secondary_status = 0;
-  std::vector<int32_t> chosen;  // x columns at 1
-};
-
-template <typename T>
-void Put(std::string* bytes, const T& value) {
-  bytes->append(reinterpret_cast<const char*>(&value), sizeof(T));
-}
-
-template <typename T>
-T Get(const std::string& bytes, size_t* offset) {
-  T value;
-  VANTAGE_CHECK(*offset + sizeof(T) <= bytes.size());
-  std::memcpy(&value, bytes.data() + *offset, sizeof(T));
-  *offset += sizeof(T);
-  return value;
-}
-
-std::string Encode(Cbc_Model* cbc, int x_count) {
-  std::string bytes;
-  Put(&bytes, Cbc_getBestPossibleObjValue(cbc));
-  Put(&bytes, static_cast<int32_t>(Cbc_isProvenOptimal(cbc) != 0));
-  Put(&bytes, static_cast<int32_t>(Cbc_secondaryStatus(cbc)));
-  const double* solution = Cbc_bestSolution(cbc);
-  Put(&bytes, static_cast<int32_t>(solution != nullptr));
-  for (int q = 0; solution != nullptr && q < x_count; ++q)
-    if (solution[q] > 0.5) Put(&bytes, static_cast<int32_t>(q));
-  return bytes;
-}
-
-Answer Decode(const std::string& bytes, int x_count) {
-  Answer answer;
-  size_t offset = 0;
-  answer.bound = Get<double>(bytes, &offset);
-  answer.proven_optimal = Get<int32_t>(bytes, &offset) != 0;
-  answer.secondary_status = Get<int32_t>(bytes, &offset);
-  answer.has_solution = Get<int32_t>(bytes, &offset) != 0;
-  while (offset < bytes.size()) {
-    answer.chosen.push_back(Get<int32_t>(bytes, &offset));
-    VANTAGE_CHECK(answer.chosen.back() >= 0 && answer.chosen.back() < x_count);
-  }
-  return answer;
-}
 
 // The model, row by row, of the candidates `kept`.
 class Model {
@@ -281,27 +234,22 @@ Outcome RunCbc(const CoverageMatrix& matrix, const Feasibility& feasible, size_t
   const std::optional<std::string> bytes = RunInChildProcess(
       [&] {
         Cbc_solve(cbc);
-        return Encode(cbc, x_count);
+        return EncodeAnswer(cbc, x_count);
       },
       kCbcKillShare * time_limit, &why);
   if (!bytes) {
     outcome.note = fmt::format("CBC {} — raise --time-limit to let it finish", why);
     return outcome;
   }
-  const Answer answer = Decode(*bytes, x_count);
+  const CbcAnswer answer = DecodeAnswer(*bytes, x_count);
   if (std::isfinite(answer.bound)) outcome.bound = answer.bound;
   if (!answer.has_solution) {
-    outcome.note = fmt::format("CBC found no solution (secondary status {})",
-                               answer.secondary_status);
+    outcome.note = fmt::format("CBC found no solution ({})", StatusInWords(answer));
     return outcome;
   }
-  for (const int32_t q : answer.chosen) outcome.chosen.push_back(kept[static_cast<size_t>(q)]);
+  for (const int q : answer.chosen_columns) outcome.chosen.push_back(kept[static_cast<size_t>(q)]);
   outcome.proven_optimal = answer.proven_optimal;
-  if (!outcome.proven_optimal) {
-    outcome.note = answer.secondary_status == 4
-                       ? "CBC reached the time limit — raise --time-limit to prove more"
-                       : fmt::format("CBC stopped (secondary status {})", answer.secondary_status);
-  }
+  if (!outcome.proven_optimal) outcome.note = fmt::format("CBC {}", StatusInWords(answer));
   return outcome;
 }
 

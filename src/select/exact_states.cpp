@@ -25,6 +25,7 @@
 #include <memory>
 #include <optional>
 
+#include "select/cbc_answer.hpp"
 #include "select/child_process.hpp"
 #include "select/methods.hpp"
 #include "select/objective_bounds.hpp"
@@ -71,30 +72,14 @@ struct StatesCbcAnswer {
   std::vector<uint32_t> chosen;  // x columns at 1
 };
 
-// The answer as doubles: bound, proven, has solution, then one 0/1 per x column.
-std::string PackAnswer(Cbc_Model* cbc, int x_count) {
-  std::vector<double> values = {Cbc_getBestPossibleObjValue(cbc),
-                                Cbc_isProvenOptimal(cbc) ? 1.0 : 0.0};
-  const double* solution = Cbc_bestSolution(cbc);
-  values.push_back(solution != nullptr ? 1.0 : 0.0);
-  for (int q = 0; q < x_count; ++q)
-    values.push_back(solution != nullptr && solution[q] > 0.5 ? 1.0 : 0.0);
-  std::string bytes(values.size() * sizeof(double), '\0');
-  std::memcpy(bytes.data(), values.data(), bytes.size());
-  return bytes;
-}
-
+// The child's answer (cbc_answer.hpp) as this file uses it.
 StatesCbcAnswer UnpackAnswer(const std::string& bytes, int x_count) {
-  VANTAGE_CHECK(bytes.size() == (static_cast<size_t>(x_count) + 3) * sizeof(double));
-  std::vector<double> values(static_cast<size_t>(x_count) + 3);
-  std::memcpy(values.data(), bytes.data(), bytes.size());
+  const CbcAnswer decoded = DecodeAnswer(bytes, x_count);
   StatesCbcAnswer answer;
-  answer.bound = values[0];
-  answer.proven_optimal = values[1] != 0;
-  answer.has_solution = values[2] != 0;
-  for (int q = 0; q < x_count; ++q) {
-    if (values[3 + q] != 0) answer.chosen.push_back(static_cast<uint32_t>(q));
-  }
+  answer.bound = decoded.bound;
+  answer.proven_optimal = decoded.proven_optimal;
+  answer.has_solution = decoded.has_solution;
+  for (const int q : decoded.chosen_columns) answer.chosen.push_back(static_cast<uint32_t>(q));
   return answer;
 }
 
@@ -280,7 +265,7 @@ std::optional<StatesCbcAnswer> RunStatesCbc(const CoverageMatrix& matrix,
   const std::optional<std::string> bytes = RunInChildProcess(
       [&] {
         Cbc_solve(cbc);
-        return PackAnswer(cbc, x_count);
+        return EncodeAnswer(cbc, x_count);
       },
       kKillShare * time_limit, &why);
   if (!bytes) {

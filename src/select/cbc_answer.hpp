@@ -1,0 +1,29 @@
+#pragma once
+/// What a CBC run in the child process (child_process.hpp) reports back to the parent: its
+/// bound, status and the x columns at 1, as bytes. Every exact model (exact.cpp,
+/// exact_constrained.cpp, exact_states.cpp) solves in a child and reads the answer this way.
+#include <coin/Cbc_C_Interface.h>
+
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace vantage::detail {
+
+struct CbcAnswer {
+  double bound = std::numeric_limits<double>::quiet_NaN();  ///< CBC's best possible objective
+  bool has_solution = false;
+  bool proven_optimal = false;
+  int status = 0;
+  int secondary_status = 0;
+  std::vector<int> chosen_columns;  ///< of the first x_count columns, those at 1 (ascending)
+};
+
+/// The answer of the solved `cbc` (in the child), its first `x_count` columns being the x's.
+std::string EncodeAnswer(Cbc_Model* cbc, int x_count);
+/// EncodeAnswer's bytes back (in the parent); VANTAGE_CHECKs that they are well formed.
+CbcAnswer DecodeAnswer(const std::string& bytes, int x_count);
+/// CBC's secondary status in words (CbcModel::secondaryStatus), with what the user can change.
+std::string StatusInWords(const CbcAnswer& answer);
+
+}  // namespace vantage::detail
