@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "select/child_process.hpp"
 #include "vantage/error.hpp"
 
 namespace vantage::detail {
@@ -79,6 +80,22 @@ std::string StatusInWords(const CbcAnswer& answer) {
       return fmt::format("stopped (status {}, secondary status {})", answer.status,
                          answer.secondary_status);
   }
+}
+
+std::optional<CbcAnswer> SolveInChild(Cbc_Model* cbc, int x_count, double seconds,
+                                      std::string* note) {
+  std::string why;
+  const std::optional<std::string> bytes = RunInChildProcess(
+      [&] {
+        Cbc_solve(cbc);
+        return EncodeAnswer(cbc, x_count);
+      },
+      seconds, &why);
+  if (!bytes) {
+    *note = fmt::format("CBC {} — raise --time-limit to let it finish", why);
+    return std::nullopt;
+  }
+  return DecodeAnswer(*bytes, x_count);
 }
 
 }  // namespace vantage::detail

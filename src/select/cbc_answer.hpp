@@ -5,6 +5,7 @@
 #include <coin/Cbc_C_Interface.h>
 
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,11 @@ struct CbcAnswer {
 std::string EncodeAnswer(Cbc_Model* cbc, int x_count);
 /// EncodeAnswer's bytes back (in the parent); VANTAGE_CHECKs that they are well formed.
 CbcAnswer DecodeAnswer(const std::string& bytes, int x_count);
+/// Solves `cbc` in a child process (child_process.hpp: its root LP ignores the time limit and its
+/// SIGINT handler swallows Ctrl-C, a child can be stopped) for at most `seconds`, and reads its
+/// answer back. Nullopt when the child was stopped or failed, with `note` saying so.
+std::optional<CbcAnswer> SolveInChild(Cbc_Model* cbc, int x_count, double seconds,
+                                      std::string* note);
 /// CBC's secondary status in words (CbcModel::secondaryStatus), with what the user can change.
 std::string StatusInWords(const CbcAnswer& answer);
 

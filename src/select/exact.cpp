@@ -337,20 +337,10 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
   Cbc_setMIPStartI(cbc, static_cast<int>(start_columns.size()), start_columns.data(),
                    start_values.data());
 
-  // CBC runs in a child process: its root LP does not look at the time limit, and its SIGINT
-  // handler swallows Ctrl-C; a child can be stopped at the limit or on an interrupt, at once.
-  std::string why;
-  const std::optional<std::string> answer = detail::RunInChildProcess(
-      [&] {
-        Cbc_solve(cbc);
-        return EncodeAnswer(cbc, x_count);
-      },
-      kCbcKillShare * time_limit, &why);
-  if (!answer) {
-    outcome.note = fmt::format("CBC {} — raise --time-limit to let it finish", why);
-    return outcome;
-  }
-  const CbcAnswer solved = DecodeAnswer(*answer, x_count);
+  const std::optional<CbcAnswer> answer =
+      SolveInChild(cbc, x_count, kCbcKillShare * time_limit, &outcome.note);
+  if (!answer) return outcome;
+  const CbcAnswer& solved = *answer;
   if (std::isfinite(solved.bound)) outcome.bound = solved.bound;
   if (!solved.has_solution) {
     outcome.note = fmt::format("CBC found no solution ({})", StatusInWords(solved));

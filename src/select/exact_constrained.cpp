@@ -230,18 +230,10 @@ Outcome RunCbc(const CoverageMatrix& matrix, const Feasibility& feasible, size_t
   }
   Cbc_setMIPStartI(cbc, static_cast<int>(start_columns.size()), start_columns.data(),
                    start_values.data());
-  std::string why;
-  const std::optional<std::string> bytes = RunInChildProcess(
-      [&] {
-        Cbc_solve(cbc);
-        return EncodeAnswer(cbc, x_count);
-      },
-      kCbcKillShare * time_limit, &why);
-  if (!bytes) {
-    outcome.note = fmt::format("CBC {} — raise --time-limit to let it finish", why);
-    return outcome;
-  }
-  const CbcAnswer answer = DecodeAnswer(*bytes, x_count);
+  const std::optional<CbcAnswer> solved =
+      SolveInChild(cbc, x_count, kCbcKillShare * time_limit, &outcome.note);
+  if (!solved) return outcome;
+  const CbcAnswer& answer = *solved;
   if (std::isfinite(answer.bound)) outcome.bound = answer.bound;
   if (!answer.has_solution) {
     outcome.note = fmt::format("CBC found no solution ({})", StatusInWords(answer));

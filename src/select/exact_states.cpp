@@ -73,8 +73,7 @@ struct StatesCbcAnswer {
 };
 
 // The child's answer (cbc_answer.hpp) as this file uses it.
-StatesCbcAnswer UnpackAnswer(const std::string& bytes, int x_count) {
-  const CbcAnswer decoded = DecodeAnswer(bytes, x_count);
+StatesCbcAnswer ToStatesAnswer(const CbcAnswer& decoded) {
   StatesCbcAnswer answer;
   answer.bound = decoded.bound;
   answer.proven_optimal = decoded.proven_optimal;
@@ -261,18 +260,10 @@ std::optional<StatesCbcAnswer> RunStatesCbc(const CoverageMatrix& matrix,
   for (int q = 0; q < columns; ++q) start_columns[q] = q;
   Cbc_setMIPStartI(cbc, columns, start_columns.data(), start_values.data());
 
-  std::string why;
-  const std::optional<std::string> bytes = RunInChildProcess(
-      [&] {
-        Cbc_solve(cbc);
-        return EncodeAnswer(cbc, x_count);
-      },
-      kKillShare * time_limit, &why);
-  if (!bytes) {
-    *note = fmt::format("CBC {} — raise --time-limit to let it finish", why);
-    return std::nullopt;
-  }
-  StatesCbcAnswer answer = UnpackAnswer(*bytes, x_count);
+  const std::optional<CbcAnswer> solved =
+      SolveInChild(cbc, x_count, kKillShare * time_limit, note);
+  if (!solved) return std::nullopt;
+  StatesCbcAnswer answer = ToStatesAnswer(*solved);
   for (uint32_t& c : answer.chosen) c = kept[c];
   answer.bound /= objective_scale;
   if (!answer.proven_optimal) *note = "not proved optimal: CBC stopped at its time limit";
