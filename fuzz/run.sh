@@ -12,8 +12,16 @@ FUZZ_SECONDS=${FUZZ_SECONDS:-60}
 FUZZ_TARGETS=${FUZZ_TARGETS:-yaml_scene gazebo_world visibility_file constellation pipeline}
 JOBS=${JOBS:-2}
 
-CXX=${FUZZ_CXX:-clang++} cmake -S fuzz -B "$FUZZ_BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
-cmake --build "$FUZZ_BUILD" -j"$JOBS"
+# ccache (when installed) makes a rebuild after a small change cheap: the pipeline target compiles
+# the whole library with the sanitizers. CMAKE_CXX_COMPILER_LAUNCHER= (empty) turns it off.
+if [ -z "${CMAKE_CXX_COMPILER_LAUNCHER+set}" ] && command -v ccache >/dev/null; then
+  CMAKE_CXX_COMPILER_LAUNCHER=ccache
+fi
+CXX=${FUZZ_CXX:-clang++} cmake -S fuzz -B "$FUZZ_BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_COMPILER_LAUNCHER="${CMAKE_CXX_COMPILER_LAUNCHER:-}" >/dev/null
+# FUZZ_TARGETS names the executables to build too: one target need not wait for the others.
+cmake --build "$FUZZ_BUILD" -j"$JOBS" --target $(printf '%s_fuzzer ' $FUZZ_TARGETS)
+if [ -n "${FUZZ_BUILD_ONLY:-}" ]; then exit 0; fi
 
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}

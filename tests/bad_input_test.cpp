@@ -413,6 +413,13 @@ TEST_F(BadInput, ExtremeValues) {
             "<pose>1e19 0 0.4 0 0 0</pose>", 13, beyond),
       {"observation_point_option", "optimize " + CubeCell() + " --observation-point 1e19 0 0",
        "--observation-point:", beyond},
+      // Found by the hostile sweep of session 4: the option was refused, the files' own values
+      // were not (every look-at direction starts there).
+      Yaml("observation_point_in_file", "observation_point: [0, 0, 0.05]",
+           "observation_point: [0, 1e19, 0.05]", 6,
+           "settings.observation_point (0, 1e+19, 0.05) m, " + beyond),
+      World("world_observation_point", "<observationPoint>0 0 0.05",
+            "<observationPoint>0 0 -1e19", 32, "<observationPoint> (0, 0, -1e+19) m, " + beyond),
   };
   ExpectRejected(yaml);
   // --no-cull gives the same outcome: the candidates are checked before culling.
@@ -473,6 +480,31 @@ TEST_F(BadInput, ExtremeValues) {
         << run.err;
     EXPECT_NE(run.err.find(beyond), std::string::npos) << run.err;
   }
+}
+
+// Found by the hostile sweep of session 4: an SDF <pose rotation_format="quat_xyzw"> whose norm
+// overflows (1e200) normalised to a zero quaternion, which rotates nothing, and passed. It is the
+// rotation of its direction, as in the YAML and report.json readers: a 0.1 x 0.1 x 0.3 target
+// turned 90 degrees about x scores as with the unit quaternion, unlike the unrotated one.
+TEST_F(BadInput, QuaternionOverflowInWorld) {
+  const auto coverage = [&](const std::string& name, const std::string& pose) {
+    std::string world = WorldWith("<pose>0 0 0.05 0 0 0</pose>", pose);
+    world.replace(world.find("0.1 0.1 0.1"), 11, "0.1 0.1 0.3");
+    const std::string path = Write(name + ".world", world);
+    const auto run = RunVantage("optimize " + path + " --method greedy --out " + dir_.File(name));
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    const json report = json::parse(ReadText(dir_.File(name + "/report.json")));
+    return std::make_pair(report["reference_voxels"].get<int>(),
+                          report["results"][0]["coverage"].get<double>());
+  };
+  const auto huge =
+      coverage("huge", "<pose rotation_format=\"quat_xyzw\">0 0 0.2 1e200 0 0 1e200</pose>");
+  const auto unit = coverage(
+      "unit", "<pose rotation_format=\"quat_xyzw\">0 0 0.2 0.70710678118654746 0 0 "
+              "0.70710678118654746</pose>");
+  const auto upright = coverage("upright", "<pose>0 0 0.2 0 0 0</pose>");
+  EXPECT_EQ(huge, unit);
+  EXPECT_NE(huge, upright);
 }
 
 // Issue 15: a scene's n (a world's numberOfIntendedSensors) above the candidates was found after
@@ -755,6 +787,16 @@ TEST_F(BadInput, CommandLineOptions) {
        "`vantage help optimize` shows what it takes"},
       {"observation_point_beyond_range", "optimize " + scene + " --observation-point 1e300 0 0",
        "--observation-point:", "beyond the ±1e+09 m that vantage can ray cast"},
+      // Found by the hostile sweep of session 4: the other unsigned option wrapped -1 to 2^64 - 1
+      // and clamped 2^64, so every pair of sensors failed the constraint and the run exited 0.
+      {"calibration_overlap_negative", "optimize " + scene + " --calibration-overlap -1",
+       "--calibration-overlap:", "-1 is negative"},
+      {"calibration_overlap_beyond_64_bits",
+       "optimize " + scene + " --calibration-overlap 18446744073709551616",
+       "--calibration-overlap:", "18446744073709551616 is too large"},
+      // ... and observe --out naming a folder said "cannot write (Success)".
+      {"observe_out_is_a_folder", "observe " + scene, out_ + ": cannot write (it is a folder)",
+       "check the path", "Success"},
   });
 }
 
@@ -774,6 +816,11 @@ TEST_F(BadInput, EmptyOutPath) {
     EXPECT_NE(run.err.find("--out: the path is empty"), std::string::npos) << run.err;
     EXPECT_EQ(run.err.find("internal"), std::string::npos) << run.err;
   }
+  // render's --png (found by the sweep of session 4: '' wrote DIR/view.png).
+  const auto render = RunVantage("render " + dir_.File("o") + " --png ''");
+  EXPECT_EQ(render.exit_code, 2) << render.err;
+  EXPECT_NE(render.err.find("--png: the path is empty"), std::string::npos) << render.err;
+  EXPECT_FALSE(fs::exists(dir_.File("o/view.png")));
   ExpectOutputsUntouched();
 }
 
@@ -878,6 +925,19 @@ TEST_F(BadInput, VisibilityFiles) {
   const std::string cell_zero = cell("cell_zero", 0.0);
   const std::string cell_negative = cell("cell_negative", -0.01);
   const std::string candidate = "candidate 1 ('" + data.candidates[1].name + "')";
+  // Found by the hostile sweep of session 4: a Latin-1 or empty name reached report.json
+  // (written with U+FFFD: no longer the candidate's name), 1e300 m cells were used by the
+  // robustness re-trace, a NaN frame rate was written as null, and the stored settings' errors
+  // named the scene, not the file they are in.
+  const std::string latin1 =
+      changed("latin1", [](VisibilityFile* f) { f->candidates[1].name = "r\xE9ng"; });
+  const std::string unnamed =
+      changed("unnamed", [](VisibilityFile* f) { f->candidates[1].name.clear(); });
+  const std::string cell_huge = cell("cell_huge", 1e300);
+  const std::string nan_fps = changed(
+      "nan_fps", [&](VisibilityFile* f) { f->candidates[1].sensor.fps = nan; });
+  const std::string stored_k =
+      changed("stored_k", [](VisibilityFile* f) { f->selection.k = 99; });
   // Issue 15: an unknown method stored in the file named neither the file nor the field. The
   // method is stored as a length-prefixed string ("all" by default); replaced, checksum redone.
   std::string method_bytes = bytes.substr(0, bytes.size() - 8);
@@ -909,6 +969,14 @@ TEST_F(BadInput, VisibilityFiles) {
       {"vis_zero_cell_size", "select " + cell_zero, cell_zero + ":", "cell size 0 is not"},
       {"vis_negative_cell_size", "select " + cell_negative, cell_negative + ":",
        "cell size -0.01 is not"},
+      {"vis_latin1_name", "select " + latin1, latin1 + ": candidate 1:",
+       "its name has byte 0xE9, which is not UTF-8"},
+      {"vis_empty_name", "select " + unnamed, unnamed + ": candidate 1:", "its name is empty"},
+      {"vis_huge_cell_size", "select " + cell_huge, cell_huge + ":",
+       "cell_size = 1e+300 m is larger than the world vantage ray casts"},
+      {"vis_nan_fps", "select " + nan_fps, nan_fps + ": " + candidate, "fps = nan must be"},
+      {"vis_stored_settings", "select " + stored_k,
+       stored_k + " (settings stored from " + data.scene + "):", "n = 2 is below k = 99"},
   });
   // A failed observe leaves an earlier matrix as it was.
   const std::string broken = Write("broken.yaml", "objects: [\n");
@@ -964,6 +1032,18 @@ TEST_F(BadInput, Constellations) {
       variant("inputs_type", [](json& r) { r["inputs"]["model_paths"] = 3; });
   const std::string inputs_filter =
       variant("inputs_filter", [](json& r) { r["inputs"]["max_incidence_deg"] = 200; });
+  // Found by the hostile sweep of session 4: `results` that is no array scored every candidate,
+  // and the run's cell size and constraints were refused as options never typed.
+  const std::string results_object =
+      variant("results_object", [](json& r) { r["results"] = json::object(); });
+  const std::string primary_of_none = variant("primary_of_none", [](json& r) {
+    r["results"] = json::array();
+    r["primary_result"] = 0;
+  });
+  const std::string inputs_cell =
+      variant("inputs_cell", [](json& r) { r["inputs"]["cell_size"] = 1e300; });
+  const std::string inputs_overlap =
+      variant("inputs_overlap", [](json& r) { r["inputs"]["interference_overlap"] = 5; });
   ExpectRejected({
       {"constellation_missing", evaluate(dir_.File("absent.json")), dir_.File("absent.json"),
        "cannot open the constellation file"},
@@ -992,6 +1072,15 @@ TEST_F(BadInput, Constellations) {
        inputs_filter + ": inputs: --max-incidence 200", "must lie in (0, 90]"},
       {"constellation_numbers_for_names", evaluate(numbers), numbers + ": results",
        "sensor names must be strings"},
+      {"constellation_results_not_an_array", evaluate(results_object), results_object + ":",
+       "'results' must be an array of results"},
+      {"constellation_primary_of_no_result", evaluate(primary_of_none), primary_of_none + ":",
+       "primary_result 0 names no result: there are none"},
+      {"constellation_inputs_cell_size", "evaluate --constellation " + inputs_cell,
+       inputs_cell + ": inputs.cell_size = 1e+300 m", "is larger than the world",
+       "--cell-size"},
+      {"constellation_inputs_overlap", "evaluate --constellation " + inputs_overlap,
+       inputs_overlap + ": inputs: --interference-overlap: 5", "must be a fraction in [0, 1]"},
       {"constellation_bad_scene",
        "evaluate " + Write("bad.yaml", "objects: 3\n") + " --constellation " +
            dir_.File("absent.json"),
@@ -1082,8 +1171,10 @@ TEST_F(BadInput, InterruptWhileRayCasting) {
 // VANTAGE_TEST_WRITE_DELAY_S slows the writer down so that the signal lands there): the
 // temporary folder is removed, the earlier outputs stay, and vantage still ends by the signal.
 TEST_F(BadInput, InterruptWhileWritingOutputs) {
-  for (const int signal : {SIGINT, SIGTERM}) {
-    SCOPED_TRACE(signal == SIGINT ? "SIGINT" : "SIGTERM");
+  // SIGPROF and SIGVTALRM: found by the sweep of session 4 (with SIGQUIT, SIGXCPU and SIGXFSZ,
+  // which dump core, so not sent here), they left out.tmp-PID behind.
+  for (const int signal : {SIGINT, SIGTERM, SIGUSR1, SIGPROF, SIGVTALRM}) {
+    SCOPED_TRACE(strsignal(signal));
     const int status =
         Interrupt({"optimize", CubeCell(), "--out", out_}, {"VANTAGE_TEST_WRITE_DELAY_S=0.2"},
                   signal, [&] { return WritingOutputs(); });

@@ -49,7 +49,8 @@ void SetupRender(CLI::App* parent) {
       "frusta");
   app->add_option("dir", options.run, "output folder of optimize/select/evaluate (or its report.json)")
       ->required();
-  app->add_option("--png", options.png, "PNG file to write (default: DIR/view.png)");
+  app->add_option("--png", options.png, "PNG file to write (default: DIR/view.png)")
+      ->check(OutPathValidator());
   AddPointFlag(app, "--eye", &options.render.eye,
                "viewpoint x y z [m] (default: framing targets and sensors)");
   AddPointFlag(app, "--look-at", &options.render.look_at,

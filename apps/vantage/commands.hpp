@@ -29,11 +29,12 @@ void AddConstraintFlags(CLI::App* app, ConstraintOptions* constraints);
 /// --fov-tolerance, --alternatives-within (points, stored as a fraction).
 void AddRobustnessFlags(CLI::App* app, RobustnessOptions* robustness);
 
-/// --seed's check: refuses a sign (CLI11 would wrap "-1" to 2^64 - 1).
-CLI::Validator SeedValidator();
+/// The check of the unsigned options (--seed, --calibration-overlap): refuses a sign (CLI11
+/// would wrap "-1" to 2^64 - 1) and values beyond 2^64 - 1 (CLI11 would clamp them).
+CLI::Validator WholeNumberValidator();
 
-/// --out's check (optimize, select, evaluate, observe): refuses an empty path, which names no
-/// file or folder to write.
+/// --out's check (optimize, select, evaluate, observe, merge) and render's --png: refuses an
+/// empty path, which names no file or folder to write.
 CLI::Validator OutPathValidator();
 
 /// A progress bar with rate and ETA on stderr when it is a terminal; empty otherwise.

@@ -17,7 +17,7 @@
 namespace vantage::cli {
 namespace {
 
-// --seed: CLI11 reads "-1" into an unsigned as 2^64 - 1; refuse a sign instead.
+// --seed, --calibration-overlap: CLI11 reads "-1" into an unsigned as 2^64 - 1; refuse a sign.
 std::string NonNegativeWholeNumber(std::string& text) {
   const size_t first = text.find_first_not_of(" \t");
   const size_t last = text.find_last_not_of(" \t");
@@ -81,13 +81,13 @@ void AddEnumOption(CLI::App* app, const std::string& flag, std::optional<Enum>* 
 
 }  // namespace
 
-CLI::Validator SeedValidator() { return CLI::Validator(NonNegativeWholeNumber, "0 or more"); }
+CLI::Validator WholeNumberValidator() { return CLI::Validator(NonNegativeWholeNumber, "0 or more"); }
 
 CLI::Validator OutPathValidator() {
   return CLI::Validator(
       [](const std::string& text) -> std::string {
         if (!text.empty()) return {};
-        return "the path is empty — give the file or folder to write, e.g. --out results";
+        return "the path is empty — give the file or folder to write, e.g. results";
       },
       "");
 }

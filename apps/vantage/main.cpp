@@ -121,8 +121,11 @@ int Run(int argc, char** argv, spdlog::logger* logger, const vantage::MpiJob* jo
   std::vector<std::string> commands;
   for (CLI::App* command : app.get_subcommands({})) {
     commands.push_back(command->get_name());
-    if (CLI::Option* seed = command->get_option_no_throw("--seed"))
-      seed->check(vantage::cli::SeedValidator());
+    // The unsigned options: CLI11 reads -1 as 2^64 - 1 and clamps 2^64 (issue 15).
+    for (const char* name : {"--seed", "--calibration-overlap"}) {
+      if (CLI::Option* option = command->get_option_no_throw(name))
+        option->check(vantage::cli::WholeNumberValidator());
+    }
   }
 
   // `vantage help X` becomes `X --help` (CLI11 has no help command).

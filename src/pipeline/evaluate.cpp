@@ -136,6 +136,26 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   if (!options.constellation.empty())
     observe.quality =
         InheritQuality(options.observe.quality, constellation, options.constellation);
+  // The constraints, the caller's over the run's, checked before any ray: the caller's own
+  // flags first, so that their errors name them.
+  options.constraints.Validate();
+  ConstraintOptions constraints = options.constraints;
+  if (constellation.inputs) {
+    const RunInputs& run_inputs = *constellation.inputs;
+    if (!constraints.interference) constraints.interference = run_inputs.interference;
+    if (!constraints.interference_overlap)
+      constraints.interference_overlap = run_inputs.interference_overlap;
+    if (!constraints.calibration_overlap && !constraints.calibration_overlap_frac) {
+      constraints.calibration_overlap = run_inputs.calibration_overlap;
+      constraints.calibration_overlap_frac = run_inputs.calibration_overlap_frac;
+    }
+  }
+  try {
+    constraints.Validate();
+  } catch (const InputError& e) {
+    // Only the run's inputs can be at fault now: name the file they came from (issue 15).
+    throw InputError(AtPlace(options.constellation, 0, fmt::format("inputs: {}", e.what())));
+  }
   Reobserved reobserved = Reobserve(scene, constellation, observe, options.limits);
 
   EvaluateResult result;
@@ -153,18 +173,6 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   report.data = run.data.get();
   report.results = {reobserved.given};
   report.timings = reobserved.timings;
-  ConstraintOptions constraints = options.constraints;
-  if (constellation.inputs) {
-    const RunInputs& run_inputs = *constellation.inputs;
-    if (!constraints.interference) constraints.interference = run_inputs.interference;
-    if (!constraints.interference_overlap)
-      constraints.interference_overlap = run_inputs.interference_overlap;
-    if (!constraints.calibration_overlap && !constraints.calibration_overlap_frac) {
-      constraints.calibration_overlap = run_inputs.calibration_overlap;
-      constraints.calibration_overlap_frac = run_inputs.calibration_overlap_frac;
-    }
-  }
-  constraints.Validate();
   report.constraints = detail::ResolveConstraints(constraints, SelectOptions{},
                                                   run.data->candidates, run.data->observations,
                                                   false, false);

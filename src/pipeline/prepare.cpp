@@ -45,7 +45,8 @@ std::vector<Candidate> MovedCandidates(const std::vector<Candidate>& candidates,
                                        const Problem& problem,
                                        const SceneState& state) {
   std::vector<Candidate> moved = candidates;
-  for (const auto& [name, world_from_model] : state.sensor_poses) {
+  for (const auto& [sensor_name, world_from_model] : state.sensor_poses) {
+    const std::string& name = sensor_name;  // clang 14 (the fuzz build) captures no bindings
     const auto sensor = std::find_if(problem.sensors.begin(), problem.sensors.end(),
                                      [&](const ExplicitSensor& s) { return s.name == name; });
     const auto candidate = std::find_if(moved.begin(), moved.end(), [&](const Candidate& c) {

@@ -46,9 +46,12 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
     throw InputError(AtPlace("--over-states", 0,
                              "a visibility file holds one state — run `vantage optimize` on the "
                              "scene with states instead"));
-  const SelectOptions select =
-      ResolveSelection(data.selection, options.selection, options.seed.value_or(data.seed),
-                       data.candidates, data.scene, Method::kAll);
+  // The settings are the file's (stored from its scene by observe): an error in them names the
+  // file, where they now are, and the scene they came from (issue 15: the scene alone misled).
+  const SelectOptions select = ResolveSelection(
+      data.selection, options.selection, options.seed.value_or(data.seed), data.candidates,
+      fmt::format("{} (settings stored from {})", options.visibility_file, data.scene),
+      Method::kAll);
   detail::CheckConstraintRequest(options.selection.constraints, select, false, false);
   const auto select_start = std::chrono::steady_clock::now();
   Report& report = run.report;

@@ -108,7 +108,14 @@ Constellation LoadConstellation(const std::string& path) {
     all.push_back(std::move(c));
   }
   Constellation constellation;
+  if (j.contains("results") && !j["results"].is_null() && !j["results"].is_array())
+    throw InputError(AtPlace(path, 0, "'results' must be an array of results — give a report.json "
+                                      "written by vantage"));
   const bool has_selection = j.contains("results") && j["results"].is_array() && !j["results"].empty();
+  if (!has_selection && j.contains("primary_result") && !j["primary_result"].is_null())
+    throw InputError(AtPlace(path, 0, fmt::format("primary_result {} names no result: there are "
+                                                  "none — drop it to evaluate every candidate",
+                                                  j["primary_result"].dump())));
   if (!has_selection) {
     constellation.sensors = std::move(all);
   } else {

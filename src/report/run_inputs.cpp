@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include "util/cell_size.hpp"
 #include "vantage/error.hpp"
 
 namespace vantage::detail {
@@ -144,6 +145,12 @@ RunInputs ParseRunInputs(const json& j, const std::string& where) {
   r.Strings("package_paths", &in.package_paths);
   r.Strings("targets", &in.targets);
   r.Number("cell_size", &in.cell_size);
+  // evaluate and render use it as if given as --cell-size: checked here, where it enters, so
+  // that the error names the file and the field (issue 15), not the option.
+  if (in.cell_size) {
+    if (const std::string problem = CellSizeProblem(*in.cell_size); !problem.empty())
+      throw InputError(fmt::format("{}: inputs.{}", where, problem));
+  }
   r.Unsigned("seed", &in.seed);
   r.Point("observation_point", &in.observation_point);
   r.Boolean("random_roll", &in.random_roll);

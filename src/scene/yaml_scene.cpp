@@ -548,7 +548,13 @@ void SceneReader::ReadSettings(const Value& input) {
     }
   }
   if (const auto v = fields.Get("observation_point")) {
-    if (const auto point = Vector(*v, "settings.observation_point")) p.observation_point = *point;
+    if (const auto point = Vector(*v, "settings.observation_point")) {
+      // Every candidate's look-at direction starts here: the same range as --observation-point.
+      if (const std::string beyond = WorldPointProblem(*point); !beyond.empty())
+        Error(v->line, fmt::format("settings.observation_point {} — give a point near the targets",
+                                   beyond));
+      p.observation_point = *point;
+    }
     observation_point_given_ = true;
   }
   if (const auto v = fields.Get("random_roll")) {

@@ -69,10 +69,13 @@ class InterruptGuard {
   static bool Interrupted() { return g_pending_signal.load() != 0 || InterruptRequested(); }
 
  private:
-  // Every signal whose default action ends the process and that a user or a scheduler sends
-  // (issue 15: SIGHUP, SIGALRM and SIGUSR1 left `OUT.tmp-PID` behind).
-  static constexpr std::array<int, 7> kSignals = {SIGINT,  SIGTERM, SIGHUP, SIGALRM,
-                                                  SIGUSR1, SIGUSR2, SIGPIPE};
+  // Every asynchronous signal whose default action ends the process: what a user, a shell, a
+  // scheduler or a resource limit sends (issue 15: SIGHUP, SIGALRM and SIGUSR1 left
+  // `OUT.tmp-PID` behind, then SIGQUIT, SIGXCPU, SIGXFSZ, SIGVTALRM and SIGPROF). Not the faults
+  // (SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS): those are crashes.
+  static constexpr std::array<int, 14> kSignals = {
+      SIGINT,  SIGTERM, SIGHUP,  SIGQUIT,   SIGALRM, SIGUSR1, SIGUSR2,
+      SIGPIPE, SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF, SIGIO,   SIGPWR};
   static std::mutex& Mutex() {
     static std::mutex mutex;
     return mutex;
@@ -143,8 +146,10 @@ void WriteFileAtomically(const std::string& path, const std::string& content) {
   }
   fs::rename(temp, target, ec);
   if (ec) {
+    // The reason first: the cleanup's own error code would say "Success" (issue 15).
+    const std::string why = fs::is_directory(target) ? "it is a folder" : ec.message();
     fs::remove(temp, ec);
-    throw InputError(fmt::format("{}: cannot write ({}) — check the path", path, ec.message()));
+    throw InputError(fmt::format("{}: cannot write ({}) — check the path", path, why));
   }
 }
 

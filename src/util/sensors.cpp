@@ -106,6 +106,8 @@ void SensorType::Validate(const std::string& where) const {
     }
   }
   if (!std::isfinite(cost) || cost < 0) fail(fmt::format("cost = {} must be >= 0", cost));
+  if (!std::isfinite(fps) || fps < 0)
+    fail(fmt::format("fps = {} must be a frame rate >= 0 (0: not given)", fps));
   if (depth_noise) {
     const DepthNoise& n = *depth_noise;
     if (!std::isfinite(n.a) || !std::isfinite(n.b) || !std::isfinite(n.c))

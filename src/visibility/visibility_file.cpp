@@ -10,6 +10,8 @@
 
 #include "util/atomic_file.hpp"
 #include "util/binary_io.hpp"
+#include "util/cell_size.hpp"
+#include "util/words.hpp"
 #include "vantage/error.hpp"
 #include "vantage/visibility_file.hpp"
 
@@ -193,6 +195,11 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
   if (!std::isfinite(file.reference.cell_size) || !(file.reference.cell_size > 0))
     throw corrupt(
         fmt::format("cell size {} is not a positive finite length", file.reference.cell_size));
+  // The check of every cell size (util/cell_size.hpp): select re-traces the chosen sensors for
+  // the robustness read-out, and 1e300 m voxelised their hits wrongly (issue 15).
+  if (const std::string problem = detail::CellSizeProblem(file.reference.cell_size);
+      !problem.empty())
+    throw corrupt(problem);
   file.reference.keys = r.U64Vector();
   if (!StrictlyIncreasing(file.reference.keys))
     throw corrupt("the reference keys are not sorted and unique");
@@ -205,6 +212,17 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
     c.type_id = r.Str();
     c.population = r.Str();
     c.sensor = ReadSensor(&r);
+    // Names go into report.json as they are: UTF-8 like the scene files they came from (issue
+    // 15: a Latin-1 name was written with U+FFFD, no longer the candidate's name).
+    for (const auto& [field, text] :
+         {std::pair<const char*, const std::string*>{"name", &c.name},
+          {"type id", &c.type_id}, {"population", &c.population}, {"sensor id", &c.sensor.id},
+          {"sensor name", &c.sensor.name}, {"sensor technology", &c.sensor.technology}}) {
+      if (const size_t at = detail::FirstNonUtf8Byte(*text); at != std::string::npos)
+        throw corrupt(fmt::format("candidate {}: its {} has byte 0x{:02X}, which is not UTF-8", i,
+                                  field, static_cast<unsigned char>((*text)[at])));
+    }
+    if (c.name.empty()) throw corrupt(fmt::format("candidate {}: its name is empty", i));
     if (version >= 3) {
       const uint32_t has_noise = r.U32();
       DepthNoise noise;

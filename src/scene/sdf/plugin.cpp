@@ -93,7 +93,13 @@ void Loader::ReadPlugin() {
       } else if (name == "sensorOrientationRandomRoll") {
         if (const auto v = Boolean(doc, *e)) problem_.random_roll = *v;
       } else if (name == "observationPoint") {
-        if (const auto v = Vector(doc, *e, false, "0 0 0")) problem_.observation_point = *v;
+        if (const auto v = Vector(doc, *e, false, "0 0 0")) {
+          // The same range as --observation-point: every look-at direction starts here.
+          if (const std::string beyond = WorldPointProblem(*v); !beyond.empty())
+            Error(doc, e->line,
+                  fmt::format("<observationPoint> {} — give a point near the targets", beyond));
+          problem_.observation_point = *v;
+        }
       } else if (name == "sensorDataSegmentationColorRGB") {
         ReadSegmentationColour(doc, *e);
       } else if (name == "sceneModelPath") {

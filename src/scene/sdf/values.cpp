@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <numbers>
@@ -118,12 +119,15 @@ Pose Loader::PoseValue(const Doc& doc, const XmlElement* pose) {
   if (!values) return Pose{};
   const auto& v = *values;
   if (is_quaternion) {
-    const Quat q(v[6], v[3], v[4], v[5]);
-    if (q.norm() < 1e-9) {
+    // QuatFromWxyz, as the YAML and report.json readers: [1e200, 0, 0, 1e200] normalised by its
+    // overflowing norm gave a zero quaternion that passed.
+    const std::array<double, 4> wxyz = {v[6], v[3], v[4], v[5]};
+    const std::optional<Quat> q = QuatFromWxyz(wxyz);
+    if (!q) {
       Error(doc, pose->line, "<pose> quaternion is zero — give a unit quaternion qx qy qz qw");
       return Pose{};
     }
-    return Pose{Vec3(v[0], v[1], v[2]), q.normalized()};
+    return Pose{Vec3(v[0], v[1], v[2]), *q};
   }
   const std::string* degrees = pose->Attribute("degrees");
   const double scale =
