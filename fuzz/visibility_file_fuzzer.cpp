@@ -14,6 +14,7 @@
 #include "util/binary_io.hpp"
 #include "vantage/error.hpp"
 #include "vantage/observe.hpp"
+#include "vantage/visibility_file.hpp"
 
 namespace {
 
