@@ -81,7 +81,9 @@ void AddEnumOption(CLI::App* app, const std::string& flag, std::optional<Enum>* 
 
 }  // namespace
 
-CLI::Validator WholeNumberValidator() { return CLI::Validator(NonNegativeWholeNumber, "0 or more"); }
+CLI::Validator WholeNumberValidator() {
+  return CLI::Validator(NonNegativeWholeNumber, "0 or more");
+}
 
 CLI::Validator OutPathValidator() {
   return CLI::Validator(
