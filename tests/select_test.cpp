@@ -16,6 +16,7 @@
 #include <coin/Clp_C_Interface.h>
 
 #include "select/coverage_matrix.hpp"
+#include "select/lp_bound.hpp"
 #include "select/methods.hpp"
 #include "select/objective_bounds.hpp"
 #include "test_util.hpp"
@@ -848,6 +849,105 @@ TEST(Lagrangian, IsNeverBelowClpsLpOptimumAndConvergesToIt) {
       EXPECT_LE(static_cast<double>(bound.value), lp + 0.01) << "trial " << trial << " n " << n;
     }
   }
+}
+
+// L at CLP's multipliers, exactly (EvaluateExactly's fixed point back in cells).
+long double ExactValue(const detail::LagrangianProblem& problem, std::span<const double> lambda) {
+  const detail::ExactLagrangian exact = detail::EvaluateExactly(problem, lambda);
+  return std::ldexp(static_cast<long double>(exact.scaled_value), -exact.bits);
+}
+
+TEST(LpBound, ClpsMultipliersProveTheLpOptimumColdOrWarmStarted) {
+  for (int trial = 0; trial < 12; ++trial) {
+    const size_t m = 8 + trial;
+    const size_t r = 30 + 2 * trial;
+    const std::vector<Observation> obs = WeightedRandomInstance(3100 + trial, m, r, 0.15);
+    const detail::CoverageMatrix matrix(obs, r);
+    std::vector<uint32_t> weights;
+    for (uint32_t e = 0; e < matrix.element_count(); ++e) weights.push_back(matrix.Weight(e));
+    for (size_t n = 2; n <= 5; ++n) {
+      const double lp = ClpLpBound(obs, r, n);  // on the cells, no merging: independent
+      const size_t optimum = BruteForceOptimum(obs, n);
+      const detail::LagrangianProblem problem{matrix.rows(), weights, n};
+      const detail::LagrangianBound subgradient =
+          detail::LagrangianUpperBound(matrix, n, 0, 50, 1e9);
+      for (const bool warm : {false, true}) {
+        detail::ClpCoverageLp model(problem);
+        const detail::ClpLpSolution solution =
+            warm ? model.Solve(60, subgradient.lambda) : model.Solve(60);
+        ASSERT_TRUE(solution.optimal) << "trial " << trial << " n " << n << " warm " << warm;
+        EXPECT_NEAR(solution.objective, lp, 1e-6) << "trial " << trial << " n " << n;
+        const long double value = ExactValue(problem, solution.lambda);
+        // A proof (weak duality holds for any multipliers) ...
+        EXPECT_GE(value, static_cast<long double>(lp) - 1e-7) << "trial " << trial << " n " << n;
+        EXPECT_GE(std::floor(value), static_cast<long double>(optimum));
+        // ... equal to the LP optimum up to the truncation of lambda to 2^-24 (60 elements).
+        EXPECT_LE(value, static_cast<long double>(lp) + 1e-5) << "trial " << trial << " n " << n;
+        // The LP's x: in [0, 1], at most n in all.
+        double total = 0;
+        for (const double x : solution.x) {
+          EXPECT_GE(x, -1e-9);
+          EXPECT_LE(x, 1 + 1e-9);
+          total += x;
+        }
+        EXPECT_LE(total, static_cast<double>(n) + 1e-6);
+      }
+    }
+  }
+}
+
+TEST(LpBound, ReducedCostFixingNeverRemovesAnOptimalCandidate) {
+  int removed = 0, fixed_in = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const auto [m, r, obs] = SweepInstance({6, 11, 7, 0.08, 0.04, 6, 4100}, trial);
+    const detail::CoverageMatrix matrix(obs, r);
+    std::vector<uint32_t> weights;
+    for (uint32_t e = 0; e < matrix.element_count(); ++e) weights.push_back(matrix.Weight(e));
+    const std::vector<size_t> cells = MaskUnions(obs);
+    for (size_t n = 1; n <= std::min<size_t>(m - 1, 6); ++n) {
+      size_t optimum = 0;
+      for (uint32_t mask = 0; mask < cells.size(); ++mask) {
+        if (std::popcount(mask) <= static_cast<int>(n)) optimum = std::max(optimum, cells[mask]);
+      }
+      const detail::LagrangianProblem problem{matrix.rows(), weights, n};
+      detail::ClpCoverageLp model(problem);
+      const detail::ClpLpSolution solution = model.Solve(60);
+      ASSERT_TRUE(solution.optimal);
+      const detail::Fixing fixing = detail::LagrangianFixing(
+          problem, detail::EvaluateExactly(problem, solution.lambda), optimum);
+      removed += static_cast<int>(fixing.removed.size());
+      fixed_in += static_cast<int>(fixing.fixed_in.size());
+      for (uint32_t mask = 0; mask < cells.size(); ++mask) {
+        if (std::popcount(mask) > static_cast<int>(n) || cells[mask] < optimum) continue;
+        for (const uint32_t i : fixing.removed) {
+          EXPECT_FALSE(mask & (1u << i)) << "trial " << trial << " n " << n << " removed " << i;
+        }
+        for (const uint32_t i : fixing.fixed_in) {
+          EXPECT_TRUE(mask & (1u << i)) << "trial " << trial << " n " << n << " fixed " << i;
+        }
+      }
+    }
+  }
+  EXPECT_GT(removed, 100);  // the LP bound is tight enough here to remove many
+  EXPECT_GT(fixed_in, 10);
+}
+
+// CLP stops at its time limit on an LP it cannot finish, and what it has is still a valid bound.
+TEST(LpBound, KeepsItsTimeLimit) {
+  const std::vector<Observation> obs = RandomInstance(29, 400, 4000, 0.02);
+  const detail::CoverageMatrix matrix(obs, 4000);
+  std::vector<uint32_t> weights;
+  for (uint32_t e = 0; e < matrix.element_count(); ++e) weights.push_back(matrix.Weight(e));
+  const detail::LagrangianProblem problem{matrix.rows(), weights, 25};
+  detail::ClpCoverageLp model(problem);
+  const auto begin = std::chrono::steady_clock::now();
+  const detail::ClpLpSolution solution = model.Solve(0.1);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  EXPECT_LE(seconds, 0.3);
+  const std::vector<uint32_t> greedy = detail::GreedyComplete(detail::CellScorer(matrix), {}, 25);
+  EXPECT_GE(std::floor(ExactValue(problem, solution.lambda)),
+            static_cast<long double>(matrix.CoveredWeight(greedy)));
 }
 
 TEST(BranchAndBound, FindsAndProvesTheEnumeratedOptimum) {

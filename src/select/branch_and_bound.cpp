@@ -2,7 +2,8 @@
 //
 // A node fixes some candidates in (their cells count, their elements get weight 0) and removes
 // others; the rest are free. Its bound is L of the Lagrangian relaxation over the free rows
-// (lagrangian.cpp), searched from the parent's multipliers; a node whose bound is not above the
+// (lagrangian.cpp), searched from the parent's multipliers (at the root: from the start
+// multipliers, then CLP's LP relaxation warm-started from them, lp_bound.hpp); a node whose bound is not above the
 // incumbent is pruned, otherwise Lagrangian fixing settles the candidates it can (repeatedly,
 // while it changes something) and the node branches on the chosen row closest to being fixed in:
 // first with it in, then without it (depth first). The Lagrangian subproblem's rows complete
@@ -12,6 +13,8 @@
 // still leaves a proof: the largest bound of the subtrees not finished.
 #include <algorithm>
 #include <chrono>
+#include <numeric>
+#include <string>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -19,6 +22,7 @@
 #include <queue>
 #include <utility>
 
+#include "select/lp_bound.hpp"
 #include "select/methods.hpp"
 #include "vantage/error.hpp"
 #include "vantage/interrupt.hpp"
@@ -121,9 +125,10 @@ class Search {
     return best_cells_;
   }
 
-  void set_root_budget(int steps, double seconds) {
+  void set_root_budget(int steps, double seconds, bool lp) {
     root_steps_limit_ = steps;
     root_seconds_ = seconds;
+    root_lp_ = lp;
   }
   const std::vector<uint32_t>& best() const { return best_; }
   uint64_t best_cells() const { return best_cells_; }
@@ -133,6 +138,11 @@ class Search {
   size_t root_fixed_in() const { return root_fixed_in_; }
   size_t root_removed() const { return root_removed_; }
   int root_steps() const { return root_steps_; }
+  uint64_t root_subgradient_bound() const { return root_sg_bound_; }
+  uint64_t root_lp_bound() const { return root_lp_bound_; }
+  double root_lp_seconds() const { return root_lp_seconds_; }
+  bool root_lp_optimal() const { return root_lp_optimal_; }
+  bool root_lp_improved() const { return root_lp_improved_; }
 
  private:
   static constexpr size_t kStoredMultiplierBytes = size_t{256} << 20;
@@ -188,12 +198,7 @@ class Search {
       const uint64_t target = best_cells_ > node->base ? best_cells_ - node->base : 0;
       const double left = std::chrono::duration<double>(end_ - Clock::now()).count();
       if (is_root && round == 0) {
-        // The root searches long from the start multipliers, in the share the caller gave it.
-        node->lambda = StartMultipliers(problem);
-        root_steps_ += SubgradientSteps(problem, target, root_steps_limit_, kStartStepScale,
-                                        std::min(left, root_seconds_), &node->lambda)
-                           .iterations;
-        root_lambda_ = node->lambda;
+        RootMultipliers(problem, target, left, node);
       } else {
         SubgradientSteps(problem, target, kNodeSteps, kNodeStepScale, left, &node->lambda);
       }
@@ -238,6 +243,46 @@ class Search {
     return std::make_pair(bound, pick);
   }
 
+  // The root's multipliers: subgradient steps from the start multipliers, then CLP's LP
+  // relaxation warm-started from them (a values pass of primal simplex from the feasible point
+  // they give), in what is left of the root's share of the time; whichever proves the smaller
+  // L. The LP's x, rounded to its n largest, is offered as an incumbent.
+  void RootMultipliers(const LagrangianProblem& problem, uint64_t target, double left,
+                       Node* node) {
+    const Clock::time_point root_start = Clock::now();
+    const double root_seconds = std::min(left, root_seconds_);
+    node->lambda = StartMultipliers(problem);
+    root_steps_ += SubgradientSteps(problem, target, root_steps_limit_, kStartStepScale,
+                                    root_seconds, &node->lambda)
+                       .iterations;
+    const ExactLagrangian subgradient = EvaluateExactly(problem, node->lambda);
+    root_sg_bound_ = node->base + (subgradient.scaled_value >> subgradient.bits);
+    root_sg_seconds_ = std::chrono::duration<double>(Clock::now() - root_start).count();
+    const double lp_seconds = root_seconds - root_sg_seconds_;
+    if (root_lp_ && lp_seconds > 0 && subgradient.scaled_value >> subgradient.bits > target) {
+      const Clock::time_point lp_start = Clock::now();
+      ClpCoverageLp lp(problem);  // built outside CLP's time limit: one pass over the rows
+      const ClpLpSolution solution = lp.Solve(lp_seconds, node->lambda);
+      root_lp_seconds_ = std::chrono::duration<double>(Clock::now() - lp_start).count();
+      const ExactLagrangian exact = EvaluateExactly(problem, solution.lambda);
+      root_lp_bound_ = node->base + (exact.scaled_value >> exact.bits);
+      root_lp_optimal_ = solution.optimal;
+      if (exact.scaled_value < subgradient.scaled_value) node->lambda = solution.lambda;
+      std::vector<uint32_t> order(solution.x.size());
+      std::iota(order.begin(), order.end(), 0u);
+      std::stable_sort(order.begin(), order.end(),
+                       [&](uint32_t a, uint32_t b) { return solution.x[a] > solution.x[b]; });
+      std::vector<uint32_t> rounded = node->fixed;
+      for (size_t q = 0; q < order.size() && rounded.size() < n_; ++q) {
+        if (solution.x[order[q]] > 1e-9) rounded.push_back(node->free[order[q]]);
+      }
+      const uint64_t before = best_cells_;
+      Offer(std::move(rounded));
+      root_lp_improved_ = best_cells_ > before;
+    }
+    root_lambda_ = node->lambda;
+  }
+
   void Fix(uint32_t candidate, Node* node) const {
     node->fixed.push_back(candidate);
     for (const uint32_t e : matrix_.Row(candidate)) {
@@ -268,8 +313,15 @@ class Search {
   long nodes_ = 0;
   bool timed_out_ = false;
   int root_steps_limit_ = 0;
+  bool root_lp_ = true;
   double root_seconds_ = 0;
   int root_steps_ = 0;
+  double root_lp_seconds_ = 0;
+  uint64_t root_lp_bound_ = 0;  // 0: CLP not run
+  bool root_lp_optimal_ = false;
+  bool root_lp_improved_ = false;
+  double root_sg_seconds_ = 0;
+  uint64_t root_sg_bound_ = 0;
   std::vector<double> root_lambda_;
   uint64_t root_bound_ = std::numeric_limits<uint64_t>::max();  // until the root is bounded
   size_t root_fixed_in_ = 0;
@@ -288,7 +340,7 @@ BranchAndBoundResult BranchAndBound(const CoverageMatrix& matrix,
       Clock::now() + std::chrono::duration_cast<Clock::duration>(
                          std::chrono::duration<double>(std::max(0.0, limits.seconds)));
   Search search(matrix, n, start, end);
-  search.set_root_budget(limits.root_steps, limits.root_share * limits.seconds);
+  search.set_root_budget(limits.root_steps, limits.root_share * limits.seconds, limits.root_lp);
   const uint64_t bound = search.Run(upper_bound);
   BranchAndBoundResult result;
   result.chosen = search.best();
@@ -301,6 +353,11 @@ BranchAndBoundResult BranchAndBound(const CoverageMatrix& matrix,
   result.root_fixed_in = search.root_fixed_in();
   result.root_removed = search.root_removed();
   result.root_steps = search.root_steps();
+  result.root_subgradient_bound = search.root_subgradient_bound();
+  result.root_lp_bound = search.root_lp_bound();
+  result.root_lp_seconds = search.root_lp_seconds();
+  result.root_lp_optimal = search.root_lp_optimal();
+  result.root_lp_improved = search.root_lp_improved();
   return result;
 }
 

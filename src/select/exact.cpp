@@ -496,9 +496,15 @@ ExactResult SolveExact(const CoverageMatrix& matrix,
   result.upper_bound = std::max(std::min(result.upper_bound, search.upper_bound),
                                 matrix.CoveredWeight(result.chosen));
   result.proven_optimal = result.upper_bound == matrix.CoveredWeight(result.chosen);
+  const std::string lp =
+      search.root_lp_bound == 0
+          ? std::string()
+          : fmt::format("; the LP's {} cells from CLP{} in {:.1f} s, the subgradient's {}",
+                        search.root_lp_bound, search.root_lp_optimal ? " (optimal)" : "",
+                        search.root_lp_seconds, search.root_subgradient_bound);
   const std::string what = fmt::format(
-      "branch and bound: {} nodes, root bound {} cells ({} candidates fixed in, {} removed)",
-      search.nodes, search.root_bound, search.root_fixed_in, search.root_removed);
+      "branch and bound: {} nodes, root bound {} cells ({} candidates fixed in, {} removed{})",
+      search.nodes, search.root_bound, search.root_fixed_in, search.root_removed, lp);
   if (result.proven_optimal) {
     result.note = what;
   } else {

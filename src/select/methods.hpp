@@ -203,7 +203,8 @@ LagrangianBound LagrangianUpperBound(const CoverageMatrix& matrix,
 struct BranchAndBoundLimits {
   double seconds = 0;      ///< wall clock for the whole search
   int root_steps = 1000;   ///< subgradient steps at the root (from the start multipliers)
-  double root_share = 0.5;  ///< share of `seconds` the root's steps may take
+  double root_share = 0.5;  ///< share of `seconds` the root's steps and LP may take
+  bool root_lp = true;      ///< CLP's LP relaxation at the root, after the steps (lp_bound.hpp)
 };
 
 struct BranchAndBoundResult {
@@ -217,6 +218,11 @@ struct BranchAndBoundResult {
   size_t root_fixed_in = 0;      ///< candidates Lagrangian fixing settled at the root
   size_t root_removed = 0;
   int root_steps = 0;
+  uint64_t root_subgradient_bound = 0;  ///< the root's bound from the subgradient steps alone
+  uint64_t root_lp_bound = 0;    ///< the root's bound at CLP's duals (0: CLP not run)
+  double root_lp_seconds = 0;    ///< CLP's time at the root
+  bool root_lp_optimal = false;  ///< CLP finished the root LP (else stopped at its time)
+  bool root_lp_improved = false;  ///< the LP's rounded x gave a better incumbent
 };
 
 /// Maximum coverage with n sensors by branch and bound on the Lagrangian bound with fixing at
