@@ -12,6 +12,7 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <string>
 
 #include <coin/Clp_C_Interface.h>
 
@@ -755,6 +756,30 @@ std::vector<size_t> MaskUnions(const std::vector<Observation>& obs) {
   return cells;
 }
 
+// The most cells of at most n candidates, from MaskUnions' table.
+size_t MaskOptimum(const std::vector<size_t>& cells, size_t n) {
+  size_t optimum = 0;
+  for (uint32_t mask = 0; mask < cells.size(); ++mask) {
+    if (std::popcount(mask) <= static_cast<int>(n)) optimum = std::max(optimum, cells[mask]);
+  }
+  return optimum;
+}
+
+// Every selection of at most n candidates that reaches `threshold` cells contains each of
+// fixing.fixed_in and none of fixing.removed (checked against MaskUnions' table).
+void ExpectFixingKeepsThem(const std::vector<size_t>& cells, size_t n, size_t threshold,
+                           const detail::Fixing& fixing, const std::string& where) {
+  for (uint32_t mask = 0; mask < cells.size(); ++mask) {
+    if (std::popcount(mask) > static_cast<int>(n) || cells[mask] < threshold) continue;
+    for (const uint32_t i : fixing.removed) {
+      EXPECT_FALSE(mask & (1u << i)) << where << " removed " << i;
+    }
+    for (const uint32_t i : fixing.fixed_in) {
+      EXPECT_TRUE(mask & (1u << i)) << where << " fixed " << i;
+    }
+  }
+}
+
 TEST(Lagrangian, FixingKeepsEverySelectionThatReachesTheThreshold) {
   int fixed_in = 0, removed = 0;
   for (int trial = 0; trial < 40; ++trial) {
@@ -764,10 +789,7 @@ TEST(Lagrangian, FixingKeepsEverySelectionThatReachesTheThreshold) {
     for (uint32_t e = 0; e < matrix.element_count(); ++e) weights.push_back(matrix.Weight(e));
     const std::vector<size_t> cells = MaskUnions(obs);
     for (size_t n = 1; n <= std::min<size_t>(m - 1, 6); ++n) {
-      size_t optimum = 0;
-      for (uint32_t mask = 0; mask < cells.size(); ++mask) {
-        if (std::popcount(mask) <= static_cast<int>(n)) optimum = std::max(optimum, cells[mask]);
-      }
+      const size_t optimum = MaskOptimum(cells, n);
       // Thresholds: the optimum (fixing then keeps every optimum) and one cell below it.
       for (const size_t threshold : {optimum, optimum - 1}) {
         const detail::LagrangianBound bound =
@@ -777,15 +799,8 @@ TEST(Lagrangian, FixingKeepsEverySelectionThatReachesTheThreshold) {
             problem, detail::EvaluateExactly(problem, bound.lambda), threshold);
         fixed_in += static_cast<int>(fixing.fixed_in.size());
         removed += static_cast<int>(fixing.removed.size());
-        for (uint32_t mask = 0; mask < cells.size(); ++mask) {
-          if (std::popcount(mask) > static_cast<int>(n) || cells[mask] < threshold) continue;
-          for (const uint32_t i : fixing.removed) {
-            EXPECT_FALSE(mask & (1u << i)) << "trial " << trial << " n " << n << " removed " << i;
-          }
-          for (const uint32_t i : fixing.fixed_in) {
-            EXPECT_TRUE(mask & (1u << i)) << "trial " << trial << " n " << n << " fixed " << i;
-          }
-        }
+        ExpectFixingKeepsThem(cells, n, threshold, fixing,
+                              "trial " + std::to_string(trial) + " n " + std::to_string(n));
       }
     }
   }
@@ -905,10 +920,7 @@ TEST(LpBound, ReducedCostFixingNeverRemovesAnOptimalCandidate) {
     for (uint32_t e = 0; e < matrix.element_count(); ++e) weights.push_back(matrix.Weight(e));
     const std::vector<size_t> cells = MaskUnions(obs);
     for (size_t n = 1; n <= std::min<size_t>(m - 1, 6); ++n) {
-      size_t optimum = 0;
-      for (uint32_t mask = 0; mask < cells.size(); ++mask) {
-        if (std::popcount(mask) <= static_cast<int>(n)) optimum = std::max(optimum, cells[mask]);
-      }
+      const size_t optimum = MaskOptimum(cells, n);
       const detail::LagrangianProblem problem{matrix.rows(), weights, n};
       detail::ClpCoverageLp model(problem);
       const detail::ClpLpSolution solution = model.Solve(60);
@@ -917,15 +929,8 @@ TEST(LpBound, ReducedCostFixingNeverRemovesAnOptimalCandidate) {
           problem, detail::EvaluateExactly(problem, solution.lambda), optimum);
       removed += static_cast<int>(fixing.removed.size());
       fixed_in += static_cast<int>(fixing.fixed_in.size());
-      for (uint32_t mask = 0; mask < cells.size(); ++mask) {
-        if (std::popcount(mask) > static_cast<int>(n) || cells[mask] < optimum) continue;
-        for (const uint32_t i : fixing.removed) {
-          EXPECT_FALSE(mask & (1u << i)) << "trial " << trial << " n " << n << " removed " << i;
-        }
-        for (const uint32_t i : fixing.fixed_in) {
-          EXPECT_TRUE(mask & (1u << i)) << "trial " << trial << " n " << n << " fixed " << i;
-        }
-      }
+      ExpectFixingKeepsThem(cells, n, optimum, fixing,
+                            "trial " + std::to_string(trial) + " n " + std::to_string(n));
     }
   }
   EXPECT_GT(removed, 100);  // the LP bound is tight enough here to remove many

@@ -3,8 +3,8 @@
 // A node fixes some candidates in (their cells count, their elements get weight 0) and removes
 // others; the rest are free. Its bound is L of the Lagrangian relaxation over the free rows
 // (lagrangian.cpp), searched from the parent's multipliers (at the root: from the start
-// multipliers, then CLP's LP relaxation warm-started from them, lp_bound.hpp); a node whose bound is not above the
-// incumbent is pruned, otherwise Lagrangian fixing settles the candidates it can (repeatedly,
+// multipliers, then CLP's LP relaxation warm-started from them, lp_bound.hpp); a node whose
+// bound is not above the incumbent is pruned, otherwise Lagrangian fixing settles the candidates it can (repeatedly,
 // while it changes something) and the node branches on the chosen row closest to being fixed in:
 // first with it in, then without it (depth first). The Lagrangian subproblem's rows complete
 // every node's fixed candidates into an answer, which improves the incumbent when it covers more
@@ -39,6 +39,8 @@ using Clock = std::chrono::steady_clock;
 constexpr int kNodeSteps = 5;
 constexpr double kNodeStepScale = 0.5;
 constexpr int kMaxFixingRounds = 4;
+// CLP at the root needs time for at least this many passes over the rows (see RootMultipliers).
+constexpr double kMinLpPasses = 50;
 
 struct Node {
   std::vector<uint32_t> fixed;    // candidates in
@@ -258,8 +260,12 @@ class Search {
     const ExactLagrangian subgradient = EvaluateExactly(problem, node->lambda);
     root_sg_bound_ = node->base + (subgradient.scaled_value >> subgradient.bits);
     root_sg_seconds_ = std::chrono::duration<double>(Clock::now() - root_start).count();
+    // Building CLP's model costs a few passes over the rows, outside CLP's time limit, and each
+    // simplex iteration about one: with time for fewer than kMinLpPasses it is not started.
     const double lp_seconds = root_seconds - root_sg_seconds_;
-    if (root_lp_ && lp_seconds > 0 && subgradient.scaled_value >> subgradient.bits > target) {
+    const double pass_seconds = root_sg_seconds_ / std::max(1, root_steps_);
+    if (root_lp_ && lp_seconds > kMinLpPasses * pass_seconds &&
+        subgradient.scaled_value >> subgradient.bits > target) {
       const Clock::time_point lp_start = Clock::now();
       ClpCoverageLp lp(problem);  // built outside CLP's time limit: one pass over the rows
       const ClpLpSolution solution = lp.Solve(lp_seconds, node->lambda);
