@@ -756,6 +756,13 @@ std::vector<size_t> MaskUnions(const std::vector<Observation>& obs) {
   return cells;
 }
 
+// The weight of every merged element.
+std::vector<uint32_t> ElementWeights(const detail::CoverageMatrix& matrix) {
+  std::vector<uint32_t> weights;
+  for (uint32_t e = 0; e < matrix.element_count(); ++e) weights.push_back(matrix.Weight(e));
+  return weights;
+}
+
 // The most cells of at most n candidates, from MaskUnions' table.
 size_t MaskOptimum(const std::vector<size_t>& cells, size_t n) {
   size_t optimum = 0;
@@ -785,8 +792,7 @@ TEST(Lagrangian, FixingKeepsEverySelectionThatReachesTheThreshold) {
   for (int trial = 0; trial < 40; ++trial) {
     const auto [m, r, obs] = SweepInstance({6, 11, 7, 0.08, 0.04, 6, 1300}, trial);
     const detail::CoverageMatrix matrix(obs, r);
-    std::vector<uint32_t> weights;
-    for (uint32_t e = 0; e < matrix.element_count(); ++e) weights.push_back(matrix.Weight(e));
+    const std::vector<uint32_t> weights = ElementWeights(matrix);
     const std::vector<size_t> cells = MaskUnions(obs);
     for (size_t n = 1; n <= std::min<size_t>(m - 1, 6); ++n) {
       const size_t optimum = MaskOptimum(cells, n);
@@ -878,8 +884,7 @@ TEST(LpBound, ClpsMultipliersProveTheLpOptimumColdOrWarmStarted) {
     const size_t r = 30 + 2 * trial;
     const std::vector<Observation> obs = WeightedRandomInstance(3100 + trial, m, r, 0.15);
     const detail::CoverageMatrix matrix(obs, r);
-    std::vector<uint32_t> weights;
-    for (uint32_t e = 0; e < matrix.element_count(); ++e) weights.push_back(matrix.Weight(e));
+    const std::vector<uint32_t> weights = ElementWeights(matrix);
     for (size_t n = 2; n <= 5; ++n) {
       const double lp = ClpLpBound(obs, r, n);  // on the cells, no merging: independent
       const size_t optimum = BruteForceOptimum(obs, n);
@@ -916,8 +921,7 @@ TEST(LpBound, ReducedCostFixingNeverRemovesAnOptimalCandidate) {
   for (int trial = 0; trial < 40; ++trial) {
     const auto [m, r, obs] = SweepInstance({6, 11, 7, 0.08, 0.04, 6, 4100}, trial);
     const detail::CoverageMatrix matrix(obs, r);
-    std::vector<uint32_t> weights;
-    for (uint32_t e = 0; e < matrix.element_count(); ++e) weights.push_back(matrix.Weight(e));
+    const std::vector<uint32_t> weights = ElementWeights(matrix);
     const std::vector<size_t> cells = MaskUnions(obs);
     for (size_t n = 1; n <= std::min<size_t>(m - 1, 6); ++n) {
       const size_t optimum = MaskOptimum(cells, n);
@@ -941,8 +945,7 @@ TEST(LpBound, ReducedCostFixingNeverRemovesAnOptimalCandidate) {
 TEST(LpBound, KeepsItsTimeLimit) {
   const std::vector<Observation> obs = RandomInstance(29, 400, 4000, 0.02);
   const detail::CoverageMatrix matrix(obs, 4000);
-  std::vector<uint32_t> weights;
-  for (uint32_t e = 0; e < matrix.element_count(); ++e) weights.push_back(matrix.Weight(e));
+  const std::vector<uint32_t> weights = ElementWeights(matrix);
   const detail::LagrangianProblem problem{matrix.rows(), weights, 25};
   detail::ClpCoverageLp model(problem);
   const auto begin = std::chrono::steady_clock::now();
