@@ -4,20 +4,20 @@
 // others; the rest are free. Its bound is L of the Lagrangian relaxation over the free rows
 // (lagrangian.cpp), searched from the parent's multipliers (at the root: from the start
 // multipliers, then CLP's LP relaxation warm-started from them, lp_bound.hpp); a node whose
-// bound is not above the incumbent is pruned, otherwise Lagrangian fixing settles the candidates it can (repeatedly,
-// while it changes something) and the node branches on the chosen row closest to being fixed in:
-// first with it in, then without it (depth first). The Lagrangian subproblem's rows complete
-// every node's fixed candidates into an answer, which improves the incumbent when it covers more
-// (and then local search from it). Single-threaded, so the same input and time give the same
-// answer; each subtree returns an upper bound on what it holds, so stopping at the time limit
-// still leaves a proof: the largest bound of the subtrees not finished.
+// bound is not above the incumbent is pruned, otherwise Lagrangian fixing settles the candidates
+// it can (repeatedly, while it changes something) and the node branches on the chosen row
+// closest to being fixed in: first with it in, then without it (depth first). The Lagrangian
+// subproblem's rows complete every node's fixed candidates into an answer, which improves the
+// incumbent when it covers more (and then local search from it). Single-threaded, so the same
+// input and time give the same answer; each subtree returns an upper bound on what it holds, so
+// stopping at the time limit still leaves a proof: the largest bound of the subtrees not
+// finished.
 #include <algorithm>
 #include <chrono>
-#include <numeric>
-#include <string>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <queue>
 #include <utility>
@@ -267,8 +267,9 @@ class Search {
     if (root_lp_ && lp_seconds > kMinLpPasses * pass_seconds &&
         subgradient.scaled_value >> subgradient.bits > target) {
       const Clock::time_point lp_start = Clock::now();
-      ClpCoverageLp lp(problem);  // built outside CLP's time limit: one pass over the rows
-      const ClpLpSolution solution = lp.Solve(lp_seconds, node->lambda);
+      ClpCoverageLp lp(problem);
+      const double built = std::chrono::duration<double>(Clock::now() - lp_start).count();
+      const ClpLpSolution solution = lp.Solve(lp_seconds - built, node->lambda);
       root_lp_seconds_ = std::chrono::duration<double>(Clock::now() - lp_start).count();
       const ExactLagrangian exact = EvaluateExactly(problem, solution.lambda);
       root_lp_bound_ = node->base + (exact.scaled_value >> exact.bits);

@@ -226,8 +226,9 @@ struct BranchAndBoundResult {
 };
 
 /// Maximum coverage with n sensors by branch and bound on the Lagrangian bound with fixing at
-/// every node (branch_and_bound.cpp), from the incumbent `start` (n sensors) and a known bound
-/// `upper_bound` (>= the optimum), within `limits`. Deterministic for a given stopping point;
+/// every node (branch_and_bound.cpp; at the root also CLP's LP relaxation, see `root_lp`), from
+/// the incumbent `start` (n sensors) and a known bound `upper_bound` (>= the optimum), within
+/// `limits`. Deterministic for a given stopping point;
 /// throws Interrupted when asked to stop.
 BranchAndBoundResult BranchAndBound(const CoverageMatrix& matrix,
                                     size_t n,
