@@ -86,10 +86,11 @@ def constrained_example(cli_example, folder):
 
 def test_constrained_run_matches_cli(cli_example, tmp_path):
     scene, kept_out = constrained_example(cli_example, tmp_path)
-    flags = ["-n", 3, "--method", "exact", "--interference", "true", "--calibration-overlap", 20]
+    flags = ["-n", 3, "--method", "local", "--interference-overlap", 0.2,
+             "--calibration-overlap", 20]
     run_cli("optimize", scene, *flags, "--out", tmp_path / "cli")
-    returned = vantage.optimize(scene, n=3, method="exact", out=tmp_path / "py",
-                                interference=True, calibration_overlap=20)
+    returned = vantage.optimize(scene, n=3, method="local", out=tmp_path / "py",
+                                interference_overlap=0.2, calibration_overlap=20)
     compare_folders(tmp_path / "cli", tmp_path / "py", returned)
     constraints = returned["constraints"]
     assert constraints["keep_out"]["excluded_candidates"] == 1
@@ -101,9 +102,9 @@ def test_constrained_run_matches_cli(cli_example, tmp_path):
 
     # evaluate checks the same layout against the same rules, from Python as from the CLI.
     cli = tmp_path / "cli" / "report.json"
-    run_cli("evaluate", scene, "--constellation", cli, "--interference", "true",
+    run_cli("evaluate", scene, "--constellation", cli, "--interference-overlap", 0.2,
             "--out", tmp_path / "cli_eval")
-    evaluated = vantage.evaluate(scene, constellation=cli, interference=True,
+    evaluated = vantage.evaluate(scene, constellation=cli, interference_overlap=0.2,
                                  out=tmp_path / "py_eval")
     assert normalised(evaluated["report"]) == normalised(read_report(tmp_path / "cli_eval"))
 

@@ -67,15 +67,14 @@ def test_objectives_as_cli(cli_example, cli_vis, tmp_path, flags, kwargs):
     assert selection.objective == expected["objective"]
 
 
-@pytest.mark.parametrize("flags,kwargs", [
-    (["--interference", "true", "--interference-overlap", "0.05"],
+@pytest.mark.parametrize("method,flags,kwargs", [
+    ("exact", ["--interference", "true", "--interference-overlap", "0.05"],
      {"interference": True, "interference_overlap": 0.05}),
-    (["--calibration-overlap", "20"], {"calibration_overlap": 20}),
-    (["--calibration-overlap-frac", "0.1", "--interference", "false"],
+    ("local", ["--calibration-overlap", "20"], {"calibration_overlap": 20}),
+    ("greedy", ["--calibration-overlap-frac", "0.1", "--interference", "false"],
      {"calibration_overlap_frac": 0.1, "interference": False}),
 ])
-@pytest.mark.parametrize("method", ["greedy", "local", "exact"])
-def test_constraints_as_cli(cli_example, cli_vis, flags, kwargs, method, tmp_path):
+def test_constraints_as_cli(cli_example, cli_vis, method, flags, kwargs, tmp_path):
     run_cli("select", cli_example / "example.vis", "-n", 3, "--method", method, *flags,
             "--out", tmp_path / "cli")
     report = read_report(tmp_path / "cli")
