@@ -16,6 +16,7 @@
 
 #include <coin/Clp_C_Interface.h>
 
+#include "pipeline/common.hpp"
 #include "select/coverage_matrix.hpp"
 #include "select/lp_bound.hpp"
 #include "select/methods.hpp"
@@ -1818,6 +1819,46 @@ TEST(Constraints, ExactMatchesEnumerationOnRandomInstances) {
     }
   }
   EXPECT_EQ(instances, 24);
+}
+
+TEST(Constraints, SeparationPairsFromPositionsAndExactMatchesEnumeration) {
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    const size_t m = 8 + seed % 4;  // 8..11 candidates in a 1 m cube
+    Rng rng(seed, Stream::kTest, 2);
+    std::vector<Candidate> candidates(m);
+    for (Candidate& c : candidates)
+      c.world_from_body.position = Vec3(rng.Uniform01(), rng.Uniform01(), rng.Uniform01());
+    const double min_separation = 0.45;
+    // Every pair compared directly.
+    std::vector<std::pair<uint32_t, uint32_t>> expected;
+    for (uint32_t a = 0; a < m; ++a) {
+      for (uint32_t b = a + 1; b < m; ++b) {
+        const Vec3 d = candidates[a].world_from_body.position - candidates[b].world_from_body.position;
+        if (std::sqrt(d.x() * d.x() + d.y() * d.y() + d.z() * d.z()) < min_separation)
+          expected.emplace_back(a, b);
+      }
+    }
+    const std::vector<Conflict> pairs = detail::SeparationConflicts(candidates, min_separation);
+    ASSERT_EQ(pairs.size(), expected.size()) << "seed " << seed;
+    for (size_t i = 0; i < pairs.size(); ++i) {
+      EXPECT_EQ(std::make_pair(pairs[i].a, pairs[i].b), expected[i]) << "seed " << seed;
+      EXPECT_EQ(pairs[i].kind, ConflictKind::kSeparation);
+      EXPECT_LT(pairs[i].value, min_separation);
+    }
+    const std::vector<Observation> obs = RandomInstance(seed + 100, m, 40, 0.25);
+    SelectOptions options;
+    options.n = 3;
+    options.seed = seed;
+    options.method = Method::kExact;
+    options.constraints.conflicts = pairs;
+    const uint64_t optimum = constraints_test::EnumeratedOptimum(obs, 3, options.constraints);
+    const Selection exact = Select(obs, 40, options).front();
+    EXPECT_DOUBLE_EQ(exact.coverage, static_cast<double>(optimum) / 40.0) << "seed " << seed;
+    EXPECT_TRUE(CheckConstraints(obs, exact.chosen, options.constraints).conflicts.empty());
+    ASSERT_TRUE(exact.upper_bound.has_value());
+    EXPECT_GE(*exact.upper_bound + 1e-12, static_cast<double>(optimum) / 40.0);
+    EXPECT_TRUE(exact.proven_optimal) << "seed " << seed;
+  }
 }
 
 TEST(Constraints, ValidateNamesTheField) {

@@ -109,6 +109,14 @@ void PrintConstraints(const Report& report) {
     fmt::print("constraints      separation: {} pairs closer than {:g} m{}\n", pairs,
                *info.min_separation, info.is_applied ? " (never both chosen)" : "");
   }
+  if (info.keep_out_boxes > 0) {
+    fmt::print("constraints      keep-out: {} box{}; {}\n", info.keep_out_boxes,
+               info.keep_out_boxes == 1 ? "" : "es",
+               info.is_applied ? fmt::format("{} candidates inside excluded before observing",
+                                             info.keep_out_excluded)
+                               : fmt::format("{} of the sensors inside",
+                                             info.keep_out_violations.size()));
+  }
   if (constraints.calibration) {
     const CalibrationRule& rule = *constraints.calibration;
     fmt::print("constraints      calibration: the chosen must be connected by views sharing {}\n",
@@ -121,6 +129,10 @@ void PrintConstraints(const Report& report) {
   const ConstraintCheck check = CheckConstraints(data.observations, primary.chosen, constraints);
   for (const Conflict& c : check.conflicts)
     fmt::print("breaks           {}\n", ConflictText(c, data));
+  for (const uint32_t i : primary.chosen) {
+    if (std::binary_search(info.keep_out_violations.begin(), info.keep_out_violations.end(), i))
+      fmt::print("breaks           {} lies inside a keep-out box\n", data.candidates.at(i).name);
+  }
   if (info.is_applied) {
     const std::vector<Conflict> avoided = ConflictsAvoided(primary.chosen, constraints);
     const size_t shown = std::min<size_t>(avoided.size(), 5);

@@ -120,6 +120,9 @@ struct PreparedScene {
   Timings timings;                   ///< load
   std::vector<std::string> notes;    ///< non-fatal remarks for the report
   bool cell_size_from_option = false;  ///< the cell size is the override's (for messages)
+  /// The candidates the scene's keep_out boxes excluded (docs/constraints.md, Mounting rules):
+  /// inside a box in the base scene or any state. Not in `candidates`; no ray is cast for them.
+  std::vector<Candidate> kept_out;
 };
 
 /// Loads the scene, applies the overrides and the states, deploys the candidates. InputError for
@@ -147,6 +150,8 @@ struct ObservedScene {
   std::vector<ObservedState> states;
   Timings timings;                     ///< load, reference, observe
   std::vector<std::string> notes;
+  MountingRules mounting;              ///< the scene's keep-out boxes and min_separation
+  size_t kept_out = 0;                 ///< candidates the keep-out boxes excluded (not observed)
 };
 
 // TraceFunction (observe.hpp): ObservePrepared calls it once per traced geometry, the scene's
@@ -216,6 +221,17 @@ struct SelectFileOptions {
   RobustnessOptions robustness;
 };
 RunResult SelectFromFile(const SelectFileOptions& options);
+
+/// The selection of `vantage select FILE` over an observed matrix (SelectFromFile and the Python
+/// module's Visibility.select): the request over the file's settings, its installation
+/// constraints resolved over the candidates (docs/constraints.md) and put into `options`.
+struct MatrixSelection {
+  SelectOptions options;                     ///< with `constraints` set when they apply
+  std::optional<ConstraintsInfo> constraints;  ///< report.json's `constraints`; nullopt: none
+};
+/// InputError naming the option, before any selection.
+MatrixSelection ResolveMatrixSelection(const VisibilityFile& data, const SelectionRequest& request,
+                                       uint64_t seed, Method default_method = Method::kAll);
 
 /// `vantage evaluate`: the coverage of given sensor poses.
 struct EvaluateOptions {

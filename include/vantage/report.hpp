@@ -98,6 +98,10 @@ struct ConstraintsInfo {
   std::optional<double> interference_overlap;  ///< set when interference is on
   size_t projecting = 0;                       ///< candidates whose type projects light
   std::optional<double> min_separation;        ///< [m], the scene's, when set
+  size_t keep_out_boxes = 0;                   ///< the scene's keep-out boxes
+  size_t keep_out_excluded = 0;  ///< candidates the boxes excluded before observing
+  /// Candidates inside a keep-out box (evaluate: given sensors; optimize: none, all excluded).
+  std::vector<uint32_t> keep_out_violations;
   bool is_applied = true;  ///< selection obeyed them (false: evaluate only checks them)
 };
 

@@ -167,7 +167,7 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   constraints.Validate();
   report.constraints = detail::ResolveConstraints(constraints, SelectOptions{},
                                                   run.data->candidates, run.data->observations,
-                                                  false, false);
+                                                  false, false, reobserved.problem.mounting);
   if (report.constraints) report.constraints->is_applied = false;
   report.inputs = detail::InputsOf("evaluate", scene, observe);
   report.inputs->interference = options.constraints.interference;

@@ -30,6 +30,19 @@ Scene ReportScene(const std::string& path) {
 
 }  // namespace
 
+MatrixSelection ResolveMatrixSelection(const VisibilityFile& data, const SelectionRequest& request,
+                                       uint64_t seed, Method default_method) {
+  MatrixSelection resolved;
+  resolved.options = ResolveSelection(data.selection, request, seed, data.candidates, data.scene,
+                                      default_method);
+  detail::CheckConstraintRequest(request.constraints, resolved.options, false, false);
+  resolved.constraints = detail::ResolveConstraints(request.constraints, resolved.options,
+                                                    data.candidates, data.observations, false,
+                                                    false);
+  if (resolved.constraints) resolved.options.constraints = resolved.constraints->constraints;
+  return resolved;
+}
+
 RunResult SelectFromFile(const SelectFileOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   options.robustness.Validate();
@@ -46,16 +59,13 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
     throw InputError(AtPlace("--over-states", 0,
                              "a visibility file holds one state — run `vantage optimize` on the "
                              "scene with states instead"));
-  const SelectOptions select =
-      ResolveSelection(data.selection, options.selection, options.seed.value_or(data.seed),
-                       data.candidates, data.scene, Method::kAll);
-  detail::CheckConstraintRequest(options.selection.constraints, select, false, false);
   const auto select_start = std::chrono::steady_clock::now();
+  MatrixSelection resolved = ResolveMatrixSelection(data, options.selection,
+                                                    options.seed.value_or(data.seed));
+  const SelectOptions& select = resolved.options;
+  const SelectOptions& constrained = resolved.options;
   Report& report = run.report;
-  report.constraints = detail::ResolveConstraints(options.selection.constraints, select,
-                                                  data.candidates, data.observations, false, false);
-  SelectOptions constrained = select;
-  if (report.constraints) constrained.constraints = report.constraints->constraints;
+  report.constraints = std::move(resolved.constraints);
   report.results = Select(data.observations, data.reference.size(), constrained);
   report.curve =
       CoverageCurve(data.observations, data.reference.size(), constrained, report.results);
