@@ -201,7 +201,7 @@ void AddConstraintFlags(CLI::App* app, ConstraintOptions* c) {
   app->add_option("--interference", c->interference,
                   "true|false: two chosen structured-light or time-of-flight sensors may not "
                   "light up more than --interference-overlap of each other's observed cells "
-                  "(default: true wherever it applies; false turns it off; docs/constraints.md)");
+                  "(default: false; an --interference-overlap turns it on; docs/constraints.md)");
   app->add_option("--interference-overlap", c->interference_overlap,
                   "interference: the largest share of the smaller of two projecting sensors' "
                   "observed cells they may both light up, fraction 0..1 (default 0.1)");

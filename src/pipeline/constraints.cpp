@@ -137,9 +137,11 @@ std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& reque
   ConstraintsInfo info;
   const std::vector<bool> projecting = ProjectingCandidates(candidates);
   for (const bool p : projecting) info.projecting += p ? 1 : 0;
-  // On unless --interference false: two projectors that wash out each other's patterns make a
-  // layout unusable, whichever objective value it has.
-  const bool interference = request.interference.value_or(true) && info.projecting >= 2;
+  // Off unless asked (--interference true, or an --interference-overlap): the default-on the issue
+  // asks for waits until the Python module applies constraints too.
+  const bool interference =
+      request.interference.value_or(request.interference_overlap.has_value()) &&
+      info.projecting >= 2;
   if (interference) {
     info.interference_overlap = request.Overlap();
     info.constraints.conflicts =
