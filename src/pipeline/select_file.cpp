@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 
@@ -48,7 +49,15 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
                              "scene with states instead"));
   const SelectOptions select =
       ResolveSelection(data.selection, options.selection, options.seed.value_or(data.seed),
-                       data.candidates, data.scene, Method::kAll);
+                       data.candidates, data.scene, Method::kAll, data.reference.cell_size);
+  if (select.min_points &&
+      !std::all_of(data.observations.begin(), data.observations.end(),
+                   [](const Observation& o) { return o.has_point_counts(); }))
+    throw InputError(AtPlace(
+        options.visibility_file, 0,
+        fmt::format("has no pixel counts per cell (written before format version 4), which {} "
+                    "needs — observe the scene again with `vantage observe`",
+                    options.selection.min_density ? "--min-density" : "--min-points")));
   detail::CheckConstraintRequest(options.selection.constraints, select, false, false);
   const auto select_start = std::chrono::steady_clock::now();
   Report& report = run.report;

@@ -69,6 +69,14 @@ std::vector<uint32_t> BinaryReader::U32Vector() {
   return v;
 }
 
+std::vector<uint16_t> BinaryReader::U16Vector() {
+  const uint64_t n = U64();
+  CheckCount(n, 2);
+  std::vector<uint16_t> v(n);
+  Read(v.data(), n * 2);
+  return v;
+}
+
 std::vector<uint64_t> BinaryReader::U64Vector() {
   const uint64_t n = U64();
   CheckCount(n, 8);
