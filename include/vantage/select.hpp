@@ -107,6 +107,11 @@ class CoverageEvaluator {
   /// (reference_hits; InternalError when an observation has none).
   size_t PointCoveredCount(std::span<const uint32_t> chosen, uint32_t min_points) const;
   double PointCoverage(std::span<const uint32_t> chosen, uint32_t min_points) const;
+  /// PointCoverage with `min_points`, else Coverage with k: the coverage a result reports.
+  double CoverageUnder(std::span<const uint32_t> chosen, int k,
+                       std::optional<uint32_t> min_points) const {
+    return min_points ? PointCoverage(chosen, *min_points) : Coverage(chosen, k);
+  }
   size_t reference_size() const { return reference_size_; }
   /// The observation sets it evaluates (one per candidate, in candidate order).
   std::span<const Observation> observations() const { return observations_; }
