@@ -56,6 +56,9 @@ constexpr size_t kCbcFirstNonzeros = 100000;
 constexpr double kBranchAndBoundTimeShare = 0.9;
 // Below this many seconds left the root bound cannot improve on the cheap one: not started.
 constexpr double kMinBranchAndBoundSeconds = 0.02;
+// Min-points: the share of the time limit for the plain-coverage bound over the cells that can
+// reach the points (a relaxation: a cell with enough points is seen); CBC gets the rest.
+constexpr double kRelaxedBoundShare = 0.25;
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -566,7 +569,22 @@ ExactResult SolveExactK(const CoverageMatrix& matrix,
     result.note = "solved by enumeration";
     return result;
   }
-  CbcOutcome outcome = CardinalityCbc(matrix, k, n, start, time_limit);
+  double cbc_seconds = time_limit;
+  if (matrix.has_counts()) {
+    // The matrix holds only the cells that can reach the points, so its plain-coverage optimum
+    // bounds the min-points one, and exact proves it fast (the Lagrangian, branch and bound).
+    const ExactResult relaxed =
+        SolveExact(matrix, n, GreedyComplete(CellScorer(matrix), {}, n),
+                   kRelaxedBoundShare * time_limit);
+    result.upper_bound = std::max(std::min(result.upper_bound, relaxed.upper_bound), start_cells);
+    if (start_cells == result.upper_bound) {
+      result.proven_optimal = true;
+      result.note = "start meets the plain-coverage bound";
+      return result;
+    }
+    cbc_seconds = std::max(0.1 * time_limit, time_limit - SecondsSince(start_time));
+  }
+  CbcOutcome outcome = CardinalityCbc(matrix, k, n, start, cbc_seconds);
   result.note = outcome.note;
   if (!outcome.chosen.empty()) {
     std::vector<uint32_t> padded = KGreedyComplete(matrix, outcome.chosen, n, k);

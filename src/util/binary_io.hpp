@@ -56,6 +56,9 @@ class BinaryReader {
 
  private:
   void Read(void* out, size_t n);
+  /// A u64 count, then that many little-endian values of T.
+  template <typename T>
+  std::vector<T> Vector();
   std::string_view data_;
   std::string file_;
   size_t pos_ = 0;

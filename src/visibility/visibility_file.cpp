@@ -228,11 +228,7 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
       o.target_pixels = r.U64();
       o.quality_pixels = r.U64();
     }
-    if (version >= 4) {
-      o.reference_hits = r.U16Vector();
-      if (!o.reference_hits.empty() && !o.has_point_counts())
-        throw corrupt("an observation's point counts do not match its cells");
-    }
+    if (version >= 4) o.reference_hits = r.U16Vector();
     const auto check_indices = [&](const std::vector<uint32_t>& indices) {
       for (size_t k = 0; k < indices.size(); ++k) {
         if (indices[k] >= file.reference.keys.size() || (k > 0 && indices[k] <= indices[k - 1]))
@@ -241,6 +237,8 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
     };
     check_indices(o.reference_indices);
     check_indices(o.plain_reference_indices);
+    if (!o.reference_hits.empty() && !o.has_point_counts())
+      throw corrupt("an observation's point counts do not match its cells");
     const std::string where = fmt::format("candidate {} ('{}')", i, c.name);
     if (o.quality_pixels > o.target_pixels || o.target_pixels > o.rays_traced)
       throw corrupt(where + ": its pixel counts contradict each other");
