@@ -1299,6 +1299,128 @@ TEST(Objectives, ZeroCostSensorsComeFirstAndFreeOnesStillCount) {
   EXPECT_EQ(s.cost, 1.0);
 }
 
+// Cells in which `chosen` together put at least `min_points` hits, counted from the hits alone.
+size_t PointUnionSize(const std::vector<Observation>& obs, const std::vector<uint32_t>& chosen,
+                      uint32_t min_points) {
+  std::map<uint32_t, uint64_t> points;
+  for (const uint32_t c : chosen) {
+    for (size_t j = 0; j < obs[c].reference_indices.size(); ++j)
+      points[obs[c].reference_indices[j]] += obs[c].reference_hits[j];
+  }
+  return static_cast<size_t>(std::count_if(points.begin(), points.end(),
+                                           [&](const auto& p) { return p.second >= min_points; }));
+}
+
+// Min-points (docs/constraints.md, "Point density") on random instances with random pixel
+// counts per cell, against the optimum by enumeration of every subset.
+TEST(Objectives, MinPointsAgainstBruteForce) {
+  for (uint64_t trial = 0; trial < 12; ++trial) {
+    SCOPED_TRACE(testing::Message() << "trial " << trial);
+    const size_t m = 6 + trial % 5;         // 6-10 candidates
+    const size_t r = 20 + 5 * (trial % 4);  // 20-35 cells
+    std::vector<Observation> obs = RandomInstance(700 + trial, m, r, 0.2 + 0.05 * (trial % 3));
+    Rng rng(800 + trial, Stream::kTest, 0);
+    for (Observation& o : obs) {
+      for (size_t j = 0; j < o.reference_indices.size(); ++j)
+        o.reference_hits.push_back(static_cast<uint16_t>(1 + rng.Below(12)));
+    }
+    const std::vector<std::vector<uint32_t>> subsets = AllSubsets(m);
+    for (const uint32_t points : {6u, 15u}) {
+      SCOPED_TRACE(testing::Message() << "min points " << points);
+      std::map<int, size_t> optimum, greedy_cells;
+      for (const auto& s : subsets) {
+        const int n = static_cast<int>(s.size());
+        if (n <= 4) optimum[n] = std::max(optimum[n], PointUnionSize(obs, s, points));
+      }
+      SelectOptions options;
+      options.method = Method::kAll;
+      options.n = 4;
+      options.min_points = points;
+      options.ransac_iterations = 30;
+      options.seed = trial;
+      ASSERT_EQ(options.objective(), Objective::kMinPoints);
+      const std::vector<Selection> results = Select(obs, r, options);
+      ASSERT_EQ(results.size(), 16u);  // ransac, greedy, local, exact for n = 1..4
+      for (const Selection& s : results) {
+        SCOPED_TRACE(testing::Message() << s.method << " n=" << s.n);
+        ASSERT_EQ(static_cast<int>(s.chosen.size()), s.n);
+        EXPECT_EQ(std::set<uint32_t>(s.chosen.begin(), s.chosen.end()).size(), s.chosen.size());
+        const size_t cells = PointUnionSize(obs, s.chosen, points);
+        EXPECT_DOUBLE_EQ(s.coverage, static_cast<double>(cells) / r);
+        EXPECT_EQ(s.objective, "min-points");
+        EXPECT_EQ(s.min_points, points);
+        EXPECT_LE(cells, optimum[s.n]);
+        if (s.method == "greedy") greedy_cells[s.n] = cells;
+        if (s.method == "local") EXPECT_GE(cells, greedy_cells[s.n]);
+        if (s.method == "exact") {
+          EXPECT_EQ(cells, optimum[s.n]);
+          EXPECT_TRUE(s.proven_optimal);
+          ASSERT_TRUE(s.upper_bound.has_value());
+          EXPECT_NEAR(*s.upper_bound, static_cast<double>(optimum[s.n]) / r, 1e-12);
+        }
+      }
+      // The weighted MILP itself in CBC (Select enumerates instances this small), from a
+      // deliberately poor start so that CBC has to find the optimum and prove its bound.
+      const detail::CoverageMatrix matrix(obs, r, points);
+      for (size_t n = 2; n <= 4; ++n) {
+        std::vector<uint32_t> start(n);
+        std::iota(start.begin(), start.end(), 0u);
+        const detail::ExactResult milp =
+            detail::SolveExactK(matrix, n, static_cast<int>(points), start, 60, false);
+        SCOPED_TRACE(testing::Message() << "MILP n=" << n << " " << milp.note);
+        ASSERT_EQ(milp.chosen.size(), n);
+        EXPECT_EQ(PointUnionSize(obs, milp.chosen, points), optimum[static_cast<int>(n)]);
+        EXPECT_TRUE(milp.proven_optimal);
+        EXPECT_EQ(milp.upper_bound, optimum[static_cast<int>(n)]);
+      }
+    }
+  }
+}
+
+// Every pixel count 1 and min_points = k: exactly k-coverage, whose optimum the existing methods
+// prove; min-points must find the same optimum.
+TEST(Objectives, MinPointsWithUnitCountsIsKCoverage) {
+  std::vector<Observation> obs = RandomInstance(901, 9, 30, 0.3);
+  for (Observation& o : obs) o.reference_hits.assign(o.reference_indices.size(), 1);
+  for (int k = 2; k <= 3; ++k) {
+    SelectOptions points;
+    points.method = Method::kExact;
+    points.n = 4;
+    points.min_points = static_cast<uint32_t>(k);
+    SelectOptions kcov = points;
+    kcov.min_points.reset();
+    kcov.k = k;
+    EXPECT_DOUBLE_EQ(Select(obs, 30, points).front().coverage,
+                     Select(obs, 30, kcov).front().coverage);
+  }
+}
+
+TEST(Objectives, MinPointsRefusesWhatItCannotCombineWith) {
+  std::vector<Observation> obs = RandomInstance(902, 5, 20, 0.3);
+  SelectOptions options;
+  options.n = 2;
+  options.min_points = 5;
+  const auto field_of = [&](const SelectOptions& o) -> std::string {
+    try {
+      o.Validate(obs.size());
+    } catch (const FieldError& e) {
+      return e.fields().front();
+    }
+    return "";
+  };
+  SelectOptions with_k = options;
+  with_k.k = 2;
+  EXPECT_EQ(field_of(with_k), "min_points");
+  SelectOptions kept = options;
+  kept.fixed = {0};
+  EXPECT_EQ(field_of(kept), "min_points");
+  SelectOptions best = options;
+  best.method = Method::kBest;
+  EXPECT_NE(field_of(best), "");
+  // Observations without pixel counts (an old visibility file): refused, naming min_points.
+  EXPECT_THROW(Select(obs, 20, options), FieldError);
+}
+
 TEST(Objectives, AgainstBruteForce) {
   for (uint64_t trial = 0; trial < 18; ++trial) {
     SCOPED_TRACE(testing::Message() << "trial " << trial);

@@ -3,6 +3,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -184,6 +185,12 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
       fmt::print("objective        {0}-coverage: a cell counts once {0} chosen sensors see it "
                  "(coverages below are {0}-coverages)\n",
                  first.k);
+    } else if (first.min_points) {
+      const double face_cm2 = std::pow(100.0 * data.reference.cell_size, 2);
+      fmt::print("objective        point density: a cell counts once the chosen sensors put >= "
+                 "{} points in it ({:.3g} per cm² of its {:.3g} cm² face; coverages below "
+                 "count such cells)\n",
+                 *first.min_points, *first.min_points / face_cm2, face_cm2);
     }
   }
   if (data.quality.active()) {

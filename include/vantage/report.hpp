@@ -68,6 +68,8 @@ struct RunInputs {
   std::optional<double> goal;               ///< --goal
   std::optional<int> k;                     ///< --k
   std::optional<double> budget;             ///< --budget
+  std::optional<int> min_points;            ///< --min-points
+  std::optional<double> min_density;        ///< --min-density [points per cm²]
   std::optional<std::string> over_states;   ///< --over-states
   bool keep_existing = false;               ///< --keep-existing
   std::optional<bool> interference;         ///< --interference

@@ -76,6 +76,12 @@ std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& reque
 void DropInfeasibleAlternatives(const ConstraintsInfo& info, const VisibilityFile& data,
                                 Robustness* robustness);
 
+/// The points a cell needs from --min-points, or from --min-density on cells of edge `cell_size`
+/// (MinPointsOfDensity); unset when neither is given. InputError naming the option for a value
+/// out of range or both given.
+std::optional<uint32_t> ResolveMinPoints(std::optional<int64_t> min_points,
+                                         std::optional<double> min_density, double cell_size);
+
 /// Runs selection: over the states (SelectOverStates) when the scene has them, else Select.
 /// Fills `report`'s results and states block. With report->constraints set, selection obeys them.
 void SelectResults(const ObservedScene& observed, const SelectionRequest& request,

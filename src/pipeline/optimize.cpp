@@ -58,7 +58,7 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
   const std::string source = prepared.problem.source;
   const SelectOptions select = ResolveSelection(prepared.problem.selection, options.selection,
                                                 prepared.problem.seed, prepared.candidates,
-                                                source, Method::kAll);
+                                                source, Method::kAll, prepared.problem.cell_size);
   const bool has_states = !prepared.problem.states.empty();
   if (!has_states && options.selection.over_states)
     throw InputError(AtPlace("--over-states", 0,
@@ -87,6 +87,12 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
                                            c.name)));
     }
   }
+  if (select.min_points && (has_states || options.refine))
+    throw InputError(AtPlace(options.selection.min_density ? "--min-density" : "--min-points", 0,
+                             has_states ? "point density over scene states is not supported yet "
+                                          "— drop it or the scene's states"
+                                        : "--refine does not keep point counts yet — drop one "
+                                          "of --refine and the point density"));
   ObservedScene observed =
       ObservePrepared(std::move(prepared), options.observe, options.limits, options.trace);
   return OptimizeObserved{std::move(observed), select, start};

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 
@@ -31,10 +32,19 @@ Scene ReportScene(const std::string& path) {
 }  // namespace
 
 MatrixSelection ResolveMatrixSelection(const VisibilityFile& data, const SelectionRequest& request,
-                                       uint64_t seed, Method default_method) {
+                                       uint64_t seed, Method default_method,
+                                       const std::string& source) {
   MatrixSelection resolved;
   resolved.options = ResolveSelection(data.selection, request, seed, data.candidates, data.scene,
-                                      default_method);
+                                      default_method, data.reference.cell_size);
+  if (resolved.options.min_points &&
+      !std::all_of(data.observations.begin(), data.observations.end(),
+                   [](const Observation& o) { return o.has_point_counts(); }))
+    throw InputError(AtPlace(
+        source.empty() ? std::string("the visibility file") : source, 0,
+        fmt::format("has no pixel counts per cell (written before format version 4), which {} "
+                    "needs — observe the scene again with `vantage observe`",
+                    request.min_density ? "--min-density" : "--min-points")));
   detail::CheckConstraintRequest(request.constraints, resolved.options, false, false);
   resolved.constraints = detail::ResolveConstraints(request.constraints, resolved.options,
                                                     data.candidates, data.observations, false,
@@ -60,8 +70,9 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
                              "a visibility file holds one state — run `vantage optimize` on the "
                              "scene with states instead"));
   const auto select_start = std::chrono::steady_clock::now();
-  MatrixSelection resolved = ResolveMatrixSelection(data, options.selection,
-                                                    options.seed.value_or(data.seed));
+  MatrixSelection resolved =
+      ResolveMatrixSelection(data, options.selection, options.seed.value_or(data.seed),
+                             Method::kAll, options.visibility_file);
   const SelectOptions& select = resolved.options;
   const SelectOptions& constrained = resolved.options;
   Report& report = run.report;
