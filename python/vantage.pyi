@@ -131,6 +131,10 @@ class Visibility:
         stop: Optional[float] = None,
         seed: Optional[int] = None,
         threads: Optional[int] = None,
+        interference: Optional[bool] = None,
+        interference_overlap: Optional[float] = None,
+        calibration_overlap: Optional[int] = None,
+        calibration_overlap_frac: Optional[float] = None,
     ) -> Selection:
         """n sensors with one method, as `vantage select FILE -n N --method M`."""
     def select_all(
@@ -146,6 +150,10 @@ class Visibility:
         stop: Optional[float] = None,
         seed: Optional[int] = None,
         threads: Optional[int] = None,
+        interference: Optional[bool] = None,
+        interference_overlap: Optional[float] = None,
+        calibration_overlap: Optional[int] = None,
+        calibration_overlap_frac: Optional[float] = None,
     ) -> list[Selection]:
         """Every result of `vantage select FILE` (report.json's results), in order."""
     def save(self, path: PathLike) -> None:
@@ -221,6 +229,10 @@ def optimize(
     refine_rounds: Optional[int] = None,
     threads: Optional[int] = None,
     progress: Progress = None,
+    interference: Optional[bool] = None,
+    interference_overlap: Optional[float] = None,
+    calibration_overlap: Optional[int] = None,
+    calibration_overlap_frac: Optional[float] = None,
 ) -> dict[str, Any]:
     """`vantage optimize SCENE`: the same files into `out`; returns report.json as a dict."""
 
@@ -239,6 +251,10 @@ def evaluate(
     max_memory: Optional[float] = None,
     threads: Optional[int] = None,
     progress: Progress = None,
+    interference: Optional[bool] = None,
+    interference_overlap: Optional[float] = None,
+    calibration_overlap: Optional[int] = None,
+    calibration_overlap_frac: Optional[float] = None,
 ) -> dict[str, Any]:
     """`vantage evaluate`: sensors, sensor_coverage, coverage, paper_coverage, report."""
 

@@ -347,13 +347,27 @@ SelectionRequest RequestOf(std::optional<int> n, std::optional<Method> method,
   return request;
 }
 
+// The CLI's constraint flags (docs/constraints.md), None where not given.
+ConstraintOptions ConstraintsOf(std::optional<bool> interference,
+                                std::optional<double> interference_overlap,
+                                std::optional<uint64_t> calibration_overlap,
+                                std::optional<double> calibration_overlap_frac) {
+  ConstraintOptions constraints;
+  constraints.interference = interference;
+  constraints.interference_overlap = interference_overlap;
+  constraints.calibration_overlap = calibration_overlap;
+  constraints.calibration_overlap_frac = calibration_overlap_frac;
+  return constraints;
+}
+
+// Selection as `vantage select FILE`: the same resolution, constraints included.
 std::vector<Selection> SelectOn(const VisibilityFile& data, const SelectionRequest& request,
                                 std::optional<uint64_t> seed, Method default_method,
                                 std::optional<int> threads) {
-  const SelectOptions options = ResolveSelection(data.selection, request, seed.value_or(data.seed),
-                                                 data.candidates, data.scene, default_method);
+  const MatrixSelection resolved =
+      ResolveMatrixSelection(data, request, seed.value_or(data.seed), default_method);
   return WithoutGil(threads, [&] {
-    return Select(data.observations, data.reference.size(), options);
+    return Select(data.observations, data.reference.size(), resolved.options);
   });
 }
 
@@ -570,14 +584,18 @@ void Bind(py::module_& m) {
              std::optional<double> time_limit, std::optional<int> k, std::optional<double> goal,
              std::optional<double> budget, std::optional<int> iterations,
              std::optional<double> stop, std::optional<uint64_t> seed,
-             std::optional<int> threads) {
+             std::optional<int> threads, std::optional<bool> interference, std::optional<double> interference_overlap,
+             std::optional<uint64_t> calibration_overlap,
+             std::optional<double> calibration_overlap_frac) {
             const Method chosen = MethodOf(method);
             if (chosen == Method::kAll)
               throw InputError(AtPlace("method", 0,
                                        "'all' gives one result per method and n — use "
                                        "select_all(), or name one method"));
-            const SelectionRequest request =
+            SelectionRequest request =
                 RequestOf(n, chosen, time_limit, k, goal, budget, iterations, stop);
+            request.constraints = ConstraintsOf(interference, interference_overlap, calibration_overlap,
+                                        calibration_overlap_frac);
             std::vector<Selection> results =
                 SelectOn(*v.data, request, seed, Method::kExact, threads);
             return SelectionInfoOf(std::move(results.back()), *v.data);
@@ -587,6 +605,9 @@ void Bind(py::module_& m) {
           py::arg("goal") = py::none(), py::arg("budget") = py::none(), py::kw_only(),
           py::arg("iterations") = py::none(), py::arg("stop") = py::none(),
           py::arg("seed") = py::none(), py::arg("threads") = py::none(),
+          py::arg("interference") = py::none(), py::arg("interference_overlap") = py::none(),
+          py::arg("calibration_overlap") = py::none(),
+          py::arg("calibration_overlap_frac") = py::none(),
           "Chooses n sensors with one method, as `vantage select FILE -n N --method M`.\n\n"
           "n: sensors (None: the scene's n); method: best, ransac, greedy, local or exact;\n"
           "time_limit: seconds for exact (None: 60); k: k-coverage when >= 2; goal: set cover,\n"
@@ -594,6 +615,8 @@ void Bind(py::module_& m) {
           "total cost within it; iterations, stop: RANSAC's cap and stop coverage (fraction).\n"
           "None takes the scene's own setting (goal, k and budget given replace its objective).\n"
           "seed: None for the run's; threads: None for all cores (same result for any).\n"
+          "interference, interference_overlap, calibration_overlap, calibration_overlap_frac:\n"
+          "the installation constraints (docs/constraints.md), as the CLI's flags.\n"
           "Returns a vantage.Selection; raises InputError for invalid options.")
       .def(
           "select_all",
@@ -601,9 +624,13 @@ void Bind(py::module_& m) {
              const std::optional<std::string>& method, std::optional<double> time_limit,
              std::optional<int> k, std::optional<double> goal, std::optional<double> budget,
              std::optional<int> iterations, std::optional<double> stop,
-             std::optional<uint64_t> seed, std::optional<int> threads) {
-            const SelectionRequest request = RequestOf(n, OptionalMethodOf(method), time_limit, k,
-                                                       goal, budget, iterations, stop);
+             std::optional<uint64_t> seed, std::optional<int> threads, std::optional<bool> interference, std::optional<double> interference_overlap,
+             std::optional<uint64_t> calibration_overlap,
+             std::optional<double> calibration_overlap_frac) {
+            SelectionRequest request = RequestOf(n, OptionalMethodOf(method), time_limit, k, goal,
+                                                 budget, iterations, stop);
+            request.constraints = ConstraintsOf(interference, interference_overlap, calibration_overlap,
+                                        calibration_overlap_frac);
             std::vector<SelectionInfo> list;
             for (Selection& s : SelectOn(*v.data, request, seed, Method::kAll, threads))
               list.push_back(SelectionInfoOf(std::move(s), *v.data));
@@ -614,6 +641,9 @@ void Bind(py::module_& m) {
           py::arg("goal") = py::none(), py::arg("budget") = py::none(), py::kw_only(),
           py::arg("iterations") = py::none(), py::arg("stop") = py::none(),
           py::arg("seed") = py::none(), py::arg("threads") = py::none(),
+          py::arg("interference") = py::none(), py::arg("interference_overlap") = py::none(),
+          py::arg("calibration_overlap") = py::none(),
+          py::arg("calibration_overlap_frac") = py::none(),
           "Every result of `vantage select FILE` (report.json's `results`, in order): with\n"
           "method None or 'all', best for n = 1, then ransac, greedy, local and exact for each\n"
           "n from 1 to n. Arguments as select(). Returns a list of vantage.Selection.")
@@ -746,7 +776,9 @@ void Bind(py::module_& m) {
          std::optional<double> budget, const std::optional<std::string>& over_states,
          std::optional<double> fov_tolerance, std::optional<double> alternatives_within,
          bool refine, std::optional<int> refine_rounds, std::optional<int> threads,
-         const py::object& progress) {
+         const py::object& progress, std::optional<bool> interference, std::optional<double> interference_overlap,
+             std::optional<uint64_t> calibration_overlap,
+             std::optional<double> calibration_overlap_frac) {
         OptimizeOptions options;
         options.scene = SceneInputOf(scene, model_path, resource_path, targets, cell_size, seed,
                                      observation_point, random_roll);
@@ -754,6 +786,8 @@ void Bind(py::module_& m) {
         options.limits = LimitsOf(max_memory);
         options.selection = RequestOf(n, OptionalMethodOf(method), time_limit, k, goal, budget,
                                       iterations, stop, OverStatesOf(over_states));
+        options.selection.constraints = ConstraintsOf(interference, interference_overlap, calibration_overlap,
+                                        calibration_overlap_frac);
         options.robustness = RobustnessOf(fov_tolerance, alternatives_within);
         if (refine) {
           RefineOptions refine_options;
@@ -780,7 +814,9 @@ void Bind(py::module_& m) {
       py::arg("over_states") = py::none(), py::arg("fov_tolerance") = py::none(),
       py::arg("alternatives_within") = py::none(), py::arg("refine") = false,
       py::arg("refine_rounds") = py::none(), py::arg("threads") = py::none(),
-      py::arg("progress") = py::none(),
+      py::arg("progress") = py::none(), py::arg("interference") = py::none(), py::arg("interference_overlap") = py::none(),
+          py::arg("calibration_overlap") = py::none(),
+          py::arg("calibration_overlap_frac") = py::none(),
       "The whole pipeline, as `vantage optimize SCENE`: the same outputs (report.json,\n"
       "report.html, candidates.csv, ...) written atomically into the folder `out` (None: none\n"
       "written). Returns report.json as a dict (docs/outputs.md).\n\n"
@@ -789,7 +825,8 @@ void Bind(py::module_& m) {
       "observation_point, random_roll, quality ({'max_incidence': deg, 'max_depth_noise':\n"
       "mm}), cull, max_memory [MiB], iterations, stop, time_limit [s], goal, k, budget,\n"
       "over_states ('mean'/'min'), fov_tolerance [deg], alternatives_within [points], refine,\n"
-      "refine_rounds, threads, progress. None keeps the scene's setting.");
+      "refine_rounds, threads, progress, interference, interference_overlap,\n"
+      "calibration_overlap, calibration_overlap_frac. None keeps the scene's setting.");
 
   m.def(
       "evaluate",
@@ -797,13 +834,17 @@ void Bind(py::module_& m) {
          const py::object& model_path, const py::object& resource_path, const py::object& targets,
          std::optional<double> cell_size, std::optional<uint64_t> seed, const py::object& quality,
          bool cull, std::optional<double> max_memory, std::optional<int> threads,
-         const py::object& progress) {
+         const py::object& progress, std::optional<bool> interference, std::optional<double> interference_overlap,
+             std::optional<uint64_t> calibration_overlap,
+             std::optional<double> calibration_overlap_frac) {
         EvaluateOptions options;
         options.scene = SceneInputOf(scene, model_path, resource_path, targets, cell_size, seed,
                                      std::nullopt, std::nullopt);
         options.constellation = PathOf(constellation);
         options.observe = ObserveOptionsOf(quality, cull, progress);
         options.limits = LimitsOf(max_memory);
+        options.constraints = ConstraintsOf(interference, interference_overlap, calibration_overlap,
+                                        calibration_overlap_frac);
         const std::optional<std::string> out_dir = OutDirOf(out);
         struct Outcome {
           Strings sensors;
@@ -837,11 +878,15 @@ void Bind(py::module_& m) {
       py::arg("cell_size") = py::none(), py::arg("seed") = py::none(),
       py::arg("quality") = py::none(), py::arg("cull") = true,
       py::arg("max_memory") = py::none(), py::arg("threads") = py::none(),
-      py::arg("progress") = py::none(),
+      py::arg("progress") = py::none(), py::arg("interference") = py::none(), py::arg("interference_overlap") = py::none(),
+          py::arg("calibration_overlap") = py::none(),
+          py::arg("calibration_overlap_frac") = py::none(),
       "The coverage of given sensor poses, as `vantage evaluate [SCENE] --constellation\n"
       "FILE`: the primary result's sensors of a report.json (or all candidates of a\n"
       "constellation file). scene None, and options left None, take the constellation run's\n"
       "own (its report.json `inputs`). out: also write a report folder there.\n"
+      "interference, interference_overlap, calibration_overlap(_frac): the constraints the\n"
+      "layout is checked against (the CLI's flags).\n"
       "Returns a dict: sensors (names), sensor_coverage (each alone, 0..1), coverage and\n"
       "paper_coverage of them together, report (report.json as a dict).");
 

@@ -25,6 +25,7 @@
 #include "test_util.hpp"
 #include "util/xml.hpp"
 #include "vantage/error.hpp"
+#include "vantage/pipeline.hpp"
 #include "vantage/problem.hpp"
 
 namespace vantage {
@@ -773,6 +774,89 @@ TEST(Gazebo, NanAndNegativeValues) {
 
 // ---------------------------------------------------------------------------------------------
 // The XML reader and the material scripts on their own.
+
+// Mounting rules (docs/constraints.md): <vantage:keep_out> and <vantage:min_separation> beside
+// the populations. box_random's 7 clones lie in x ±0.25, y ±0.2, z 0.9..1.1; the keep-out box,
+// turned 90° about z, spans x ±0.3, y ±0.25, z 0.85..1.15: it holds those 7 and nothing else
+// (the cylinder is at z 1.45..1.55, the line at y = -1, the grid at x > 3, the fixed camera at
+// (1, 0, 0.5)).
+TEST(Gazebo, MountingRulesBesideThePopulations) {
+  test::TempDir dir;
+  std::string text = test::ReadText(World("sensors.world"));
+  const std::string world = "<world name=\"sensors\">\n";
+  text.replace(text.find(world), world.size(),
+               world +
+                   "    <vantage:keep_out name=\"cabinet\">\n"
+                   "      <pose>0 0 1 0 0 1.5707963267948966</pose>\n"
+                   "      <size>0.5 0.6 0.3</size>\n"
+                   "    </vantage:keep_out>\n"
+                   "    <vantage:min_separation>0.25</vantage:min_separation>\n");
+  const std::string sdf = "<sdf version=\"1.5\">";
+  text.replace(text.find(sdf), sdf.size(),
+               "<sdf version=\"1.5\" xmlns:vantage=\"https://vantage.dev/sdf\">");
+  const std::string path = dir.File("mounting.world");
+  test::WriteText(path, text);
+  LoadOptions options;
+  options.model_paths = {World("models")};
+  const Problem problem = Load(path, options);
+  ASSERT_EQ(problem.mounting.keep_out.size(), 1u);
+  const KeepOutBox& box = problem.mounting.keep_out[0];
+  EXPECT_EQ(box.name, "cabinet");
+  EXPECT_EQ(box.line, 6);
+  ExpectVec(box.min, Vec3(-0.25, -0.3, -0.15));
+  ExpectVec(box.max, Vec3(0.25, 0.3, 0.15));
+  EXPECT_TRUE(box.Contains(Vec3(0.29, 0.24, 1.14)));
+  EXPECT_FALSE(box.Contains(Vec3(0.29, 0.26, 1.0)));
+  EXPECT_EQ(problem.mounting.min_separation, 0.25);
+  EXPECT_EQ(problem.mounting.min_separation_line, 10);
+
+  // libsdformat keeps both as custom elements of the world, without an error about them.
+  sdf::Console::Instance()->SetQuiet(true);
+  sdf::ParserConfig config;
+  config.SetFindCallback([&](const std::string& uri) -> std::string {
+    const std::string candidate = World("models") + "/" + uri.substr(uri.find("://") + 3);
+    return std::filesystem::exists(candidate) ? candidate : "";
+  });
+  sdf::Root root;
+  for (const sdf::Error& e : root.Load(path, config)) {
+    EXPECT_EQ(e.Message().find("keep_out"), std::string::npos) << e.Message();
+    EXPECT_EQ(e.Message().find("min_separation"), std::string::npos) << e.Message();
+  }
+  ASSERT_EQ(root.WorldCount(), 1u);
+  const sdf::ElementPtr element = root.WorldByIndex(0)->Element();
+  EXPECT_TRUE(element->HasElement("vantage:keep_out"));
+  EXPECT_TRUE(element->HasElement("vantage:min_separation"));
+
+  // The pipeline drops exactly box_random's clones before any ray.
+  SceneInput input;
+  input.path = path;
+  input.load = options;
+  UnsetEnv("GAZEBO_MODEL_PATH");
+  const PreparedScene prepared = Prepare(input);
+  EXPECT_EQ(prepared.kept_out.size(), 7u);
+  EXPECT_EQ(prepared.candidates.size(), 101u - 7u);
+  for (const Candidate& c : prepared.kept_out) EXPECT_EQ(c.population, "box_random");
+  for (const Candidate& c : prepared.candidates) EXPECT_NE(c.population, "box_random");
+}
+
+TEST(Gazebo, BadMountingRules) {
+  test::TempDir dir;
+  const auto world = [&](const std::string& body) {
+    const std::string path = dir.File("bad.world");
+    test::WriteText(path, "<?xml version=\"1.0\"?>\n<sdf version=\"1.6\">\n  <world name=\"w\">\n" +
+                              body + "  </world>\n</sdf>\n");
+    return path;
+  };
+  std::string path = world("    <keep_out><size>1 1 1</size></keep_out>\n");
+  ExpectErrorAt(LoadError(path), path, 4, "<keep_out> needs the vantage: prefix");
+  path = world("    <vantage:keep_out name=\"k\"><pose>0 0 0 0 0 0</pose></vantage:keep_out>\n");
+  ExpectErrorAt(LoadError(path), path, 4, "<vantage:keep_out name='k'> needs <size>");
+  path = world("    <vantage:keep_out>\n      <min>0 0 0</min>\n      <max>1 0 1</max>\n"
+               "    </vantage:keep_out>\n");
+  ExpectErrorAt(LoadError(path), path, 6, "<max> must exceed <min> on every axis");
+  path = world("    <vantage:min_separation>-0.1</vantage:min_separation>\n");
+  ExpectErrorAt(LoadError(path), path, 4, "must be positive");
+}
 
 TEST(GazeboXml, LinesEntitiesAndStructure) {
   const detail::XmlDocument doc = detail::ParseXml(

@@ -6,12 +6,14 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "test_util.hpp"
@@ -386,6 +388,142 @@ TEST(ConstraintsCli, ConstraintOptionsThatCannotApplyExitTwoNamingThem) {
     const auto run = RunVantage("optimize " + Scene() + " " + flags + " --out " + dir.File("x"));
     EXPECT_EQ(run.exit_code, 2) << flags;
     EXPECT_NE(run.err.find(message), std::string::npos) << flags << ": " << run.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.File("x")));
+  }
+}
+
+// ----- mounting rules (docs/constraints.md, Mounting rules) ----------------------------------
+
+// a at (0.5, 0.5) sees the +x and +y faces (two faces), face at (0.5, 0) only +x (one face): a
+// is the best single sensor. A keep-out box around a leaves face, with its own coverage.
+TEST(MountingCli, KeepOutRemovesTheBestCandidateAndTheNextBestIsChosen) {
+  test::TempDir dir;
+  const std::string sensors = "  - {name: a, type: fine_cam, position: [0.5, 0.5, 0.05]}\n"
+                              "  - {name: face, type: fine_cam, position: [0.5, 0, 0.05]}\n";
+  const std::string scene = CubeWithSensors(dir, sensors);
+  const auto plain = RunVantage("optimize " + scene + " -n 1 --method exact --out " +
+                                dir.File("p"));
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  const json p = Report(dir.File("p"));
+  EXPECT_EQ(Names(p["results"][0]["sensors"]), (std::set<std::string>{"a"}));
+  test::WriteText(scene, test::ReadText(scene) +
+                             "keep_out:\n  - {name: cabinet, center: [0.5, 0.5, 0.5], "
+                             "size: [0.2, 0.2, 1.0]}\n");
+  const auto run = RunVantage("optimize " + scene + " -n 1 --method exact --out " +
+                              dir.File("k"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json k = Report(dir.File("k"));
+  EXPECT_EQ(Names(k["results"][0]["sensors"]), (std::set<std::string>{"face"}));
+  EXPECT_EQ(k["candidates"].size(), 1u);
+  EXPECT_EQ(k["constraints"]["keep_out"]["boxes"], 1);
+  EXPECT_EQ(k["constraints"]["keep_out"]["excluded_candidates"], 1);
+  EXPECT_TRUE(k["results"][0]["constraints"]["satisfied"].get<bool>());
+  EXPECT_NE(run.out.find("keep-out: 1 box; 1 candidates inside excluded"), std::string::npos)
+      << run.out;
+  // face sees the +x face whole: 9 x 9 to 11 x 11 cells; a saw two faces.
+  const double cells = k["reference_voxels"].get<double>();
+  const double seen = k["results"][0]["coverage"].get<double>() * cells;
+  EXPECT_GE(seen, 81 - 0.5);
+  EXPECT_LE(seen, 121 + 0.5);
+  EXPECT_GE(p["results"][0]["coverage"].get<double>() * cells, 2 * 81 - 0.5);
+}
+
+// a above one corner sees +x, +y and the top; c below the opposite corner -x, -y and the bottom:
+// together every face, the best pair, sqrt(3 * 0.8^2) = 1.386 m apart. b, far beyond c's corner
+// above the cube, sees -x, -y and the top (a with b: five faces). With min_separation 1.5 m, a ~ c
+// and b ~ c (sqrt(0.6^2 + 0.6^2 + 0.8^2) = 1.166 m) conflict, a ~ b (1.980 m) does not: the only
+// feasible pair is a, b.
+TEST(MountingCli, MinSeparationKeepsTwoCloseSensorsFromBothBeingChosen) {
+  test::TempDir dir;
+  const std::string scene = CubeWithSensors(
+      dir,
+      "  - {name: a, type: fine_cam, position: [0.4, 0.4, 0.45]}\n"
+      "  - {name: b, type: fine_cam, position: [-1.0, -1.0, 0.45]}\n"
+      "  - {name: c, type: fine_cam, position: [-0.4, -0.4, -0.35]}\n");
+  const auto plain = RunVantage("optimize " + scene + " --method exact --out " + dir.File("p"));
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_EQ(Names(Report(dir.File("p"))["results"][0]["sensors"]),
+            (std::set<std::string>{"a", "c"}));
+
+  test::WriteText(scene, test::ReadText(scene) + "min_separation: 1.5\n");
+  for (const char* method : {"exact", "greedy", "local", "ransac"}) {
+    const std::string out = dir.File(std::string("s_") + method);
+    const auto run = RunVantage("optimize " + scene + " --method " + method + " --out " + out);
+    ASSERT_EQ(run.exit_code, 0) << method << run.err;
+    const json s = Report(out);
+    EXPECT_EQ(Names(s["results"][0]["sensors"]), (std::set<std::string>{"a", "b"})) << method;
+    EXPECT_TRUE(s["results"][0]["constraints"]["satisfied"].get<bool>()) << method;
+    EXPECT_EQ(s["constraints"]["separation"]["min_separation"], 1.5);
+    EXPECT_EQ(s["constraints"]["separation"]["conflicting_pairs"], 2);
+  }
+  // evaluate: the declared layout a, b, c breaks the rule twice.
+  const auto check = RunVantage("evaluate " + scene + " --out " + dir.File("e"));
+  ASSERT_EQ(check.exit_code, 0) << check.err;
+  const json e = Report(dir.File("e"));
+  const json& broken = e["results"][0]["constraints"]["conflicts"];
+  ASSERT_EQ(broken.size(), 2u);
+  EXPECT_EQ(broken[0]["a"], "a");
+  EXPECT_EQ(broken[0]["b"], "c");
+  EXPECT_EQ(broken[0]["kind"], "separation");
+  EXPECT_NEAR(broken[0]["distance"].get<double>(), std::sqrt(3 * 0.64), 1e-9);
+  EXPECT_EQ(broken[1]["a"], "b");
+  EXPECT_EQ(broken[1]["b"], "c");
+  EXPECT_NEAR(broken[1]["distance"].get<double>(), std::sqrt(0.36 + 0.36 + 0.64), 1e-9);
+  EXPECT_FALSE(e["results"][0]["constraints"]["satisfied"].get<bool>());
+  EXPECT_NE(check.out.find("breaks           a ~ c (separation, 1.386 m)"), std::string::npos)
+      << check.out;
+}
+
+TEST(MountingCli, EvaluateReportsSensorsInsideAKeepOutBox) {
+  test::TempDir dir;
+  const std::string scene = CubeWithSensors(
+      dir,
+      "  - {name: a, type: fine_cam, position: [0.5, 0.5, 0.05]}\n"
+      "  - {name: c, type: fine_cam, position: [0.5, -0.5, 0.05]}\n"
+      "keep_out:\n"
+      "  - {name: rail, min: [-0.1, -0.1, -0.1], max: [0.1, 0.1, 0.1],\n"
+      "     pose: {xyz: [0.5, 0.5, 0.05], rpy_deg: [0, 0, 45]}}\n");
+  const auto run = RunVantage("evaluate " + scene + " --out " + dir.File("e"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json e = Report(dir.File("e"));
+  EXPECT_FALSE(e["constraints"]["applied"].get<bool>());
+  EXPECT_EQ(e["constraints"]["keep_out"]["candidates_inside"], 1);
+  EXPECT_EQ(e["results"][0]["constraints"]["keep_out_violations"], json::array({"a"}));
+  EXPECT_FALSE(e["results"][0]["constraints"]["satisfied"].get<bool>());
+  EXPECT_NE(run.out.find("breaks           a lies inside a keep-out box"), std::string::npos)
+      << run.out;
+}
+
+TEST(MountingCli, BadMountingRulesExitTwoWithFileAndLine) {
+  test::TempDir dir;
+  const std::string base = CubeWithSensors(
+      dir, "  - {name: a, type: fine_cam, position: [0.5, 0.5, 0.05]}\n"
+           "  - {name: c, type: fine_cam, position: [0.5, -0.5, 0.05]}\n");
+  const std::string base_text = test::ReadText(base);
+  const size_t lines = static_cast<size_t>(std::count(base_text.begin(), base_text.end(), '\n'));
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      {"min_separation: -1\n", "", "min_separation = -1 must be positive"},
+      {"keep_out:\n  - {min: [0, 0, 0], max: [1, 0, 1]}\n", "",
+       "keep_out 'keep_out[0]': max must exceed min on every axis"},
+      {"keep_out:\n  - {center: [0, 0, 0]}\n", "", "keep_out[0] has no 'size'"},
+      {"keep_out:\n  - {size: [1, 1, 1], max: [1, 1, 1]}\n", "",
+       "needs either `size` (and an optional `center`) or `min` and `max`"},
+      {"keep_out:\n  - {size: [2, 2, 2], center: [0, 0, 0]}\n", "",
+       "every one of the 2 candidates lies inside a keep_out box"},
+      {"min_separation: 0.5\n", " --k 2", "min_separation works with the coverage objective"},
+      {"keep_out:\n  - {size: [0.1, 0.1, 0.1]}\n", " --refine",
+       "keep_out does not combine with --refine"},
+  };
+  for (const auto& [extra, flags, message] : cases) {
+    const std::string scene = dir.File("bad.yaml");
+    test::WriteText(scene, base_text + extra);
+    const auto run =
+        RunVantage("optimize " + scene + flags + " --out " + dir.File("x"));
+    EXPECT_EQ(run.exit_code, 2) << extra;
+    EXPECT_NE(run.err.find(scene + ":" + std::to_string(lines + (extra.find("keep_out") == 0 ? 2 : 1))),
+              std::string::npos)
+        << extra << ": " << run.err;
+    EXPECT_NE(run.err.find(message), std::string::npos) << extra << ": " << run.err;
     EXPECT_FALSE(std::filesystem::exists(dir.File("x")));
   }
 }

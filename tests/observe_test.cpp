@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -84,6 +85,77 @@ TEST(Observe, PlateHidingHalfTheFaceHalvesCoverage) {
   scene.objects.push_back(Box("plate", Role::kOccluder, Vec3(0.5, 0.25, 0), Vec3(0.01, 0.5, 0.5)));
   const Candidate cam = CameraLookingMinusX(Vec3(1, 0, 0), 400, 0.1, 0.2, 3.0);
   EXPECT_DOUBLE_EQ(CoverageOf(scene, kCell, {cam}), 0.5 * kFace / kShell);
+}
+
+// Point density (docs/constraints.md): a fronto-parallel plate seen head-on by two pinhole
+// cameras at depths 0.5 m and 1 m. By hand: a pixel at depth t covers (t / f)² of the plate, so a
+// cell of face F² holds F² f² / t² pixels: with F = 1 cm, f = 500 px, 100 at 0.5 m (1 mm pixels)
+// and 25 at 1 m (2 mm pixels). The pixel centres sit at (j + 1/2) mm (near) and (2 j + 1) mm
+// (far), never on a cell boundary, so each of the plate's 4 x 4 front cells holds exactly 10 x 10
+// or 5 x 5 of them; no ray reaches the plate's sides.
+TEST(Observe, PointCountsOfAPlateAtTwoDistances) {
+  Scene scene;
+  // Front face at x = F/2 (mid-cell of layer 0), y and z in [-2F, 2F] (cell boundaries).
+  scene.objects.push_back(Box("plate", Role::kTarget, Vec3::Zero(), Vec3(kCell, 4 * kCell, 4 * kCell)));
+  const auto camera = [](double depth, const std::string& name) {
+    Candidate c = CameraLookingMinusX(Vec3(0.5 * kCell + depth, 0, 0), 60, 0.1, 0.1, 3.0);
+    c.name = name;
+    c.sensor.fx = c.sensor.fy = 500;
+    c.sensor.cx = c.sensor.cy = 30;
+    return c;
+  };
+  // The far camera first: plain coverage ties and keeps the lower index, the far one.
+  const std::vector<Candidate> cameras = {camera(1.0, "far"), camera(0.5, "near")};
+  const Reference reference = BuildReference(scene, {kCell});
+  const std::vector<Observation> obs = Observe(scene, reference, cameras);
+  const auto hits_in = [&](const Observation& o, int64_t y, int64_t z) -> int {
+    const uint64_t key = PackVoxel({0, y, z});
+    const auto r = std::lower_bound(reference.keys.begin(), reference.keys.end(), key);
+    if (r == reference.keys.end() || *r != key) return -1;
+    const auto cell = static_cast<uint32_t>(r - reference.keys.begin());
+    const auto j = std::lower_bound(o.reference_indices.begin(), o.reference_indices.end(), cell);
+    if (j == o.reference_indices.end() || *j != cell) return 0;
+    return o.reference_hits.at(static_cast<size_t>(j - o.reference_indices.begin()));
+  };
+  for (int64_t y = -2; y < 2; ++y) {
+    for (int64_t z = -2; z < 2; ++z) {
+      EXPECT_EQ(hits_in(obs[0], y, z), 25) << y << " " << z;
+      EXPECT_EQ(hits_in(obs[1], y, z), 100) << y << " " << z;
+    }
+  }
+  for (const Observation& o : obs) {
+    ASSERT_TRUE(o.has_point_counts());
+    EXPECT_EQ(o.reference_indices.size(), 16u);  // the front face only
+  }
+  const double face = 16.0 / static_cast<double>(reference.size());
+  const CoverageEvaluator evaluator(obs, reference.size());
+  EXPECT_DOUBLE_EQ(evaluator.PointCoverage(std::vector<uint32_t>{0}, 25), face);
+  EXPECT_DOUBLE_EQ(evaluator.PointCoverage(std::vector<uint32_t>{0}, 26), 0.0);
+  EXPECT_DOUBLE_EQ(evaluator.PointCoverage(std::vector<uint32_t>{1}, 100), face);
+  EXPECT_DOUBLE_EQ(evaluator.PointCoverage(std::vector<uint32_t>{0, 1}, 125), face);
+  EXPECT_DOUBLE_EQ(evaluator.PointCoverage(std::vector<uint32_t>{0, 1}, 126), 0.0);
+  // One sensor and 60 points a cell (60 per cm²: F² = 1 cm²): the near one only; plain coverage
+  // cannot tell them apart and keeps the far one.
+  for (const Method method : {Method::kGreedy, Method::kLocal, Method::kExact, Method::kRansac}) {
+    SelectOptions options;
+    options.method = method;
+    options.n = 1;
+    options.min_points = 60;
+    const Selection s = Select(obs, reference.size(), options).front();
+    EXPECT_EQ(s.chosen, std::vector<uint32_t>{1}) << s.method;
+    EXPECT_DOUBLE_EQ(s.coverage, face) << s.method;
+    options.min_points.reset();
+    if (method == Method::kRansac) continue;  // its random draws break ties by draw order
+    EXPECT_EQ(Select(obs, reference.size(), options).front().chosen, std::vector<uint32_t>{0});
+  }
+  // 120 points: neither alone (100, 25), both together (125).
+  SelectOptions both;
+  both.method = Method::kExact;
+  both.n = 1;
+  both.min_points = 120;
+  EXPECT_DOUBLE_EQ(Select(obs, reference.size(), both).front().coverage, 0.0);
+  both.n = 2;
+  EXPECT_DOUBLE_EQ(Select(obs, reference.size(), both).front().coverage, face);
 }
 
 TEST(Observe, TargetBeyondFarIsNotSeen) {

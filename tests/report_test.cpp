@@ -9,6 +9,7 @@
 
 #include "test_util.hpp"
 #include "vantage/error.hpp"
+#include "vantage/pipeline.hpp"
 #include "vantage/report.hpp"
 
 namespace vantage {
@@ -81,6 +82,78 @@ TEST(VisibilityFile, RoundTripKeepsEverything) {
     EXPECT_EQ(back.observations[i].reference_indices, data.observations[i].reference_indices);
     EXPECT_EQ(back.observations[i].outside_keys, data.observations[i].outside_keys);
     EXPECT_EQ(back.observations[i].rays_traced, data.observations[i].rays_traced);
+  }
+}
+
+TEST(VisibilityFile, RoundTripKeepsPointCounts) {
+  test::TempDir dir;
+  VisibilityFile data = SmallData();
+  for (size_t i = 0; i < data.observations.size(); ++i) {
+    Observation& o = data.observations[i];
+    for (size_t j = 0; j < o.reference_indices.size(); ++j)
+      o.reference_hits.push_back(static_cast<uint16_t>(i == 2 ? 65535 : 7 * i + j + 1));
+  }
+  SaveVisibilityFile(dir.File("m.vis"), data);
+  const VisibilityFile back = LoadVisibilityFile(dir.File("m.vis"));
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_TRUE(back.observations[i].has_point_counts());
+    EXPECT_EQ(back.observations[i].reference_hits, data.observations[i].reference_hits);
+  }
+  // Counts that do not match the cells are refused.
+  data.observations[1].reference_hits.pop_back();
+  SaveVisibilityFile(dir.File("bad.vis"), data);
+  EXPECT_THROW(LoadVisibilityFile(dir.File("bad.vis")), InputError);
+}
+
+// The bytes of a format-3 file (no point counts): a version-4 file without counts, less each
+// observation's empty count list (8 zero bytes, last in each candidate), with version 3 and the
+// checksum recomputed here (FNV-1a 64).
+std::string AsVersion3(std::string bytes, const std::vector<std::string>& names) {
+  std::string body = bytes.substr(0, bytes.size() - 8);
+  const std::string zero(8, '\0');
+  // The list ends each candidate: before the next candidate's name (u64 length + text) or the end.
+  for (size_t i = 1; i <= names.size(); ++i) {
+    size_t at = body.size() - 8;
+    if (i < names.size()) {
+      uint64_t length = names[i].size();
+      std::string next = zero + std::string(reinterpret_cast<const char*>(&length), 8) + names[i];
+      at = body.find(next);
+    }
+    EXPECT_NE(at, std::string::npos);
+    EXPECT_EQ(body.substr(at, 8), zero);
+    body.erase(at, 8);
+  }
+  body[8] = 3;
+  uint64_t h = 0xCBF29CE484222325ull;
+  for (const unsigned char c : body) h = (h ^ c) * 0x100000001B3ull;
+  return body + std::string(reinterpret_cast<const char*>(&h), 8);
+}
+
+TEST(VisibilityFile, OldVersionLoadsWithoutCountsAndMinPointsRefusesIt) {
+  test::TempDir dir;
+  const VisibilityFile data = SmallData();  // no counts
+  SaveVisibilityFile(dir.File("new.vis"), data);
+  const std::vector<std::string> names = {"cam0", "cam1", "cam2"};
+  test::WriteText(dir.File("old.vis"), AsVersion3(test::ReadText(dir.File("new.vis")), names));
+  const VisibilityFile old = LoadVisibilityFile(dir.File("old.vis"));
+  ASSERT_EQ(old.observations.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(old.observations[i].reference_indices, data.observations[i].reference_indices);
+    EXPECT_FALSE(old.observations[i].has_point_counts());
+  }
+  SelectFileOptions options;
+  options.visibility_file = dir.File("old.vis");
+  options.selection.method = Method::kGreedy;
+  EXPECT_NO_THROW(SelectFromFile(options));  // plain selection still reads it
+  options.selection.min_points = 5;
+  try {
+    SelectFromFile(options);
+    ADD_FAILURE() << "--min-points accepted a file without counts";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(dir.File("old.vis")), std::string::npos) << what;
+    EXPECT_NE(what.find("--min-points"), std::string::npos) << what;
+    EXPECT_NE(what.find("observe"), std::string::npos) << what;
   }
 }
 

@@ -12,10 +12,13 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <string>
 
 #include <coin/Clp_C_Interface.h>
 
+#include "pipeline/common.hpp"
 #include "select/coverage_matrix.hpp"
+#include "select/lp_bound.hpp"
 #include "select/methods.hpp"
 #include "select/objective_bounds.hpp"
 #include "test_util.hpp"
@@ -754,19 +757,46 @@ std::vector<size_t> MaskUnions(const std::vector<Observation>& obs) {
   return cells;
 }
 
+// The weight of every merged element.
+std::vector<uint32_t> ElementWeights(const detail::CoverageMatrix& matrix) {
+  std::vector<uint32_t> weights;
+  for (uint32_t e = 0; e < matrix.element_count(); ++e) weights.push_back(matrix.Weight(e));
+  return weights;
+}
+
+// The most cells of at most n candidates, from MaskUnions' table.
+size_t MaskOptimum(const std::vector<size_t>& cells, size_t n) {
+  size_t optimum = 0;
+  for (uint32_t mask = 0; mask < cells.size(); ++mask) {
+    if (std::popcount(mask) <= static_cast<int>(n)) optimum = std::max(optimum, cells[mask]);
+  }
+  return optimum;
+}
+
+// Every selection of at most n candidates that reaches `threshold` cells contains each of
+// fixing.fixed_in and none of fixing.removed (checked against MaskUnions' table).
+void ExpectFixingKeepsThem(const std::vector<size_t>& cells, size_t n, size_t threshold,
+                           const detail::Fixing& fixing, const std::string& where) {
+  for (uint32_t mask = 0; mask < cells.size(); ++mask) {
+    if (std::popcount(mask) > static_cast<int>(n) || cells[mask] < threshold) continue;
+    for (const uint32_t i : fixing.removed) {
+      EXPECT_FALSE(mask & (1u << i)) << where << " removed " << i;
+    }
+    for (const uint32_t i : fixing.fixed_in) {
+      EXPECT_TRUE(mask & (1u << i)) << where << " fixed " << i;
+    }
+  }
+}
+
 TEST(Lagrangian, FixingKeepsEverySelectionThatReachesTheThreshold) {
   int fixed_in = 0, removed = 0;
   for (int trial = 0; trial < 40; ++trial) {
     const auto [m, r, obs] = SweepInstance({6, 11, 7, 0.08, 0.04, 6, 1300}, trial);
     const detail::CoverageMatrix matrix(obs, r);
-    std::vector<uint32_t> weights;
-    for (uint32_t e = 0; e < matrix.element_count(); ++e) weights.push_back(matrix.Weight(e));
+    const std::vector<uint32_t> weights = ElementWeights(matrix);
     const std::vector<size_t> cells = MaskUnions(obs);
     for (size_t n = 1; n <= std::min<size_t>(m - 1, 6); ++n) {
-      size_t optimum = 0;
-      for (uint32_t mask = 0; mask < cells.size(); ++mask) {
-        if (std::popcount(mask) <= static_cast<int>(n)) optimum = std::max(optimum, cells[mask]);
-      }
+      const size_t optimum = MaskOptimum(cells, n);
       // Thresholds: the optimum (fixing then keeps every optimum) and one cell below it.
       for (const size_t threshold : {optimum, optimum - 1}) {
         const detail::LagrangianBound bound =
@@ -776,15 +806,8 @@ TEST(Lagrangian, FixingKeepsEverySelectionThatReachesTheThreshold) {
             problem, detail::EvaluateExactly(problem, bound.lambda), threshold);
         fixed_in += static_cast<int>(fixing.fixed_in.size());
         removed += static_cast<int>(fixing.removed.size());
-        for (uint32_t mask = 0; mask < cells.size(); ++mask) {
-          if (std::popcount(mask) > static_cast<int>(n) || cells[mask] < threshold) continue;
-          for (const uint32_t i : fixing.removed) {
-            EXPECT_FALSE(mask & (1u << i)) << "trial " << trial << " n " << n << " removed " << i;
-          }
-          for (const uint32_t i : fixing.fixed_in) {
-            EXPECT_TRUE(mask & (1u << i)) << "trial " << trial << " n " << n << " fixed " << i;
-          }
-        }
+        ExpectFixingKeepsThem(cells, n, threshold, fixing,
+                              "trial " + std::to_string(trial) + " n " + std::to_string(n));
       }
     }
   }
@@ -848,6 +871,92 @@ TEST(Lagrangian, IsNeverBelowClpsLpOptimumAndConvergesToIt) {
       EXPECT_LE(static_cast<double>(bound.value), lp + 0.01) << "trial " << trial << " n " << n;
     }
   }
+}
+
+// L at CLP's multipliers, exactly (EvaluateExactly's fixed point back in cells).
+long double ExactValue(const detail::LagrangianProblem& problem, std::span<const double> lambda) {
+  const detail::ExactLagrangian exact = detail::EvaluateExactly(problem, lambda);
+  return std::ldexp(static_cast<long double>(exact.scaled_value), -exact.bits);
+}
+
+TEST(LpBound, ClpsMultipliersProveTheLpOptimumColdOrWarmStarted) {
+  for (int trial = 0; trial < 12; ++trial) {
+    const size_t m = 8 + trial;
+    const size_t r = 30 + 2 * trial;
+    const std::vector<Observation> obs = WeightedRandomInstance(3100 + trial, m, r, 0.15);
+    const detail::CoverageMatrix matrix(obs, r);
+    const std::vector<uint32_t> weights = ElementWeights(matrix);
+    for (size_t n = 2; n <= 5; ++n) {
+      const double lp = ClpLpBound(obs, r, n);  // on the cells, no merging: independent
+      const size_t optimum = BruteForceOptimum(obs, n);
+      const detail::LagrangianProblem problem{matrix.rows(), weights, n};
+      const detail::LagrangianBound subgradient =
+          detail::LagrangianUpperBound(matrix, n, 0, 50, 1e9);
+      for (const bool warm : {false, true}) {
+        detail::ClpCoverageLp model(problem);
+        const detail::ClpLpSolution solution =
+            warm ? model.Solve(60, subgradient.lambda) : model.Solve(60);
+        ASSERT_TRUE(solution.optimal) << "trial " << trial << " n " << n << " warm " << warm;
+        EXPECT_NEAR(solution.objective, lp, 1e-6) << "trial " << trial << " n " << n;
+        const long double value = ExactValue(problem, solution.lambda);
+        // A proof (weak duality holds for any multipliers) ...
+        EXPECT_GE(value, static_cast<long double>(lp) - 1e-7) << "trial " << trial << " n " << n;
+        EXPECT_GE(std::floor(value), static_cast<long double>(optimum));
+        // ... equal to the LP optimum up to the truncation of lambda to 2^-24 (60 elements).
+        EXPECT_LE(value, static_cast<long double>(lp) + 1e-5) << "trial " << trial << " n " << n;
+        // The LP's x: in [0, 1], at most n in all.
+        double total = 0;
+        for (const double x : solution.x) {
+          EXPECT_GE(x, -1e-9);
+          EXPECT_LE(x, 1 + 1e-9);
+          total += x;
+        }
+        EXPECT_LE(total, static_cast<double>(n) + 1e-6);
+      }
+    }
+  }
+}
+
+TEST(LpBound, ReducedCostFixingNeverRemovesAnOptimalCandidate) {
+  int removed = 0, fixed_in = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const auto [m, r, obs] = SweepInstance({6, 11, 7, 0.08, 0.04, 6, 4100}, trial);
+    const detail::CoverageMatrix matrix(obs, r);
+    const std::vector<uint32_t> weights = ElementWeights(matrix);
+    const std::vector<size_t> cells = MaskUnions(obs);
+    for (size_t n = 1; n <= std::min<size_t>(m - 1, 6); ++n) {
+      const size_t optimum = MaskOptimum(cells, n);
+      const detail::LagrangianProblem problem{matrix.rows(), weights, n};
+      detail::ClpCoverageLp model(problem);
+      const detail::ClpLpSolution solution = model.Solve(60);
+      ASSERT_TRUE(solution.optimal);
+      const detail::Fixing fixing = detail::LagrangianFixing(
+          problem, detail::EvaluateExactly(problem, solution.lambda), optimum);
+      removed += static_cast<int>(fixing.removed.size());
+      fixed_in += static_cast<int>(fixing.fixed_in.size());
+      ExpectFixingKeepsThem(cells, n, optimum, fixing,
+                            "trial " + std::to_string(trial) + " n " + std::to_string(n));
+    }
+  }
+  EXPECT_GT(removed, 100);  // the LP bound is tight enough here to remove many
+  EXPECT_GT(fixed_in, 10);
+}
+
+// CLP stops at its time limit on an LP it cannot finish, and what it has is still a valid bound.
+TEST(LpBound, KeepsItsTimeLimit) {
+  const std::vector<Observation> obs = RandomInstance(29, 400, 4000, 0.02);
+  const detail::CoverageMatrix matrix(obs, 4000);
+  const std::vector<uint32_t> weights = ElementWeights(matrix);
+  const detail::LagrangianProblem problem{matrix.rows(), weights, 25};
+  detail::ClpCoverageLp model(problem);
+  const auto begin = std::chrono::steady_clock::now();
+  const detail::ClpLpSolution solution = model.Solve(0.1);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  EXPECT_LE(seconds, 0.3);
+  const std::vector<uint32_t> greedy = detail::GreedyComplete(detail::CellScorer(matrix), {}, 25);
+  EXPECT_GE(std::floor(ExactValue(problem, solution.lambda)),
+            static_cast<long double>(matrix.CoveredWeight(greedy)));
 }
 
 TEST(BranchAndBound, FindsAndProvesTheEnumeratedOptimum) {
@@ -1188,6 +1297,128 @@ TEST(Objectives, ZeroCostSensorsComeFirstAndFreeOnesStillCount) {
   const Selection s = Select(obs, 6, BudgetOptions(Method::kGreedy, 1, {1, 0, 1})).at(0);
   EXPECT_EQ(s.chosen, (std::vector<uint32_t>{1, 0}));
   EXPECT_EQ(s.cost, 1.0);
+}
+
+// Cells in which `chosen` together put at least `min_points` hits, counted from the hits alone.
+size_t PointUnionSize(const std::vector<Observation>& obs, const std::vector<uint32_t>& chosen,
+                      uint32_t min_points) {
+  std::map<uint32_t, uint64_t> points;
+  for (const uint32_t c : chosen) {
+    for (size_t j = 0; j < obs[c].reference_indices.size(); ++j)
+      points[obs[c].reference_indices[j]] += obs[c].reference_hits[j];
+  }
+  return static_cast<size_t>(std::count_if(points.begin(), points.end(),
+                                           [&](const auto& p) { return p.second >= min_points; }));
+}
+
+// Min-points (docs/constraints.md, "Point density") on random instances with random pixel
+// counts per cell, against the optimum by enumeration of every subset.
+TEST(Objectives, MinPointsAgainstBruteForce) {
+  for (uint64_t trial = 0; trial < 12; ++trial) {
+    SCOPED_TRACE(testing::Message() << "trial " << trial);
+    const size_t m = 6 + trial % 5;         // 6-10 candidates
+    const size_t r = 20 + 5 * (trial % 4);  // 20-35 cells
+    std::vector<Observation> obs = RandomInstance(700 + trial, m, r, 0.2 + 0.05 * (trial % 3));
+    Rng rng(800 + trial, Stream::kTest, 0);
+    for (Observation& o : obs) {
+      for (size_t j = 0; j < o.reference_indices.size(); ++j)
+        o.reference_hits.push_back(static_cast<uint16_t>(1 + rng.Below(12)));
+    }
+    const std::vector<std::vector<uint32_t>> subsets = AllSubsets(m);
+    for (const uint32_t points : {6u, 15u}) {
+      SCOPED_TRACE(testing::Message() << "min points " << points);
+      std::map<int, size_t> optimum, greedy_cells;
+      for (const auto& s : subsets) {
+        const int n = static_cast<int>(s.size());
+        if (n <= 4) optimum[n] = std::max(optimum[n], PointUnionSize(obs, s, points));
+      }
+      SelectOptions options;
+      options.method = Method::kAll;
+      options.n = 4;
+      options.min_points = points;
+      options.ransac_iterations = 30;
+      options.seed = trial;
+      ASSERT_EQ(options.objective(), Objective::kMinPoints);
+      const std::vector<Selection> results = Select(obs, r, options);
+      ASSERT_EQ(results.size(), 16u);  // ransac, greedy, local, exact for n = 1..4
+      for (const Selection& s : results) {
+        SCOPED_TRACE(testing::Message() << s.method << " n=" << s.n);
+        ASSERT_EQ(static_cast<int>(s.chosen.size()), s.n);
+        EXPECT_EQ(std::set<uint32_t>(s.chosen.begin(), s.chosen.end()).size(), s.chosen.size());
+        const size_t cells = PointUnionSize(obs, s.chosen, points);
+        EXPECT_DOUBLE_EQ(s.coverage, static_cast<double>(cells) / r);
+        EXPECT_EQ(s.objective, "min-points");
+        EXPECT_EQ(s.min_points, points);
+        EXPECT_LE(cells, optimum[s.n]);
+        if (s.method == "greedy") greedy_cells[s.n] = cells;
+        if (s.method == "local") EXPECT_GE(cells, greedy_cells[s.n]);
+        if (s.method == "exact") {
+          EXPECT_EQ(cells, optimum[s.n]);
+          EXPECT_TRUE(s.proven_optimal);
+          ASSERT_TRUE(s.upper_bound.has_value());
+          EXPECT_NEAR(*s.upper_bound, static_cast<double>(optimum[s.n]) / r, 1e-12);
+        }
+      }
+      // The weighted MILP itself in CBC (Select enumerates instances this small), from a
+      // deliberately poor start so that CBC has to find the optimum and prove its bound.
+      const detail::CoverageMatrix matrix(obs, r, points);
+      for (size_t n = 2; n <= 4; ++n) {
+        std::vector<uint32_t> start(n);
+        std::iota(start.begin(), start.end(), 0u);
+        const detail::ExactResult milp =
+            detail::SolveExactK(matrix, n, static_cast<int>(points), start, 60, false);
+        SCOPED_TRACE(testing::Message() << "MILP n=" << n << " " << milp.note);
+        ASSERT_EQ(milp.chosen.size(), n);
+        EXPECT_EQ(PointUnionSize(obs, milp.chosen, points), optimum[static_cast<int>(n)]);
+        EXPECT_TRUE(milp.proven_optimal);
+        EXPECT_EQ(milp.upper_bound, optimum[static_cast<int>(n)]);
+      }
+    }
+  }
+}
+
+// Every pixel count 1 and min_points = k: exactly k-coverage, whose optimum the existing methods
+// prove; min-points must find the same optimum.
+TEST(Objectives, MinPointsWithUnitCountsIsKCoverage) {
+  std::vector<Observation> obs = RandomInstance(901, 9, 30, 0.3);
+  for (Observation& o : obs) o.reference_hits.assign(o.reference_indices.size(), 1);
+  for (int k = 2; k <= 3; ++k) {
+    SelectOptions points;
+    points.method = Method::kExact;
+    points.n = 4;
+    points.min_points = static_cast<uint32_t>(k);
+    SelectOptions kcov = points;
+    kcov.min_points.reset();
+    kcov.k = k;
+    EXPECT_DOUBLE_EQ(Select(obs, 30, points).front().coverage,
+                     Select(obs, 30, kcov).front().coverage);
+  }
+}
+
+TEST(Objectives, MinPointsRefusesWhatItCannotCombineWith) {
+  std::vector<Observation> obs = RandomInstance(902, 5, 20, 0.3);
+  SelectOptions options;
+  options.n = 2;
+  options.min_points = 5;
+  const auto field_of = [&](const SelectOptions& o) -> std::string {
+    try {
+      o.Validate(obs.size());
+    } catch (const FieldError& e) {
+      return e.fields().front();
+    }
+    return "";
+  };
+  SelectOptions with_k = options;
+  with_k.k = 2;
+  EXPECT_EQ(field_of(with_k), "min_points");
+  SelectOptions kept = options;
+  kept.fixed = {0};
+  EXPECT_EQ(field_of(kept), "min_points");
+  SelectOptions best = options;
+  best.method = Method::kBest;
+  EXPECT_NE(field_of(best), "");
+  // Observations without pixel counts (an old visibility file): refused, naming min_points.
+  EXPECT_THROW(Select(obs, 20, options), FieldError);
 }
 
 TEST(Objectives, AgainstBruteForce) {
@@ -1710,6 +1941,46 @@ TEST(Constraints, ExactMatchesEnumerationOnRandomInstances) {
     }
   }
   EXPECT_EQ(instances, 24);
+}
+
+TEST(Constraints, SeparationPairsFromPositionsAndExactMatchesEnumeration) {
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    const size_t m = 8 + seed % 4;  // 8..11 candidates in a 1 m cube
+    Rng rng(seed, Stream::kTest, 2);
+    std::vector<Candidate> candidates(m);
+    for (Candidate& c : candidates)
+      c.world_from_body.position = Vec3(rng.Uniform01(), rng.Uniform01(), rng.Uniform01());
+    const double min_separation = 0.45;
+    // Every pair compared directly.
+    std::vector<std::pair<uint32_t, uint32_t>> expected;
+    for (uint32_t a = 0; a < m; ++a) {
+      for (uint32_t b = a + 1; b < m; ++b) {
+        const Vec3 d = candidates[a].world_from_body.position - candidates[b].world_from_body.position;
+        if (std::sqrt(d.x() * d.x() + d.y() * d.y() + d.z() * d.z()) < min_separation)
+          expected.emplace_back(a, b);
+      }
+    }
+    const std::vector<Conflict> pairs = detail::SeparationConflicts(candidates, min_separation);
+    ASSERT_EQ(pairs.size(), expected.size()) << "seed " << seed;
+    for (size_t i = 0; i < pairs.size(); ++i) {
+      EXPECT_EQ(std::make_pair(pairs[i].a, pairs[i].b), expected[i]) << "seed " << seed;
+      EXPECT_EQ(pairs[i].kind, ConflictKind::kSeparation);
+      EXPECT_LT(pairs[i].value, min_separation);
+    }
+    const std::vector<Observation> obs = RandomInstance(seed + 100, m, 40, 0.25);
+    SelectOptions options;
+    options.n = 3;
+    options.seed = seed;
+    options.method = Method::kExact;
+    options.constraints.conflicts = pairs;
+    const uint64_t optimum = constraints_test::EnumeratedOptimum(obs, 3, options.constraints);
+    const Selection exact = Select(obs, 40, options).front();
+    EXPECT_DOUBLE_EQ(exact.coverage, static_cast<double>(optimum) / 40.0) << "seed " << seed;
+    EXPECT_TRUE(CheckConstraints(obs, exact.chosen, options.constraints).conflicts.empty());
+    ASSERT_TRUE(exact.upper_bound.has_value());
+    EXPECT_GE(*exact.upper_bound + 1e-12, static_cast<double>(optimum) / 40.0);
+    EXPECT_TRUE(exact.proven_optimal) << "seed " << seed;
+  }
 }
 
 TEST(Constraints, ValidateNamesTheField) {

@@ -45,6 +45,7 @@ void SetupEvaluate(CLI::App* parent) {
                   "not given are the run's (its `inputs`). Without it: the sensors the scene "
                   "declares (a gz-sim world's cameras, a YAML scene's `sensors:`)");
   AddConstraintFlags(app, &flags->options.constraints);
+  AddPointDensityFlags(app, &flags->options.min_points, &flags->options.min_density);
   app->add_option("-o,--out", flags->out, "also write a report folder here")
       ->check(OutPathValidator());
   app->callback([flags] { RunEvaluate(*flags); });

@@ -26,6 +26,9 @@ void AddObserveFlags(CLI::App* app, ObserveOptions* observe, RunLimits* limits);
 void AddSelectionFlags(CLI::App* app, SelectionRequest* request);
 /// --interference, --interference-overlap, --calibration-overlap(-frac) (docs/constraints.md).
 void AddConstraintFlags(CLI::App* app, ConstraintOptions* constraints);
+/// --min-points and --min-density (optimize, select, evaluate).
+void AddPointDensityFlags(CLI::App* app, std::optional<int64_t>* min_points,
+                          std::optional<double>* min_density);
 /// --fov-tolerance, --alternatives-within (points, stored as a fraction).
 void AddRobustnessFlags(CLI::App* app, RobustnessOptions* robustness);
 

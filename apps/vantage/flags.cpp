@@ -188,6 +188,7 @@ void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {
                   "objective: k-coverage, a cell counts once k chosen sensors see it (k >= 2)");
   app->add_option("--budget", request->budget,
                   "objective: the most coverage for a total sensor cost within this budget");
+  AddPointDensityFlags(app, &request->min_points, &request->min_density);
   AddEnumOption<OverStates>(app, "--over-states", &request->over_states,
                             {OverStates::kMean, OverStates::kMin}, OverStatesName,
                             ParseOverStates,
@@ -197,6 +198,16 @@ void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {
                 "every answer keeps the sensors the scene declares (a gz-sim world's cameras, "
                 "a YAML scene's `sensors:`) and adds to them; -n counts them");
   AddConstraintFlags(app, &request->constraints);
+}
+
+void AddPointDensityFlags(CLI::App* app, std::optional<int64_t>* min_points,
+                          std::optional<double>* min_density) {
+  app->add_option("--min-points", *min_points,
+                  "point density: a cell counts once the chosen sensors together put at least "
+                  "this many pixels' hits in it (1..65535; docs/constraints.md)");
+  app->add_option("--min-density", *min_density,
+                  "point density in points per cm² of a cell's face (F²), converted to "
+                  "--min-points = ceil(D * F²)");
 }
 
 void AddConstraintFlags(CLI::App* app, ConstraintOptions* c) {

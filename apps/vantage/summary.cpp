@@ -3,6 +3,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -109,6 +110,14 @@ void PrintConstraints(const Report& report) {
     fmt::print("constraints      separation: {} pairs closer than {:g} m{}\n", pairs,
                *info.min_separation, info.is_applied ? " (never both chosen)" : "");
   }
+  if (info.keep_out_boxes > 0) {
+    fmt::print("constraints      keep-out: {} box{}; {}\n", info.keep_out_boxes,
+               info.keep_out_boxes == 1 ? "" : "es",
+               info.is_applied ? fmt::format("{} candidates inside excluded before observing",
+                                             info.keep_out_excluded)
+                               : fmt::format("{} of the sensors inside",
+                                             info.keep_out_violations.size()));
+  }
   if (constraints.calibration) {
     const CalibrationRule& rule = *constraints.calibration;
     fmt::print("constraints      calibration: the chosen must be connected by views sharing {}\n",
@@ -121,6 +130,10 @@ void PrintConstraints(const Report& report) {
   const ConstraintCheck check = CheckConstraints(data.observations, primary.chosen, constraints);
   for (const Conflict& c : check.conflicts)
     fmt::print("breaks           {}\n", ConflictText(c, data));
+  for (const uint32_t i : primary.chosen) {
+    if (std::binary_search(info.keep_out_violations.begin(), info.keep_out_violations.end(), i))
+      fmt::print("breaks           {} lies inside a keep-out box\n", data.candidates.at(i).name);
+  }
   if (info.is_applied) {
     const std::vector<Conflict> avoided = ConflictsAvoided(primary.chosen, constraints);
     const size_t shown = std::min<size_t>(avoided.size(), 5);
@@ -172,6 +185,12 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
       fmt::print("objective        {0}-coverage: a cell counts once {0} chosen sensors see it "
                  "(coverages below are {0}-coverages)\n",
                  first.k);
+    } else if (first.min_points) {
+      const double face_cm2 = std::pow(100.0 * data.reference.cell_size, 2);
+      fmt::print("objective        point density: a cell counts once the chosen sensors put >= "
+                 "{} points in it ({:.3g} per cm² of its {:.3g} cm² face; coverages below "
+                 "count such cells)\n",
+                 *first.min_points, *first.min_points / face_cm2, face_cm2);
     }
   }
   if (data.quality.active()) {

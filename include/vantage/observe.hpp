@@ -21,6 +21,8 @@ struct ObserveOptions {
   /// Trace only pixels whose ray can reach a target's bounds (exact: same result as tracing all).
   bool cull = true;
   QualityFilter quality;
+  /// Keep each cell's pixel count (Observation::reference_hits) for --min-points.
+  bool count_points = true;
   /// Called from worker threads with (candidates done, total); may be empty.
   std::function<void(size_t, size_t)> progress;
   /// InputError naming the option for an invalid quality filter.

@@ -91,6 +91,11 @@ struct SelectionRequest {
   std::optional<double> goal;                  ///< --goal, fraction
   std::optional<int> k;                        ///< --k
   std::optional<double> budget;                ///< --budget
+  /// --min-points: a cell counts once the chosen sensors put this many pixels' hits in it
+  /// (SelectOptions::min_points; docs/constraints.md, "Point density").
+  std::optional<int64_t> min_points;
+  /// --min-density [points per cm²]: min_points = ceil(D · F² in cm²), F the cell edge.
+  std::optional<double> min_density;
   std::optional<OverStates> over_states;       ///< --over-states, for a scene with states
   /// --keep-existing: every answer holds the explicitly declared sensors (candidates of no
   /// population: a world's cameras, a YAML scene's `sensors:`), SelectOptions::fixed.
@@ -100,10 +105,19 @@ struct SelectionRequest {
 
 /// The selection options of a run: the request over the scene's settings, costs from the
 /// candidates' types. InputError naming the option of the request that makes them invalid, or
-/// `source` (the scene or visibility file) when its own settings do.
+/// `source` (the scene or visibility file) when its own settings do. `cell_size` [m] converts
+/// --min-density into points per cell (MinPointsOfDensity); 0: not known (refused then).
 SelectOptions ResolveSelection(const SelectionSettings& settings, const SelectionRequest& request,
                                uint64_t seed, std::span<const Candidate> candidates,
-                               const std::string& source, Method default_method = Method::kAll);
+                               const std::string& source, Method default_method = Method::kAll,
+                               double cell_size = 0);
+
+/// Points per cell for a density of `per_cm2` points per cm² on a cell's face, F² (F the cell
+/// edge [m]): ceil(per_cm2 · (100 F)²), at least 1.
+uint32_t MinPointsOfDensity(double per_cm2, double cell_size);
+
+/// The largest --min-points: each sensor's count per cell saturates there (kMaxPointCount).
+inline constexpr int64_t kMaxMinPoints = 65535;
 
 /// Loads the scene and applies the overrides, without deploying candidates (evaluate, render).
 Problem LoadScene(const SceneInput& input);
@@ -120,6 +134,9 @@ struct PreparedScene {
   Timings timings;                   ///< load
   std::vector<std::string> notes;    ///< non-fatal remarks for the report
   bool cell_size_from_option = false;  ///< the cell size is the override's (for messages)
+  /// The candidates the scene's keep_out boxes excluded (docs/constraints.md, Mounting rules):
+  /// inside a box in the base scene or any state. Not in `candidates`; no ray is cast for them.
+  std::vector<Candidate> kept_out;
 };
 
 /// Loads the scene, applies the overrides and the states, deploys the candidates. InputError for
@@ -147,6 +164,8 @@ struct ObservedScene {
   std::vector<ObservedState> states;
   Timings timings;                     ///< load, reference, observe
   std::vector<std::string> notes;
+  MountingRules mounting;              ///< the scene's keep-out boxes and min_separation
+  size_t kept_out = 0;                 ///< candidates the keep-out boxes excluded (not observed)
 };
 
 // TraceFunction (observe.hpp): ObservePrepared calls it once per traced geometry, the scene's
@@ -217,6 +236,19 @@ struct SelectFileOptions {
 };
 RunResult SelectFromFile(const SelectFileOptions& options);
 
+/// The selection of `vantage select FILE` over an observed matrix (SelectFromFile and the Python
+/// module's Visibility.select): the request over the file's settings, its installation
+/// constraints resolved over the candidates (docs/constraints.md) and put into `options`.
+struct MatrixSelection {
+  SelectOptions options;                     ///< with `constraints` set when they apply
+  std::optional<ConstraintsInfo> constraints;  ///< report.json's `constraints`; nullopt: none
+};
+/// InputError naming the option (or `source`, the file, when --min-points needs the pixel
+/// counts it lacks), before any selection.
+MatrixSelection ResolveMatrixSelection(const VisibilityFile& data, const SelectionRequest& request,
+                                       uint64_t seed, Method default_method = Method::kAll,
+                                       const std::string& source = "");
+
 /// `vantage evaluate`: the coverage of given sensor poses.
 struct EvaluateOptions {
   /// Empty fields (path, model/resource paths, targets, cell size) take the constellation's
@@ -231,6 +263,10 @@ struct EvaluateOptions {
   /// The constraints the layout is checked against (report.json results[0].constraints); fields
   /// left unset take the constellation's run's. Interference is checked by default.
   ConstraintOptions constraints;
+  /// Point density: the layout's coverage counts only cells with this many points (--min-points,
+  /// or --min-density per cm²); both unset take the constellation's run's.
+  std::optional<int64_t> min_points;
+  std::optional<double> min_density;
 };
 struct EvaluateResult {
   RunResult run;                         ///< one result, method "given": every sensor

@@ -14,6 +14,31 @@
 
 namespace vantage {
 
+/// A region where no sensor may be mounted (a YAML scene's `keep_out:`, a world's
+/// `<vantage:keep_out>`; docs/constraints.md, Mounting rules): the box [min, max] in the frame
+/// `world_from_box` (the identity: axis-aligned in the world).
+struct KeepOutBox {
+  std::string name;  ///< as given, or "keep_out[i]"
+  Pose world_from_box;
+  Vec3 min = Vec3::Zero();
+  Vec3 max = Vec3::Zero();
+  std::string file;  ///< where it is declared, for messages
+  int line = 0;
+  /// Whether the world point lies inside the box or on its boundary.
+  bool Contains(const Vec3& world) const;
+};
+
+/// Where sensors may be mounted (docs/constraints.md, Mounting rules).
+struct MountingRules {
+  /// No candidate is deployed inside any of these (excluded before any ray).
+  std::vector<KeepOutBox> keep_out;
+  /// [m] Two chosen sensors must be at least this far apart (their optical centres).
+  std::optional<double> min_separation;
+  std::string min_separation_file;  ///< where min_separation is declared, for messages
+  int min_separation_line = 0;
+  bool empty() const { return keep_out.empty() && !min_separation; }
+};
+
 struct Problem {
   std::string source;  ///< path of the scene/world file
   Scene scene;
@@ -31,6 +56,7 @@ struct Problem {
   /// States of a changing scene (`states:`; docs/scene-format.md, States), in file order; empty
   /// when the scene does not change. Each applies to `scene` through ApplyState.
   std::vector<SceneState> states;
+  MountingRules mounting;  ///< keep-out boxes and the minimum separation
 
   /// Looks up a sensor type by id; nullptr when absent.
   const SensorType* FindType(const std::string& id) const;

@@ -68,6 +68,8 @@ struct RunInputs {
   std::optional<double> goal;               ///< --goal
   std::optional<int> k;                     ///< --k
   std::optional<double> budget;             ///< --budget
+  std::optional<int> min_points;            ///< --min-points
+  std::optional<double> min_density;        ///< --min-density [points per cm²]
   std::optional<std::string> over_states;   ///< --over-states
   bool keep_existing = false;               ///< --keep-existing
   std::optional<bool> interference;         ///< --interference
@@ -98,6 +100,10 @@ struct ConstraintsInfo {
   std::optional<double> interference_overlap;  ///< set when interference is on
   size_t projecting = 0;                       ///< candidates whose type projects light
   std::optional<double> min_separation;        ///< [m], the scene's, when set
+  size_t keep_out_boxes = 0;                   ///< the scene's keep-out boxes
+  size_t keep_out_excluded = 0;  ///< candidates the boxes excluded before observing
+  /// Candidates inside a keep-out box (evaluate: given sensors; optimize: none, all excluded).
+  std::vector<uint32_t> keep_out_violations;
   bool is_applied = true;  ///< selection obeyed them (false: evaluate only checks them)
 };
 

@@ -43,17 +43,21 @@ struct Robustness {
   std::vector<Alternative> alternatives;    ///< best first
 };
 
-/// Coverage without each chosen sensor (k-coverage when k >= 2), in chosen order.
+/// Coverage without each chosen sensor (k-coverage when k >= 2; with `min_points`, the cells
+/// with that many points), in chosen order.
 std::vector<SensorFailure> SensorFailures(const CoverageEvaluator& evaluator,
-                                          std::span<const uint32_t> chosen, int k = 1);
+                                          std::span<const uint32_t> chosen, int k = 1,
+                                          std::optional<uint32_t> min_points = std::nullopt);
 
 /// The best single-sensor replacement for each chosen sensor whose coverage (k-coverage) is at
 /// least coverage(chosen) - `within` and, when `at_least` is given, reaches it (set cover's goal);
-/// best first, ties by the replaced sensor's position. Deterministic.
+/// best first, ties by the replaced sensor's position. Coverage counts as in SensorFailures.
+/// Deterministic.
 std::vector<Alternative> NearOptimalAlternatives(const CoverageEvaluator& evaluator,
                                                  std::span<const uint32_t> chosen, int k,
                                                  double within,
-                                                 std::optional<double> at_least = std::nullopt);
+                                                 std::optional<double> at_least = std::nullopt,
+                                                 std::optional<uint32_t> min_points = std::nullopt);
 
 /// The candidates with both fields of view narrowed by `tolerance_deg` (resolution and principal
 /// point kept, focal lengths grown), as a unit whose optics are at the datasheet's low end.

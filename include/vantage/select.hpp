@@ -19,9 +19,11 @@ enum class Objective {
   kSetCover,   ///< the fewest sensors whose coverage reaches SelectOptions::goal
   kKCoverage,  ///< maximum k-coverage with n sensors: a cell counts once k chosen sensors see it
   kBudget,     ///< maximum coverage with a total sensor cost within SelectOptions::budget
+  kMinPoints,  ///< maximum coverage with n sensors, a cell counting once it holds min_points points
 };
 
-/// "coverage", "set-cover", "k-coverage", "budget" (the `objective` key of report.json).
+/// "coverage", "set-cover", "k-coverage", "budget", "min-points" (the `objective` key of
+/// report.json).
 std::string ObjectiveName(Objective objective);
 
 struct SelectOptions {
@@ -52,9 +54,14 @@ struct SelectOptions {
   /// connectivity. Not empty: every method chooses only sets that satisfy them (the coverage
   /// objective only, without `fixed`).
   InstallConstraints constraints;
+  /// Point density (docs/constraints.md): a cell counts only once the chosen sensors together put
+  /// at least this many pixels' hits in it (Observation::reference_hits, which every observation
+  /// must then have). Methods ransac, greedy, local, exact, all; not with another objective,
+  /// `fixed` or `constraints`. 1 is plain coverage, counted the same way.
+  std::optional<uint32_t> min_points;
 
   /// The objective these options select: goal -> set cover, k >= 2 -> k-coverage, budget ->
-  /// budget, none -> coverage.
+  /// budget, min_points -> min-points, none -> coverage.
   Objective objective() const;
   /// Throws InputError naming the field: out-of-range values, more than one objective, or a
   /// method that does not apply to the objective.
@@ -77,6 +84,7 @@ struct Selection {
   std::string objective = "coverage";  ///< ObjectiveName of what was optimised
   std::optional<double> goal;          ///< set cover: the coverage goal, fraction
   int k = 1;                           ///< k of k-coverage (1 otherwise)
+  std::optional<uint32_t> min_points;  ///< min-points: the points a cell needs
   std::optional<double> budget;        ///< budget: the budget
   std::optional<double> cost;          ///< budget: total cost of the chosen sensors
   std::optional<int> n_lower_bound;    ///< set cover: proven least number of sensors
@@ -95,6 +103,15 @@ class CoverageEvaluator {
   double Coverage(std::span<const uint32_t> chosen, int k = 1) const;
   /// Cells of R plus distinct keys outside R seen by at least k of `chosen`, over |R|.
   double PaperCoverage(std::span<const uint32_t> chosen, int k = 1) const;
+  /// Cells of R in which `chosen` together put at least `min_points` pixels' hits
+  /// (reference_hits; InternalError when an observation has none).
+  size_t PointCoveredCount(std::span<const uint32_t> chosen, uint32_t min_points) const;
+  double PointCoverage(std::span<const uint32_t> chosen, uint32_t min_points) const;
+  /// PointCoverage with `min_points`, else Coverage with k: the coverage a result reports.
+  double CoverageUnder(std::span<const uint32_t> chosen, int k,
+                       std::optional<uint32_t> min_points) const {
+    return min_points ? PointCoverage(chosen, *min_points) : Coverage(chosen, k);
+  }
   size_t reference_size() const { return reference_size_; }
   /// The observation sets it evaluates (one per candidate, in candidate order).
   std::span<const Observation> observations() const { return observations_; }

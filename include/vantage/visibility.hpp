@@ -22,11 +22,18 @@ struct QualityFilter {
   void Validate() const;
 };
 
+/// Where Observation::reference_hits saturates.
+inline constexpr uint16_t kMaxPointCount = UINT16_MAX;
+
 /// O_i of one candidate.
 struct Observation {
   /// R's cells seen (indices into Reference::keys, sorted, unique) by pixels that pass the
   /// quality filter; with no filter, by any pixel. Selection maximises coverage of these.
   std::vector<uint32_t> reference_indices;
+  /// Point density (docs/constraints.md): per entry of reference_indices, the pixels (those that
+  /// counted it: passing the filter, if any) whose hit lies in that cell, saturating at
+  /// kMaxPointCount. Empty when not recorded (files of format version 3 and older).
+  std::vector<uint16_t> reference_hits;
   std::vector<uint64_t> outside_keys;  ///< packed keys seen but not in R, sorted, unique (same pixels)
   /// With a quality filter: R's cells seen by any pixel, passing or not (the plain coverage);
   /// empty without one.
@@ -34,6 +41,8 @@ struct Observation {
   uint64_t rays_traced = 0;     ///< pixels actually ray cast (after culling)
   uint64_t target_pixels = 0;   ///< pixels whose first hit is a target within [near, far]
   uint64_t quality_pixels = 0;  ///< of those, the ones that pass the quality filter
+  /// Whether reference_hits holds one count per cell of reference_indices.
+  bool has_point_counts() const { return reference_hits.size() == reference_indices.size(); }
 };
 
 /// The same observations counting every pixel (reference_indices = plain_reference_indices)

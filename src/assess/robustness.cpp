@@ -12,21 +12,23 @@
 namespace vantage {
 
 std::vector<SensorFailure> SensorFailures(const CoverageEvaluator& evaluator,
-                                          std::span<const uint32_t> chosen, int k) {
+                                          std::span<const uint32_t> chosen, int k,
+                                          std::optional<uint32_t> min_points) {
   std::vector<SensorFailure> failures;
   std::vector<uint32_t> others;
   for (size_t i = 0; i < chosen.size(); ++i) {
     others.assign(chosen.begin(), chosen.end());
     others.erase(others.begin() + static_cast<std::ptrdiff_t>(i));
-    failures.push_back({chosen[i], evaluator.Coverage(others, k)});
+    failures.push_back({chosen[i], evaluator.CoverageUnder(others, k, min_points)});
   }
   return failures;
 }
 
 std::vector<Alternative> NearOptimalAlternatives(const CoverageEvaluator& evaluator,
                                                  std::span<const uint32_t> chosen, int k,
-                                                 double within, std::optional<double> at_least) {
-  const double best = evaluator.Coverage(chosen, k);
+                                                 double within, std::optional<double> at_least,
+                                                 std::optional<uint32_t> min_points) {
+  const double best = evaluator.CoverageUnder(chosen, k, min_points);
   const auto candidate_count = static_cast<uint32_t>(evaluator.observations().size());
   std::vector<Alternative> alternatives;
   std::vector<uint32_t> swapped(chosen.begin(), chosen.end());
@@ -35,7 +37,7 @@ std::vector<Alternative> NearOptimalAlternatives(const CoverageEvaluator& evalua
     for (uint32_t j = 0; j < candidate_count; ++j) {
       if (std::find(chosen.begin(), chosen.end(), j) != chosen.end()) continue;
       swapped[slot] = j;
-      const double coverage = evaluator.Coverage(swapped, k);
+      const double coverage = evaluator.CoverageUnder(swapped, k, min_points);
       // Strictly better replacements first; ties keep the lower candidate index.
       if (!best_for_slot || coverage > best_for_slot->coverage)
         best_for_slot = Alternative{swapped, chosen[slot], j, coverage};
@@ -88,14 +90,15 @@ Robustness AssessRobustness(const VisibilityFile& data, const std::vector<Select
   const CoverageEvaluator evaluator(data.observations, data.reference.size());
   Robustness r;
   r.result = index;
-  r.failures = SensorFailures(evaluator, result.chosen, result.k);
+  r.failures = SensorFailures(evaluator, result.chosen, result.k, result.min_points);
   for (const SensorFailure& f : r.failures) {
     if (!r.worst || f.coverage < r.worst->coverage) r.worst = f;
   }
   r.alternatives_within = options.within;
   if (!result.budget)
     r.alternatives =
-        NearOptimalAlternatives(evaluator, result.chosen, result.k, options.within, result.goal);
+        NearOptimalAlternatives(evaluator, result.chosen, result.k, options.within, result.goal,
+                                result.min_points);
   if (rays && !result.chosen.empty()) {
     std::vector<Candidate> chosen;
     for (uint32_t i : result.chosen) chosen.push_back(data.candidates.at(i));
@@ -125,7 +128,8 @@ Robustness AssessRobustness(const VisibilityFile& data, const std::vector<Select
     std::vector<uint32_t> all(shrunk.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<uint32_t>(i);
     r.fov_tolerance_deg = options.fov_tolerance_deg;
-    r.fov_shrunk_coverage = CoverageEvaluator(shrunk, data.reference.size()).Coverage(all, result.k);
+    r.fov_shrunk_coverage = CoverageEvaluator(shrunk, data.reference.size())
+                                .CoverageUnder(all, result.k, result.min_points);
   }
   return r;
 }

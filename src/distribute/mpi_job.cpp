@@ -190,18 +190,19 @@ uint64_t AgreedCode(const std::vector<Vote>& votes) {
   return code;
 }
 
-// The observations of a share as bytes: per candidate its counts, then its three lists.
+// The observations of a share as bytes: per candidate its counts, then its four lists.
 std::string Encode(std::span<const Observation> observations) {
   std::string bytes;
   const auto put = [&](const void* p, size_t n) { bytes.append(static_cast<const char*>(p), n); };
   for (const Observation& o : observations) {
     const uint64_t header[] = {o.reference_indices.size(), o.outside_keys.size(),
                                o.plain_reference_indices.size(), o.rays_traced,
-                               o.target_pixels, o.quality_pixels};
+                               o.target_pixels, o.quality_pixels, o.reference_hits.size()};
     put(header, sizeof(header));
     put(o.reference_indices.data(), o.reference_indices.size() * 4);
     put(o.outside_keys.data(), o.outside_keys.size() * 8);
     put(o.plain_reference_indices.data(), o.plain_reference_indices.size() * 4);
+    put(o.reference_hits.data(), o.reference_hits.size() * 2);
   }
   return bytes;
 }
@@ -214,7 +215,7 @@ void Decode(const std::string& bytes, std::span<Observation> observations) {
     at += n;
   };
   for (Observation& o : observations) {
-    uint64_t header[6];
+    uint64_t header[7];
     get(header, sizeof(header));
     o.reference_indices.resize(header[0]);
     o.outside_keys.resize(header[1]);
@@ -222,9 +223,11 @@ void Decode(const std::string& bytes, std::span<Observation> observations) {
     o.rays_traced = header[3];
     o.target_pixels = header[4];
     o.quality_pixels = header[5];
+    o.reference_hits.resize(header[6]);
     get(o.reference_indices.data(), header[0] * 4);
     get(o.outside_keys.data(), header[1] * 8);
     get(o.plain_reference_indices.data(), header[2] * 4);
+    get(o.reference_hits.data(), header[6] * 2);
   }
   VANTAGE_CHECK(at == bytes.size());
 }

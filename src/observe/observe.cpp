@@ -21,27 +21,56 @@ using detail::ReferenceBlocks;
 using detail::RowSpan;
 using detail::SpansToTrace;
 
-// R's indices of the sorted unique `keys` go to `indices`, the rest to `outside` (may be null).
-// Both lists are sorted: one merge splits them.
-void SplitByReference(std::vector<uint64_t>* keys, const Reference& reference,
-                      std::vector<uint32_t>* indices, std::vector<uint64_t>* outside) {
-  std::sort(keys->begin(), keys->end());
-  keys->erase(std::unique(keys->begin(), keys->end()), keys->end());
+// The cells of one image's hits, in hit order: consecutive repeats merged into one run, since
+// neighbouring pixels mostly hit the same cell (which keeps the sort short), each with its pixels.
+struct KeyRuns {
+  std::vector<uint64_t> keys;
+  std::vector<uint32_t> pixels;  ///< per run; filled only when counting points
+  void Add(uint64_t key, bool count) {
+    if (!keys.empty() && keys.back() == key) {
+      if (count) ++pixels.back();
+      return;
+    }
+    keys.push_back(key);
+    if (count) pixels.push_back(1);
+  }
+};
+
+// R's indices of the cells of `runs` go to `indices` (with their pixels, saturated, to `hits` when
+// counted), the other keys to `outside` (may be null). Both lists are sorted: one merge splits them.
+void SplitByReference(KeyRuns* runs, const Reference& reference, std::vector<uint32_t>* indices,
+                      std::vector<uint16_t>* hits, std::vector<uint64_t>* outside) {
+  std::vector<uint64_t>& keys = runs->keys;
+  std::vector<uint32_t> pixels;
+  if (hits) {
+    // Sort the runs by key, summing the pixels of equal keys.
+    std::vector<std::pair<uint64_t, uint32_t>> pairs(keys.size());
+    for (size_t i = 0; i < keys.size(); ++i) pairs[i] = {keys[i], runs->pixels[i]};
+    std::sort(pairs.begin(), pairs.end());
+    keys.clear();
+    for (const auto& [key, count] : pairs) {
+      if (!keys.empty() && keys.back() == key) {
+        pixels.back() += count;
+      } else {
+        keys.push_back(key);
+        pixels.push_back(count);
+      }
+    }
+  } else {
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  }
   size_t r = 0;
-  for (uint64_t key : *keys) {
+  for (size_t i = 0; i < keys.size(); ++i) {
+    const uint64_t key = keys[i];
     while (r < reference.keys.size() && reference.keys[r] < key) ++r;
     if (r < reference.keys.size() && reference.keys[r] == key) {
       indices->push_back(static_cast<uint32_t>(r));
+      if (hits) hits->push_back(static_cast<uint16_t>(std::min<uint32_t>(pixels[i], kMaxPointCount)));
     } else if (outside) {
       outside->push_back(key);
     }
   }
-}
-
-// Appends `key` unless it repeats the last one: neighbouring pixels mostly hit the same cell,
-// and skipping repeats keeps the sort short.
-void AppendKey(std::vector<uint64_t>* keys, uint64_t key) {
-  if (keys->empty() || keys->back() != key) keys->push_back(key);
 }
 
 Observation ObserveOne(const RayScene& rays, const Reference& reference, const Candidate& candidate,
@@ -55,7 +84,8 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
       quality.max_incidence_deg ? std::cos(*quality.max_incidence_deg * std::numbers::pi / 180.0) : -1.0;
   const DepthNoise* noise = quality.max_depth_noise ? NoiseModelOf(candidate) : nullptr;
   Observation observation;
-  std::vector<uint64_t> keys, quality_keys;
+  KeyRuns keys, quality_keys;
+  const bool count = options.count_points;
 
   RayBatch batch;
   for (int a = 0; a < 3; ++a) batch.origin[a] = static_cast<float>(origin[a]);
@@ -81,7 +111,7 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
         VANTAGE_CHECK(VoxelIndexFits(index));
         const uint64_t key = PackVoxel(index);
         ++observation.target_pixels;
-        AppendKey(&keys, key);
+        keys.Add(key, count && !quality.active());
         if (!quality.active()) continue;
         bool passes = true;
         if (quality.max_incidence_deg) {
@@ -92,16 +122,18 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
         if (passes && noise) passes = noise->Sigma(t) <= *quality.max_depth_noise;
         if (!passes) continue;
         ++observation.quality_pixels;
-        AppendKey(&quality_keys, key);
+        quality_keys.Add(key, count);
       }
     }
   }
   if (!quality.active()) {
     observation.quality_pixels = observation.target_pixels;
-    SplitByReference(&keys, reference, &observation.reference_indices, &observation.outside_keys);
+    SplitByReference(&keys, reference, &observation.reference_indices,
+                     count ? &observation.reference_hits : nullptr, &observation.outside_keys);
   } else {
-    SplitByReference(&quality_keys, reference, &observation.reference_indices, &observation.outside_keys);
-    SplitByReference(&keys, reference, &observation.plain_reference_indices, nullptr);
+    SplitByReference(&quality_keys, reference, &observation.reference_indices,
+                     count ? &observation.reference_hits : nullptr, &observation.outside_keys);
+    SplitByReference(&keys, reference, &observation.plain_reference_indices, nullptr, nullptr);
   }
   return observation;
 }

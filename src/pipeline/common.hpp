@@ -46,25 +46,41 @@ Selection GivenSelection(const CoverageEvaluator& evaluator);
 
 /// InputError naming the constraint option (docs/constraints.md) that is invalid or cannot apply
 /// to `options` (another objective, kept sensors, states, refinement). Before any ray is cast.
+/// The scene's mounting rules likewise: min_separation (named by its file:line) where it cannot
+/// apply, keep_out with refinement (new poses could fall inside a box).
 void CheckConstraintRequest(const ConstraintOptions& request, const SelectOptions& options,
-                            bool has_states, bool refine);
+                            bool has_states, bool refine, const MountingRules& mounting = {});
+
+/// The pairs of candidates whose optical centres are closer than `min_separation` [m]
+/// (ConflictKind::kSeparation, value: the distance), sorted by (a, b).
+std::vector<Conflict> SeparationConflicts(std::span<const Candidate> candidates,
+                                          double min_separation);
 
 /// Per candidate, whether its type projects light (ProjectsLight, by its catalog id).
 std::vector<bool> ProjectingCandidates(std::span<const Candidate> candidates);
 
 /// The constraints selection must satisfy, from the request over the observed candidates:
-/// interference (on by default where it applies, with at least two projecting candidates) and
-/// calibration. nullopt when none is on or they cannot apply (CheckConstraintRequest refused
+/// interference (on by default where it applies, with at least two projecting candidates),
+/// calibration and the scene's mounting rules (separation pairs; the keep-out boxes, the
+/// `kept_out` candidates they excluded and the candidates inside one, which evaluate reports). nullopt when none is on or they cannot apply (CheckConstraintRequest refused
 /// explicit ones already).
 std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& request,
                                                   const SelectOptions& options,
                                                   std::span<const Candidate> candidates,
                                                   std::span<const Observation> observations,
-                                                  bool has_states, bool refine);
+                                                  bool has_states, bool refine,
+                                                  const MountingRules& mounting = {},
+                                                  size_t kept_out = 0);
 
 /// Removes the one-sensor alternatives that break the constraints selection obeyed.
 void DropInfeasibleAlternatives(const ConstraintsInfo& info, const VisibilityFile& data,
                                 Robustness* robustness);
+
+/// The points a cell needs from --min-points, or from --min-density on cells of edge `cell_size`
+/// (MinPointsOfDensity); unset when neither is given. InputError naming the option for a value
+/// out of range or both given.
+std::optional<uint32_t> ResolveMinPoints(std::optional<int64_t> min_points,
+                                         std::optional<double> min_density, double cell_size);
 
 /// Runs selection: over the states (SelectOverStates) when the scene has them, else Select.
 /// Fills `report`'s results and states block. With report->constraints set, selection obeys them.

@@ -4,7 +4,11 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
+#include <tuple>
 
 #include "pipeline/common.hpp"
 #include "vantage/error.hpp"
@@ -55,16 +59,64 @@ bool HasCalibration(const ConstraintOptions& c) {
 }  // namespace
 
 void CheckConstraintRequest(const ConstraintOptions& request, const SelectOptions& options,
-                            bool has_states, bool refine) {
+                            bool has_states, bool refine, const MountingRules& mounting) {
   request.Validate();
+  if (refine && !mounting.keep_out.empty()) {
+    const KeepOutBox& box = mounting.keep_out.front();
+    throw InputError(AtPlace(box.file, box.line,
+                             "keep_out does not combine with --refine yet (refined poses could "
+                             "fall inside a box) — drop --refine or the keep-out boxes"));
+  }
   const std::string why = Unsupported(options, has_states, refine);
   if (why.empty()) return;
+  if (mounting.min_separation)
+    throw InputError(AtPlace(mounting.min_separation_file, mounting.min_separation_line,
+                             "min_separation " + why));
   if (request.interference == true)
     throw InputError(AtPlace("--interference", 0, why));
   if (request.interference_overlap) throw InputError(AtPlace("--interference-overlap", 0, why));
   if (request.calibration_overlap) throw InputError(AtPlace("--calibration-overlap", 0, why));
   if (request.calibration_overlap_frac)
     throw InputError(AtPlace("--calibration-overlap-frac", 0, why));
+}
+
+std::vector<Conflict> SeparationConflicts(std::span<const Candidate> candidates,
+                                          double min_separation) {
+  // Hashing the centres into cubes of edge min_separation: a closer pair lies in neighbouring
+  // cubes, so only those are compared.
+  using Key = std::array<int64_t, 3>;
+  const auto key_of = [&](const Vec3& p) {
+    return Key{static_cast<int64_t>(std::floor(p.x() / min_separation)),
+               static_cast<int64_t>(std::floor(p.y() / min_separation)),
+               static_cast<int64_t>(std::floor(p.z() / min_separation))};
+  };
+  std::map<Key, std::vector<uint32_t>> cubes;
+  for (size_t i = 0; i < candidates.size(); ++i)
+    cubes[key_of(candidates[i].world_from_body.position)].push_back(static_cast<uint32_t>(i));
+  std::vector<Conflict> conflicts;
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    const Vec3& p = candidates[i].world_from_body.position;
+    const Key k = key_of(p);
+    for (int64_t dx = -1; dx <= 1; ++dx) {
+      for (int64_t dy = -1; dy <= 1; ++dy) {
+        for (int64_t dz = -1; dz <= 1; ++dz) {
+          const auto cube = cubes.find(Key{k[0] + dx, k[1] + dy, k[2] + dz});
+          if (cube == cubes.end()) continue;
+          for (const uint32_t j : cube->second) {
+            if (j <= i) continue;
+            const double distance = (candidates[j].world_from_body.position - p).norm();
+            if (distance < min_separation)
+              conflicts.push_back({static_cast<uint32_t>(i), j, ConflictKind::kSeparation,
+                                   distance});
+          }
+        }
+      }
+    }
+  }
+  std::sort(conflicts.begin(), conflicts.end(), [](const Conflict& x, const Conflict& y) {
+    return std::tie(x.a, x.b) < std::tie(y.a, y.b);
+  });
+  return conflicts;
 }
 
 std::vector<bool> ProjectingCandidates(std::span<const Candidate> candidates) {
@@ -78,7 +130,9 @@ std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& reque
                                                   const SelectOptions& options,
                                                   std::span<const Candidate> candidates,
                                                   std::span<const Observation> observations,
-                                                  bool has_states, bool refine) {
+                                                  bool has_states, bool refine,
+                                                  const MountingRules& mounting,
+                                                  size_t kept_out) {
   if (!Unsupported(options, has_states, refine).empty()) return std::nullopt;
   ConstraintsInfo info;
   const std::vector<bool> projecting = ProjectingCandidates(candidates);
@@ -103,7 +157,24 @@ std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& reque
     rule.min_fraction = request.calibration_overlap_frac;
     info.constraints.calibration = rule;
   }
-  if (!info.interference_overlap && !info.constraints.calibration) return std::nullopt;
+  if (mounting.min_separation) {
+    info.min_separation = mounting.min_separation;
+    std::vector<Conflict> pairs = SeparationConflicts(candidates, *mounting.min_separation);
+    spdlog::info("constraints: {} pairs of candidates closer than min_separation {} m",
+                 pairs.size(), *mounting.min_separation);
+    MergeConflicts(std::move(pairs), &info.constraints.conflicts);
+  }
+  info.keep_out_boxes = mounting.keep_out.size();
+  info.keep_out_excluded = kept_out;
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    const Vec3& p = candidates[i].world_from_body.position;
+    if (std::any_of(mounting.keep_out.begin(), mounting.keep_out.end(),
+                    [&](const KeepOutBox& box) { return box.Contains(p); }))
+      info.keep_out_violations.push_back(static_cast<uint32_t>(i));
+  }
+  if (!info.interference_overlap && !info.constraints.calibration && !info.min_separation &&
+      info.keep_out_boxes == 0)
+    return std::nullopt;
   return info;
 }
 

@@ -118,6 +118,7 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   options.observe.Validate();
   options.limits.Validate();
   options.constraints.Validate();
+  detail::ResolveMinPoints(options.min_points, options.min_density, 0.01);  // before any work
   Constellation constellation;
   if (options.constellation.empty()) {
     constellation = DeclaredLayout(options.scene);
@@ -136,9 +137,8 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   if (!options.constellation.empty())
     observe.quality =
         InheritQuality(options.observe.quality, constellation, options.constellation);
-  // The constraints, the caller's over the run's, checked before any ray: the caller's own
-  // flags first, so that their errors name them.
-  options.constraints.Validate();
+  // The constraints, the caller's (checked above, so that their errors name the flags) over the
+  // run's, checked before any ray.
   ConstraintOptions constraints = options.constraints;
   if (constellation.inputs) {
     const RunInputs& run_inputs = *constellation.inputs;
@@ -173,15 +173,32 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   report.data = run.data.get();
   report.results = {reobserved.given};
   report.timings = reobserved.timings;
+  std::optional<int64_t> min_points = options.min_points;
+  std::optional<double> min_density = options.min_density;
+  if (!min_points && !min_density && constellation.inputs) {
+    min_points = constellation.inputs->min_points;
+    min_density = constellation.inputs->min_density;
+  }
+  if (const std::optional<uint32_t> points =
+          detail::ResolveMinPoints(min_points, min_density, run.data->reference.cell_size)) {
+    // The layout's coverage counting only the cells with enough points (docs/constraints.md).
+    SelectOptions density;
+    density.min_points = points;
+    const double seconds = report.results.front().seconds;
+    report.results.front() = ScoreChosen(evaluator, report.results.front().chosen, "given", density);
+    report.results.front().seconds = seconds;
+  }
   report.constraints = detail::ResolveConstraints(constraints, SelectOptions{},
                                                   run.data->candidates, run.data->observations,
-                                                  false, false);
+                                                  false, false, reobserved.problem.mounting);
   if (report.constraints) report.constraints->is_applied = false;
   report.inputs = detail::InputsOf("evaluate", scene, observe);
   report.inputs->interference = options.constraints.interference;
   report.inputs->interference_overlap = options.constraints.interference_overlap;
   report.inputs->calibration_overlap = options.constraints.calibration_overlap;
   report.inputs->calibration_overlap_frac = options.constraints.calibration_overlap_frac;
+  if (options.min_points) report.inputs->min_points = static_cast<int>(*options.min_points);
+  report.inputs->min_density = options.min_density;
   if (!options.constellation.empty())
     report.inputs->constellation = fs::absolute(options.constellation).string();
   DeriveReport(&report);

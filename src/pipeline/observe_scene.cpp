@@ -271,6 +271,8 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
   result.notes = std::move(prepared.notes);
   result.notes.insert(result.notes.end(), problem.notes.begin(), problem.notes.end());
   result.scene = std::move(problem.scene);
+  result.mounting = problem.mounting;
+  result.kept_out = prepared.kept_out.size();
   result.populations = std::move(problem.populations);
   result.observation_point = problem.observation_point;
   result.sensors = std::move(problem.sensors);

@@ -58,7 +58,7 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
   const std::string source = prepared.problem.source;
   const SelectOptions select = ResolveSelection(prepared.problem.selection, options.selection,
                                                 prepared.problem.seed, prepared.candidates,
-                                                source, Method::kAll);
+                                                source, Method::kAll, prepared.problem.cell_size);
   const bool has_states = !prepared.problem.states.empty();
   if (!has_states && options.selection.over_states)
     throw InputError(AtPlace("--over-states", 0,
@@ -75,7 +75,24 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
                              "refinement over scene states is not supported yet — drop --refine "
                              "or the scene's states"));
   detail::CheckConstraintRequest(options.selection.constraints, select, has_states,
-                                 options.refine.has_value());
+                                 options.refine.has_value(), prepared.problem.mounting);
+  if (options.selection.keep_existing) {
+    for (const Candidate& c : prepared.kept_out) {
+      if (!c.population.empty()) continue;
+      const KeepOutBox& box = prepared.problem.mounting.keep_out.front();
+      throw InputError(AtPlace(box.file, box.line,
+                               fmt::format("the declared sensor '{}' lies inside a keep-out box, "
+                                           "and --keep-existing would keep it — move it, or "
+                                           "drop --keep-existing",
+                                           c.name)));
+    }
+  }
+  if (select.min_points && (has_states || options.refine))
+    throw InputError(AtPlace(options.selection.min_density ? "--min-density" : "--min-points", 0,
+                             has_states ? "point density over scene states is not supported yet "
+                                          "— drop it or the scene's states"
+                                        : "--refine does not keep point counts yet — drop one "
+                                          "of --refine and the point density"));
   ObservedScene observed =
       ObservePrepared(std::move(prepared), options.observe, options.limits, options.trace);
   return OptimizeObserved{std::move(observed), select, start};
@@ -90,7 +107,7 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
   Report& report = run.report;
   report.constraints = detail::ResolveConstraints(
       options.selection.constraints, select, observed.data.candidates, observed.data.observations,
-      !observed.states.empty(), options.refine.has_value());
+      !observed.states.empty(), options.refine.has_value(), observed.mounting, observed.kept_out);
   detail::SelectResults(observed, options.selection, select, &report);
   if (options.refine) {
     RefineOptions refine = *options.refine;

@@ -58,6 +58,50 @@ std::vector<Candidate> MovedCandidates(const std::vector<Candidate>& candidates,
   return moved;
 }
 
+// Mounting rules: candidates inside a keep-out box, in the base scene or any state, are dropped
+// from every state's list before any ray (docs/constraints.md).
+void ExcludeKeptOut(PreparedScene* prepared) {
+  const std::vector<KeepOutBox>& boxes = prepared->problem.mounting.keep_out;
+  if (boxes.empty()) return;
+  const auto inside = [&](const Candidate& c) {
+    return std::any_of(boxes.begin(), boxes.end(), [&](const KeepOutBox& box) {
+      return box.Contains(c.world_from_body.position);
+    });
+  };
+  const size_t count = prepared->candidates.size();
+  std::vector<bool> out(count, false);
+  for (size_t i = 0; i < count; ++i) {
+    out[i] = inside(prepared->candidates[i]);
+    for (const std::vector<Candidate>& state : prepared->state_candidates)
+      out[i] = out[i] || inside(state[i]);
+  }
+  const auto keep = [&](std::vector<Candidate>* list, std::vector<Candidate>* dropped) {
+    std::vector<Candidate> kept;
+    for (size_t i = 0; i < count; ++i) {
+      if (!out[i]) {
+        kept.push_back(std::move((*list)[i]));
+      } else if (dropped != nullptr) {
+        dropped->push_back(std::move((*list)[i]));
+      }
+    }
+    *list = std::move(kept);
+  };
+  keep(&prepared->candidates, &prepared->kept_out);
+  for (std::vector<Candidate>& state : prepared->state_candidates) keep(&state, nullptr);
+  const KeepOutBox& first = boxes.front();
+  if (prepared->candidates.empty())
+    throw InputError(AtPlace(first.file, first.line,
+                             fmt::format("every one of the {} candidates lies inside a keep_out "
+                                         "box — shrink or move the boxes, or the populations",
+                                         count)));
+  const std::string note =
+      fmt::format("keep_out: {} of {} candidates lie inside the {} keep-out box{} and are "
+                  "excluded (no rays cast for them)",
+                  prepared->kept_out.size(), count, boxes.size(), boxes.size() == 1 ? "" : "es");
+  spdlog::info("{}", note);
+  if (!prepared->kept_out.empty()) prepared->notes.push_back(note);
+}
+
 }  // namespace
 
 Problem LoadScene(const SceneInput& input) {
@@ -113,6 +157,7 @@ PreparedScene Prepare(const SceneInput& input) {
     prepared.candidates = prepared.state_candidates.front();
   }
   if (!prepared.state_scenes.empty()) problem.scene = prepared.state_scenes.front();
+  ExcludeKeptOut(&prepared);
   prepared.cell_size_from_option = input.load.cell_size.has_value();
   prepared.timings.load = detail::SecondsSince(start);
   return prepared;

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 
@@ -30,6 +31,33 @@ Scene ReportScene(const std::string& path) {
 
 }  // namespace
 
+MatrixSelection ResolveMatrixSelection(const VisibilityFile& data, const SelectionRequest& request,
+                                       uint64_t seed, Method default_method,
+                                       const std::string& source) {
+  MatrixSelection resolved;
+  // The settings are the file's (stored from its scene by observe): an error in them names the
+  // file, where they now are, and the scene they came from (issue 15: the scene alone misled).
+  const std::string settings_source =
+      source.empty() ? data.scene
+                     : fmt::format("{} (settings stored from {})", source, data.scene);
+  resolved.options = ResolveSelection(data.selection, request, seed, data.candidates,
+                                      settings_source, default_method, data.reference.cell_size);
+  if (resolved.options.min_points &&
+      !std::all_of(data.observations.begin(), data.observations.end(),
+                   [](const Observation& o) { return o.has_point_counts(); }))
+    throw InputError(AtPlace(
+        source.empty() ? std::string("the visibility file") : source, 0,
+        fmt::format("has no pixel counts per cell (written before format version 4), which {} "
+                    "needs — observe the scene again with `vantage observe`",
+                    request.min_density ? "--min-density" : "--min-points")));
+  detail::CheckConstraintRequest(request.constraints, resolved.options, false, false);
+  resolved.constraints = detail::ResolveConstraints(request.constraints, resolved.options,
+                                                    data.candidates, data.observations, false,
+                                                    false);
+  if (resolved.constraints) resolved.options.constraints = resolved.constraints->constraints;
+  return resolved;
+}
+
 RunResult SelectFromFile(const SelectFileOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   options.robustness.Validate();
@@ -46,19 +74,14 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
     throw InputError(AtPlace("--over-states", 0,
                              "a visibility file holds one state — run `vantage optimize` on the "
                              "scene with states instead"));
-  // The settings are the file's (stored from its scene by observe): an error in them names the
-  // file, where they now are, and the scene they came from (issue 15: the scene alone misled).
-  const SelectOptions select = ResolveSelection(
-      data.selection, options.selection, options.seed.value_or(data.seed), data.candidates,
-      fmt::format("{} (settings stored from {})", options.visibility_file, data.scene),
-      Method::kAll);
-  detail::CheckConstraintRequest(options.selection.constraints, select, false, false);
   const auto select_start = std::chrono::steady_clock::now();
+  MatrixSelection resolved =
+      ResolveMatrixSelection(data, options.selection, options.seed.value_or(data.seed),
+                             Method::kAll, options.visibility_file);
+  const SelectOptions& select = resolved.options;
+  const SelectOptions& constrained = resolved.options;
   Report& report = run.report;
-  report.constraints = detail::ResolveConstraints(options.selection.constraints, select,
-                                                  data.candidates, data.observations, false, false);
-  SelectOptions constrained = select;
-  if (report.constraints) constrained.constraints = report.constraints->constraints;
+  report.constraints = std::move(resolved.constraints);
   report.results = Select(data.observations, data.reference.size(), constrained);
   report.curve =
       CoverageCurve(data.observations, data.reference.size(), constrained, report.results);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <utility>
 
 #include "pipeline/common.hpp"
@@ -13,7 +14,8 @@ namespace vantage {
 
 SelectOptions ResolveSelection(const SelectionSettings& settings, const SelectionRequest& request,
                                uint64_t seed, std::span<const Candidate> candidates,
-                               const std::string& source, Method default_method) {
+                               const std::string& source, Method default_method,
+                               double cell_size) {
   SelectOptions options;
   options.n = request.n.value_or(settings.n);
   options.method = request.method.value_or(settings.method.value_or(default_method));
@@ -23,10 +25,14 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
   options.seed = seed;
   options.time_limit = request.time_limit.value_or(options.time_limit);
   // An objective in the request replaces the scene's (so --k 2 over a scene's goal works).
-  const bool requested_objective = request.goal || request.k || request.budget;
+  const bool has_min_points = request.min_points || request.min_density;
+  const bool requested_objective = request.goal || request.k || request.budget || has_min_points;
   options.goal = requested_objective ? request.goal : settings.goal;
   options.k = requested_objective ? request.k.value_or(1) : settings.k;
   options.budget = requested_objective ? request.budget : settings.budget;
+  const char* min_points_flag = request.min_density ? "--min-density" : "--min-points";
+  options.min_points =
+      detail::ResolveMinPoints(request.min_points, request.min_density, cell_size);
   if (options.budget) {
     options.costs.reserve(candidates.size());
     for (const Candidate& c : candidates) options.costs.push_back(c.sensor.cost);
@@ -44,7 +50,8 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
     options.Validate(candidates.size());
   } catch (const FieldError& e) {
     // The first field at fault that the request gave names its flag; else the scene's own.
-    const std::array<std::pair<const char*, bool>, 9> given = {{
+    const std::array<std::pair<const char*, bool>, 10> given = {{
+        {"min_points", has_min_points},
         {"n", request.n.has_value()},
         {"k", request.k.has_value()},
         {"goal", request.goal.has_value()},
@@ -55,13 +62,13 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
         {"method", request.method.has_value()},
         {"fixed", request.keep_existing},
     }};
-    static constexpr std::array<const char*, 9> kFlags = {
-        "-n",         "--k",          "--goal",   "--budget",         "--iterations",
-        "--stop",     "--time-limit", "--method", "--keep-existing"};
+    const std::array<const char*, 10> flags = {
+        min_points_flag, "-n",     "--k",          "--goal",   "--budget",
+        "--iterations",  "--stop", "--time-limit", "--method", "--keep-existing"};
     for (size_t i = 0; i < given.size(); ++i) {
       const bool is_at_fault = std::find(e.fields().begin(), e.fields().end(), given[i].first) !=
                                e.fields().end();
-      if (is_at_fault && given[i].second) throw InputError(AtPlace(kFlags[i], 0, e.what()));
+      if (is_at_fault && given[i].second) throw InputError(AtPlace(flags[i], 0, e.what()));
     }
     // Else the scene's line of the first field at fault that the scene gives.
     for (const std::string& field : e.fields()) {
@@ -75,7 +82,39 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
   return options;
 }
 
+uint32_t MinPointsOfDensity(double per_cm2, double cell_size) {
+  const double face_cm2 = std::pow(100.0 * cell_size, 2);
+  // The tolerance keeps an exact product (2 per cm² on a 1 cm² face) from rounding up.
+  return static_cast<uint32_t>(std::max(1.0, std::ceil(per_cm2 * face_cm2 - 1e-9)));
+}
+
 namespace detail {
+
+std::optional<uint32_t> ResolveMinPoints(std::optional<int64_t> min_points,
+                                         std::optional<double> min_density, double cell_size) {
+  if (min_points && min_density)
+    throw InputError(AtPlace("--min-density", 0,
+                             "give --min-points (per cell) or --min-density (per cm²), not both"));
+  if (min_points) {
+    if (*min_points < 1 || *min_points > kMaxMinPoints)
+      throw InputError(AtPlace("--min-points", 0,
+                               fmt::format("{} is not a number of points in 1..{} (a sensor's "
+                                           "count per cell saturates there)",
+                                           *min_points, kMaxMinPoints)));
+    return static_cast<uint32_t>(*min_points);
+  }
+  if (!min_density) return std::nullopt;
+  const double d = *min_density;
+  VANTAGE_CHECK(cell_size > 0);
+  const double face_cm2 = std::pow(100.0 * cell_size, 2);
+  if (!(d > 0) || !std::isfinite(d) || d * face_cm2 > static_cast<double>(kMaxMinPoints))
+    throw InputError(AtPlace(
+        "--min-density", 0,
+        fmt::format("{} points per cm² is not a positive density of at most {} points on a {:g} "
+                    "cm² cell face",
+                    d, kMaxMinPoints, face_cm2)));
+  return MinPointsOfDensity(d, cell_size);
+}
 
 void SelectResults(const ObservedScene& observed, const SelectionRequest& request,
                    const SelectOptions& given, Report* report) {

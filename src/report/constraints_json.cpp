@@ -1,6 +1,8 @@
 // report.json's installation constraints (docs/outputs.md).
 #include "report/constraints_json.hpp"
 
+#include <algorithm>
+
 namespace vantage::detail {
 namespace {
 
@@ -33,6 +35,11 @@ ordered_json ConstraintsJson(const ConstraintsInfo& info) {
       pairs += c.kind == ConflictKind::kSeparation ? 1 : 0;
     j["separation"] = {{"min_separation", *info.min_separation}, {"conflicting_pairs", pairs}};
   }
+  if (info.keep_out_boxes > 0) {
+    j["keep_out"] = {{"boxes", info.keep_out_boxes},
+                     {"excluded_candidates", info.keep_out_excluded},
+                     {"candidates_inside", info.keep_out_violations.size()}};
+  }
   if (const auto& rule = info.constraints.calibration) {
     ordered_json c;
     if (rule->min_cells) c["min_cells"] = *rule->min_cells;
@@ -48,10 +55,17 @@ ordered_json ResultConstraintsJson(const Selection& selection, const Constraints
       CheckConstraints(data.observations, selection.chosen, info.constraints);
   ordered_json j;
   const bool has_calibration = info.constraints.calibration.has_value();
-  j["satisfied"] = check.conflicts.empty() && (!has_calibration || check.connected());
+  ordered_json inside = ordered_json::array();
+  for (const uint32_t i : selection.chosen) {
+    if (std::binary_search(info.keep_out_violations.begin(), info.keep_out_violations.end(), i))
+      inside.push_back(data.candidates.at(i).name);
+  }
+  j["satisfied"] =
+      check.conflicts.empty() && (!has_calibration || check.connected()) && inside.empty();
   ordered_json broken = ordered_json::array();
   for (const Conflict& c : check.conflicts) broken.push_back(ConflictJson(c, data));
   j["conflicts"] = std::move(broken);
+  if (info.keep_out_boxes > 0) j["keep_out_violations"] = std::move(inside);
   if (info.is_applied) {
     ordered_json avoided = ordered_json::array();
     for (const Conflict& c : ConflictsAvoided(selection.chosen, info.constraints))

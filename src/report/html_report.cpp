@@ -445,6 +445,8 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   if (primary >= 0) {
     const Selection& s = report.results[static_cast<size_t>(primary)];
     subtitle += fmt::format(" · {} N = {}: {:.2f} %", s.method, s.n, 100.0 * s.coverage);
+    // Point density (docs/constraints.md): the coverages count only cells with enough points.
+    if (s.min_points) subtitle += fmt::format(" of cells with >= {} points", *s.min_points);
   }
   const std::string title = "vantage report";
 

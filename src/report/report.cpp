@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <nlohmann/json.hpp>
 
@@ -91,6 +92,7 @@ ordered_json ResultJson(const Selection& s, const VisibilityFile& data,
   r["objective"] = s.objective;
   if (s.goal) r["goal"] = *s.goal;
   if (s.k >= 2) r["k"] = s.k;
+  if (s.min_points) r["min_points"] = *s.min_points;
   if (s.budget) r["budget"] = *s.budget;
   if (s.cost) r["cost"] = *s.cost;
   if (s.n_lower_bound) {
@@ -237,6 +239,16 @@ std::string ReportJson(const Report& report) {
   j["curve"] = std::move(curve);
   if (report.primary >= 0) j["primary_result"] = report.primary;
   if (report.constraints) j["constraints"] = detail::ConstraintsJson(*report.constraints);
+  if (const auto p = std::find_if(report.results.begin(), report.results.end(),
+                                  [](const Selection& s) { return s.min_points.has_value(); });
+      p != report.results.end()) {
+    // Point density (docs/constraints.md): the points a cell needs, and the density given.
+    const double face_cm2 = std::pow(100.0 * data.reference.cell_size, 2);
+    ordered_json density = {{"points", *p->min_points}, {"cell_face_cm2", face_cm2}};
+    if (report.inputs && report.inputs->min_density)
+      density["per_cm2"] = *report.inputs->min_density;
+    j["min_points"] = std::move(density);
+  }
   if (report.robustness) j["robustness"] = RobustnessJson(*report.robustness, data);
   if (report.states) {
     ordered_json states = ordered_json::array();

@@ -117,6 +117,8 @@ ordered_json RunInputsJson(const RunInputs& in) {
   Put(&j, "goal", in.goal);
   Put(&j, "k", in.k);
   Put(&j, "budget", in.budget);
+  Put(&j, "min_points", in.min_points);
+  Put(&j, "min_density", in.min_density);
   Put(&j, "over_states", in.over_states);
   if (in.keep_existing) j["keep_existing"] = true;
   Put(&j, "interference", in.interference);
@@ -167,6 +169,8 @@ RunInputs ParseRunInputs(const json& j, const std::string& where) {
   r.Number("goal", &in.goal);
   r.Integer("k", &in.k);
   r.Number("budget", &in.budget);
+  r.Integer("min_points", &in.min_points);
+  r.Number("min_density", &in.min_density);
   r.String("over_states", &in.over_states);
   r.Boolean("keep_existing", &in.keep_existing);
   r.Boolean("interference", &in.interference);

@@ -59,6 +59,11 @@ void LoadOptions::Validate() const {
   }
 }
 
+bool KeepOutBox::Contains(const Vec3& world) const {
+  const Vec3 local = world_from_box.Inverse() * world;
+  return (local.array() >= min.array()).all() && (local.array() <= max.array()).all();
+}
+
 Problem LoadProblem(const std::string& path, const LoadOptions& options) {
   const std::string extension = LowerExtension(path);
   std::string readers;

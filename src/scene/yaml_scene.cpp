@@ -288,6 +288,8 @@ class SceneReader {
   std::optional<std::string> TypeReference(const Fields& fields, const std::string& what);
   void ReadStates(const Value& input);
   std::optional<SceneState> ReadState(const Value& input);
+  void ReadKeepOut(const Value& input);
+  std::optional<KeepOutBox> ReadKeepOutBox(const Value& input, size_t index);
   void CheckStates();
   void ApplyTargetOverride();
   void AddReferencedCatalogTypes();
@@ -1651,6 +1653,75 @@ void SceneReader::ReadStateJoints(const Value& input, const std::string& what, S
 
 /// Object names a state removes, moves or adds are checked against the objects, once --target
 /// has set the roles (a state must keep a target).
+// ----- mounting rules (docs/constraints.md) ---------------------------------------------------
+
+void SceneReader::ReadKeepOut(const Value& input) {
+  const std::vector<Value> items = Items(input, "keep_out");
+  for (size_t i = 0; i < items.size(); ++i) {
+    if (std::optional<KeepOutBox> box = ReadKeepOutBox(items[i], i))
+      problem_->mounting.keep_out.push_back(std::move(*box));
+  }
+}
+
+/// `{name?, pose?, size, center?}` or `{name?, pose?, min, max}`: a box in the frame `pose`
+/// (the world's when absent).
+std::optional<KeepOutBox> SceneReader::ReadKeepOutBox(const Value& input, size_t index) {
+  const Fields fields(input, fmt::format("keep_out[{}]", index),
+                      {"name", "pose", "center", "size", "min", "max"}, &reporter_);
+  const size_t errors_before = ErrorCount();
+  KeepOutBox box;
+  box.file = problem_->source;
+  box.line = fields.line();
+  box.name = fmt::format("keep_out[{}]", index);
+  if (const auto v = fields.Get("name")) box.name = Text(*v, box.name + ".name").value_or(box.name);
+  const std::string what = fmt::format("keep_out '{}'", box.name);
+  if (const auto v = fields.Get("pose")) box.world_from_box = PoseOf(*v, what + ".pose").value_or(Pose{});
+  const bool by_size = fields.Has("size") || fields.Has("center");
+  const bool by_corners = fields.Has("min") || fields.Has("max");
+  if (by_size == by_corners) {
+    Error(fields.line(),
+          fmt::format("{} needs either `size` (and an optional `center`) or `min` and `max` — "
+                      "write e.g. `{{center: [0, 0, 0.5], size: [1, 1, 1]}}`",
+                      what));
+    return std::nullopt;
+  }
+  if (by_size) {
+    const auto size = fields.Get("size");
+    if (!size) {
+      Missing(fields, "size", "size: [1, 1, 1]");
+      return std::nullopt;
+    }
+    const auto extent = Vector(*size, what + ".size");
+    Vec3 center = Vec3::Zero();
+    if (const auto v = fields.Get("center")) center = Vector(*v, what + ".center").value_or(center);
+    if (extent && (extent->array() <= 0).any())
+      Error(size->line, fmt::format("{}.size must be three positive lengths [m] — fix the size",
+                                    what));
+    if (extent) {
+      box.min = center - 0.5 * *extent;
+      box.max = center + 0.5 * *extent;
+    }
+  } else {
+    const auto min = fields.Get("min");
+    const auto max = fields.Get("max");
+    if (!min || !max) {
+      Missing(fields, min ? "max" : "min", min ? "max: [1, 1, 1]" : "min: [0, 0, 0]");
+      return std::nullopt;
+    }
+    const auto low = Vector(*min, what + ".min");
+    const auto high = Vector(*max, what + ".max");
+    if (low && high && (low->array() >= high->array()).any())
+      Error(max->line, fmt::format("{}: max must exceed min on every axis — swap or fix them",
+                                   what));
+    if (low && high) {
+      box.min = *low;
+      box.max = *high;
+    }
+  }
+  if (ErrorCount() != errors_before) return std::nullopt;
+  return box;
+}
+
 void SceneReader::CheckStates() {
   for (const SceneState& state : problem_->states) {
     for (const std::string& message : StateProblems(problem_->scene, state))
@@ -1705,7 +1776,8 @@ void SceneReader::Read(const YAML::Node& root) {
   }
   const Fields top(
       ValueOf(root), "the scene",
-      {"settings", "sensor_types", "objects", "robots", "populations", "sensors", "states"},
+      {"settings", "sensor_types", "objects", "robots", "populations", "sensors", "states",
+       "keep_out", "min_separation"},
       &reporter_);
   if (!root.IsMap()) return;
   // Settings first: the cell size sets the primitives' tessellation (--cell-size replaces it).
@@ -1722,6 +1794,12 @@ void SceneReader::Read(const YAML::Node& root) {
   if (const auto v = top.Get("populations")) ReadPopulations(*v);
   if (const auto v = top.Get("sensors")) ReadSensors(*v);
   if (const auto v = top.Get("states")) ReadStates(*v);
+  if (const auto v = top.Get("keep_out")) ReadKeepOut(*v);
+  if (const auto v = top.Get("min_separation")) {
+    problem_->mounting.min_separation = Positive(*v, "min_separation");
+    problem_->mounting.min_separation_file = problem_->source;
+    problem_->mounting.min_separation_line = v->line;
+  }
   AddReferencedCatalogTypes();
   ApplyTargetOverride();
   if (ErrorCount() == 0 && problem_->scene.TargetCount() == 0) {

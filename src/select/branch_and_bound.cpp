@@ -2,23 +2,27 @@
 //
 // A node fixes some candidates in (their cells count, their elements get weight 0) and removes
 // others; the rest are free. Its bound is L of the Lagrangian relaxation over the free rows
-// (lagrangian.cpp), searched from the parent's multipliers; a node whose bound is not above the
-// incumbent is pruned, otherwise Lagrangian fixing settles the candidates it can (repeatedly,
-// while it changes something) and the node branches on the chosen row closest to being fixed in:
-// first with it in, then without it (depth first). The Lagrangian subproblem's rows complete
-// every node's fixed candidates into an answer, which improves the incumbent when it covers more
-// (and then local search from it). Single-threaded, so the same input and time give the same
-// answer; each subtree returns an upper bound on what it holds, so stopping at the time limit
-// still leaves a proof: the largest bound of the subtrees not finished.
+// (lagrangian.cpp), searched from the parent's multipliers (at the root: from the start
+// multipliers, then CLP's LP relaxation warm-started from them, lp_bound.hpp); a node whose
+// bound is not above the incumbent is pruned, otherwise Lagrangian fixing settles the candidates
+// it can (repeatedly, while it changes something) and the node branches on the chosen row
+// closest to being fixed in: first with it in, then without it (depth first). The Lagrangian
+// subproblem's rows complete every node's fixed candidates into an answer, which improves the
+// incumbent when it covers more (and then local search from it). Single-threaded, so the same
+// input and time give the same answer; each subtree returns an upper bound on what it holds, so
+// stopping at the time limit still leaves a proof: the largest bound of the subtrees not
+// finished.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <queue>
 #include <utility>
 
+#include "select/lp_bound.hpp"
 #include "select/methods.hpp"
 #include "vantage/error.hpp"
 #include "vantage/interrupt.hpp"
@@ -35,6 +39,8 @@ using Clock = std::chrono::steady_clock;
 constexpr int kNodeSteps = 5;
 constexpr double kNodeStepScale = 0.5;
 constexpr int kMaxFixingRounds = 4;
+// CLP at the root needs time for at least this many passes over the rows (see RootMultipliers).
+constexpr double kMinLpPasses = 50;
 
 struct Node {
   std::vector<uint32_t> fixed;    // candidates in
@@ -121,9 +127,10 @@ class Search {
     return best_cells_;
   }
 
-  void set_root_budget(int steps, double seconds) {
+  void set_root_budget(int steps, double seconds, bool lp) {
     root_steps_limit_ = steps;
     root_seconds_ = seconds;
+    root_lp_ = lp;
   }
   const std::vector<uint32_t>& best() const { return best_; }
   uint64_t best_cells() const { return best_cells_; }
@@ -133,6 +140,11 @@ class Search {
   size_t root_fixed_in() const { return root_fixed_in_; }
   size_t root_removed() const { return root_removed_; }
   int root_steps() const { return root_steps_; }
+  uint64_t root_subgradient_bound() const { return root_sg_bound_; }
+  uint64_t root_lp_bound() const { return root_lp_bound_; }
+  double root_lp_seconds() const { return root_lp_seconds_; }
+  bool root_lp_optimal() const { return root_lp_optimal_; }
+  bool root_lp_improved() const { return root_lp_improved_; }
 
  private:
   static constexpr size_t kStoredMultiplierBytes = size_t{256} << 20;
@@ -188,12 +200,7 @@ class Search {
       const uint64_t target = best_cells_ > node->base ? best_cells_ - node->base : 0;
       const double left = std::chrono::duration<double>(end_ - Clock::now()).count();
       if (is_root && round == 0) {
-        // The root searches long from the start multipliers, in the share the caller gave it.
-        node->lambda = StartMultipliers(problem);
-        root_steps_ += SubgradientSteps(problem, target, root_steps_limit_, kStartStepScale,
-                                        std::min(left, root_seconds_), &node->lambda)
-                           .iterations;
-        root_lambda_ = node->lambda;
+        RootMultipliers(problem, target, left, node);
       } else {
         SubgradientSteps(problem, target, kNodeSteps, kNodeStepScale, left, &node->lambda);
       }
@@ -238,6 +245,51 @@ class Search {
     return std::make_pair(bound, pick);
   }
 
+  // The root's multipliers: subgradient steps from the start multipliers, then CLP's LP
+  // relaxation warm-started from them (a values pass of primal simplex from the feasible point
+  // they give), in what is left of the root's share of the time; whichever proves the smaller
+  // L. The LP's x, rounded to its n largest, is offered as an incumbent.
+  void RootMultipliers(const LagrangianProblem& problem, uint64_t target, double left,
+                       Node* node) {
+    const Clock::time_point root_start = Clock::now();
+    const double root_seconds = std::min(left, root_seconds_);
+    node->lambda = StartMultipliers(problem);
+    root_steps_ += SubgradientSteps(problem, target, root_steps_limit_, kStartStepScale,
+                                    root_seconds, &node->lambda)
+                       .iterations;
+    const ExactLagrangian subgradient = EvaluateExactly(problem, node->lambda);
+    root_sg_bound_ = node->base + (subgradient.scaled_value >> subgradient.bits);
+    root_sg_seconds_ = std::chrono::duration<double>(Clock::now() - root_start).count();
+    // Building CLP's model costs a few passes over the rows, outside CLP's time limit, and each
+    // simplex iteration about one: with time for fewer than kMinLpPasses it is not started.
+    const double lp_seconds = root_seconds - root_sg_seconds_;
+    const double pass_seconds = root_sg_seconds_ / std::max(1, root_steps_);
+    if (root_lp_ && lp_seconds > kMinLpPasses * pass_seconds &&
+        subgradient.scaled_value >> subgradient.bits > target) {
+      const Clock::time_point lp_start = Clock::now();
+      ClpCoverageLp lp(problem);
+      const double built = std::chrono::duration<double>(Clock::now() - lp_start).count();
+      const ClpLpSolution solution = lp.Solve(lp_seconds - built, node->lambda);
+      root_lp_seconds_ = std::chrono::duration<double>(Clock::now() - lp_start).count();
+      const ExactLagrangian exact = EvaluateExactly(problem, solution.lambda);
+      root_lp_bound_ = node->base + (exact.scaled_value >> exact.bits);
+      root_lp_optimal_ = solution.optimal;
+      if (exact.scaled_value < subgradient.scaled_value) node->lambda = solution.lambda;
+      std::vector<uint32_t> order(solution.x.size());
+      std::iota(order.begin(), order.end(), 0u);
+      std::stable_sort(order.begin(), order.end(),
+                       [&](uint32_t a, uint32_t b) { return solution.x[a] > solution.x[b]; });
+      std::vector<uint32_t> rounded = node->fixed;
+      for (size_t q = 0; q < order.size() && rounded.size() < n_; ++q) {
+        if (solution.x[order[q]] > 1e-9) rounded.push_back(node->free[order[q]]);
+      }
+      const uint64_t before = best_cells_;
+      Offer(std::move(rounded));
+      root_lp_improved_ = best_cells_ > before;
+    }
+    root_lambda_ = node->lambda;
+  }
+
   void Fix(uint32_t candidate, Node* node) const {
     node->fixed.push_back(candidate);
     for (const uint32_t e : matrix_.Row(candidate)) {
@@ -268,8 +320,15 @@ class Search {
   long nodes_ = 0;
   bool timed_out_ = false;
   int root_steps_limit_ = 0;
+  bool root_lp_ = true;
   double root_seconds_ = 0;
   int root_steps_ = 0;
+  double root_lp_seconds_ = 0;
+  uint64_t root_lp_bound_ = 0;  // 0: CLP not run
+  bool root_lp_optimal_ = false;
+  bool root_lp_improved_ = false;
+  double root_sg_seconds_ = 0;
+  uint64_t root_sg_bound_ = 0;
   std::vector<double> root_lambda_;
   uint64_t root_bound_ = std::numeric_limits<uint64_t>::max();  // until the root is bounded
   size_t root_fixed_in_ = 0;
@@ -288,7 +347,7 @@ BranchAndBoundResult BranchAndBound(const CoverageMatrix& matrix,
       Clock::now() + std::chrono::duration_cast<Clock::duration>(
                          std::chrono::duration<double>(std::max(0.0, limits.seconds)));
   Search search(matrix, n, start, end);
-  search.set_root_budget(limits.root_steps, limits.root_share * limits.seconds);
+  search.set_root_budget(limits.root_steps, limits.root_share * limits.seconds, limits.root_lp);
   const uint64_t bound = search.Run(upper_bound);
   BranchAndBoundResult result;
   result.chosen = search.best();
@@ -301,6 +360,11 @@ BranchAndBoundResult BranchAndBound(const CoverageMatrix& matrix,
   result.root_fixed_in = search.root_fixed_in();
   result.root_removed = search.root_removed();
   result.root_steps = search.root_steps();
+  result.root_subgradient_bound = search.root_subgradient_bound();
+  result.root_lp_bound = search.root_lp_bound();
+  result.root_lp_seconds = search.root_lp_seconds();
+  result.root_lp_optimal = search.root_lp_optimal();
+  result.root_lp_improved = search.root_lp_improved();
   return result;
 }
 

@@ -26,6 +26,32 @@ size_t CoverageEvaluator::CoveredCount(std::span<const uint32_t> chosen, int k) 
   return count;
 }
 
+size_t CoverageEvaluator::PointCoveredCount(std::span<const uint32_t> chosen,
+                                            uint32_t min_points) const {
+  VANTAGE_CHECK(min_points >= 1);
+  std::vector<uint64_t> points(reference_size_, 0);
+  size_t count = 0;
+  for (const uint32_t c : chosen) {
+    VANTAGE_CHECK(c < observations_.size() && observations_[c].has_point_counts());
+    const Observation& o = observations_[c];
+    for (size_t j = 0; j < o.reference_indices.size(); ++j) {
+      const uint32_t cell = o.reference_indices[j];
+      VANTAGE_CHECK(cell < reference_size_);
+      const uint64_t before = points[cell];
+      points[cell] += o.reference_hits[j];
+      if (before < min_points && points[cell] >= min_points) ++count;
+    }
+  }
+  return count;
+}
+
+double CoverageEvaluator::PointCoverage(std::span<const uint32_t> chosen,
+                                        uint32_t min_points) const {
+  if (reference_size_ == 0) return 0.0;
+  return static_cast<double>(PointCoveredCount(chosen, min_points)) /
+         static_cast<double>(reference_size_);
+}
+
 double CoverageEvaluator::Coverage(std::span<const uint32_t> chosen, int k) const {
   if (reference_size_ == 0) return 0.0;
   return static_cast<double>(CoveredCount(chosen, k)) / static_cast<double>(reference_size_);

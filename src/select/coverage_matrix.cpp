@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <map>
 
 #include "vantage/error.hpp"
 
@@ -117,9 +118,77 @@ CoverageMatrix::CoverageMatrix(std::span<const StateBlock> states) {
     state_sizes_.push_back(state.reference_size);
     state_begin_.push_back(static_cast<uint32_t>(weights_.size()));
   }
+  Finish();
+}
+
+CoverageMatrix::CoverageMatrix(std::span<const Observation> observations, size_t reference_size,
+                               uint32_t min_points) {
+  VANTAGE_CHECK(min_points >= 1);
+  const size_t candidates = observations.size();
+  const auto capped = [&](const Observation& o, size_t j) {
+    return std::min<uint32_t>(o.reference_hits[j], min_points);
+  };
+  // The points all candidates together bring to each cell: below min_points it never counts.
+  std::vector<uint64_t> total(reference_size, 0);
+  for (const Observation& o : observations) {
+    VANTAGE_CHECK(o.has_point_counts());
+    for (size_t j = 0; j < o.reference_indices.size(); ++j) {
+      VANTAGE_CHECK(o.reference_indices[j] < reference_size);
+      VANTAGE_CHECK(j == 0 || o.reference_indices[j - 1] < o.reference_indices[j]);
+      total[o.reference_indices[j]] += capped(o, j);
+    }
+  }
+  // One set per (candidate, capped count): cells in the same sets get the same count from every
+  // candidate, so they merge into one element.
+  std::vector<std::vector<uint32_t>> level_sets;
+  for (const Observation& o : observations) {
+    std::map<uint32_t, std::vector<uint32_t>> by_count;
+    for (size_t j = 0; j < o.reference_indices.size(); ++j) {
+      const uint32_t cell = o.reference_indices[j];
+      if (total[cell] >= min_points) by_count[capped(o, j)].push_back(cell);
+    }
+    for (auto& [count, cells] : by_count) level_sets.push_back(std::move(cells));
+  }
+  const std::vector<std::span<const uint32_t>> sets(level_sets.begin(), level_sets.end());
+  const std::vector<int64_t> element_of = RefinePartition(reference_size, sets);
+  for (const int64_t e : element_of) {
+    if (e < 0) continue;
+    if (static_cast<size_t>(e) >= weights_.size()) weights_.resize(e + 1, 0);
+    ++weights_[e];
+    ++seen_weight_;
+  }
+  rows_.resize(candidates);
+  counts_.resize(candidates);
+  row_weights_.assign(candidates, 0);
+  std::vector<uint32_t> last_candidate(weights_.size(), UINT32_MAX);
+  std::vector<std::pair<uint32_t, uint32_t>> entries;
+  for (size_t i = 0; i < candidates; ++i) {
+    const Observation& o = observations[i];
+    entries.clear();
+    for (size_t j = 0; j < o.reference_indices.size(); ++j) {
+      const int64_t e = element_of[o.reference_indices[j]];
+      if (e < 0) continue;
+      ++row_weights_[i];
+      if (last_candidate[e] == i) continue;
+      last_candidate[e] = static_cast<uint32_t>(i);
+      entries.emplace_back(static_cast<uint32_t>(e), capped(o, j));
+    }
+    std::sort(entries.begin(), entries.end());
+    for (const auto& [e, count] : entries) {
+      rows_[i].push_back(e);
+      counts_[i].push_back(count);
+    }
+  }
+  reference_size_ = reference_size;
+  state_sizes_.push_back(reference_size);
+  state_begin_.push_back(static_cast<uint32_t>(weights_.size()));
+  Finish();
+}
+
+void CoverageMatrix::Finish() {
   unit_weights_ = std::all_of(weights_.begin(), weights_.end(), [](uint32_t w) { return w == 1; });
   word_count_ = (weights_.size() + 63) / 64;
-
+  const size_t candidates = rows_.size();
   if (candidates * word_count_ * sizeof(uint64_t) <= kMaxDenseBytes) {
     bits_.assign(candidates * word_count_, 0);
     for (size_t i = 0; i < rows_.size(); ++i) {

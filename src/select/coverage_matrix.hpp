@@ -43,6 +43,13 @@ class CoverageMatrix {
   /// Stacks the merged matrices of several states (at least one, each with the same number of
   /// candidates); with one state it is the matrix above.
   explicit CoverageMatrix(std::span<const StateBlock> states);
+  /// Point density (docs/constraints.md, "Point density"): the matrix in which a candidate's
+  /// entry for a cell carries its pixels there, capped at `min_points` (Count), and a cell counts
+  /// once the chosen sensors' counts add up to min_points. Elements are the cells with the same
+  /// capped count from every candidate; cells that all candidates together cannot bring to
+  /// min_points are dropped. Needs every observation's reference_hits (has_point_counts).
+  CoverageMatrix(std::span<const Observation> observations, size_t reference_size,
+                 uint32_t min_points);
 
   size_t candidate_count() const { return rows_.size(); }
   size_t element_count() const { return weights_.size(); }
@@ -59,6 +66,12 @@ class CoverageMatrix {
   uint64_t seen_weight() const { return seen_weight_; }
   /// Sorted element ids seen by a candidate.
   const std::vector<uint32_t>& Row(uint32_t candidate) const { return rows_[candidate]; }
+  /// Whether entries carry point counts (the min-points matrix); else every Count is 1.
+  bool has_counts() const { return !counts_.empty(); }
+  /// What entry j of Row(candidate) adds towards the threshold: its capped pixels, or 1.
+  uint32_t Count(uint32_t candidate, size_t j) const {
+    return counts_.empty() ? 1 : counts_[candidate][j];
+  }
   std::span<const std::vector<uint32_t>> rows() const { return rows_; }
   /// Cells in an element.
   uint32_t Weight(uint32_t element) const { return weights_[element]; }
@@ -88,6 +101,8 @@ class CoverageMatrix {
   uint64_t RowWeightWhere(uint32_t candidate, const Bitset& set) const;
   /// Weight of the elements of word w set in `bits`.
   uint64_t WordWeight(size_t w, uint64_t bits) const;
+  /// Word count, unit weights and the dense bitsets, once rows_ and weights_ are set.
+  void Finish();
 
   size_t reference_size_ = 0;
   std::vector<size_t> state_sizes_;
@@ -97,6 +112,7 @@ class CoverageMatrix {
   bool unit_weights_ = true;
   std::vector<uint32_t> weights_;
   std::vector<std::vector<uint32_t>> rows_;
+  std::vector<std::vector<uint32_t>> counts_;  ///< parallel to rows_ (min-points), or empty
   std::vector<uint64_t> row_weights_;
   std::vector<uint64_t> bits_;  ///< candidate_count × word_count, or empty (sparse mode)
 };

@@ -56,6 +56,9 @@ constexpr size_t kCbcFirstNonzeros = 100000;
 constexpr double kBranchAndBoundTimeShare = 0.9;
 // Below this many seconds left the root bound cannot improve on the cheap one: not started.
 constexpr double kMinBranchAndBoundSeconds = 0.02;
+// Min-points: the share of the time limit for the plain-coverage bound over the cells that can
+// reach the points (a relaxation: a cell with enough points is seen); CBC gets the rest.
+constexpr double kRelaxedBoundShare = 0.25;
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -198,32 +201,46 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
     return outcome;
   }
 
-  // Re-merge the elements over the kept candidates only.
+  // Re-merge the elements over the kept candidates only. With point counts the elements stay
+  // (two elements seen by the same candidates may differ in their counts; k >= 2 keeps every
+  // candidate that sees anything, so the merge would find the same classes anyway).
   std::vector<std::span<const uint32_t>> kept_rows;
   kept_rows.reserve(kept.size());
   for (const uint32_t i : kept) kept_rows.emplace_back(matrix.Row(i));
-  const std::vector<int64_t> class_of = RefinePartition(matrix.element_count(), kept_rows);
+  std::vector<int64_t> class_of;
+  if (matrix.has_counts()) {
+    class_of.assign(matrix.element_count(), -1);
+    for (const std::span<const uint32_t> row : kept_rows) {
+      for (const uint32_t e : row) class_of[e] = e;
+    }
+  } else {
+    class_of = RefinePartition(matrix.element_count(), kept_rows);
+  }
   int64_t class_count = 0;
   for (const int64_t c : class_of) class_count = std::max(class_count, c + 1);
   std::vector<double> class_weight(class_count, 0.0);
   std::vector<uint32_t> class_seers(class_count, 0);
   std::vector<std::vector<uint32_t>> classes_of_column(kept.size());
+  std::vector<std::vector<uint32_t>> counts_of_column(kept.size());  // each class's Count
   std::vector<int64_t> last_column(class_count, -1);
   for (size_t e = 0; e < class_of.size(); ++e) {
     // -1: seen only by unaffordable candidates (budget); never coverable.
     if (class_of[e] >= 0) class_weight[class_of[e]] += matrix.Weight(static_cast<uint32_t>(e));
   }
   for (size_t q = 0; q < kept.size(); ++q) {
-    for (const uint32_t e : matrix.Row(kept[q])) {
-      const int64_t c = class_of[e];
+    const std::vector<uint32_t>& row = matrix.Row(kept[q]);
+    for (size_t j = 0; j < row.size(); ++j) {
+      const int64_t c = class_of[row[j]];
       if (last_column[c] == static_cast<int64_t>(q)) continue;
       last_column[c] = static_cast<int64_t>(q);
       classes_of_column[q].push_back(static_cast<uint32_t>(c));
-      ++class_seers[c];
+      counts_of_column[q].push_back(matrix.Count(kept[q], j));
+      class_seers[c] += counts_of_column[q].back();
     }
   }
   // y variables: k = 1, classes seen by >= 2 kept candidates (the others fold into a_i);
-  // k >= 2, classes seen by >= k (the others can never count).
+  // k >= 2, classes seen by >= k (the others can never count). With point counts "seen by"
+  // sums the counts: k y_c <= sum_q count_qc x_q (min-points, P = k).
   const auto min_seers = static_cast<uint32_t>(std::max(2, spec.k));
   std::vector<int> y_of_class(class_count, -1);
   std::vector<double> y_weight;
@@ -242,18 +259,19 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
   std::vector<double> objective;
   for (int q = 0; q < x_count; ++q) {
     double own = 0;
-    std::vector<int> rows;
-    for (const uint32_t c : classes_of_column[q]) {
+    std::vector<std::pair<int, double>> rows;  // coupling row, -count
+    for (size_t t = 0; t < classes_of_column[q].size(); ++t) {
+      const uint32_t c = classes_of_column[q][t];
       if (y_of_class[c] >= 0) {
-        rows.push_back(y_of_class[c]);
+        rows.emplace_back(y_of_class[c], -static_cast<double>(counts_of_column[q][t]));
       } else if (spec.k == 1) {
         own += class_weight[c];
       }
     }
     std::sort(rows.begin(), rows.end());
-    for (const int r : rows) {
+    for (const auto& [r, value] : rows) {
       indices.push_back(r);
-      values.push_back(-1.0);
+      values.push_back(value);
     }
     if (resource(kept[q]) != 0) {
       indices.push_back(y_count);
@@ -326,7 +344,8 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
     std::vector<uint32_t> start_seers(class_count, 0);
     for (int q = 0; q < x_count; ++q) {
       if (start_x[q] == 0.0) continue;
-      for (const uint32_t c : classes_of_column[q]) ++start_seers[c];
+      for (size_t t = 0; t < classes_of_column[q].size(); ++t)
+        start_seers[classes_of_column[q][t]] += counts_of_column[q][t];
     }
     for (int64_t c = 0; c < class_count; ++c) {
       if (y_of_class[c] < 0) continue;
@@ -417,14 +436,21 @@ std::vector<uint32_t> EnumerateKCoverage(const CoverageMatrix& matrix,
     }
     for (size_t p = from; p + (n - current.size()) <= pool.size(); ++p) {
       const uint32_t c = pool[p];
-      for (const uint32_t e : matrix.Row(c)) {
-        if (++count[e] == kk) weight += matrix.Weight(e);
+      const std::vector<uint32_t>& row = matrix.Row(c);
+      for (size_t j = 0; j < row.size(); ++j) {
+        const uint32_t e = row[j];
+        const uint32_t before = count[e];
+        count[e] += matrix.Count(c, j);
+        if (before < kk && count[e] >= kk) weight += matrix.Weight(e);
       }
       current.push_back(c);
       self(self, p + 1);
       current.pop_back();
-      for (const uint32_t e : matrix.Row(c)) {
-        if (count[e]-- == kk) weight -= matrix.Weight(e);
+      for (size_t j = 0; j < row.size(); ++j) {
+        const uint32_t e = row[j];
+        const uint32_t before = count[e];
+        count[e] -= matrix.Count(c, j);
+        if (before >= kk && count[e] < kk) weight -= matrix.Weight(e);
       }
     }
   };
@@ -496,9 +522,15 @@ ExactResult SolveExact(const CoverageMatrix& matrix,
   result.upper_bound = std::max(std::min(result.upper_bound, search.upper_bound),
                                 matrix.CoveredWeight(result.chosen));
   result.proven_optimal = result.upper_bound == matrix.CoveredWeight(result.chosen);
+  const std::string lp =
+      search.root_lp_bound == 0
+          ? std::string()
+          : fmt::format("; the LP's {} cells from CLP{} in {:.1f} s, the subgradient's {}",
+                        search.root_lp_bound, search.root_lp_optimal ? " (optimal)" : "",
+                        search.root_lp_seconds, search.root_subgradient_bound);
   const std::string what = fmt::format(
-      "branch and bound: {} nodes, root bound {} cells ({} candidates fixed in, {} removed)",
-      search.nodes, search.root_bound, search.root_fixed_in, search.root_removed);
+      "branch and bound: {} nodes, root bound {} cells ({} candidates fixed in, {} removed{})",
+      search.nodes, search.root_bound, search.root_fixed_in, search.root_removed, lp);
   if (result.proven_optimal) {
     result.note = what;
   } else {
@@ -543,7 +575,22 @@ ExactResult SolveExactK(const CoverageMatrix& matrix,
     result.note = "solved by enumeration";
     return result;
   }
-  CbcOutcome outcome = CardinalityCbc(matrix, k, n, start, time_limit);
+  double cbc_seconds = time_limit;
+  if (matrix.has_counts()) {
+    // The matrix holds only the cells that can reach the points, so its plain-coverage optimum
+    // bounds the min-points one, and exact proves it fast (the Lagrangian, branch and bound).
+    const ExactResult relaxed =
+        SolveExact(matrix, n, GreedyComplete(CellScorer(matrix), {}, n),
+                   kRelaxedBoundShare * time_limit);
+    result.upper_bound = std::max(std::min(result.upper_bound, relaxed.upper_bound), start_cells);
+    if (start_cells == result.upper_bound) {
+      result.proven_optimal = true;
+      result.note = "start meets the plain-coverage bound";
+      return result;
+    }
+    cbc_seconds = std::max(0.1 * time_limit, time_limit - SecondsSince(start_time));
+  }
+  CbcOutcome outcome = CardinalityCbc(matrix, k, n, start, cbc_seconds);
   result.note = outcome.note;
   if (!outcome.chosen.empty()) {
     std::vector<uint32_t> padded = KGreedyComplete(matrix, outcome.chosen, n, k);
@@ -551,7 +598,9 @@ ExactResult SolveExactK(const CoverageMatrix& matrix,
   }
   const uint64_t cells = KCoveredWeight(matrix, result.chosen, k);
   SettleUpperBound(cells, outcome.bound, outcome.proven_optimal, &result);
-  TightenByLpBound(CardinalityLp(matrix, n, k), cells, start_time, time_limit, &result);
+  // The LP bound's rows count seers, not points: not a bound with point counts.
+  if (!matrix.has_counts())
+    TightenByLpBound(CardinalityLp(matrix, n, k), cells, start_time, time_limit, &result);
   return result;
 }
 

@@ -116,9 +116,14 @@ uint64_t KCoveredWeight(const CoverageMatrix& matrix, std::span<const uint32_t> 
   if (k == 1) return matrix.CoveredWeight(chosen);
   std::vector<uint32_t> count(matrix.element_count(), 0);
   uint64_t weight = 0;
+  const auto kk = static_cast<uint32_t>(k);
   for (const uint32_t c : chosen) {
-    for (const uint32_t e : matrix.Row(c)) {
-      if (++count[e] == static_cast<uint32_t>(k)) weight += matrix.Weight(e);
+    const std::vector<uint32_t>& row = matrix.Row(c);
+    for (size_t j = 0; j < row.size(); ++j) {
+      const uint32_t e = row[j];
+      const uint32_t before = count[e];
+      count[e] += matrix.Count(c, j);  // 1, or the capped points (min-points)
+      if (before < kk && count[e] >= kk) weight += matrix.Weight(e);
     }
   }
   return weight;
@@ -146,10 +151,54 @@ std::vector<uint32_t> GreedyToGoal(const CoverageMatrix& matrix, uint64_t goal_c
   return chosen;
 }
 
+std::vector<uint32_t> PointsGreedyComplete(const CoverageMatrix& matrix,
+                                           std::vector<uint32_t> chosen, size_t n, int k) {
+  const size_t m = matrix.candidate_count();
+  VANTAGE_CHECK(k >= 1 && n <= m && chosen.size() <= n);
+  const auto kk = static_cast<uint32_t>(k);
+  std::vector<uint32_t> points(matrix.element_count(), 0);  // of the chosen, capped at k
+  std::vector<bool> is_chosen(m, false);
+  const auto add = [&](uint32_t candidate) {
+    VANTAGE_CHECK(candidate < m && !is_chosen[candidate]);
+    is_chosen[candidate] = true;
+    const std::vector<uint32_t>& row = matrix.Row(candidate);
+    for (size_t j = 0; j < row.size(); ++j)
+      points[row[j]] = std::min(kk, points[row[j]] + matrix.Count(candidate, j));
+  };
+  for (const uint32_t c : chosen) add(c);
+  while (chosen.size() < n) {
+    ThrowIfInterrupted();
+    int64_t best = -1;
+    std::pair<uint64_t, uint64_t> best_gain{0, 0};  // (cells completed, points added)
+    for (uint32_t i = 0; i < m; ++i) {
+      if (is_chosen[i]) continue;
+      std::pair<uint64_t, uint64_t> gain{0, 0};
+      const std::vector<uint32_t>& row = matrix.Row(i);
+      for (size_t j = 0; j < row.size(); ++j) {
+        const uint32_t have = points[row[j]];
+        if (have >= kk) continue;
+        const uint32_t add_points = std::min(kk - have, matrix.Count(i, j));
+        if (have + add_points >= kk) gain.first += matrix.Weight(row[j]);
+        gain.second += uint64_t{add_points} * matrix.Weight(row[j]);
+      }
+      if (best < 0 || best_gain < gain) {  // strict: ties keep the lower index
+        best = i;
+        best_gain = gain;
+      }
+    }
+    if (best < 0 || best_gain.second == 0) break;  // nothing adds anything: fill by index
+    chosen.push_back(static_cast<uint32_t>(best));
+    add(static_cast<uint32_t>(best));
+  }
+  FillByIndex(m, n, &chosen);
+  return chosen;
+}
+
 std::vector<uint32_t> KGreedyComplete(const CoverageMatrix& matrix,
                                       std::vector<uint32_t> chosen,
                                       size_t n,
                                       int k) {
+  if (matrix.has_counts()) return PointsGreedyComplete(matrix, std::move(chosen), n, k);
   const size_t m = matrix.candidate_count();
   VANTAGE_CHECK(k >= 1 && n <= m && chosen.size() <= n);
   const auto levels = static_cast<size_t>(k);
@@ -360,7 +409,8 @@ uint64_t KUpperBound(const CoverageMatrix& matrix,
   // A cell seen by k of the chosen is seen by one of them: the 1-coverage bound holds.
   std::vector<uint32_t> seers(matrix.element_count(), 0);
   for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
-    for (const uint32_t e : matrix.Row(i)) ++seers[e];
+    const std::vector<uint32_t>& row = matrix.Row(i);
+    for (size_t j = 0; j < row.size(); ++j) seers[row[j]] += matrix.Count(i, j);
   }
   uint64_t seen_by_k = 0;
   for (uint32_t e = 0; e < matrix.element_count(); ++e) {

@@ -18,7 +18,9 @@ std::vector<uint32_t> ImproveBySwaps(std::span<const Observation> observations,
                                      const SelectOptions& options) {
   const Objective objective = options.objective();
   VANTAGE_CHECK(objective != Objective::kSetCover);
-  const detail::CoverageMatrix matrix(observations, reference_size);
+  const detail::CoverageMatrix matrix = detail::MatrixFor(observations, reference_size, options);
+  if (objective == Objective::kMinPoints)
+    return detail::PointsLocalSearch(matrix, std::move(start), detail::Threshold(options));
   detail::LocalOptions local;
   if (objective == Objective::kBudget) {
     local.costs = options.costs;

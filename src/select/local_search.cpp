@@ -224,6 +224,74 @@ std::vector<uint32_t> LocalSearch(const Scorer& scorer,
   return chosen;
 }
 
+std::vector<uint32_t> PointsLocalSearch(const CoverageMatrix& matrix, std::vector<uint32_t> chosen,
+                                        int k) {
+  const size_t m = matrix.candidate_count();
+  const size_t n = chosen.size();
+  VANTAGE_CHECK(k >= 1);
+  if (n == 0 || n >= m) return chosen;
+  const auto kk = static_cast<uint32_t>(k);
+  std::vector<bool> is_chosen(m, false);
+  std::vector<uint32_t> points(matrix.element_count(), 0);  // of the chosen, uncapped
+  const auto change = [&](uint32_t candidate, bool add) {
+    const std::vector<uint32_t>& row = matrix.Row(candidate);
+    for (size_t j = 0; j < row.size(); ++j) {
+      if (add) {
+        points[row[j]] += matrix.Count(candidate, j);
+      } else {
+        points[row[j]] -= matrix.Count(candidate, j);
+      }
+    }
+  };
+  for (const uint32_t c : chosen) {
+    VANTAGE_CHECK(c < m && !is_chosen[c]);
+    is_chosen[c] = true;
+    change(c, true);
+  }
+  while (true) {
+    ThrowIfInterrupted();
+    int64_t best_delta = 0;
+    size_t best_position = 0;
+    uint32_t best_in = 0;
+    for (size_t p = 0; p < n; ++p) {
+      const uint32_t out = chosen[p];
+      // Cells that lose their k points with `out` gone, then what each unused one completes.
+      int64_t loss = 0;
+      const std::vector<uint32_t>& out_row = matrix.Row(out);
+      for (size_t j = 0; j < out_row.size(); ++j) {
+        const uint32_t have = points[out_row[j]];
+        if (have >= kk && have - matrix.Count(out, j) < kk) loss += matrix.Weight(out_row[j]);
+      }
+      change(out, false);
+      for (uint32_t in = 0; in < m; ++in) {
+        if (is_chosen[in]) continue;
+        // A candidate cannot complete more than it sees: skip those that cannot beat the best.
+        if (static_cast<int64_t>(matrix.RowWeight(in)) - loss <= best_delta) continue;
+        int64_t gain = 0;
+        const std::vector<uint32_t>& row = matrix.Row(in);
+        for (size_t j = 0; j < row.size(); ++j) {
+          const uint32_t have = points[row[j]];
+          if (have < kk && have + matrix.Count(in, j) >= kk) gain += matrix.Weight(row[j]);
+        }
+        if (gain - loss > best_delta) {
+          best_delta = gain - loss;
+          best_position = p;
+          best_in = in;
+        }
+      }
+      change(out, true);
+    }
+    if (best_delta <= 0) break;
+    const uint32_t out = chosen[best_position];
+    change(out, false);
+    is_chosen[out] = false;
+    change(best_in, true);
+    is_chosen[best_in] = true;
+    chosen[best_position] = best_in;
+  }
+  return chosen;
+}
+
 template std::vector<uint32_t> LocalSearch(const CellScorer&,
                                            std::vector<uint32_t>,
                                            const LocalOptions&);

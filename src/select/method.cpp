@@ -15,11 +15,26 @@ namespace {
 
 // The objective's own fields, and whether the method applies to it.
 void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
-  const int objectives = (o.goal ? 1 : 0) + (o.budget ? 1 : 0) + (o.k >= 2 ? 1 : 0);
+  const int objectives =
+      (o.goal ? 1 : 0) + (o.budget ? 1 : 0) + (o.k >= 2 ? 1 : 0) + (o.min_points ? 1 : 0);
   if (objectives > 1) {
+    if (o.min_points) {
+      throw FieldError({"min_points"},
+                       "min_points is its own objective (n sensors, cells with enough points) — "
+                       "give --min-points without --goal, --k or --budget");
+    }
     throw FieldError(
         {"goal", "k", "budget"},
         "goal, k >= 2 and budget are separate objectives — give only one of --goal, --k, --budget");
+  }
+  if (o.min_points) {
+    if (*o.min_points < 1)
+      throw FieldError({"min_points"}, "min_points = 0 must be at least 1 point per cell");
+    if (!o.fixed.empty() || !o.constraints.empty()) {
+      throw FieldError({"min_points"},
+                       "min_points does not combine with kept sensors or installation constraints "
+                       "yet — drop --min-points or those options");
+    }
   }
   if (o.k < 1) throw FieldError({"k"}, fmt::format("k = {} must be at least 1", o.k));
   if (o.goal && !(*o.goal > 0.0 && *o.goal <= 1.0)) {
@@ -62,6 +77,7 @@ void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
       allowed = {Method::kGreedy, Method::kExact, Method::kAll};
       break;
     case Objective::kKCoverage:
+    case Objective::kMinPoints:
       allowed = {Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact, Method::kAll};
       break;
     case Objective::kBudget:
@@ -88,6 +104,8 @@ std::string ObjectiveName(Objective objective) {
       return "k-coverage";
     case Objective::kBudget:
       return "budget";
+    case Objective::kMinPoints:
+      return "min-points";
   }
   VANTAGE_CHECK(false);
   return "";
@@ -97,6 +115,7 @@ Objective SelectOptions::objective() const {
   if (goal) return Objective::kSetCover;
   if (budget) return Objective::kBudget;
   if (k >= 2) return Objective::kKCoverage;
+  if (min_points) return Objective::kMinPoints;
   return Objective::kCoverage;
 }
 

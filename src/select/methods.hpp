@@ -38,6 +38,14 @@ std::vector<uint32_t> RansacChoice(
 /// Sum of `costs` over `chosen`.
 double TotalCost(std::span<const double> costs, std::span<const uint32_t> chosen);
 
+/// What a cell needs to count under the objective of `options`: k (k-coverage), min_points
+/// (min-points), else 1.
+int Threshold(const SelectOptions& options);
+
+/// The matrix the methods run on for `options`: with min_points, the one with point counts.
+CoverageMatrix MatrixFor(std::span<const Observation> observations, size_t reference_size,
+                         const SelectOptions& options);
+
 /// A Selection of `chosen` named `method`, scored under the objective of `options` (coverage or
 /// k-coverage, with goal / budget and cost filled in as report.json shows them); seconds 0.
 Selection ScoreSelection(const CoverageEvaluator& evaluator, std::vector<uint32_t> chosen,
@@ -62,6 +70,14 @@ std::vector<uint32_t> KGreedyComplete(const CoverageMatrix& matrix,
                                       std::vector<uint32_t> chosen,
                                       size_t n,
                                       int k);
+
+/// Min-points greedy (a matrix with point counts, k = min_points) from `chosen` up to n sensors:
+/// each step adds the candidate that completes the most cells (brings their points to k), ties
+/// broken by the most points it adds where they are still missing (each cell's share up to k,
+/// times its weight), then by the lower index; once nothing adds anything, the lowest-index
+/// unused candidates fill up to n. KGreedyComplete runs it for a matrix with counts.
+std::vector<uint32_t> PointsGreedyComplete(const CoverageMatrix& matrix,
+                                           std::vector<uint32_t> chosen, size_t n, int k);
 
 /// Budgeted maximum coverage (Khuller, Moss, Naor 1999): lazy greedy on gain per cost among the
 /// candidates that still fit in the remaining budget (zero cost: infinite ratio; ties: larger
@@ -92,6 +108,12 @@ template <MethodScorer Scorer>
 std::vector<uint32_t> LocalSearch(const Scorer& scorer,
                                   std::vector<uint32_t> chosen,
                                   const LocalOptions& options = {});
+
+/// Min-points local search (a matrix with point counts, k = min_points): best-improvement
+/// 1-swaps, as LocalSearch makes them, scored by the cells whose points reach k. Ties go to the
+/// earlier position, then to the lower index. Deterministic, never worse than `chosen`.
+std::vector<uint32_t> PointsLocalSearch(const CoverageMatrix& matrix, std::vector<uint32_t> chosen,
+                                        int k);
 
 /// Cheap upper bound on the cells any n sensors can cover (submodularity): the cells of `chosen`
 /// plus the n largest gains over them, at most the cells seen by anyone.
@@ -203,7 +225,8 @@ LagrangianBound LagrangianUpperBound(const CoverageMatrix& matrix,
 struct BranchAndBoundLimits {
   double seconds = 0;      ///< wall clock for the whole search
   int root_steps = 1000;   ///< subgradient steps at the root (from the start multipliers)
-  double root_share = 0.5;  ///< share of `seconds` the root's steps may take
+  double root_share = 0.5;  ///< share of `seconds` the root's steps and LP may take
+  bool root_lp = true;      ///< CLP's LP relaxation at the root, after the steps (lp_bound.hpp)
 };
 
 struct BranchAndBoundResult {
@@ -217,11 +240,17 @@ struct BranchAndBoundResult {
   size_t root_fixed_in = 0;      ///< candidates Lagrangian fixing settled at the root
   size_t root_removed = 0;
   int root_steps = 0;
+  uint64_t root_subgradient_bound = 0;  ///< the root's bound from the subgradient steps alone
+  uint64_t root_lp_bound = 0;    ///< the root's bound at CLP's duals (0: CLP not run)
+  double root_lp_seconds = 0;    ///< CLP's time at the root
+  bool root_lp_optimal = false;  ///< CLP finished the root LP (else stopped at its time)
+  bool root_lp_improved = false;  ///< the LP's rounded x gave a better incumbent
 };
 
 /// Maximum coverage with n sensors by branch and bound on the Lagrangian bound with fixing at
-/// every node (branch_and_bound.cpp), from the incumbent `start` (n sensors) and a known bound
-/// `upper_bound` (>= the optimum), within `limits`. Deterministic for a given stopping point;
+/// every node (branch_and_bound.cpp; at the root also CLP's LP relaxation, see `root_lp`), from
+/// the incumbent `start` (n sensors) and a known bound `upper_bound` (>= the optimum), within
+/// `limits`. Deterministic for a given stopping point;
 /// throws Interrupted when asked to stop.
 BranchAndBoundResult BranchAndBound(const CoverageMatrix& matrix,
                                     size_t n,

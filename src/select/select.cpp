@@ -71,7 +71,7 @@ class Pipeline {
         matrix_(matrix),
         options_(options),
         objective_(options.objective()),
-        k_(objective_ == Objective::kKCoverage ? options.k : 1),
+        k_(detail::Threshold(options)),
         setup_seconds_(setup_seconds) {}
 
   Selection Ransac(int n) const {
@@ -93,6 +93,7 @@ class Pipeline {
         greedy_ = detail::GreedyBudget(matrix_, options_.costs, *options_.budget);
         break;
       case Objective::kKCoverage:
+      case Objective::kMinPoints:  // the matrix's point counts make it the min-points greedy
         greedy_ = detail::KGreedyComplete(matrix_, {}, static_cast<size_t>(n), k_);
         break;
       case Objective::kCoverage:
@@ -113,7 +114,9 @@ class Pipeline {
       local.costs = options_.costs;
       local.budget = *options_.budget;
     }
-    local_ = detail::LocalSearch(detail::CellScorer(matrix_, k_), greedy_, local);
+    local_ = objective_ == Objective::kMinPoints
+                 ? detail::PointsLocalSearch(matrix_, greedy_, k_)
+                 : detail::LocalSearch(detail::CellScorer(matrix_, k_), greedy_, local);
     local_seconds_ = greedy_seconds_ + SecondsSince(start);
     return Scored(Method::kLocal, local_, local_seconds_);
   }
@@ -156,6 +159,7 @@ class Pipeline {
   void LogNote(bool proven_optimal, const std::string& note) const {
     std::string what = fmt::format("exact, n = {}", local_.size());
     if (objective_ == Objective::kKCoverage) what += fmt::format(", k = {}", k_);
+    if (objective_ == Objective::kMinPoints) what += fmt::format(", min points = {}", k_);
     if (objective_ == Objective::kSetCover || objective_ == Objective::kBudget)
       what = fmt::format("exact ({})", ObjectiveName(objective_));
     if (!proven_optimal && !note.empty()) {
@@ -177,10 +181,46 @@ class Pipeline {
   double local_seconds_ = 0;
 };
 
+}  // namespace
+
+namespace detail {
+
+int Threshold(const SelectOptions& options) {
+  switch (options.objective()) {
+    case Objective::kKCoverage:
+      return options.k;
+    case Objective::kMinPoints:
+      return static_cast<int>(*options.min_points);
+    default:
+      return 1;
+  }
+}
+
+CoverageMatrix MatrixFor(std::span<const Observation> observations, size_t reference_size,
+                         const SelectOptions& options) {
+  if (!options.min_points) return CoverageMatrix(observations, reference_size);
+  return CoverageMatrix(observations, reference_size, *options.min_points);
+}
+
+}  // namespace detail
+
+namespace {
+
 void ValidateN(int n, size_t candidate_count) {
   SelectOptions options;
   options.n = n;
   options.Validate(candidate_count);
+}
+
+// Min-points needs every observation's point counts (visibility files before format 4 have none).
+void RequirePointCounts(std::span<const Observation> observations) {
+  for (const Observation& o : observations) {
+    if (!o.has_point_counts()) {
+      throw FieldError({"min_points"},
+                       "min_points needs the pixel counts per cell, which these observations do "
+                       "not carry — observe the scene again with this vantage");
+    }
+  }
 }
 
 }  // namespace
@@ -197,6 +237,13 @@ Selection ScoreSelection(const CoverageEvaluator& evaluator, std::vector<uint32_
   s.chosen = std::move(chosen);
   s.coverage = evaluator.Coverage(s.chosen, k);
   s.paper_coverage = evaluator.PaperCoverage(s.chosen, k);
+  if (objective == Objective::kMinPoints) {
+    // Counts are kept for R's cells only: the keys outside R count as seen (docs/constraints.md).
+    const double outside = s.paper_coverage - s.coverage;
+    s.coverage = evaluator.PointCoverage(s.chosen, *options.min_points);
+    s.paper_coverage = s.coverage + outside;
+    s.min_points = options.min_points;
+  }
   s.objective = ObjectiveName(objective);
   s.k = k;
   if (objective == Objective::kSetCover) s.goal = options.goal;
@@ -235,7 +282,9 @@ Selection SelectBest(const CoverageEvaluator& evaluator) {
 Selection SelectRansac(const CoverageEvaluator& evaluator, const SelectOptions& options) {
   const Clock::time_point start = Clock::now();
   options.Validate(evaluator.observations().size());
-  const detail::CoverageMatrix matrix(evaluator.observations(), evaluator.reference_size());
+  if (options.min_points) RequirePointCounts(evaluator.observations());
+  const detail::CoverageMatrix matrix =
+      detail::MatrixFor(evaluator.observations(), evaluator.reference_size(), options);
   Selection s = Pipeline(evaluator, matrix, options, 0).Ransac(options.n);
   s.seconds = SecondsSince(start);
   return s;
@@ -347,9 +396,10 @@ std::vector<Selection> Select(std::span<const Observation> observations,
     return detail::SelectConstrained(observations, reference_size, options);
   const CoverageEvaluator evaluator(observations, reference_size);
   if (options.method == Method::kBest) return {SelectBest(evaluator)};
+  if (options.min_points) RequirePointCounts(observations);
 
   const Clock::time_point start = Clock::now();
-  const detail::CoverageMatrix matrix(observations, reference_size);
+  const detail::CoverageMatrix matrix = detail::MatrixFor(observations, reference_size, options);
   const double setup_seconds = SecondsSince(start);
   Logger()->debug("select: {} candidates, {} of {} reference cells seen, merged into {} elements",
                   matrix.candidate_count(), matrix.seen_weight(), reference_size,
@@ -402,7 +452,7 @@ std::vector<Selection> Select(std::span<const Observation> observations,
   int first_n = 1;
   if (objective == Objective::kCoverage) {
     results.push_back(SelectBest(evaluator));
-  } else {
+  } else if (objective == Objective::kKCoverage) {
     first_n = options.k;
   }
   const bool run_exact = observations.size() <= kAllExactMaxCandidates;
@@ -444,7 +494,8 @@ std::vector<Selection> CoverageCurve(std::span<const Observation> observations,
   if (last_n < first_n) return curve;
   const CoverageEvaluator evaluator(observations, reference_size);
   const Clock::time_point start = Clock::now();
-  const detail::CoverageMatrix matrix(observations, reference_size);
+  if (options.min_points) RequirePointCounts(observations);
+  const detail::CoverageMatrix matrix = detail::MatrixFor(observations, reference_size, options);
   Pipeline pipeline(evaluator, matrix, options, SecondsSince(start));
   const std::string greedy = MethodName(Method::kGreedy), local = MethodName(Method::kLocal);
   for (int n = first_n; n <= last_n; ++n) {

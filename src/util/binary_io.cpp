@@ -61,20 +61,17 @@ std::string BinaryReader::Str() {
   return s;
 }
 
-std::vector<uint32_t> BinaryReader::U32Vector() {
+template <typename T>
+std::vector<T> BinaryReader::Vector() {
   const uint64_t n = U64();
-  CheckCount(n, 4);
-  std::vector<uint32_t> v(n);
-  Read(v.data(), n * 4);
+  CheckCount(n, sizeof(T));
+  std::vector<T> v(n);
+  Read(v.data(), n * sizeof(T));
   return v;
 }
 
-std::vector<uint64_t> BinaryReader::U64Vector() {
-  const uint64_t n = U64();
-  CheckCount(n, 8);
-  std::vector<uint64_t> v(n);
-  Read(v.data(), n * 8);
-  return v;
-}
+std::vector<uint16_t> BinaryReader::U16Vector() { return Vector<uint16_t>(); }
+std::vector<uint32_t> BinaryReader::U32Vector() { return Vector<uint32_t>(); }
+std::vector<uint64_t> BinaryReader::U64Vector() { return Vector<uint64_t>(); }
 
 }  // namespace vantage::detail

@@ -25,6 +25,10 @@ class BinaryWriter {
     U64(v.size());
     Bytes(v.data(), v.size() * 4);
   }
+  void U16Vector(const std::vector<uint16_t>& v) {
+    U64(v.size());
+    Bytes(v.data(), v.size() * 2);
+  }
   void U64Vector(const std::vector<uint64_t>& v) {
     U64(v.size());
     Bytes(v.data(), v.size() * 8);
@@ -45,12 +49,16 @@ class BinaryReader {
   std::string Str();
   std::vector<uint32_t> U32Vector();
   std::vector<uint64_t> U64Vector();
+  std::vector<uint16_t> U16Vector();
   /// Throws unless `count` items of at least `min_item_bytes` each can still be read.
   void CheckCount(uint64_t count, size_t min_item_bytes) const;
   bool AtEnd() const { return pos_ == data_.size(); }
 
  private:
   void Read(void* out, size_t n);
+  /// A u64 count, then that many little-endian values of T.
+  template <typename T>
+  std::vector<T> Vector();
   std::string_view data_;
   std::string file_;
   size_t pos_ = 0;

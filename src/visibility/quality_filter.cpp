@@ -23,9 +23,9 @@ std::vector<Observation> WithoutQuality(std::span<const Observation> observation
   plain.reserve(observations.size());
   for (const Observation& o : observations) {
     Observation p;
-    p.reference_indices = o.plain_reference_indices.empty() && o.quality_pixels == o.target_pixels
-                              ? o.reference_indices
-                              : o.plain_reference_indices;
+    const bool same = o.plain_reference_indices.empty() && o.quality_pixels == o.target_pixels;
+    p.reference_indices = same ? o.reference_indices : o.plain_reference_indices;
+    if (same) p.reference_hits = o.reference_hits;  // the plain cells' counts are not kept
     p.rays_traced = o.rays_traced;
     p.target_pixels = p.quality_pixels = o.target_pixels;
     plain.push_back(std::move(p));

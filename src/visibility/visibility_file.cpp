@@ -22,9 +22,11 @@ namespace {
 // Version 2 adds the selection settings (method, goal, k, budget) after the RANSAC ones;
 // version 3 the quality filter after them, each sensor's depth-noise model, and per observation
 // the plain cells and pixel counts of the quality filter (issue 9). Older files are still read,
-// with what they lack at its default (no filter, no model: the catalog's by type id).
+// with what they lack at its default (no filter, no model: the catalog's by type id). Version 4
+// adds per observation the pixel count of each cell (point density; empty when not recorded):
+// older files read without counts, and --min-points refuses them.
 constexpr char kMagic[8] = {'V', 'A', 'N', 'T', 'V', 'I', 'S', '\0'};
-constexpr uint32_t kFormatVersion = 3;
+constexpr uint32_t kFormatVersion = 4;
 constexpr uint32_t kOldestReadVersion = 1;
 
 void WriteOptional(detail::BinaryWriter* w, const std::optional<double>& value) {
@@ -124,6 +126,7 @@ std::string EncodeVisibilityFile(const VisibilityFile& file, bool observations) 
     w.U32Vector(o.plain_reference_indices);
     w.U64(o.target_pixels);
     w.U64(o.quality_pixels);
+    w.U16Vector(o.reference_hits);
   }
   w.U64(detail::Fnv1a64(w.data()));
   return w.data();
@@ -243,6 +246,7 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
       o.target_pixels = r.U64();
       o.quality_pixels = r.U64();
     }
+    if (version >= 4) o.reference_hits = r.U16Vector();
     const auto check_indices = [&](const std::vector<uint32_t>& indices) {
       for (size_t k = 0; k < indices.size(); ++k) {
         if (indices[k] >= file.reference.keys.size() || (k > 0 && indices[k] <= indices[k - 1]))
@@ -251,6 +255,8 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
     };
     check_indices(o.reference_indices);
     check_indices(o.plain_reference_indices);
+    if (!o.reference_hits.empty() && !o.has_point_counts())
+      throw corrupt("an observation's point counts do not match its cells");
     const std::string where = fmt::format("candidate {} ('{}')", i, c.name);
     if (o.quality_pixels > o.target_pixels || o.target_pixels > o.rays_traced)
       throw corrupt(where + ": its pixel counts contradict each other");

@@ -69,6 +69,46 @@ def test_evaluate_matches_cli(cli_example, tmp_path):
     assert result["coverage"] == pytest.approx(chosen["coverage"], abs=1e-12)
 
 
+def constrained_example(cli_example, folder):
+    """The example with a keep-out box around its best layout's first sensor and a minimum
+    separation of 0.3 m (docs/constraints.md, Mounting rules), written into `folder`."""
+    report = read_report(cli_example / "optimize")
+    first = report["results"][report["primary_result"]]["sensors"][0]
+    (position,) = [c["position"] for c in report["candidates"] if c["name"] == first]
+    text = EXAMPLE.read_text(encoding="utf-8").replace(
+        "../meshes/", str(EXAMPLE.parent.parent / "meshes") + "/")
+    text += (f"keep_out:\n  - {{name: pillar, center: {list(position)}, size: [0.05, 0.05, 0.05]}}\n"
+             "min_separation: 0.3\n")
+    scene = pathlib.Path(folder) / "constrained.yaml"
+    scene.write_text(text, encoding="utf-8")
+    return scene, first
+
+
+def test_constrained_run_matches_cli(cli_example, tmp_path):
+    scene, kept_out = constrained_example(cli_example, tmp_path)
+    flags = ["-n", 3, "--method", "local", "--interference-overlap", 0.2,
+             "--calibration-overlap", 20]
+    run_cli("optimize", scene, *flags, "--out", tmp_path / "cli")
+    returned = vantage.optimize(scene, n=3, method="local", out=tmp_path / "py",
+                                interference_overlap=0.2, calibration_overlap=20)
+    compare_folders(tmp_path / "cli", tmp_path / "py", returned)
+    constraints = returned["constraints"]
+    assert constraints["keep_out"]["excluded_candidates"] == 1
+    assert constraints["separation"]["min_separation"] == 0.3
+    assert constraints["calibration"]["min_cells"] == 20
+    assert kept_out not in [c["name"] for c in returned["candidates"]]
+    (result,) = returned["results"]
+    assert result["constraints"]["satisfied"]
+
+    # evaluate checks the same layout against the same rules, from Python as from the CLI.
+    cli = tmp_path / "cli" / "report.json"
+    run_cli("evaluate", scene, "--constellation", cli, "--interference-overlap", 0.2,
+            "--out", tmp_path / "cli_eval")
+    evaluated = vantage.evaluate(scene, constellation=cli, interference_overlap=0.2,
+                                 out=tmp_path / "py_eval")
+    assert normalised(evaluated["report"]) == normalised(read_report(tmp_path / "cli_eval"))
+
+
 def test_sensors_match_cli_json():
     import json
     cli = json.loads(run_cli("sensors", "--json").stdout)

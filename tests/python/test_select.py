@@ -65,3 +65,52 @@ def test_objectives_as_cli(cli_example, cli_vis, tmp_path, flags, kwargs):
     assert selection.sensors == expected["sensors"]
     assert selection.coverage == expected["coverage"]
     assert selection.objective == expected["objective"]
+
+
+@pytest.mark.parametrize("method,flags,kwargs", [
+    ("exact", ["--interference", "true", "--interference-overlap", "0.05"],
+     {"interference": True, "interference_overlap": 0.05}),
+    ("local", ["--calibration-overlap", "20"], {"calibration_overlap": 20}),
+    ("greedy", ["--calibration-overlap-frac", "0.1", "--interference", "false"],
+     {"calibration_overlap_frac": 0.1, "interference": False}),
+])
+def test_constraints_as_cli(cli_example, cli_vis, method, flags, kwargs, tmp_path):
+    run_cli("select", cli_example / "example.vis", "-n", 3, "--method", method, *flags,
+            "--out", tmp_path / "cli")
+    report = read_report(tmp_path / "cli")
+    (expected,) = report["results"]
+    selection = cli_vis.select(n=3, method=method, **kwargs)
+    assert (selection.sensors, selection.coverage, selection.upper_bound) == \
+        (expected["sensors"], expected["coverage"], expected.get("upper_bound"))
+    assert expected["constraints"]["satisfied"]
+
+
+def test_interference_is_the_enumerated_optimum(cli_vis):
+    """interference=True (F = 0.1) at n = 3 gives the best triple without an interfering pair,
+    found here by enumerating all triples of the example's matrix; the default (off) gives the
+    unconstrained optimum."""
+    import itertools
+
+    matrix = cli_vis.matrix.tocsr()
+    rows = [set(matrix.indices[matrix.indptr[i]:matrix.indptr[i + 1]].tolist())
+            for i in range(matrix.shape[0])]
+    masks = [sum(1 << c for c in row) for row in rows]
+    projecting = [c.technology.startswith(("structured light", "time of flight"))
+                  for c in cli_vis.candidates]
+    conflict = set()
+    for a, b in itertools.combinations(range(len(rows)), 2):
+        if projecting[a] and projecting[b] and \
+                len(rows[a] & rows[b]) > 0.1 * min(len(rows[a]), len(rows[b])):
+            conflict.add((a, b))
+    best_free, best_any = 0, 0
+    for a, b, c in itertools.combinations(range(len(rows)), 3):
+        cells = bin(masks[a] | masks[b] | masks[c]).count("1")
+        best_any = max(best_any, cells)
+        if (a, b) not in conflict and (a, c) not in conflict and (b, c) not in conflict:
+            best_free = max(best_free, cells)
+    cells = matrix.shape[1]
+    assert cli_vis.select(n=3, method="exact", interference=True).coverage == \
+        pytest.approx(best_free / cells, abs=1e-15)
+    assert cli_vis.select(n=3, method="exact").coverage == pytest.approx(best_any / cells,
+                                                                         abs=1e-15)
+    assert best_free < best_any  # the example's optimum pairs two interfering Kinects

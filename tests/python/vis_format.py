@@ -15,6 +15,7 @@ class VisCandidate:
     quaternion: tuple  # [w, x, y, z]
     reference_indices: list
     rays_traced: int
+    reference_hits: list = dataclasses.field(default_factory=list)  # pixels per cell (version 4)
 
 
 @dataclasses.dataclass
@@ -57,6 +58,10 @@ class _Reader:
         count = self.u64()
         return list(self.take(f"<{count}I"))
 
+    def u16s(self):
+        count = self.u64()
+        return list(self.take(f"<{count}H"))
+
     def u64s(self):
         count = self.u64()
         return list(self.take(f"<{count}Q"))
@@ -75,7 +80,7 @@ def fnv1a64(data):
 
 
 def read_vis(path):
-    """The sets of a format-3 .vis file, its checksum verified."""
+    """The sets of a format-4 .vis file, its checksum verified."""
     with open(path, "rb") as f:
         data = f.read()
     assert data[:8] == b"VANTVIS\0", "not a vantage visibility file"
@@ -84,7 +89,7 @@ def read_vis(path):
     r = _Reader(data[:-8])
     r.at = 8
     version = r.u32()
-    assert version == 3, f"format version {version}"
+    assert version == 4, f"format version {version}"
     scene, seed = r.string(), r.u64()
     r.u32(), r.u32(), r.f64()  # n, RANSAC iterations and stop coverage
     r.string(), r.optional(), r.u32(), r.optional()  # method, goal, k, budget
@@ -104,8 +109,9 @@ def read_vis(path):
         r.u64s()  # keys seen outside R
         rays = r.u64()
         r.u32s(), r.u64(), r.u64()  # plain cells, target and quality pixels
+        hits = r.u16s()
         candidates.append(VisCandidate(name, type_id, population, position, quaternion, indices,
-                                       rays))
+                                       rays, hits))
     assert r.at == len(r.data), "trailing bytes"
     return VisFile(version, scene, seed, cell_size, keys, candidates)
 

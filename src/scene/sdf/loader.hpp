@@ -199,6 +199,9 @@ class Loader {
   void ReadPlugin();
   void ReadSegmentationColour(const Doc& doc, const XmlElement& e);
   void ReadPopulation(const Doc& doc, const XmlElement& e);
+  /// <vantage:keep_out> and <vantage:min_separation>, siblings of <population> (mounting.cpp).
+  void ReadKeepOut(const Doc& doc, const XmlElement& e);
+  void ReadMinSeparation(const Doc& doc, const XmlElement& e);
   std::optional<std::string> AddSensorType(const SensorRecord& record, const std::string& id);
 
   // Scene (roles.cpp: ColoursOf, BuildScene; geometry.cpp: GeometryOf, LoadMesh).

@@ -70,6 +70,15 @@ Problem Loader::Load(std::vector<GazeboVisual>* visuals_out) {
       VisitWorldEntity(*world_doc_, child);
     } else if (child.name == "population") {
       ReadPopulation(*world_doc_, child);
+    } else if (child.name == "vantage:keep_out") {
+      ReadKeepOut(*world_doc_, child);
+    } else if (child.name == "vantage:min_separation") {
+      ReadMinSeparation(*world_doc_, child);
+    } else if (child.name == "keep_out" || child.name == "min_separation") {
+      Error(*world_doc_, child.line,
+            fmt::format("<{0}> needs the vantage: prefix — write <vantage:{0}> (a custom "
+                        "element, which libsdformat keeps; docs/constraints.md)",
+                        child.name));
     } else if (child.name == "state") {
       Note(AtPlace(path_, child.line, "<state> is not applied: poses come from the models"));
     } else if (child.name == "actor") {
