@@ -135,6 +135,8 @@ class Visibility:
         interference_overlap: Optional[float] = None,
         calibration_overlap: Optional[int] = None,
         calibration_overlap_frac: Optional[float] = None,
+        min_points: Optional[int] = None,
+        min_density: Optional[float] = None,
     ) -> Selection:
         """n sensors with one method, as `vantage select FILE -n N --method M`."""
     def select_all(
@@ -154,6 +156,8 @@ class Visibility:
         interference_overlap: Optional[float] = None,
         calibration_overlap: Optional[int] = None,
         calibration_overlap_frac: Optional[float] = None,
+        min_points: Optional[int] = None,
+        min_density: Optional[float] = None,
     ) -> list[Selection]:
         """Every result of `vantage select FILE` (report.json's results), in order."""
     def save(self, path: PathLike) -> None:
@@ -233,6 +237,8 @@ def optimize(
     interference_overlap: Optional[float] = None,
     calibration_overlap: Optional[int] = None,
     calibration_overlap_frac: Optional[float] = None,
+    min_points: Optional[int] = None,
+    min_density: Optional[float] = None,
 ) -> dict[str, Any]:
     """`vantage optimize SCENE`: the same files into `out`; returns report.json as a dict."""
 
@@ -255,6 +261,8 @@ def evaluate(
     interference_overlap: Optional[float] = None,
     calibration_overlap: Optional[int] = None,
     calibration_overlap_frac: Optional[float] = None,
+    min_points: Optional[int] = None,
+    min_density: Optional[float] = None,
 ) -> dict[str, Any]:
     """`vantage evaluate`: sensors, sensor_coverage, coverage, paper_coverage, report."""
 

@@ -1,9 +1,9 @@
 // The Python module `vantage` (docs/python.md): the pipeline's functions for scripts, notebooks
 // and robot stacks. Like the CLI it is a face over include/vantage/pipeline.hpp: keyword
 // arguments go onto the pipeline's option structs, results come back as NumPy/SciPy values, and
-// every C++ exception is turned into a Python one at the boundary (InputError -> vantage.InputError,
-// a ValueError; anything else -> RuntimeError), so that the interpreter never aborts. The GIL is
-// released while the library works, so that other Python threads run meanwhile.
+// every C++ exception is turned into a Python one at the boundary (InputError ->
+// vantage.InputError, a ValueError; anything else -> RuntimeError), so that the interpreter never
+// aborts. The GIL is released while the library works, so that other Python threads run meanwhile.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -18,8 +18,8 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <thread>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -103,9 +103,9 @@ QualityFilter QualityOf(const py::object& value) {
     } else if (name == "max_depth_noise") {
       quality.max_depth_noise = item.cast<double>() / 1000.0;
     } else {
-      throw InputError(AtPlace("quality", 0,
-                               "unknown key '" + name +
-                                   "' — use max_incidence [deg] and max_depth_noise [mm]"));
+      throw InputError(
+          AtPlace("quality", 0,
+                  "unknown key '" + name + "' — use max_incidence [deg] and max_depth_noise [mm]"));
     }
   }
   return quality;
@@ -129,9 +129,12 @@ std::function<void(size_t, size_t)> ProgressOf(const py::object& progress) {
   };
 }
 
-SceneInput SceneInputOf(const py::object& path, const py::object& model_path,
-                        const py::object& resource_path, const py::object& targets,
-                        std::optional<double> cell_size, std::optional<uint64_t> seed,
+SceneInput SceneInputOf(const py::object& path,
+                        const py::object& model_path,
+                        const py::object& resource_path,
+                        const py::object& targets,
+                        std::optional<double> cell_size,
+                        std::optional<uint64_t> seed,
                         std::optional<std::array<double, 3>> observation_point,
                         std::optional<bool> random_roll) {
   SceneInput input;
@@ -222,16 +225,16 @@ auto WithoutGil(std::optional<int> threads, Work&& work) {
 /// One candidate sensor as Python sees it (vantage.Candidate).
 struct CandidateInfo {
   std::string name;
-  std::string type;        // catalog id, or the type's own name
-  std::string sensor;      // display name of the type
+  std::string type;    // catalog id, or the type's own name
+  std::string sensor;  // display name of the type
   std::string technology;
-  std::string population;  // "" for an explicit sensor
+  std::string population;              // "" for an explicit sensor
   std::array<double, 3> position{};    // [m], world
   std::array<double, 4> quaternion{};  // world_from_body, [w, x, y, z]
   int width = 0, height = 0;
   double fx = 0, fy = 0, cx = 0, cy = 0, near = 0, far = 0, cost = 0;
-  std::optional<double> coverage;           // |O_i ∩ R| / |R|, once observed
-  std::optional<size_t> observed_voxels;    // |O_i ∩ R|, once observed
+  std::optional<double> coverage;         // |O_i ∩ R| / |R|, once observed
+  std::optional<size_t> observed_voxels;  // |O_i ∩ R|, once observed
 };
 
 CandidateInfo InfoOf(const Candidate& c) {
@@ -303,9 +306,9 @@ py::object CsrOf(const VisibilityFile& data, size_t nonzeros) {
     row_start[i + 1] = static_cast<Index>(at);
   }
   py::object ones = py::module_::import("numpy").attr("ones")(nonzeros, "float64");
-  py::object csr = py::module_::import("scipy.sparse").attr("csr_matrix")(
-      py::make_tuple(ones, indices, indptr),
-      py::make_tuple(rows, data.reference.size()));
+  py::object csr = py::module_::import("scipy.sparse")
+                       .attr("csr_matrix")(py::make_tuple(ones, indices, indptr),
+                                           py::make_tuple(rows, data.reference.size()));
   csr.attr("has_sorted_indices") = true;  // each O_i is sorted and unique
   return csr;
 }
@@ -329,10 +332,14 @@ struct VisibilityHandle {
   py::object matrix;  // scipy.sparse.csr_matrix, built on first use
 };
 
-SelectionRequest RequestOf(std::optional<int> n, std::optional<Method> method,
-                           std::optional<double> time_limit, std::optional<int> k,
-                           std::optional<double> goal, std::optional<double> budget,
-                           std::optional<int> iterations, std::optional<double> stop,
+SelectionRequest RequestOf(std::optional<int> n,
+                           std::optional<Method> method,
+                           std::optional<double> time_limit,
+                           std::optional<int> k,
+                           std::optional<double> goal,
+                           std::optional<double> budget,
+                           std::optional<int> iterations,
+                           std::optional<double> stop,
                            std::optional<OverStates> over_states = std::nullopt) {
   SelectionRequest request;
   request.n = n;
@@ -361,14 +368,15 @@ ConstraintOptions ConstraintsOf(std::optional<bool> interference,
 }
 
 // Selection as `vantage select FILE`: the same resolution, constraints included.
-std::vector<Selection> SelectOn(const VisibilityFile& data, const SelectionRequest& request,
-                                std::optional<uint64_t> seed, Method default_method,
+std::vector<Selection> SelectOn(const VisibilityFile& data,
+                                const SelectionRequest& request,
+                                std::optional<uint64_t> seed,
+                                Method default_method,
                                 std::optional<int> threads) {
   const MatrixSelection resolved =
       ResolveMatrixSelection(data, request, seed.value_or(data.seed), default_method);
-  return WithoutGil(threads, [&] {
-    return Select(data.observations, data.reference.size(), resolved.options);
-  });
+  return WithoutGil(
+      threads, [&] { return Select(data.observations, data.reference.size(), resolved.options); });
 }
 
 py::list SensorCatalog() {
@@ -408,9 +416,8 @@ py::list SensorCatalog() {
 void SetLogLevel(const std::string& level) {
   const spdlog::level::level_enum parsed = spdlog::level::from_str(level);
   if (parsed == spdlog::level::off && level != "off")
-    throw InputError(AtPlace("level", 0,
-                             "unknown log level '" + level +
-                                 "' — use debug, info, warning, error or off"));
+    throw InputError(AtPlace(
+        "level", 0, "unknown log level '" + level + "' — use debug, info, warning, error or off"));
   spdlog::default_logger()->set_level(parsed);
 }
 
@@ -490,7 +497,8 @@ void Bind(py::module_& m) {
           "paper_coverage", [](const SelectionInfo& s) { return s.selection.paper_coverage; },
           "|union of O_i| / |R|, cells outside R included (the paper's metric)")
       .def_property_readonly(
-          "upper_bound", [](const SelectionInfo& s) { return OptionalDouble(s.selection.upper_bound); },
+          "upper_bound",
+          [](const SelectionInfo& s) { return OptionalDouble(s.selection.upper_bound); },
           "proven bound on the best coverage for the same objective and n (exact), else None")
       .def_property_readonly(
           "optimal", [](const SelectionInfo& s) { return s.selection.proven_optimal; },
@@ -583,10 +591,11 @@ void Bind(py::module_& m) {
           [](const VisibilityHandle& v, std::optional<int> n, const std::string& method,
              std::optional<double> time_limit, std::optional<int> k, std::optional<double> goal,
              std::optional<double> budget, std::optional<int> iterations,
-             std::optional<double> stop, std::optional<uint64_t> seed,
-             std::optional<int> threads, std::optional<bool> interference, std::optional<double> interference_overlap,
+             std::optional<double> stop, std::optional<uint64_t> seed, std::optional<int> threads,
+             std::optional<bool> interference, std::optional<double> interference_overlap,
              std::optional<uint64_t> calibration_overlap,
-             std::optional<double> calibration_overlap_frac) {
+             std::optional<double> calibration_overlap_frac, std::optional<int64_t> min_points,
+             std::optional<double> min_density) {
             const Method chosen = MethodOf(method);
             if (chosen == Method::kAll)
               throw InputError(AtPlace("method", 0,
@@ -594,8 +603,10 @@ void Bind(py::module_& m) {
                                        "select_all(), or name one method"));
             SelectionRequest request =
                 RequestOf(n, chosen, time_limit, k, goal, budget, iterations, stop);
-            request.constraints = ConstraintsOf(interference, interference_overlap, calibration_overlap,
-                                        calibration_overlap_frac);
+            request.constraints = ConstraintsOf(interference, interference_overlap,
+                                                calibration_overlap, calibration_overlap_frac);
+            request.min_points = min_points;
+            request.min_density = min_density;
             std::vector<Selection> results =
                 SelectOn(*v.data, request, seed, Method::kExact, threads);
             return SelectionInfoOf(std::move(results.back()), *v.data);
@@ -607,7 +618,8 @@ void Bind(py::module_& m) {
           py::arg("seed") = py::none(), py::arg("threads") = py::none(),
           py::arg("interference") = py::none(), py::arg("interference_overlap") = py::none(),
           py::arg("calibration_overlap") = py::none(),
-          py::arg("calibration_overlap_frac") = py::none(),
+          py::arg("calibration_overlap_frac") = py::none(), py::arg("min_points") = py::none(),
+          py::arg("min_density") = py::none(),
           "Chooses n sensors with one method, as `vantage select FILE -n N --method M`.\n\n"
           "n: sensors (None: the scene's n); method: best, ransac, greedy, local or exact;\n"
           "time_limit: seconds for exact (None: 60); k: k-coverage when >= 2; goal: set cover,\n"
@@ -616,7 +628,8 @@ void Bind(py::module_& m) {
           "None takes the scene's own setting (goal, k and budget given replace its objective).\n"
           "seed: None for the run's; threads: None for all cores (same result for any).\n"
           "interference, interference_overlap, calibration_overlap, calibration_overlap_frac:\n"
-          "the installation constraints (docs/constraints.md), as the CLI's flags.\n"
+          "the installation constraints (docs/constraints.md), as the CLI's flags; min_points,\n"
+          "min_density: point density (docs/constraints.md, \"Point density\").\n"
           "Returns a vantage.Selection; raises InputError for invalid options.")
       .def(
           "select_all",
@@ -624,13 +637,17 @@ void Bind(py::module_& m) {
              const std::optional<std::string>& method, std::optional<double> time_limit,
              std::optional<int> k, std::optional<double> goal, std::optional<double> budget,
              std::optional<int> iterations, std::optional<double> stop,
-             std::optional<uint64_t> seed, std::optional<int> threads, std::optional<bool> interference, std::optional<double> interference_overlap,
+             std::optional<uint64_t> seed, std::optional<int> threads,
+             std::optional<bool> interference, std::optional<double> interference_overlap,
              std::optional<uint64_t> calibration_overlap,
-             std::optional<double> calibration_overlap_frac) {
+             std::optional<double> calibration_overlap_frac, std::optional<int64_t> min_points,
+             std::optional<double> min_density) {
             SelectionRequest request = RequestOf(n, OptionalMethodOf(method), time_limit, k, goal,
                                                  budget, iterations, stop);
-            request.constraints = ConstraintsOf(interference, interference_overlap, calibration_overlap,
-                                        calibration_overlap_frac);
+            request.constraints = ConstraintsOf(interference, interference_overlap,
+                                                calibration_overlap, calibration_overlap_frac);
+            request.min_points = min_points;
+            request.min_density = min_density;
             std::vector<SelectionInfo> list;
             for (Selection& s : SelectOn(*v.data, request, seed, Method::kAll, threads))
               list.push_back(SelectionInfoOf(std::move(s), *v.data));
@@ -643,7 +660,8 @@ void Bind(py::module_& m) {
           py::arg("seed") = py::none(), py::arg("threads") = py::none(),
           py::arg("interference") = py::none(), py::arg("interference_overlap") = py::none(),
           py::arg("calibration_overlap") = py::none(),
-          py::arg("calibration_overlap_frac") = py::none(),
+          py::arg("calibration_overlap_frac") = py::none(), py::arg("min_points") = py::none(),
+          py::arg("min_density") = py::none(),
           "Every result of `vantage select FILE` (report.json's `results`, in order): with\n"
           "method None or 'all', best for n = 1, then ransac, greedy, local and exact for each\n"
           "n from 1 to n. Arguments as select(). Returns a list of vantage.Selection.")
@@ -672,8 +690,7 @@ void Bind(py::module_& m) {
           "cell_size", [](const ProblemHandle& p) { return p.prepared->problem.cell_size; },
           "edge of the cubic cells F [m] (the scene's, or load's cell_size)")
       .def_property_readonly(
-          "seed", [](const ProblemHandle& p) { return p.prepared->problem.seed; },
-          "the run's seed")
+          "seed", [](const ProblemHandle& p) { return p.prepared->problem.seed; }, "the run's seed")
       .def_property_readonly(
           "n", [](const ProblemHandle& p) { return p.prepared->problem.selection.n; },
           "the scene's number of sensors wanted")
@@ -732,9 +749,8 @@ void Bind(py::module_& m) {
         const SceneInput input = SceneInputOf(path, model_path, resource_path, targets, cell_size,
                                               seed, observation_point, random_roll);
         ProblemHandle problem;
-        problem.prepared = WithoutGil(std::nullopt, [&] {
-          return std::make_shared<const PreparedScene>(Prepare(input));
-        });
+        problem.prepared = WithoutGil(
+            std::nullopt, [&] { return std::make_shared<const PreparedScene>(Prepare(input)); });
         return problem;
       },
       py::arg("path"), py::kw_only(), py::arg("model_path") = py::none(),
@@ -776,9 +792,10 @@ void Bind(py::module_& m) {
          std::optional<double> budget, const std::optional<std::string>& over_states,
          std::optional<double> fov_tolerance, std::optional<double> alternatives_within,
          bool refine, std::optional<int> refine_rounds, std::optional<int> threads,
-         const py::object& progress, std::optional<bool> interference, std::optional<double> interference_overlap,
-             std::optional<uint64_t> calibration_overlap,
-             std::optional<double> calibration_overlap_frac) {
+         const py::object& progress, std::optional<bool> interference,
+         std::optional<double> interference_overlap, std::optional<uint64_t> calibration_overlap,
+         std::optional<double> calibration_overlap_frac, std::optional<int64_t> min_points,
+         std::optional<double> min_density) {
         OptimizeOptions options;
         options.scene = SceneInputOf(scene, model_path, resource_path, targets, cell_size, seed,
                                      observation_point, random_roll);
@@ -786,8 +803,10 @@ void Bind(py::module_& m) {
         options.limits = LimitsOf(max_memory);
         options.selection = RequestOf(n, OptionalMethodOf(method), time_limit, k, goal, budget,
                                       iterations, stop, OverStatesOf(over_states));
-        options.selection.constraints = ConstraintsOf(interference, interference_overlap, calibration_overlap,
-                                        calibration_overlap_frac);
+        options.selection.constraints = ConstraintsOf(
+            interference, interference_overlap, calibration_overlap, calibration_overlap_frac);
+        options.selection.min_points = min_points;
+        options.selection.min_density = min_density;
         options.robustness = RobustnessOf(fov_tolerance, alternatives_within);
         if (refine) {
           RefineOptions refine_options;
@@ -807,16 +826,16 @@ void Bind(py::module_& m) {
       py::arg("resource_path") = py::none(), py::arg("targets") = py::none(),
       py::arg("cell_size") = py::none(), py::arg("seed") = py::none(),
       py::arg("observation_point") = py::none(), py::arg("random_roll") = py::none(),
-      py::arg("quality") = py::none(), py::arg("cull") = true,
-      py::arg("max_memory") = py::none(), py::arg("iterations") = py::none(),
-      py::arg("stop") = py::none(), py::arg("time_limit") = py::none(),
-      py::arg("goal") = py::none(), py::arg("k") = py::none(), py::arg("budget") = py::none(),
-      py::arg("over_states") = py::none(), py::arg("fov_tolerance") = py::none(),
-      py::arg("alternatives_within") = py::none(), py::arg("refine") = false,
-      py::arg("refine_rounds") = py::none(), py::arg("threads") = py::none(),
-      py::arg("progress") = py::none(), py::arg("interference") = py::none(), py::arg("interference_overlap") = py::none(),
-          py::arg("calibration_overlap") = py::none(),
-          py::arg("calibration_overlap_frac") = py::none(),
+      py::arg("quality") = py::none(), py::arg("cull") = true, py::arg("max_memory") = py::none(),
+      py::arg("iterations") = py::none(), py::arg("stop") = py::none(),
+      py::arg("time_limit") = py::none(), py::arg("goal") = py::none(), py::arg("k") = py::none(),
+      py::arg("budget") = py::none(), py::arg("over_states") = py::none(),
+      py::arg("fov_tolerance") = py::none(), py::arg("alternatives_within") = py::none(),
+      py::arg("refine") = false, py::arg("refine_rounds") = py::none(),
+      py::arg("threads") = py::none(), py::arg("progress") = py::none(),
+      py::arg("interference") = py::none(), py::arg("interference_overlap") = py::none(),
+      py::arg("calibration_overlap") = py::none(), py::arg("calibration_overlap_frac") = py::none(),
+      py::arg("min_points") = py::none(), py::arg("min_density") = py::none(),
       "The whole pipeline, as `vantage optimize SCENE`: the same outputs (report.json,\n"
       "report.html, candidates.csv, ...) written atomically into the folder `out` (None: none\n"
       "written). Returns report.json as a dict (docs/outputs.md).\n\n"
@@ -826,7 +845,8 @@ void Bind(py::module_& m) {
       "mm}), cull, max_memory [MiB], iterations, stop, time_limit [s], goal, k, budget,\n"
       "over_states ('mean'/'min'), fov_tolerance [deg], alternatives_within [points], refine,\n"
       "refine_rounds, threads, progress, interference, interference_overlap,\n"
-      "calibration_overlap, calibration_overlap_frac. None keeps the scene's setting.");
+      "calibration_overlap, calibration_overlap_frac, min_points, min_density. None keeps the\n"
+      "scene's setting.");
 
   m.def(
       "evaluate",
@@ -834,9 +854,10 @@ void Bind(py::module_& m) {
          const py::object& model_path, const py::object& resource_path, const py::object& targets,
          std::optional<double> cell_size, std::optional<uint64_t> seed, const py::object& quality,
          bool cull, std::optional<double> max_memory, std::optional<int> threads,
-         const py::object& progress, std::optional<bool> interference, std::optional<double> interference_overlap,
-             std::optional<uint64_t> calibration_overlap,
-             std::optional<double> calibration_overlap_frac) {
+         const py::object& progress, std::optional<bool> interference,
+         std::optional<double> interference_overlap, std::optional<uint64_t> calibration_overlap,
+         std::optional<double> calibration_overlap_frac, std::optional<int64_t> min_points,
+         std::optional<double> min_density) {
         EvaluateOptions options;
         options.scene = SceneInputOf(scene, model_path, resource_path, targets, cell_size, seed,
                                      std::nullopt, std::nullopt);
@@ -844,7 +865,9 @@ void Bind(py::module_& m) {
         options.observe = ObserveOptionsOf(quality, cull, progress);
         options.limits = LimitsOf(max_memory);
         options.constraints = ConstraintsOf(interference, interference_overlap, calibration_overlap,
-                                        calibration_overlap_frac);
+                                            calibration_overlap_frac);
+        options.min_points = min_points;
+        options.min_density = min_density;
         const std::optional<std::string> out_dir = OutDirOf(out);
         struct Outcome {
           Strings sensors;
@@ -876,11 +899,11 @@ void Bind(py::module_& m) {
       py::arg("out") = py::none(), py::arg("model_path") = py::none(),
       py::arg("resource_path") = py::none(), py::arg("targets") = py::none(),
       py::arg("cell_size") = py::none(), py::arg("seed") = py::none(),
-      py::arg("quality") = py::none(), py::arg("cull") = true,
-      py::arg("max_memory") = py::none(), py::arg("threads") = py::none(),
-      py::arg("progress") = py::none(), py::arg("interference") = py::none(), py::arg("interference_overlap") = py::none(),
-          py::arg("calibration_overlap") = py::none(),
-          py::arg("calibration_overlap_frac") = py::none(),
+      py::arg("quality") = py::none(), py::arg("cull") = true, py::arg("max_memory") = py::none(),
+      py::arg("threads") = py::none(), py::arg("progress") = py::none(),
+      py::arg("interference") = py::none(), py::arg("interference_overlap") = py::none(),
+      py::arg("calibration_overlap") = py::none(), py::arg("calibration_overlap_frac") = py::none(),
+      py::arg("min_points") = py::none(), py::arg("min_density") = py::none(),
       "The coverage of given sensor poses, as `vantage evaluate [SCENE] --constellation\n"
       "FILE`: the primary result's sensors of a report.json (or all candidates of a\n"
       "constellation file). scene None, and options left None, take the constellation run's\n"

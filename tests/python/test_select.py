@@ -114,3 +114,28 @@ def test_interference_is_the_enumerated_optimum(cli_vis):
     assert cli_vis.select(n=3, method="exact").coverage == pytest.approx(best_any / cells,
                                                                          abs=1e-15)
     assert best_free < best_any  # the example's optimum pairs two interfering Kinects
+
+
+def test_min_points_is_the_enumerated_optimum(cli_vis, cli_example):
+    """min_points=P at n = 2: the best pair counting only cells where the two sensors' pixel hits
+    (read from the CLI's .vis by the independent parser) add up to P; min_density gives the same
+    P through ceil(D · F² in cm²)."""
+    import itertools
+
+    from vis_format import read_vis
+
+    saved = read_vis(cli_example / "example.vis")
+    points = 20
+    hits = [dict(zip(c.reference_indices, c.reference_hits)) for c in saved.candidates]
+    best = 0
+    for a, b in itertools.combinations(range(len(hits)), 2):
+        cells = set(hits[a]) | set(hits[b])
+        dense = sum(1 for e in cells if hits[a].get(e, 0) + hits[b].get(e, 0) >= points)
+        best = max(best, dense)
+    expected = best / len(saved.keys)
+    chosen = cli_vis.select(n=2, method="exact", min_points=points)
+    assert chosen.coverage == pytest.approx(expected, abs=1e-15)
+    density = points / (saved.cell_size * 100) ** 2  # points per cm² of a cell's face
+    assert cli_vis.select(n=2, method="exact", min_density=density).coverage == \
+        pytest.approx(expected, abs=1e-15)
+    assert expected < cli_vis.select(n=2, method="exact").coverage
