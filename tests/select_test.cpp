@@ -1351,7 +1351,9 @@ TEST(Objectives, MinPointsAgainstBruteForce) {
         EXPECT_EQ(s.min_points, points);
         EXPECT_LE(cells, optimum[s.n]);
         if (s.method == "greedy") greedy_cells[s.n] = cells;
-        if (s.method == "local") EXPECT_GE(cells, greedy_cells[s.n]);
+        if (s.method == "local") {
+          EXPECT_GE(cells, greedy_cells[s.n]);
+        }
         if (s.method == "exact") {
           EXPECT_EQ(cells, optimum[s.n]);
           EXPECT_TRUE(s.proven_optimal);

@@ -19,8 +19,6 @@ using Clock = std::chrono::steady_clock;
 
 // As Select's "all" (select.cpp): exact for every n only up to this many candidates, each run
 // limited to the smaller of the time limit and these seconds.
-constexpr size_t kAllExactMaxCandidates = 2000;
-constexpr double kAllExactSeconds = 10.0;
 
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -334,12 +332,16 @@ std::vector<Selection> SelectConstrained(std::span<const Observation> observatio
       break;
   }
   std::vector<Selection> results{SelectBest(evaluator)};
-  const bool run_exact = observations.size() <= kAllExactMaxCandidates;
+  // Shared as for plain selection (select.cpp), so `help optimize`'s time rule holds here too.
+  AllExactTime exact_time(observations.size(), options.time_limit, static_cast<int>(n));
   for (size_t k = 1; k <= n; ++k) {
     results.push_back(pipeline.Ransac(k));
     results.push_back(pipeline.Greedy(k));
     results.push_back(pipeline.Local());
-    if (run_exact) results.push_back(pipeline.Exact(std::min(options.time_limit, kAllExactSeconds)));
+    if (!exact_time.runs()) continue;
+    const Clock::time_point exact_start = Clock::now();
+    results.push_back(pipeline.Exact(exact_time.Share(static_cast<int>(k))));
+    exact_time.Spend(SecondsSince(exact_start));
   }
   return results;
 }

@@ -2,6 +2,7 @@
 /// The selection methods on the merged matrix (SYSTEM.md, Select). Each returns candidate indices
 /// in the order chosen; coverages are counted in reference cells (element weights). Explicitly
 /// instantiated for CellScorer and StatesScorer where they are templates.
+#include <algorithm>
 #include <concepts>
 #include <cstdint>
 #include <limits>
@@ -21,6 +22,31 @@ namespace vantage::detail {
 /// in their descriptions means the scorer's Score.
 template <class T>
 concept MethodScorer = std::same_as<T, CellScorer> || std::same_as<T, StatesScorer>;
+
+/// How `--method all` shares `exact`'s time among its n's: exact runs only on instances of at most
+/// kMaxCandidates candidates (so "all" stays interactive), all its runs together take at most the
+/// smaller of the time limit and kSeconds, and each n gets an equal share of what is left for the
+/// n's still to run (time a quick proof leaves goes to the larger, harder n). `--method exact`
+/// alone has no size cap and the full time limit.
+class AllExactTime {
+ public:
+  static constexpr size_t kMaxCandidates = 2000;
+  static constexpr double kSeconds = 6.0;
+  AllExactTime(size_t candidates, double time_limit, int last_n)
+      : runs_(candidates <= kMaxCandidates),
+        seconds_left_(std::min(time_limit, kSeconds)),
+        last_n_(last_n) {}
+  bool runs() const { return runs_; }
+  /// The seconds exact may take for `n` (first_n <= n <= last_n).
+  double Share(int n) const { return std::max(1e-3, seconds_left_ / (last_n_ - n + 1)); }
+  /// Records what one run took.
+  void Spend(double seconds) { seconds_left_ = std::max(0.0, seconds_left_ - seconds); }
+
+ private:
+  bool runs_;
+  double seconds_left_;
+  int last_n_;
+};
 
 /// The candidate whose row scores best alone; ties go to the lower index. Needs >= 1 candidate.
 template <MethodScorer Scorer>

@@ -29,13 +29,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// In "all", `exact` runs for every n only on instances of at most this many candidates, and all
-// its runs together take at most the smaller of options.time_limit and kAllExactSeconds, so that
-// "all" stays interactive: each n gets an equal share of what is left for the n's still to run
-// (time a quick proof leaves goes to the larger, harder n). `--method exact` alone has no size
-// cap and the full time limit.
-constexpr size_t kAllExactMaxCandidates = 2000;
-constexpr double kAllExactSeconds = 6.0;
 
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -455,21 +448,19 @@ std::vector<Selection> Select(std::span<const Observation> observations,
   } else if (objective == Objective::kKCoverage) {
     first_n = options.k;
   }
-  const bool run_exact = observations.size() <= kAllExactMaxCandidates;
-  if (!run_exact) {
+  detail::AllExactTime exact_time(observations.size(), options.time_limit, options.n);
+  if (!exact_time.runs()) {
     Logger()->info("select: exact skipped in 'all' ({} candidates > {}); use --method exact",
-                   observations.size(), kAllExactMaxCandidates);
+                   observations.size(), detail::AllExactTime::kMaxCandidates);
   }
-  double exact_seconds_left = std::min(options.time_limit, kAllExactSeconds);
   for (int n = first_n; n <= options.n; ++n) {
     results.push_back(pipeline.Ransac(n));
     results.push_back(pipeline.Greedy(n));
     results.push_back(pipeline.Local());
-    if (!run_exact) continue;
+    if (!exact_time.runs()) continue;
     const Clock::time_point exact_start = Clock::now();
-    const double share = std::max(1e-3, exact_seconds_left / (options.n - n + 1));
-    results.push_back(pipeline.Exact(share));
-    exact_seconds_left = std::max(0.0, exact_seconds_left - SecondsSince(exact_start));
+    results.push_back(pipeline.Exact(exact_time.Share(n)));
+    exact_time.Spend(SecondsSince(exact_start));
   }
   return results;
 }
