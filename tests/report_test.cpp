@@ -252,6 +252,32 @@ Report SmallReport(const VisibilityFile& data) {
   return report;
 }
 
+// report.html's "primary, in order chosen" steps count a cell as the result does: hand-counted
+// for a min-points and a k-coverage result over two overlapping sets with pixel counts.
+TEST(Report, PrimaryStepsCountCellsAsTheResultDoes) {
+  VisibilityFile data = SmallData();
+  data.observations[0].reference_indices = {0, 1, 2};
+  data.observations[0].reference_hits = {5, 1, 3};
+  data.observations[1].reference_indices = {1, 2, 3};
+  data.observations[1].reference_hits = {4, 1, 9};
+  Report report = SmallReport(data);
+  // Plain: 3 cells, then cell 3 is new.
+  ASSERT_EQ(report.primary_sensors.size(), 2u);
+  EXPECT_DOUBLE_EQ(report.primary_sensors[0].cumulative, 0.3);
+  EXPECT_DOUBLE_EQ(report.primary_sensors[1].cumulative, 0.4);
+  // Five points: cell 0 (5) alone; then cells 1 (1 + 4) and 3 (9), not cell 2 (3 + 1).
+  report.results[0].min_points = 5;
+  DeriveReport(&report);
+  EXPECT_DOUBLE_EQ(report.primary_sensors[0].cumulative, 0.1);
+  EXPECT_DOUBLE_EQ(report.primary_sensors[1].cumulative, 0.3);
+  // k = 2: no cell after one sensor; cells 1 and 2 after both.
+  report.results[0].min_points.reset();
+  report.results[0].k = 2;
+  DeriveReport(&report);
+  EXPECT_DOUBLE_EQ(report.primary_sensors[0].cumulative, 0.0);
+  EXPECT_DOUBLE_EQ(report.primary_sensors[1].cumulative, 0.2);
+}
+
 TEST(Report, JsonValidatesAgainstTheSharedSchema) {
   const VisibilityFile data = SmallData();
   const json report = json::parse(ReportJson(SmallReport(data)));

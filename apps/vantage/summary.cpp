@@ -28,11 +28,13 @@ void PrintCoverageByN(const std::vector<Selection>& results) {
   std::sort(ns.begin(), ns.end());
   std::vector<std::string> methods;
   for (const char* m : {"best", "ransac", "greedy", "local", "exact"}) {
-    if (std::any_of(results.begin(), results.end(), [&](const Selection& s) { return s.method == m; }))
+    if (std::any_of(results.begin(), results.end(),
+                    [&](const Selection& s) { return s.method == m; }))
       methods.emplace_back(m);
   }
   const int k = results.front().k;
-  fmt::print("coverage by n{}\n", k >= 2 ? fmt::format(" ({}-coverage, %)", k) : std::string(" (%)"));
+  fmt::print("coverage by n{}\n",
+             k >= 2 ? fmt::format(" ({}-coverage, %)", k) : std::string(" (%)"));
   std::string header = fmt::format("{:>4}", "n");
   for (const std::string& m : methods) header += fmt::format(" {:>8}", m);
   fmt::print("{} {:>8}\n", header, "bound");
@@ -42,7 +44,8 @@ void PrintCoverageByN(const std::vector<Selection>& results) {
     for (const std::string& m : methods) {
       const auto it = std::find_if(results.begin(), results.end(),
                                    [&](const Selection& s) { return s.n == n && s.method == m; });
-      line += it == results.end() ? fmt::format(" {:>8}", "-") : fmt::format(" {:8.2f}", 100.0 * it->coverage);
+      line += it == results.end() ? fmt::format(" {:>8}", "-")
+                                  : fmt::format(" {:8.2f}", 100.0 * it->coverage);
       if (it != results.end() && it->upper_bound)
         bound = fmt::format("{:8.2f}{}", 100.0 * *it->upper_bound, it->proven_optimal ? "*" : "");
     }
@@ -52,29 +55,35 @@ void PrintCoverageByN(const std::vector<Selection>& results) {
 }
 
 // The robustness read-outs: the worst failure, the shrunk fields of view, the alternatives.
-void PrintRobustness(const VisibilityFile& data, const std::vector<Selection>& results,
+void PrintRobustness(const VisibilityFile& data,
+                     const std::vector<Selection>& results,
                      const Robustness& robustness) {
   const Selection& result = results.at(static_cast<size_t>(robustness.result));
   const auto name = [&](uint32_t i) { return data.candidates.at(i).name; };
   std::vector<std::string> parts;
   // With one sensor its failure leaves nothing: the read-out says nothing (issue 16).
   if (robustness.worst && result.n >= 2) {
-    parts.push_back(fmt::format("worst single failure {} -> {:.2f} % ({:+.2f})", name(robustness.worst->sensor),
-                                100.0 * robustness.worst->coverage, 100.0 * (robustness.worst->coverage - result.coverage)));
+    parts.push_back(fmt::format("worst single failure {} -> {:.2f} % ({:+.2f})",
+                                name(robustness.worst->sensor), 100.0 * robustness.worst->coverage,
+                                100.0 * (robustness.worst->coverage - result.coverage)));
   }
   if (robustness.fov_shrunk_coverage) {
-    parts.push_back(fmt::format("fields of view -{:g} deg -> {:.2f} % ({:+.2f})", *robustness.fov_tolerance_deg,
+    parts.push_back(fmt::format("fields of view -{:g} deg -> {:.2f} % ({:+.2f})",
+                                *robustness.fov_tolerance_deg,
                                 100.0 * *robustness.fov_shrunk_coverage,
                                 100.0 * (*robustness.fov_shrunk_coverage - result.coverage)));
   }
   if (!robustness.fov_note.empty()) parts.push_back(robustness.fov_note);
   if (!parts.empty())
-    fmt::print("robustness       of {} n={}: {}\n", result.method, result.n, fmt::join(parts, "; "));
+    fmt::print("robustness       of {} n={}: {}\n", result.method, result.n,
+               fmt::join(parts, "; "));
   if (robustness.fov_shrunk_coverage)
-    fmt::print("                 (a narrower field of view can also raise coverage: the same pixels, denser)\n");
+    fmt::print(
+        "                 (a narrower field of view can also raise coverage: the same pixels, "
+        "denser)\n");
   for (const Alternative& a : robustness.alternatives) {
-    fmt::print("alternative      {} instead of {}: {:.2f} % ({:+.2f})\n", name(a.replacement), name(a.replaced),
-               100.0 * a.coverage, 100.0 * (a.coverage - result.coverage));
+    fmt::print("alternative      {} instead of {}: {:.2f} % ({:+.2f})\n", name(a.replacement),
+               name(a.replaced), 100.0 * a.coverage, 100.0 * (a.coverage - result.coverage));
   }
   if (robustness.alternatives.empty() && !result.budget)
     fmt::print("alternative      none within {:g} points by replacing one sensor\n",
@@ -99,10 +108,11 @@ void PrintConstraints(const Report& report) {
   if (info.interference_overlap) {
     size_t pairs = 0;
     for (const Conflict& c : constraints.conflicts) pairs += c.kind == ConflictKind::kInterference;
-    fmt::print("constraints      interference: {} of {} candidates project light; {} pairs light "
-               "up more than {:g} % of each other's cells{}\n",
-               info.projecting, data.candidates.size(), pairs, 100.0 * *info.interference_overlap,
-               info.is_applied ? " (never both chosen)" : "");
+    fmt::print(
+        "constraints      interference: {} of {} candidates project light; {} pairs light "
+        "up more than {:g} % of each other's cells{}\n",
+        info.projecting, data.candidates.size(), pairs, 100.0 * *info.interference_overlap,
+        info.is_applied ? " (never both chosen)" : "");
   }
   if (info.min_separation) {
     size_t pairs = 0;
@@ -111,12 +121,12 @@ void PrintConstraints(const Report& report) {
                *info.min_separation, info.is_applied ? " (never both chosen)" : "");
   }
   if (info.keep_out_boxes > 0) {
-    fmt::print("constraints      keep-out: {} box{}; {}\n", info.keep_out_boxes,
-               info.keep_out_boxes == 1 ? "" : "es",
-               info.is_applied ? fmt::format("{} candidates inside excluded before observing",
-                                             info.keep_out_excluded)
-                               : fmt::format("{} of the sensors inside",
-                                             info.keep_out_violations.size()));
+    fmt::print(
+        "constraints      keep-out: {} box{}; {}\n", info.keep_out_boxes,
+        info.keep_out_boxes == 1 ? "" : "es",
+        info.is_applied
+            ? fmt::format("{} candidates inside excluded before observing", info.keep_out_excluded)
+            : fmt::format("{} of the sensors inside", info.keep_out_violations.size()));
   }
   if (constraints.calibration) {
     const CalibrationRule& rule = *constraints.calibration;
@@ -169,8 +179,12 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
   if (report.best_single >= 0) {
     const size_t best = static_cast<size_t>(report.best_single);
     const Candidate& c = data.candidates[best];
-    fmt::print("best single      {} ({}) {:.2f} %\n", c.name, c.type_id,
-               r ? 100.0 * data.observations[best].reference_indices.size() / r : 0.0);
+    // It is ranked by plain coverage; say so where the results count something else.
+    const bool plain_only =
+        !results.empty() && (results.front().min_points || results.front().k > 1);
+    fmt::print("best single      {} ({}) {:.2f} %{}\n", c.name, c.type_id,
+               r ? 100.0 * data.observations[best].reference_indices.size() / r : 0.0,
+               plain_only ? " (plain coverage: every pixel counts)" : "");
   }
   // The objective, when it is not plain coverage (all results share it).
   if (!results.empty()) {
@@ -182,32 +196,38 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
       fmt::print("objective        budget: the most coverage for a total sensor cost <= {:g}\n",
                  *first.budget);
     } else if (first.k >= 2) {
-      fmt::print("objective        {0}-coverage: a cell counts once {0} chosen sensors see it "
-                 "(coverages below are {0}-coverages)\n",
-                 first.k);
+      fmt::print(
+          "objective        {0}-coverage: a cell counts once {0} chosen sensors see it "
+          "(coverages below are {0}-coverages)\n",
+          first.k);
     } else if (first.min_points) {
       const double face_cm2 = std::pow(100.0 * data.reference.cell_size, 2);
-      fmt::print("objective        point density: a cell counts once the chosen sensors put >= "
-                 "{} points in it ({:.3g} per cm² of its {:.3g} cm² face; coverages below "
-                 "count such cells)\n",
-                 *first.min_points, *first.min_points / face_cm2, face_cm2);
+      fmt::print(
+          "objective        point density: a cell counts once the chosen sensors put >= "
+          "{} points in it ({:.3g} per cm² of its {:.3g} cm² face; coverages below "
+          "count such cells)\n",
+          *first.min_points, *first.min_points / face_cm2, face_cm2);
     }
   }
   if (data.quality.active()) {
     std::vector<std::string> limits;
-    if (data.quality.max_incidence_deg) limits.push_back(fmt::format("incidence <= {:g} deg", *data.quality.max_incidence_deg));
+    if (data.quality.max_incidence_deg)
+      limits.push_back(fmt::format("incidence <= {:g} deg", *data.quality.max_incidence_deg));
     if (data.quality.max_depth_noise)
-      limits.push_back(fmt::format("depth noise <= {:g} mm", 1000.0 * *data.quality.max_depth_noise));
-    fmt::print("quality          {}: coverages count only such pixels; 'plain' counts every pixel\n",
-               fmt::join(limits, ", "));
+      limits.push_back(
+          fmt::format("depth noise <= {:g} mm", 1000.0 * *data.quality.max_depth_noise));
+    fmt::print(
+        "quality          {}: coverages count only such pixels; 'plain' counts every pixel\n",
+        fmt::join(limits, ", "));
   }
   if (report.states) {
     std::vector<std::string> names;
     for (const StatesInfo::State& state : report.states->states) names.push_back(state.name);
-    fmt::print("states           {} over {} states ({}): coverages below are the {} of the states' "
-               "coverages, listed after each\n",
-               report.states->over, names.size(), fmt::join(names, ", "),
-               report.states->over == "min" ? "worst" : "mean");
+    fmt::print(
+        "states           {} over {} states ({}): coverages below are the {} of the states' "
+        "coverages, listed after each\n",
+        report.states->over, names.size(), fmt::join(names, ", "),
+        report.states->over == "min" ? "worst" : "mean");
     fmt::print("                 (reference and best single above: state '{}')\n", names.front());
   }
   // One line per method at its largest n: the constellation it recommends.
@@ -227,7 +247,8 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
     for (uint32_t i : s->chosen) names += (names.empty() ? "" : ", ") + data.candidates[i].name;
     std::string bound;
     if (s->upper_bound)
-      bound = s->proven_optimal ? "  (optimal)" : fmt::format("  (bound {:.2f} %)", 100.0 * *s->upper_bound);
+      bound = s->proven_optimal ? "  (optimal)"
+                                : fmt::format("  (bound {:.2f} %)", 100.0 * *s->upper_bound);
     if (s->n_lower_bound) {
       bound = s->proven_optimal ? "  (fewest: optimal)"
                                 : fmt::format("  (at least {} sensors)", *s->n_lower_bound);
@@ -240,21 +261,26 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
       for (double c : s->state_coverage) per_state.push_back(fmt::format("{:.2f}", 100.0 * c));
       bound += fmt::format("  (states {} %)", fmt::join(per_state, " / "));
     }
-    fmt::print("{:<8} n={:<3}  {:6.2f} %{}  [{}]  {:.3f} s\n", s->method, s->n, 100.0 * s->coverage, bound,
-               names, s->seconds);
+    fmt::print("{:<8} n={:<3}  {:6.2f} %{}  [{}]  {:.3f} s\n", s->method, s->n, 100.0 * s->coverage,
+               bound, names, s->seconds);
   }
   PrintCoverageByN(results);
   if (report.constraints) PrintConstraints(report);
   if (refinement) {
     const Selection& from = results.at(static_cast<size_t>(refinement->from_result));
-    fmt::print("refinement       {:+.2f} points over {} n={}: {} rounds, {} new poses, {:.1f} M extra rays, {:.2f} s\n",
-               100.0 * (refinement->coverage_after - refinement->coverage_before), from.method, from.n,
-               refinement->rounds, refinement->new_candidates, refinement->extra_rays / 1e6, refinement->seconds);
+    fmt::print(
+        "refinement       {:+.2f} points over {} n={}: {} rounds, {} new poses, {:.1f} M extra "
+        "rays, {:.2f} s\n",
+        100.0 * (refinement->coverage_after - refinement->coverage_before), from.method, from.n,
+        refinement->rounds, refinement->new_candidates, refinement->extra_rays / 1e6,
+        refinement->seconds);
   }
   if (report.robustness) PrintRobustness(data, results, *report.robustness);
-  fmt::print("timings          load {:.3f} s, reference {:.3f} s, observe {:.3f} s, select {:.3f} s, total {:.3f} s\n",
-             report.timings.load, report.timings.reference, report.timings.observe, report.timings.select,
-             report.timings.total);
+  fmt::print(
+      "timings          load {:.3f} s, reference {:.3f} s, observe {:.3f} s, select {:.3f} s, "
+      "total {:.3f} s\n",
+      report.timings.load, report.timings.reference, report.timings.observe, report.timings.select,
+      report.timings.total);
   if (!out_dir.empty()) fmt::print("outputs          {}/\n", out_dir);
 }
 

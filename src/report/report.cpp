@@ -181,15 +181,24 @@ void DeriveReport(Report* report) {
       report->best_single = static_cast<int>(i);
   }
   report->primary_sensors.clear();
-  std::vector<bool> seen(reference_size, false);
-  size_t covered = 0;
   if (report->primary >= 0) {
-    for (uint32_t index : report->results[static_cast<size_t>(report->primary)].chosen) {
+    // A cell counts as the result's coverage does: once it holds min_points points, or is seen
+    // by k sensors (1 for plain coverage), so that the last step equals the result's coverage.
+    const Selection& primary = report->results[static_cast<size_t>(report->primary)];
+    const uint64_t needed = primary.min_points ? *primary.min_points
+                                               : static_cast<uint64_t>(std::max(primary.k, 1));
+    std::vector<uint64_t> amount(reference_size, 0);
+    size_t covered = 0;
+    for (uint32_t index : primary.chosen) {
       VANTAGE_CHECK(index < data.observations.size());
+      const Observation& o = data.observations[index];
+      VANTAGE_CHECK(!primary.min_points || o.has_point_counts());
       size_t gained = 0;
-      for (uint32_t r : data.observations[index].reference_indices) {
-        if (!seen[r]) ++gained;
-        seen[r] = true;
+      for (size_t j = 0; j < o.reference_indices.size(); ++j) {
+        uint64_t& cell = amount[o.reference_indices[j]];
+        const bool was_covered = cell >= needed;
+        cell += primary.min_points ? o.reference_hits[j] : 1;
+        if (!was_covered && cell >= needed) ++gained;
       }
       covered += gained;
       report->primary_sensors.push_back(
