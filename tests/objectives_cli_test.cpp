@@ -103,6 +103,19 @@ TEST(ObjectivesCli, InfeasibleGoalExitsTwoNamingTheReachableMaximum) {
             std::string::npos)
       << run.err;
   EXPECT_FALSE(std::filesystem::exists(dir.File("o")));
+  // The scene's own goal is named at its line (the one right after `settings:`).
+  const std::string scene = SceneWith(dir, "  goal: 0.999\n");
+  const int settings_line = [&] {
+    const std::string text = test::ReadText(scene);
+    return 1 + static_cast<int>(std::count(text.begin(), text.begin() + text.find("settings:\n"), '\n'));
+  }();
+  const auto own = RunVantage("optimize " + scene + " --out " + dir.File("s"));
+  EXPECT_EQ(own.exit_code, 2);
+  EXPECT_NE(own.err.find(fmt::format("{}:{}: goal 0.999 is above the {:.4f}", scene,
+                                     settings_line + 1, reachable)),
+            std::string::npos)
+      << own.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.File("s")));
 }
 
 TEST(ObjectivesCli, KCoverageReportsTheKMetricPerN) {

@@ -36,6 +36,8 @@ struct SelectOptions {
   /// Set cover: choose the fewest sensors whose coverage reaches this fraction, in (0, 1].
   /// Methods greedy, exact, all. Above what all candidates reach together: InputError from Select.
   std::optional<double> goal;
+  /// Where the goal was given, for that InputError: "--goal", or the scene's "file:line".
+  std::string goal_source = "--goal";
   /// k-coverage when >= 2: a cell counts only when at least k chosen sensors see it (stereo,
   /// redundancy); needs n >= k. Methods ransac, greedy, local, exact, all. 1 = plain coverage.
   int k = 1;

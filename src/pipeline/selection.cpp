@@ -28,6 +28,12 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
   const bool has_min_points = request.min_points || request.min_density;
   const bool requested_objective = request.goal || request.k || request.budget || has_min_points;
   options.goal = requested_objective ? request.goal : settings.goal;
+  if (options.goal && !request.goal) {
+    const auto line = settings.lines.find("goal");
+    options.goal_source = line == settings.lines.end() || line->second <= 0
+                              ? source
+                              : fmt::format("{}:{}", source, line->second);
+  }
   options.k = requested_objective ? request.k.value_or(1) : settings.k;
   options.budget = requested_objective ? request.budget : settings.budget;
   const char* min_points_flag = request.min_density ? "--min-density" : "--min-points";

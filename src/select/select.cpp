@@ -402,9 +402,14 @@ std::vector<Selection> Select(std::span<const Observation> observations,
   if (objective == Objective::kSetCover) {
     const uint64_t goal_cells = GoalCells(*options.goal, reference_size);
     if (goal_cells > matrix.seen_weight()) {
-      throw InputError(fmt::format(
-          "goal {:g} is above the {:.4f} that all {} candidates reach together — lower --goal",
-          *options.goal, Fraction(matrix.seen_weight(), reference_size), observations.size()));
+      const std::string reach =
+          fmt::format("goal {:g} is above the {:.4f} that all {} candidates reach together",
+                      *options.goal, Fraction(matrix.seen_weight(), reference_size),
+                      observations.size());
+      throw InputError(options.goal_source == "--goal"
+                           ? reach + " — lower --goal"
+                           : fmt::format("{}: {} — lower the scene's goal, or give a lower --goal",
+                                         options.goal_source, reach));
     }
   }
 
