@@ -4,12 +4,30 @@
 /// exact_constrained.cpp, exact_states.cpp) solves in a child and reads the answer this way.
 #include <coin/Cbc_C_Interface.h>
 
+#include <algorithm>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace vantage::detail {
+
+/// How every exact model shares its time limit with CBC: CBC's search gets kCbcTimeShare of it,
+/// and its child is killed at kCbcKillShare when CBC has not noticed (its root LP ignores it).
+inline constexpr double kCbcTimeShare = 0.85;
+inline constexpr double kCbcKillShare = 0.9;
+
+/// The largest model (constraint nonzeros) CBC is handed for `time_limit` seconds. CBC checks
+/// its limit only between steps and the root LP alone runs to the end, about 5-15 µs per nonzero
+/// (exact.cpp measured 1.3 M nonzeros: 20 s), so larger models are not attempted; the floor keeps
+/// tiny limits usable.
+inline double CbcMaxNonzeros(double time_limit) { return std::max(20000.0, 40000.0 * time_limit); }
+
+struct CbcModelDeleter {
+  void operator()(Cbc_Model* model) const { Cbc_deleteModel(model); }
+};
+using CbcModelPtr = std::unique_ptr<Cbc_Model, CbcModelDeleter>;
 
 struct CbcAnswer {
   double bound = std::numeric_limits<double>::quiet_NaN();  ///< CBC's best possible objective

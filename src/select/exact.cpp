@@ -26,7 +26,6 @@
 #include <string>
 
 #include "select/cbc_answer.hpp"
-#include "select/child_process.hpp"
 #include "select/methods.hpp"
 #include "select/objective_bounds.hpp"
 #include "vantage/error.hpp"
@@ -39,15 +38,6 @@ namespace {
 // fractions of sensors), so CBC branches long even on tiny instances; up to this many n-subsets
 // of the candidates that see anything, exhaustive search is faster and equally exact.
 constexpr double kMaxEnumeratedSubsets = 300000;
-
-// Share of the time limit given to CBC's search (see RunCbc), and the share after which its child
-// process is killed when CBC has not noticed its limit (the root LP does not look at it).
-constexpr double kCbcTimeShare = 0.85;
-constexpr double kCbcKillShare = 0.9;
-
-// Largest MILP (in constraint matrix nonzeros) given to CBC per second of time limit; see RunCbc.
-constexpr double kCbcNonzerosPerSecond = 40000;
-constexpr double kMinCbcNonzeros = 20000;
 
 // Models up to this many row nonzeros go to CBC first (it proves the small shared worlds in a
 // few seconds); larger ones, and whatever CBC leaves unproved, go to BranchAndBound, which gets
@@ -63,11 +53,6 @@ constexpr double kRelaxedBoundShare = 0.25;
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
-
-struct CbcModelDeleter {
-  void operator()(Cbc_Model* model) const { Cbc_deleteModel(model); }
-};
-using CbcModelPtr = std::unique_ptr<Cbc_Model, CbcModelDeleter>;
 
 // Candidates seeing each element.
 std::vector<std::vector<uint32_t>> Columns(const CoverageMatrix& matrix) {
@@ -295,7 +280,7 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
   // CBC checks its time limit only between steps: the root LP alone runs to the end, about
   // 5-15 µs per nonzero here (1.3 M nonzeros: 20 s). Larger models than the time limit allows
   // are not attempted; the answer is then the start set with the simple bound.
-  const double max_nonzeros = std::max(kMinCbcNonzeros, kCbcNonzerosPerSecond * time_limit);
+  const double max_nonzeros = CbcMaxNonzeros(time_limit);
   if (static_cast<double>(indices.size()) > max_nonzeros) {
     outcome.note = fmt::format(
         "MILP of {} x {} with {} nonzeros is too large for a {} s time limit (at most {:.0f}); "

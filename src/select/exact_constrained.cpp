@@ -25,7 +25,6 @@
 #include <memory>
 
 #include "select/cbc_answer.hpp"
-#include "select/child_process.hpp"
 #include "select/constrained.hpp"
 #include "vantage/error.hpp"
 #include "vantage/interrupt.hpp"
@@ -33,17 +32,8 @@
 namespace vantage::detail {
 namespace {
 
-// As exact.cpp: CBC's share of the time limit, when its child is killed, the largest model per
-// second of limit (its root LP ignores the limit), and the Lagrangian steps' share of what is left.
-constexpr double kCbcTimeShare = 0.85;
-constexpr double kCbcKillShare = 0.9;
-constexpr double kCbcNonzerosPerSecond = 40000;
-constexpr double kMinCbcNonzeros = 20000;
+// The Lagrangian steps of the bound when CBC cannot finish (CBC's time rules: cbc_answer.hpp).
 constexpr int kLagrangianSteps = 300;
-
-struct CbcDeleter {
-  void operator()(Cbc_Model* model) const { Cbc_deleteModel(model); }
-};
 
 // The model, row by row, of the candidates `kept`.
 class Model {
@@ -191,7 +181,7 @@ Outcome RunCbc(const CoverageMatrix& matrix, const Feasibility& feasible, size_t
       model.AddRow(std::move(ic), std::move(iv), 'L', 0.0);
     }
   }
-  const double max_nonzeros = std::max(kMinCbcNonzeros, kCbcNonzerosPerSecond * time_limit);
+  const double max_nonzeros = CbcMaxNonzeros(time_limit);
   if (static_cast<double>(model.nonzeros()) > max_nonzeros) {
     outcome.note = fmt::format(
         "constrained MILP of {} x {} with {} nonzeros is too large for a {} s time limit (at "
@@ -200,7 +190,7 @@ Outcome RunCbc(const CoverageMatrix& matrix, const Feasibility& feasible, size_t
     return outcome;
   }
 
-  std::unique_ptr<Cbc_Model, CbcDeleter> owner(Cbc_newModel());
+  CbcModelPtr owner(Cbc_newModel());
   if (!owner) {
     outcome.note = "CBC could not create a model";
     return outcome;

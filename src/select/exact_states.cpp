@@ -26,7 +26,6 @@
 #include <optional>
 
 #include "select/cbc_answer.hpp"
-#include "select/child_process.hpp"
 #include "select/methods.hpp"
 #include "select/objective_bounds.hpp"
 #include "select/scorer.hpp"
@@ -37,13 +36,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// CBC's share of the time limit, and when its child is killed (as for plain coverage, exact.cpp).
-constexpr double kCbcShare = 0.85;
-constexpr double kKillShare = 0.9;
-// Largest model (constraint nonzeros) given to CBC per second of the limit (its root LP ignores
-// the limit; exact.cpp measured 5-15 µs per nonzero), with a floor for tiny limits.
-constexpr double kNonzerosPerSecond = 40000;
-constexpr double kMinNonzeros = 20000;
 // The bound's scale: aggregates (<= 1) in units of 2^-40; rounding each weight up costs at most
 // one unit per element.
 constexpr double kScale = 1099511627776.0;  // 2^40
@@ -60,9 +52,6 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-struct CbcModelDeleter {
-  void operator()(Cbc_Model* model) const { Cbc_deleteModel(model); }
-};
 
 // CBC's result as the child process reports it: its bound, whether it proved, and the x values.
 struct StatesCbcAnswer {
@@ -209,7 +198,7 @@ std::optional<StatesCbcAnswer> RunStatesCbc(const CoverageMatrix& matrix,
     starts.push_back(static_cast<CoinBigIndex>(indices.size()));
     objective[columns - 1] = objective_scale;
   }
-  const double max_nonzeros = std::max(kMinNonzeros, kNonzerosPerSecond * time_limit);
+  const double max_nonzeros = CbcMaxNonzeros(time_limit);
   if (static_cast<double>(indices.size()) > max_nonzeros) {
     *note = fmt::format(
         "MILP over states with {} nonzeros is too large for a {:.3g} s time limit (at most "
@@ -222,7 +211,7 @@ std::optional<StatesCbcAnswer> RunStatesCbc(const CoverageMatrix& matrix,
   std::vector<double> row_upper(rows, 0.0);
   row_upper[y_count] = static_cast<double>(n);
 
-  const std::unique_ptr<Cbc_Model, CbcModelDeleter> model(Cbc_newModel());
+  const CbcModelPtr model(Cbc_newModel());
   if (!model) {
     *note = "CBC could not create a model";
     return std::nullopt;
@@ -235,7 +224,7 @@ std::optional<StatesCbcAnswer> RunStatesCbc(const CoverageMatrix& matrix,
   Cbc_setObjSense(cbc, -1);
   Cbc_setLogLevel(cbc, 0);
   Cbc_setParameter(cbc, "timeMode", "elapsed");
-  Cbc_setMaximumSeconds(cbc, kCbcShare * time_limit);
+  Cbc_setMaximumSeconds(cbc, kCbcTimeShare * time_limit);
   // Aggregates are fractions with no common grain worth relying on: prove to round-off only.
   Cbc_setAllowableGap(cbc, 1e-10 * objective_scale);
   Cbc_setAllowableFractionGap(cbc, 0.0);
@@ -261,7 +250,7 @@ std::optional<StatesCbcAnswer> RunStatesCbc(const CoverageMatrix& matrix,
   Cbc_setMIPStartI(cbc, columns, start_columns.data(), start_values.data());
 
   const std::optional<CbcAnswer> solved =
-      SolveInChild(cbc, x_count, kKillShare * time_limit, note);
+      SolveInChild(cbc, x_count, kCbcKillShare * time_limit, note);
   if (!solved) return std::nullopt;
   StatesCbcAnswer answer = ToStatesAnswer(*solved);
   for (uint32_t& c : answer.chosen) c = kept[c];
@@ -400,7 +389,7 @@ StatesExactResult SolveExactStates(const CoverageMatrix& matrix,
   const double aggregate = scorer.Fraction(scorer.Covered(result.chosen));
   bound = std::min(bound, cbc_proved ? aggregate : cbc_bound);
   if (!answer) {  // CBC did not run or failed: its time is left for the bound
-    const double left = kKillShare * (time_limit - SecondsSince(begin));
+    const double left = kCbcKillShare * (time_limit - SecondsSince(begin));
     bound = std::min(bound, StatesLagrangianBound(matrix, over, n, result.chosen, left));
   }
   if (!std::isfinite(bound)) {  // no time for anything: every candidate together bounds it
