@@ -78,13 +78,12 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   MatrixSelection resolved =
       ResolveMatrixSelection(data, options.selection, options.seed.value_or(data.seed),
                              Method::kAll, options.visibility_file);
-  const SelectOptions& select = resolved.options;
-  const SelectOptions& constrained = resolved.options;
+  const SelectOptions& select = resolved.options;  // constraints included
   Report& report = run.report;
   report.constraints = std::move(resolved.constraints);
-  report.results = Select(data.observations, data.reference.size(), constrained);
+  report.results = Select(data.observations, data.reference.size(), select);
   report.curve =
-      CoverageCurve(data.observations, data.reference.size(), constrained, report.results);
+      CoverageCurve(data.observations, data.reference.size(), select, report.results);
   timings.select = detail::SecondsSince(select_start);
   timings.total = detail::SecondsSince(start);
   report.scene = data.scene;
