@@ -1998,13 +1998,16 @@ TEST(Constraints, ValidateNamesTheField) {
   }
   options.constraints.conflicts = {{0, 1, ConflictKind::kInterference, 1}};
   options.k = 2;
+  EXPECT_NO_THROW(options.Validate(obs.size()));  // k-coverage under constraints (issue 20)
+  options.k = 1;
+  options.fixed = {0};
   try {
     options.Validate(obs.size());
-    ADD_FAILURE() << "accepted k-coverage";
+    ADD_FAILURE() << "accepted kept sensors";
   } catch (const FieldError& e) {
     EXPECT_EQ(e.fields(), std::vector<std::string>{"constraints"});
   }
-  options.k = 1;
+  options.fixed.clear();
   options.constraints.calibration = CalibrationRule{0, std::nullopt};
   try {
     options.Validate(obs.size());

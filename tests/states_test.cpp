@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <numbers>
+#include <iterator>
 #include <set>
 
 #include "select/coverage_matrix.hpp"
@@ -723,6 +724,143 @@ TEST(SelectOverStates, MinBoundOfAHandWorkedInstance) {
   EXPECT_EQ(std::set<uint32_t>(two.chosen.begin(), two.chosen.end()), (std::set<uint32_t>{0, 1}));
   EXPECT_TRUE(two.proven_optimal);
   EXPECT_DOUBLE_EQ(two.upper_bound, 1.0);
+}
+
+// ----- installation constraints over states (issue 20, docs/constraints.md) -------------------
+
+// Whether `set` satisfies `constraints` over states, checked here independently: no conflicting
+// pair inside, and (with a calibration rule) its overlap graph in the FIRST state connected, by
+// a union-find over pairwise std::set_intersection.
+bool FeasibleOverStates(const std::vector<RandomState>& states, const std::vector<uint32_t>& set,
+                        const InstallConstraints& constraints) {
+  for (const Conflict& c : constraints.conflicts) {
+    if (std::count(set.begin(), set.end(), c.a) && std::count(set.begin(), set.end(), c.b))
+      return false;
+  }
+  if (!constraints.calibration || set.size() <= 1) return true;
+  const std::vector<Observation>& first = states.front().observations;
+  std::vector<size_t> group(set.size());
+  for (size_t p = 0; p < set.size(); ++p) group[p] = p;
+  for (size_t p = 0; p < set.size(); ++p) {
+    for (size_t q = p + 1; q < set.size(); ++q) {
+      const std::vector<uint32_t>& a = first[set[p]].reference_indices;
+      const std::vector<uint32_t>& b = first[set[q]].reference_indices;
+      std::vector<uint32_t> common;
+      std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(common));
+      const double smaller = static_cast<double>(std::min(a.size(), b.size()));
+      const bool joined =
+          !common.empty() && (constraints.calibration->min_cells
+                                  ? common.size() >= *constraints.calibration->min_cells
+                                  : common.size() >= *constraints.calibration->min_fraction *
+                                                         smaller - 1e-9);
+      if (!joined) continue;
+      const size_t from = group[q], to = group[p];
+      for (size_t& g : group)
+        if (g == from) g = to;
+    }
+  }
+  return std::all_of(group.begin(), group.end(), [&](size_t g) { return g == group[0]; });
+}
+
+// The best aggregate over every feasible set of at most n candidates, by enumeration.
+double EnumeratedConstrainedAggregate(const std::vector<RandomState>& states, size_t n,
+                                      OverStates over, const InstallConstraints& constraints) {
+  const size_t m = states.front().observations.size();
+  double best = 0;
+  for (uint32_t mask = 1; mask < (1u << m); ++mask) {
+    std::vector<uint32_t> set;
+    for (uint32_t i = 0; i < m; ++i)
+      if (mask & (1u << i)) set.push_back(i);
+    if (set.size() > n || !FeasibleOverStates(states, set, constraints)) continue;
+    best = std::max(best, AggregateOf(states, set, over));
+  }
+  return best;
+}
+
+TEST(SelectOverStates, ConstrainedMethodsAgainstEnumeration) {
+  int instances = 0, binding = 0;
+  for (uint64_t seed = 1; seed <= 4; ++seed) {
+    const size_t candidates = 8 + 2 * (seed - 1);  // 8, 10, 12, 14
+    const std::vector<RandomState> states =
+        RandomStates(300 + seed, candidates, {30, 20, 25}, 0.25, 0.05);
+    std::vector<StateObservations> views;
+    for (const RandomState& s : states)
+      views.push_back({s.name, s.reference.size(), s.observations});
+    for (int variant = 0; variant < 3; ++variant) {
+      InstallConstraints constraints;
+      Rng rng(seed, Stream::kTest, 7 + variant);
+      if (variant != 1) {
+        for (uint32_t a = 0; a < candidates; ++a)
+          for (uint32_t b = a + 1; b < candidates; ++b)
+            if (rng.Uniform01() < 0.3) constraints.conflicts.push_back({a, b, ConflictKind::kSeparation, 0});
+      }
+      if (variant == 1) constraints.calibration = CalibrationRule{2, std::nullopt};
+      if (variant == 2) constraints.calibration = CalibrationRule{std::nullopt, 0.15};
+      for (const OverStates over : {OverStates::kMean, OverStates::kMin}) {
+        const int n = 2 + static_cast<int>((seed + variant) % 2);  // 2 or 3
+        SCOPED_TRACE(testing::Message() << "seed " << seed << " variant " << variant << " "
+                                        << OverStatesName(over) << " n " << n);
+        const double optimum =
+            EnumeratedConstrainedAggregate(states, static_cast<size_t>(n), over, constraints);
+        // The constraints bind (the test can tell a constrained answer from a plain one).
+        if (optimum + 1e-9 < BruteForceAggregate(states, static_cast<size_t>(n), over)) ++binding;
+        SelectOptions options = Options(Method::kAll, n);
+        options.seed = seed;
+        options.ransac_iterations = 40;
+        options.constraints = constraints;
+        const auto all = SelectOverStates(views, over, options);
+        ASSERT_EQ(all.size(), 1u + 3u * static_cast<size_t>(n));
+        for (const StateSelection& r : all) {
+          EXPECT_TRUE(FeasibleOverStates(states, r.selection.chosen, constraints))
+              << r.selection.method;
+          EXPECT_LE(r.selection.chosen.size(), static_cast<size_t>(n));
+          EXPECT_NEAR(r.selection.coverage, AggregateOf(states, r.selection.chosen, over), 1e-12);
+          EXPECT_LE(r.selection.coverage, optimum + 1e-12) << r.selection.method;
+          EXPECT_EQ(r.state_coverage.size(), 3u);
+        }
+        options.method = Method::kExact;
+        const auto exact = SelectOverStates(views, over, options);
+        ASSERT_EQ(exact.size(), 1u);
+        const Selection& e = exact[0].selection;
+        EXPECT_TRUE(FeasibleOverStates(states, e.chosen, constraints));
+        EXPECT_NEAR(e.coverage, optimum, 1e-9);
+        ASSERT_TRUE(e.upper_bound.has_value());
+        EXPECT_GE(*e.upper_bound + 1e-9, optimum);
+        EXPECT_TRUE(e.proven_optimal);
+        ++instances;
+      }
+    }
+  }
+  EXPECT_EQ(instances, 24);
+  EXPECT_GE(binding, 12);
+}
+
+// Calibration over states uses the first state's overlaps: two cameras that share cells only in
+// the second state are not joined, one that shares them in the first is.
+TEST(SelectOverStates, CalibrationJoinsByTheFirstState) {
+  std::vector<Observation> first(3), second(3);
+  first[0].reference_indices = {0, 1, 2, 3};
+  first[1].reference_indices = {4, 5, 6, 7};
+  first[2].reference_indices = {3, 4};
+  second[0].reference_indices = {0, 1, 2, 3};
+  second[1].reference_indices = {0, 1, 2, 3, 4, 5, 6, 7};
+  second[2].reference_indices = {};
+  const std::vector<StateObservations> views = {{"first", 8, first}, {"second", 8, second}};
+  SelectOptions options = Options(Method::kExact, 2);
+  const auto plain = SelectOverStates(views, OverStates::kMean, options);
+  EXPECT_EQ(std::set<uint32_t>(plain[0].selection.chosen.begin(), plain[0].selection.chosen.end()),
+            (std::set<uint32_t>{0, 1}));
+  options.constraints.calibration = CalibrationRule{1, std::nullopt};
+  for (const Method method : {Method::kGreedy, Method::kLocal, Method::kExact, Method::kRansac}) {
+    options.method = method;
+    const auto joined = SelectOverStates(views, OverStates::kMean, options);
+    const std::set<uint32_t> chosen(joined[0].selection.chosen.begin(),
+                                    joined[0].selection.chosen.end());
+    // {0, 1} share 4 cells in the second state, none in the first; {1, 2} share cell 4 in the
+    // first and cover 5/8 of it, then all 8 of the second; {0, 2} only 5/8 and 4/8.
+    EXPECT_EQ(chosen, (std::set<uint32_t>{1, 2})) << MethodName(method);
+    EXPECT_DOUBLE_EQ(joined[0].selection.coverage, (5.0 / 8 + 8.0 / 8) / 2) << MethodName(method);
+  }
 }
 
 }  // namespace

@@ -62,7 +62,9 @@ std::vector<bool> ProjectingCandidates(std::span<const Candidate> candidates);
 /// The constraints selection must satisfy, from the request over the observed candidates:
 /// interference (on by default where it applies, with at least two projecting candidates),
 /// calibration and the scene's mounting rules (separation pairs; the keep-out boxes, the
-/// `kept_out` candidates they excluded and the candidates inside one, which evaluate reports). nullopt when none is on or they cannot apply (CheckConstraintRequest refused
+/// `kept_out` candidates they excluded and the candidates inside one, which evaluate reports).
+/// With scene `states` (the first of which is `observations`), a pair interferes when it does in
+/// any state. nullopt when none is on or they cannot apply (CheckConstraintRequest refused
 /// explicit ones already).
 std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& request,
                                                   const SelectOptions& options,
@@ -70,7 +72,8 @@ std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& reque
                                                   std::span<const Observation> observations,
                                                   bool has_states, bool refine,
                                                   const MountingRules& mounting = {},
-                                                  size_t kept_out = 0);
+                                                  size_t kept_out = 0,
+                                                  std::span<const ObservedState> states = {});
 
 /// Removes the one-sensor alternatives that break the constraints selection obeyed.
 void DropInfeasibleAlternatives(const ConstraintsInfo& info, const VisibilityFile& data,

@@ -41,15 +41,33 @@ namespace detail {
 namespace {
 
 // Why constraints cannot apply to this selection; empty when they can.
-std::string Unsupported(const SelectOptions& options, bool has_states, bool refine) {
-  if (options.objective() != Objective::kCoverage)
-    return fmt::format("works with the coverage objective only, not {} — drop it or the "
-                       "objective",
-                       ObjectiveName(options.objective()));
+// Every objective and scene states work (docs/constraints.md).
+std::string Unsupported(const SelectOptions& options, bool /*has_states*/, bool refine) {
   if (!options.fixed.empty()) return "does not combine with --keep-existing yet — drop one";
-  if (has_states) return "does not work over scene states yet — drop it or the scene's states";
   if (refine) return "does not combine with --refine yet — drop one of them";
   return {};
+}
+
+// Interference over the states of a scene: a pair conflicts when it does in any state (both
+// projectors are on in every state), with the largest shared share.
+std::vector<Conflict> InterferenceOverStates(std::span<const Observation> first,
+                                             std::span<const ObservedState> states,
+                                             const std::vector<bool>& projecting,
+                                             double max_overlap) {
+  std::vector<Conflict> all = InterferenceConflicts(first, projecting, max_overlap);
+  for (size_t s = 1; s < states.size(); ++s) {
+    if (states[s].same_as >= 0) continue;  // the observations of an earlier state
+    std::vector<Conflict> more =
+        InterferenceConflicts(states[s].observations, projecting, max_overlap);
+    all.insert(all.end(), more.begin(), more.end());
+  }
+  std::sort(all.begin(), all.end(), [](const Conflict& x, const Conflict& y) {
+    return std::tie(x.a, x.b, y.value) < std::tie(y.a, y.b, x.value);  // largest share first
+  });
+  all.erase(std::unique(all.begin(), all.end(),
+                        [](const Conflict& x, const Conflict& y) { return x.a == y.a && x.b == y.b; }),
+            all.end());
+  return all;
 }
 
 bool HasCalibration(const ConstraintOptions& c) {
@@ -132,7 +150,8 @@ std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& reque
                                                   std::span<const Observation> observations,
                                                   bool has_states, bool refine,
                                                   const MountingRules& mounting,
-                                                  size_t kept_out) {
+                                                  size_t kept_out,
+                                                  std::span<const ObservedState> states) {
   if (!Unsupported(options, has_states, refine).empty()) return std::nullopt;
   ConstraintsInfo info;
   const std::vector<bool> projecting = ProjectingCandidates(candidates);
@@ -145,7 +164,7 @@ std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& reque
   if (interference) {
     info.interference_overlap = request.Overlap();
     info.constraints.conflicts =
-        InterferenceConflicts(observations, projecting, request.Overlap());
+        InterferenceOverStates(observations, states, projecting, request.Overlap());
     spdlog::info("constraints: {} of {} candidates project light, {} interfering pairs (shared "
                  "share > {})",
                  info.projecting, candidates.size(), info.constraints.conflicts.size(),

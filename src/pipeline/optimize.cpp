@@ -107,7 +107,8 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
   Report& report = run.report;
   report.constraints = detail::ResolveConstraints(
       options.selection.constraints, select, observed.data.candidates, observed.data.observations,
-      !observed.states.empty(), options.refine.has_value(), observed.mounting, observed.kept_out);
+      !observed.states.empty(), options.refine.has_value(), observed.mounting, observed.kept_out,
+      observed.states);
   detail::SelectResults(observed, options.selection, select, &report);
   if (options.refine) {
     RefineOptions refine = *options.refine;

@@ -1,5 +1,7 @@
 // Selection under installation constraints (docs/constraints.md): feasibility of a set, and
-// greedy, local search and RANSAC restricted to feasible sets; the MILP is exact_constrained.cpp.
+// greedy, local search and RANSAC restricted to feasible sets, each a template over the scorer
+// (scorer.hpp), so that one implementation serves plain coverage, k-coverage, point counts, a
+// budget and the states of a scene; the MILPs are exact_constrained.cpp.
 #include "select/constrained.hpp"
 
 #include <fmt/format.h>
@@ -7,6 +9,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "vantage/error.hpp"
@@ -16,9 +20,6 @@ namespace vantage::detail {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// As Select's "all" (select.cpp): exact for every n only up to this many candidates, each run
-// limited to the smaller of the time limit and these seconds.
 
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -98,55 +99,186 @@ bool Feasibility::IsFeasible(std::span<const uint32_t> set) const {
   return !has_calibration_ || IsConnected(set);
 }
 
-std::vector<uint32_t> ConstrainedGreedy(const CoverageMatrix& matrix, const Feasibility& feasible,
-                                        size_t n) {
+bool Capacity::Fits(std::span<const uint32_t> set, uint32_t candidate, size_t replaced) const {
+  const bool is_add = replaced >= set.size();
+  if (!has_budget()) return set.size() + (is_add ? 1 : 0) <= n;
+  double total = 0;
+  for (size_t s = 0; s < set.size(); ++s) total += costs[s == replaced ? candidate : set[s]];
+  if (is_add) total += costs[candidate];
+  return total <= budget;
+}
+
+namespace {
+
+// k-coverage and point counts (k >= 2; with the matrix's counts, min-points) under the
+// constraints: PointsGreedyComplete's rule (cells completed, then the seers or points added where
+// still missing, each cell's share up to k) among the feasible candidates.
+std::vector<uint32_t> ThresholdGreedy(const CoverageMatrix& matrix, int k,
+                                      const Feasibility& feasible, const Capacity& capacity) {
+  const auto kk = static_cast<uint32_t>(k);
+  std::vector<uint32_t> points(matrix.element_count(), 0);  // of the chosen, capped at k
   std::vector<uint32_t> chosen;
-  Bitset covered = matrix.EmptySet();
-  while (chosen.size() < n) {
+  while (chosen.size() < capacity.n) {
     ThrowIfInterrupted();
     int64_t best = -1;
-    uint64_t best_gain = 0;
-    for (uint32_t c = 0; c < matrix.candidate_count(); ++c) {
-      if (!feasible.CanAdd(chosen, c)) continue;
-      const uint64_t gain = matrix.Gain(c, covered);
-      if (best < 0 || gain > best_gain) {
-        best = c;
+    std::pair<uint64_t, uint64_t> best_gain{0, 0};  // (cells completed, points added)
+    for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
+      if (!feasible.CanAdd(chosen, i) || !capacity.Fits(chosen, i)) continue;
+      std::pair<uint64_t, uint64_t> gain{0, 0};
+      const std::vector<uint32_t>& row = matrix.Row(i);
+      for (size_t j = 0; j < row.size(); ++j) {
+        const uint32_t have = points[row[j]];
+        if (have >= kk) continue;
+        const uint32_t add = std::min(kk - have, matrix.Count(i, j));
+        if (have + add >= kk) gain.first += matrix.Weight(row[j]);
+        gain.second += uint64_t{add} * matrix.Weight(row[j]);
+      }
+      if (best < 0 || best_gain < gain) {  // strict: ties keep the lower index
+        best = i;
         best_gain = gain;
       }
     }
     if (best < 0) break;  // nothing fits any more
     chosen.push_back(static_cast<uint32_t>(best));
+    const std::vector<uint32_t>& row = matrix.Row(static_cast<uint32_t>(best));
+    for (size_t j = 0; j < row.size(); ++j)
+      points[row[j]] = std::min(kk, points[row[j]] + matrix.Count(static_cast<uint32_t>(best), j));
+  }
+  return chosen;
+}
+
+// A budget under the constraints: GreedyBudget's order (gain per cost, a free candidate with a
+// gain first, then the larger gain, then the lower index) among the feasible candidates that fit,
+// until nothing adds anything; then the best affordable single candidate when it covers more.
+std::vector<uint32_t> BudgetGreedy(const CoverageMatrix& matrix, const Feasibility& feasible,
+                                   const Capacity& capacity) {
+  const std::span<const double> costs = capacity.costs;
+  const auto before = [&](uint32_t a, uint64_t gain_a, uint32_t b, uint64_t gain_b) {
+    const double ca = costs[a], cb = costs[b];
+    const bool a_free = ca == 0 && gain_a > 0, b_free = cb == 0 && gain_b > 0;
+    if (a_free != b_free) return a_free;
+    const double ra = static_cast<double>(gain_a) * cb, rb = static_cast<double>(gain_b) * ca;
+    if (!a_free && ra != rb) return ra > rb;
+    if (gain_a != gain_b) return gain_a > gain_b;
+    return a < b;
+  };
+  int64_t single = -1;
+  for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
+    if (costs[i] <= capacity.budget && (single < 0 || matrix.RowWeight(i) > matrix.RowWeight(single)))
+      single = i;
+  }
+  VANTAGE_CHECK(single >= 0);
+  std::vector<uint32_t> chosen;
+  Bitset covered = matrix.EmptySet();
+  for (;;) {
+    ThrowIfInterrupted();
+    int64_t best = -1;
+    uint64_t best_gain = 0;
+    for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
+      if (!feasible.CanAdd(chosen, i) || !capacity.Fits(chosen, i)) continue;
+      const uint64_t gain = matrix.Gain(i, covered);
+      if (best < 0 || before(i, gain, static_cast<uint32_t>(best), best_gain)) {
+        best = i;
+        best_gain = gain;
+      }
+    }
+    if (best < 0 || best_gain == 0) break;
+    chosen.push_back(static_cast<uint32_t>(best));
+    matrix.AddTo(static_cast<uint32_t>(best), &covered);
+  }
+  if (chosen.empty() || matrix.RowWeight(static_cast<uint32_t>(single)) > matrix.SetWeight(covered))
+    return {static_cast<uint32_t>(single)};
+  return chosen;
+}
+
+}  // namespace
+
+template <MethodScorer Scorer>
+std::vector<uint32_t> ConstrainedGreedy(const Scorer& scorer, const Feasibility& feasible,
+                                        const Capacity& capacity, uint64_t goal_cells) {
+  using Tally = typename Scorer::Tally;
+  using Score = typename Scorer::Score;
+  const CoverageMatrix& matrix = scorer.matrix();
+  if constexpr (Scorer::kCells) {
+    if (scorer.k() > 1) return ThresholdGreedy(matrix, scorer.k(), feasible, capacity);
+    if (capacity.has_budget()) return BudgetGreedy(matrix, feasible, capacity);
+  }
+  std::vector<uint32_t> chosen;
+  Bitset covered = matrix.EmptySet();
+  Tally tally = scorer.Zero();
+  while (chosen.size() < capacity.n) {
+    if constexpr (Scorer::kCells) {
+      if (goal_cells > 0 && tally >= goal_cells) break;
+    }
+    ThrowIfInterrupted();
+    int64_t best = -1;
+    Score best_rank{};
+    Tally best_gain = scorer.Zero();
+    for (uint32_t c = 0; c < matrix.candidate_count(); ++c) {
+      if (!feasible.CanAdd(chosen, c)) continue;
+      Tally gain = scorer.Gain(c, covered);
+      const Score rank = scorer.Rank(tally, gain);
+      if (best < 0 || best_rank < rank) {
+        best = c;
+        best_rank = rank;
+        best_gain = std::move(gain);
+      }
+    }
+    if (best < 0) break;  // nothing fits any more
+    if constexpr (Scorer::kCells) {
+      if (goal_cells > 0 && best_gain == 0) break;  // the goal is out of greedy's reach
+    }
+    chosen.push_back(static_cast<uint32_t>(best));
+    tally += best_gain;
     matrix.AddTo(static_cast<uint32_t>(best), &covered);
   }
   return chosen;
 }
 
-std::vector<uint32_t> ConstrainedLocal(const CoverageMatrix& matrix, const Feasibility& feasible,
-                                       std::vector<uint32_t> chosen, size_t n) {
-  VANTAGE_CHECK(feasible.IsFeasible(chosen) && chosen.size() <= n);
-  uint64_t current = matrix.CoveredWeight(chosen);
+template <MethodScorer Scorer>
+std::vector<uint32_t> ConstrainedLocal(const Scorer& scorer, const Feasibility& feasible,
+                                       std::vector<uint32_t> chosen, const Capacity& capacity) {
+  using Tally = typename Scorer::Tally;
+  using Score = typename Scorer::Score;
+  const CoverageMatrix& matrix = scorer.matrix();
+  VANTAGE_CHECK(feasible.IsFeasible(chosen) &&
+                (capacity.has_budget() || chosen.size() <= capacity.n));
+  const bool by_gain = scorer.k() == 1;  // else each trial is scored whole (k-coverage)
+  Score current = scorer.ScoreOf(scorer.Covered(chosen));
   std::vector<uint32_t> trial;
   for (;;) {
     ThrowIfInterrupted();
     // The best move of this pass: position p replaced by c (p = size: c added).
-    uint64_t best = current;
+    Score best = current;
     size_t best_p = 0;
     int64_t best_c = -1;
     for (size_t p = 0; p <= chosen.size(); ++p) {
-      if (p == chosen.size() && chosen.size() >= n) break;
+      const bool is_add = p == chosen.size();
+      if (is_add && !capacity.has_budget() && chosen.size() >= capacity.n) break;
       std::vector<uint32_t> others = chosen;
-      if (p < chosen.size()) others.erase(others.begin() + static_cast<std::ptrdiff_t>(p));
+      if (!is_add) others.erase(others.begin() + static_cast<std::ptrdiff_t>(p));
       Bitset covered = matrix.EmptySet();
-      for (const uint32_t o : others) matrix.AddTo(o, &covered);
-      const uint64_t base = matrix.SetWeight(covered);
+      Tally base = scorer.Zero();
+      if (by_gain) {
+        base = scorer.Covered(others);
+        for (const uint32_t o : others) matrix.AddTo(o, &covered);
+      }
       for (uint32_t c = 0; c < matrix.candidate_count(); ++c) {
         if (std::find(chosen.begin(), chosen.end(), c) != chosen.end()) continue;
-        const uint64_t cells = base + matrix.Gain(c, covered);
-        if (cells <= best) continue;
-        trial = others;
-        trial.push_back(c);
-        if (!feasible.IsFeasible(trial)) continue;
-        best = cells;
+        Score score{};
+        if (by_gain) {
+          score = scorer.ScoreOf(base + scorer.Gain(c, covered));
+          if (!(best < score)) continue;
+          trial = others;
+          trial.push_back(c);
+        } else {
+          trial = others;
+          trial.push_back(c);
+          score = scorer.ScoreOf(scorer.Covered(trial));
+          if (!(best < score)) continue;
+        }
+        if (!capacity.Fits(chosen, c, p) || !feasible.IsFeasible(trial)) continue;
+        best = score;
         best_p = p;
         best_c = c;
       }
@@ -161,186 +293,404 @@ std::vector<uint32_t> ConstrainedLocal(const CoverageMatrix& matrix, const Feasi
   }
 }
 
-std::vector<uint32_t> ConstrainedRansac(const CoverageMatrix& matrix, const Feasibility& feasible,
+template <MethodScorer Scorer>
+std::vector<uint32_t> ConstrainedRansac(const Scorer& scorer, const Feasibility& feasible,
                                         size_t n, int iterations, double stop_coverage,
                                         uint64_t seed) {
-  const size_t m = matrix.candidate_count();
+  using Tally = typename Scorer::Tally;
+  using Score = typename Scorer::Score;
+  const size_t m = scorer.matrix().candidate_count();
   std::vector<uint32_t> order(m);
   std::iota(order.begin(), order.end(), 0U);
   std::vector<uint32_t> best, drawn(n);
-  uint64_t best_cells = 0;
-  const double total = static_cast<double>(std::max<size_t>(matrix.reference_size(), 1));
+  Tally best_tally = scorer.Zero();
+  Score best_score{};
   for (int i = 0; i < iterations; ++i) {
-    if (!best.empty() && static_cast<double>(best_cells) / total >= stop_coverage) break;
+    if (!best.empty() && scorer.Fraction(best_tally) >= stop_coverage) break;
     if (i % 64 == 0) ThrowIfInterrupted();
     RansacDraw(seed, static_cast<uint64_t>(i), n, &order, &drawn);
     if (!feasible.IsFeasible(drawn)) continue;  // rejected draw
-    const uint64_t cells = matrix.CoveredWeight(drawn);
-    if (best.empty() || cells > best_cells) {
+    Tally tally = scorer.Covered(drawn);
+    const Score score = scorer.ScoreOf(tally);
+    if (best.empty() || best_score < score) {
       best = drawn;
-      best_cells = cells;
+      best_tally = std::move(tally);
+      best_score = score;
     }
   }
   return best;
 }
 
-namespace {
+template std::vector<uint32_t> ConstrainedGreedy(const CellScorer&, const Feasibility&,
+                                                 const Capacity&, uint64_t);
+template std::vector<uint32_t> ConstrainedGreedy(const StatesScorer&, const Feasibility&,
+                                                 const Capacity&, uint64_t);
+template std::vector<uint32_t> ConstrainedLocal(const CellScorer&, const Feasibility&,
+                                                std::vector<uint32_t>, const Capacity&);
+template std::vector<uint32_t> ConstrainedLocal(const StatesScorer&, const Feasibility&,
+                                                std::vector<uint32_t>, const Capacity&);
+template std::vector<uint32_t> ConstrainedRansac(const CellScorer&, const Feasibility&, size_t,
+                                                 int, double, uint64_t);
+template std::vector<uint32_t> ConstrainedRansac(const StatesScorer&, const Feasibility&, size_t,
+                                                 int, double, uint64_t);
 
-// The methods for one n, each built on the one before as Select's Pipeline does (local from
-// greedy's answer, exact warm-started from local's), seconds including the steps each needed.
-class ConstrainedPipeline {
- public:
-  ConstrainedPipeline(const CoverageEvaluator& evaluator, const CoverageMatrix& matrix,
-                      const Feasibility& feasible, const SelectOptions& options,
-                      double setup_seconds)
-      : evaluator_(evaluator),
-        matrix_(matrix),
-        feasible_(feasible),
-        options_(options),
-        setup_seconds_(setup_seconds) {}
+// ----- the methods for one n -------------------------------------------------------------------
 
-  Selection Ransac(size_t n) {
-    const Clock::time_point start = Clock::now();
-    std::vector<uint32_t> chosen =
-        ConstrainedRansac(matrix_, feasible_, n, options_.ransac_iterations,
-                          options_.ransac_stop_coverage, options_.seed);
-    if (chosen.empty()) {
-      Logger()->warn(
-          "ransac, n = {}: none of its {} draws satisfies the constraints; reporting the "
-          "constrained greedy answer",
-          n, options_.ransac_iterations);
-      chosen = ConstrainedGreedy(matrix_, feasible_, n);
-    }
-    return Scored(Method::kRansac, std::move(chosen), setup_seconds_ + SecondsSince(start));
+template <MethodScorer Scorer>
+ConstrainedMethods<Scorer>::ConstrainedMethods(const Scorer& scorer, const Feasibility& feasible,
+                                               const SelectOptions& options, double setup_seconds)
+    : scorer_(scorer), feasible_(feasible), options_(options), setup_seconds_(setup_seconds) {}
+
+template <MethodScorer Scorer>
+Capacity ConstrainedMethods<Scorer>::CapacityFor(size_t n) const {
+  Capacity capacity;
+  capacity.n = n;
+  if (options_.budget) {
+    capacity.n = scorer_.matrix().candidate_count();
+    capacity.costs = options_.costs;
+    capacity.budget = *options_.budget;
   }
+  return capacity;
+}
 
-  Selection Greedy(size_t n) {
-    const Clock::time_point start = Clock::now();
-    n_ = n;
-    greedy_ = ConstrainedGreedy(matrix_, feasible_, n);
-    if (greedy_.size() < n) {
-      Logger()->warn("greedy, n = {}: only {} sensors satisfy the constraints together", n,
-                     greedy_.size());
-    }
-    greedy_seconds_ = setup_seconds_ + SecondsSince(start);
-    local_ = greedy_;
-    local_seconds_ = greedy_seconds_;
-    return Scored(Method::kGreedy, greedy_, greedy_seconds_);
+template <MethodScorer Scorer>
+double ConstrainedMethods<Scorer>::Share(uint64_t cells) const {
+  return static_cast<double>(cells) /
+         static_cast<double>(std::max<size_t>(scorer_.matrix().reference_size(), 1));
+}
+
+template <MethodScorer Scorer>
+ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n) const {
+  const Clock::time_point start = Clock::now();
+  ConstrainedAnswer answer;
+  answer.chosen = ConstrainedRansac(scorer_, feasible_, n, options_.ransac_iterations,
+                                    options_.ransac_stop_coverage, options_.seed);
+  if (answer.chosen.empty()) {
+    Logger()->warn(
+        "ransac, n = {}: none of its {} draws satisfies the constraints; reporting the "
+        "constrained greedy answer",
+        n, options_.ransac_iterations);
+    answer.chosen = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n));
   }
+  answer.seconds = setup_seconds_ + SecondsSince(start);
+  return answer;
+}
 
-  /// After Greedy(n). The unconstrained local search's answer too, when it is feasible and covers
-  /// more (constraints that do not bind then change nothing).
-  Selection Local() {
-    const Clock::time_point start = Clock::now();
-    local_ = ConstrainedLocal(matrix_, feasible_, greedy_, n_);
-    free_local_.clear();
-    if (n_ <= matrix_.candidate_count()) {
-      free_local_ = LocalSearch(CellScorer(matrix_), GreedyComplete(CellScorer(matrix_), {}, n_));
-      if (feasible_.IsFeasible(free_local_) &&
-          matrix_.CoveredWeight(free_local_) > matrix_.CoveredWeight(local_))
-        local_ = free_local_;
-    }
-    local_seconds_ = greedy_seconds_ + SecondsSince(start);
-    return Scored(Method::kLocal, local_, local_seconds_);
+template <MethodScorer Scorer>
+ConstrainedAnswer ConstrainedMethods<Scorer>::Greedy(size_t n) {
+  const Clock::time_point start = Clock::now();
+  n_ = n;
+  greedy_ = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n));
+  if (!options_.budget && greedy_.size() < n) {
+    Logger()->warn("greedy, n = {}: only {} sensors satisfy the constraints together", n,
+                   greedy_.size());
   }
+  greedy_seconds_ = setup_seconds_ + SecondsSince(start);
+  local_ = greedy_;
+  local_seconds_ = greedy_seconds_;
+  return {greedy_, greedy_seconds_, std::nullopt, false};
+}
 
-  /// After Local() (or Greedy).
-  Selection Exact(double time_limit) const {
-    const Clock::time_point start = Clock::now();
+template <MethodScorer Scorer>
+ConstrainedAnswer ConstrainedMethods<Scorer>::Local() {
+  const Clock::time_point start = Clock::now();
+  const CoverageMatrix& matrix = scorer_.matrix();
+  local_ = ConstrainedLocal(scorer_, feasible_, greedy_, CapacityFor(n_));
+  free_local_.clear();
+  if (options_.budget) {
+    LocalOptions local;
+    local.costs = options_.costs;
+    local.budget = *options_.budget;
+    free_local_ = LocalSearch(CellScorer(matrix), GreedyBudget(matrix, options_.costs, local.budget),
+                              local);
+  } else if (n_ <= matrix.candidate_count()) {
+    if constexpr (Scorer::kCells) {
+      const int k = scorer_.k();
+      if (k == 1) {
+        free_local_ = LocalSearch(scorer_, GreedyComplete(scorer_, {}, n_));
+      } else if (matrix.has_counts()) {
+        free_local_ = PointsLocalSearch(matrix, KGreedyComplete(matrix, {}, n_, k), k);
+      } else if (n_ >= static_cast<size_t>(k)) {
+        free_local_ = LocalSearch(scorer_, KGreedyComplete(matrix, {}, n_, k));
+      }
+    } else {
+      free_local_ = LocalSearch(scorer_, GreedyComplete(scorer_, {}, n_));
+    }
+  }
+  if (!free_local_.empty() && feasible_.IsFeasible(free_local_) &&
+      scorer_.ScoreOf(scorer_.Covered(local_)) < scorer_.ScoreOf(scorer_.Covered(free_local_)))
+    local_ = free_local_;
+  local_seconds_ = greedy_seconds_ + SecondsSince(start);
+  return {local_, local_seconds_, std::nullopt, false};
+}
+
+template <MethodScorer Scorer>
+ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
+  const Clock::time_point start = Clock::now();
+  const CoverageMatrix& matrix = scorer_.matrix();
+  ConstrainedAnswer answer;
+  std::string note;
+  const auto better_or_equal = [&](const std::vector<uint32_t>& a, const std::vector<uint32_t>& b) {
+    return !(scorer_.ScoreOf(scorer_.Covered(a)) < scorer_.ScoreOf(scorer_.Covered(b)));
+  };
+  // The unconstrained optimum first (half the time), from the unconstrained local answer: when it
+  // is feasible it is the constrained one, proof included; else its bound still bounds the
+  // constrained optimum.
+  const bool has_free = options_.budget ? !free_local_.empty() : free_local_.size() == n_;
+  if constexpr (Scorer::kCells) {
+    const int k = scorer_.k();
+    const size_t n = n_;
+    uint64_t free_bound = 0;
+    ExactResult free;
+    bool has_free_answer = false;
+    if (options_.budget) {
+      free_bound = BudgetUpperBound(matrix, local_, options_.costs, *options_.budget);
+      if (has_free) {
+        free = SolveExactBudget(matrix, options_.costs, *options_.budget, free_local_,
+                                0.5 * time_limit);
+        has_free_answer = true;
+      }
+    } else if (k == 1) {
+      free_bound = GreedyUpperBound(matrix, local_, n);
+      if (has_free) {
+        free = SolveExact(matrix, n, free_local_, 0.5 * time_limit);
+        has_free_answer = true;
+      }
+    } else {
+      free_bound = KUpperBound(matrix, local_, n, k);
+      if (has_free) {
+        free = SolveExactK(matrix, n, k, free_local_, 0.5 * time_limit);
+        has_free_answer = true;
+      }
+    }
     ExactResult exact;
+    if (has_free_answer && feasible_.IsFeasible(free.chosen) &&
+        better_or_equal(free.chosen, local_)) {
+      exact = std::move(free);
+    } else {
+      if (has_free_answer) free_bound = std::min(free_bound, free.upper_bound);
+      ConstrainedObjective objective;
+      objective.threshold = k;
+      exact = SolveExactConstrained(matrix, feasible_, CapacityFor(n), objective, local_,
+                                    free_bound, std::max(0.1, time_limit - SecondsSince(start)));
+    }
+    note = exact.note;
+    answer.chosen = std::move(exact.chosen);
+    answer.upper_bound = Share(exact.upper_bound);
+    answer.proven_optimal = exact.proven_optimal;
+  } else {
+    const OverStates over = scorer_.over();
+    StatesExactResult exact;
     bool solved = false;
-    if (free_local_.size() == n_) {
-      // The unconstrained optimum (half the time): when it is feasible it is the constrained one,
-      // proof included; else its bound still bounds the constrained optimum.
-      ExactResult free = SolveExact(matrix_, n_, free_local_, 0.5 * time_limit);
-      if (feasible_.IsFeasible(free.chosen) &&
-          matrix_.CoveredWeight(free.chosen) >= matrix_.CoveredWeight(local_)) {
+    double free_bound = std::numeric_limits<double>::infinity();
+    if (has_free && n_ >= 1) {
+      StatesExactResult free = SolveExactStates(matrix, over, n_, free_local_, 0.5 * time_limit);
+      if (feasible_.IsFeasible(free.chosen) && better_or_equal(free.chosen, local_)) {
         exact = std::move(free);
         solved = true;
       } else {
-        exact = SolveExactConstrained(matrix_, feasible_, n_, local_,
-                                      std::max(0.1, time_limit - SecondsSince(start)));
-        const uint64_t cells = matrix_.CoveredWeight(exact.chosen);
-        exact.upper_bound = std::max(cells, std::min(exact.upper_bound, free.upper_bound));
-        exact.proven_optimal = exact.upper_bound == cells;
-        solved = true;
+        free_bound = free.upper_bound;
       }
     }
-    if (!solved) exact = SolveExactConstrained(matrix_, feasible_, n_, local_, time_limit);
-    if (!exact.proven_optimal && !exact.note.empty()) {
-      Logger()->warn("exact, n = {} (constrained): {}; reporting the best answer found and a bound",
-                     n_, exact.note);
-    } else if (!exact.note.empty()) {
-      Logger()->debug("exact, n = {} (constrained): {}", n_, exact.note);
+    if (!solved) {
+      exact = SolveExactStatesConstrained(matrix, over, feasible_, n_, local_,
+                                          std::max(0.1, time_limit - SecondsSince(start)));
+      const double aggregate = scorer_.Fraction(scorer_.Covered(exact.chosen));
+      if (free_bound < exact.upper_bound) {
+        exact.upper_bound = std::max(free_bound, aggregate);
+        exact.proven_optimal = exact.proven_optimal || exact.upper_bound - aggregate <= 1e-9;
+      }
     }
-    Selection s = Scored(Method::kExact, exact.chosen, local_seconds_ + SecondsSince(start));
-    const double reference = static_cast<double>(std::max<size_t>(matrix_.reference_size(), 1));
-    s.upper_bound = std::max(static_cast<double>(exact.upper_bound) / reference, s.coverage);
-    s.proven_optimal = exact.proven_optimal;
-    return s;
+    note = exact.note;
+    answer.chosen = std::move(exact.chosen);
+    answer.upper_bound = exact.upper_bound;
+    answer.proven_optimal = exact.proven_optimal;
+  }
+  if (!answer.proven_optimal && !note.empty()) {
+    Logger()->warn("exact, n = {} (constrained): {}; reporting the best answer found and a bound",
+                   n_, note);
+  } else if (!note.empty()) {
+    Logger()->debug("exact, n = {} (constrained): {}", n_, note);
+  }
+  answer.seconds = local_seconds_ + SecondsSince(start);
+  return answer;
+}
+
+template class ConstrainedMethods<CellScorer>;
+template class ConstrainedMethods<StatesScorer>;
+
+// ----- Select under the constraints ------------------------------------------------------------
+
+namespace {
+
+// As select.cpp's GoalCells: the fewest cells whose share of R reaches the goal (at least one).
+uint64_t GoalCellsOf(double goal, size_t reference_size) {
+  const double cells = std::ceil(goal * static_cast<double>(reference_size) - 1e-9);
+  return std::max<uint64_t>(1, static_cast<uint64_t>(std::max(0.0, cells)));
+}
+
+class CellsRun {
+ public:
+  CellsRun(const CoverageEvaluator& evaluator, const CoverageMatrix& matrix,
+           const Feasibility& feasible, const SelectOptions& options, double setup_seconds)
+      : evaluator_(evaluator),
+        feasible_(feasible),
+        options_(options),
+        scorer_(matrix, Threshold(options)),
+        methods_(scorer_, feasible, options, setup_seconds) {}
+
+  Selection Ransac(size_t n) const { return Scored(Method::kRansac, methods_.Ransac(n)); }
+  Selection Greedy(size_t n) { return Scored(Method::kGreedy, methods_.Greedy(n)); }
+  Selection Local() { return Scored(Method::kLocal, methods_.Local()); }
+  Selection Exact(double time_limit) const {
+    return Scored(Method::kExact, methods_.Exact(time_limit));
   }
 
-  Selection Scored(Method method, std::vector<uint32_t> chosen, double seconds) const {
-    VANTAGE_CHECK(feasible_.IsFeasible(chosen));
-    Selection s = ScoreSelection(evaluator_, std::move(chosen), MethodName(method), options_);
-    s.seconds = seconds;
+  Selection Scored(Method method, ConstrainedAnswer answer) const {
+    VANTAGE_CHECK(feasible_.IsFeasible(answer.chosen));
+    Selection s =
+        ScoreSelection(evaluator_, std::move(answer.chosen), MethodName(method), options_);
+    s.seconds = answer.seconds;
+    if (answer.upper_bound) s.upper_bound = std::max(*answer.upper_bound, s.coverage);
+    s.proven_optimal = answer.proven_optimal;
+    if (s.budget) VANTAGE_CHECK(*s.cost <= *s.budget);
     return s;
   }
 
  private:
   const CoverageEvaluator& evaluator_;
-  const CoverageMatrix& matrix_;
   const Feasibility& feasible_;
   const SelectOptions& options_;
-  double setup_seconds_;
-  size_t n_ = 0;
-  std::vector<uint32_t> greedy_;
-  std::vector<uint32_t> local_;
-  std::vector<uint32_t> free_local_;  // unconstrained local search's answer for n_
-  double greedy_seconds_ = 0;
-  double local_seconds_ = 0;
+  CellScorer scorer_;
+  ConstrainedMethods<CellScorer> methods_;
 };
+
+// Set cover under the constraints: greedy adds feasible sensors until the goal is reached; exact
+// settles t = SetCoverLowerBound, t + 1, ... by the constrained maximum coverage of t sensors
+// (reaches the goal: t is the answer; its bound is below it: t is too few), up to greedy's size.
+std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
+                                           const CoverageMatrix& matrix,
+                                           const Feasibility& feasible,
+                                           const SelectOptions& options) {
+  const Clock::time_point start = Clock::now();
+  const uint64_t goal_cells = GoalCellsOf(*options.goal, matrix.reference_size());
+  const CellScorer scorer(matrix);
+  Capacity everyone;
+  everyone.n = matrix.candidate_count();
+  std::vector<uint32_t> greedy = ConstrainedGreedy(scorer, feasible, everyone, goal_cells);
+  if (matrix.CoveredWeight(greedy) < goal_cells) {
+    // Greedy could not reach it: the most any feasible set covers decides.
+    const ExactResult most = SolveExactConstrained(matrix, feasible, everyone, {}, greedy,
+                                                   matrix.seen_weight(), options.time_limit);
+    if (matrix.CoveredWeight(most.chosen) < goal_cells) {
+      const std::string reach =
+          most.proven_optimal || most.upper_bound < goal_cells
+              ? fmt::format("the installation constraints allow at most {:.4f}",
+                            static_cast<double>(std::min(most.upper_bound, matrix.seen_weight())) /
+                                static_cast<double>(matrix.reference_size()))
+              : fmt::format("no set of sensors that satisfies the installation constraints was "
+                            "found to reach it (the best covers {:.4f})",
+                            static_cast<double>(matrix.CoveredWeight(most.chosen)) /
+                                static_cast<double>(matrix.reference_size()));
+      const std::string what = fmt::format("goal {:g} cannot be reached: {}", *options.goal, reach);
+      throw InputError(options.goal_source == "--goal"
+                           ? what + " — lower --goal or relax the constraints"
+                           : fmt::format("{}: {} — lower the scene's goal, give a lower --goal or "
+                                         "relax the constraints",
+                                         options.goal_source, what));
+    }
+    greedy = most.chosen;
+  }
+  const auto scored = [&](Method method, std::vector<uint32_t> chosen, double seconds) {
+    VANTAGE_CHECK(feasible.IsFeasible(chosen));
+    Selection s = ScoreSelection(evaluator, std::move(chosen), MethodName(method), options);
+    s.seconds = seconds;
+    return s;
+  };
+  std::vector<Selection> results;
+  const double greedy_seconds = SecondsSince(start);
+  if (options.method != Method::kExact)
+    results.push_back(scored(Method::kGreedy, greedy, greedy_seconds));
+  if (options.method == Method::kGreedy) return results;
+  std::vector<uint32_t> best = greedy;
+  size_t lower = std::max<size_t>(1, SetCoverLowerBound(matrix, goal_cells));
+  const Clock::time_point exact_start = Clock::now();
+  while (lower < best.size()) {
+    const double left = options.time_limit - SecondsSince(exact_start);
+    if (left <= 0.05) break;
+    Capacity t;
+    t.n = lower;
+    std::vector<uint32_t> seed = ConstrainedGreedy(scorer, feasible, t);
+    seed = ConstrainedLocal(scorer, feasible, std::move(seed), t);
+    const ExactResult most = SolveExactConstrained(
+        matrix, feasible, t, {}, seed, GreedyUpperBound(matrix, seed, lower),
+        left / static_cast<double>(best.size() - lower));
+    if (matrix.CoveredWeight(most.chosen) >= goal_cells) {
+      best = most.chosen;
+      break;
+    }
+    if (most.upper_bound >= goal_cells) break;  // t not settled: stop at this lower bound
+    ++lower;
+  }
+  Selection s = scored(Method::kExact, best, greedy_seconds + SecondsSince(exact_start));
+  s.n_lower_bound = static_cast<int>(std::min(lower, best.size()));
+  s.proven_optimal = static_cast<size_t>(*s.n_lower_bound) == best.size();
+  results.push_back(std::move(s));
+  return results;
+}
 
 }  // namespace
 
 std::vector<Selection> SelectConstrained(std::span<const Observation> observations,
                                          size_t reference_size, const SelectOptions& options) {
-  VANTAGE_CHECK(options.objective() == Objective::kCoverage && options.fixed.empty());
+  VANTAGE_CHECK(options.fixed.empty());
   const CoverageEvaluator evaluator(observations, reference_size);
+  const Objective objective = options.objective();
   // One sensor alone breaks no constraint: best is the plain best single candidate.
   if (options.method == Method::kBest) return {SelectBest(evaluator)};
   const Clock::time_point start = Clock::now();
-  const CoverageMatrix matrix(observations, reference_size);
+  const CoverageMatrix matrix = MatrixFor(observations, reference_size, options);
   const Feasibility feasible(observations, options.constraints);
   const double setup_seconds = SecondsSince(start);
-  ConstrainedPipeline pipeline(evaluator, matrix, feasible, options, setup_seconds);
+  if (objective == Objective::kSetCover)
+    return SetCoverConstrained(evaluator, matrix, feasible, options);
+  CellsRun run(evaluator, matrix, feasible, options, setup_seconds);
   const auto n = static_cast<size_t>(options.n);
   switch (options.method) {
     case Method::kRansac:
-      return {pipeline.Ransac(n)};
+      return {run.Ransac(n)};
     case Method::kGreedy:
-      return {pipeline.Greedy(n)};
+      return {run.Greedy(n)};
     case Method::kLocal:
-      pipeline.Greedy(n);
-      return {pipeline.Local()};
+      run.Greedy(n);
+      return {run.Local()};
     case Method::kExact:
-      pipeline.Greedy(n);
-      pipeline.Local();
-      return {pipeline.Exact(options.time_limit)};
+      run.Greedy(n);
+      run.Local();
+      return {run.Exact(options.time_limit)};
     case Method::kBest:
     case Method::kAll:
       break;
   }
-  std::vector<Selection> results{SelectBest(evaluator)};
+  if (objective == Objective::kBudget) {
+    std::vector<Selection> results{run.Greedy(n)};
+    results.push_back(run.Local());
+    results.push_back(run.Exact(options.time_limit));
+    return results;
+  }
+  std::vector<Selection> results;
+  size_t first_n = 1;
+  if (objective == Objective::kCoverage) results.push_back(SelectBest(evaluator));
+  if (objective == Objective::kKCoverage) first_n = static_cast<size_t>(options.k);
   // Shared as for plain selection (select.cpp), so `help optimize`'s time rule holds here too.
   AllExactTime exact_time(observations.size(), options.time_limit, static_cast<int>(n));
-  for (size_t k = 1; k <= n; ++k) {
-    results.push_back(pipeline.Ransac(k));
-    results.push_back(pipeline.Greedy(k));
-    results.push_back(pipeline.Local());
+  for (size_t k = first_n; k <= n; ++k) {
+    results.push_back(run.Ransac(k));
+    results.push_back(run.Greedy(k));
+    results.push_back(run.Local());
     if (!exact_time.runs()) continue;
     const Clock::time_point exact_start = Clock::now();
-    results.push_back(pipeline.Exact(exact_time.Share(static_cast<int>(k))));
+    results.push_back(run.Exact(exact_time.Share(static_cast<int>(k))));
     exact_time.Spend(SecondsSince(exact_start));
   }
   return results;
@@ -348,23 +698,27 @@ std::vector<Selection> SelectConstrained(std::span<const Observation> observatio
 
 std::vector<Selection> ConstrainedCurve(std::span<const Observation> observations,
                                         size_t reference_size, const SelectOptions& options,
-                                        const std::vector<Selection>& results, int last_n) {
+                                        const std::vector<Selection>& results, int first_n,
+                                        int last_n) {
+  const int k = Threshold(options);
+  const bool is_k = options.objective() == Objective::kKCoverage;
   const auto has = [&](const std::string& method, int n) {
-    return std::any_of(results.begin(), results.end(),
-                       [&](const Selection& s) { return s.method == method && s.n == n; });
+    return std::any_of(results.begin(), results.end(), [&](const Selection& s) {
+      return s.method == method && s.n == n && s.k == (is_k ? k : 1);
+    });
   };
   const CoverageEvaluator evaluator(observations, reference_size);
-  const CoverageMatrix matrix(observations, reference_size);
+  const CoverageMatrix matrix = MatrixFor(observations, reference_size, options);
   const Feasibility feasible(observations, options.constraints);
-  ConstrainedPipeline pipeline(evaluator, matrix, feasible, options, 0);
+  CellsRun run(evaluator, matrix, feasible, options, 0);
   const std::string greedy = MethodName(Method::kGreedy), local = MethodName(Method::kLocal);
   std::vector<Selection> curve;
-  for (int n = 1; n <= last_n; ++n) {
+  for (int n = first_n; n <= last_n; ++n) {
     const bool want_greedy = !has(greedy, n), want_local = !has(local, n);
     if (!want_greedy && !want_local) continue;
-    Selection g = pipeline.Greedy(static_cast<size_t>(n));
+    Selection g = run.Greedy(static_cast<size_t>(n));
     if (want_greedy) curve.push_back(std::move(g));
-    if (want_local) curve.push_back(pipeline.Local());
+    if (want_local) curve.push_back(run.Local());
   }
   return curve;
 }

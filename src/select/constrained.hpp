@@ -3,11 +3,14 @@
 /// greedy, local search, RANSAC and the MILP of maximum coverage restricted to feasible sets —
 /// no conflicting pair chosen, and with a calibration rule a connected overlap graph.
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
+#include "select/objective_bounds.hpp"
+#include "select/scorer.hpp"
 #include "vantage/constraints.hpp"
 #include "vantage/select.hpp"
 
@@ -43,42 +46,126 @@ class Feasibility {
   bool has_calibration_ = false;
 };
 
-/// Greedy under the constraints: each step adds the feasible candidate (Feasibility::CanAdd) of
-/// largest gain (ties: lower index), zero gains included, up to n; stops early, with fewer
-/// sensors, when no candidate can be added.
-std::vector<uint32_t> ConstrainedGreedy(const CoverageMatrix& matrix, const Feasibility& feasible,
-                                        size_t n);
+/// How large a constrained answer may grow: at most n sensors, or (with `costs`) a total cost
+/// within `budget` (n is then the candidate count).
+struct Capacity {
+  size_t n = 0;
+  std::span<const double> costs;  ///< per candidate with a budget, else empty
+  double budget = 0;
+  bool has_budget() const { return !costs.empty(); }
+  /// Whether `set` with `candidate` added (or put at position `replaced`, when < set.size())
+  /// stays within the capacity; costs summed in the set's order, as TotalCost sums an answer.
+  bool Fits(std::span<const uint32_t> set, uint32_t candidate,
+            size_t replaced = static_cast<size_t>(-1)) const;
+};
+
+/// Greedy under the constraints (any scorer: cells, k-coverage, point counts, states): each step
+/// adds the feasible candidate (Feasibility::CanAdd, within `capacity`) that ranks best with the
+/// chosen, ties to the lower index. The rank is the scorer's (Rank of the gain) for k = 1;
+/// for k >= 2 (k-coverage, min-points) the cells a candidate completes, ties broken by the
+/// seers or points it adds where they are still missing (PointsGreedyComplete's rule); with a
+/// budget the gain per cost (GreedyBudget's order). Zero gains are taken too, up to n (budget:
+/// greedy stops once nothing adds anything); stops early, with fewer sensors, when no candidate
+/// can be added, and (set cover) once the covered cells reach `goal_cells` (0: no goal).
+template <MethodScorer Scorer>
+std::vector<uint32_t> ConstrainedGreedy(const Scorer& scorer, const Feasibility& feasible,
+                                        const Capacity& capacity, uint64_t goal_cells = 0);
 
 /// Best-improvement local search under the constraints from the feasible `start`: moves are
-/// adding a candidate (while fewer than n) and 1-swaps, each kept only when the set stays
-/// feasible and covers strictly more; ties go to the earlier position, then the lower index.
-std::vector<uint32_t> ConstrainedLocal(const CoverageMatrix& matrix, const Feasibility& feasible,
-                                       std::vector<uint32_t> start, size_t n);
+/// adding a candidate (while it fits) and 1-swaps, each kept only when the set stays feasible,
+/// fits and scores strictly better; ties go to the earlier position, then the lower index.
+template <MethodScorer Scorer>
+std::vector<uint32_t> ConstrainedLocal(const Scorer& scorer, const Feasibility& feasible,
+                                       std::vector<uint32_t> start, const Capacity& capacity);
 
 /// Algorithm 2 with the draws of RansacChoice (RansacDraw), infeasible draws rejected (they count
-/// as iterations). Empty when no draw was feasible.
-std::vector<uint32_t> ConstrainedRansac(const CoverageMatrix& matrix, const Feasibility& feasible,
+/// as iterations); draws scored by the scorer. Empty when no draw was feasible.
+template <MethodScorer Scorer>
+std::vector<uint32_t> ConstrainedRansac(const Scorer& scorer, const Feasibility& feasible,
                                         size_t n, int iterations, double stop_coverage,
                                         uint64_t seed);
 
-/// Maximum coverage of at most n sensors under the constraints as a MILP solved by CBC (the
-/// coverage MILP of exact.cpp plus x_a + x_b <= 1 per conflict and, with a calibration rule, a
-/// single-commodity flow over the overlap edges), warm-started from the feasible `start`.
-/// upper_bound is the least of CBC's bound and the unconstrained bounds (GreedyUpperBound, the
-/// Lagrangian), all valid because constraints only lower the optimum. Never worse than `start`.
-ExactResult SolveExactConstrained(const CoverageMatrix& matrix, const Feasibility& feasible,
-                                  size_t n, const std::vector<uint32_t>& start, double time_limit);
+/// The MILP's objective for SolveExactConstrained: a cell counts once the chosen put `threshold`
+/// (k, or min_points with the matrix's counts) into it; 1 is plain coverage.
+struct ConstrainedObjective {
+  int threshold = 1;
+};
 
-/// Select for options whose `constraints` are not empty (the coverage objective): the same
-/// methods and order as Select, each under the constraints.
+/// Maximum coverage (k-coverage, point coverage: `objective`) within `capacity` under the
+/// constraints as a MILP solved by CBC (the coverage MILP of exact.cpp with threshold rows
+/// T y_e <= sum_i c_ie x_i, plus x_a + x_b <= 1 per conflict and, with a calibration rule, a
+/// single-commodity flow over the overlap edges), warm-started from the feasible `start`.
+/// upper_bound is the least of CBC's bound and `free_bound` (a bound of the unconstrained problem,
+/// valid because constraints only lower the optimum). Never worse than `start`.
+ExactResult SolveExactConstrained(const CoverageMatrix& matrix, const Feasibility& feasible,
+                                  const Capacity& capacity, const ConstrainedObjective& objective,
+                                  const std::vector<uint32_t>& start, uint64_t free_bound,
+                                  double time_limit);
+
+/// Exact selection over states under the constraints: the states' MILP (exact_states.cpp, without
+/// its dominance reduction, which could drop the only feasible candidate) plus the pair rows and
+/// the flow, warm-started from the feasible `start` (at most n sensors). upper_bound (an
+/// aggregate) is the least of CBC's bound on the constrained MILP and StatesLagrangianBound (the
+/// unconstrained one). Never worse than `start`.
+StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix, OverStates over,
+                                              const Feasibility& feasible, size_t n,
+                                              const std::vector<uint32_t>& start,
+                                              double time_limit);
+
+/// What one constrained method answered: `upper_bound` (exact only) as a share of R (cells
+/// scorer) or an aggregate over states.
+struct ConstrainedAnswer {
+  std::vector<uint32_t> chosen;
+  double seconds = 0;
+  std::optional<double> upper_bound;
+  bool proven_optimal = false;
+};
+
+/// The methods for one n (or one budget), each built on the one before as Select's Pipeline does
+/// (local from greedy's answer, exact warm-started from local's), seconds including the steps
+/// each needed. One implementation for every scorer: plain coverage, k-coverage and point counts
+/// (CellScorer with k = the threshold, over the matrix MatrixFor gives) with n sensors or a
+/// budget, and the states of a scene (StatesScorer). Set cover is SelectConstrained's.
+template <MethodScorer Scorer>
+class ConstrainedMethods {
+ public:
+  ConstrainedMethods(const Scorer& scorer, const Feasibility& feasible,
+                     const SelectOptions& options, double setup_seconds);
+  ConstrainedAnswer Ransac(size_t n) const;
+  ConstrainedAnswer Greedy(size_t n);
+  /// After Greedy(n). The unconstrained local search's answer too, when it is feasible and scores
+  /// better (constraints that do not bind then change nothing).
+  ConstrainedAnswer Local();
+  /// After Local().
+  ConstrainedAnswer Exact(double time_limit) const;
+
+ private:
+  Capacity CapacityFor(size_t n) const;
+  double Share(uint64_t cells) const;
+  const Scorer& scorer_;
+  const Feasibility& feasible_;
+  const SelectOptions& options_;
+  double setup_seconds_;
+  size_t n_ = 0;
+  std::vector<uint32_t> greedy_;
+  std::vector<uint32_t> local_;
+  std::vector<uint32_t> free_local_;  // the unconstrained local search's answer for n_
+  double greedy_seconds_ = 0;
+  double local_seconds_ = 0;
+};
+
+/// Select for options whose `constraints` are not empty (every objective; kept sensors are
+/// Select's residual problem): the same methods and order as Select, each under the constraints.
+/// InputError when a set cover goal cannot be reached under them.
 std::vector<Selection> SelectConstrained(std::span<const Observation> observations,
                                          size_t reference_size, const SelectOptions& options);
 
-/// CoverageCurve under the constraints: greedy and local at every n from 1 to last_n that
+/// CoverageCurve under the constraints: greedy and local at every n from first_n to last_n that
 /// `results` lacks.
 std::vector<Selection> ConstrainedCurve(std::span<const Observation> observations,
                                         size_t reference_size, const SelectOptions& options,
-                                        const std::vector<Selection>& results, int last_n);
+                                        const std::vector<Selection>& results, int first_n,
+                                        int last_n);
 
 /// The draw `iteration` of RANSAC (ransac.cpp): n distinct candidates of order->size(); `order`
 /// must hold the identity permutation and is restored.

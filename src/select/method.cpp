@@ -30,10 +30,10 @@ void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
   if (o.min_points) {
     if (*o.min_points < 1)
       throw FieldError({"min_points"}, "min_points = 0 must be at least 1 point per cell");
-    if (!o.fixed.empty() || !o.constraints.empty()) {
+    if (!o.fixed.empty()) {
       throw FieldError({"min_points"},
-                       "min_points does not combine with kept sensors or installation constraints "
-                       "yet — drop --min-points or those options");
+                       "min_points does not combine with kept sensors yet — drop --min-points or "
+                       "--keep-existing");
     }
   }
   if (o.k < 1) throw FieldError({"k"}, fmt::format("k = {} must be at least 1", o.k));
@@ -144,10 +144,9 @@ void SelectOptions::Validate(size_t candidate_count) const {
   }
   ValidateObjective(*this, candidate_count);
   constraints.Validate(candidate_count);
-  if (!constraints.empty() && (objective() != Objective::kCoverage || !fixed.empty())) {
+  if (!constraints.empty() && !fixed.empty()) {
     throw FieldError({"constraints"},
-                     "installation constraints work with the coverage objective only, not with a "
-                     "goal, k-coverage, a budget or kept sensors");
+                     "installation constraints do not combine with kept sensors yet");
   }
   std::vector<uint32_t> sorted = fixed;
   std::sort(sorted.begin(), sorted.end());

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "select/constrained.hpp"
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
 #include "select/objective_bounds.hpp"
@@ -279,6 +280,55 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
     return s;
   };
   const auto n = static_cast<size_t>(options.n);
+  if (!options.constraints.empty()) {
+    // Installation constraints (docs/constraints.md, Over scene states): the same methods under
+    // them; the calibration overlap graph is the first state's.
+    const detail::Feasibility feasible(states.front().observations, options.constraints);
+    detail::ConstrainedMethods<detail::StatesScorer> methods(scorer, feasible, options, setup);
+    const auto scored = [&](Method method, detail::ConstrainedAnswer answer) {
+      VANTAGE_CHECK(feasible.IsFeasible(answer.chosen));
+      StateSelection s = Scored(states, over, method, std::move(answer.chosen), answer.seconds);
+      if (answer.upper_bound)
+        s.selection.upper_bound = std::max(*answer.upper_bound, s.selection.coverage);
+      s.selection.proven_optimal = answer.proven_optimal;
+      return s;
+    };
+    const auto one_n = [&](size_t k, bool ransac_too, bool greedy, bool local) {
+      if (ransac_too) results.push_back(scored(Method::kRansac, methods.Ransac(k)));
+      detail::ConstrainedAnswer g = methods.Greedy(k);
+      if (greedy) results.push_back(scored(Method::kGreedy, std::move(g)));
+      if (local) results.push_back(scored(Method::kLocal, methods.Local()));
+    };
+    switch (options.method) {
+      case Method::kBest:  // one sensor breaks no constraint
+        results.push_back(best());
+        break;
+      case Method::kGreedy:
+        one_n(n, false, true, false);
+        break;
+      case Method::kLocal:
+        one_n(n, false, false, true);
+        break;
+      case Method::kRansac:
+        results.push_back(scored(Method::kRansac, methods.Ransac(n)));
+        break;
+      case Method::kAll:
+        results.push_back(best());
+        for (size_t k = 1; k <= n; ++k) one_n(k, true, true, true);
+        break;
+      case Method::kExact: {
+        const Clock::time_point t = Clock::now();
+        methods.Greedy(n);
+        methods.Local();
+        results.push_back(scored(
+            Method::kExact,
+            methods.Exact(std::max(0.1 * options.time_limit,
+                                   options.time_limit - SecondsSince(t)))));
+        break;
+      }
+    }
+    return results;
+  }
   switch (options.method) {
     case Method::kBest:
       results.push_back(best());

@@ -119,6 +119,7 @@ class StatesScorer {
   StatesScorer(const CoverageMatrix& matrix, OverStates over);
 
   const CoverageMatrix& matrix() const { return *matrix_; }
+  OverStates over() const { return over_; }
   int k() const { return 1; }
   bool lazy() const { return over_ == OverStates::kMean && exact_; }
   Tally Zero() const { return StateTally(matrix_->state_count()); }

@@ -385,11 +385,10 @@ std::vector<Selection> Select(std::span<const Observation> observations,
                               const SelectOptions& options) {
   options.Validate(observations.size());
   if (!options.fixed.empty()) return SelectKeeping(observations, reference_size, options);
-  if (!options.constraints.empty())
-    return detail::SelectConstrained(observations, reference_size, options);
   const CoverageEvaluator evaluator(observations, reference_size);
   if (options.method == Method::kBest) return {SelectBest(evaluator)};
   if (options.min_points) RequirePointCounts(observations);
+  const bool is_constrained = !options.constraints.empty();
 
   const Clock::time_point start = Clock::now();
   const detail::CoverageMatrix matrix = detail::MatrixFor(observations, reference_size, options);
@@ -412,6 +411,7 @@ std::vector<Selection> Select(std::span<const Observation> observations,
                                          options.goal_source, reach));
     }
   }
+  if (is_constrained) return detail::SelectConstrained(observations, reference_size, options);
 
   switch (options.method) {
     case Method::kRansac:
@@ -478,9 +478,12 @@ std::vector<Selection> CoverageCurve(std::span<const Observation> observations,
   int last_n = up_to;
   for (const Selection& s : results) last_n = std::max(last_n, s.n);
   last_n = std::min(last_n, static_cast<int>(observations.size()));
-  if (!options.constraints.empty())
-    return detail::ConstrainedCurve(observations, reference_size, options, results, last_n);
   const int first_n = objective == Objective::kKCoverage ? options.k : 1;
+  if (!options.constraints.empty()) {
+    if (options.min_points) RequirePointCounts(observations);
+    return detail::ConstrainedCurve(observations, reference_size, options, results, first_n,
+                                    last_n);
+  }
   const auto has = [&](const std::string& method, int n) {
     return std::any_of(results.begin(), results.end(), [&](const Selection& s) {
       return s.method == method && s.n == n && s.k == (objective == Objective::kKCoverage ? options.k : 1);
