@@ -390,8 +390,8 @@ TEST(ConstraintsCli, StructuredLightPairConflictsTofWithStereoDoesNot) {
 TEST(ConstraintsCli, ConstraintOptionsThatCannotApplyExitTwoNamingThem) {
   test::TempDir dir;
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"--k 2 --calibration-overlap 5", "--calibration-overlap: works with the coverage objective"},
-      {"--goal 0.5 --interference true", "--interference: works with the coverage objective"},
+      {"--refine --calibration-overlap 5", "--calibration-overlap: does not combine with --refine"},
+      {"--refine --interference true", "--interference: does not combine with --refine"},
       {"--interference-overlap 1.5", "--interference-overlap: 1.5 must be a fraction in [0, 1]"},
       {"--calibration-overlap 0", "--calibration-overlap: must be at least 1 common cell"},
       {"--calibration-overlap 3 --calibration-overlap-frac 0.1",
@@ -403,6 +403,111 @@ TEST(ConstraintsCli, ConstraintOptionsThatCannotApplyExitTwoNamingThem) {
     EXPECT_NE(run.err.find(message), std::string::npos) << flags << ": " << run.err;
     EXPECT_FALSE(std::filesystem::exists(dir.File("x")));
   }
+}
+
+// Over scene states: the calibration rule joins by the first state's overlaps, the result is
+// connected there and scored over both states; interference holds in every method.
+TEST(ConstraintsCli, CalibrationAndInterferenceOverSceneStates) {
+  test::TempDir dir;
+  const std::string states =
+      "states:\n"
+      "  - name: full\n"
+      "  - name: lifted\n"
+      "    move: {cube: {xyz: [0, 0, 0.02], rpy: [0, 0, 0]}}\n";
+  const std::string scene = CubeWithSensors(
+      dir,
+      "  - {name: a, type: fine_cam, position: [0.5, 0.5, 0.05]}\n"
+      "  - {name: b, type: fine_cam, position: [-0.5, -0.5, 0.05]}\n"
+      "  - {name: bridge, type: fine_cam, position: [0.5, -0.5, 0.05]}\n" + states);
+  const auto plain = RunVantage("optimize " + scene + " --method exact --out " + dir.File("p"));
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  const json p = Report(dir.File("p"));
+  ASSERT_TRUE(p.contains("states"));
+  EXPECT_EQ(Names(p["results"][0]["sensors"]), (std::set<std::string>{"a", "b"}));
+  for (const char* method : {"exact", "greedy", "local", "ransac"}) {
+    const std::string out = dir.File(std::string("c_") + method);
+    const auto run = RunVantage("optimize " + scene + " --method " + method +
+                                " --over-states min --calibration-overlap 40 --out " + out);
+    ASSERT_EQ(run.exit_code, 0) << method << ": " << run.err;
+    const json c = Report(out);
+    const json& r = c["results"][0];
+    ExpectSchemaKeys(r);
+    EXPECT_EQ(c["states"]["over"], "min");
+    EXPECT_EQ(r["state_coverage"].size(), 2u);
+    const std::set<std::string> chosen = Names(r["sensors"]);
+    EXPECT_EQ(chosen.size(), 2u) << method;
+    EXPECT_TRUE(chosen.count("bridge")) << method;
+    EXPECT_TRUE(r["constraints"]["connected"].get<bool>()) << method;
+    EXPECT_TRUE(r["constraints"]["satisfied"].get<bool>()) << method;
+    if (std::string(method) == "exact") {
+      EXPECT_TRUE(r["optimal"].get<bool>());
+      EXPECT_GE(r["upper_bound"].get<double>() + 1e-12, r["coverage"].get<double>());
+    }
+  }
+  // Two Kinects on the same face: never both, in any state.
+  const std::string kinects = CubeWithSensors(
+      dir,
+      "  - {name: sl_1, type: kinect_xbox_360, position: [0.8, 0.015, 0.05]}\n"
+      "  - {name: sl_2, type: kinect_xbox_360, position: [0.8, -0.015, 0.05]}\n"
+      "  - {name: stereo, type: multisense_s7, position: [-0.8, -0.015, 0.05]}\n" + states);
+  const auto opt = RunVantage("optimize " + kinects +
+                              " --method all --interference true --out " + dir.File("k"));
+  ASSERT_EQ(opt.exit_code, 0) << opt.err;
+  const json k = Report(dir.File("k"));
+  EXPECT_EQ(k["constraints"]["interference"]["conflicting_pairs"], 1);
+  for (const json& r : k["results"]) {
+    const std::set<std::string> chosen = Names(r["sensors"]);
+    EXPECT_FALSE(chosen.count("sl_1") && chosen.count("sl_2")) << r["method"];
+    EXPECT_TRUE(r["constraints"]["satisfied"].get<bool>()) << r["method"];
+  }
+  // evaluate of the plain layout over the states scene: it breaks the rule.
+  const auto check = RunVantage("evaluate --constellation " + dir.File("p") +
+                                "/report.json --calibration-overlap 40 --out " + dir.File("e"));
+  ASSERT_EQ(check.exit_code, 0) << check.err;
+  const json e = Report(dir.File("e"));
+  EXPECT_FALSE(e["results"][0]["constraints"]["connected"].get<bool>());
+  EXPECT_FALSE(e["results"][0]["constraints"]["satisfied"].get<bool>());
+}
+
+// The other objectives under the constraints: k-coverage, a goal, a budget and point density.
+// a and b see disjoint pairs of faces (not joined by 40 common cells); the bridge shares a face
+// with each, so every connected answer of two holds it.
+TEST(ConstraintsCli, ConstraintsWithTheOtherObjectives) {
+  test::TempDir dir;
+  const std::string pair = "  - {name: a, type: fine_cam, position: [0.5, 0.5, 0.05]}\n"
+                           "  - {name: b, type: fine_cam, position: [-0.5, -0.5, 0.05]}\n";
+  const std::string scene =
+      CubeWithSensors(dir, pair + "  - {name: bridge, type: fine_cam, position: [0.5, -0.5, 0.05]}\n");
+  const std::vector<std::string> objectives = {"--k 2 -n 2", "--goal 0.5", "--budget 2",
+                                               "--min-points 2 -n 2"};
+  for (size_t i = 0; i < objectives.size(); ++i) {
+    const std::string out = dir.File(fmt::format("o{}", i));
+    const auto run = RunVantage("optimize " + scene + " " + objectives[i] +
+                                " --method exact --calibration-overlap 40 --out " + out);
+    ASSERT_EQ(run.exit_code, 0) << objectives[i] << ": " << run.err;
+    const json r = Report(out)["results"][0];
+    ExpectSchemaKeys(r);
+    EXPECT_EQ(Names(r["sensors"]), (std::set<std::string>{"a", "bridge"})) << objectives[i];
+    EXPECT_TRUE(r["constraints"]["connected"].get<bool>()) << objectives[i];
+    EXPECT_TRUE(r["optimal"].get<bool>()) << objectives[i];
+  }
+  // a + b reach 0.6 with two sensors; connected, all three are needed.
+  const auto three = RunVantage("optimize " + scene +
+                                " --goal 0.6 --method exact --calibration-overlap 40 --out " +
+                                dir.File("g3"));
+  ASSERT_EQ(three.exit_code, 0) << three.err;
+  const json g3 = Report(dir.File("g3"))["results"][0];
+  EXPECT_EQ(g3["n"], 3);
+  EXPECT_TRUE(g3["optimal"].get<bool>());
+  // Without the bridge no two are joined: a goal above one sensor's exits 2 naming the goal.
+  const std::string apart = CubeWithSensors(dir, pair);
+  const auto run = RunVantage("optimize " + apart +
+                              " --goal 0.5 --calibration-overlap 40 --out " + dir.File("g"));
+  EXPECT_EQ(run.exit_code, 2) << run.out;
+  EXPECT_NE(run.err.find("goal 0.5 cannot be reached: the installation constraints allow at most"),
+            std::string::npos)
+      << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.File("g")));
 }
 
 // ----- mounting rules (docs/constraints.md, Mounting rules) ----------------------------------
