@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <iterator>
 #include <set>
 #include <string>
 
@@ -1983,6 +1984,151 @@ TEST(Constraints, SeparationPairsFromPositionsAndExactMatchesEnumeration) {
     EXPECT_GE(*exact.upper_bound + 1e-12, static_cast<double>(optimum) / 40.0);
     EXPECT_TRUE(exact.proven_optimal) << "seed " << seed;
   }
+}
+
+namespace constraints_test {
+
+// Whether `set` satisfies `constraints` (EnumeratedOptimum's test, for one set).
+bool IsFeasibleSet(const std::vector<Observation>& obs, const std::vector<uint32_t>& set,
+                   const InstallConstraints& constraints) {
+  for (const Conflict& c : constraints.conflicts) {
+    if (std::count(set.begin(), set.end(), c.a) && std::count(set.begin(), set.end(), c.b))
+      return false;
+  }
+  if (!constraints.calibration || set.size() <= 1) return true;
+  std::vector<size_t> group(set.size());
+  std::iota(group.begin(), group.end(), size_t{0});
+  for (size_t p = 0; p < set.size(); ++p) {
+    for (size_t q = p + 1; q < set.size(); ++q) {
+      const std::vector<uint32_t>& a = obs[set[p]].reference_indices;
+      const std::vector<uint32_t>& b = obs[set[q]].reference_indices;
+      std::vector<uint32_t> common;
+      std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(common));
+      const double smaller = static_cast<double>(std::min(a.size(), b.size()));
+      const bool joined =
+          !common.empty() && (constraints.calibration->min_cells
+                                  ? common.size() >= *constraints.calibration->min_cells
+                                  : common.size() >= *constraints.calibration->min_fraction *
+                                                         smaller - 1e-9);
+      if (!joined) continue;
+      const size_t from = group[q], to = group[p];
+      for (size_t& g : group)
+        if (g == from) g = to;
+    }
+  }
+  return std::all_of(group.begin(), group.end(), [&](size_t g) { return g == group[0]; });
+}
+
+}  // namespace constraints_test
+
+// k-coverage, min-points, a budget and set cover under conflicts and calibration rules, against
+// the optimum of every feasible subset: exact finds it with a valid bound, the heuristics stay
+// feasible and below it; an unreachable goal is an InputError.
+TEST(Constraints, OtherObjectivesMatchEnumeration) {
+  int instances = 0, binding = 0, unreachable = 0;
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    const size_t m = 8 + seed % 5;  // 8..12 candidates
+    std::vector<Observation> obs = RandomInstance(900 + seed, m, 40, 0.3);
+    Rng rng(950 + seed, Stream::kTest, 0);
+    for (Observation& o : obs) {
+      for (size_t j = 0; j < o.reference_indices.size(); ++j)
+        o.reference_hits.push_back(static_cast<uint16_t>(1 + rng.Below(8)));
+    }
+    std::vector<double> costs(m);
+    for (double& c : costs) c = static_cast<double>(1 + rng.Below(3));
+    const std::vector<std::vector<uint32_t>> subsets = AllSubsets(m);
+    for (int variant = 0; variant < 3; ++variant) {
+      InstallConstraints constraints;
+      if (variant != 1) constraints.conflicts = constraints_test::RandomConflicts(seed, m, 0.3);
+      if (variant == 1) constraints.calibration = CalibrationRule{4, std::nullopt};
+      if (variant == 2) constraints.calibration = CalibrationRule{std::nullopt, 0.3};
+      for (int objective = 0; objective < 5; ++objective) {
+        const bool is_cover = objective >= 3;  // set cover, goals of 26 and 34 cells
+        SCOPED_TRACE(testing::Message()
+                     << "seed " << seed << " variant " << variant << " objective " << objective);
+        SelectOptions options;
+        options.n = 3;
+        options.seed = seed;
+        options.ransac_iterations = 40;
+        options.constraints = constraints;
+        if (objective == 0) options.k = 2;
+        if (objective == 1) options.min_points = 6;
+        if (objective == 2) {
+          options.budget = 4;
+          options.costs = costs;
+        }
+        const uint64_t goal_cells = objective == 4 ? 34 : 26;
+        if (is_cover) options.goal = static_cast<double>(goal_cells) / 40.0;
+        // The optimum by enumeration: most cells (objectives 0-2), fewest sensors (set cover).
+        const auto value = [&](const std::vector<uint32_t>& set) -> uint64_t {
+          if (objective == 0) return KUnionSize(obs, set, 2);
+          if (objective == 1) return PointUnionSize(obs, set, 6);
+          return UnionSize(obs, set);
+        };
+        uint64_t optimum = 0, free_optimum = 0;
+        size_t fewest = m + 1, free_fewest = m + 1;
+        for (const std::vector<uint32_t>& set : subsets) {
+          if (objective == 2 && detail::TotalCost(costs, set) > 4) continue;
+          if (objective != 2 && !is_cover && set.size() > 3) continue;
+          const bool feasible = constraints_test::IsFeasibleSet(obs, set, constraints);
+          const uint64_t v = value(set);
+          if (is_cover) {
+            if (v < goal_cells) continue;
+            free_fewest = std::min(free_fewest, set.size());
+            if (feasible) fewest = std::min(fewest, set.size());
+            continue;
+          }
+          free_optimum = std::max(free_optimum, v);
+          if (feasible) optimum = std::max(optimum, v);
+        }
+        if (is_cover && fewest > m) {
+          if (free_fewest <= m) {  // reachable without the constraints only
+            options.method = Method::kExact;
+            EXPECT_THROW(Select(obs, 40, options), InputError);
+            ++unreachable;
+          }
+          continue;
+        }
+        if (is_cover ? fewest > free_fewest : optimum < free_optimum) ++binding;
+        const std::vector<Method> heuristics =
+            is_cover         ? std::vector<Method>{Method::kGreedy}
+            : objective == 2 ? std::vector<Method>{Method::kGreedy, Method::kLocal}
+                             : std::vector<Method>{Method::kRansac, Method::kGreedy, Method::kLocal};
+        for (const Method method : heuristics) {
+          options.method = method;
+          const Selection s = Select(obs, 40, options).front();
+          EXPECT_TRUE(constraints_test::IsFeasibleSet(obs, s.chosen, constraints)) << s.method;
+          if (is_cover) {
+            EXPECT_GE(UnionSize(obs, s.chosen), goal_cells);
+            EXPECT_GE(s.chosen.size(), fewest);
+          } else {
+            EXPECT_LE(value(s.chosen), optimum) << s.method;
+            EXPECT_DOUBLE_EQ(s.coverage, static_cast<double>(value(s.chosen)) / 40.0) << s.method;
+          }
+          if (objective == 2) {
+            EXPECT_LE(detail::TotalCost(costs, s.chosen), 4.0);
+          }
+        }
+        options.method = Method::kExact;
+        const Selection exact = Select(obs, 40, options).front();
+        EXPECT_TRUE(constraints_test::IsFeasibleSet(obs, exact.chosen, constraints));
+        EXPECT_TRUE(exact.proven_optimal);
+        if (is_cover) {
+          EXPECT_EQ(exact.chosen.size(), fewest);
+          ASSERT_TRUE(exact.n_lower_bound.has_value());
+          EXPECT_LE(static_cast<size_t>(*exact.n_lower_bound), fewest);
+        } else {
+          EXPECT_EQ(value(exact.chosen), optimum);
+          ASSERT_TRUE(exact.upper_bound.has_value());
+          EXPECT_GE(*exact.upper_bound + 1e-12, static_cast<double>(optimum) / 40.0);
+        }
+        ++instances;
+      }
+    }
+  }
+  EXPECT_GE(instances, 60);
+  EXPECT_GE(binding, 20);
+  EXPECT_GE(unreachable, 1);
 }
 
 TEST(Constraints, ValidateNamesTheField) {

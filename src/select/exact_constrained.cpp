@@ -11,8 +11,9 @@
 //        s_i <= n r_i,   sum_i s_i = sum_i x_i  the root supplies one unit per chosen sensor
 //        out_i - in_i = s_i - x_i               every chosen sensor keeps one unit
 //        out_i <= (n - 1) x_i, in_i <= (n - 1) x_i   flow only through chosen sensors
-//   x, r binary; y in [0, 1]; s, f >= 0. A flow exists exactly when every chosen sensor is
-//   reached from the root along edges between chosen sensors: the chosen graph is connected.
+//   x, r binary; y in [0, 1] (binary for T >= 2); s, f >= 0. A flow exists exactly when every
+//   chosen sensor is reached from the root along edges between chosen sensors: the chosen graph
+//   is connected.
 //
 // With T = 1 an element seen by one candidate folds into that candidate's a_i. Over the states of a
 // scene the objective is the aggregate (exact_states.cpp): mean, w_e / (S |R_s|) per element;
@@ -157,7 +158,9 @@ Outcome RunCbc(const CoverageMatrix& matrix, const Feasibility& feasible, const 
   std::vector<std::vector<double>> share_values(states);
   for (uint32_t e = 0; e < seers.size(); ++e) {
     if (seers[e].empty() || folds(e) || reach[e] < threshold) continue;
-    const int y = model.AddColumn(0, 1, spec.by_min ? 0.0 : spec.value[e] * spec.scale, false);
+    // With T >= 2 a fractional y_e would count a cell short of T seers in part: y binary.
+    const int y = model.AddColumn(0, 1, spec.by_min ? 0.0 : spec.value[e] * spec.scale,
+                                  threshold > 1);
     if (spec.by_min) {
       share_columns[state_of[e]].push_back(y);
       share_values[state_of[e]].push_back(-spec.value[e]);
