@@ -510,6 +510,53 @@ TEST(ConstraintsCli, ConstraintsWithTheOtherObjectives) {
   EXPECT_FALSE(std::filesystem::exists(dir.File("g")));
 }
 
+// --keep-existing under interference: a candidate that conflicts with a kept sensor is never
+// added; kept sensors that conflict with each other exit 2 naming them, before any output.
+TEST(ConstraintsCli, KeptSensorsAndInterference) {
+  test::TempDir dir;
+  const auto scene_with = [&](const std::string& sensors) {
+    const std::string text =
+        "settings:\n  cell_size: 0.01\n  n: 3\n  observation_point: [0, 0, 0.05]\n"
+        "objects:\n  - name: cube\n    role: target\n    box: {size: [0.1, 0.1, 0.1]}\n"
+        "    pose: {xyz: [0, 0, 0.05]}\n"
+        "sensors:\n" + sensors +
+        "populations:\n"
+        "  - {name: near, type: kinect_xbox_360, distribution: grid, rows: 1, cols: 1,\n"
+        "     step: [0.1, 0.1, 0], pose: {xyz: [0.8, -0.015, 0.05]}}\n"
+        "  - {name: far, type: kinect_xbox_360, distribution: grid, rows: 1, cols: 1,\n"
+        "     step: [0.1, 0.1, 0], pose: {xyz: [-0.8, 0, 0.05]}}\n";
+    const std::string path = dir.File("kept.yaml");
+    test::WriteText(path, text);
+    return path;
+  };
+  const std::string sl_1 = "  - {name: sl_1, type: kinect_xbox_360, position: [0.8, 0.015, 0.05]}\n";
+  const std::string scene = scene_with(sl_1);
+  const auto plain =
+      RunVantage("optimize " + scene + " --keep-existing --method exact --out " + dir.File("p"));
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_TRUE(Names(Report(dir.File("p"))["results"][0]["sensors"]).count("near_0"));
+  const auto run = RunVantage("optimize " + scene +
+                              " --keep-existing --interference true --out " + dir.File("k"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json k = Report(dir.File("k"));
+  for (const json& r : k["results"]) {
+    ASSERT_FALSE(r["sensors"].empty());
+    EXPECT_EQ(r["sensors"][0], "sl_1") << r["method"];
+    EXPECT_FALSE(Names(r["sensors"]).count("near_0")) << r["method"];
+    EXPECT_TRUE(r["constraints"]["satisfied"].get<bool>()) << r["method"];
+  }
+  const std::string both = scene_with(
+      sl_1 + "  - {name: sl_2, type: kinect_xbox_360, position: [0.8, -0.015, 0.05]}\n");
+  const auto clash = RunVantage("optimize " + both +
+                                " --keep-existing --interference true --out " + dir.File("c"));
+  EXPECT_EQ(clash.exit_code, 2);
+  EXPECT_NE(clash.err.find("--keep-existing: the kept sensors conflict: 'sl_1' and 'sl_2' "
+                           "(interference"),
+            std::string::npos)
+      << clash.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.File("c")));
+}
+
 // ----- mounting rules (docs/constraints.md, Mounting rules) ----------------------------------
 
 // a at (0.5, 0.5) sees the +x and +y faces (two faces), face at (0.5, 0) only +x (one face): a

@@ -42,10 +42,47 @@ namespace {
 
 // Why constraints cannot apply to this selection; empty when they can.
 // Every objective and scene states work (docs/constraints.md).
-std::string Unsupported(const SelectOptions& options, bool /*has_states*/, bool refine) {
-  if (!options.fixed.empty()) return "does not combine with --keep-existing yet — drop one";
+std::string Unsupported(const SelectOptions& /*options*/, bool /*has_states*/, bool refine) {
   if (refine) return "does not combine with --refine yet — drop one of them";
   return {};
+}
+
+// Kept sensors (--keep-existing) must satisfy the constraints among themselves: the others are
+// then chosen to keep them satisfied (docs/constraints.md, Kept sensors).
+void CheckKeptSensors(const ConstraintsInfo& info, const SelectOptions& options,
+                      std::span<const Candidate> candidates,
+                      std::span<const Observation> observations) {
+  const std::vector<uint32_t>& kept = options.fixed;
+  if (kept.empty()) return;
+  const ConstraintCheck check = CheckConstraints(observations, kept, info.constraints);
+  if (!check.conflicts.empty()) {
+    std::string pairs;
+    for (const Conflict& c : check.conflicts) {
+      pairs += fmt::format("{}'{}' and '{}' ({}{})", pairs.empty() ? "" : ", ",
+                           candidates[c.a].name, candidates[c.b].name, ConflictKindName(c.kind),
+                           c.kind == ConflictKind::kSeparation
+                               ? fmt::format(", {:.3f} m apart", c.value)
+                               : fmt::format(", {:.0f} % shared", 100.0 * c.value));
+    }
+    throw InputError(AtPlace("--keep-existing", 0,
+                             fmt::format("the kept sensors conflict: {} — move one of them, or "
+                                         "drop the constraint or --keep-existing",
+                                         pairs)));
+  }
+  if (info.constraints.calibration && !check.connected()) {
+    std::string parts;
+    for (const std::vector<uint32_t>& part : check.components) {
+      std::string names;
+      for (const uint32_t i : part) names += (names.empty() ? "" : ", ") + candidates[i].name;
+      parts += fmt::format("{}[{}]", parts.empty() ? "" : " ", names);
+    }
+    throw InputError(AtPlace("--keep-existing", 0,
+                             fmt::format("the kept sensors are not connected by the calibration "
+                                         "rule ({} parts: {}) — vantage does not search for "
+                                         "bridging sensors yet; lower the calibration overlap or "
+                                         "drop --keep-existing",
+                                         check.components.size(), parts)));
+  }
 }
 
 // Interference over the states of a scene: a pair conflicts when it does in any state (both
@@ -194,6 +231,7 @@ std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& reque
   if (!info.interference_overlap && !info.constraints.calibration && !info.min_separation &&
       info.keep_out_boxes == 0)
     return std::nullopt;
+  CheckKeptSensors(info, options, candidates, observations);
   return info;
 }
 

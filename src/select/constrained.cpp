@@ -114,10 +114,16 @@ namespace {
 // constraints: PointsGreedyComplete's rule (cells completed, then the seers or points added where
 // still missing, each cell's share up to k) among the feasible candidates.
 std::vector<uint32_t> ThresholdGreedy(const CoverageMatrix& matrix, int k,
-                                      const Feasibility& feasible, const Capacity& capacity) {
+                                      const Feasibility& feasible, const Capacity& capacity,
+                                      std::vector<uint32_t> chosen) {
   const auto kk = static_cast<uint32_t>(k);
   std::vector<uint32_t> points(matrix.element_count(), 0);  // of the chosen, capped at k
-  std::vector<uint32_t> chosen;
+  const auto add = [&](uint32_t candidate) {
+    const std::vector<uint32_t>& row = matrix.Row(candidate);
+    for (size_t j = 0; j < row.size(); ++j)
+      points[row[j]] = std::min(kk, points[row[j]] + matrix.Count(candidate, j));
+  };
+  for (const uint32_t c : chosen) add(c);
   while (chosen.size() < capacity.n) {
     ThrowIfInterrupted();
     int64_t best = -1;
@@ -140,9 +146,7 @@ std::vector<uint32_t> ThresholdGreedy(const CoverageMatrix& matrix, int k,
     }
     if (best < 0) break;  // nothing fits any more
     chosen.push_back(static_cast<uint32_t>(best));
-    const std::vector<uint32_t>& row = matrix.Row(static_cast<uint32_t>(best));
-    for (size_t j = 0; j < row.size(); ++j)
-      points[row[j]] = std::min(kk, points[row[j]] + matrix.Count(static_cast<uint32_t>(best), j));
+    add(static_cast<uint32_t>(best));
   }
   return chosen;
 }
@@ -151,7 +155,7 @@ std::vector<uint32_t> ThresholdGreedy(const CoverageMatrix& matrix, int k,
 // gain first, then the larger gain, then the lower index) among the feasible candidates that fit,
 // until nothing adds anything; then the best affordable single candidate when it covers more.
 std::vector<uint32_t> BudgetGreedy(const CoverageMatrix& matrix, const Feasibility& feasible,
-                                   const Capacity& capacity) {
+                                   const Capacity& capacity, std::vector<uint32_t> chosen) {
   const std::span<const double> costs = capacity.costs;
   const auto before = [&](uint32_t a, uint64_t gain_a, uint32_t b, uint64_t gain_b) {
     const double ca = costs[a], cb = costs[b];
@@ -168,8 +172,9 @@ std::vector<uint32_t> BudgetGreedy(const CoverageMatrix& matrix, const Feasibili
       single = i;
   }
   VANTAGE_CHECK(single >= 0);
-  std::vector<uint32_t> chosen;
+  const bool has_kept = !chosen.empty();  // kept sensors: no single candidate replaces them
   Bitset covered = matrix.EmptySet();
+  for (const uint32_t c : chosen) matrix.AddTo(c, &covered);
   for (;;) {
     ThrowIfInterrupted();
     int64_t best = -1;
@@ -186,7 +191,8 @@ std::vector<uint32_t> BudgetGreedy(const CoverageMatrix& matrix, const Feasibili
     chosen.push_back(static_cast<uint32_t>(best));
     matrix.AddTo(static_cast<uint32_t>(best), &covered);
   }
-  if (chosen.empty() || matrix.RowWeight(static_cast<uint32_t>(single)) > matrix.SetWeight(covered))
+  if (!has_kept && (chosen.empty() ||
+                    matrix.RowWeight(static_cast<uint32_t>(single)) > matrix.SetWeight(covered)))
     return {static_cast<uint32_t>(single)};
   return chosen;
 }
@@ -195,17 +201,20 @@ std::vector<uint32_t> BudgetGreedy(const CoverageMatrix& matrix, const Feasibili
 
 template <MethodScorer Scorer>
 std::vector<uint32_t> ConstrainedGreedy(const Scorer& scorer, const Feasibility& feasible,
-                                        const Capacity& capacity, uint64_t goal_cells) {
+                                        const Capacity& capacity, uint64_t goal_cells,
+                                        std::vector<uint32_t> start) {
   using Tally = typename Scorer::Tally;
   using Score = typename Scorer::Score;
   const CoverageMatrix& matrix = scorer.matrix();
   if constexpr (Scorer::kCells) {
-    if (scorer.k() > 1) return ThresholdGreedy(matrix, scorer.k(), feasible, capacity);
-    if (capacity.has_budget()) return BudgetGreedy(matrix, feasible, capacity);
+    if (scorer.k() > 1)
+      return ThresholdGreedy(matrix, scorer.k(), feasible, capacity, std::move(start));
+    if (capacity.has_budget()) return BudgetGreedy(matrix, feasible, capacity, std::move(start));
   }
-  std::vector<uint32_t> chosen;
+  std::vector<uint32_t> chosen = std::move(start);
   Bitset covered = matrix.EmptySet();
-  Tally tally = scorer.Zero();
+  Tally tally = scorer.Covered(chosen);
+  for (const uint32_t c : chosen) matrix.AddTo(c, &covered);
   while (chosen.size() < capacity.n) {
     if constexpr (Scorer::kCells) {
       if (goal_cells > 0 && tally >= goal_cells) break;
@@ -237,7 +246,8 @@ std::vector<uint32_t> ConstrainedGreedy(const Scorer& scorer, const Feasibility&
 
 template <MethodScorer Scorer>
 std::vector<uint32_t> ConstrainedLocal(const Scorer& scorer, const Feasibility& feasible,
-                                       std::vector<uint32_t> chosen, const Capacity& capacity) {
+                                       std::vector<uint32_t> chosen, const Capacity& capacity,
+                                       size_t frozen) {
   using Tally = typename Scorer::Tally;
   using Score = typename Scorer::Score;
   const CoverageMatrix& matrix = scorer.matrix();
@@ -252,7 +262,7 @@ std::vector<uint32_t> ConstrainedLocal(const Scorer& scorer, const Feasibility& 
     Score best = current;
     size_t best_p = 0;
     int64_t best_c = -1;
-    for (size_t p = 0; p <= chosen.size(); ++p) {
+    for (size_t p = frozen; p <= chosen.size(); ++p) {
       const bool is_add = p == chosen.size();
       if (is_add && !capacity.has_budget() && chosen.size() >= capacity.n) break;
       std::vector<uint32_t> others = chosen;
@@ -296,20 +306,34 @@ std::vector<uint32_t> ConstrainedLocal(const Scorer& scorer, const Feasibility& 
 template <MethodScorer Scorer>
 std::vector<uint32_t> ConstrainedRansac(const Scorer& scorer, const Feasibility& feasible,
                                         size_t n, int iterations, double stop_coverage,
-                                        uint64_t seed) {
+                                        uint64_t seed, std::span<const uint32_t> fixed) {
   using Tally = typename Scorer::Tally;
   using Score = typename Scorer::Score;
   const size_t m = scorer.matrix().candidate_count();
-  std::vector<uint32_t> order(m);
+  // The others, drawn from (their index in `others` maps to a candidate).
+  std::vector<uint32_t> others;
+  for (uint32_t c = 0; c < m; ++c)
+    if (std::find(fixed.begin(), fixed.end(), c) == fixed.end()) others.push_back(c);
+  const std::vector<uint32_t> kept(fixed.begin(), fixed.end());
+  if (n <= kept.size()) return feasible.IsFeasible(kept) ? kept : std::vector<uint32_t>{};
+  const size_t free_n = n - kept.size();
+  std::vector<uint32_t> order(others.size());
   std::iota(order.begin(), order.end(), 0U);
-  std::vector<uint32_t> best, drawn(n);
+  std::vector<uint32_t> best, drawn(free_n);
   Tally best_tally = scorer.Zero();
   Score best_score{};
   for (int i = 0; i < iterations; ++i) {
     if (!best.empty() && scorer.Fraction(best_tally) >= stop_coverage) break;
     if (i % 64 == 0) ThrowIfInterrupted();
-    RansacDraw(seed, static_cast<uint64_t>(i), n, &order, &drawn);
-    if (!feasible.IsFeasible(drawn)) continue;  // rejected draw
+    RansacDraw(seed, static_cast<uint64_t>(i), free_n, &order, &drawn);
+    if (!kept.empty()) {
+      for (uint32_t& d : drawn) d = others[d];
+      drawn.insert(drawn.begin(), kept.begin(), kept.end());
+    }
+    if (!feasible.IsFeasible(drawn)) {  // rejected draw
+      drawn.resize(free_n);
+      continue;
+    }
     Tally tally = scorer.Covered(drawn);
     const Score score = scorer.ScoreOf(tally);
     if (best.empty() || best_score < score) {
@@ -317,22 +341,27 @@ std::vector<uint32_t> ConstrainedRansac(const Scorer& scorer, const Feasibility&
       best_tally = std::move(tally);
       best_score = score;
     }
+    drawn.resize(free_n);
   }
   return best;
 }
 
 template std::vector<uint32_t> ConstrainedGreedy(const CellScorer&, const Feasibility&,
-                                                 const Capacity&, uint64_t);
+                                                 const Capacity&, uint64_t,
+                                                 std::vector<uint32_t>);
 template std::vector<uint32_t> ConstrainedGreedy(const StatesScorer&, const Feasibility&,
-                                                 const Capacity&, uint64_t);
+                                                 const Capacity&, uint64_t,
+                                                 std::vector<uint32_t>);
 template std::vector<uint32_t> ConstrainedLocal(const CellScorer&, const Feasibility&,
-                                                std::vector<uint32_t>, const Capacity&);
+                                                std::vector<uint32_t>, const Capacity&, size_t);
 template std::vector<uint32_t> ConstrainedLocal(const StatesScorer&, const Feasibility&,
-                                                std::vector<uint32_t>, const Capacity&);
+                                                std::vector<uint32_t>, const Capacity&, size_t);
 template std::vector<uint32_t> ConstrainedRansac(const CellScorer&, const Feasibility&, size_t,
-                                                 int, double, uint64_t);
+                                                 int, double, uint64_t,
+                                                 std::span<const uint32_t>);
 template std::vector<uint32_t> ConstrainedRansac(const StatesScorer&, const Feasibility&, size_t,
-                                                 int, double, uint64_t);
+                                                 int, double, uint64_t,
+                                                 std::span<const uint32_t>);
 
 // ----- the methods for one n -------------------------------------------------------------------
 
@@ -364,13 +393,13 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n) const {
   const Clock::time_point start = Clock::now();
   ConstrainedAnswer answer;
   answer.chosen = ConstrainedRansac(scorer_, feasible_, n, options_.ransac_iterations,
-                                    options_.ransac_stop_coverage, options_.seed);
+                                    options_.ransac_stop_coverage, options_.seed, options_.fixed);
   if (answer.chosen.empty()) {
     Logger()->warn(
         "ransac, n = {}: none of its {} draws satisfies the constraints; reporting the "
         "constrained greedy answer",
         n, options_.ransac_iterations);
-    answer.chosen = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n));
+    answer.chosen = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, options_.fixed);
   }
   answer.seconds = setup_seconds_ + SecondsSince(start);
   return answer;
@@ -380,7 +409,7 @@ template <MethodScorer Scorer>
 ConstrainedAnswer ConstrainedMethods<Scorer>::Greedy(size_t n) {
   const Clock::time_point start = Clock::now();
   n_ = n;
-  greedy_ = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n));
+  greedy_ = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, options_.fixed);
   if (!options_.budget && greedy_.size() < n) {
     Logger()->warn("greedy, n = {}: only {} sensors satisfy the constraints together", n,
                    greedy_.size());
@@ -395,9 +424,11 @@ template <MethodScorer Scorer>
 ConstrainedAnswer ConstrainedMethods<Scorer>::Local() {
   const Clock::time_point start = Clock::now();
   const CoverageMatrix& matrix = scorer_.matrix();
-  local_ = ConstrainedLocal(scorer_, feasible_, greedy_, CapacityFor(n_));
+  local_ = ConstrainedLocal(scorer_, feasible_, greedy_, CapacityFor(n_), options_.fixed.size());
   free_local_.clear();
-  if (options_.budget) {
+  if (!options_.fixed.empty()) {
+    // The unconstrained answers need not hold the kept sensors: none.
+  } else if (options_.budget) {
     LocalOptions local;
     local.costs = options_.costs;
     local.budget = *options_.budget;
@@ -471,6 +502,7 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
       if (has_free_answer) free_bound = std::min(free_bound, free.upper_bound);
       ConstrainedObjective objective;
       objective.threshold = k;
+      objective.fixed = options_.fixed;
       exact = SolveExactConstrained(matrix, feasible_, CapacityFor(n), objective, local_,
                                     free_bound, std::max(0.1, time_limit - SecondsSince(start)));
     }
@@ -577,10 +609,13 @@ std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
   const CellScorer scorer(matrix);
   Capacity everyone;
   everyone.n = matrix.candidate_count();
-  std::vector<uint32_t> greedy = ConstrainedGreedy(scorer, feasible, everyone, goal_cells);
+  ConstrainedObjective with_kept;
+  with_kept.fixed = options.fixed;
+  std::vector<uint32_t> greedy =
+      ConstrainedGreedy(scorer, feasible, everyone, goal_cells, options.fixed);
   if (matrix.CoveredWeight(greedy) < goal_cells) {
     // Greedy could not reach it: the most any feasible set covers decides.
-    const ExactResult most = SolveExactConstrained(matrix, feasible, everyone, {}, greedy,
+    const ExactResult most = SolveExactConstrained(matrix, feasible, everyone, with_kept, greedy,
                                                    matrix.seen_weight(), options.time_limit);
     if (matrix.CoveredWeight(most.chosen) < goal_cells) {
       const std::string reach =
@@ -613,17 +648,18 @@ std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
     results.push_back(scored(Method::kGreedy, greedy, greedy_seconds));
   if (options.method == Method::kGreedy) return results;
   std::vector<uint32_t> best = greedy;
-  size_t lower = std::max<size_t>(1, SetCoverLowerBound(matrix, goal_cells));
+  size_t lower = std::max<size_t>({1, options.fixed.size() + 1,
+                                   SetCoverLowerBound(matrix, goal_cells)});
   const Clock::time_point exact_start = Clock::now();
   while (lower < best.size()) {
     const double left = options.time_limit - SecondsSince(exact_start);
     if (left <= 0.05) break;
     Capacity t;
     t.n = lower;
-    std::vector<uint32_t> seed = ConstrainedGreedy(scorer, feasible, t);
-    seed = ConstrainedLocal(scorer, feasible, std::move(seed), t);
+    std::vector<uint32_t> seed = ConstrainedGreedy(scorer, feasible, t, 0, options.fixed);
+    seed = ConstrainedLocal(scorer, feasible, std::move(seed), t, options.fixed.size());
     const ExactResult most = SolveExactConstrained(
-        matrix, feasible, t, {}, seed, GreedyUpperBound(matrix, seed, lower),
+        matrix, feasible, t, with_kept, seed, GreedyUpperBound(matrix, seed, lower),
         left / static_cast<double>(best.size() - lower));
     if (matrix.CoveredWeight(most.chosen) >= goal_cells) {
       best = most.chosen;
@@ -643,19 +679,47 @@ std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
 
 std::vector<Selection> SelectConstrained(std::span<const Observation> observations,
                                          size_t reference_size, const SelectOptions& options) {
-  VANTAGE_CHECK(options.fixed.empty());
   const CoverageEvaluator evaluator(observations, reference_size);
   const Objective objective = options.objective();
+  const std::vector<uint32_t>& fixed = options.fixed;
   // One sensor alone breaks no constraint: best is the plain best single candidate.
-  if (options.method == Method::kBest) return {SelectBest(evaluator)};
+  if (options.method == Method::kBest && fixed.empty()) return {SelectBest(evaluator)};
   const Clock::time_point start = Clock::now();
   const CoverageMatrix matrix = MatrixFor(observations, reference_size, options);
   const Feasibility feasible(observations, options.constraints);
   const double setup_seconds = SecondsSince(start);
+  if (!fixed.empty()) {
+    // Kept sensors: conflict-free and (with a calibration rule) connected among themselves, so
+    // that every method only has to keep the others joined (docs/constraints.md).
+    for (size_t p = 0; p < fixed.size(); ++p) {
+      for (size_t q = p + 1; q < fixed.size(); ++q) {
+        if (feasible.InConflict(fixed[p], fixed[q]))
+          throw InputError(fmt::format("kept sensors {} and {} conflict — drop one of them from "
+                                       "the scene, or the constraint",
+                                       fixed[p], fixed[q]));
+      }
+    }
+    if (!feasible.IsFeasible(fixed))
+      throw InputError("the kept sensors are not connected by the calibration rule");
+    const bool kept_reach_goal =
+        options.goal && matrix.CoveredWeight(fixed) >= GoalCellsOf(*options.goal, reference_size);
+    const bool no_room = objective != Objective::kSetCover && !options.budget &&
+                         static_cast<size_t>(options.n) <= fixed.size();
+    if (kept_reach_goal || no_room)
+      return {ScoreSelection(evaluator, fixed, "kept", options)};
+  }
   if (objective == Objective::kSetCover)
     return SetCoverConstrained(evaluator, matrix, feasible, options);
   CellsRun run(evaluator, matrix, feasible, options, setup_seconds);
   const auto n = static_cast<size_t>(options.n);
+  if (options.method == Method::kBest) {
+    // The best single addition to the kept sensors: greedy's first step, optimal for that n.
+    Selection best = run.Greedy(fixed.size() + 1);
+    best.method = MethodName(Method::kBest);
+    best.upper_bound = best.coverage;
+    best.proven_optimal = true;
+    return {best};
+  }
   switch (options.method) {
     case Method::kRansac:
       return {run.Ransac(n)};
@@ -680,8 +744,17 @@ std::vector<Selection> SelectConstrained(std::span<const Observation> observatio
   }
   std::vector<Selection> results;
   size_t first_n = 1;
-  if (objective == Objective::kCoverage) results.push_back(SelectBest(evaluator));
+  if (objective == Objective::kCoverage && fixed.empty()) results.push_back(SelectBest(evaluator));
+  if (objective == Objective::kCoverage && !fixed.empty()) {
+    // As with kept sensors unconstrained: the best single addition first.
+    Selection best = run.Greedy(fixed.size() + 1);
+    best.method = MethodName(Method::kBest);
+    best.upper_bound = best.coverage;
+    best.proven_optimal = true;
+    results.push_back(std::move(best));
+  }
   if (objective == Objective::kKCoverage) first_n = static_cast<size_t>(options.k);
+  first_n = std::max(first_n, fixed.size() + 1);
   // Shared as for plain selection (select.cpp), so `help optimize`'s time rule holds here too.
   AllExactTime exact_time(observations.size(), options.time_limit, static_cast<int>(n));
   for (size_t k = first_n; k <= n; ++k) {
@@ -713,6 +786,8 @@ std::vector<Selection> ConstrainedCurve(std::span<const Observation> observation
   CellsRun run(evaluator, matrix, feasible, options, 0);
   const std::string greedy = MethodName(Method::kGreedy), local = MethodName(Method::kLocal);
   std::vector<Selection> curve;
+  // With kept sensors every point of the curve holds them.
+  first_n = std::max(first_n, static_cast<int>(options.fixed.size()) + 1);
   for (int n = first_n; n <= last_n; ++n) {
     const bool want_greedy = !has(greedy, n), want_local = !has(local, n);
     if (!want_greedy && !want_local) continue;

@@ -67,28 +67,35 @@ struct Capacity {
 /// budget the gain per cost (GreedyBudget's order). Zero gains are taken too, up to n (budget:
 /// greedy stops once nothing adds anything); stops early, with fewer sensors, when no candidate
 /// can be added, and (set cover) once the covered cells reach `goal_cells` (0: no goal).
+/// With `start` (kept sensors, feasible) greedy adds to it.
 template <MethodScorer Scorer>
 std::vector<uint32_t> ConstrainedGreedy(const Scorer& scorer, const Feasibility& feasible,
-                                        const Capacity& capacity, uint64_t goal_cells = 0);
+                                        const Capacity& capacity, uint64_t goal_cells = 0,
+                                        std::vector<uint32_t> start = {});
 
 /// Best-improvement local search under the constraints from the feasible `start`: moves are
 /// adding a candidate (while it fits) and 1-swaps, each kept only when the set stays feasible,
-/// fits and scores strictly better; ties go to the earlier position, then the lower index.
+/// fits and scores strictly better; ties go to the earlier position, then the lower index. The
+/// first `frozen` positions (kept sensors) are never swapped out.
 template <MethodScorer Scorer>
 std::vector<uint32_t> ConstrainedLocal(const Scorer& scorer, const Feasibility& feasible,
-                                       std::vector<uint32_t> start, const Capacity& capacity);
+                                       std::vector<uint32_t> start, const Capacity& capacity,
+                                       size_t frozen = 0);
 
 /// Algorithm 2 with the draws of RansacChoice (RansacDraw), infeasible draws rejected (they count
-/// as iterations); draws scored by the scorer. Empty when no draw was feasible.
+/// as iterations); draws scored by the scorer. With `fixed` (kept sensors), each draw is the
+/// kept ones and n - |fixed| of the others (RansacDraw over the others, in index order). Empty
+/// when no draw was feasible.
 template <MethodScorer Scorer>
 std::vector<uint32_t> ConstrainedRansac(const Scorer& scorer, const Feasibility& feasible,
                                         size_t n, int iterations, double stop_coverage,
-                                        uint64_t seed);
+                                        uint64_t seed, std::span<const uint32_t> fixed = {});
 
 /// The MILP's objective for SolveExactConstrained: a cell counts once the chosen put `threshold`
 /// (k, or min_points with the matrix's counts) into it; 1 is plain coverage.
 struct ConstrainedObjective {
   int threshold = 1;
+  std::span<const uint32_t> fixed;  ///< kept sensors: their x fixed at 1
 };
 
 /// Maximum coverage (k-coverage, point coverage: `objective`) within `capacity` under the

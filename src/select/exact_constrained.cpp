@@ -103,6 +103,7 @@ struct MilpSpec {
   double scale = 1;
   bool by_min = false;        ///< states: max t, t <= each state's share
   double gap = 0.99;          ///< CBC's allowable gap (whole cells: within 1 is optimal)
+  std::span<const uint32_t> fixed;  ///< kept sensors: x = 1
 };
 
 Outcome RunCbc(const CoverageMatrix& matrix, const Feasibility& feasible, const MilpSpec& spec,
@@ -112,9 +113,14 @@ Outcome RunCbc(const CoverageMatrix& matrix, const Feasibility& feasible, const 
   const size_t m = matrix.candidate_count();
   std::vector<uint32_t> kept;
   std::vector<int> x_of(m, -1);
+  const auto is_fixed = [&](uint32_t i) {
+    return std::find(spec.fixed.begin(), spec.fixed.end(), i) != spec.fixed.end();
+  };
   for (uint32_t i = 0; i < m; ++i) {
-    if (matrix.Row(i).empty()) continue;
-    if (capacity.has_budget() && capacity.costs[i] > capacity.budget) continue;
+    if (!is_fixed(i)) {
+      if (matrix.Row(i).empty()) continue;
+      if (capacity.has_budget() && capacity.costs[i] > capacity.budget) continue;
+    }
     x_of[i] = static_cast<int>(kept.size());
     kept.push_back(i);
   }
@@ -151,7 +157,8 @@ Outcome RunCbc(const CoverageMatrix& matrix, const Feasibility& feasible, const 
     double objective = 0;
     if (!spec.by_min)
       for (size_t st = 0; st < states; ++st) objective += own[st][static_cast<size_t>(q)];
-    model.AddColumn(0, 1, objective * spec.scale, true);
+    model.AddColumn(is_fixed(kept[static_cast<size_t>(q)]) ? 1 : 0, 1, objective * spec.scale,
+                    true);
   }
   // Per state, the columns of its share (min).
   std::vector<std::vector<int>> share_columns(states);
@@ -316,8 +323,16 @@ Outcome RunCbc(const CoverageMatrix& matrix, const Feasibility& feasible, const 
 std::optional<std::vector<uint32_t>> UsableAnswer(const CoverageMatrix& matrix,
                                                   const Feasibility& feasible,
                                                   const Capacity& capacity,
-                                                  const std::vector<uint32_t>& chosen) {
+                                                  std::span<const uint32_t> fixed,
+                                                  std::vector<uint32_t> chosen) {
   if (chosen.empty() || !feasible.IsFeasible(chosen)) return std::nullopt;
+  for (const uint32_t f : fixed)
+    if (std::find(chosen.begin(), chosen.end(), f) == chosen.end()) return std::nullopt;
+  // The kept sensors first, in their order, as every other method answers.
+  std::erase_if(chosen, [&](uint32_t c) {
+    return std::find(fixed.begin(), fixed.end(), c) != fixed.end();
+  });
+  chosen.insert(chosen.begin(), fixed.begin(), fixed.end());
   if (capacity.has_budget()) {
     double total = 0;
     for (const uint32_t c : chosen) total += capacity.costs[c];
@@ -361,6 +376,7 @@ ExactResult SolveExactConstrained(const CoverageMatrix& matrix, const Feasibilit
   MilpSpec spec;
   spec.capacity = capacity;
   spec.threshold = k;
+  spec.fixed = objective.fixed;
   spec.value.resize(matrix.element_count());
   for (uint32_t e = 0; e < matrix.element_count(); ++e) spec.value[e] = matrix.Weight(e);
   Outcome outcome;
@@ -374,7 +390,7 @@ ExactResult SolveExactConstrained(const CoverageMatrix& matrix, const Feasibilit
   }
   result.note = outcome.note;
   const std::optional<std::vector<uint32_t>> found =
-      UsableAnswer(matrix, feasible, capacity, outcome.chosen);
+      UsableAnswer(matrix, feasible, capacity, objective.fixed, outcome.chosen);
   if (found) {
     if (cells_of(*found) > start_cells) result.chosen = *found;
   } else if (!outcome.chosen.empty()) {
@@ -463,7 +479,7 @@ StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix, Over
   StatesScorer::Score score = scorer.ScoreOf(scorer.Covered(result.chosen));
   bool cbc_proved = false;
   const std::optional<std::vector<uint32_t>> found =
-      UsableAnswer(matrix, feasible, spec.capacity, outcome.chosen);
+      UsableAnswer(matrix, feasible, spec.capacity, {}, outcome.chosen);
   if (found) {
     const StatesScorer::Score found_score = scorer.ScoreOf(scorer.Covered(*found));
     if (score < found_score) {

@@ -144,10 +144,6 @@ void SelectOptions::Validate(size_t candidate_count) const {
   }
   ValidateObjective(*this, candidate_count);
   constraints.Validate(candidate_count);
-  if (!constraints.empty() && !fixed.empty()) {
-    throw FieldError({"constraints"},
-                     "installation constraints do not combine with kept sensors yet");
-  }
   std::vector<uint32_t> sorted = fixed;
   std::sort(sorted.begin(), sorted.end());
   if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end() ||

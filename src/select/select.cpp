@@ -384,7 +384,8 @@ std::vector<Selection> Select(std::span<const Observation> observations,
                               size_t reference_size,
                               const SelectOptions& options) {
   options.Validate(observations.size());
-  if (!options.fixed.empty()) return SelectKeeping(observations, reference_size, options);
+  if (!options.fixed.empty() && options.constraints.empty())
+    return SelectKeeping(observations, reference_size, options);
   const CoverageEvaluator evaluator(observations, reference_size);
   if (options.method == Method::kBest) return {SelectBest(evaluator)};
   if (options.min_points) RequirePointCounts(observations);
