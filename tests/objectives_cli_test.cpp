@@ -469,6 +469,43 @@ TEST(ConstraintsCli, CalibrationAndInterferenceOverSceneStates) {
   EXPECT_FALSE(e["results"][0]["constraints"]["satisfied"].get<bool>());
 }
 
+// Interference over states in optimize and evaluate: a wall in front of sl_2 in the scene as
+// listed (state 'walled') hides the face the two Kinects share; state 'open' removes it, and there
+// they conflict.
+TEST(ConstraintsCli, InterferenceInAnyStateOptimizeAndEvaluate) {
+  test::TempDir dir;
+  const std::string base =
+      "settings:\n  cell_size: 0.01\n  n: 2\n  observation_point: [0, 0, 0.05]\n"
+      "objects:\n  - name: cube\n    role: target\n    box: {size: [0.1, 0.1, 0.1]}\n"
+      "    pose: {xyz: [0, 0, 0.05]}\n"
+      "  - name: wall\n    role: occluder\n    box: {size: [0.01, 0.02, 0.1]}\n"
+      "    pose: {xyz: [0.75, -0.015, 0.05]}\n"
+      "sensors:\n"
+      "  - {name: sl_1, type: kinect_xbox_360, position: [0.8, 0.015, 0.05]}\n"
+      "  - {name: sl_2, type: kinect_xbox_360, position: [0.8, -0.015, 0.05]}\n";
+  const std::string flat = dir.File("flat.yaml"), changing = dir.File("states.yaml");
+  test::WriteText(flat, base);
+  test::WriteText(changing, base + "states:\n  - name: walled\n  - name: open\n"
+                                   "    remove: [wall]\n");
+  const auto walled = RunVantage("evaluate " + flat + " --interference true --out " + dir.File("w"));
+  ASSERT_EQ(walled.exit_code, 0) << walled.err;
+  EXPECT_EQ(Report(dir.File("w"))["constraints"]["interference"]["conflicting_pairs"], 0);
+  const auto open = RunVantage("evaluate " + changing + " --interference true --out " +
+                               dir.File("o"));
+  ASSERT_EQ(open.exit_code, 0) << open.err;
+  const json o = Report(dir.File("o"));
+  EXPECT_EQ(o["constraints"]["interference"]["conflicting_pairs"], 1);
+  ASSERT_EQ(o["results"][0]["constraints"]["conflicts"].size(), 1u);
+  EXPECT_FALSE(o["results"][0]["constraints"]["satisfied"].get<bool>());
+  const auto opt = RunVantage("optimize " + changing + " --method exact --interference true --out " +
+                              dir.File("x"));
+  ASSERT_EQ(opt.exit_code, 0) << opt.err;
+  const json x = Report(dir.File("x"));
+  EXPECT_EQ(x["constraints"]["interference"]["conflicting_pairs"], 1);
+  EXPECT_EQ(x["results"][0]["sensors"].size(), 1u);
+  EXPECT_TRUE(x["results"][0]["constraints"]["satisfied"].get<bool>());
+}
+
 // The other objectives under the constraints: k-coverage, a goal, a budget and point density.
 // a and b see disjoint pairs of faces (not joined by 40 common cells); the bridge shares a face
 // with each, so every connected answer of two holds it.

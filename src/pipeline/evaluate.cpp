@@ -188,9 +188,29 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
     report.results.front() = ScoreChosen(evaluator, report.results.front().chosen, "given", density);
     report.results.front().seconds = seconds;
   }
+  // Over scene states a pair interferes when it does in any state (docs/constraints.md, Over
+  // scene states): the given sensors observe each state too, at their given poses. Entry 0 stands
+  // for the objects as listed, which `data` observed.
+  std::vector<ObservedState> states;
+  const Problem& problem = reobserved.problem;
+  const bool wants_interference =
+      constraints.interference.value_or(constraints.interference_overlap.has_value());
+  if (!problem.states.empty() && wants_interference) {
+    states.emplace_back();
+    for (const SceneState& state : problem.states) {
+      const Scene scene_of_state = ApplyState(problem.scene, state);
+      ObservedState observed;
+      observed.name = state.name;
+      observed.reference =
+          detail::BuildRunReference(scene_of_state, problem.cell_size, problem.source);
+      observed.observations =
+          Observe(RayScene(scene_of_state), observed.reference, run.data->candidates, observe);
+      states.push_back(std::move(observed));
+    }
+  }
   report.constraints = detail::ResolveConstraints(constraints, SelectOptions{},
                                                   run.data->candidates, run.data->observations,
-                                                  false, false, reobserved.problem.mounting);
+                                                  false, false, problem.mounting, 0, states);
   if (report.constraints) report.constraints->is_applied = false;
   report.inputs = detail::InputsOf("evaluate", scene, observe);
   report.inputs->interference = options.constraints.interference;
