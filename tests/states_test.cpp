@@ -7,6 +7,7 @@
 #include <array>
 #include <numbers>
 #include <iterator>
+#include <map>
 #include <set>
 
 #include "select/coverage_matrix.hpp"
@@ -861,6 +862,85 @@ TEST(SelectOverStates, CalibrationJoinsByTheFirstState) {
     EXPECT_EQ(chosen, (std::set<uint32_t>{1, 2})) << MethodName(method);
     EXPECT_DOUBLE_EQ(joined[0].selection.coverage, (5.0 / 8 + 8.0 / 8) / 2) << MethodName(method);
   }
+}
+
+// Point density over states (docs/constraints.md): a cell of state s counts once the chosen put
+// min_points pixels' hits in it; random counts, with and without constraints, against
+// enumeration of every (feasible) set.
+TEST(SelectOverStates, MinPointsAgainstEnumeration) {
+  int instances = 0;
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    const size_t candidates = 8 + seed;  // 9, 10, 11
+    std::vector<RandomState> states = RandomStates(500 + seed, candidates, {30, 20, 25}, 0.3, 0.05);
+    Rng rng(550 + seed, Stream::kTest, 0);
+    for (RandomState& state : states) {
+      for (Observation& o : state.observations) {
+        for (size_t j = 0; j < o.reference_indices.size(); ++j)
+          o.reference_hits.push_back(static_cast<uint16_t>(1 + rng.Below(6)));
+      }
+    }
+    std::vector<StateObservations> views;
+    for (const RandomState& s : states)
+      views.push_back({s.name, s.reference.size(), s.observations});
+    const uint32_t points = 5;
+    // The aggregate of the cells with `points` hits, computed here.
+    const auto aggregate = [&](const std::vector<uint32_t>& set, OverStates over) {
+      double sum = 0, least = 1;
+      for (const RandomState& state : states) {
+        std::map<uint32_t, uint64_t> hits;
+        for (const uint32_t c : set) {
+          const Observation& o = state.observations[c];
+          for (size_t j = 0; j < o.reference_indices.size(); ++j)
+            hits[o.reference_indices[j]] += o.reference_hits[j];
+        }
+        size_t cells = 0;
+        for (const auto& [cell, h] : hits) cells += h >= points ? 1 : 0;
+        const double f = static_cast<double>(cells) / static_cast<double>(state.reference.size());
+        sum += f;
+        least = std::min(least, f);
+      }
+      return over == OverStates::kMin ? least : sum / static_cast<double>(states.size());
+    };
+    for (int variant = 0; variant < 2; ++variant) {
+      InstallConstraints constraints;
+      if (variant == 1) constraints.calibration = CalibrationRule{2, std::nullopt};
+      for (const OverStates over : {OverStates::kMean, OverStates::kMin}) {
+        const int n = 3;
+        SCOPED_TRACE(testing::Message() << "seed " << seed << " variant " << variant << " "
+                                        << OverStatesName(over));
+        double optimum = 0;
+        for (uint32_t mask = 1; mask < (1u << candidates); ++mask) {
+          std::vector<uint32_t> set;
+          for (uint32_t i = 0; i < candidates; ++i)
+            if (mask & (1u << i)) set.push_back(i);
+          if (set.size() > static_cast<size_t>(n) || !FeasibleOverStates(states, set, constraints))
+            continue;
+          optimum = std::max(optimum, aggregate(set, over));
+        }
+        SelectOptions options = Options(Method::kAll, n);
+        options.seed = seed;
+        options.ransac_iterations = 40;
+        options.min_points = points;
+        options.constraints = constraints;
+        const auto all = SelectOverStates(views, over, options);
+        ASSERT_EQ(all.size(), 3u * static_cast<size_t>(n));  // ransac, greedy, local per n
+        for (const StateSelection& r : all) {
+          EXPECT_EQ(r.selection.objective, "min-points");
+          EXPECT_TRUE(FeasibleOverStates(states, r.selection.chosen, constraints));
+          EXPECT_NEAR(r.selection.coverage, aggregate(r.selection.chosen, over), 1e-12);
+          EXPECT_LE(r.selection.coverage, optimum + 1e-12) << r.selection.method;
+        }
+        options.method = Method::kExact;
+        const Selection e = SelectOverStates(views, over, options)[0].selection;
+        EXPECT_NEAR(e.coverage, optimum, 1e-9);
+        ASSERT_TRUE(e.upper_bound.has_value());
+        EXPECT_GE(*e.upper_bound + 1e-9, optimum);
+        EXPECT_TRUE(e.proven_optimal);
+        ++instances;
+      }
+    }
+  }
+  EXPECT_EQ(instances, 12);
 }
 
 }  // namespace

@@ -87,12 +87,10 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
                                            c.name)));
     }
   }
-  if (select.min_points && (has_states || options.refine))
+  if (select.min_points && options.refine)
     throw InputError(AtPlace(options.selection.min_density ? "--min-density" : "--min-points", 0,
-                             has_states ? "point density over scene states is not supported yet "
-                                          "— drop it or the scene's states"
-                                        : "--refine does not keep point counts yet — drop one "
-                                          "of --refine and the point density"));
+                             "--refine does not keep point counts yet — drop one of --refine and "
+                             "the point density"));
   ObservedScene observed =
       ObservePrepared(std::move(prepared), options.observe, options.limits, options.trace);
   return OptimizeObserved{std::move(observed), select, start};

@@ -197,6 +197,54 @@ std::vector<uint32_t> BudgetGreedy(const CoverageMatrix& matrix, const Feasibili
   return chosen;
 }
 
+// Point density over states (a matrix with counts, threshold k): ThresholdGreedy's rule with the
+// scorer's aggregate — the score with the cells each candidate completes, ties broken by the
+// score of the points it adds where they are still missing.
+std::vector<uint32_t> StatesThresholdGreedy(const StatesScorer& scorer,
+                                            const Feasibility& feasible, const Capacity& capacity,
+                                            std::vector<uint32_t> chosen) {
+  const CoverageMatrix& matrix = scorer.matrix();
+  const auto kk = static_cast<uint32_t>(scorer.k());
+  std::vector<uint32_t> points(matrix.element_count(), 0);  // of the chosen, capped at k
+  const auto add = [&](uint32_t candidate) {
+    const std::vector<uint32_t>& row = matrix.Row(candidate);
+    for (size_t j = 0; j < row.size(); ++j)
+      points[row[j]] = std::min(kk, points[row[j]] + matrix.Count(candidate, j));
+  };
+  for (const uint32_t c : chosen) add(c);
+  StateTally covered = scorer.Covered(chosen);
+  using Score = StatesScorer::Score;
+  while (chosen.size() < capacity.n) {
+    ThrowIfInterrupted();
+    int64_t best = -1;
+    std::pair<Score, Score> best_rank;
+    StateTally best_completed;
+    for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
+      if (!feasible.CanAdd(chosen, i) || !capacity.Fits(chosen, i)) continue;
+      StateTally completed = scorer.Zero(), added = scorer.Zero();
+      const std::vector<uint32_t>& row = matrix.Row(i);
+      for (size_t j = 0; j < row.size(); ++j) {
+        const uint32_t have = points[row[j]];
+        if (have >= kk) continue;
+        const uint32_t more = std::min(kk - have, matrix.Count(i, j));
+        if (have + more >= kk) scorer.AddElement(row[j], &completed);
+        for (uint32_t p = 0; p < more; ++p) scorer.AddElement(row[j], &added);
+      }
+      std::pair<Score, Score> rank{scorer.ScoreOf(covered + completed), scorer.ScoreOf(added)};
+      if (best < 0 || best_rank < rank) {  // strict: ties keep the lower index
+        best = i;
+        best_rank = rank;
+        best_completed = std::move(completed);
+      }
+    }
+    if (best < 0) break;  // nothing fits any more
+    chosen.push_back(static_cast<uint32_t>(best));
+    covered += best_completed;
+    add(static_cast<uint32_t>(best));
+  }
+  return chosen;
+}
+
 }  // namespace
 
 template <MethodScorer Scorer>
@@ -210,6 +258,8 @@ std::vector<uint32_t> ConstrainedGreedy(const Scorer& scorer, const Feasibility&
     if (scorer.k() > 1)
       return ThresholdGreedy(matrix, scorer.k(), feasible, capacity, std::move(start));
     if (capacity.has_budget()) return BudgetGreedy(matrix, feasible, capacity, std::move(start));
+  } else {
+    if (scorer.k() > 1) return StatesThresholdGreedy(scorer, feasible, capacity, std::move(start));
   }
   std::vector<uint32_t> chosen = std::move(start);
   Bitset covered = matrix.EmptySet();
@@ -444,7 +494,7 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Local() {
       } else if (n_ >= static_cast<size_t>(k)) {
         free_local_ = LocalSearch(scorer_, KGreedyComplete(matrix, {}, n_, k));
       }
-    } else {
+    } else if (scorer_.k() == 1) {
       free_local_ = LocalSearch(scorer_, GreedyComplete(scorer_, {}, n_));
     }
   }
@@ -526,7 +576,8 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
     }
     if (!solved) {
       exact = SolveExactStatesConstrained(matrix, over, feasible_, n_, local_,
-                                          std::max(0.1, time_limit - SecondsSince(start)));
+                                          std::max(0.1, time_limit - SecondsSince(start)),
+                                          scorer_.k());
       const double aggregate = scorer_.Fraction(scorer_.Covered(exact.chosen));
       if (free_bound < exact.upper_bound) {
         exact.upper_bound = std::max(free_bound, aggregate);

@@ -114,10 +114,12 @@ ExactResult SolveExactConstrained(const CoverageMatrix& matrix, const Feasibilit
 /// the flow, warm-started from the feasible `start` (at most n sensors). upper_bound (an
 /// aggregate) is the least of CBC's bound on the constrained MILP and StatesLagrangianBound (the
 /// unconstrained one). Never worse than `start`.
+/// With `threshold` >= 2 (point density over states: a matrix with counts) an element counts
+/// once the chosen put that many points in it.
 StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix, OverStates over,
                                               const Feasibility& feasible, size_t n,
                                               const std::vector<uint32_t>& start,
-                                              double time_limit);
+                                              double time_limit, int threshold = 1);
 
 /// What one constrained method answered: `upper_bound` (exact only) as a share of R (cells
 /// scorer) or an aggregate over states.

@@ -185,6 +185,30 @@ CoverageMatrix::CoverageMatrix(std::span<const Observation> observations, size_t
   Finish();
 }
 
+CoverageMatrix::CoverageMatrix(std::span<const StateBlock> states, uint32_t min_points) {
+  VANTAGE_CHECK(!states.empty());
+  const size_t candidates = states.front().observations.size();
+  rows_.resize(candidates);
+  counts_.resize(candidates);
+  row_weights_.assign(candidates, 0);
+  for (const StateBlock& state : states) {
+    VANTAGE_CHECK(state.observations.size() == candidates);
+    const CoverageMatrix one(state.observations, state.reference_size, min_points);
+    const auto offset = static_cast<uint32_t>(weights_.size());
+    weights_.insert(weights_.end(), one.weights_.begin(), one.weights_.end());
+    seen_weight_ += one.seen_weight_;
+    for (size_t i = 0; i < candidates; ++i) {
+      for (const uint32_t e : one.rows_[i]) rows_[i].push_back(offset + e);
+      counts_[i].insert(counts_[i].end(), one.counts_[i].begin(), one.counts_[i].end());
+      row_weights_[i] += one.row_weights_[i];
+    }
+    reference_size_ += state.reference_size;
+    state_sizes_.push_back(state.reference_size);
+    state_begin_.push_back(static_cast<uint32_t>(weights_.size()));
+  }
+  Finish();
+}
+
 void CoverageMatrix::Finish() {
   unit_weights_ = std::all_of(weights_.begin(), weights_.end(), [](uint32_t w) { return w == 1; });
   word_count_ = (weights_.size() + 63) / 64;

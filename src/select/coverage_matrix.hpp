@@ -50,6 +50,8 @@ class CoverageMatrix {
   /// min_points are dropped. Needs every observation's reference_hits (has_point_counts).
   CoverageMatrix(std::span<const Observation> observations, size_t reference_size,
                  uint32_t min_points);
+  /// The point-density matrices of several states (each as the one above), stacked.
+  CoverageMatrix(std::span<const StateBlock> states, uint32_t min_points);
 
   size_t candidate_count() const { return rows_.size(); }
   size_t element_count() const { return weights_.size(); }

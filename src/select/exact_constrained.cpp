@@ -423,25 +423,38 @@ ExactResult SolveExactConstrained(const CoverageMatrix& matrix, const Feasibilit
 StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix, OverStates over,
                                               const Feasibility& feasible, size_t n,
                                               const std::vector<uint32_t>& start,
-                                              double time_limit) {
+                                              double time_limit, int threshold) {
   VANTAGE_CHECK(n >= 1 && feasible.IsFeasible(start) && start.size() <= n);
   constexpr double kProofTolerance = 1e-9;  // as exact_states.cpp
   constexpr double kFirstBoundShare = 0.1;
   const auto begin = std::chrono::steady_clock::now();
-  const StatesScorer scorer(matrix, over);
+  const StatesScorer scorer(matrix, over, threshold);
   const auto aggregate_of = [&](const std::vector<uint32_t>& set) {
     return scorer.Fraction(scorer.Covered(set));
   };
   StatesExactResult result;
   result.chosen = start;
   if (n == 1) {  // one sensor breaks no constraint: the best single candidate is the optimum
-    result.chosen = {BestCandidate(scorer)};
+    uint32_t best = 0;
+    StatesScorer::Score best_score = scorer.ScoreOf(scorer.Covered(std::vector<uint32_t>{0}));
+    for (uint32_t i = 1; i < matrix.candidate_count(); ++i) {
+      const StatesScorer::Score score = scorer.ScoreOf(scorer.Covered(std::vector<uint32_t>{i}));
+      if (best_score < score) {  // strict: ties keep the lower index
+        best = i;
+        best_score = score;
+      }
+    }
+    result.chosen = {best};
     result.upper_bound = aggregate_of(result.chosen);
     result.proven_optimal = true;
     return result;
   }
-  // The unconstrained Lagrangian bound first: when it proves the start, CBC is not needed.
-  double bound = StatesLagrangianBound(matrix, over, n, start, kFirstBoundShare * time_limit);
+  // The unconstrained Lagrangian bound first (of plain coverage over states, which bounds point
+  // coverage too: a cell with enough points is seen): when it proves the start, CBC is not needed.
+  // With point counts that bound is of plain coverage, rarely tight: then CBC first.
+  double bound = threshold > 1 ? std::numeric_limits<double>::infinity()
+                               : StatesLagrangianBound(matrix, over, n, start,
+                                                       kFirstBoundShare * time_limit);
   const double start_aggregate = aggregate_of(start);
   if (bound - start_aggregate <= kProofTolerance) {
     result.upper_bound = start_aggregate;
@@ -453,6 +466,7 @@ StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix, Over
   MilpSpec spec;
   spec.capacity.n = n;
   spec.by_min = by_min;
+  spec.threshold = threshold;
   spec.value.resize(matrix.element_count());
   size_t largest = 1;
   for (size_t st = 0; st < states; ++st) {

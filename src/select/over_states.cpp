@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 #include "select/constrained.hpp"
 #include "select/coverage_matrix.hpp"
@@ -54,8 +55,8 @@ Int Gcd(Int a, Int b) {
 
 }  // namespace
 
-StatesScorer::StatesScorer(const CoverageMatrix& matrix, OverStates over)
-    : matrix_(&matrix), over_(over) {
+StatesScorer::StatesScorer(const CoverageMatrix& matrix, OverStates over, int threshold)
+    : matrix_(&matrix), over_(over), threshold_(threshold) {
   const size_t states = matrix.state_count();
   // Common denominator L = lcm(|R_s|) when S · L fits comfortably, else fixed point 2^62.
   constexpr Int kLimit = Int{1} << 96;
@@ -105,8 +106,21 @@ StateTally StatesScorer::WeightIn(uint32_t candidate, const Bitset& set) const {
 }
 
 StateTally StatesScorer::Covered(std::span<const uint32_t> chosen) const {
-  Bitset covered = matrix_->EmptySet();
   Tally tally = Zero();
+  if (threshold_ > 1) {  // the elements the chosen bring to threshold_ points (seers)
+    const auto k = static_cast<uint32_t>(threshold_);
+    std::vector<uint32_t> count(matrix_->element_count(), 0);
+    for (const uint32_t c : chosen) {
+      const std::vector<uint32_t>& row = matrix_->Row(c);
+      for (size_t j = 0; j < row.size(); ++j) {
+        const uint32_t before = count[row[j]];
+        count[row[j]] += matrix_->Count(c, j);
+        if (before < k && count[row[j]] >= k) AddElement(row[j], &tally);
+      }
+    }
+    return tally;
+  }
+  Bitset covered = matrix_->EmptySet();
   for (const uint32_t c : chosen) {
     tally += Gain(c, covered);
     matrix_->AddTo(c, &covered);
@@ -158,10 +172,19 @@ StateSelection Scored(std::span<const StateObservations> states,
                       OverStates over,
                       Method method,
                       std::vector<uint32_t> chosen,
-                      double seconds) {
+                      double seconds,
+                      std::optional<uint32_t> min_points = std::nullopt) {
   StateSelection result;
   for (const StateObservations& state : states) {
     const CoverageEvaluator evaluator(state.observations, state.reference_size);
+    if (min_points) {
+      // As Select scores min-points: the cells with enough points, plus the keys outside R seen.
+      const double coverage = evaluator.PointCoverage(chosen, *min_points);
+      result.state_coverage.push_back(coverage);
+      result.state_paper_coverage.push_back(coverage + evaluator.PaperCoverage(chosen) -
+                                            evaluator.Coverage(chosen));
+      continue;
+    }
     result.state_coverage.push_back(evaluator.Coverage(chosen));
     result.state_paper_coverage.push_back(evaluator.PaperCoverage(chosen));
   }
@@ -172,13 +195,14 @@ StateSelection Scored(std::span<const StateObservations> states,
   s.coverage = Aggregate(result.state_coverage, over);
   s.paper_coverage = Aggregate(result.state_paper_coverage, over);
   s.seconds = seconds;
-  s.objective = ObjectiveName(Objective::kCoverage);
+  s.objective = ObjectiveName(min_points ? Objective::kMinPoints : Objective::kCoverage);
+  s.min_points = min_points;
   return result;
 }
 
 void Validate(std::span<const StateObservations> states, const SelectOptions& options) {
   const Objective objective = options.objective();
-  if (objective != Objective::kCoverage) {
+  if (objective != Objective::kCoverage && objective != Objective::kMinPoints) {
     throw InputError(fmt::format("the {} objective (--goal, --k, --budget) is not available with "
                                  "--over-states — states maximise coverage; drop one of them",
                                  ObjectiveName(objective)));
@@ -227,8 +251,22 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
   std::vector<detail::StateBlock> blocks;
   for (const StateObservations& state : states)
     blocks.push_back({state.observations, state.reference_size});
-  const detail::CoverageMatrix matrix(blocks);
-  const detail::StatesScorer scorer(matrix, over);
+  if (options.min_points) {
+    for (const StateObservations& state : states) {
+      for (const Observation& o : state.observations) {
+        if (!o.has_point_counts())
+          throw FieldError({"min_points"},
+                           fmt::format("min_points needs the pixel counts per cell, which state "
+                                       "'{}' does not carry",
+                                       state.name));
+      }
+    }
+  }
+  const detail::CoverageMatrix matrix = options.min_points
+                                            ? detail::CoverageMatrix(blocks, *options.min_points)
+                                            : detail::CoverageMatrix(blocks);
+  const detail::StatesScorer scorer(matrix, over,
+                                    options.min_points ? static_cast<int>(*options.min_points) : 1);
   const double setup = SecondsSince(start);
   std::vector<StateSelection> results;
 
@@ -280,14 +318,16 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
     return s;
   };
   const auto n = static_cast<size_t>(options.n);
-  if (!options.constraints.empty()) {
+  if (!options.constraints.empty() || options.min_points) {
     // Installation constraints (docs/constraints.md, Over scene states): the same methods under
-    // them; the calibration overlap graph is the first state's.
+    // them; the calibration overlap graph is the first state's. Point density over states runs
+    // the same methods (with no constraints, every set is feasible).
     const detail::Feasibility feasible(states.front().observations, options.constraints);
     detail::ConstrainedMethods<detail::StatesScorer> methods(scorer, feasible, options, setup);
     const auto scored = [&](Method method, detail::ConstrainedAnswer answer) {
       VANTAGE_CHECK(feasible.IsFeasible(answer.chosen));
-      StateSelection s = Scored(states, over, method, std::move(answer.chosen), answer.seconds);
+      StateSelection s = Scored(states, over, method, std::move(answer.chosen), answer.seconds,
+                                options.min_points);
       if (answer.upper_bound)
         s.selection.upper_bound = std::max(*answer.upper_bound, s.selection.coverage);
       s.selection.proven_optimal = answer.proven_optimal;
@@ -313,7 +353,7 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
         results.push_back(scored(Method::kRansac, methods.Ransac(n)));
         break;
       case Method::kAll:
-        results.push_back(best());
+        if (!options.min_points) results.push_back(best());  // as Select: min-points has none
         for (size_t k = 1; k <= n; ++k) one_n(k, true, true, true);
         break;
       case Method::kExact: {

@@ -115,12 +115,14 @@ class StatesScorer {
   };
   static constexpr bool kCells = false;
 
-  /// Needs every |R_s| >= 1.
-  StatesScorer(const CoverageMatrix& matrix, OverStates over);
+  /// Needs every |R_s| >= 1. With `threshold` >= 2 (point density: a matrix with counts) an
+  /// element counts in Covered once the chosen put that many points in it; Gain, WeightIn and
+  /// Rank then describe plain coverage and only the constrained methods use the scorer.
+  StatesScorer(const CoverageMatrix& matrix, OverStates over, int threshold = 1);
 
   const CoverageMatrix& matrix() const { return *matrix_; }
   OverStates over() const { return over_; }
-  int k() const { return 1; }
+  int k() const { return threshold_; }
   bool lazy() const { return over_ == OverStates::kMean && exact_; }
   Tally Zero() const { return StateTally(matrix_->state_count()); }
   void AddElement(uint32_t element, Tally* tally) const {
@@ -146,6 +148,7 @@ class StatesScorer {
 
   const CoverageMatrix* matrix_;
   OverStates over_;
+  int threshold_ = 1;
   bool exact_ = true;
   std::vector<Int> unit_;           ///< per state, L / |R_s| (exact only)
   std::vector<uint32_t> state_of_;  ///< per element
