@@ -712,7 +712,7 @@ TEST(MountingCli, BadMountingRulesExitTwoWithFileAndLine) {
        "needs either `size` (and an optional `center`) or `min` and `max`"},
       {"keep_out:\n  - {size: [2, 2, 2], center: [0, 0, 0]}\n", "",
        "every one of the 2 candidates lies inside a keep_out box"},
-      {"min_separation: 0.5\n", " --k 2", "min_separation works with the coverage objective"},
+      {"min_separation: 0.5\n", " --refine", "min_separation does not combine with --refine"},
       {"keep_out:\n  - {size: [0.1, 0.1, 0.1]}\n", " --refine",
        "keep_out does not combine with --refine"},
   };
