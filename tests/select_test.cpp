@@ -2189,6 +2189,24 @@ TEST(Constraints, KeptSensorsMatchEnumeration) {
         EXPECT_TRUE(std::equal(kept.begin(), kept.end(), s.chosen.begin())) << s.method;
         EXPECT_TRUE(constraints_test::IsFeasibleSet(obs, s.chosen, constraints)) << s.method;
       }
+      // best: the kept sensors and the best feasible single addition.
+      uint64_t best_single = 0;
+      for (uint32_t c = 0; c < m; ++c) {
+        if (std::count(kept.begin(), kept.end(), c)) continue;
+        std::vector<uint32_t> set = kept;
+        set.push_back(c);
+        if (constraints_test::IsFeasibleSet(obs, set, constraints))
+          best_single = std::max<uint64_t>(best_single, UnionSize(obs, set));
+      }
+      options.method = Method::kBest;
+      options.n = static_cast<int>(kept.size()) + 1;
+      const Selection best = Select(obs, 40, options).front();
+      EXPECT_EQ(best.method, "best");
+      EXPECT_TRUE(std::equal(kept.begin(), kept.end(), best.chosen.begin()));
+      EXPECT_TRUE(constraints_test::IsFeasibleSet(obs, best.chosen, constraints));
+      if (best_single > 0) {
+        EXPECT_EQ(UnionSize(obs, best.chosen), best_single);
+      }
       ++instances;
     }
   }

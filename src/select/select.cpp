@@ -387,7 +387,8 @@ std::vector<Selection> Select(std::span<const Observation> observations,
   if (!options.fixed.empty() && options.constraints.empty())
     return SelectKeeping(observations, reference_size, options);
   const CoverageEvaluator evaluator(observations, reference_size);
-  if (options.method == Method::kBest) return {SelectBest(evaluator)};
+  // Kept sensors reach here only under constraints: SelectConstrained adds the best single one.
+  if (options.method == Method::kBest && options.fixed.empty()) return {SelectBest(evaluator)};
   if (options.min_points) RequirePointCounts(observations);
   const bool is_constrained = !options.constraints.empty();
 

@@ -73,6 +73,10 @@ def test_objectives_as_cli(cli_example, cli_vis, tmp_path, flags, kwargs):
     ("local", ["--calibration-overlap", "20"], {"calibration_overlap": 20}),
     ("greedy", ["--calibration-overlap-frac", "0.1", "--interference", "false"],
      {"calibration_overlap_frac": 0.1, "interference": False}),
+    # Constraints with the other objectives (issue 20).
+    ("exact", ["--k", "2", "--interference", "true"], {"k": 2, "interference": True}),
+    ("local", ["--min-points", "10", "--calibration-overlap", "20"],
+     {"min_points": 10, "calibration_overlap": 20}),
 ])
 def test_constraints_as_cli(cli_example, cli_vis, method, flags, kwargs, tmp_path):
     run_cli("select", cli_example / "example.vis", "-n", 3, "--method", method, *flags,
