@@ -414,11 +414,12 @@ TEST(ConstraintsCli, CalibrationAndInterferenceOverSceneStates) {
       "  - name: full\n"
       "  - name: lifted\n"
       "    move: {cube: {xyz: [0, 0, 0.02], rpy: [0, 0, 0]}}\n";
-  const std::string scene = CubeWithSensors(
-      dir,
-      "  - {name: a, type: fine_cam, position: [0.5, 0.5, 0.05]}\n"
-      "  - {name: b, type: fine_cam, position: [-0.5, -0.5, 0.05]}\n"
-      "  - {name: bridge, type: fine_cam, position: [0.5, -0.5, 0.05]}\n" + states);
+  const std::string scene =
+      CubeWithSensors(dir,
+                      "  - {name: a, type: fine_cam, position: [0.5, 0.5, 0.05]}\n"
+                      "  - {name: b, type: fine_cam, position: [-0.5, -0.5, 0.05]}\n"
+                      "  - {name: bridge, type: fine_cam, position: [0.5, -0.5, 0.05]}\n" +
+                          states);
   const auto plain = RunVantage("optimize " + scene + " --method exact --out " + dir.File("p"));
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   const json p = Report(dir.File("p"));
@@ -445,13 +446,14 @@ TEST(ConstraintsCli, CalibrationAndInterferenceOverSceneStates) {
     }
   }
   // Two Kinects on the same face: never both, in any state.
-  const std::string kinects = CubeWithSensors(
-      dir,
-      "  - {name: sl_1, type: kinect_xbox_360, position: [0.8, 0.015, 0.05]}\n"
-      "  - {name: sl_2, type: kinect_xbox_360, position: [0.8, -0.015, 0.05]}\n"
-      "  - {name: stereo, type: multisense_s7, position: [-0.8, -0.015, 0.05]}\n" + states);
-  const auto opt = RunVantage("optimize " + kinects +
-                              " --method all --interference true --out " + dir.File("k"));
+  const std::string kinects =
+      CubeWithSensors(dir,
+                      "  - {name: sl_1, type: kinect_xbox_360, position: [0.8, 0.015, 0.05]}\n"
+                      "  - {name: sl_2, type: kinect_xbox_360, position: [0.8, -0.015, 0.05]}\n"
+                      "  - {name: stereo, type: multisense_s7, position: [-0.8, -0.015, 0.05]}\n" +
+                          states);
+  const auto opt = RunVantage("optimize " + kinects + " --method all --interference true --out " +
+                              dir.File("k"));
   ASSERT_EQ(opt.exit_code, 0) << opt.err;
   const json k = Report(dir.File("k"));
   EXPECT_EQ(k["constraints"]["interference"]["conflicting_pairs"], 1);
@@ -485,20 +487,22 @@ TEST(ConstraintsCli, InterferenceInAnyStateOptimizeAndEvaluate) {
       "  - {name: sl_2, type: kinect_xbox_360, position: [0.8, -0.015, 0.05]}\n";
   const std::string flat = dir.File("flat.yaml"), changing = dir.File("states.yaml");
   test::WriteText(flat, base);
-  test::WriteText(changing, base + "states:\n  - name: walled\n  - name: open\n"
-                                   "    remove: [wall]\n");
-  const auto walled = RunVantage("evaluate " + flat + " --interference true --out " + dir.File("w"));
+  test::WriteText(changing, base +
+                                "states:\n  - name: walled\n  - name: open\n"
+                                "    remove: [wall]\n");
+  const auto walled =
+      RunVantage("evaluate " + flat + " --interference true --out " + dir.File("w"));
   ASSERT_EQ(walled.exit_code, 0) << walled.err;
   EXPECT_EQ(Report(dir.File("w"))["constraints"]["interference"]["conflicting_pairs"], 0);
-  const auto open = RunVantage("evaluate " + changing + " --interference true --out " +
-                               dir.File("o"));
+  const auto open =
+      RunVantage("evaluate " + changing + " --interference true --out " + dir.File("o"));
   ASSERT_EQ(open.exit_code, 0) << open.err;
   const json o = Report(dir.File("o"));
   EXPECT_EQ(o["constraints"]["interference"]["conflicting_pairs"], 1);
   ASSERT_EQ(o["results"][0]["constraints"]["conflicts"].size(), 1u);
   EXPECT_FALSE(o["results"][0]["constraints"]["satisfied"].get<bool>());
-  const auto opt = RunVantage("optimize " + changing + " --method exact --interference true --out " +
-                              dir.File("x"));
+  const auto opt = RunVantage("optimize " + changing +
+                              " --method exact --interference true --out " + dir.File("x"));
   ASSERT_EQ(opt.exit_code, 0) << opt.err;
   const json x = Report(dir.File("x"));
   EXPECT_EQ(x["constraints"]["interference"]["conflicting_pairs"], 1);
@@ -511,10 +515,11 @@ TEST(ConstraintsCli, InterferenceInAnyStateOptimizeAndEvaluate) {
 // with each, so every connected answer of two holds it.
 TEST(ConstraintsCli, ConstraintsWithTheOtherObjectives) {
   test::TempDir dir;
-  const std::string pair = "  - {name: a, type: fine_cam, position: [0.5, 0.5, 0.05]}\n"
-                           "  - {name: b, type: fine_cam, position: [-0.5, -0.5, 0.05]}\n";
-  const std::string scene =
-      CubeWithSensors(dir, pair + "  - {name: bridge, type: fine_cam, position: [0.5, -0.5, 0.05]}\n");
+  const std::string pair =
+      "  - {name: a, type: fine_cam, position: [0.5, 0.5, 0.05]}\n"
+      "  - {name: b, type: fine_cam, position: [-0.5, -0.5, 0.05]}\n";
+  const std::string scene = CubeWithSensors(
+      dir, pair + "  - {name: bridge, type: fine_cam, position: [0.5, -0.5, 0.05]}\n");
   const std::vector<std::string> objectives = {"--k 2 -n 2", "--goal 0.5", "--budget 2",
                                                "--min-points 2 -n 2"};
   for (size_t i = 0; i < objectives.size(); ++i) {
@@ -529,17 +534,17 @@ TEST(ConstraintsCli, ConstraintsWithTheOtherObjectives) {
     EXPECT_TRUE(r["optimal"].get<bool>()) << objectives[i];
   }
   // a + b reach 0.6 with two sensors; connected, all three are needed.
-  const auto three = RunVantage("optimize " + scene +
-                                " --goal 0.6 --method exact --calibration-overlap 40 --out " +
-                                dir.File("g3"));
+  const auto three =
+      RunVantage("optimize " + scene +
+                 " --goal 0.6 --method exact --calibration-overlap 40 --out " + dir.File("g3"));
   ASSERT_EQ(three.exit_code, 0) << three.err;
   const json g3 = Report(dir.File("g3"))["results"][0];
   EXPECT_EQ(g3["n"], 3);
   EXPECT_TRUE(g3["optimal"].get<bool>());
   // Without the bridge no two are joined: a goal above one sensor's exits 2 naming the goal.
   const std::string apart = CubeWithSensors(dir, pair);
-  const auto run = RunVantage("optimize " + apart +
-                              " --goal 0.5 --calibration-overlap 40 --out " + dir.File("g"));
+  const auto run = RunVantage("optimize " + apart + " --goal 0.5 --calibration-overlap 40 --out " +
+                              dir.File("g"));
   EXPECT_EQ(run.exit_code, 2) << run.out;
   EXPECT_NE(run.err.find("goal 0.5 cannot be reached: the installation constraints allow at most"),
             std::string::npos)
@@ -556,7 +561,8 @@ TEST(ConstraintsCli, KeptSensorsAndInterference) {
         "settings:\n  cell_size: 0.01\n  n: 3\n  observation_point: [0, 0, 0.05]\n"
         "objects:\n  - name: cube\n    role: target\n    box: {size: [0.1, 0.1, 0.1]}\n"
         "    pose: {xyz: [0, 0, 0.05]}\n"
-        "sensors:\n" + sensors +
+        "sensors:\n" +
+        sensors +
         "populations:\n"
         "  - {name: near, type: kinect_xbox_360, distribution: grid, rows: 1, cols: 1,\n"
         "     step: [0.1, 0.1, 0], pose: {xyz: [0.8, -0.015, 0.05]}}\n"
@@ -566,14 +572,15 @@ TEST(ConstraintsCli, KeptSensorsAndInterference) {
     test::WriteText(path, text);
     return path;
   };
-  const std::string sl_1 = "  - {name: sl_1, type: kinect_xbox_360, position: [0.8, 0.015, 0.05]}\n";
+  const std::string sl_1 =
+      "  - {name: sl_1, type: kinect_xbox_360, position: [0.8, 0.015, 0.05]}\n";
   const std::string scene = scene_with(sl_1);
   const auto plain =
       RunVantage("optimize " + scene + " --keep-existing --method exact --out " + dir.File("p"));
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   EXPECT_TRUE(Names(Report(dir.File("p"))["results"][0]["sensors"]).count("near_0"));
-  const auto run = RunVantage("optimize " + scene +
-                              " --keep-existing --interference true --out " + dir.File("k"));
+  const auto run = RunVantage("optimize " + scene + " --keep-existing --interference true --out " +
+                              dir.File("k"));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const json k = Report(dir.File("k"));
   for (const json& r : k["results"]) {
@@ -582,10 +589,10 @@ TEST(ConstraintsCli, KeptSensorsAndInterference) {
     EXPECT_FALSE(Names(r["sensors"]).count("near_0")) << r["method"];
     EXPECT_TRUE(r["constraints"]["satisfied"].get<bool>()) << r["method"];
   }
-  const std::string both = scene_with(
-      sl_1 + "  - {name: sl_2, type: kinect_xbox_360, position: [0.8, -0.015, 0.05]}\n");
-  const auto clash = RunVantage("optimize " + both +
-                                " --keep-existing --interference true --out " + dir.File("c"));
+  const std::string both =
+      scene_with(sl_1 + "  - {name: sl_2, type: kinect_xbox_360, position: [0.8, -0.015, 0.05]}\n");
+  const auto clash = RunVantage("optimize " + both + " --keep-existing --interference true --out " +
+                                dir.File("c"));
   EXPECT_EQ(clash.exit_code, 2);
   EXPECT_NE(clash.err.find("--keep-existing: the kept sensors conflict: 'sl_1' and 'sl_2' "
                            "(interference"),

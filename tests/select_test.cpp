@@ -2,20 +2,19 @@
 // every n-subset of tiny random instances (SYSTEM.md, Select and the coverage metric).
 #include "vantage/select.hpp"
 
+#include <coin/Clp_C_Interface.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <numeric>
-#include <iterator>
 #include <set>
 #include <string>
-
-#include <coin/Clp_C_Interface.h>
 
 #include "pipeline/common.hpp"
 #include "select/coverage_matrix.hpp"
@@ -1989,7 +1988,8 @@ TEST(Constraints, SeparationPairsFromPositionsAndExactMatchesEnumeration) {
 namespace constraints_test {
 
 // Whether `set` satisfies `constraints` (EnumeratedOptimum's test, for one set).
-bool IsFeasibleSet(const std::vector<Observation>& obs, const std::vector<uint32_t>& set,
+bool IsFeasibleSet(const std::vector<Observation>& obs,
+                   const std::vector<uint32_t>& set,
                    const InstallConstraints& constraints) {
   for (const Conflict& c : constraints.conflicts) {
     if (std::count(set.begin(), set.end(), c.a) && std::count(set.begin(), set.end(), c.b))
@@ -2006,10 +2006,10 @@ bool IsFeasibleSet(const std::vector<Observation>& obs, const std::vector<uint32
       std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(common));
       const double smaller = static_cast<double>(std::min(a.size(), b.size()));
       const bool joined =
-          !common.empty() && (constraints.calibration->min_cells
-                                  ? common.size() >= *constraints.calibration->min_cells
-                                  : common.size() >= *constraints.calibration->min_fraction *
-                                                         smaller - 1e-9);
+          !common.empty() &&
+          (constraints.calibration->min_cells
+               ? common.size() >= *constraints.calibration->min_cells
+               : common.size() >= *constraints.calibration->min_fraction * smaller - 1e-9);
       if (!joined) continue;
       const size_t from = group[q], to = group[p];
       for (size_t& g : group)
@@ -2091,9 +2091,10 @@ TEST(Constraints, OtherObjectivesMatchEnumeration) {
         }
         if (is_cover ? fewest > free_fewest : optimum < free_optimum) ++binding;
         const std::vector<Method> heuristics =
-            is_cover         ? std::vector<Method>{Method::kGreedy}
-            : objective == 2 ? std::vector<Method>{Method::kGreedy, Method::kLocal}
-                             : std::vector<Method>{Method::kRansac, Method::kGreedy, Method::kLocal};
+            is_cover ? std::vector<Method>{Method::kGreedy}
+            : objective == 2
+                ? std::vector<Method>{Method::kGreedy, Method::kLocal}
+                : std::vector<Method>{Method::kRansac, Method::kGreedy, Method::kLocal};
         for (const Method method : heuristics) {
           options.method = method;
           const Selection s = Select(obs, 40, options).front();
@@ -2163,14 +2164,14 @@ TEST(Constraints, KeptSensorsMatchEnumeration) {
       uint64_t optimum = 0;
       for (const std::vector<uint32_t>& set : subsets) {
         if (set.size() > static_cast<size_t>(options.n)) continue;
-        if (!std::all_of(kept.begin(), kept.end(), [&](uint32_t k) {
-              return std::count(set.begin(), set.end(), k) > 0;
-            }))
+        if (!std::all_of(kept.begin(), kept.end(),
+                         [&](uint32_t k) { return std::count(set.begin(), set.end(), k) > 0; }))
           continue;
         if (!constraints_test::IsFeasibleSet(obs, set, constraints)) continue;
         optimum = std::max<uint64_t>(optimum, UnionSize(obs, set));
       }
-      for (const Method method : {Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact}) {
+      for (const Method method :
+           {Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact}) {
         options.method = method;
         const Selection s = Select(obs, 40, options).front();
         ASSERT_GE(s.chosen.size(), kept.size()) << s.method;

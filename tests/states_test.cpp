@@ -5,9 +5,9 @@
 
 #include <algorithm>
 #include <array>
-#include <numbers>
 #include <iterator>
 #include <map>
+#include <numbers>
 #include <set>
 
 #include "select/coverage_matrix.hpp"
@@ -16,8 +16,8 @@
 #include "vantage/candidates.hpp"
 #include "vantage/error.hpp"
 #include "vantage/observe.hpp"
-#include "vantage/reference.hpp"
 #include "vantage/problem.hpp"
+#include "vantage/reference.hpp"
 #include "vantage/rng.hpp"
 #include "vantage/scene_states.hpp"
 #include "vantage/select_states.hpp"
@@ -732,7 +732,8 @@ TEST(SelectOverStates, MinBoundOfAHandWorkedInstance) {
 // Whether `set` satisfies `constraints` over states, checked here independently: no conflicting
 // pair inside, and (with a calibration rule) its overlap graph in the FIRST state connected, by
 // a union-find over pairwise std::set_intersection.
-bool FeasibleOverStates(const std::vector<RandomState>& states, const std::vector<uint32_t>& set,
+bool FeasibleOverStates(const std::vector<RandomState>& states,
+                        const std::vector<uint32_t>& set,
                         const InstallConstraints& constraints) {
   for (const Conflict& c : constraints.conflicts) {
     if (std::count(set.begin(), set.end(), c.a) && std::count(set.begin(), set.end(), c.b))
@@ -750,10 +751,10 @@ bool FeasibleOverStates(const std::vector<RandomState>& states, const std::vecto
       std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(common));
       const double smaller = static_cast<double>(std::min(a.size(), b.size()));
       const bool joined =
-          !common.empty() && (constraints.calibration->min_cells
-                                  ? common.size() >= *constraints.calibration->min_cells
-                                  : common.size() >= *constraints.calibration->min_fraction *
-                                                         smaller - 1e-9);
+          !common.empty() &&
+          (constraints.calibration->min_cells
+               ? common.size() >= *constraints.calibration->min_cells
+               : common.size() >= *constraints.calibration->min_fraction * smaller - 1e-9);
       if (!joined) continue;
       const size_t from = group[q], to = group[p];
       for (size_t& g : group)
@@ -764,8 +765,10 @@ bool FeasibleOverStates(const std::vector<RandomState>& states, const std::vecto
 }
 
 // The best aggregate over every feasible set of at most n candidates, by enumeration.
-double EnumeratedConstrainedAggregate(const std::vector<RandomState>& states, size_t n,
-                                      OverStates over, const InstallConstraints& constraints) {
+double EnumeratedConstrainedAggregate(const std::vector<RandomState>& states,
+                                      size_t n,
+                                      OverStates over,
+                                      const InstallConstraints& constraints) {
   const size_t m = states.front().observations.size();
   double best = 0;
   for (uint32_t mask = 1; mask < (1u << m); ++mask) {
@@ -793,7 +796,8 @@ TEST(SelectOverStates, ConstrainedMethodsAgainstEnumeration) {
       if (variant != 1) {
         for (uint32_t a = 0; a < candidates; ++a)
           for (uint32_t b = a + 1; b < candidates; ++b)
-            if (rng.Uniform01() < 0.3) constraints.conflicts.push_back({a, b, ConflictKind::kSeparation, 0});
+            if (rng.Uniform01() < 0.3)
+              constraints.conflicts.push_back({a, b, ConflictKind::kSeparation, 0});
       }
       if (variant == 1) constraints.calibration = CalibrationRule{2, std::nullopt};
       if (variant == 2) constraints.calibration = CalibrationRule{std::nullopt, 0.15};
@@ -906,8 +910,8 @@ TEST(SelectOverStates, MinPointsAgainstEnumeration) {
       if (variant == 1) constraints.calibration = CalibrationRule{2, std::nullopt};
       for (const OverStates over : {OverStates::kMean, OverStates::kMin}) {
         const int n = 3;
-        SCOPED_TRACE(testing::Message() << "seed " << seed << " variant " << variant << " "
-                                        << OverStatesName(over));
+        SCOPED_TRACE(testing::Message()
+                     << "seed " << seed << " variant " << variant << " " << OverStatesName(over));
         double optimum = 0;
         for (uint32_t mask = 1; mask < (1u << candidates); ++mask) {
           std::vector<uint32_t> set;

@@ -70,7 +70,8 @@ std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& reque
                                                   const SelectOptions& options,
                                                   std::span<const Candidate> candidates,
                                                   std::span<const Observation> observations,
-                                                  bool has_states, bool refine,
+                                                  bool has_states,
+                                                  bool refine,
                                                   const MountingRules& mounting = {},
                                                   size_t kept_out = 0,
                                                   std::span<const ObservedState> states = {});

@@ -49,7 +49,8 @@ std::string Unsupported(const SelectOptions& /*options*/, bool /*has_states*/, b
 
 // Kept sensors (--keep-existing) must satisfy the constraints among themselves: the others are
 // then chosen to keep them satisfied (docs/constraints.md, Kept sensors).
-void CheckKeptSensors(const ConstraintsInfo& info, const SelectOptions& options,
+void CheckKeptSensors(const ConstraintsInfo& info,
+                      const SelectOptions& options,
                       std::span<const Candidate> candidates,
                       std::span<const Observation> observations) {
   const std::vector<uint32_t>& kept = options.fixed;
@@ -101,9 +102,10 @@ std::vector<Conflict> InterferenceOverStates(std::span<const Observation> first,
   std::sort(all.begin(), all.end(), [](const Conflict& x, const Conflict& y) {
     return std::tie(x.a, x.b, y.value) < std::tie(y.a, y.b, x.value);  // largest share first
   });
-  all.erase(std::unique(all.begin(), all.end(),
-                        [](const Conflict& x, const Conflict& y) { return x.a == y.a && x.b == y.b; }),
-            all.end());
+  all.erase(
+      std::unique(all.begin(), all.end(),
+                  [](const Conflict& x, const Conflict& y) { return x.a == y.a && x.b == y.b; }),
+      all.end());
   return all;
 }
 
@@ -185,7 +187,8 @@ std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& reque
                                                   const SelectOptions& options,
                                                   std::span<const Candidate> candidates,
                                                   std::span<const Observation> observations,
-                                                  bool has_states, bool refine,
+                                                  bool has_states,
+                                                  bool refine,
                                                   const MountingRules& mounting,
                                                   size_t kept_out,
                                                   std::span<const ObservedState> states) {

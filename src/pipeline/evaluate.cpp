@@ -208,9 +208,9 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
       states.push_back(std::move(observed));
     }
   }
-  report.constraints = detail::ResolveConstraints(constraints, SelectOptions{},
-                                                  run.data->candidates, run.data->observations,
-                                                  false, false, problem.mounting, 0, states);
+  report.constraints =
+      detail::ResolveConstraints(constraints, SelectOptions{}, run.data->candidates,
+                                 run.data->observations, false, false, problem.mounting, 0, states);
   if (report.constraints) report.constraints->is_applied = false;
   report.inputs = detail::InputsOf("evaluate", scene, observe);
   report.inputs->interference = options.constraints.interference;

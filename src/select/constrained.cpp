@@ -113,8 +113,10 @@ namespace {
 // k-coverage and point counts (k >= 2; with the matrix's counts, min-points) under the
 // constraints: PointsGreedyComplete's rule (cells completed, then the seers or points added where
 // still missing, each cell's share up to k) among the feasible candidates.
-std::vector<uint32_t> ThresholdGreedy(const CoverageMatrix& matrix, int k,
-                                      const Feasibility& feasible, const Capacity& capacity,
+std::vector<uint32_t> ThresholdGreedy(const CoverageMatrix& matrix,
+                                      int k,
+                                      const Feasibility& feasible,
+                                      const Capacity& capacity,
                                       std::vector<uint32_t> chosen) {
   const auto kk = static_cast<uint32_t>(k);
   std::vector<uint32_t> points(matrix.element_count(), 0);  // of the chosen, capped at k
@@ -154,8 +156,10 @@ std::vector<uint32_t> ThresholdGreedy(const CoverageMatrix& matrix, int k,
 // A budget under the constraints: GreedyBudget's order (gain per cost, a free candidate with a
 // gain first, then the larger gain, then the lower index) among the feasible candidates that fit,
 // until nothing adds anything; then the best affordable single candidate when it covers more.
-std::vector<uint32_t> BudgetGreedy(const CoverageMatrix& matrix, const Feasibility& feasible,
-                                   const Capacity& capacity, std::vector<uint32_t> chosen) {
+std::vector<uint32_t> BudgetGreedy(const CoverageMatrix& matrix,
+                                   const Feasibility& feasible,
+                                   const Capacity& capacity,
+                                   std::vector<uint32_t> chosen) {
   const std::span<const double> costs = capacity.costs;
   const auto before = [&](uint32_t a, uint64_t gain_a, uint32_t b, uint64_t gain_b) {
     const double ca = costs[a], cb = costs[b];
@@ -168,7 +172,8 @@ std::vector<uint32_t> BudgetGreedy(const CoverageMatrix& matrix, const Feasibili
   };
   int64_t single = -1;
   for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
-    if (costs[i] <= capacity.budget && (single < 0 || matrix.RowWeight(i) > matrix.RowWeight(single)))
+    if (costs[i] <= capacity.budget &&
+        (single < 0 || matrix.RowWeight(i) > matrix.RowWeight(single)))
       single = i;
   }
   VANTAGE_CHECK(single >= 0);
@@ -201,7 +206,8 @@ std::vector<uint32_t> BudgetGreedy(const CoverageMatrix& matrix, const Feasibili
 // scorer's aggregate — the score with the cells each candidate completes, ties broken by the
 // score of the points it adds where they are still missing.
 std::vector<uint32_t> StatesThresholdGreedy(const StatesScorer& scorer,
-                                            const Feasibility& feasible, const Capacity& capacity,
+                                            const Feasibility& feasible,
+                                            const Capacity& capacity,
                                             std::vector<uint32_t> chosen) {
   const CoverageMatrix& matrix = scorer.matrix();
   const auto kk = static_cast<uint32_t>(scorer.k());
@@ -248,8 +254,10 @@ std::vector<uint32_t> StatesThresholdGreedy(const StatesScorer& scorer,
 }  // namespace
 
 template <MethodScorer Scorer>
-std::vector<uint32_t> ConstrainedGreedy(const Scorer& scorer, const Feasibility& feasible,
-                                        const Capacity& capacity, uint64_t goal_cells,
+std::vector<uint32_t> ConstrainedGreedy(const Scorer& scorer,
+                                        const Feasibility& feasible,
+                                        const Capacity& capacity,
+                                        uint64_t goal_cells,
                                         std::vector<uint32_t> start) {
   using Tally = typename Scorer::Tally;
   using Score = typename Scorer::Score;
@@ -295,8 +303,10 @@ std::vector<uint32_t> ConstrainedGreedy(const Scorer& scorer, const Feasibility&
 }
 
 template <MethodScorer Scorer>
-std::vector<uint32_t> ConstrainedLocal(const Scorer& scorer, const Feasibility& feasible,
-                                       std::vector<uint32_t> chosen, const Capacity& capacity,
+std::vector<uint32_t> ConstrainedLocal(const Scorer& scorer,
+                                       const Feasibility& feasible,
+                                       std::vector<uint32_t> chosen,
+                                       const Capacity& capacity,
                                        size_t frozen) {
   using Tally = typename Scorer::Tally;
   using Score = typename Scorer::Score;
@@ -354,9 +364,13 @@ std::vector<uint32_t> ConstrainedLocal(const Scorer& scorer, const Feasibility& 
 }
 
 template <MethodScorer Scorer>
-std::vector<uint32_t> ConstrainedRansac(const Scorer& scorer, const Feasibility& feasible,
-                                        size_t n, int iterations, double stop_coverage,
-                                        uint64_t seed, std::span<const uint32_t> fixed) {
+std::vector<uint32_t> ConstrainedRansac(const Scorer& scorer,
+                                        const Feasibility& feasible,
+                                        size_t n,
+                                        int iterations,
+                                        double stop_coverage,
+                                        uint64_t seed,
+                                        std::span<const uint32_t> fixed) {
   using Tally = typename Scorer::Tally;
   using Score = typename Scorer::Score;
   const size_t m = scorer.matrix().candidate_count();
@@ -396,28 +410,36 @@ std::vector<uint32_t> ConstrainedRansac(const Scorer& scorer, const Feasibility&
   return best;
 }
 
-template std::vector<uint32_t> ConstrainedGreedy(const CellScorer&, const Feasibility&,
-                                                 const Capacity&, uint64_t,
-                                                 std::vector<uint32_t>);
-template std::vector<uint32_t> ConstrainedGreedy(const StatesScorer&, const Feasibility&,
-                                                 const Capacity&, uint64_t,
-                                                 std::vector<uint32_t>);
-template std::vector<uint32_t> ConstrainedLocal(const CellScorer&, const Feasibility&,
-                                                std::vector<uint32_t>, const Capacity&, size_t);
-template std::vector<uint32_t> ConstrainedLocal(const StatesScorer&, const Feasibility&,
-                                                std::vector<uint32_t>, const Capacity&, size_t);
-template std::vector<uint32_t> ConstrainedRansac(const CellScorer&, const Feasibility&, size_t,
-                                                 int, double, uint64_t,
+template std::vector<uint32_t> ConstrainedGreedy(
+    const CellScorer&, const Feasibility&, const Capacity&, uint64_t, std::vector<uint32_t>);
+template std::vector<uint32_t> ConstrainedGreedy(
+    const StatesScorer&, const Feasibility&, const Capacity&, uint64_t, std::vector<uint32_t>);
+template std::vector<uint32_t> ConstrainedLocal(
+    const CellScorer&, const Feasibility&, std::vector<uint32_t>, const Capacity&, size_t);
+template std::vector<uint32_t> ConstrainedLocal(
+    const StatesScorer&, const Feasibility&, std::vector<uint32_t>, const Capacity&, size_t);
+template std::vector<uint32_t> ConstrainedRansac(const CellScorer&,
+                                                 const Feasibility&,
+                                                 size_t,
+                                                 int,
+                                                 double,
+                                                 uint64_t,
                                                  std::span<const uint32_t>);
-template std::vector<uint32_t> ConstrainedRansac(const StatesScorer&, const Feasibility&, size_t,
-                                                 int, double, uint64_t,
+template std::vector<uint32_t> ConstrainedRansac(const StatesScorer&,
+                                                 const Feasibility&,
+                                                 size_t,
+                                                 int,
+                                                 double,
+                                                 uint64_t,
                                                  std::span<const uint32_t>);
 
 // ----- the methods for one n -------------------------------------------------------------------
 
 template <MethodScorer Scorer>
-ConstrainedMethods<Scorer>::ConstrainedMethods(const Scorer& scorer, const Feasibility& feasible,
-                                               const SelectOptions& options, double setup_seconds)
+ConstrainedMethods<Scorer>::ConstrainedMethods(const Scorer& scorer,
+                                               const Feasibility& feasible,
+                                               const SelectOptions& options,
+                                               double setup_seconds)
     : scorer_(scorer), feasible_(feasible), options_(options), setup_seconds_(setup_seconds) {}
 
 template <MethodScorer Scorer>
@@ -482,8 +504,8 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Local() {
     LocalOptions local;
     local.costs = options_.costs;
     local.budget = *options_.budget;
-    free_local_ = LocalSearch(CellScorer(matrix), GreedyBudget(matrix, options_.costs, local.budget),
-                              local);
+    free_local_ =
+        LocalSearch(CellScorer(matrix), GreedyBudget(matrix, options_.costs, local.budget), local);
   } else if (n_ <= matrix.candidate_count()) {
     if constexpr (Scorer::kCells) {
       const int k = scorer_.k();
@@ -575,9 +597,9 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
       }
     }
     if (!solved) {
-      exact = SolveExactStatesConstrained(matrix, over, feasible_, n_, local_,
-                                          std::max(0.1, time_limit - SecondsSince(start)),
-                                          scorer_.k());
+      exact =
+          SolveExactStatesConstrained(matrix, over, feasible_, n_, local_,
+                                      std::max(0.1, time_limit - SecondsSince(start)), scorer_.k());
       const double aggregate = scorer_.Fraction(scorer_.Covered(exact.chosen));
       if (free_bound < exact.upper_bound) {
         exact.upper_bound = std::max(free_bound, aggregate);
@@ -614,8 +636,11 @@ uint64_t GoalCellsOf(double goal, size_t reference_size) {
 
 class CellsRun {
  public:
-  CellsRun(const CoverageEvaluator& evaluator, const CoverageMatrix& matrix,
-           const Feasibility& feasible, const SelectOptions& options, double setup_seconds)
+  CellsRun(const CoverageEvaluator& evaluator,
+           const CoverageMatrix& matrix,
+           const Feasibility& feasible,
+           const SelectOptions& options,
+           double setup_seconds)
       : evaluator_(evaluator),
         feasible_(feasible),
         options_(options),
@@ -674,10 +699,11 @@ std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
               ? fmt::format("the installation constraints allow at most {:.4f}",
                             static_cast<double>(std::min(most.upper_bound, matrix.seen_weight())) /
                                 static_cast<double>(matrix.reference_size()))
-              : fmt::format("no set of sensors that satisfies the installation constraints was "
-                            "found to reach it (the best covers {:.4f})",
-                            static_cast<double>(matrix.CoveredWeight(most.chosen)) /
-                                static_cast<double>(matrix.reference_size()));
+              : fmt::format(
+                    "no set of sensors that satisfies the installation constraints was "
+                    "found to reach it (the best covers {:.4f})",
+                    static_cast<double>(matrix.CoveredWeight(most.chosen)) /
+                        static_cast<double>(matrix.reference_size()));
       const std::string what = fmt::format("goal {:g} cannot be reached: {}", *options.goal, reach);
       throw InputError(options.goal_source == "--goal"
                            ? what + " — lower --goal or relax the constraints"
@@ -699,8 +725,8 @@ std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
     results.push_back(scored(Method::kGreedy, greedy, greedy_seconds));
   if (options.method == Method::kGreedy) return results;
   std::vector<uint32_t> best = greedy;
-  size_t lower = std::max<size_t>({1, options.fixed.size() + 1,
-                                   SetCoverLowerBound(matrix, goal_cells)});
+  size_t lower =
+      std::max<size_t>({1, options.fixed.size() + 1, SetCoverLowerBound(matrix, goal_cells)});
   const Clock::time_point exact_start = Clock::now();
   while (lower < best.size()) {
     const double left = options.time_limit - SecondsSince(exact_start);
@@ -709,9 +735,9 @@ std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
     t.n = lower;
     std::vector<uint32_t> seed = ConstrainedGreedy(scorer, feasible, t, 0, options.fixed);
     seed = ConstrainedLocal(scorer, feasible, std::move(seed), t, options.fixed.size());
-    const ExactResult most = SolveExactConstrained(
-        matrix, feasible, t, with_kept, seed, GreedyUpperBound(matrix, seed, lower),
-        left / static_cast<double>(best.size() - lower));
+    const ExactResult most = SolveExactConstrained(matrix, feasible, t, with_kept, seed,
+                                                   GreedyUpperBound(matrix, seed, lower),
+                                                   left / static_cast<double>(best.size() - lower));
     if (matrix.CoveredWeight(most.chosen) >= goal_cells) {
       best = most.chosen;
       break;
@@ -729,7 +755,8 @@ std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
 }  // namespace
 
 std::vector<Selection> SelectConstrained(std::span<const Observation> observations,
-                                         size_t reference_size, const SelectOptions& options) {
+                                         size_t reference_size,
+                                         const SelectOptions& options) {
   const CoverageEvaluator evaluator(observations, reference_size);
   const Objective objective = options.objective();
   const std::vector<uint32_t>& fixed = options.fixed;
@@ -745,9 +772,10 @@ std::vector<Selection> SelectConstrained(std::span<const Observation> observatio
     for (size_t p = 0; p < fixed.size(); ++p) {
       for (size_t q = p + 1; q < fixed.size(); ++q) {
         if (feasible.InConflict(fixed[p], fixed[q]))
-          throw InputError(fmt::format("kept sensors {} and {} conflict — drop one of them from "
-                                       "the scene, or the constraint",
-                                       fixed[p], fixed[q]));
+          throw InputError(
+              fmt::format("kept sensors {} and {} conflict — drop one of them from "
+                          "the scene, or the constraint",
+                          fixed[p], fixed[q]));
       }
     }
     if (!feasible.IsFeasible(fixed))
@@ -756,8 +784,7 @@ std::vector<Selection> SelectConstrained(std::span<const Observation> observatio
         options.goal && matrix.CoveredWeight(fixed) >= GoalCellsOf(*options.goal, reference_size);
     const bool no_room = objective != Objective::kSetCover && !options.budget &&
                          static_cast<size_t>(options.n) <= fixed.size();
-    if (kept_reach_goal || no_room)
-      return {ScoreSelection(evaluator, fixed, "kept", options)};
+    if (kept_reach_goal || no_room) return {ScoreSelection(evaluator, fixed, "kept", options)};
   }
   if (objective == Objective::kSetCover)
     return SetCoverConstrained(evaluator, matrix, feasible, options);
@@ -821,8 +848,10 @@ std::vector<Selection> SelectConstrained(std::span<const Observation> observatio
 }
 
 std::vector<Selection> ConstrainedCurve(std::span<const Observation> observations,
-                                        size_t reference_size, const SelectOptions& options,
-                                        const std::vector<Selection>& results, int first_n,
+                                        size_t reference_size,
+                                        const SelectOptions& options,
+                                        const std::vector<Selection>& results,
+                                        int first_n,
                                         int last_n) {
   const int k = Threshold(options);
   const bool is_k = options.objective() == Objective::kKCoverage;

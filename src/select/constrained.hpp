@@ -55,7 +55,8 @@ struct Capacity {
   bool has_budget() const { return !costs.empty(); }
   /// Whether `set` with `candidate` added (or put at position `replaced`, when < set.size())
   /// stays within the capacity; costs summed in the set's order, as TotalCost sums an answer.
-  bool Fits(std::span<const uint32_t> set, uint32_t candidate,
+  bool Fits(std::span<const uint32_t> set,
+            uint32_t candidate,
             size_t replaced = static_cast<size_t>(-1)) const;
 };
 
@@ -69,8 +70,10 @@ struct Capacity {
 /// can be added, and (set cover) once the covered cells reach `goal_cells` (0: no goal).
 /// With `start` (kept sensors, feasible) greedy adds to it.
 template <MethodScorer Scorer>
-std::vector<uint32_t> ConstrainedGreedy(const Scorer& scorer, const Feasibility& feasible,
-                                        const Capacity& capacity, uint64_t goal_cells = 0,
+std::vector<uint32_t> ConstrainedGreedy(const Scorer& scorer,
+                                        const Feasibility& feasible,
+                                        const Capacity& capacity,
+                                        uint64_t goal_cells = 0,
                                         std::vector<uint32_t> start = {});
 
 /// Best-improvement local search under the constraints from the feasible `start`: moves are
@@ -78,8 +81,10 @@ std::vector<uint32_t> ConstrainedGreedy(const Scorer& scorer, const Feasibility&
 /// fits and scores strictly better; ties go to the earlier position, then the lower index. The
 /// first `frozen` positions (kept sensors) are never swapped out.
 template <MethodScorer Scorer>
-std::vector<uint32_t> ConstrainedLocal(const Scorer& scorer, const Feasibility& feasible,
-                                       std::vector<uint32_t> start, const Capacity& capacity,
+std::vector<uint32_t> ConstrainedLocal(const Scorer& scorer,
+                                       const Feasibility& feasible,
+                                       std::vector<uint32_t> start,
+                                       const Capacity& capacity,
                                        size_t frozen = 0);
 
 /// Algorithm 2 with the draws of RansacChoice (RansacDraw), infeasible draws rejected (they count
@@ -87,9 +92,13 @@ std::vector<uint32_t> ConstrainedLocal(const Scorer& scorer, const Feasibility& 
 /// kept ones and n - |fixed| of the others (RansacDraw over the others, in index order). Empty
 /// when no draw was feasible.
 template <MethodScorer Scorer>
-std::vector<uint32_t> ConstrainedRansac(const Scorer& scorer, const Feasibility& feasible,
-                                        size_t n, int iterations, double stop_coverage,
-                                        uint64_t seed, std::span<const uint32_t> fixed = {});
+std::vector<uint32_t> ConstrainedRansac(const Scorer& scorer,
+                                        const Feasibility& feasible,
+                                        size_t n,
+                                        int iterations,
+                                        double stop_coverage,
+                                        uint64_t seed,
+                                        std::span<const uint32_t> fixed = {});
 
 /// The MILP's objective for SolveExactConstrained: a cell counts once the chosen put `threshold`
 /// (k, or min_points with the matrix's counts) into it; 1 is plain coverage.
@@ -104,9 +113,12 @@ struct ConstrainedObjective {
 /// single-commodity flow over the overlap edges), warm-started from the feasible `start`.
 /// upper_bound is the least of CBC's bound and `free_bound` (a bound of the unconstrained problem,
 /// valid because constraints only lower the optimum). Never worse than `start`.
-ExactResult SolveExactConstrained(const CoverageMatrix& matrix, const Feasibility& feasible,
-                                  const Capacity& capacity, const ConstrainedObjective& objective,
-                                  const std::vector<uint32_t>& start, uint64_t free_bound,
+ExactResult SolveExactConstrained(const CoverageMatrix& matrix,
+                                  const Feasibility& feasible,
+                                  const Capacity& capacity,
+                                  const ConstrainedObjective& objective,
+                                  const std::vector<uint32_t>& start,
+                                  uint64_t free_bound,
                                   double time_limit);
 
 /// Exact selection over states under the constraints: the states' MILP (exact_states.cpp, without
@@ -116,10 +128,13 @@ ExactResult SolveExactConstrained(const CoverageMatrix& matrix, const Feasibilit
 /// unconstrained one). Never worse than `start`.
 /// With `threshold` >= 2 (point density over states: a matrix with counts) an element counts
 /// once the chosen put that many points in it.
-StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix, OverStates over,
-                                              const Feasibility& feasible, size_t n,
+StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix,
+                                              OverStates over,
+                                              const Feasibility& feasible,
+                                              size_t n,
                                               const std::vector<uint32_t>& start,
-                                              double time_limit, int threshold = 1);
+                                              double time_limit,
+                                              int threshold = 1);
 
 /// What one constrained method answered: `upper_bound` (exact only) as a share of R (cells
 /// scorer) or an aggregate over states.
@@ -138,8 +153,10 @@ struct ConstrainedAnswer {
 template <MethodScorer Scorer>
 class ConstrainedMethods {
  public:
-  ConstrainedMethods(const Scorer& scorer, const Feasibility& feasible,
-                     const SelectOptions& options, double setup_seconds);
+  ConstrainedMethods(const Scorer& scorer,
+                     const Feasibility& feasible,
+                     const SelectOptions& options,
+                     double setup_seconds);
   ConstrainedAnswer Ransac(size_t n) const;
   ConstrainedAnswer Greedy(size_t n);
   /// After Greedy(n). The unconstrained local search's answer too, when it is feasible and scores
@@ -172,8 +189,10 @@ std::vector<Selection> SelectConstrained(std::span<const Observation> observatio
 /// CoverageCurve under the constraints: greedy and local at every n from first_n to last_n that
 /// `results` lacks.
 std::vector<Selection> ConstrainedCurve(std::span<const Observation> observations,
-                                        size_t reference_size, const SelectOptions& options,
-                                        const std::vector<Selection>& results, int first_n,
+                                        size_t reference_size,
+                                        const SelectOptions& options,
+                                        const std::vector<Selection>& results,
+                                        int first_n,
                                         int last_n);
 
 /// The draw `iteration` of RANSAC (ransac.cpp): n distinct candidates of order->size(); `order`

@@ -101,13 +101,16 @@ struct MilpSpec {
   int threshold = 1;
   std::vector<double> value;  ///< per element, in the result's units
   double scale = 1;
-  bool by_min = false;        ///< states: max t, t <= each state's share
-  double gap = 0.99;          ///< CBC's allowable gap (whole cells: within 1 is optimal)
+  bool by_min = false;              ///< states: max t, t <= each state's share
+  double gap = 0.99;                ///< CBC's allowable gap (whole cells: within 1 is optimal)
   std::span<const uint32_t> fixed;  ///< kept sensors: x = 1
 };
 
-Outcome RunCbc(const CoverageMatrix& matrix, const Feasibility& feasible, const MilpSpec& spec,
-               const std::vector<uint32_t>& start, double time_limit) {
+Outcome RunCbc(const CoverageMatrix& matrix,
+               const Feasibility& feasible,
+               const MilpSpec& spec,
+               const std::vector<uint32_t>& start,
+               double time_limit) {
   Outcome outcome;
   const Capacity& capacity = spec.capacity;
   const size_t m = matrix.candidate_count();
@@ -166,8 +169,8 @@ Outcome RunCbc(const CoverageMatrix& matrix, const Feasibility& feasible, const 
   for (uint32_t e = 0; e < seers.size(); ++e) {
     if (seers[e].empty() || folds(e) || reach[e] < threshold) continue;
     // With T >= 2 a fractional y_e would count a cell short of T seers in part: y binary.
-    const int y = model.AddColumn(0, 1, spec.by_min ? 0.0 : spec.value[e] * spec.scale,
-                                  threshold > 1);
+    const int y =
+        model.AddColumn(0, 1, spec.by_min ? 0.0 : spec.value[e] * spec.scale, threshold > 1);
     if (spec.by_min) {
       share_columns[state_of[e]].push_back(y);
       share_values[state_of[e]].push_back(-spec.value[e]);
@@ -195,8 +198,8 @@ Outcome RunCbc(const CoverageMatrix& matrix, const Feasibility& feasible, const 
     model.AddRow({x_of[c.a], x_of[c.b]}, {1.0, 1.0}, 'L', 1.0);
   }
   // The most sensors an answer holds: the flow's capacity.
-  const double nd = static_cast<double>(
-      capacity.has_budget() ? kept.size() : std::min(capacity.n, kept.size()));
+  const double nd =
+      static_cast<double>(capacity.has_budget() ? kept.size() : std::min(capacity.n, kept.size()));
   std::vector<int> r_of, s_of;
   if (feasible.has_calibration() && nd >= 2) {
     std::vector<int> root_row, supply_row;
@@ -329,9 +332,8 @@ std::optional<std::vector<uint32_t>> UsableAnswer(const CoverageMatrix& matrix,
   for (const uint32_t f : fixed)
     if (std::find(chosen.begin(), chosen.end(), f) == chosen.end()) return std::nullopt;
   // The kept sensors first, in their order, as every other method answers.
-  std::erase_if(chosen, [&](uint32_t c) {
-    return std::find(fixed.begin(), fixed.end(), c) != fixed.end();
-  });
+  std::erase_if(
+      chosen, [&](uint32_t c) { return std::find(fixed.begin(), fixed.end(), c) != fixed.end(); });
   chosen.insert(chosen.begin(), fixed.begin(), fixed.end());
   if (capacity.has_budget()) {
     double total = 0;
@@ -352,9 +354,12 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-ExactResult SolveExactConstrained(const CoverageMatrix& matrix, const Feasibility& feasible,
-                                  const Capacity& capacity, const ConstrainedObjective& objective,
-                                  const std::vector<uint32_t>& start, uint64_t free_bound,
+ExactResult SolveExactConstrained(const CoverageMatrix& matrix,
+                                  const Feasibility& feasible,
+                                  const Capacity& capacity,
+                                  const ConstrainedObjective& objective,
+                                  const std::vector<uint32_t>& start,
+                                  uint64_t free_bound,
                                   double time_limit) {
   VANTAGE_CHECK(feasible.IsFeasible(start) &&
                 (capacity.has_budget() || (capacity.n >= 1 && start.size() <= capacity.n)));
@@ -420,10 +425,13 @@ ExactResult SolveExactConstrained(const CoverageMatrix& matrix, const Feasibilit
   return result;
 }
 
-StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix, OverStates over,
-                                              const Feasibility& feasible, size_t n,
+StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix,
+                                              OverStates over,
+                                              const Feasibility& feasible,
+                                              size_t n,
                                               const std::vector<uint32_t>& start,
-                                              double time_limit, int threshold) {
+                                              double time_limit,
+                                              int threshold) {
   VANTAGE_CHECK(n >= 1 && feasible.IsFeasible(start) && start.size() <= n);
   constexpr double kProofTolerance = 1e-9;  // as exact_states.cpp
   constexpr double kFirstBoundShare = 0.1;
@@ -452,9 +460,9 @@ StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix, Over
   // The unconstrained Lagrangian bound first (of plain coverage over states, which bounds point
   // coverage too: a cell with enough points is seen): when it proves the start, CBC is not needed.
   // With point counts that bound is of plain coverage, rarely tight: then CBC first.
-  double bound = threshold > 1 ? std::numeric_limits<double>::infinity()
-                               : StatesLagrangianBound(matrix, over, n, start,
-                                                       kFirstBoundShare * time_limit);
+  double bound = threshold > 1
+                     ? std::numeric_limits<double>::infinity()
+                     : StatesLagrangianBound(matrix, over, n, start, kFirstBoundShare * time_limit);
   const double start_aggregate = aggregate_of(start);
   if (bound - start_aggregate <= kProofTolerance) {
     result.upper_bound = start_aggregate;

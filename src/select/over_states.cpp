@@ -6,8 +6,6 @@
 // candidates by the aggregate (mean or min) of its per-state coverages, compared exactly
 // (scorer.hpp). Reported coverages are recomputed from the observations by CoverageEvaluator,
 // never taken from this bookkeeping.
-#include "vantage/select_states.hpp"
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -21,6 +19,7 @@
 #include "select/objective_bounds.hpp"
 #include "select/scorer.hpp"
 #include "vantage/error.hpp"
+#include "vantage/select_states.hpp"
 
 namespace vantage {
 namespace {
@@ -360,10 +359,9 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
         const Clock::time_point t = Clock::now();
         methods.Greedy(n);
         methods.Local();
-        results.push_back(scored(
-            Method::kExact,
-            methods.Exact(std::max(0.1 * options.time_limit,
-                                   options.time_limit - SecondsSince(t)))));
+        results.push_back(
+            scored(Method::kExact, methods.Exact(std::max(0.1 * options.time_limit,
+                                                          options.time_limit - SecondsSince(t)))));
         break;
       }
     }
