@@ -516,6 +516,14 @@ TEST(MountingCli, BadMountingRulesExitTwoWithFileAndLine) {
   const size_t lines = static_cast<size_t>(std::count(base_text.begin(), base_text.end(), '\n'));
   const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
       {"min_separation: -1\n", "", "min_separation = -1 must be positive"},
+      // Below a micrometre the neighbour hashing would overflow; beyond the world no mount exists.
+      {"min_separation: 1e-300\n", "", "min_separation 1e-300 m is outside [1e-06, 1e+09] m"},
+      {"min_separation: 1e300\n", "", "min_separation 1e+300 m is outside [1e-06, 1e+09] m"},
+      // 10,000 candidates a millimetre apart: about 5e7 pairs under 0.5 m, refused before any
+      // ray instead of filling the memory with them.
+      {"min_separation: 0.5\npopulations:\n  - {name: dense, type: fine_cam, distribution: "
+       "grid, rows: 1000, cols: 10, step: [0.001, 0.001, 0], pose: {xyz: [0.6, 0, 0.3]}}\n",
+       "", "min_separation 0.5 m puts more than 5000000 pairs of the 10002 candidates in conflict"},
       {"keep_out:\n  - {min: [0, 0, 0], max: [1, 0, 1]}\n", "",
        "keep_out 'keep_out[0]': max must exceed min on every axis"},
       {"keep_out:\n  - {center: [0, 0, 0]}\n", "", "keep_out[0] has no 'size'"},

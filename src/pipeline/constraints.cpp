@@ -81,7 +81,7 @@ void CheckConstraintRequest(const ConstraintOptions& request, const SelectOption
 }
 
 std::vector<Conflict> SeparationConflicts(std::span<const Candidate> candidates,
-                                          double min_separation) {
+                                          double min_separation, size_t max_pairs) {
   // Hashing the centres into cubes of edge min_separation: a closer pair lies in neighbouring
   // cubes, so only those are compared.
   using Key = std::array<int64_t, 3>;
@@ -105,9 +105,11 @@ std::vector<Conflict> SeparationConflicts(std::span<const Candidate> candidates,
           for (const uint32_t j : cube->second) {
             if (j <= i) continue;
             const double distance = (candidates[j].world_from_body.position - p).norm();
-            if (distance < min_separation)
+            if (distance < min_separation) {
               conflicts.push_back({static_cast<uint32_t>(i), j, ConflictKind::kSeparation,
                                    distance});
+              if (conflicts.size() > max_pairs) return conflicts;
+            }
           }
         }
       }
@@ -117,6 +119,17 @@ std::vector<Conflict> SeparationConflicts(std::span<const Candidate> candidates,
     return std::tie(x.a, x.b) < std::tie(y.a, y.b);
   });
   return conflicts;
+}
+
+void CheckSeparationPairs(std::span<const Candidate> candidates, const MountingRules& mounting) {
+  if (!mounting.min_separation) return;
+  const size_t pairs = SeparationConflicts(candidates, *mounting.min_separation).size();
+  if (pairs <= kMaxSeparationPairs) return;
+  throw InputError(AtPlace(
+      mounting.min_separation_file, mounting.min_separation_line,
+      fmt::format("min_separation {} m puts more than {} pairs of the {} candidates in conflict "
+                  "(most candidates lie closer than it) — lower it, or thin the populations",
+                  *mounting.min_separation, kMaxSeparationPairs, candidates.size())));
 }
 
 std::vector<bool> ProjectingCandidates(std::span<const Candidate> candidates) {

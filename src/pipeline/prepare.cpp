@@ -158,6 +158,7 @@ PreparedScene Prepare(const SceneInput& input) {
   }
   if (!prepared.state_scenes.empty()) problem.scene = prepared.state_scenes.front();
   ExcludeKeptOut(&prepared);
+  detail::CheckSeparationPairs(prepared.candidates, problem.mounting);
   prepared.cell_size_from_option = input.load.cell_size.has_value();
   prepared.timings.load = detail::SecondsSince(start);
   return prepared;

@@ -1797,6 +1797,11 @@ void SceneReader::Read(const YAML::Node& root) {
   if (const auto v = top.Get("keep_out")) ReadKeepOut(*v);
   if (const auto v = top.Get("min_separation")) {
     problem_->mounting.min_separation = Positive(*v, "min_separation");
+    const std::optional<double> metres = problem_->mounting.min_separation;
+    if (metres && !MinSeparationProblem(*metres).empty()) {
+      Error(v->line, MinSeparationProblem(*metres));
+      problem_->mounting.min_separation.reset();
+    }
     problem_->mounting.min_separation_file = problem_->source;
     problem_->mounting.min_separation_line = v->line;
   }
