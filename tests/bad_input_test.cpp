@@ -807,6 +807,18 @@ TEST_F(BadInput, CommandLineOptions) {
        "--min-density:", "not both"},
       {"min_points_with_k", "optimize " + scene + " --min-points 5 --k 2", "--min-points:",
        "its own objective"},
+      // A bool option given a word that is not one said CLI11's "Could not convert".
+      {"interference_not_a_bool", "optimize " + scene + " --interference maybe",
+       "--interference:", "'maybe' is not true or false", "Could not convert"},
+      // ... and any value of the wrong type: say what the option takes, not "Could not convert".
+      {"k_not_a_number", "optimize " + scene + " --k x", "--k:", "'x' is not a whole number",
+       "Could not convert"},
+      {"n_not_a_number", "optimize " + scene + " -n abc", "-n,--sensors:",
+       "'abc' is not a whole number", "Could not convert"},
+      {"time_limit_not_a_number", "optimize " + scene + " --time-limit soon", "--time-limit:",
+       "'soon' is not a number — `vantage help optimize` says what it takes", "Could not convert"},
+      {"random_roll_not_a_bool", "optimize " + scene + " --random-roll perhaps", "--random-roll:",
+       "'perhaps' is not true or false", "Could not convert"},
       // ... and observe --out naming a folder said "cannot write (Success)".
       {"observe_out_is_a_folder", "observe " + scene, out_ + ": cannot write (it is a folder)",
        "check the path", "Success"},
