@@ -146,7 +146,7 @@ PreparedScene Prepare(const SceneInput& input) {
   // are observed after it with the same candidates.
   for (const SceneState& state : problem.states) {
     prepared.state_scenes.push_back(ApplyState(problem.scene, state));
-    CheckSceneExtent(prepared.state_scenes.back(), problem.source);
+    CheckSceneExtent(prepared.state_scenes.back(), problem.source, state.line, state.name);
   }
   const auto moves_sensors = [](const SceneState& state) { return !state.sensor_poses.empty(); };
   if (std::any_of(problem.states.begin(), problem.states.end(), moves_sensors)) {

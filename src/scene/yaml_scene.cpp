@@ -886,6 +886,8 @@ std::optional<SceneObject> SceneReader::ReadObject(const Value& input) {
   const std::string what = fmt::format("object '{}'", name.value_or("?"));
   SceneObject object;
   object.name = name.value_or("");
+  object.file = problem_->source;
+  object.line = input.line;
   if (const auto v = fields.Get("role")) {
     if (const auto role = Text(*v, what + ".role")) {
       if (*role == "target") {
@@ -1156,6 +1158,8 @@ void SceneReader::ReadRobot(const Value& input) {
     const bool is_target = std::find(targets.begin(), targets.end(), link) != targets.end();
     object.role = is_target ? Role::kTarget : Role::kOccluder;
     object.mesh = std::move(mesh);
+    object.file = problem_->source;
+    object.line = robot.line;
     const auto same_object = [&](const SceneObject& o) { return o.name == object.name; };
     if (std::any_of(problem_->scene.objects.begin(), problem_->scene.objects.end(), same_object)) {
       Error(robot.line, fmt::format("{}: object name '{}' is already used — rename the object or "
