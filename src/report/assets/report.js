@@ -364,6 +364,22 @@
                   }},
                  {name: 'targets only', key: 'targets',
                   make: function () { return fitView(targetCorners, D.view.fov_deg, camera.aspect); }}];
+    // With keep-out boxes, a view that frames them too (their corners, in their poses).
+    if (D.keep_out && D.keep_out.length) {
+      var boxCorners = [];
+      D.keep_out.forEach(function (b) {
+        var q = new THREE.Quaternion(b.quaternion[1], b.quaternion[2], b.quaternion[3], b.quaternion[0]);
+        for (var corner = 0; corner < 8; ++corner) {
+          boxCorners.push(new THREE.Vector3((corner & 1 ? 0.5 : -0.5) * b.size[0], (corner & 2 ? 0.5 : -0.5) * b.size[1],
+                                            (corner & 4 ? 0.5 : -0.5) * b.size[2])
+            .applyQuaternion(q).add(new THREE.Vector3().fromArray(b.center)));
+        }
+      });
+      views.push({name: 'targets, chosen sensors and keep-out boxes', key: 'keepout', make: function () {
+        return fitView(targetCorners.concat(boxCorners, D.view.sensors.map(function (p) { return new THREE.Vector3().fromArray(p); })),
+                       D.view.fov_deg, camera.aspect);
+      }});
+    }
     // Each chosen sensor's own view: from its optical centre along its axis, with its vertical
     // field of view (up stays +z: the picture is not rolled as the sensor's image may be).
     D.chosen.forEach(function (s, k) {
