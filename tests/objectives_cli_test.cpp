@@ -520,8 +520,7 @@ TEST(MountingCli, SelectFromTheVisibilityFileAppliesMinSeparationAsOptimizeDoes)
   const size_t line = test::ReadText(scene).find("min_separation");
   const std::string text = test::ReadText(scene);
   const auto at = std::to_string(std::count(text.begin(), text.begin() + line, '\n') + 1);
-  for (const std::string& command :
-       {"optimize " + scene, "select " + dir.File("m.vis")}) {
+  for (const std::string& command : {"optimize " + scene, "select " + dir.File("m.vis")}) {
     const auto run = RunVantage(command + " --k 2 --out " + dir.File("x"));
     EXPECT_EQ(run.exit_code, 2) << command;
     EXPECT_NE(run.err.find(scene + ":" + at + ": min_separation works with the coverage"),

@@ -537,8 +537,9 @@ TEST(Report, KeepOutBoxesInTheConstraintsBlockArePosedAsTheScenesBoxes) {
   for (const Candidate& c : prepared.kept_out)
     EXPECT_TRUE(held(c.world_from_body.position)) << c.name;
   for (const Box& box : boxes) {
-    EXPECT_TRUE(std::any_of(prepared.kept_out.begin(), prepared.kept_out.end(),
-                            [&](const Candidate& c) { return box.Holds(c.world_from_body.position); }));
+    EXPECT_TRUE(
+        std::any_of(prepared.kept_out.begin(), prepared.kept_out.end(),
+                    [&](const Candidate& c) { return box.Holds(c.world_from_body.position); }));
   }
   ASSERT_EQ(report["candidates"].size(), prepared.candidates.size());
   for (const json& c : report["candidates"]) {

@@ -718,7 +718,8 @@ TEST(HtmlReport, RobustnessQualityAndStatesSectionsRender) {
   // Keep-out boxes (a rotated one): their layer, legend and view, opened on that view.
   const struct {
     std::string args, expect, hash;
-  } runs[] = {{"optimize " + test::DataPath("cli/cube_cell.yaml") + " -n 2 --max-incidence 60", ">fails<", ""},
+  } runs[] = {{"optimize " + test::DataPath("cli/cube_cell.yaml") + " -n 2 --max-incidence 60",
+               ">fails<", ""},
               {"optimize " + scene + " -n 2 --over-states min", ">state lifted<", ""},
               {"optimize " + test::DataPath("cli/keep_out_cell.yaml") + " --method greedy",
                "keep-out boxes (no sensor inside): robot, cable_tray", "#view=keepout"}};
@@ -729,8 +730,8 @@ TEST(HtmlReport, RobustnessQualityAndStatesSectionsRender) {
     ASSERT_EQ(optimize.exit_code, 0) << optimize.err;
     double seconds = 0;
     RunChromium(chromium, dir.File("profile"),
-                "--dump-dom 'file://" + out + "/report.html" + run.hash + "'",
-                dir.File("dom.html"), dir.File("dom.err"), &seconds);
+                "--dump-dom 'file://" + out + "/report.html" + run.hash + "'", dir.File("dom.html"),
+                dir.File("dom.err"), &seconds);
     const std::string dom = test::ReadText(dir.File("dom.html"));
     EXPECT_NE(dom.find(">ok<"), std::string::npos) << run.args << "\n" << test::ReadText(dir.File("dom.err")).substr(0, 2000);
     EXPECT_NE(dom.find(run.expect), std::string::npos) << run.args;

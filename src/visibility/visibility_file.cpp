@@ -91,7 +91,9 @@ void WriteMounting(detail::BinaryWriter* w, const MountingRules& mounting, uint6
 }
 
 template <typename Corrupt>
-void ReadMounting(detail::BinaryReader* r, const Corrupt& corrupt, MountingRules* mounting,
+void ReadMounting(detail::BinaryReader* r,
+                  const Corrupt& corrupt,
+                  MountingRules* mounting,
                   uint64_t* kept_out) {
   const uint64_t boxes = r->U64();
   r->CheckCount(boxes, 8 + 7 * 8 + 6 * 8 + 8 + 4);
@@ -121,8 +123,8 @@ void ReadMounting(detail::BinaryReader* r, const Corrupt& corrupt, MountingRules
   mounting->min_separation_line = static_cast<int>(r->U32());
   if (mounting->min_separation &&
       !(std::isfinite(*mounting->min_separation) && *mounting->min_separation > 0))
-    throw corrupt(fmt::format("its min_separation {} is not a positive length",
-                              *mounting->min_separation));
+    throw corrupt(
+        fmt::format("its min_separation {} is not a positive length", *mounting->min_separation));
   if (detail::FirstNonUtf8Byte(mounting->min_separation_file) != std::string::npos)
     throw corrupt("its min_separation file is not UTF-8");
   *kept_out = r->U64();
