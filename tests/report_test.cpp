@@ -155,7 +155,12 @@ TEST(VisibilityFile, RoundTripKeepsMountingRulesAndInterferesFlags) {
   VisibilityFile other = data;
   other.mounting.min_separation = 0.2;
   EXPECT_NE(VisibilityFingerprint(other), VisibilityFingerprint(data));
-  // A box whose max does not exceed its min is a corrupt file.
+  // A stored separation no scene may give, or a box whose max does not exceed its min, is a
+  // corrupt file.
+  data.mounting.min_separation = 0.0;
+  SaveVisibilityFile(dir.File("bad_separation.vis"), data);
+  EXPECT_THROW(LoadVisibilityFile(dir.File("bad_separation.vis")), InputError);
+  data.mounting.min_separation = 0.15;
   data.mounting.keep_out[1].max.y() = 1.0;
   SaveVisibilityFile(dir.File("bad.vis"), data);
   EXPECT_THROW(LoadVisibilityFile(dir.File("bad.vis")), InputError);

@@ -54,6 +54,7 @@ MatrixSelection ResolveMatrixSelection(const VisibilityFile& data, const Selecti
   // min_separation applies, and its keep-out boxes are reported, as in `optimize` on the scene.
   detail::CheckConstraintRequest(request.constraints, resolved.options, false, false,
                                  data.mounting);
+  detail::CheckSeparationPairs(data.candidates, data.mounting);
   resolved.constraints =
       detail::ResolveConstraints(request.constraints, resolved.options, data.candidates,
                                  data.observations, false, false, data.mounting, data.kept_out);

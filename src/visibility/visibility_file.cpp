@@ -121,10 +121,12 @@ void ReadMounting(detail::BinaryReader* r,
   mounting->min_separation = ReadOptional(r, "min_separation", corrupt);
   mounting->min_separation_file = r->Str();
   mounting->min_separation_line = static_cast<int>(r->U32());
-  if (mounting->min_separation &&
-      !(std::isfinite(*mounting->min_separation) && *mounting->min_separation > 0))
-    throw corrupt(
-        fmt::format("its min_separation {} is not a positive length", *mounting->min_separation));
+  // The scene readers' check (problem.hpp), so that a stored value is one a scene may give.
+  if (mounting->min_separation) {
+    if (const std::string problem = MinSeparationProblem(*mounting->min_separation);
+        !problem.empty())
+      throw corrupt("its " + problem);
+  }
   if (detail::FirstNonUtf8Byte(mounting->min_separation_file) != std::string::npos)
     throw corrupt("its min_separation file is not UTF-8");
   *kept_out = r->U64();
