@@ -186,7 +186,7 @@ std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& reque
                  pairs.size(), *mounting.min_separation);
     MergeConflicts(std::move(pairs), &info.constraints.conflicts);
   }
-  info.keep_out_boxes = mounting.keep_out.size();
+  info.keep_out_boxes = mounting.keep_out;
   info.keep_out_excluded = kept_out;
   for (size_t i = 0; i < candidates.size(); ++i) {
     const Vec3& p = candidates[i].world_from_body.position;
@@ -195,7 +195,7 @@ std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& reque
       info.keep_out_violations.push_back(static_cast<uint32_t>(i));
   }
   if (!info.interference_overlap && !info.constraints.calibration && !info.min_separation &&
-      info.keep_out_boxes == 0)
+      info.keep_out_boxes.empty())
     return std::nullopt;
   return info;
 }
