@@ -354,17 +354,21 @@ SelectionRequest RequestOf(std::optional<int> n,
   return request;
 }
 
-// The CLI's constraint flags (docs/constraints.md), None where not given.
-ConstraintOptions ConstraintsOf(std::optional<bool> interference,
-                                std::optional<double> interference_overlap,
-                                std::optional<uint64_t> calibration_overlap,
-                                std::optional<double> calibration_overlap_frac) {
-  ConstraintOptions constraints;
-  constraints.interference = interference;
-  constraints.interference_overlap = interference_overlap;
-  constraints.calibration_overlap = calibration_overlap;
-  constraints.calibration_overlap_frac = calibration_overlap_frac;
-  return constraints;
+// The CLI's constraint and point-density flags (docs/constraints.md), None where not given, set
+// on `request` (a SelectionRequest or EvaluateOptions: the keywords every selecting function and
+// evaluate share).
+template <typename Request>
+void SetInstallRules(Request* request, std::optional<bool> interference,
+                     std::optional<double> interference_overlap,
+                     std::optional<uint64_t> calibration_overlap,
+                     std::optional<double> calibration_overlap_frac,
+                     std::optional<int64_t> min_points, std::optional<double> min_density) {
+  request->constraints.interference = interference;
+  request->constraints.interference_overlap = interference_overlap;
+  request->constraints.calibration_overlap = calibration_overlap;
+  request->constraints.calibration_overlap_frac = calibration_overlap_frac;
+  request->min_points = min_points;
+  request->min_density = min_density;
 }
 
 // Selection as `vantage select FILE`: the same resolution, constraints included.
@@ -603,10 +607,8 @@ void Bind(py::module_& m) {
                                        "select_all(), or name one method"));
             SelectionRequest request =
                 RequestOf(n, chosen, time_limit, k, goal, budget, iterations, stop);
-            request.constraints = ConstraintsOf(interference, interference_overlap,
-                                                calibration_overlap, calibration_overlap_frac);
-            request.min_points = min_points;
-            request.min_density = min_density;
+            SetInstallRules(&request, interference, interference_overlap, calibration_overlap,
+                            calibration_overlap_frac, min_points, min_density);
             std::vector<Selection> results =
                 SelectOn(*v.data, request, seed, Method::kExact, threads);
             return SelectionInfoOf(std::move(results.back()), *v.data);
@@ -644,10 +646,8 @@ void Bind(py::module_& m) {
              std::optional<double> min_density) {
             SelectionRequest request = RequestOf(n, OptionalMethodOf(method), time_limit, k, goal,
                                                  budget, iterations, stop);
-            request.constraints = ConstraintsOf(interference, interference_overlap,
-                                                calibration_overlap, calibration_overlap_frac);
-            request.min_points = min_points;
-            request.min_density = min_density;
+            SetInstallRules(&request, interference, interference_overlap, calibration_overlap,
+                            calibration_overlap_frac, min_points, min_density);
             std::vector<SelectionInfo> list;
             for (Selection& s : SelectOn(*v.data, request, seed, Method::kAll, threads))
               list.push_back(SelectionInfoOf(std::move(s), *v.data));
@@ -803,10 +803,8 @@ void Bind(py::module_& m) {
         options.limits = LimitsOf(max_memory);
         options.selection = RequestOf(n, OptionalMethodOf(method), time_limit, k, goal, budget,
                                       iterations, stop, OverStatesOf(over_states));
-        options.selection.constraints = ConstraintsOf(
-            interference, interference_overlap, calibration_overlap, calibration_overlap_frac);
-        options.selection.min_points = min_points;
-        options.selection.min_density = min_density;
+        SetInstallRules(&options.selection, interference, interference_overlap, calibration_overlap,
+                        calibration_overlap_frac, min_points, min_density);
         options.robustness = RobustnessOf(fov_tolerance, alternatives_within);
         if (refine) {
           RefineOptions refine_options;
@@ -864,10 +862,8 @@ void Bind(py::module_& m) {
         options.constellation = PathOf(constellation);
         options.observe = ObserveOptionsOf(quality, cull, progress);
         options.limits = LimitsOf(max_memory);
-        options.constraints = ConstraintsOf(interference, interference_overlap, calibration_overlap,
-                                            calibration_overlap_frac);
-        options.min_points = min_points;
-        options.min_density = min_density;
+        SetInstallRules(&options, interference, interference_overlap, calibration_overlap,
+                        calibration_overlap_frac, min_points, min_density);
         const std::optional<std::string> out_dir = OutDirOf(out);
         struct Outcome {
           Strings sensors;

@@ -407,7 +407,15 @@ TEST_F(BadInput, ExtremeValues) {
        "sensor 'far_cam': its position (1e+19, 0, 1) m, " + beyond},
       {"huge_occluder", "optimize " + Write("huge.yaml", CubeCellWith("size: [0.6, 0.6, 0.02]",
                                                                       "size: [1e20, 1e20, 0.02]")),
-       dir_.File("huge.yaml") + ": object 'plate' reaches (5e+19, 5e+19, -0.02) m", beyond},
+       dir_.File("huge.yaml") + ":17: object 'plate' reaches (5e+19, 5e+19, -0.02) m", beyond},
+      // Found in stop 25: the object's place was the file alone, and a state that moved an
+      // object out of range named no state; both now name their line.
+      Yaml("state_moves_far", "populations:",
+           "states:\n  - name: idle\n  - name: far\n    move:\n      cube: {xyz: [1e19, 0, 0]}\n"
+           "populations:",
+           32, "state 'far': object 'cube' reaches (1e+19, "),
+      World("world_huge_visual", "<pose>0 0 0.05 0 0 0</pose>", "<pose>0 0 1e19 0 0 0</pose>", 6,
+            "object 'cube' reaches (0.05, 0.05, 1e+19) m, " + beyond),
       World("world_far_range", "<far>3</far>", "<far>1e25</far>", 16, "far = 1e+25 m"),
       World("world_population_far_away", "<pose>0 0 0.4 0 0 0</pose>",
             "<pose>1e19 0 0.4 0 0 0</pose>", 13, beyond),
@@ -807,6 +815,18 @@ TEST_F(BadInput, CommandLineOptions) {
        "--min-density:", "not both"},
       {"min_points_with_k", "optimize " + scene + " --min-points 5 --k 2", "--min-points:",
        "its own objective"},
+      // A bool option given a word that is not one said CLI11's "Could not convert".
+      {"interference_not_a_bool", "optimize " + scene + " --interference maybe",
+       "--interference:", "'maybe' is not true or false", "Could not convert"},
+      // ... and any value of the wrong type: say what the option takes, not "Could not convert".
+      {"k_not_a_number", "optimize " + scene + " --k x", "--k:", "'x' is not a whole number",
+       "Could not convert"},
+      {"n_not_a_number", "optimize " + scene + " -n abc", "-n,--sensors:",
+       "'abc' is not a whole number", "Could not convert"},
+      {"time_limit_not_a_number", "optimize " + scene + " --time-limit soon", "--time-limit:",
+       "'soon' is not a number — `vantage help optimize` says what it takes", "Could not convert"},
+      {"random_roll_not_a_bool", "optimize " + scene + " --random-roll perhaps", "--random-roll:",
+       "'perhaps' is not true or false", "Could not convert"},
       // ... and observe --out naming a folder said "cannot write (Success)".
       {"observe_out_is_a_folder", "observe " + scene, out_ + ": cannot write (it is a folder)",
        "check the path", "Success"},

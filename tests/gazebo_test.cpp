@@ -856,6 +856,8 @@ TEST(Gazebo, BadMountingRules) {
   ExpectErrorAt(LoadError(path), path, 6, "<max> must exceed <min> on every axis");
   path = world("    <vantage:min_separation>-0.1</vantage:min_separation>\n");
   ExpectErrorAt(LoadError(path), path, 4, "must be positive");
+  path = world("    <vantage:min_separation>1e-300</vantage:min_separation>\n");
+  ExpectErrorAt(LoadError(path), path, 4, "min_separation 1e-300 m is outside [1e-06, 1e+09] m");
 }
 
 TEST(GazeboXml, LinesEntitiesAndStructure) {

@@ -683,6 +683,110 @@ TEST(MountingCli, MinSeparationKeepsTwoCloseSensorsFromBothBeingChosen) {
       << check.out;
 }
 
+// The .vis file keeps the scene's min_separation (format 5): `observe` + `select FILE` choose
+// what `optimize` on the scene chooses, with the same constraints block (the scene of the test
+// above: only a, b is feasible), and refuse what optimize refuses (min_separation with --k).
+TEST(MountingCli, SelectFromTheVisibilityFileAppliesMinSeparationAsOptimizeDoes) {
+  test::TempDir dir;
+  const std::string scene = CubeWithSensors(
+      dir,
+      "  - {name: a, type: fine_cam, position: [0.4, 0.4, 0.45]}\n"
+      "  - {name: b, type: fine_cam, position: [-1.0, -1.0, 0.45]}\n"
+      "  - {name: c, type: fine_cam, position: [-0.4, -0.4, -0.35]}\n"
+      "min_separation: 1.5\n");
+  const auto observe = RunVantage("observe " + scene + " --out " + dir.File("m.vis"));
+  ASSERT_EQ(observe.exit_code, 0) << observe.err;
+  for (const char* method : {"exact", "greedy", "local", "ransac"}) {
+    const std::string flags = std::string(" --method ") + method + " --out ";
+    const auto opt = RunVantage("optimize " + scene + flags + dir.File(std::string("o_") + method));
+    ASSERT_EQ(opt.exit_code, 0) << method << opt.err;
+    const auto sel =
+        RunVantage("select " + dir.File("m.vis") + flags + dir.File(std::string("s_") + method));
+    ASSERT_EQ(sel.exit_code, 0) << method << sel.err;
+    const json o = Report(dir.File(std::string("o_") + method));
+    const json s = Report(dir.File(std::string("s_") + method));
+    EXPECT_EQ(Names(s["results"][0]["sensors"]), (std::set<std::string>{"a", "b"})) << method;
+    EXPECT_EQ(s["results"][0]["sensors"], o["results"][0]["sensors"]) << method;
+    EXPECT_EQ(s["results"][0]["coverage"], o["results"][0]["coverage"]) << method;
+    EXPECT_EQ(s["results"][0]["constraints"], o["results"][0]["constraints"]) << method;
+    EXPECT_EQ(s["constraints"], o["constraints"]) << method;
+    EXPECT_EQ(s["constraints"]["separation"]["conflicting_pairs"], 2) << method;
+  }
+  // With another objective too (issue 20): select and optimize agree, and the answer keeps the
+  // separation.
+  for (const std::string& command : {"optimize " + scene, "select " + dir.File("m.vis")}) {
+    const std::string out = dir.File(command.rfind("select", 0) == 0 ? "k_s" : "k_o");
+    const auto run = RunVantage(command + " --k 2 --method exact --out " + out);
+    ASSERT_EQ(run.exit_code, 0) << command << ": " << run.err;
+    const json r = Report(out)["results"][0];
+    EXPECT_EQ(r["objective"], "k-coverage");
+    EXPECT_TRUE(r["constraints"]["satisfied"].get<bool>()) << command;
+  }
+  EXPECT_EQ(Report(dir.File("k_s"))["results"][0]["sensors"],
+            Report(dir.File("k_o"))["results"][0]["sensors"]);
+}
+
+// A custom type's `interferes:` survives the .vis file (format 5): two stereo-technology
+// cameras declared `interferes: true` facing one face conflict in select FILE as in optimize;
+// two Kinect 360 (structured light) declared `interferes: false` do not, in either.
+TEST(MountingCli, CustomInterferesFlagsTravelThroughTheVisibilityFile) {
+  test::TempDir dir;
+  std::string scene = CubeWithSensors(
+      dir,
+      "  - {name: loud_1, type: loud_stereo, position: [0.8, 0.015, 0.05]}\n"
+      "  - {name: loud_2, type: loud_stereo, position: [0.8, -0.015, 0.05]}\n"
+      "  - {name: quiet_1, type: quiet_kinect, position: [-0.8, 0.015, 0.05]}\n"
+      "  - {name: quiet_2, type: quiet_kinect, position: [-0.8, -0.015, 0.05]}\n");
+  std::string text = test::ReadText(scene);
+  text.replace(text.find("sensor_types:\n"), 14,
+               "sensor_types:\n"
+               "  - {id: loud_stereo, base: multisense_s7, technology: stereo, interferes: true}\n"
+               "  - {id: quiet_kinect, base: kinect_xbox_360, interferes: false}\n");
+  test::WriteText(scene, text);
+  const auto observe = RunVantage("observe " + scene + " --out " + dir.File("m.vis"));
+  ASSERT_EQ(observe.exit_code, 0) << observe.err;
+  const std::string flags = " --method exact --interference true -n 3 --out ";
+  const auto opt = RunVantage("optimize " + scene + flags + dir.File("o"));
+  ASSERT_EQ(opt.exit_code, 0) << opt.err;
+  const auto sel = RunVantage("select " + dir.File("m.vis") + flags + dir.File("s"));
+  ASSERT_EQ(sel.exit_code, 0) << sel.err;
+  for (const char* out : {"o", "s"}) {
+    const json r = Report(dir.File(out));
+    EXPECT_EQ(r["constraints"]["interference"]["projecting_candidates"], 2) << out;
+    EXPECT_EQ(r["constraints"]["interference"]["conflicting_pairs"], 1) << out;
+    // Three of four: one loud camera (never both), both quiet ones (they may be both chosen).
+    const std::set<std::string> chosen = Names(r["results"][0]["sensors"]);
+    EXPECT_EQ(chosen.size(), 3u) << out;
+    EXPECT_FALSE(chosen.count("loud_1") && chosen.count("loud_2")) << out;
+    EXPECT_TRUE(chosen.count("quiet_1") && chosen.count("quiet_2")) << out;
+  }
+  EXPECT_EQ(Report(dir.File("s"))["constraints"], Report(dir.File("o"))["constraints"]);
+  EXPECT_EQ(Report(dir.File("s"))["results"][0]["sensors"],
+            Report(dir.File("o"))["results"][0]["sensors"]);
+}
+
+// --keep-existing with a declared sensor inside a keep-out box names the box that holds it,
+// not the first one.
+TEST(MountingCli, KeepExistingNamesTheKeepOutBoxThatHoldsTheSensor) {
+  test::TempDir dir;
+  const std::string scene = CubeWithSensors(
+      dir,
+      "  - {name: a, type: fine_cam, position: [0.5, 0.5, 0.05]}\n"
+      "  - {name: c, type: fine_cam, position: [0.5, -0.5, 0.05]}\n"
+      "keep_out:\n"
+      "  - {name: far_shelf, center: [3, 3, 3], size: [0.1, 0.1, 0.1]}\n"
+      "  - {name: rail, center: [0.5, -0.5, 0.05], size: [0.1, 0.1, 0.1]}\n");
+  const std::string text = test::ReadText(scene);
+  const auto rail = std::count(text.begin(), text.begin() + text.find("name: rail"), '\n') + 1;
+  const auto run = RunVantage("optimize " + scene + " --keep-existing -n 1 --out " + dir.File("x"));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find(scene + ":" + std::to_string(rail) +
+                         ": the declared sensor 'c' lies inside the keep-out box 'rail'"),
+            std::string::npos)
+      << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.File("x")));
+}
+
 TEST(MountingCli, EvaluateReportsSensorsInsideAKeepOutBox) {
   test::TempDir dir;
   const std::string scene = CubeWithSensors(
@@ -712,6 +816,14 @@ TEST(MountingCli, BadMountingRulesExitTwoWithFileAndLine) {
   const size_t lines = static_cast<size_t>(std::count(base_text.begin(), base_text.end(), '\n'));
   const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
       {"min_separation: -1\n", "", "min_separation = -1 must be positive"},
+      // Below a micrometre the neighbour hashing would overflow; beyond the world no mount exists.
+      {"min_separation: 1e-300\n", "", "min_separation 1e-300 m is outside [1e-06, 1e+09] m"},
+      {"min_separation: 1e300\n", "", "min_separation 1e+300 m is outside [1e-06, 1e+09] m"},
+      // 10,000 candidates a millimetre apart: about 5e7 pairs under 0.5 m, refused before any
+      // ray instead of filling the memory with them.
+      {"min_separation: 0.5\npopulations:\n  - {name: dense, type: fine_cam, distribution: "
+       "grid, rows: 1000, cols: 10, step: [0.001, 0.001, 0], pose: {xyz: [0.6, 0, 0.3]}}\n",
+       "", "min_separation 0.5 m puts more than 5000000 pairs of the 10002 candidates in conflict"},
       {"keep_out:\n  - {min: [0, 0, 0], max: [1, 0, 1]}\n", "",
        "keep_out 'keep_out[0]': max must exceed min on every axis"},
       {"keep_out:\n  - {center: [0, 0, 0]}\n", "", "keep_out[0] has no 'size'"},

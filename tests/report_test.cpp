@@ -2,6 +2,7 @@
 // shared JSON Schema (validated by a small independent validator below), PLY and constellation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -105,6 +106,125 @@ TEST(VisibilityFile, RoundTripKeepsPointCounts) {
   EXPECT_THROW(LoadVisibilityFile(dir.File("bad.vis")), InputError);
 }
 
+TEST(VisibilityFile, RoundTripKeepsMountingRulesAndInterferesFlags) {
+  test::TempDir dir;
+  VisibilityFile data = SmallData();
+  data.candidates[1].sensor.interferes = true;
+  data.candidates[2].sensor.interferes = false;
+  KeepOutBox robot;
+  robot.name = "robot";
+  robot.world_from_box =
+      Pose{Vec3(0.4, -0.2, 0.9), Quat(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()))};
+  robot.min = Vec3(-0.1, -0.2, -0.3);
+  robot.max = Vec3(0.3, 0.2, 0.1);
+  robot.file = "/cell/scene.yaml";
+  robot.line = 41;
+  KeepOutBox tray;
+  tray.name = "tray";
+  tray.min = Vec3(1, 1, 1);
+  tray.max = Vec3(2, 3, 4);
+  tray.file = "/cell/scene.yaml";
+  tray.line = 45;
+  data.mounting.keep_out = {robot, tray};
+  data.mounting.min_separation = 0.15;
+  data.mounting.min_separation_file = "/cell/scene.yaml";
+  data.mounting.min_separation_line = 48;
+  data.kept_out = 6;
+  SaveVisibilityFile(dir.File("m.vis"), data);
+  const VisibilityFile back = LoadVisibilityFile(dir.File("m.vis"));
+  EXPECT_FALSE(back.candidates[0].sensor.interferes.has_value());
+  EXPECT_EQ(back.candidates[1].sensor.interferes, std::optional<bool>(true));
+  EXPECT_EQ(back.candidates[2].sensor.interferes, std::optional<bool>(false));
+  ASSERT_EQ(back.mounting.keep_out.size(), 2u);
+  for (size_t b = 0; b < 2; ++b) {
+    const KeepOutBox& want = data.mounting.keep_out[b];
+    const KeepOutBox& got = back.mounting.keep_out[b];
+    EXPECT_EQ(got.name, want.name);
+    EXPECT_EQ(got.world_from_box.position, want.world_from_box.position);
+    EXPECT_EQ(got.world_from_box.rotation.coeffs(), want.world_from_box.rotation.coeffs());
+    EXPECT_EQ(got.min, want.min);
+    EXPECT_EQ(got.max, want.max);
+    EXPECT_EQ(got.file, want.file);
+    EXPECT_EQ(got.line, want.line);
+  }
+  EXPECT_EQ(back.mounting.min_separation, std::optional<double>(0.15));
+  EXPECT_EQ(back.mounting.min_separation_file, "/cell/scene.yaml");
+  EXPECT_EQ(back.mounting.min_separation_line, 48);
+  EXPECT_EQ(back.kept_out, 6u);
+  // The shards of one run agree on the rules: they are part of the fingerprint.
+  VisibilityFile other = data;
+  other.mounting.min_separation = 0.2;
+  EXPECT_NE(VisibilityFingerprint(other), VisibilityFingerprint(data));
+  // A stored separation no scene may give, or a box whose max does not exceed its min, is a
+  // corrupt file.
+  data.mounting.min_separation = 0.0;
+  SaveVisibilityFile(dir.File("bad_separation.vis"), data);
+  EXPECT_THROW(LoadVisibilityFile(dir.File("bad_separation.vis")), InputError);
+  data.mounting.min_separation = 0.15;
+  data.mounting.keep_out[1].max.y() = 1.0;
+  SaveVisibilityFile(dir.File("bad.vis"), data);
+  EXPECT_THROW(LoadVisibilityFile(dir.File("bad.vis")), InputError);
+}
+
+uint64_t Fnv1a64(const std::string& bytes) {
+  uint64_t h = 0xCBF29CE484222325ull;
+  for (const unsigned char c : bytes) h = (h ^ c) * 0x100000001B3ull;
+  return h;
+}
+
+// The bytes of a format-4 file (docs/outputs.md): a version-5 file without mounting rules, less
+// its 40-byte mounting section at the end (no boxes: u64 0; min_separation: opt 0, str "", u32
+// 0; kept out: u64 0, all zero bytes) and each sensor's unset interferes flag (u32 0 just before
+// the candidate's pose, found by its position's bytes), with version 4 and the checksum
+// recomputed here (FNV-1a 64).
+std::string AsVersion4(const std::string& bytes, const std::vector<Vec3>& positions) {
+  std::string body = bytes.substr(0, bytes.size() - 8);
+  EXPECT_EQ(body.substr(body.size() - 40), std::string(40, '\0'));
+  body.erase(body.size() - 40);
+  for (const Vec3& p : positions) {
+    const std::string position(reinterpret_cast<const char*>(p.data()), 3 * sizeof(double));
+    const size_t at = body.find(position);
+    EXPECT_NE(at, std::string::npos);
+    EXPECT_EQ(body.substr(at - 4, 4), std::string(4, '\0'));
+    body.erase(at - 4, 4);
+  }
+  body[8] = 4;
+  const uint64_t h = Fnv1a64(body);
+  return body + std::string(reinterpret_cast<const char*>(&h), 8);
+}
+
+// A format-4 file (written before mounting rules were kept) loads with none and every sensor's
+// interferes unset, and select reads it as it did: the same results as the new file.
+TEST(VisibilityFile, Version4LoadsWithoutMountingRulesAndSelectsAsBefore) {
+  test::TempDir dir;
+  const VisibilityFile data = SmallData();
+  SaveVisibilityFile(dir.File("new.vis"), data);
+  std::vector<Vec3> positions;
+  for (const Candidate& c : data.candidates) positions.push_back(c.world_from_body.position);
+  test::WriteText(dir.File("v4.vis"), AsVersion4(test::ReadText(dir.File("new.vis")), positions));
+  const VisibilityFile old = LoadVisibilityFile(dir.File("v4.vis"));
+  EXPECT_TRUE(old.mounting.empty());
+  EXPECT_EQ(old.kept_out, 0u);
+  ASSERT_EQ(old.candidates.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_FALSE(old.candidates[i].sensor.interferes.has_value());
+    EXPECT_EQ(old.observations[i].reference_indices, data.observations[i].reference_indices);
+  }
+  SelectFileOptions options;
+  options.selection.method = Method::kExact;
+  options.selection.constraints.interference = true;  // SR300s: structured light, by the technology
+  options.visibility_file = dir.File("v4.vis");
+  const RunResult from_old = SelectFromFile(options);
+  options.visibility_file = dir.File("new.vis");
+  const RunResult from_new = SelectFromFile(options);
+  ASSERT_EQ(from_old.report.results.size(), from_new.report.results.size());
+  EXPECT_EQ(from_old.report.results[0].chosen, from_new.report.results[0].chosen);
+  EXPECT_EQ(from_old.report.results[0].coverage, from_new.report.results[0].coverage);
+  ASSERT_TRUE(from_old.report.constraints.has_value());
+  EXPECT_EQ(from_old.report.constraints->projecting, 3u);
+  EXPECT_TRUE(from_old.report.constraints->keep_out_boxes.empty());
+}
+
 // The bytes of a format-3 file (no point counts): a version-4 file without counts, less each
 // observation's empty count list (8 zero bytes, last in each candidate), with version 3 and the
 // checksum recomputed here (FNV-1a 64).
@@ -124,8 +244,7 @@ std::string AsVersion3(std::string bytes, const std::vector<std::string>& names)
     body.erase(at, 8);
   }
   body[8] = 3;
-  uint64_t h = 0xCBF29CE484222325ull;
-  for (const unsigned char c : body) h = (h ^ c) * 0x100000001B3ull;
+  const uint64_t h = Fnv1a64(body);
   return body + std::string(reinterpret_cast<const char*>(&h), 8);
 }
 
@@ -134,7 +253,10 @@ TEST(VisibilityFile, OldVersionLoadsWithoutCountsAndMinPointsRefusesIt) {
   const VisibilityFile data = SmallData();  // no counts
   SaveVisibilityFile(dir.File("new.vis"), data);
   const std::vector<std::string> names = {"cam0", "cam1", "cam2"};
-  test::WriteText(dir.File("old.vis"), AsVersion3(test::ReadText(dir.File("new.vis")), names));
+  std::vector<Vec3> positions;
+  for (const Candidate& c : data.candidates) positions.push_back(c.world_from_body.position);
+  test::WriteText(dir.File("old.vis"),
+                  AsVersion3(AsVersion4(test::ReadText(dir.File("new.vis")), positions), names));
   const VisibilityFile old = LoadVisibilityFile(dir.File("old.vis"));
   ASSERT_EQ(old.observations.size(), 3u);
   for (size_t i = 0; i < 3; ++i) {
@@ -354,6 +476,85 @@ TEST(Report, ConstellationRoundTripsThroughReportJson) {
   EXPECT_EQ(c.sensors[1].name, "cam1");
   EXPECT_TRUE(c.sensors[1].world_from_body.position.isApprox(data.candidates[1].world_from_body.position));
   EXPECT_NEAR(c.sensors[1].sensor.fx, data.candidates[1].sensor.fx, 1e-9);
+}
+
+// report.json's constraints.keep_out.regions hold the scene's boxes posed as the scene declares
+// them (a rotated robot volume whose corners are not centred on its pose, an axis-aligned tray),
+// and the candidates Prepare excluded lie inside them by that geometry, those reported outside.
+TEST(Report, KeepOutBoxesInTheConstraintsBlockArePosedAsTheScenesBoxes) {
+  const std::string scene = test::DataPath("cli/keep_out_cell.yaml");
+  OptimizeOptions options;
+  options.scene.path = scene;
+  options.selection.method = Method::kGreedy;
+  const RunResult run = Optimize(options);
+  const json report = json::parse(run.files.at("report.json"));
+  EXPECT_EQ(SchemaErrors(report), std::vector<std::string>{});
+  const json& keep_out = report["constraints"]["keep_out"];
+  EXPECT_EQ(keep_out["boxes"], 2);
+  const json& regions = keep_out["regions"];
+  ASSERT_EQ(regions.size(), 2u);
+  // robot: pose xyz [0.3, 0, 0.45], rpy_deg [15, 10, 40] (R = Rz(yaw) Ry(pitch) Rx(roll)),
+  // corners [-0.15, -0.1, -0.2] to [0.15, 0.2, 0.25]: its centre (0, 0.05, 0.025) in its frame.
+  const double deg = 3.14159265358979323846 / 180.0;
+  const Quat robot_rotation(Eigen::AngleAxisd(40 * deg, Vec3::UnitZ()) *
+                            Eigen::AngleAxisd(10 * deg, Vec3::UnitY()) *
+                            Eigen::AngleAxisd(15 * deg, Vec3::UnitX()));
+  const Vec3 robot_center = Vec3(0.3, 0, 0.45) + robot_rotation * Vec3(0, 0.05, 0.025);
+  struct Expected {
+    std::string name;
+    Vec3 center, size;
+    Quat rotation;
+  };
+  const std::vector<Expected> expected = {
+      {"robot", robot_center, Vec3(0.3, 0.3, 0.45), robot_rotation},
+      {"cable_tray", Vec3(-0.45, 0.1, 0.6), Vec3(0.2, 1.2, 0.1), Quat::Identity()}};
+  struct Box {
+    Vec3 center, half;
+    Quat rotation;
+    bool Holds(const Vec3& p) const {
+      return ((rotation.inverse() * (p - center)).cwiseAbs() - half).maxCoeff() <= 1e-12;
+    }
+  };
+  std::vector<Box> boxes;
+  for (size_t b = 0; b < 2; ++b) {
+    const json& r = regions[b];
+    EXPECT_EQ(r["name"], expected[b].name);
+    const Vec3 center(r["center"][0].get<double>(), r["center"][1].get<double>(),
+                      r["center"][2].get<double>());
+    const Vec3 size(r["size"][0].get<double>(), r["size"][1].get<double>(),
+                    r["size"][2].get<double>());
+    const std::optional<Quat> q = QuatFromWxyz(r["quaternion"].get<std::vector<double>>());
+    ASSERT_TRUE(q.has_value());
+    EXPECT_LT((center - expected[b].center).norm(), 1e-12) << expected[b].name;
+    EXPECT_LT((size - expected[b].size).norm(), 1e-12) << expected[b].name;
+    EXPECT_NEAR(std::abs(q->dot(expected[b].rotation)), 1.0, 1e-12) << expected[b].name;
+    boxes.push_back({center, 0.5 * size, *q});
+  }
+  const auto held = [&](const Vec3& p) {
+    return std::any_of(boxes.begin(), boxes.end(), [&](const Box& b) { return b.Holds(p); });
+  };
+  // The excluded candidates (Prepare's, of the same seed) lie in a box by report.json's geometry,
+  // each box holding some; every candidate report.json lists lies outside both.
+  SceneInput input;
+  input.path = scene;
+  const PreparedScene prepared = Prepare(input);
+  EXPECT_EQ(keep_out["excluded_candidates"], prepared.kept_out.size());
+  for (const Candidate& c : prepared.kept_out)
+    EXPECT_TRUE(held(c.world_from_body.position)) << c.name;
+  for (const Box& box : boxes) {
+    EXPECT_TRUE(
+        std::any_of(prepared.kept_out.begin(), prepared.kept_out.end(),
+                    [&](const Candidate& c) { return box.Holds(c.world_from_body.position); }));
+  }
+  ASSERT_EQ(report["candidates"].size(), prepared.candidates.size());
+  for (const json& c : report["candidates"]) {
+    const Vec3 p(c["position"][0].get<double>(), c["position"][1].get<double>(),
+                 c["position"][2].get<double>());
+    EXPECT_FALSE(held(p)) << c["name"];
+  }
+  // report.html carries the same boxes for its 3D view.
+  const std::string& html = run.files.at("report.html");
+  EXPECT_NE(html.find("\"keep_out\":[{\"name\":\"robot\",\"center\":["), std::string::npos);
 }
 
 TEST(Report, BadConstellationsNameTheFile) {

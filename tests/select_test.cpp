@@ -1865,6 +1865,16 @@ TEST(Constraints, InterferenceConflictsUseTheShareOfTheSmallerSet) {
   EXPECT_EQ(InterferenceConflicts(obs, projecting, 0.1).size(), 1u);
 }
 
+TEST(Constraints, InterferenceConflictsStopPastTheirLimit) {
+  // Six candidates that all see the same cells: 15 pairs conflict. With a limit of 4 the scan
+  // stops at the fifth (the caller refuses that many), and a limit at or above 15 loses none.
+  const std::vector<Observation> obs(6, Obs({0, 1, 2, 3}));
+  const std::vector<bool> projecting(6, true);
+  EXPECT_EQ(InterferenceConflicts(obs, projecting, 0.1).size(), 15u);
+  EXPECT_EQ(InterferenceConflicts(obs, projecting, 0.1, 4).size(), 5u);
+  EXPECT_EQ(InterferenceConflicts(obs, projecting, 0.1, 15).size(), 15u);
+}
+
 TEST(Constraints, BridgingSensorJoinsTwoDisjointViews) {
   // 0 and 1 see disjoint halves; 2 sees a little of both (the bridge). Unconstrained, n = 2
   // takes 0 and 1 (all 20 cells); connected by >= 2 common cells, the bridge must be in.

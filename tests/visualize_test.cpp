@@ -706,7 +706,7 @@ namespace vantage {
 namespace {
 
 // The page's issue-9 sections run in a browser too: the robustness table of a run with a quality
-// filter, and one column per state of a scene with states.
+// filter, one column per state of a scene with states, and a scene's keep-out boxes.
 TEST(HtmlReport, RobustnessQualityAndStatesSectionsRender) {
   const std::string chromium = FindChromium();
   if (chromium.empty())
@@ -715,18 +715,23 @@ TEST(HtmlReport, RobustnessQualityAndStatesSectionsRender) {
   const std::string scene = dir.File("states.yaml");
   test::WriteText(scene, test::ReadText(test::DataPath("cli/cube_cell.yaml")) +
                              "\nstates:\n  - name: plain\n  - name: lifted\n    move: {cube: {xyz: [0, 0, 0.02]}}\n");
+  // Keep-out boxes (a rotated one): their layer, legend and view, opened on that view.
   const struct {
-    std::string args, expect;
-  } runs[] = {{"optimize " + test::DataPath("cli/cube_cell.yaml") + " -n 2 --max-incidence 60", ">fails<"},
-              {"optimize " + scene + " -n 2 --over-states min", ">state lifted<"}};
+    std::string args, expect, hash;
+  } runs[] = {{"optimize " + test::DataPath("cli/cube_cell.yaml") + " -n 2 --max-incidence 60",
+               ">fails<", ""},
+              {"optimize " + scene + " -n 2 --over-states min", ">state lifted<", ""},
+              {"optimize " + test::DataPath("cli/keep_out_cell.yaml") + " --method greedy",
+               "keep-out boxes (no sensor inside): robot, cable_tray", "#view=keepout"}};
   int k = 0;
   for (const auto& run : runs) {
     const std::string out = dir.File("out" + std::to_string(k++));
     const auto optimize = test::RunVantage(run.args + " --out " + out);
     ASSERT_EQ(optimize.exit_code, 0) << optimize.err;
     double seconds = 0;
-    RunChromium(chromium, dir.File("profile"), "--dump-dom 'file://" + out + "/report.html'",
-                dir.File("dom.html"), dir.File("dom.err"), &seconds);
+    RunChromium(chromium, dir.File("profile"),
+                "--dump-dom 'file://" + out + "/report.html" + run.hash + "'", dir.File("dom.html"),
+                dir.File("dom.err"), &seconds);
     const std::string dom = test::ReadText(dir.File("dom.html"));
     EXPECT_NE(dom.find(">ok<"), std::string::npos) << run.args << "\n" << test::ReadText(dir.File("dom.err")).substr(0, 2000);
     EXPECT_NE(dom.find(run.expect), std::string::npos) << run.args;

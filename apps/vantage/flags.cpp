@@ -38,6 +38,15 @@ std::string NonNegativeWholeNumber(std::string& text) {
   return {};
 }
 
+// --random-roll, --interference: CLI11's words for a bool (true/false, yes/no, on/off, 1/0);
+// anything else is named with the two to give, not CLI11's "Could not convert".
+std::string TrueOrFalse(std::string& text) {
+  bool value = false;
+  if (!CLI::detail::lexical_cast(text, value))
+    return fmt::format("'{}' is not true or false — give true or false", text);
+  return {};
+}
+
 // --max-memory: a positive, finite number of MiB.
 std::string PositiveMiB(std::string& text) {
   double value = 0;
@@ -142,7 +151,8 @@ void AddSceneFlags(CLI::App* app, SceneInput* scene, bool scene_positional) {
          "x y z [m] every candidate looks at (default: the scene's)")
       ->expected(3);
   app->add_option("--random-roll", scene->random_roll,
-                  "true|false: random roll after the look-at (default: the scene's)");
+                  "true|false: random roll after the look-at (default: the scene's)")
+      ->check(CLI::Validator(TrueOrFalse, "true|false"));
 }
 
 void AddObserveFlags(CLI::App* app, ObserveOptions* observe, RunLimits* limits) {
@@ -214,7 +224,8 @@ void AddConstraintFlags(CLI::App* app, ConstraintOptions* c) {
   app->add_option("--interference", c->interference,
                   "true|false: two chosen structured-light or time-of-flight sensors may not "
                   "light up more than --interference-overlap of each other's observed cells "
-                  "(default: false; an --interference-overlap turns it on; docs/constraints.md)");
+                  "(default: false; an --interference-overlap turns it on; docs/constraints.md)")
+      ->check(CLI::Validator(TrueOrFalse, "true|false"));
   app->add_option("--interference-overlap", c->interference_overlap,
                   "interference: the largest share of the smaller of two projecting sensors' "
                   "observed cells they may both light up, fraction 0..1 (default 0.1)");

@@ -37,6 +37,38 @@ std::vector<std::string> OptionNames(const CLI::App& app) {
 // --methd", or "unknown command '2'" for `--threds 2 optimize`) names neither the word nor the fix:
 // name the first unknown word of the command line — an option with the closest known one, a
 // command, or an argument too many. Empty when the error is of another kind.
+// CLI11 says "Could not convert: --k = x" for a value of the wrong type, which names neither what
+// the option takes nor where to look: name the option, the value and the kind it wants.
+std::optional<std::string> ConversionMessage(const CLI::App& app, const CLI::ParseError& error) {
+  const std::string what = error.what();
+  const std::string prefix = "Could not convert: ";
+  const size_t equals = what.find(" = ");
+  if (what.rfind(prefix, 0) != 0 || equals == std::string::npos) return std::nullopt;
+  const std::string name = what.substr(prefix.size(), equals - prefix.size());
+  const std::string value = what.substr(equals + 3);
+  const std::vector<CLI::App*> chosen = app.get_subcommands();
+  const CLI::App& command = chosen.empty() ? app : *chosen.front();
+  const CLI::Option* option = command.get_option_no_throw(name);
+  if (option == nullptr) option = app.get_option_no_throw(name);
+  std::string kind = "a value of another kind";
+  std::string names = name;  // "-n,--sensors": the one typed may be the short name
+  if (option != nullptr) {
+    names = option->get_name(false, true);
+    const std::string type = option->get_type_name();
+    if (type.find("UINT") != std::string::npos)
+      kind = "a whole number >= 0";
+    else if (type.find("INT") != std::string::npos)
+      kind = "a whole number";
+    else if (type.find("FLOAT") != std::string::npos)
+      kind = "a number";
+    else if (type.find("BOOL") != std::string::npos)
+      kind = "true or false";
+  }
+  const std::string help =
+      chosen.empty() ? "`vantage --help`" : fmt::format("`vantage help {}`", command.get_name());
+  return fmt::format("{}: '{}' is not {} — {} says what it takes", names, value, kind, help);
+}
+
 std::optional<std::string> UnknownWordMessage(const CLI::App& app,
                                               const std::vector<std::string>& commands,
                                               const std::vector<std::string>& command_line) {
@@ -140,6 +172,7 @@ int Run(int argc, char** argv, spdlog::logger* logger, const vantage::MpiJob* jo
       std::vector<std::string> command_line(argv + 1, argv + argc);
       if (auto message = UnknownWordMessage(app, commands, command_line))
         throw vantage::InputError(*message);
+      if (auto message = ConversionMessage(app, e)) throw vantage::InputError(*message);
     }
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;

@@ -120,10 +120,10 @@ void PrintConstraints(const Report& report) {
     fmt::print("constraints      separation: {} pairs closer than {:g} m{}\n", pairs,
                *info.min_separation, info.is_applied ? " (never both chosen)" : "");
   }
-  if (info.keep_out_boxes > 0) {
+  if (!info.keep_out_boxes.empty()) {
     fmt::print(
-        "constraints      keep-out: {} box{}; {}\n", info.keep_out_boxes,
-        info.keep_out_boxes == 1 ? "" : "es",
+        "constraints      keep-out: {} box{}; {}\n", info.keep_out_boxes.size(),
+        info.keep_out_boxes.size() == 1 ? "" : "es",
         info.is_applied
             ? fmt::format("{} candidates inside excluded before observing", info.keep_out_excluded)
             : fmt::format("{} of the sensors inside", info.keep_out_violations.size()));

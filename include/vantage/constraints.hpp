@@ -5,6 +5,7 @@
 /// only the matrix: the pipeline turns sensor types and poses into pairs, this header turns
 /// observation sets into overlaps.
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -63,9 +64,11 @@ std::span<const uint32_t> IlluminatedCells(const Observation& observation);
 
 /// Interference pairs among `projecting` candidates (by index): a pair conflicts when the cells
 /// both illuminate exceed `max_overlap` times the smaller of the two illuminated sets, i.e. when
-/// either lights up more than that share of what the other observes. Sorted by (a, b).
-std::vector<Conflict> InterferenceConflicts(std::span<const Observation> observations,
-                                            const std::vector<bool>& projecting, double max_overlap);
+/// either lights up more than that share of what the other observes. Sorted by (a, b). Stops
+/// once it holds more than `max_pairs` (then max_pairs + 1 of them): a caller refuses that many.
+std::vector<Conflict> InterferenceConflicts(
+    std::span<const Observation> observations, const std::vector<bool>& projecting,
+    double max_overlap, size_t max_pairs = std::numeric_limits<size_t>::max());
 
 /// Adds `extra` to `conflicts`, keeping them sorted and unique per pair (existing kinds win).
 void MergeConflicts(std::vector<Conflict> extra, std::vector<Conflict>* conflicts);

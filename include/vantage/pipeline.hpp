@@ -153,7 +153,9 @@ struct ObservedState {
 
 /// A scene observed: the visibility matrix and what it was made from.
 struct ObservedScene {
-  VisibilityFile data;                 ///< the first state's matrix for a scene with states
+  /// The first state's matrix for a scene with states; with the scene's mounting rules and the
+  /// count of candidates the keep-out boxes excluded (data.mounting, data.kept_out).
+  VisibilityFile data;
   Scene scene;                         ///< the geometry `data` was observed in
   std::unique_ptr<RayScene> rays;      ///< the BVH of `scene`, for the stages that cast rays later
   std::vector<Population> populations; ///< where the candidates came from
@@ -164,8 +166,6 @@ struct ObservedScene {
   std::vector<ObservedState> states;
   Timings timings;                     ///< load, reference, observe
   std::vector<std::string> notes;
-  MountingRules mounting;              ///< the scene's keep-out boxes and min_separation
-  size_t kept_out = 0;                 ///< candidates the keep-out boxes excluded (not observed)
 };
 
 // TraceFunction (observe.hpp): ObservePrepared calls it once per traced geometry, the scene's

@@ -39,6 +39,14 @@ struct MountingRules {
   bool empty() const { return keep_out.empty() && !min_separation; }
 };
 
+/// The separations a scene may ask for [m]: from a micrometre (below it no mount is that exact,
+/// and the neighbour hashing of the pairs would overflow) to kMaxWorldCoordinate.
+constexpr double kMinSeparationFloor = 1e-6;
+
+/// "" when `metres` is a separation a scene may ask for; else what is wrong with it, for the
+/// readers' `file:line` messages (one check for YAML and SDF).
+std::string MinSeparationProblem(double metres);
+
 struct Problem {
   std::string source;  ///< path of the scene/world file
   Scene scene;

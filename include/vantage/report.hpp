@@ -100,7 +100,8 @@ struct ConstraintsInfo {
   std::optional<double> interference_overlap;  ///< set when interference is on
   size_t projecting = 0;                       ///< candidates whose type projects light
   std::optional<double> min_separation;        ///< [m], the scene's, when set
-  size_t keep_out_boxes = 0;                   ///< the scene's keep-out boxes
+  /// The scene's keep-out boxes (report.json `constraints.keep_out`, report.html's 3D view).
+  std::vector<KeepOutBox> keep_out_boxes;
   size_t keep_out_excluded = 0;  ///< candidates the boxes excluded before observing
   /// Candidates inside a keep-out box (evaluate: given sensors; optimize: none, all excluded).
   std::vector<uint32_t> keep_out_violations;

@@ -48,6 +48,10 @@ struct SceneObject {
   TriangleMesh mesh;  ///< world frame
   /// The shapes `mesh` was made of, when the reader knows them (YAML objects); empty otherwise.
   std::vector<ShapeSource> shapes;
+  /// Where it is declared, for messages: the YAML entry, the URDF robot, the SDF <visual> (for
+  /// a model of several visuals, the first). Empty and 0 when not known.
+  std::string file;
+  int line = 0;
   bool is_target() const { return role == Role::kTarget; }
 };
 
@@ -60,9 +64,13 @@ struct Scene {
   Aabb TargetBounds() const;
 };
 
-/// Throws InputError "SOURCE: object 'NAME' reaches ..." when a vertex of any object (target or
-/// occluder) lies beyond ±kMaxWorldCoordinate, where the ray caster is no longer exact (issue 15).
-void CheckSceneExtent(const Scene& scene, const std::string& source);
+/// Throws InputError "FILE:LINE: object 'NAME' reaches ..." when a vertex of any object (target
+/// or occluder) lies beyond ±kMaxWorldCoordinate, where the ray caster is no longer exact (issue
+/// 15). The place is the object's own (SceneObject::file, line), else `source`; with a
+/// `state_line`, the objects are those of a scene state declared at source:state_line, named
+/// with the state in the message.
+void CheckSceneExtent(const Scene& scene, const std::string& source, int state_line = 0,
+                      const std::string& state = {});
 
 /// Axis-aligned box of the given edge lengths, centred at the origin (12 triangles, outward).
 TriangleMesh MakeBox(const Vec3& size);

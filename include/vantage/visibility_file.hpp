@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "vantage/candidates.hpp"
+#include "vantage/problem.hpp"
 #include "vantage/reference.hpp"
 #include "vantage/settings.hpp"
 #include "vantage/visibility.hpp"
@@ -24,6 +25,12 @@ struct VisibilityFile {
   std::vector<Candidate> candidates;
   std::vector<Observation> observations;  ///< one per candidate
   QualityFilter quality;  ///< the filter the observations were made with (format version 3)
+  /// The scene's mounting rules (format version 5; older files: none): `vantage select` applies
+  /// its min_separation and reports its keep-out boxes as `optimize` on the scene does
+  /// (docs/constraints.md). Each candidate's `sensor.interferes` is kept from version 5 too.
+  MountingRules mounting;
+  /// How many candidates the keep-out boxes excluded before observing (not in `candidates`).
+  uint64_t kept_out = 0;
 };
 
 /// Writes the versioned binary file (magic, version, payload, FNV-1a 64 checksum) atomically.

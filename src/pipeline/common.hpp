@@ -51,10 +51,21 @@ Selection GivenSelection(const CoverageEvaluator& evaluator);
 void CheckConstraintRequest(const ConstraintOptions& request, const SelectOptions& options,
                             bool has_states, bool refine, const MountingRules& mounting = {});
 
+/// Conflicting pairs (separation, interference) selection can hold (each is a row
+/// x_i + x_j <= 1; 5 M take about 200 MB with the methods' neighbour lists).
+constexpr size_t kMaxConflictPairs = 5'000'000;
+
 /// The pairs of candidates whose optical centres are closer than `min_separation` [m]
-/// (ConflictKind::kSeparation, value: the distance), sorted by (a, b).
+/// (ConflictKind::kSeparation, value: the distance), sorted by (a, b). Stops once it holds more
+/// than `max_pairs` (then it returns max_pairs + 1 of them, unsorted).
 std::vector<Conflict> SeparationConflicts(std::span<const Candidate> candidates,
-                                          double min_separation);
+                                          double min_separation,
+                                          size_t max_pairs = kMaxConflictPairs);
+
+/// Exit 2 at the scene's min_separation line when it puts more than kMaxConflictPairs pairs
+/// in conflict: checked in Prepare, before any ray, so that a separation that holds most pairs
+/// of a large population is refused instead of filling the memory with its pairs.
+void CheckSeparationPairs(std::span<const Candidate> candidates, const MountingRules& mounting);
 
 /// Per candidate, whether its type projects light (ProjectsLight, by its catalog id).
 std::vector<bool> ProjectingCandidates(std::span<const Candidate> candidates);

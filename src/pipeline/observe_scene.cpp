@@ -268,11 +268,11 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
   data.candidates = std::move(prepared.candidates);
   data.observations = std::move(observations);
   data.quality = observe.quality;
+  data.mounting = problem.mounting;
+  data.kept_out = prepared.kept_out.size();
   result.notes = std::move(prepared.notes);
   result.notes.insert(result.notes.end(), problem.notes.begin(), problem.notes.end());
   result.scene = std::move(problem.scene);
-  result.mounting = problem.mounting;
-  result.kept_out = prepared.kept_out.size();
   result.populations = std::move(problem.populations);
   result.observation_point = problem.observation_point;
   result.sensors = std::move(problem.sensors);

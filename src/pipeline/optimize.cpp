@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 
 #include "pipeline/common.hpp"
@@ -77,14 +78,19 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
   detail::CheckConstraintRequest(options.selection.constraints, select, has_states,
                                  options.refine.has_value(), prepared.problem.mounting);
   if (options.selection.keep_existing) {
+    const std::vector<KeepOutBox>& boxes = prepared.problem.mounting.keep_out;
     for (const Candidate& c : prepared.kept_out) {
       if (!c.population.empty()) continue;
-      const KeepOutBox& box = prepared.problem.mounting.keep_out.front();
+      // The box that holds it (kept sensors exclude states, so it is in the base scene's pose).
+      const auto holder = std::find_if(boxes.begin(), boxes.end(), [&](const KeepOutBox& box) {
+        return box.Contains(c.world_from_body.position);
+      });
+      const KeepOutBox& box = holder != boxes.end() ? *holder : boxes.front();
       throw InputError(AtPlace(box.file, box.line,
-                               fmt::format("the declared sensor '{}' lies inside a keep-out box, "
-                                           "and --keep-existing would keep it — move it, or "
-                                           "drop --keep-existing",
-                                           c.name)));
+                               fmt::format("the declared sensor '{}' lies inside the keep-out "
+                                           "box '{}', and --keep-existing would keep it — move "
+                                           "it, or drop --keep-existing",
+                                           c.name, box.name)));
     }
   }
   if (select.min_points && options.refine)
@@ -105,8 +111,8 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
   Report& report = run.report;
   report.constraints = detail::ResolveConstraints(
       options.selection.constraints, select, observed.data.candidates, observed.data.observations,
-      !observed.states.empty(), options.refine.has_value(), observed.mounting, observed.kept_out,
-      observed.states);
+      !observed.states.empty(), options.refine.has_value(), observed.data.mounting,
+      observed.data.kept_out, observed.states);
   detail::SelectResults(observed, options.selection, select, &report);
   if (options.refine) {
     RefineOptions refine = *options.refine;

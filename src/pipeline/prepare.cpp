@@ -146,7 +146,7 @@ PreparedScene Prepare(const SceneInput& input) {
   // are observed after it with the same candidates.
   for (const SceneState& state : problem.states) {
     prepared.state_scenes.push_back(ApplyState(problem.scene, state));
-    CheckSceneExtent(prepared.state_scenes.back(), problem.source);
+    CheckSceneExtent(prepared.state_scenes.back(), problem.source, state.line, state.name);
   }
   const auto moves_sensors = [](const SceneState& state) { return !state.sensor_poses.empty(); };
   if (std::any_of(problem.states.begin(), problem.states.end(), moves_sensors)) {
@@ -158,6 +158,7 @@ PreparedScene Prepare(const SceneInput& input) {
   }
   if (!prepared.state_scenes.empty()) problem.scene = prepared.state_scenes.front();
   ExcludeKeptOut(&prepared);
+  detail::CheckSeparationPairs(prepared.candidates, problem.mounting);
   prepared.cell_size_from_option = input.load.cell_size.has_value();
   prepared.timings.load = detail::SecondsSince(start);
   return prepared;

@@ -18,6 +18,17 @@ ordered_json ConflictJson(const Conflict& c, const VisibilityFile& data) {
 
 }  // namespace
 
+ordered_json KeepOutBoxJson(const KeepOutBox& box) {
+  // The box is [min, max] in its own frame: its centre, mapped into the world, and its edges
+  // along its own axes, turned by the frame's rotation.
+  const Vec3 center = box.world_from_box * Vec3(0.5 * (box.min + box.max));
+  const Vec3 size = box.max - box.min;
+  return {{"name", box.name},
+          {"center", ordered_json::array({center.x(), center.y(), center.z()})},
+          {"size", ordered_json::array({size.x(), size.y(), size.z()})},
+          {"quaternion", WxyzOf(box.world_from_box.rotation)}};
+}
+
 ordered_json ConstraintsJson(const ConstraintsInfo& info) {
   ordered_json j;
   j["applied"] = info.is_applied;
@@ -35,10 +46,13 @@ ordered_json ConstraintsJson(const ConstraintsInfo& info) {
       pairs += c.kind == ConflictKind::kSeparation ? 1 : 0;
     j["separation"] = {{"min_separation", *info.min_separation}, {"conflicting_pairs", pairs}};
   }
-  if (info.keep_out_boxes > 0) {
-    j["keep_out"] = {{"boxes", info.keep_out_boxes},
+  if (!info.keep_out_boxes.empty()) {
+    ordered_json regions = ordered_json::array();
+    for (const KeepOutBox& box : info.keep_out_boxes) regions.push_back(KeepOutBoxJson(box));
+    j["keep_out"] = {{"boxes", info.keep_out_boxes.size()},
                      {"excluded_candidates", info.keep_out_excluded},
-                     {"candidates_inside", info.keep_out_violations.size()}};
+                     {"candidates_inside", info.keep_out_violations.size()},
+                     {"regions", std::move(regions)}};
   }
   if (const auto& rule = info.constraints.calibration) {
     ordered_json c;
@@ -65,7 +79,7 @@ ordered_json ResultConstraintsJson(const Selection& selection, const Constraints
   ordered_json broken = ordered_json::array();
   for (const Conflict& c : check.conflicts) broken.push_back(ConflictJson(c, data));
   j["conflicts"] = std::move(broken);
-  if (info.keep_out_boxes > 0) j["keep_out_violations"] = std::move(inside);
+  if (!info.keep_out_boxes.empty()) j["keep_out_violations"] = std::move(inside);
   if (info.is_applied) {
     ordered_json avoided = ordered_json::array();
     for (const Conflict& c : ConflictsAvoided(selection.chosen, info.constraints))

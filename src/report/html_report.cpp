@@ -17,6 +17,7 @@
 #include <unordered_map>
 
 #include "embedded/report_assets.hpp"
+#include "report/constraints_json.hpp"
 #include "util/markup.hpp"
 #include "vantage/error.hpp"
 #include "vantage/visualize.hpp"
@@ -421,6 +422,13 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
                                     .edges)
       overlap.push_back({{"a", e.a}, {"b", e.b}, {"cells", e.cells}});
     page["overlap"] = std::move(overlap);
+  }
+  // The scene's keep-out boxes (docs/constraints.md, Mounting rules), drawn posed in the 3D view.
+  if (report.constraints && !report.constraints->keep_out_boxes.empty()) {
+    ordered_json boxes = ordered_json::array();
+    for (const KeepOutBox& box : report.constraints->keep_out_boxes)
+      boxes.push_back(detail::KeepOutBoxJson(box));
+    page["keep_out"] = std::move(boxes);
   }
   page["quality"] = data.quality.active();
   if (report.states) {

@@ -59,6 +59,14 @@ void LoadOptions::Validate() const {
   }
 }
 
+std::string MinSeparationProblem(double metres) {
+  if (std::isfinite(metres) && metres >= kMinSeparationFloor && metres <= kMaxWorldCoordinate)
+    return "";
+  return fmt::format("min_separation {} m is outside [{:g}, {:g}] m — give the distance between "
+                     "two mounts in metres, e.g. 0.15",
+                     metres, kMinSeparationFloor, kMaxWorldCoordinate);
+}
+
 bool KeepOutBox::Contains(const Vec3& world) const {
   const Vec3 local = world_from_box.Inverse() * world;
   return (local.array() >= min.array()).all() && (local.array() <= max.array()).all();

@@ -394,7 +394,8 @@ TriangleMesh LoadMeshFile(const std::string& path) {
   return mesh;
 }
 
-void CheckSceneExtent(const Scene& scene, const std::string& source) {
+void CheckSceneExtent(const Scene& scene, const std::string& source, int state_line,
+                      const std::string& state) {
   for (const SceneObject& object : scene.objects) {
     Aabb bounds;
     for (const Vec3& v : object.mesh.vertices) bounds.Extend(v);
@@ -405,10 +406,14 @@ void CheckSceneExtent(const Scene& scene, const std::string& source) {
     const Vec3 reach = (bounds.max.array() >= -bounds.min.array())
                            .select(bounds.max.array(), bounds.min.array())
                            .matrix();
-    throw InputError(AtPlace(source, 0,
-                             fmt::format("object '{}' reaches {} — make it smaller or move it "
+    const std::string what = fmt::format("object '{}' reaches {} — make it smaller or move it "
                                          "near the origin",
-                                         object.name, WorldPointProblem(reach))));
+                                         object.name, WorldPointProblem(reach));
+    // In a state, the state's changes moved or added the object: its line is the place.
+    if (state_line > 0)
+      throw InputError(AtPlace(source, state_line, fmt::format("state '{}': {}", state, what)));
+    if (!object.file.empty()) throw InputError(AtPlace(object.file, object.line, what));
+    throw InputError(AtPlace(source, 0, what));
   }
 }
 

@@ -886,6 +886,8 @@ std::optional<SceneObject> SceneReader::ReadObject(const Value& input) {
   const std::string what = fmt::format("object '{}'", name.value_or("?"));
   SceneObject object;
   object.name = name.value_or("");
+  object.file = problem_->source;
+  object.line = input.line;
   if (const auto v = fields.Get("role")) {
     if (const auto role = Text(*v, what + ".role")) {
       if (*role == "target") {
@@ -1156,6 +1158,8 @@ void SceneReader::ReadRobot(const Value& input) {
     const bool is_target = std::find(targets.begin(), targets.end(), link) != targets.end();
     object.role = is_target ? Role::kTarget : Role::kOccluder;
     object.mesh = std::move(mesh);
+    object.file = problem_->source;
+    object.line = robot.line;
     const auto same_object = [&](const SceneObject& o) { return o.name == object.name; };
     if (std::any_of(problem_->scene.objects.begin(), problem_->scene.objects.end(), same_object)) {
       Error(robot.line, fmt::format("{}: object name '{}' is already used — rename the object or "
@@ -1797,6 +1801,11 @@ void SceneReader::Read(const YAML::Node& root) {
   if (const auto v = top.Get("keep_out")) ReadKeepOut(*v);
   if (const auto v = top.Get("min_separation")) {
     problem_->mounting.min_separation = Positive(*v, "min_separation");
+    const std::optional<double> metres = problem_->mounting.min_separation;
+    if (metres && !MinSeparationProblem(*metres).empty()) {
+      Error(v->line, MinSeparationProblem(*metres));
+      problem_->mounting.min_separation.reset();
+    }
     problem_->mounting.min_separation_file = problem_->source;
     problem_->mounting.min_separation_line = v->line;
   }

@@ -15,8 +15,9 @@ namespace vantage {
 namespace {
 
 // For every a in `among` (positions p), the cells it shares with each later b (positions q > p):
-// visit(p, q, common) for every pair with common >= 1. Through an index of seers per cell, so the
-// cost is the sum over cells of their seers squared, never |among|² set intersections.
+// visit(p, q, common) for every pair with common >= 1, until it returns false. Through an index of
+// seers per cell, so the cost is the sum over cells of their seers squared, never |among|² set
+// intersections.
 template <typename Visit>
 void ForEachOverlap(std::span<const Observation> observations, std::span<const uint32_t> among,
                     bool illuminated, const Visit& visit) {
@@ -43,10 +44,12 @@ void ForEachOverlap(std::span<const Observation> observations, std::span<const u
       }
     }
     std::sort(touched.begin(), touched.end());
+    bool go_on = true;
     for (const uint32_t q : touched) {
-      visit(p, q, common[q]);
+      go_on = go_on && visit(p, q, common[q]);
       common[q] = 0;
     }
+    if (!go_on) return;
     touched.clear();
   }
 }
@@ -106,7 +109,8 @@ std::span<const uint32_t> IlluminatedCells(const Observation& observation) {
 }
 
 std::vector<Conflict> InterferenceConflicts(std::span<const Observation> observations,
-                                            const std::vector<bool>& projecting, double max_overlap) {
+                                            const std::vector<bool>& projecting, double max_overlap,
+                                            size_t max_pairs) {
   VANTAGE_CHECK(projecting.size() == observations.size());
   std::vector<uint32_t> among;
   for (uint32_t i = 0; i < projecting.size(); ++i)
@@ -118,6 +122,7 @@ std::vector<Conflict> InterferenceConflicts(std::span<const Observation> observa
         std::min(IlluminatedCells(observations[a]).size(), IlluminatedCells(observations[b]).size()));
     const double share = static_cast<double>(common) / smaller;
     if (share > max_overlap) conflicts.push_back({a, b, ConflictKind::kInterference, share});
+    return conflicts.size() <= max_pairs;
   });
   std::sort(conflicts.begin(), conflicts.end(), PairLess);
   return conflicts;
@@ -146,6 +151,7 @@ std::vector<OverlapEdge> OverlapGraph(std::span<const Observation> observations,
     if (joins.Joins(common, observations[a].reference_indices.size(),
                     observations[b].reference_indices.size()))
       edges.push_back({std::min(a, b), std::max(a, b), common});
+    return true;
   });
   std::sort(edges.begin(), edges.end(), [](const OverlapEdge& x, const OverlapEdge& y) {
     return std::tie(x.a, x.b) < std::tie(y.a, y.b);

@@ -24,9 +24,12 @@ namespace {
 // the plain cells and pixel counts of the quality filter (issue 9). Older files are still read,
 // with what they lack at its default (no filter, no model: the catalog's by type id). Version 4
 // adds per observation the pixel count of each cell (point density; empty when not recorded):
-// older files read without counts, and --min-points refuses them.
+// older files read without counts, and --min-points refuses them. Version 5 adds each sensor's
+// `interferes` flag (after its depth-noise model) and, after the candidates, the scene's mounting
+// rules (keep-out boxes, min_separation, the count of candidates the boxes excluded): older files
+// read with the flag unset (decided by the technology) and no rules, as they always behaved.
 constexpr char kMagic[8] = {'V', 'A', 'N', 'T', 'V', 'I', 'S', '\0'};
-constexpr uint32_t kFormatVersion = 4;
+constexpr uint32_t kFormatVersion = 5;
 constexpr uint32_t kOldestReadVersion = 1;
 
 void WriteOptional(detail::BinaryWriter* w, const std::optional<double>& value) {
@@ -57,6 +60,76 @@ Pose ReadPose(detail::BinaryReader* r) {
   const double w = r->F64(), x = r->F64(), y = r->F64(), z = r->F64();
   pose.rotation = Quat(w, x, y, z);
   return pose;
+}
+
+void WriteVec3(detail::BinaryWriter* w, const Vec3& v) {
+  for (int a = 0; a < 3; ++a) w->F64(v[a]);
+}
+
+Vec3 ReadVec3(detail::BinaryReader* r) {
+  Vec3 v;
+  for (int a = 0; a < 3; ++a) v[a] = r->F64();
+  return v;
+}
+
+// The scene's mounting rules (version 5): boxes (name, pose, min, max, file, line), then
+// min_separation (opt, file, line), then the count of candidates the boxes excluded.
+void WriteMounting(detail::BinaryWriter* w, const MountingRules& mounting, uint64_t kept_out) {
+  w->U64(mounting.keep_out.size());
+  for (const KeepOutBox& box : mounting.keep_out) {
+    w->Str(box.name);
+    WritePose(w, box.world_from_box);
+    WriteVec3(w, box.min);
+    WriteVec3(w, box.max);
+    w->Str(box.file);
+    w->U32(static_cast<uint32_t>(std::max(box.line, 0)));
+  }
+  WriteOptional(w, mounting.min_separation);
+  w->Str(mounting.min_separation_file);
+  w->U32(static_cast<uint32_t>(std::max(mounting.min_separation_line, 0)));
+  w->U64(kept_out);
+}
+
+template <typename Corrupt>
+void ReadMounting(detail::BinaryReader* r,
+                  const Corrupt& corrupt,
+                  MountingRules* mounting,
+                  uint64_t* kept_out) {
+  const uint64_t boxes = r->U64();
+  r->CheckCount(boxes, 8 + 7 * 8 + 6 * 8 + 8 + 4);
+  for (uint64_t i = 0; i < boxes; ++i) {
+    KeepOutBox box;
+    box.name = r->Str();
+    box.world_from_box = ReadPose(r);
+    box.min = ReadVec3(r);
+    box.max = ReadVec3(r);
+    box.file = r->Str();
+    box.line = static_cast<int>(r->U32());
+    const std::string where = fmt::format("keep-out box {} ('{}')", i, box.name);
+    const Pose& pose = box.world_from_box;
+    if (!pose.position.allFinite() || !pose.rotation.coeffs().allFinite() ||
+        std::abs(pose.rotation.norm() - 1.0) > 1e-6)
+      throw corrupt(where + ": its pose is not finite or its rotation not of length 1");
+    if (!box.min.allFinite() || !box.max.allFinite() || !(box.min.array() < box.max.array()).all())
+      throw corrupt(where + ": its corners are not finite or max does not exceed min");
+    for (const std::string* text : {&box.name, &box.file}) {
+      if (detail::FirstNonUtf8Byte(*text) != std::string::npos)
+        throw corrupt(where + ": its name or file is not UTF-8");
+    }
+    mounting->keep_out.push_back(std::move(box));
+  }
+  mounting->min_separation = ReadOptional(r, "min_separation", corrupt);
+  mounting->min_separation_file = r->Str();
+  mounting->min_separation_line = static_cast<int>(r->U32());
+  // The scene readers' check (problem.hpp), so that a stored value is one a scene may give.
+  if (mounting->min_separation) {
+    if (const std::string problem = MinSeparationProblem(*mounting->min_separation);
+        !problem.empty())
+      throw corrupt("its " + problem);
+  }
+  if (detail::FirstNonUtf8Byte(mounting->min_separation_file) != std::string::npos)
+    throw corrupt("its min_separation file is not UTF-8");
+  *kept_out = r->U64();
 }
 
 void WriteSensor(detail::BinaryWriter* w, const SensorType& s) {
@@ -117,6 +190,8 @@ std::string EncodeVisibilityFile(const VisibilityFile& file, bool observations) 
     w.U32(noise ? 1 : 0);
     for (double v : {noise ? noise->a : 0.0, noise ? noise->b : 0.0, noise ? noise->c : 0.0}) w.F64(v);
     w.Str(noise ? noise->source : std::string());
+    // interferes: 0 unset (by the technology), 1 false, 2 true.
+    w.U32(c.sensor.interferes ? (*c.sensor.interferes ? 2 : 1) : 0);
     WritePose(&w, c.world_from_body);
     static const Observation kNone;
     const Observation& o = observations ? file.observations[i] : kNone;
@@ -128,6 +203,7 @@ std::string EncodeVisibilityFile(const VisibilityFile& file, bool observations) 
     w.U64(o.quality_pixels);
     w.U16Vector(o.reference_hits);
   }
+  WriteMounting(&w, file.mounting, file.kept_out);
   w.U64(detail::Fnv1a64(w.data()));
   return w.data();
 }
@@ -236,6 +312,11 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
       if (has_noise > 1) throw corrupt("a depth noise model has a bad presence flag");
       if (has_noise) c.sensor.depth_noise = std::move(noise);
     }
+    if (version >= 5) {
+      const uint32_t interferes = r.U32();
+      if (interferes > 2) throw corrupt("a sensor's interferes flag is not 0, 1 or 2");
+      if (interferes > 0) c.sensor.interferes = interferes == 2;
+    }
     c.world_from_body = ReadPose(&r);
     Observation o;
     o.reference_indices = r.U32Vector();
@@ -277,6 +358,7 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
     file.candidates.push_back(std::move(c));
     file.observations.push_back(std::move(o));
   }
+  if (version >= 5) ReadMounting(&r, corrupt, &file.mounting, &file.kept_out);
   if (!r.AtEnd()) throw corrupt("trailing bytes after the payload");
   return file;
 }

@@ -115,3 +115,22 @@ def test_sensors_match_cli_json():
     ours = vantage.sensors()
     assert [{k: entry[k] for k in cli[0]} for entry in ours] == cli
     assert all(set(entry) == set(cli[0]) | {"depth_noise"} for entry in ours)
+
+
+def test_visibility_file_keeps_the_mounting_rules(cli_example, tmp_path):
+    """A .vis of a scene with mounting rules (format 5) holds them (read by the independent
+    reader), and Visibility.select applies its min_separation as optimize on the scene does."""
+    from vis_format import read_vis
+    scene, kept_out = constrained_example(cli_example, tmp_path)
+    run_cli("observe", scene, "--out", tmp_path / "c.vis")
+    raw = read_vis(tmp_path / "c.vis")
+    assert raw.version == 5
+    assert raw.min_separation == 0.3
+    assert [box[0] for box in raw.keep_out] == ["pillar"]
+    assert raw.kept_out == 1
+    assert kept_out not in [c.name for c in raw.candidates]
+    returned = vantage.optimize(scene, n=3, method="local", out=tmp_path / "py")
+    (expected,) = returned["results"]
+    assert expected["constraints"]["satisfied"]
+    selection = vantage.load_visibility(tmp_path / "c.vis").select(n=3, method="local")
+    assert (selection.sensors, selection.coverage) == (expected["sensors"], expected["coverage"])

@@ -16,6 +16,7 @@ class VisCandidate:
     reference_indices: list
     rays_traced: int
     reference_hits: list = dataclasses.field(default_factory=list)  # pixels per cell (version 4)
+    interferes: object = None  # the type's `interferes:` (version 5), None when unset
 
 
 @dataclasses.dataclass
@@ -26,6 +27,9 @@ class VisFile:
     cell_size: float
     keys: list
     candidates: list
+    keep_out: list = dataclasses.field(default_factory=list)  # (name, pose, min, max) (version 5)
+    min_separation: object = None  # [m] (version 5)
+    kept_out: int = 0  # candidates the keep-out boxes excluded (version 5)
 
 
 class _Reader:
@@ -80,7 +84,7 @@ def fnv1a64(data):
 
 
 def read_vis(path):
-    """The sets of a format-4 .vis file, its checksum verified."""
+    """The sets of a format-4 or format-5 .vis file, its checksum verified."""
     with open(path, "rb") as f:
         data = f.read()
     assert data[:8] == b"VANTVIS\0", "not a vantage visibility file"
@@ -89,7 +93,7 @@ def read_vis(path):
     r = _Reader(data[:-8])
     r.at = 8
     version = r.u32()
-    assert version == 4, f"format version {version}"
+    assert version in (4, 5), f"format version {version}"
     scene, seed = r.string(), r.u64()
     r.u32(), r.u32(), r.f64()  # n, RANSAC iterations and stop coverage
     r.string(), r.optional(), r.u32(), r.optional()  # method, goal, k, budget
@@ -103,6 +107,11 @@ def read_vis(path):
         r.u32(), r.u32()  # width, height
         r.take("<8d")  # fx, fy, cx, cy, near, far, fps, cost
         r.u32(), r.take("<3d"), r.string()  # depth noise: presence, a, b, c, source
+        interferes = None
+        if version >= 5:
+            flag = r.u32()  # 0 unset, 1 false, 2 true
+            assert flag <= 2, f"interferes flag {flag}"
+            interferes = None if flag == 0 else flag == 2
         position = r.take("<3d")
         quaternion = r.take("<4d")
         indices = r.u32s()
@@ -111,9 +120,20 @@ def read_vis(path):
         r.u32s(), r.u64(), r.u64()  # plain cells, target and quality pixels
         hits = r.u16s()
         candidates.append(VisCandidate(name, type_id, population, position, quaternion, indices,
-                                       rays, hits))
+                                       rays, hits, interferes))
+    vis = VisFile(version, scene, seed, cell_size, keys, candidates)
+    if version >= 5:
+        for _ in range(r.u64()):  # keep-out boxes
+            name = r.string()
+            pose = r.take("<7d")  # x y z, w x y z
+            low, high = r.take("<3d"), r.take("<3d")
+            r.string(), r.u32()  # file, line
+            vis.keep_out.append((name, pose, low, high))
+        vis.min_separation = r.optional()
+        r.string(), r.u32()  # its file, line
+        vis.kept_out = r.u64()
     assert r.at == len(r.data), "trailing bytes"
-    return VisFile(version, scene, seed, cell_size, keys, candidates)
+    return vis
 
 
 def unpack_key(key):

@@ -3,6 +3,7 @@
   var D = JSON.parse(document.getElementById('vantage-data').textContent);
   var problems = [];
   var C = D.colors;
+  var KEEP_OUT = '#e65100';  // keep-out boxes, 3D view and legend
 
   function esc(s) {
     return String(s).replace(/[&<>"']/g, function (c) {
@@ -363,6 +364,22 @@
                   }},
                  {name: 'targets only', key: 'targets',
                   make: function () { return fitView(targetCorners, D.view.fov_deg, camera.aspect); }}];
+    // With keep-out boxes, a view that frames them too (their corners, in their poses).
+    if (D.keep_out && D.keep_out.length) {
+      var boxCorners = [];
+      D.keep_out.forEach(function (b) {
+        var q = new THREE.Quaternion(b.quaternion[1], b.quaternion[2], b.quaternion[3], b.quaternion[0]);
+        for (var corner = 0; corner < 8; ++corner) {
+          boxCorners.push(new THREE.Vector3((corner & 1 ? 0.5 : -0.5) * b.size[0], (corner & 2 ? 0.5 : -0.5) * b.size[1],
+                                            (corner & 4 ? 0.5 : -0.5) * b.size[2])
+            .applyQuaternion(q).add(new THREE.Vector3().fromArray(b.center)));
+        }
+      });
+      views.push({name: 'targets, chosen sensors and keep-out boxes', key: 'keepout', make: function () {
+        return fitView(targetCorners.concat(boxCorners, D.view.sensors.map(function (p) { return new THREE.Vector3().fromArray(p); })),
+                       D.view.fov_deg, camera.aspect);
+      }});
+    }
     // Each chosen sensor's own view: from its optical centre along its axis, with its vertical
     // field of view (up stays +z: the picture is not rolled as the sensor's image may be).
     D.chosen.forEach(function (s, k) {
@@ -516,6 +533,25 @@
       layer('overlap graph', new THREE.LineSegments(og, new THREE.LineBasicMaterial({color: 0xc2185b})), true);
     }
 
+    // Keep-out boxes (mounting rules): translucent, with their edges, each in its own pose.
+    if (D.keep_out && D.keep_out.length) {
+      var boxes = new THREE.Group();
+      var fill = new THREE.MeshBasicMaterial({color: KEEP_OUT, transparent: true, opacity: 0.15,
+                                              depthWrite: false, side: THREE.DoubleSide});
+      var edge = new THREE.LineBasicMaterial({color: KEEP_OUT});
+      D.keep_out.forEach(function (b) {
+        var g = new THREE.BoxBufferGeometry(b.size[0], b.size[1], b.size[2]);
+        var box = new THREE.Group();
+        box.add(new THREE.Mesh(g, fill));
+        box.add(new THREE.LineSegments(new THREE.EdgesGeometry(g), edge));
+        box.position.fromArray(b.center);
+        box.quaternion.set(b.quaternion[1], b.quaternion[2], b.quaternion[3], b.quaternion[0]);
+        box.name = b.name;
+        boxes.add(box);
+      });
+      layer('keep-out boxes', boxes, true);
+    }
+
     // Layer toggles and legend.
     var panel = document.getElementById('layers');
     layers.forEach(function (l) {
@@ -600,6 +636,10 @@
     if (D.overlap && D.overlap.length) {
       rows.push(['sw', '#c2185b', 'overlap graph: chosen sensors sharing cells (' +
         D.overlap.map(function (e) { return e.cells; }).join(', ') + ' cells)']);
+    }
+    if (D.keep_out && D.keep_out.length) {
+      rows.push(['sw', KEEP_OUT, 'keep-out box' + (D.keep_out.length > 1 ? 'es' : '') + ' (no sensor inside): ' +
+        D.keep_out.map(function (b) { return b.name; }).join(', ')]);
     }
     var stops = [0, 0.25, 0.5, 0.75, 1].map(function (t) { return css(ramp(t).map(Math.round)); }).join(',');
     lg.innerHTML = rows.map(function (r) {

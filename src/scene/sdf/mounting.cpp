@@ -56,6 +56,10 @@ void Loader::ReadMinSeparation(const Doc& doc, const XmlElement& e) {
     return;
   }
   if (const auto value = PositiveNumber(doc, e, "0.2")) {
+    if (const std::string problem = MinSeparationProblem(*value); !problem.empty()) {
+      Error(doc, e.line, problem);
+      return;
+    }
     problem_.mounting.min_separation = *value;
     problem_.mounting.min_separation_file = doc.xml.path;
     problem_.mounting.min_separation_line = e.line;

@@ -148,6 +148,8 @@ void Loader::BuildScene(std::vector<GazeboVisual>* visuals_out) {
     std::string model;
     Role role;
     TriangleMesh mesh;
+    std::string file;  // the first visual's place
+    int line = 0;
   };
   std::vector<Group> groups;
   std::map<std::pair<std::string, Role>, size_t> group_index;
@@ -166,7 +168,8 @@ void Loader::BuildScene(std::vector<GazeboVisual>* visuals_out) {
     auto it = group_index.find(key);
     if (it == group_index.end()) {
       it = group_index.emplace(key, groups.size()).first;
-      groups.push_back(Group{visual.model, role, TriangleMesh{}});
+      groups.push_back(Group{visual.model, role, TriangleMesh{}, visual.doc->xml.path,
+                             visual.element ? visual.element->line : visual.site.line});
     }
     groups[it->second].mesh.Append(*mesh);
   }
@@ -179,6 +182,8 @@ void Loader::BuildScene(std::vector<GazeboVisual>* visuals_out) {
         is_split && group.role == Role::kOccluder ? group.model + "/occluder" : group.model;
     object.role = group.role;
     object.mesh = std::move(group.mesh);
+    object.file = std::move(group.file);
+    object.line = group.line;
     problem_.scene.objects.push_back(std::move(object));
   }
 
