@@ -1,17 +1,23 @@
 // Branch and bound for maximum coverage with n sensors on the Lagrangian bound (issue 14).
 //
 // A node fixes some candidates in (their cells count, their elements get weight 0) and removes
-// others; the rest are free. Its bound is L of the Lagrangian relaxation over the free rows
-// (lagrangian.cpp), searched from the parent's multipliers (at the root: from the start
-// multipliers, then CLP's LP relaxation warm-started from them, lp_bound.hpp); a node whose
-// bound is not above the incumbent is pruned, otherwise Lagrangian fixing settles the candidates
-// it can (repeatedly, while it changes something) and the node branches on the chosen row
-// closest to being fixed in: first with it in, then without it (depth first). The Lagrangian
-// subproblem's rows complete every node's fixed candidates into an answer, which improves the
-// incumbent when it covers more (and then local search from it). Single-threaded, so the same
-// input and time give the same answer; each subtree returns an upper bound on what it holds, so
-// stopping at the time limit still leaves a proof: the largest bound of the subtrees not
-// finished.
+// others; the rest are free. Its bound is L of the Lagrangian relaxation over the free rows and
+// the node's own elements (those of weight > 0 that a free row sees: any other element has
+// y_e <= 0 at the node, so dropping it keeps the node's optimum and makes L no larger, and each
+// subgradient pass touches fewer elements), searched from the parent's multipliers. A dive
+// child's problem is built from its parent's rows (the same problem, in one pass over shorter
+// rows). At the root the steps start from the start multipliers and run in rounds of
+// kRootChunk, Lagrangian fixing shrinking the problem between rounds, then CLP's LP relaxation
+// warm-started from them (lp_bound.hpp). A node whose bound is not above the incumbent is
+// pruned, otherwise Lagrangian fixing settles the candidates it can (repeatedly, while it
+// changes something) and the node branches on the chosen row closest to being fixed in: first
+// with it in, then without it (depth first). The Lagrangian subproblem's rows complete every
+// node's fixed candidates into an answer, which improves the incumbent when it covers more (and
+// then local search from it). The search is sequential; only passes over the rows run on TBB's
+// threads (ForEachRow), each row summed by one thread in element order, so the same input and
+// stopping point give the same answer whatever the thread count. Each subtree returns an upper
+// bound on what it holds, so stopping at the time limit still leaves a proof: the largest bound
+// of the subtrees not finished.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -48,7 +54,7 @@ void Lap(Clock::time_point* since, double* total) {
 constexpr int kNodeSteps = 5;
 constexpr double kNodeStepScale = 0.5;
 constexpr int kMaxFixingRounds = 4;
-// CLP at the root needs time for at least this many passes over the rows (see RootMultipliers).
+// CLP at the root needs time for at least this many passes over the rows (see RootRound).
 constexpr double kMinLpPasses = 50;
 // The root's steps run in rounds of this many, with Lagrangian fixing between them.
 constexpr int kRootChunk = 100;
