@@ -3,7 +3,8 @@
 // as exact does, runs BranchAndBound for each N given with a time limit, and prints its nodes,
 // bounds and where its time went (BranchAndBoundResult's profile).
 //
-// Usage: [BNB_THREADS=T] bnb_probe FILE.vis|generated SECONDS N [N ...]
+// Env: BNB_THREADS (TBB threads), BNB_NODES (max_nodes), BNB_ROOT_STEPS, BNB_ROOT_SHARE (limits).
+// Usage: bnb_probe FILE.vis|generated SECONDS N [N ...]
 #include <fmt/format.h>
 
 #include <sys/resource.h>
@@ -68,6 +69,16 @@ int main(int argc, char** argv) {
   const double seconds = std::stod(argv[2]);
   const detail::CoverageMatrix matrix(observations, reference_size);
   const double r = static_cast<double>(reference_size) / 100;
+  {
+    size_t nonzeros = 0;
+    size_t runs = 0;
+    for (const std::vector<uint32_t>& row : matrix.rows()) {
+      nonzeros += row.size();
+      for (size_t j = 0; j < row.size(); ++j) runs += j == 0 || row[j] != row[j - 1] + 1;
+    }
+    fmt::print("{} candidates, {} elements, {} nonzeros in {} runs of consecutive elements\n",
+               matrix.candidate_count(), matrix.element_count(), nonzeros, runs);
+  }
   for (int a = 3; a < argc; ++a) {
     const size_t n = std::stoul(argv[a]);
     const detail::CellScorer scorer(matrix);
@@ -75,6 +86,9 @@ int main(int argc, char** argv) {
     const uint64_t upper = detail::GreedyUpperBound(matrix, start, n);
     detail::BranchAndBoundLimits limits;
     limits.seconds = seconds;
+    if (const char* env = std::getenv("BNB_NODES")) limits.max_nodes = std::stol(env);
+    if (const char* env = std::getenv("BNB_ROOT_STEPS")) limits.root_steps = std::stoi(env);
+    if (const char* env = std::getenv("BNB_ROOT_SHARE")) limits.root_share = std::stod(env);
     rusage before{};
     getrusage(RUSAGE_SELF, &before);
     const auto t0 = std::chrono::steady_clock::now();
@@ -87,11 +101,11 @@ int main(int argc, char** argv) {
     const auto& p = res.profile;
     fmt::print(
         "N={} cells {} ({:.2f}%) bound {} ({:.2f}%) gap {:.2f} pp{} | nodes {} ({:.0f}/s, {:.0f}/cpu s) root {} "
-        "fixed {}+{} | wall {:.2f} cpu {:.2f}: root {:.2f} rebuild {:.2f} rows {:.2f} steps {:.2f} eval {:.2f} "
+        "fixed {}+{} steps {} sg {} lp {} ({:.2f} s) | wall {:.2f} cpu {:.2f}: root {:.2f} rebuild {:.2f} rows {:.2f} steps {:.2f} eval {:.2f} "
         "offer {:.2f} fixing {:.2f} | steps {} evals {}\n",
         n, res.cells, res.cells / r, res.upper_bound, res.upper_bound / r,
         (double(res.upper_bound) - double(res.cells)) / r, res.proven_optimal ? " *" : "",
-        res.nodes, res.nodes / wall, res.nodes / cpu, res.root_bound, res.root_fixed_in, res.root_removed, wall, cpu,
+        res.nodes, res.nodes / wall, res.nodes / cpu, res.root_bound, res.root_fixed_in, res.root_removed, res.root_steps, res.root_subgradient_bound, res.root_lp_bound, res.root_lp_seconds, wall, cpu,
         p.root_seconds, p.rebuild_seconds, p.rows_seconds, p.step_seconds, p.eval_seconds,
         p.offer_seconds, p.fixing_seconds, p.steps, p.evaluations);
     std::fflush(stdout);

@@ -1063,6 +1063,95 @@ TEST(BranchAndBound, SameResultWhateverTheThreadCount) {
   }
 }
 
+// Candidates that each see one interval of the cells, a few of them missing: merged elements
+// then follow the cells, so every row is a few runs of consecutive elements (as in the generated
+// 1,000 x 100,000 benchmark instance).
+std::vector<Observation> IntervalInstance(uint64_t seed, size_t m, size_t cells) {
+  std::vector<Observation> obs(m);
+  for (size_t i = 0; i < m; ++i) {
+    Rng rng(seed, Stream::kTest, i);
+    const size_t length = cells / 4 + rng.Below(cells / 3);
+    const size_t first = rng.Below(cells - length);
+    for (size_t c = first; c < first + length; ++c) {
+      if (rng.Uniform01() >= 0.05) obs[i].reference_indices.push_back(static_cast<uint32_t>(c));
+    }
+  }
+  return obs;
+}
+
+TEST(Lagrangian, RunsGiveTheSameRowsAsTheElements) {
+  EXPECT_EQ(std::vector<uint32_t>({}), [] {
+    std::vector<uint32_t> runs;
+    detail::AppendRuns({}, &runs);
+    return runs;
+  }());
+  std::vector<uint32_t> runs;
+  const std::vector<uint32_t> row = {0, 1, 2, 5, 7, 8};
+  detail::AppendRuns(row, &runs);
+  EXPECT_EQ(runs, std::vector<uint32_t>({0, 3, 5, 6, 7, 9}));
+  for (uint64_t trial = 0; trial < 20; ++trial) {
+    const size_t m = 8 + trial % 5;
+    const std::vector<Observation> obs = IntervalInstance(900 + trial, m, 60);
+    const detail::CoverageMatrix matrix(obs, 60);
+    const std::vector<uint32_t> weights = ElementWeights(matrix);
+    std::vector<std::vector<uint32_t>> row_runs(m);
+    for (uint32_t i = 0; i < m; ++i) detail::AppendRuns(matrix.Row(i), &row_runs[i]);
+    const std::vector<size_t> cells = MaskUnions(obs);
+    for (size_t n = 1; n <= 4; ++n) {
+      const detail::LagrangianProblem plain{matrix.rows(), weights, n};
+      const detail::LagrangianProblem by_runs{matrix.rows(), weights, n, row_runs};
+      // The same multipliers: the same exact L, rows and choice (integers either way).
+      std::vector<double> lambda = detail::StartMultipliers(plain);
+      detail::SubgradientSteps(by_runs, 0, 200, detail::kStartStepScale, 1e9, &lambda);
+      const detail::ExactLagrangian a = detail::EvaluateExactly(plain, lambda);
+      const detail::ExactLagrangian b = detail::EvaluateExactly(by_runs, lambda);
+      EXPECT_EQ(a.scaled_value, b.scaled_value);
+      EXPECT_EQ(a.rows, b.rows);
+      EXPECT_EQ(a.chosen, b.chosen);
+      EXPECT_EQ(a.next_row, b.next_row);
+      // Steps over runs still give a bound (every multiplier does), near the plain steps'.
+      const size_t optimum = MaskOptimum(cells, n);
+      EXPECT_GE(b.scaled_value >> b.bits, optimum) << "trial " << trial << " n " << n;
+      std::vector<double> plain_lambda = detail::StartMultipliers(plain);
+      detail::SubgradientSteps(plain, 0, 200, detail::kStartStepScale, 1e9, &plain_lambda);
+      const detail::ExactLagrangian c = detail::EvaluateExactly(plain, plain_lambda);
+      EXPECT_NEAR(static_cast<double>(c.scaled_value >> c.bits),
+                  static_cast<double>(b.scaled_value >> b.bits), 2.0);
+    }
+  }
+}
+
+// Branch and bound on interval rows takes the runs path (the passes as prefix sums) and still
+// finds and proves the enumerated optimum; stopped early, its bounds hold.
+TEST(BranchAndBound, FindsTheEnumeratedOptimumOnRowsOfRuns) {
+  int by_runs = 0;
+  for (uint64_t trial = 0; trial < 20; ++trial) {
+    const size_t m = 10 + trial % 6;
+    const std::vector<Observation> obs = IntervalInstance(700 + trial, m, 64);
+    const detail::CoverageMatrix matrix(obs, 64);
+    const std::vector<size_t> cells = MaskUnions(obs);
+    for (size_t n = 2; n <= 5; ++n) {
+      const size_t optimum = MaskOptimum(cells, n);
+      const std::vector<uint32_t> start = PlainGreedy(obs, n);
+      detail::BranchAndBoundLimits limits;
+      limits.seconds = 60;
+      const detail::BranchAndBoundResult found =
+          detail::BranchAndBound(matrix, n, start, 64, limits);
+      by_runs += found.profile.runs;
+      EXPECT_TRUE(found.proven_optimal) << "trial " << trial << " n " << n;
+      EXPECT_EQ(found.cells, optimum) << "trial " << trial << " n " << n;
+      EXPECT_EQ(UnionSize(obs, found.chosen), optimum);
+      for (const long nodes : {1L, 3L}) {
+        limits.max_nodes = nodes;
+        const detail::BranchAndBoundResult partial =
+            detail::BranchAndBound(matrix, n, start, 64, limits);
+        EXPECT_GE(partial.upper_bound, optimum) << "trial " << trial << " n " << n;
+      }
+    }
+  }
+  EXPECT_GT(by_runs, 40) << by_runs;  // most of the 80 searches took the runs path
+}
+
 // A hard instance: 400 random candidates over 4,000 cells, n = 25 (no proof in seconds): exact
 // returns within its time limit (+10 %) with a valid bound.
 TEST(BranchAndBound, ExactKeepsItsTimeLimitOnAHardInstance) {

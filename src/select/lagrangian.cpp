@@ -74,6 +74,16 @@ void ForEachRow(size_t count, size_t nonzeros,
                     });
 }
 
+void AppendRuns(std::span<const uint32_t> row, std::vector<uint32_t>* runs) {
+  for (size_t j = 0; j < row.size(); ++j) {
+    if (j == 0 || row[j] != row[j - 1] + 1) {
+      if (j > 0) runs->push_back(row[j - 1] + 1);
+      runs->push_back(row[j]);
+    }
+  }
+  if (!row.empty()) runs->push_back(row.back() + 1);
+}
+
 std::vector<double> StartMultipliers(const LagrangianProblem& problem) {
   std::vector<uint32_t> seers(problem.weights.size(), 0);
   for (const std::vector<uint32_t>& row : problem.rows) {
@@ -108,8 +118,21 @@ SubgradientResult SubgradientSteps(const LagrangianProblem& problem,
     l[e] = std::clamp(l[e], 0.0, static_cast<double>(problem.weights[e]));
     free_weight += problem.weights[e] - l[e];
   }
+  // With runs, rows are summed as differences of prefix sums of lambda, and the chosen rows'
+  // cover counted through a difference array (both in passes over the runs, not the elements).
+  const bool by_runs = !problem.runs.empty();
+  VANTAGE_CHECK(!by_runs || problem.runs.size() == m);
   size_t nonzeros = 0;
   for (const std::vector<uint32_t>& row : problem.rows) nonzeros += row.size();
+  if (by_runs) {
+    nonzeros = 0;
+    for (const std::vector<uint32_t>& row : problem.runs) nonzeros += row.size();
+  }
+  std::vector<double> prefix(by_runs ? elements + 1 : 0, 0.0);  // prefix[k] = sum_{e < k} l_e
+  std::vector<int32_t> difference(by_runs ? elements + 1 : 0, 0);
+  if (by_runs) {
+    for (size_t e = 0; e < elements; ++e) prefix[e + 1] = prefix[e] + l[e];
+  }
   std::vector<double> best_lambda = l;
   SubgradientResult result;
   std::vector<double> rows(m);
@@ -130,7 +153,12 @@ SubgradientResult SubgradientSteps(const LagrangianProblem& problem,
     ForEachRow(m, nonzeros, [&](size_t begin, size_t end) {
       for (size_t i = begin; i < end; ++i) {
         double r = 0;
-        for (const uint32_t e : problem.rows[i]) r += l[e];
+        if (by_runs) {
+          const std::vector<uint32_t>& runs = problem.runs[i];
+          for (size_t j = 0; j < runs.size(); j += 2) r += prefix[runs[j + 1]] - prefix[runs[j]];
+        } else {
+          for (const uint32_t e : problem.rows[i]) r += l[e];
+        }
         rows[i] = r;
       }
     });
@@ -148,8 +176,25 @@ SubgradientResult SubgradientSteps(const LagrangianProblem& problem,
     // left for round-off in this estimate; the exact value decides).
     if (result.estimate < static_cast<double>(incumbent) + 0.5) break;
     // Subgradient dL/dlambda_e = (seers of e in the chosen) - 1, projected onto [0, w].
-    for (const uint32_t i : chosen) {
-      for (const uint32_t e : problem.rows[i]) ++covered[e];
+    if (by_runs) {
+      for (const uint32_t i : chosen) {
+        const std::vector<uint32_t>& runs = problem.runs[i];
+        for (size_t j = 0; j < runs.size(); j += 2) {
+          ++difference[runs[j]];
+          --difference[runs[j + 1]];
+        }
+      }
+      int32_t count = 0;
+      for (size_t e = 0; e < elements; ++e) {
+        count += difference[e];
+        difference[e] = 0;
+        covered[e] = static_cast<uint32_t>(count);
+      }
+      difference[elements] = 0;
+    } else {
+      for (const uint32_t i : chosen) {
+        for (const uint32_t e : problem.rows[i]) ++covered[e];
+      }
     }
     double norm = 0;
     for (size_t e = 0; e < elements; ++e) {
@@ -158,8 +203,10 @@ SubgradientResult SubgradientSteps(const LagrangianProblem& problem,
       step[e] = g;
       norm += g * g;
     }
-    for (const uint32_t i : chosen) {
-      for (const uint32_t e : problem.rows[i]) covered[e] = 0;
+    if (!by_runs) {
+      for (const uint32_t i : chosen) {
+        for (const uint32_t e : problem.rows[i]) covered[e] = 0;
+      }
     }
     if (norm == 0) break;  // lambda is optimal: L(lambda) is the LP bound
     const double t = scale * (value - static_cast<double>(incumbent)) / norm;
@@ -167,6 +214,9 @@ SubgradientResult SubgradientSteps(const LagrangianProblem& problem,
     for (size_t e = 0; e < elements; ++e) {
       l[e] = std::clamp(l[e] - t * step[e], 0.0, static_cast<double>(problem.weights[e]));
       free_weight += problem.weights[e] - l[e];
+    }
+    if (by_runs) {
+      for (size_t e = 0; e < elements; ++e) prefix[e + 1] = prefix[e] + l[e];
     }
   }
   *lambda = std::move(best_lambda);
@@ -199,13 +249,30 @@ ExactLagrangian EvaluateExactly(const LagrangianProblem& problem, std::span<cons
   exact.rows.assign(problem.rows.size(), 0);
   size_t nonzeros = 0;
   for (const std::vector<uint32_t>& row : problem.rows) nonzeros += row.size();
-  ForEachRow(problem.rows.size(), nonzeros, [&](size_t begin, size_t end) {
-    for (size_t i = begin; i < end; ++i) {
-      uint64_t r = 0;
-      for (const uint32_t e : problem.rows[i]) r += fixed[e];
-      exact.rows[i] = r;
-    }
-  });
+  if (!problem.runs.empty()) {
+    // Runs: differences of integer prefix sums (below 2^62, exact), the same r as summing.
+    VANTAGE_CHECK(problem.runs.size() == problem.rows.size());
+    std::vector<uint64_t> prefix(fixed.size() + 1, 0);
+    for (size_t e = 0; e < fixed.size(); ++e) prefix[e + 1] = prefix[e] + fixed[e];
+    nonzeros = 0;
+    for (const std::vector<uint32_t>& row : problem.runs) nonzeros += row.size();
+    ForEachRow(problem.rows.size(), nonzeros, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) {
+        const std::vector<uint32_t>& runs = problem.runs[i];
+        uint64_t r = 0;
+        for (size_t j = 0; j < runs.size(); j += 2) r += prefix[runs[j + 1]] - prefix[runs[j]];
+        exact.rows[i] = r;
+      }
+    });
+  } else {
+    ForEachRow(problem.rows.size(), nonzeros, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) {
+        uint64_t r = 0;
+        for (const uint32_t e : problem.rows[i]) r += fixed[e];
+        exact.rows[i] = r;
+      }
+    });
+  }
   TopN(std::span<const uint64_t>(exact.rows), slots, &exact.chosen);
   std::sort(exact.chosen.begin(), exact.chosen.end());
   for (const uint32_t i : exact.chosen) sum += exact.rows[i];

@@ -183,7 +183,16 @@ struct LagrangianProblem {
   std::span<const std::vector<uint32_t>> rows;
   std::span<const uint32_t> weights;
   size_t slots = 0;
+  /// Optional (empty, or one per row): each row's elements as runs of consecutive indices,
+  /// flattened [begin, end) pairs, the same sets as `rows` (RowRuns). Given, SubgradientSteps and
+  /// EvaluateExactly sum rows through prefix sums over the elements: cheaper where the runs are
+  /// long (EvaluateExactly's integers are the same either way; the steps' doubles round
+  /// differently).
+  std::span<const std::vector<uint32_t>> runs;
 };
+
+/// `row` (ascending) as runs of consecutive indices: [begin, end) pairs, appended to `*runs`.
+void AppendRuns(std::span<const uint32_t> row, std::vector<uint32_t>* runs);
 
 /// Calls body(begin, end) over [0, count) in ranges, on TBB's threads when the pass touches enough
 /// `nonzeros` to pay for it (else once, on this thread). Every index is in exactly one range, so a
@@ -278,6 +287,7 @@ struct BranchAndBoundProfile {
   double fixing_seconds = 0;   ///< Lagrangian fixing
   long steps = 0;              ///< subgradient steps at nodes
   long evaluations = 0;        ///< bounds evaluated exactly
+  bool runs = false;           ///< rows were passed as runs of consecutive elements
 };
 
 struct BranchAndBoundResult {
