@@ -1026,19 +1026,21 @@ TEST(BranchAndBound, ForEachRowVisitsEveryRowOnce) {
 
 // Parallel passes (ForEachRow: each row's sum is one thread's, in element order) leave the
 // search unchanged: the same nodes, bounds and answer on 1 thread as on 2, stopped after a fixed
-// number of nodes. 300 candidates over 3,000 cells: about 135 k nonzeros, above the size at
-// which the passes go parallel.
+// number of nodes. 500 candidates over 25,000 cells: about 2.5 M nonzeros, above the size at
+// which the passes go parallel (few root steps keep it quick).
 TEST(BranchAndBound, SameResultWhateverTheThreadCount) {
-  const std::vector<Observation> obs = RandomInstance(41, 300, 3000, 0.15);
-  const detail::CoverageMatrix matrix(obs, 3000);
+  const std::vector<Observation> obs = RandomInstance(41, 500, 25000, 0.2);
+  const detail::CoverageMatrix matrix(obs, 25000);
   size_t nonzeros = 0;
   for (const std::vector<uint32_t>& row : matrix.rows()) nonzeros += row.size();
-  ASSERT_GT(nonzeros, 100000u);
+  ASSERT_GT(nonzeros, 2000000u);
   for (const size_t n : {size_t{4}, size_t{8}}) {
     const std::vector<uint32_t> start = detail::GreedyComplete(detail::CellScorer(matrix), {}, n);
     detail::BranchAndBoundLimits limits;
     limits.seconds = 600;  // never reached: the node limit stops it
-    limits.max_nodes = 40;
+    limits.max_nodes = 6;
+    limits.root_steps = 40;
+    limits.root_lp = false;  // CLP stops at its clock on this size: keep the stopping point clock-free
     const auto run = [&](int threads) {
       tbb::task_arena arena(threads);
       detail::BranchAndBoundResult result;

@@ -37,9 +37,12 @@ namespace {
 // once it falls below kMinStepScale.
 constexpr double kMinStepScale = 1e-7;
 constexpr int kPatience = 30;
-// ForEachRow: passes over fewer nonzeros stay on the calling thread (a parallel_for costs a few
-// microseconds; a pass over 100 k nonzeros about 100), and no task gets fewer rows than this.
-constexpr size_t kParallelNonzeros = 100000;
+// ForEachRow: passes over fewer nonzeros stay on the calling thread, and no task gets fewer rows
+// than kRowGrain. On the contended 2-core machine of bench/RESULTS.md ("Faster branch and bound
+// nodes") two threads made branch and bound slower on the 450-candidate worlds (passes of 0.1-0.7
+// M nonzeros, 0.1-0.5 ms: a worker descheduled mid-pass stalls the whole pass), so only passes of
+// several milliseconds go parallel.
+constexpr size_t kParallelNonzeros = 2000000;
 constexpr size_t kRowGrain = 8;
 
 // The indices of the `count` largest `values` (ties: the lower index), in no particular order.
