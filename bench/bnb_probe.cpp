@@ -6,16 +6,14 @@
 // Env: BNB_THREADS (TBB threads), BNB_NODES (max_nodes), BNB_ROOT_STEPS, BNB_ROOT_SHARE (limits).
 // Usage: bnb_probe FILE.vis|generated SECONDS N [N ...]
 #include <fmt/format.h>
-
 #include <sys/resource.h>
+#include <tbb/global_control.h>
 
 #include <chrono>
 #include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <tbb/global_control.h>
 
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
@@ -36,7 +34,8 @@ std::vector<Observation> Generated(size_t* reference_size) {
     const auto length = static_cast<size_t>(rng.Uniform(0.02, 0.10) * kCells);
     const size_t first = rng.Below(kCells - length);
     for (size_t c = first; c < first + length; ++c) {
-      if (rng.Uniform01() >= 0.05) observations[i].reference_indices.push_back(static_cast<uint32_t>(c));
+      if (rng.Uniform01() >= 0.05)
+        observations[i].reference_indices.push_back(static_cast<uint32_t>(c));
     }
   }
   *reference_size = kCells;
@@ -82,7 +81,8 @@ int main(int argc, char** argv) {
   for (int a = 3; a < argc; ++a) {
     const size_t n = std::stoul(argv[a]);
     const detail::CellScorer scorer(matrix);
-    std::vector<uint32_t> start = detail::LocalSearch(scorer, detail::GreedyComplete(scorer, {}, n));
+    std::vector<uint32_t> start =
+        detail::LocalSearch(scorer, detail::GreedyComplete(scorer, {}, n));
     const uint64_t upper = detail::GreedyUpperBound(matrix, start, n);
     detail::BranchAndBoundLimits limits;
     limits.seconds = seconds;
@@ -92,22 +92,27 @@ int main(int argc, char** argv) {
     rusage before{};
     getrusage(RUSAGE_SELF, &before);
     const auto t0 = std::chrono::steady_clock::now();
-    const detail::BranchAndBoundResult res = detail::BranchAndBound(matrix, n, start, upper, limits);
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const detail::BranchAndBoundResult res =
+        detail::BranchAndBound(matrix, n, start, upper, limits);
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     rusage after{};
     getrusage(RUSAGE_SELF, &after);
     const auto seconds_of = [](const timeval& t) { return t.tv_sec + t.tv_usec * 1e-6; };
     const double cpu = seconds_of(after.ru_utime) - seconds_of(before.ru_utime);
     const auto& p = res.profile;
     fmt::print(
-        "N={} cells {} ({:.2f}%) bound {} ({:.2f}%) gap {:.2f} pp{} | nodes {} ({:.0f}/s, {:.0f}/cpu s) root {} "
-        "fixed {}+{} steps {} sg {} lp {} ({:.2f} s) | wall {:.2f} cpu {:.2f}: root {:.2f} rebuild {:.2f} rows {:.2f} steps {:.2f} eval {:.2f} "
+        "N={} cells {} ({:.2f}%) bound {} ({:.2f}%) gap {:.2f} pp{} | nodes {} ({:.0f}/s, "
+        "{:.0f}/cpu s) root {} "
+        "fixed {}+{} steps {} sg {} lp {} ({:.2f} s) | wall {:.2f} cpu {:.2f}: root {:.2f} rebuild "
+        "{:.2f} rows {:.2f} steps {:.2f} eval {:.2f} "
         "offer {:.2f} fixing {:.2f} | steps {} evals {}\n",
         n, res.cells, res.cells / r, res.upper_bound, res.upper_bound / r,
         (double(res.upper_bound) - double(res.cells)) / r, res.proven_optimal ? " *" : "",
-        res.nodes, res.nodes / wall, res.nodes / cpu, res.root_bound, res.root_fixed_in, res.root_removed, res.root_steps, res.root_subgradient_bound, res.root_lp_bound, res.root_lp_seconds, wall, cpu,
-        p.root_seconds, p.rebuild_seconds, p.rows_seconds, p.step_seconds, p.eval_seconds,
-        p.offer_seconds, p.fixing_seconds, p.steps, p.evaluations);
+        res.nodes, res.nodes / wall, res.nodes / cpu, res.root_bound, res.root_fixed_in,
+        res.root_removed, res.root_steps, res.root_subgradient_bound, res.root_lp_bound,
+        res.root_lp_seconds, wall, cpu, p.root_seconds, p.rebuild_seconds, p.rows_seconds,
+        p.step_seconds, p.eval_seconds, p.offer_seconds, p.fixing_seconds, p.steps, p.evaluations);
     std::fflush(stdout);
   }
   return 0;

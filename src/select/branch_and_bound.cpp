@@ -13,11 +13,12 @@
 // changes something) and the node branches on the chosen row closest to being fixed in: first
 // with it in, then without it (depth first). The Lagrangian subproblem's rows complete every
 // node's fixed candidates into an answer, which improves the incumbent when it covers more (and
-// then local search from it). The search is sequential; only passes over the rows run on TBB's
-// threads (ForEachRow), each row summed by one thread in element order, so the same input and
-// stopping point give the same answer whatever the thread count. Each subtree returns an upper
-// bound on what it holds, so stopping at the time limit still leaves a proof: the largest bound
-// of the subtrees not finished.
+// then local search from it). The search is sequential; only the largest passes over the rows
+// run on TBB's threads (ForEachRow), each row summed by one thread in element order, so the same
+// input and stopping point give the same answer whatever the thread count. Each subtree returns
+// an upper bound on what it holds, so stopping at the time limit still leaves a proof: the
+// largest bound of the subtrees not finished. Rows go to the Lagrangian as runs of consecutive
+// elements where that shortens the passes (kRunsFactor).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -142,8 +143,7 @@ class Search {
       parent_pick_ = pick;
       std::shared_ptr<const std::vector<float>> lambda;
       if (queue.size() < max_stored_) {
-        lambda = std::make_shared<const std::vector<float>>(node.lambda.begin(),
-                                                            node.lambda.end());
+        lambda = std::make_shared<const std::vector<float>>(node.lambda.begin(), node.lambda.end());
       }
       dive = Open{bound, order_++, node.fixed, node.removed, lambda};
       dive->fixed.push_back(candidate);
@@ -215,10 +215,10 @@ class Search {
   std::optional<Branch> Bound(Node* node, uint64_t parent_bound, bool is_root) {
     uint64_t bound = parent_bound;
     std::vector<std::vector<uint32_t>>& rows = rows_;  // per free row, the node's elements in it
-    std::vector<uint32_t>& elements = elements_;  // the node's -> the matrix's element
-    std::vector<uint32_t> weights;            // per node element
-    std::vector<double> lambda;               // per node element
-    std::vector<uint32_t> kept;               // free positions of the round before still free
+    std::vector<uint32_t>& elements = elements_;       // the node's -> the matrix's element
+    std::vector<uint32_t> weights;                     // per node element
+    std::vector<double> lambda;                        // per node element
+    std::vector<uint32_t> kept;  // free positions of the round before still free
     if (node->lambda.empty()) node->lambda.assign(matrix_.element_count(), 0.0);
     ExactLagrangian exact;
     int rounds = 0;  // bounds made since the root's steps ended
@@ -264,7 +264,8 @@ class Search {
         size_t entries = 0;
         for (const std::vector<uint32_t>& row : problem_rows) {
           nonzeros += row.size();
-          for (size_t j = 0; j < row.size(); ++j) entries += j == 0 || row[j] != row[j - 1] + 1 ? 2 : 0;
+          for (size_t j = 0; j < row.size(); ++j)
+            entries += j == 0 || row[j] != row[j - 1] + 1 ? 2 : 0;
         }
         use_runs_ = kRunsFactor * (entries + elements.size()) < nonzeros;
         profile_.runs = use_runs_;
@@ -296,8 +297,7 @@ class Search {
         Lap(&lap, &profile_.root_seconds);
       } else {
         profile_.steps +=
-            SubgradientSteps(problem, target, kNodeSteps, kNodeStepScale, left, &lambda)
-                .iterations;
+            SubgradientSteps(problem, target, kNodeSteps, kNodeStepScale, left, &lambda).iterations;
         Lap(&lap, &profile_.step_seconds);
       }
       for (size_t k = 0; k < elements.size(); ++k) node->lambda[elements[k]] = lambda[k];
@@ -363,8 +363,13 @@ class Search {
   // the elements of weight > 0 in them, renumbered 0, 1, ... in ascending order (`elements`:
   // back to the matrix's; `weights`: theirs at the node).
   template <typename Source, typename Global>
-  void BuildProblem(const Node& node, size_t count, size_t space, Source source, Global global,
-                    std::vector<std::vector<uint32_t>>* rows, std::vector<uint32_t>* elements,
+  void BuildProblem(const Node& node,
+                    size_t count,
+                    size_t space,
+                    Source source,
+                    Global global,
+                    std::vector<std::vector<uint32_t>>* rows,
+                    std::vector<uint32_t>* elements,
                     std::vector<uint32_t>* weights) {
     size_t nonzeros = 0;
     for (size_t q = 0; q < count; ++q) nonzeros += source(q).size();
@@ -413,8 +418,12 @@ class Search {
   // from the feasible point they give), in what is left of the root's share of the time;
   // whichever proves the smaller L. The LP's x, rounded to its n largest, is offered as an
   // incumbent.
-  void RootRound(const LagrangianProblem& problem, uint64_t target, double left, const Node& node,
-                 bool first, std::vector<double>* lambda) {
+  void RootRound(const LagrangianProblem& problem,
+                 uint64_t target,
+                 double left,
+                 const Node& node,
+                 bool first,
+                 std::vector<double>* lambda) {
     if (first) {
       root_start_ = Clock::now();
       root_limit_seconds_ = std::min(left, root_seconds_);
@@ -422,9 +431,8 @@ class Search {
     }
     const double elapsed = std::chrono::duration<double>(Clock::now() - root_start_).count();
     const int chunk = std::min(kRootChunk, root_steps_limit_ - root_steps_);
-    const SubgradientResult steps = SubgradientSteps(problem, target, std::max(chunk, 0),
-                                                     root_scale_, root_limit_seconds_ - elapsed,
-                                                     lambda);
+    const SubgradientResult steps = SubgradientSteps(
+        problem, target, std::max(chunk, 0), root_scale_, root_limit_seconds_ - elapsed, lambda);
     root_steps_ += steps.iterations;
     root_scale_ = steps.scale;
     if (steps.iterations == chunk && root_steps_ < root_steps_limit_) return;  // more rounds
@@ -517,11 +525,11 @@ class Search {
   std::vector<std::vector<uint32_t>> spare_rows_;
   size_t problem_rows_ = 0;
   std::vector<uint32_t> seen_;
-  std::vector<uint32_t> elements_;  // of rows_
+  std::vector<uint32_t> elements_;           // of rows_
   std::vector<std::vector<uint32_t>> runs_;  // rows_ as runs (use_runs_)
   bool use_runs_ = false;
-  bool from_parent_ = false;         // the node bounded next is the dive child of rows_'s node
-  uint32_t parent_pick_ = 0;         // the free position that node branched on
+  bool from_parent_ = false;  // the node bounded next is the dive child of rows_'s node
+  uint32_t parent_pick_ = 0;  // the free position that node branched on
 };
 
 }  // namespace

@@ -15,6 +15,9 @@
 // x_i = 0 forced is L - r_i + r_(n+1) for i among them (r_(j) the j-th largest row). Each is an
 // upper bound on the problem with that constraint added, so when it is below a threshold T, no
 // answer with that value of x_i reaches T.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <bit>
 #include <chrono>
@@ -22,9 +25,6 @@
 #include <functional>
 #include <numeric>
 #include <utility>
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "select/methods.hpp"
 #include "vantage/error.hpp"
@@ -64,17 +64,17 @@ void TopN(std::span<const T> values, size_t count, std::vector<uint32_t>* order)
 
 }  // namespace
 
-void ForEachRow(size_t count, size_t nonzeros,
+void ForEachRow(size_t count,
+                size_t nonzeros,
                 const std::function<void(size_t begin, size_t end)>& body) {
   if (count == 0) return;
   if (nonzeros < kParallelNonzeros || count < 2 * kRowGrain) {
     body(0, count);
     return;
   }
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kRowGrain),
-                    [&](const tbb::blocked_range<size_t>& range) {
-                      body(range.begin(), range.end());
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, count, kRowGrain),
+      [&](const tbb::blocked_range<size_t>& range) { body(range.begin(), range.end()); });
 }
 
 void AppendRuns(std::span<const uint32_t> row, std::vector<uint32_t>* runs) {
