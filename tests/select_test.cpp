@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -16,6 +17,10 @@
 #include <set>
 #include <string>
 
+#include <coin/Clp_C_Interface.h>
+
+#include <tbb/task_arena.h>
+
 #include "pipeline/common.hpp"
 #include "select/coverage_matrix.hpp"
 #include "select/lp_bound.hpp"
@@ -23,6 +28,7 @@
 #include "select/objective_bounds.hpp"
 #include "test_util.hpp"
 #include "vantage/error.hpp"
+#include "vantage/interrupt.hpp"
 #include "vantage/rng.hpp"
 
 namespace vantage {
@@ -959,6 +965,29 @@ TEST(LpBound, KeepsItsTimeLimit) {
             static_cast<long double>(matrix.CoveredWeight(greedy)));
 }
 
+// An interrupt stops CLP at the end of an iteration, not at its time limit or its optimum, and
+// Solve reports it as Interrupted: in a small part of the time the same LP takes to solve.
+TEST(LpBound, StopsOnAnInterrupt) {
+  const std::vector<Observation> obs = RandomInstance(29, 400, 8000, 0.02);
+  const detail::CoverageMatrix matrix(obs, 8000);
+  const std::vector<uint32_t> weights = ElementWeights(matrix);
+  const detail::LagrangianProblem problem{matrix.rows(), weights, 25};
+  const auto seconds_of = [](auto&& solve) {
+    const auto begin = std::chrono::steady_clock::now();
+    solve();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  };
+  detail::ClpCoverageLp solved(problem);
+  const double full = seconds_of([&] { solved.Solve(60); });
+  ASSERT_GT(full, 0.2) << "the LP is too easy to see the difference";
+  detail::ClpCoverageLp stopped(problem);
+  RequestInterrupt();
+  const double interrupted =
+      seconds_of([&] { EXPECT_THROW(stopped.Solve(60), Interrupted); });
+  ClearInterrupt();
+  EXPECT_LT(interrupted, 0.25 * full);
+}
+
 TEST(BranchAndBound, FindsAndProvesTheEnumeratedOptimum) {
   for (int trial = 0; trial < 40; ++trial) {
     // 8..20 candidates, sparse to dense.
@@ -988,8 +1017,168 @@ TEST(BranchAndBound, FindsAndProvesTheEnumeratedOptimum) {
           detail::BranchAndBound(matrix, n, start, r, limits);
       EXPECT_GE(stopped.upper_bound, optimum);
       EXPECT_EQ(stopped.chosen, start);
+      // Stopped after a few nodes (the root's rounds of steps and fixing, the nodes' problems
+      // over their own elements, dive children built from their parents): every bound on the
+      // way is still a proof, and the answer is what it claims.
+      limits.seconds = 60;
+      for (const long nodes : {1L, 2L, 3L, 5L, 8L}) {
+        limits.max_nodes = nodes;
+        const detail::BranchAndBoundResult partial =
+            detail::BranchAndBound(matrix, n, start, r, limits);
+        EXPECT_GE(partial.upper_bound, optimum) << "trial " << trial << " n " << n;
+        EXPECT_GE(partial.root_bound, optimum) << "trial " << trial << " n " << n;
+        EXPECT_LE(partial.nodes, nodes);
+        EXPECT_EQ(UnionSize(obs, partial.chosen), partial.cells);
+        EXPECT_LE(partial.cells, optimum);
+        EXPECT_EQ(partial.proven_optimal, partial.upper_bound == partial.cells);
+      }
+      limits.max_nodes = std::numeric_limits<long>::max();
     }
   }
+}
+
+TEST(BranchAndBound, ForEachRowVisitsEveryRowOnce) {
+  for (const size_t count : {size_t{0}, size_t{1}, size_t{7}, size_t{16}, size_t{1000}}) {
+    for (const size_t nonzeros : {size_t{10}, size_t{10000000}}) {
+      std::vector<std::atomic<int>> visits(count);
+      detail::ForEachRow(count, nonzeros, [&](size_t begin, size_t end) {
+        ASSERT_LE(begin, end);
+        ASSERT_LE(end, count);
+        for (size_t i = begin; i < end; ++i) ++visits[i];
+      });
+      for (size_t i = 0; i < count; ++i) EXPECT_EQ(visits[i].load(), 1) << count << " " << i;
+    }
+  }
+}
+
+// Parallel passes (ForEachRow: each row's sum is one thread's, in element order) leave the
+// search unchanged: the same nodes, bounds and answer on 1 thread as on 2, stopped after a fixed
+// number of nodes. 500 candidates over 25,000 cells: about 2.5 M nonzeros, above the size at
+// which the passes go parallel (few root steps keep it quick).
+TEST(BranchAndBound, SameResultWhateverTheThreadCount) {
+  const std::vector<Observation> obs = RandomInstance(41, 500, 25000, 0.2);
+  const detail::CoverageMatrix matrix(obs, 25000);
+  size_t nonzeros = 0;
+  for (const std::vector<uint32_t>& row : matrix.rows()) nonzeros += row.size();
+  ASSERT_GT(nonzeros, 2000000u);
+  for (const size_t n : {size_t{4}, size_t{8}}) {
+    const std::vector<uint32_t> start = detail::GreedyComplete(detail::CellScorer(matrix), {}, n);
+    detail::BranchAndBoundLimits limits;
+    limits.seconds = 600;  // never reached: the node limit stops it
+    limits.max_nodes = 6;
+    limits.root_steps = 40;
+    // CLP stops at its clock on this size: keep the stopping point clock-free.
+    limits.root_lp = false;
+    const auto run = [&](int threads) {
+      tbb::task_arena arena(threads);
+      detail::BranchAndBoundResult result;
+      arena.execute(
+          [&] { result = detail::BranchAndBound(matrix, n, start, matrix.seen_weight(), limits); });
+      return result;
+    };
+    const detail::BranchAndBoundResult one = run(1);
+    const detail::BranchAndBoundResult two = run(2);
+    EXPECT_EQ(one.chosen, two.chosen);
+    EXPECT_EQ(one.cells, two.cells);
+    EXPECT_EQ(one.upper_bound, two.upper_bound);
+    EXPECT_EQ(one.nodes, two.nodes);
+    EXPECT_EQ(one.root_bound, two.root_bound);
+    EXPECT_EQ(one.root_steps, two.root_steps);
+    EXPECT_EQ(one.root_removed, two.root_removed);
+    EXPECT_EQ(one.root_subgradient_bound, two.root_subgradient_bound);
+    EXPECT_EQ(one.root_lp_bound, two.root_lp_bound);
+    EXPECT_GE(one.upper_bound, one.cells);
+    EXPECT_GT(one.nodes, 1);
+  }
+}
+
+// Candidates that each see one interval of the cells, a few of them missing: merged elements
+// then follow the cells, so every row is a few runs of consecutive elements (as in the generated
+// 1,000 x 100,000 benchmark instance).
+std::vector<Observation> IntervalInstance(uint64_t seed, size_t m, size_t cells) {
+  std::vector<Observation> obs(m);
+  for (size_t i = 0; i < m; ++i) {
+    Rng rng(seed, Stream::kTest, i);
+    const size_t length = cells / 4 + rng.Below(cells / 3);
+    const size_t first = rng.Below(cells - length);
+    for (size_t c = first; c < first + length; ++c) {
+      if (rng.Uniform01() >= 0.05) obs[i].reference_indices.push_back(static_cast<uint32_t>(c));
+    }
+  }
+  return obs;
+}
+
+TEST(Lagrangian, RunsGiveTheSameRowsAsTheElements) {
+  EXPECT_EQ(std::vector<uint32_t>({}), [] {
+    std::vector<uint32_t> runs;
+    detail::AppendRuns({}, &runs);
+    return runs;
+  }());
+  std::vector<uint32_t> runs;
+  const std::vector<uint32_t> row = {0, 1, 2, 5, 7, 8};
+  detail::AppendRuns(row, &runs);
+  EXPECT_EQ(runs, std::vector<uint32_t>({0, 3, 5, 6, 7, 9}));
+  for (uint64_t trial = 0; trial < 20; ++trial) {
+    const size_t m = 8 + trial % 5;
+    const std::vector<Observation> obs = IntervalInstance(900 + trial, m, 60);
+    const detail::CoverageMatrix matrix(obs, 60);
+    const std::vector<uint32_t> weights = ElementWeights(matrix);
+    std::vector<std::vector<uint32_t>> row_runs(m);
+    for (uint32_t i = 0; i < m; ++i) detail::AppendRuns(matrix.Row(i), &row_runs[i]);
+    const std::vector<size_t> cells = MaskUnions(obs);
+    for (size_t n = 1; n <= 4; ++n) {
+      const detail::LagrangianProblem plain{matrix.rows(), weights, n};
+      const detail::LagrangianProblem by_runs{matrix.rows(), weights, n, row_runs};
+      // The same multipliers: the same exact L, rows and choice (integers either way).
+      std::vector<double> lambda = detail::StartMultipliers(plain);
+      detail::SubgradientSteps(by_runs, 0, 200, detail::kStartStepScale, 1e9, &lambda);
+      const detail::ExactLagrangian a = detail::EvaluateExactly(plain, lambda);
+      const detail::ExactLagrangian b = detail::EvaluateExactly(by_runs, lambda);
+      EXPECT_EQ(a.scaled_value, b.scaled_value);
+      EXPECT_EQ(a.rows, b.rows);
+      EXPECT_EQ(a.chosen, b.chosen);
+      EXPECT_EQ(a.next_row, b.next_row);
+      // Steps over runs still give a bound (every multiplier does), near the plain steps'.
+      const size_t optimum = MaskOptimum(cells, n);
+      EXPECT_GE(b.scaled_value >> b.bits, optimum) << "trial " << trial << " n " << n;
+      std::vector<double> plain_lambda = detail::StartMultipliers(plain);
+      detail::SubgradientSteps(plain, 0, 200, detail::kStartStepScale, 1e9, &plain_lambda);
+      const detail::ExactLagrangian c = detail::EvaluateExactly(plain, plain_lambda);
+      EXPECT_NEAR(static_cast<double>(c.scaled_value >> c.bits),
+                  static_cast<double>(b.scaled_value >> b.bits), 2.0);
+    }
+  }
+}
+
+// Branch and bound on interval rows takes the runs path (the passes as prefix sums) and still
+// finds and proves the enumerated optimum; stopped early, its bounds hold.
+TEST(BranchAndBound, FindsTheEnumeratedOptimumOnRowsOfRuns) {
+  int by_runs = 0;
+  for (uint64_t trial = 0; trial < 20; ++trial) {
+    const size_t m = 10 + trial % 6;
+    const std::vector<Observation> obs = IntervalInstance(700 + trial, m, 64);
+    const detail::CoverageMatrix matrix(obs, 64);
+    const std::vector<size_t> cells = MaskUnions(obs);
+    for (size_t n = 2; n <= 5; ++n) {
+      const size_t optimum = MaskOptimum(cells, n);
+      const std::vector<uint32_t> start = PlainGreedy(obs, n);
+      detail::BranchAndBoundLimits limits;
+      limits.seconds = 60;
+      const detail::BranchAndBoundResult found =
+          detail::BranchAndBound(matrix, n, start, 64, limits);
+      by_runs += found.profile.runs;
+      EXPECT_TRUE(found.proven_optimal) << "trial " << trial << " n " << n;
+      EXPECT_EQ(found.cells, optimum) << "trial " << trial << " n " << n;
+      EXPECT_EQ(UnionSize(obs, found.chosen), optimum);
+      for (const long nodes : {1L, 3L}) {
+        limits.max_nodes = nodes;
+        const detail::BranchAndBoundResult partial =
+            detail::BranchAndBound(matrix, n, start, 64, limits);
+        EXPECT_GE(partial.upper_bound, optimum) << "trial " << trial << " n " << n;
+      }
+    }
+  }
+  EXPECT_GT(by_runs, 40) << by_runs;  // most of the 80 searches took the runs path
 }
 
 // A hard instance: 400 random candidates over 4,000 cells, n = 25 (no proof in seconds): exact

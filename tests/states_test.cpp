@@ -38,7 +38,7 @@ TriangleMesh BoxMesh(const Vec3& center, const Vec3& size) {
 }
 
 SceneObject Box(const std::string& name, Role role, const Vec3& center, const Vec3& size) {
-  return {name, role, BoxMesh(center, size), {}};
+  return {name, role, BoxMesh(center, size), {}, {}, 0};
 }
 
 // A camera at `eye` looking along -x (body x -> world -x), 400 px over 0.1 rad: 0.25 mm per
@@ -88,7 +88,7 @@ SceneState HandState() {
   state.name = "hand";
   TriangleMesh hand = BoxMesh(Vec3(0.5, 0.25, 0), Vec3(0.01, 0.5, 0.5));
   hand.Append(BoxMesh(Vec3(0.5, -0.25, 0.25), Vec3(0.01, 0.5, 0.5)));
-  state.add.push_back({"hand", Role::kOccluder, std::move(hand), {}});
+  state.add.push_back({"hand", Role::kOccluder, std::move(hand), {}, {}, 0});
   return state;
 }
 

@@ -15,10 +15,14 @@
 // x_i = 0 forced is L - r_i + r_(n+1) for i among them (r_(j) the j-th largest row). Each is an
 // upper bound on the problem with that constraint added, so when it is below a threshold T, no
 // answer with that value of x_i reaches T.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <utility>
 
@@ -33,6 +37,13 @@ namespace {
 // once it falls below kMinStepScale.
 constexpr double kMinStepScale = 1e-7;
 constexpr int kPatience = 30;
+// ForEachRow: passes over fewer nonzeros stay on the calling thread, and no task gets fewer rows
+// than kRowGrain. On the contended 2-core machine of bench/RESULTS.md ("Faster branch and bound
+// nodes") two threads made branch and bound slower on the 450-candidate worlds (passes of 0.1-0.7
+// M nonzeros, 0.1-0.5 ms: a worker descheduled mid-pass stalls the whole pass), so only passes of
+// several milliseconds go parallel.
+constexpr size_t kParallelNonzeros = 2000000;
+constexpr size_t kRowGrain = 8;
 
 // The indices of the `count` largest `values` (ties: the lower index), in no particular order.
 template <typename T>
@@ -52,6 +63,29 @@ void TopN(std::span<const T> values, size_t count, std::vector<uint32_t>* order)
 }
 
 }  // namespace
+
+void ForEachRow(size_t count,
+                size_t nonzeros,
+                const std::function<void(size_t begin, size_t end)>& body) {
+  if (count == 0) return;
+  if (nonzeros < kParallelNonzeros || count < 2 * kRowGrain) {
+    body(0, count);
+    return;
+  }
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, count, kRowGrain),
+      [&](const tbb::blocked_range<size_t>& range) { body(range.begin(), range.end()); });
+}
+
+void AppendRuns(std::span<const uint32_t> row, std::vector<uint32_t>* runs) {
+  for (size_t j = 0; j < row.size(); ++j) {
+    if (j == 0 || row[j] != row[j - 1] + 1) {
+      if (j > 0) runs->push_back(row[j - 1] + 1);
+      runs->push_back(row[j]);
+    }
+  }
+  if (!row.empty()) runs->push_back(row.back() + 1);
+}
 
 std::vector<double> StartMultipliers(const LagrangianProblem& problem) {
   std::vector<uint32_t> seers(problem.weights.size(), 0);
@@ -77,16 +111,36 @@ SubgradientResult SubgradientSteps(const LagrangianProblem& problem,
   const size_t m = problem.rows.size();
   const size_t elements = problem.weights.size();
   VANTAGE_CHECK(lambda->size() == elements);
+  std::vector<double>& l = *lambda;
   // Warm starts may come from a problem with more weight (branch and bound zeroes the elements
   // its fixed candidates cover): project onto [0, w] first, or the estimates would run low.
+  // sum_e (w_e - lambda_e), summed in element order (the update below sums it in the same order
+  // for the next step, so every step's value is the same double whatever pass computes it).
+  double free_weight = 0;
   for (size_t e = 0; e < elements; ++e) {
-    (*lambda)[e] = std::clamp((*lambda)[e], 0.0, static_cast<double>(problem.weights[e]));
+    l[e] = std::clamp(l[e], 0.0, static_cast<double>(problem.weights[e]));
+    free_weight += problem.weights[e] - l[e];
   }
-  std::vector<double> best_lambda = *lambda;
+  // With runs, rows are summed as differences of prefix sums of lambda, and the chosen rows'
+  // cover counted through a difference array (both in passes over the runs, not the elements).
+  const bool by_runs = !problem.runs.empty();
+  VANTAGE_CHECK(!by_runs || problem.runs.size() == m);
+  size_t nonzeros = 0;
+  for (const std::vector<uint32_t>& row : problem.rows) nonzeros += row.size();
+  if (by_runs) {
+    nonzeros = 0;
+    for (const std::vector<uint32_t>& row : problem.runs) nonzeros += row.size();
+  }
+  std::vector<double> prefix(by_runs ? elements + 1 : 0, 0.0);  // prefix[k] = sum_{e < k} l_e
+  std::vector<int32_t> difference(by_runs ? elements + 1 : 0, 0);
+  if (by_runs) {
+    for (size_t e = 0; e < elements; ++e) prefix[e + 1] = prefix[e] + l[e];
+  }
+  std::vector<double> best_lambda = l;
   SubgradientResult result;
   std::vector<double> rows(m);
   std::vector<uint32_t> chosen;
-  std::vector<uint32_t> covered(elements);
+  std::vector<uint32_t> covered(elements, 0u);  // zero between steps (reset over the chosen rows)
   std::vector<double> step(elements);
   double scale = step_scale;
   int stale = 0;
@@ -97,14 +151,20 @@ SubgradientResult SubgradientSteps(const LagrangianProblem& problem,
       break;
     }
     ++result.iterations;
-    std::vector<double>& l = *lambda;
-    double value = 0;
-    for (size_t e = 0; e < elements; ++e) value += problem.weights[e] - l[e];
-    for (size_t i = 0; i < m; ++i) {
-      double r = 0;
-      for (const uint32_t e : problem.rows[i]) r += l[e];
-      rows[i] = r;
-    }
+    double value = free_weight;
+    // Each row's sum is one thread's, in element order: the same whatever the thread count.
+    ForEachRow(m, nonzeros, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) {
+        double r = 0;
+        if (by_runs) {
+          const std::vector<uint32_t>& runs = problem.runs[i];
+          for (size_t j = 0; j < runs.size(); j += 2) r += prefix[runs[j + 1]] - prefix[runs[j]];
+        } else {
+          for (const uint32_t e : problem.rows[i]) r += l[e];
+        }
+        rows[i] = r;
+      }
+    });
     TopN(std::span<const double>(rows), problem.slots, &chosen);
     for (const uint32_t i : chosen) value += rows[i];
     if (value < result.estimate - 1e-9) {
@@ -119,9 +179,25 @@ SubgradientResult SubgradientSteps(const LagrangianProblem& problem,
     // left for round-off in this estimate; the exact value decides).
     if (result.estimate < static_cast<double>(incumbent) + 0.5) break;
     // Subgradient dL/dlambda_e = (seers of e in the chosen) - 1, projected onto [0, w].
-    std::fill(covered.begin(), covered.end(), 0u);
-    for (const uint32_t i : chosen) {
-      for (const uint32_t e : problem.rows[i]) ++covered[e];
+    if (by_runs) {
+      for (const uint32_t i : chosen) {
+        const std::vector<uint32_t>& runs = problem.runs[i];
+        for (size_t j = 0; j < runs.size(); j += 2) {
+          ++difference[runs[j]];
+          --difference[runs[j + 1]];
+        }
+      }
+      int32_t count = 0;
+      for (size_t e = 0; e < elements; ++e) {
+        count += difference[e];
+        difference[e] = 0;
+        covered[e] = static_cast<uint32_t>(count);
+      }
+      difference[elements] = 0;
+    } else {
+      for (const uint32_t i : chosen) {
+        for (const uint32_t e : problem.rows[i]) ++covered[e];
+      }
     }
     double norm = 0;
     for (size_t e = 0; e < elements; ++e) {
@@ -130,13 +206,24 @@ SubgradientResult SubgradientSteps(const LagrangianProblem& problem,
       step[e] = g;
       norm += g * g;
     }
+    if (!by_runs) {
+      for (const uint32_t i : chosen) {
+        for (const uint32_t e : problem.rows[i]) covered[e] = 0;
+      }
+    }
     if (norm == 0) break;  // lambda is optimal: L(lambda) is the LP bound
     const double t = scale * (value - static_cast<double>(incumbent)) / norm;
+    free_weight = 0;
     for (size_t e = 0; e < elements; ++e) {
       l[e] = std::clamp(l[e] - t * step[e], 0.0, static_cast<double>(problem.weights[e]));
+      free_weight += problem.weights[e] - l[e];
+    }
+    if (by_runs) {
+      for (size_t e = 0; e < elements; ++e) prefix[e + 1] = prefix[e] + l[e];
     }
   }
   *lambda = std::move(best_lambda);
+  result.scale = scale;
   return result;
 }
 
@@ -163,8 +250,31 @@ ExactLagrangian EvaluateExactly(const LagrangianProblem& problem, std::span<cons
     sum += w - fixed[e];
   }
   exact.rows.assign(problem.rows.size(), 0);
-  for (size_t i = 0; i < problem.rows.size(); ++i) {
-    for (const uint32_t e : problem.rows[i]) exact.rows[i] += fixed[e];
+  size_t nonzeros = 0;
+  for (const std::vector<uint32_t>& row : problem.rows) nonzeros += row.size();
+  if (!problem.runs.empty()) {
+    // Runs: differences of integer prefix sums (below 2^62, exact), the same r as summing.
+    VANTAGE_CHECK(problem.runs.size() == problem.rows.size());
+    std::vector<uint64_t> prefix(fixed.size() + 1, 0);
+    for (size_t e = 0; e < fixed.size(); ++e) prefix[e + 1] = prefix[e] + fixed[e];
+    nonzeros = 0;
+    for (const std::vector<uint32_t>& row : problem.runs) nonzeros += row.size();
+    ForEachRow(problem.rows.size(), nonzeros, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) {
+        const std::vector<uint32_t>& runs = problem.runs[i];
+        uint64_t r = 0;
+        for (size_t j = 0; j < runs.size(); j += 2) r += prefix[runs[j + 1]] - prefix[runs[j]];
+        exact.rows[i] = r;
+      }
+    });
+  } else {
+    ForEachRow(problem.rows.size(), nonzeros, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) {
+        uint64_t r = 0;
+        for (const uint32_t e : problem.rows[i]) r += fixed[e];
+        exact.rows[i] = r;
+      }
+    });
   }
   TopN(std::span<const uint64_t>(exact.rows), slots, &exact.chosen);
   std::sort(exact.chosen.begin(), exact.chosen.end());

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <concepts>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <span>
@@ -182,7 +183,23 @@ struct LagrangianProblem {
   std::span<const std::vector<uint32_t>> rows;
   std::span<const uint32_t> weights;
   size_t slots = 0;
+  /// Optional (empty, or one per row): each row's elements as runs of consecutive indices,
+  /// flattened [begin, end) pairs, the same sets as `rows` (RowRuns). Given, SubgradientSteps and
+  /// EvaluateExactly sum rows through prefix sums over the elements: cheaper where the runs are
+  /// long (EvaluateExactly's integers are the same either way; the steps' doubles round
+  /// differently).
+  std::span<const std::vector<uint32_t>> runs = {};
 };
+
+/// `row` (ascending) as runs of consecutive indices: [begin, end) pairs, appended to `*runs`.
+void AppendRuns(std::span<const uint32_t> row, std::vector<uint32_t>* runs);
+
+/// Calls body(begin, end) over [0, count) in ranges, on TBB's threads when the pass touches enough
+/// `nonzeros` to pay for it (else once, on this thread). Every index is in exactly one range, so a
+/// body whose result for index i depends only on i gives the same results whatever the thread
+/// count (the Lagrangian's row sums: each row summed by one thread, in element order).
+void ForEachRow(size_t count, size_t nonzeros,
+                const std::function<void(size_t begin, size_t end)>& body);
 
 /// Where the multiplier search starts: each element's weight shared among the rows that see it.
 std::vector<double> StartMultipliers(const LagrangianProblem& problem);
@@ -191,6 +208,7 @@ std::vector<double> StartMultipliers(const LagrangianProblem& problem);
 struct SubgradientResult {
   double estimate = std::numeric_limits<double>::infinity();  ///< L of the best, in doubles
   int iterations = 0;
+  double scale = 0;  ///< the step scale reached (to continue the search where it stopped)
 };
 
 /// Projected subgradient steps on L from `lambda` (Polyak steps towards `incumbent`, scaled by
@@ -253,6 +271,23 @@ struct BranchAndBoundLimits {
   int root_steps = 1000;   ///< subgradient steps at the root (from the start multipliers)
   double root_share = 0.5;  ///< share of `seconds` the root's steps and LP may take
   bool root_lp = true;      ///< CLP's LP relaxation at the root, after the steps (lp_bound.hpp)
+  /// Nodes bounded at most (then the search stops as at the time limit): a stopping point that
+  /// does not depend on the clock, for tests.
+  long max_nodes = std::numeric_limits<long>::max();
+};
+
+/// Where BranchAndBound's time went (wall seconds; for bench/bnb_probe, not reported).
+struct BranchAndBoundProfile {
+  double root_seconds = 0;     ///< the root's multipliers (steps and CLP)
+  double rebuild_seconds = 0;  ///< rebuilding nodes from the queue
+  double rows_seconds = 0;     ///< building each bound's free rows
+  double step_seconds = 0;     ///< subgradient steps at nodes
+  double eval_seconds = 0;     ///< exact evaluations of L
+  double offer_seconds = 0;    ///< incumbents offered (greedy completion, local search)
+  double fixing_seconds = 0;   ///< Lagrangian fixing
+  long steps = 0;              ///< subgradient steps at nodes
+  long evaluations = 0;        ///< bounds evaluated exactly
+  bool runs = false;           ///< rows were passed as runs of consecutive elements
 };
 
 struct BranchAndBoundResult {
@@ -260,7 +295,7 @@ struct BranchAndBoundResult {
   uint64_t cells = 0;            ///< what `chosen` covers
   uint64_t upper_bound = 0;      ///< cells; >= the optimum
   bool proven_optimal = false;
-  bool timed_out = false;        ///< stopped by the time limit
+  bool timed_out = false;        ///< stopped by the time limit (or by max_nodes)
   long nodes = 0;
   uint64_t root_bound = 0;       ///< the Lagrangian bound at the root (before branching)
   size_t root_fixed_in = 0;      ///< candidates Lagrangian fixing settled at the root
@@ -271,6 +306,7 @@ struct BranchAndBoundResult {
   double root_lp_seconds = 0;    ///< CLP's time at the root
   bool root_lp_optimal = false;  ///< CLP finished the root LP (else stopped at its time)
   bool root_lp_improved = false;  ///< the LP's rounded x gave a better incumbent
+  BranchAndBoundProfile profile;
 };
 
 /// Maximum coverage with n sensors by branch and bound on the Lagrangian bound with fixing at
