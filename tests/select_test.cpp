@@ -21,6 +21,7 @@
 
 #include <tbb/task_arena.h>
 
+#include "brute_force.hpp"
 #include "pipeline/common.hpp"
 #include "select/coverage_matrix.hpp"
 #include "select/lp_bound.hpp"
@@ -1985,36 +1986,7 @@ uint64_t EnumeratedOptimum(const std::vector<Observation>& obs, size_t n,
     for (uint32_t i = 0; i < m; ++i)
       if (mask & (1u << i)) set.push_back(i);
     if (set.size() > n) continue;
-    bool ok = true;
-    for (const Conflict& c : constraints.conflicts)
-      ok = ok && !((mask >> c.a) & 1 && (mask >> c.b) & 1);
-    if (!ok) continue;
-    if (constraints.calibration) {
-      std::vector<uint32_t> group(set.size());
-      std::iota(group.begin(), group.end(), 0U);
-      for (size_t p = 0; p < set.size(); ++p) {
-        for (size_t q = p + 1; q < set.size(); ++q) {
-          std::vector<uint32_t> common;
-          std::set_intersection(obs[set[p]].reference_indices.begin(),
-                                obs[set[p]].reference_indices.end(),
-                                obs[set[q]].reference_indices.begin(),
-                                obs[set[q]].reference_indices.end(), std::back_inserter(common));
-          const uint64_t smaller = std::min(obs[set[p]].reference_indices.size(),
-                                            obs[set[q]].reference_indices.size());
-          const bool joined =
-              !common.empty() &&
-              (constraints.calibration->min_cells
-                   ? common.size() >= *constraints.calibration->min_cells
-                   : common.size() >= *constraints.calibration->min_fraction * smaller - 1e-9);
-          if (!joined) continue;
-          const uint32_t from = group[q], to = group[p];
-          for (uint32_t& g : group)
-            if (g == from) g = to;
-        }
-      }
-      ok = std::all_of(group.begin(), group.end(), [&](uint32_t g) { return g == group[0]; });
-    }
-    if (!ok) continue;
+    if (!test::SatisfiesConstraints(obs, set, constraints)) continue;
     std::set<uint32_t> cells;
     for (const uint32_t i : set)
       cells.insert(obs[i].reference_indices.begin(), obs[i].reference_indices.end());
@@ -2190,32 +2162,7 @@ namespace constraints_test {
 bool IsFeasibleSet(const std::vector<Observation>& obs,
                    const std::vector<uint32_t>& set,
                    const InstallConstraints& constraints) {
-  for (const Conflict& c : constraints.conflicts) {
-    if (std::count(set.begin(), set.end(), c.a) && std::count(set.begin(), set.end(), c.b))
-      return false;
-  }
-  if (!constraints.calibration || set.size() <= 1) return true;
-  std::vector<size_t> group(set.size());
-  std::iota(group.begin(), group.end(), size_t{0});
-  for (size_t p = 0; p < set.size(); ++p) {
-    for (size_t q = p + 1; q < set.size(); ++q) {
-      const std::vector<uint32_t>& a = obs[set[p]].reference_indices;
-      const std::vector<uint32_t>& b = obs[set[q]].reference_indices;
-      std::vector<uint32_t> common;
-      std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(common));
-      const double smaller = static_cast<double>(std::min(a.size(), b.size()));
-      const bool joined =
-          !common.empty() &&
-          (constraints.calibration->min_cells
-               ? common.size() >= *constraints.calibration->min_cells
-               : common.size() >= *constraints.calibration->min_fraction * smaller - 1e-9);
-      if (!joined) continue;
-      const size_t from = group[q], to = group[p];
-      for (size_t& g : group)
-        if (g == from) g = to;
-    }
-  }
-  return std::all_of(group.begin(), group.end(), [&](size_t g) { return g == group[0]; });
+  return test::SatisfiesConstraints(obs, set, constraints);
 }
 
 }  // namespace constraints_test

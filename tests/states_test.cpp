@@ -10,6 +10,7 @@
 #include <numbers>
 #include <set>
 
+#include "brute_force.hpp"
 #include "select/coverage_matrix.hpp"
 #include "select/objective_bounds.hpp"
 #include "test_util.hpp"
@@ -735,33 +736,7 @@ TEST(SelectOverStates, MinBoundOfAHandWorkedInstance) {
 bool FeasibleOverStates(const std::vector<RandomState>& states,
                         const std::vector<uint32_t>& set,
                         const InstallConstraints& constraints) {
-  for (const Conflict& c : constraints.conflicts) {
-    if (std::count(set.begin(), set.end(), c.a) && std::count(set.begin(), set.end(), c.b))
-      return false;
-  }
-  if (!constraints.calibration || set.size() <= 1) return true;
-  const std::vector<Observation>& first = states.front().observations;
-  std::vector<size_t> group(set.size());
-  for (size_t p = 0; p < set.size(); ++p) group[p] = p;
-  for (size_t p = 0; p < set.size(); ++p) {
-    for (size_t q = p + 1; q < set.size(); ++q) {
-      const std::vector<uint32_t>& a = first[set[p]].reference_indices;
-      const std::vector<uint32_t>& b = first[set[q]].reference_indices;
-      std::vector<uint32_t> common;
-      std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(common));
-      const double smaller = static_cast<double>(std::min(a.size(), b.size()));
-      const bool joined =
-          !common.empty() &&
-          (constraints.calibration->min_cells
-               ? common.size() >= *constraints.calibration->min_cells
-               : common.size() >= *constraints.calibration->min_fraction * smaller - 1e-9);
-      if (!joined) continue;
-      const size_t from = group[q], to = group[p];
-      for (size_t& g : group)
-        if (g == from) g = to;
-    }
-  }
-  return std::all_of(group.begin(), group.end(), [&](size_t g) { return g == group[0]; });
+  return test::SatisfiesConstraints(states.front().observations, set, constraints);
 }
 
 // The best aggregate over every feasible set of at most n candidates, by enumeration.
