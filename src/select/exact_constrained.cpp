@@ -321,6 +321,21 @@ Outcome RunCbc(const CoverageMatrix& matrix,
   return outcome;
 }
 
+// RunCbc, a failure of CBC's (not an interrupt) turned into the note of an empty outcome: the
+// caller then keeps its start and its own bound.
+Outcome RunCbcOrNote(const CoverageMatrix& matrix, const Feasibility& feasible,
+                     const MilpSpec& spec, const std::vector<uint32_t>& start, double time_limit) {
+  try {
+    return RunCbc(matrix, feasible, spec, start, time_limit);
+  } catch (const Interrupted&) {
+    throw;
+  } catch (const std::exception& e) {
+    Outcome outcome;
+    outcome.note = fmt::format("CBC failed: {}", e.what());
+    return outcome;
+  }
+}
+
 // CBC's answer when it satisfies the constraints (tolerances) and the capacity, padded (with n
 // sensors) by whatever still fits: coverage never drops by adding a sensor.
 std::optional<std::vector<uint32_t>> UsableAnswer(const CoverageMatrix& matrix,
@@ -384,15 +399,7 @@ ExactResult SolveExactConstrained(const CoverageMatrix& matrix,
   spec.fixed = objective.fixed;
   spec.value.resize(matrix.element_count());
   for (uint32_t e = 0; e < matrix.element_count(); ++e) spec.value[e] = matrix.Weight(e);
-  Outcome outcome;
-  try {
-    outcome = RunCbc(matrix, feasible, spec, start, time_limit);
-  } catch (const Interrupted&) {
-    throw;
-  } catch (const std::exception& e) {
-    outcome = Outcome{};
-    outcome.note = fmt::format("CBC failed: {}", e.what());
-  }
+  Outcome outcome = RunCbcOrNote(matrix, feasible, spec, start, time_limit);
   result.note = outcome.note;
   const std::optional<std::vector<uint32_t>> found =
       UsableAnswer(matrix, feasible, capacity, objective.fixed, outcome.chosen);
@@ -487,16 +494,8 @@ StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix,
   // CBC's objective in about cells of the largest state (exact_states.cpp).
   spec.scale = static_cast<double>(largest) * (by_min ? 1.0 : static_cast<double>(states));
   spec.gap = 1e-10 * spec.scale;
-  Outcome outcome;
-  const double left = time_limit - SecondsSince(begin);
-  try {
-    outcome = RunCbc(matrix, feasible, spec, start, left);
-  } catch (const Interrupted&) {
-    throw;
-  } catch (const std::exception& e) {
-    outcome = Outcome{};
-    outcome.note = fmt::format("CBC failed: {}", e.what());
-  }
+  Outcome outcome =
+      RunCbcOrNote(matrix, feasible, spec, start, time_limit - SecondsSince(begin));
   result.note = outcome.note;
   StatesScorer::Score score = scorer.ScoreOf(scorer.Covered(result.chosen));
   bool cbc_proved = false;
