@@ -50,7 +50,7 @@ struct SceneObject {
   std::vector<ShapeSource> shapes;
   /// Where it is declared, for messages: the YAML entry, the URDF robot, the SDF <visual> (for
   /// a model of several visuals, the first). Empty and 0 when not known.
-  std::string file;
+  std::string file = {};
   int line = 0;
   bool is_target() const { return role == Role::kTarget; }
 };
