@@ -11,6 +11,9 @@
 #                      $FUZZ_BUILD/merged/<target>/ (libFuzzer -merge=1): the seeds first, then
 #                      only the grown inputs that add features; what to commit to fuzz/corpus/.
 #   FUZZ_NO_BUILD=1    run the targets already built (e.g. while another target still builds).
+#   FUZZ_TIMEOUT=60    libFuzzer's -timeout in seconds (default 10). It counts wall-clock time:
+#                      under `nice -n 19` on a loaded machine a pipeline input of 0.7 s of CPU took
+#                      8.7 s, so raise it there (a real hang still shows as a timeout).
 # Run it as `nice -n 19 bash fuzz/run.sh` on a shared machine.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,6 +21,7 @@ FUZZ_BUILD=${FUZZ_BUILD:-fuzz/build}
 FUZZ_SECONDS=${FUZZ_SECONDS:-60}
 FUZZ_TARGETS=${FUZZ_TARGETS:-yaml_scene gazebo_world visibility_file constellation pipeline}
 JOBS=${JOBS:-2}
+FUZZ_TIMEOUT=${FUZZ_TIMEOUT:-10}
 
 # ccache (when installed) makes a rebuild after a small change cheap: the pipeline target compiles
 # the whole library with the sanitizers. CMAKE_CXX_COMPILER_LAUNCHER= (empty) turns it off.
@@ -45,7 +49,7 @@ for target in $FUZZ_TARGETS; do
   log="$FUZZ_BUILD/logs/$target-$(date -u +%Y%m%dT%H%M%S).log"
   echo "== $target: ${FUZZ_SECONDS} s (log: $log)"
   if ! "$FUZZ_BUILD/${target}_fuzzer" "$corpus" "fuzz/corpus/$target" "${dict[@]}" \
-      -max_total_time="$FUZZ_SECONDS" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+      -max_total_time="$FUZZ_SECONDS" -timeout="$FUZZ_TIMEOUT" -rss_limit_mb=2048 -max_len=65536 \
       -print_final_stats=1 -artifact_prefix="$artifacts/" 2>"$log"; then
     failed+=("$target")
     tail -n 60 "$log"
@@ -57,7 +61,7 @@ for target in $FUZZ_TARGETS; do
     merged="$FUZZ_BUILD/merged/$target"
     rm -rf "$merged" && mkdir -p "$merged"
     cp "fuzz/corpus/$target"/* "$merged/"
-    "$FUZZ_BUILD/${target}_fuzzer" -merge=1 "$merged" "$corpus" -timeout=10 -rss_limit_mb=2048 \
+    "$FUZZ_BUILD/${target}_fuzzer" -merge=1 "$merged" "$corpus" -timeout="$FUZZ_TIMEOUT" -rss_limit_mb=2048 \
         -max_len=65536 2>"$FUZZ_BUILD/logs/$target-merge.log" ||
       { tail -n 20 "$FUZZ_BUILD/logs/$target-merge.log"; failed+=("$target (merge)"); }
     echo "merged: $(ls "$merged" | wc -l) files, $(du -sh "$merged" | cut -f1) in $merged"
