@@ -1,7 +1,5 @@
 // libFuzzer target: the constellation reader (`vantage evaluate --constellation report.json`).
 // InputError is the expected outcome for bad input; anything else crashes.
-#include <spdlog/spdlog.h>
-
 #include <cstddef>
 #include <cstdint>
 
@@ -10,9 +8,7 @@
 #include "vantage/report.hpp"
 
 extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
-  spdlog::set_level(spdlog::level::off);
-  vantage::fuzz::ScratchDir();
-  return 0;
+  return vantage::fuzz::Initialize();
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

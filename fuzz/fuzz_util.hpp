@@ -3,6 +3,7 @@
 /// written as a file (the loaders read paths), laid out so that the relative paths of the seed
 /// corpus resolve (`../meshes/…` of the example scenes, `materials/…` and `model://…` of the test
 /// worlds).
+#include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <cstddef>
@@ -41,6 +42,18 @@ inline const std::string& ScratchDir() {
     return created;
   }();
   return *dir;
+}
+
+/// What every target's LLVMFuzzerInitialize does (each is one line that returns this): logging
+/// off (the readers' warnings would flood the fuzzer's output), no Gazebo search paths from the
+/// machine (only the model paths a target passes may change an outcome), the scratch folder
+/// created before the first input. Runs before any thread starts, so unsetenv is safe.
+inline int Initialize() {
+  spdlog::set_level(spdlog::level::off);
+  ::unsetenv("GAZEBO_MODEL_PATH");     // NOLINT(concurrency-mt-unsafe): before any thread starts
+  ::unsetenv("GAZEBO_RESOURCE_PATH");  // NOLINT(concurrency-mt-unsafe)
+  ScratchDir();
+  return 0;
 }
 
 /// Writes the fuzzed bytes to ScratchDir()/relative and returns the file's path.

@@ -2,23 +2,15 @@
 // for bad input; anything else crashes. The world is written beside links to the test worlds'
 // materials/ and models/, and those model folders are on the model path, so that the seed worlds
 // of tests/data/worlds load as they do in the tests.
-#include <spdlog/spdlog.h>
-
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 
 #include "fuzz_util.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
 
 extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
-  spdlog::set_level(spdlog::level::off);
-  // Only the model paths given below: the machine's Gazebo setup must not change the outcome.
-  ::unsetenv("GAZEBO_MODEL_PATH");     // NOLINT(concurrency-mt-unsafe): before any thread starts
-  ::unsetenv("GAZEBO_RESOURCE_PATH");  // NOLINT(concurrency-mt-unsafe)
-  vantage::fuzz::ScratchDir();
-  return 0;
+  return vantage::fuzz::Initialize();
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -4,8 +4,6 @@
 // selected (greedy, RANSAC, local search) with small limits so that one input takes milliseconds.
 // An InputError is the expected outcome for bad input; anything else (another exception, a
 // sanitizer report, an Embree assertion, a timeout, an out-of-memory) is a bug.
-#include <spdlog/spdlog.h>
-
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -25,9 +23,7 @@ constexpr size_t kMaxReference = 50'000;
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
-  spdlog::set_level(spdlog::level::off);
-  vantage::fuzz::ScratchDir();
-  return 0;
+  return vantage::fuzz::Initialize();
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -2,8 +2,6 @@
 // reads). InputError is the expected outcome; anything else crashes. Random bytes almost never
 // carry a valid FNV-1a checksum, so each input is also tried with its last 8 bytes replaced by
 // the checksum of the rest: that reaches the payload parser.
-#include <spdlog/spdlog.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -35,9 +33,7 @@ void Load(const std::string& path) {
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
-  spdlog::set_level(spdlog::level::off);
-  vantage::fuzz::ScratchDir();
-  return 0;
+  return vantage::fuzz::Initialize();
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

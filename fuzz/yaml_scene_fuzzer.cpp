@@ -1,8 +1,6 @@
 // libFuzzer target: vantage's YAML scene loader (docs/scene-format.md). An InputError is the
 // loader rejecting bad input, as it should; anything else (another exception, a sanitizer report,
 // a hang, an out-of-memory) is a bug.
-#include <spdlog/spdlog.h>
-
 #include <cstddef>
 #include <cstdint>
 
@@ -11,9 +9,7 @@
 #include "vantage/problem.hpp"
 
 extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
-  spdlog::set_level(spdlog::level::off);
-  vantage::fuzz::ScratchDir();
-  return 0;
+  return vantage::fuzz::Initialize();
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
