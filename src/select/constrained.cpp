@@ -118,29 +118,15 @@ std::vector<uint32_t> ThresholdGreedy(const CoverageMatrix& matrix,
                                       const Feasibility& feasible,
                                       const Capacity& capacity,
                                       std::vector<uint32_t> chosen) {
-  const auto kk = static_cast<uint32_t>(k);
-  std::vector<uint32_t> points(matrix.element_count(), 0);  // of the chosen, capped at k
-  const auto add = [&](uint32_t candidate) {
-    const std::vector<uint32_t>& row = matrix.Row(candidate);
-    for (size_t j = 0; j < row.size(); ++j)
-      points[row[j]] = std::min(kk, points[row[j]] + matrix.Count(candidate, j));
-  };
-  for (const uint32_t c : chosen) add(c);
+  CappedPoints points(matrix, k);
+  for (const uint32_t c : chosen) points.Add(c);
   while (chosen.size() < capacity.n) {
     ThrowIfInterrupted();
     int64_t best = -1;
     std::pair<uint64_t, uint64_t> best_gain{0, 0};  // (cells completed, points added)
     for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
       if (!feasible.CanAdd(chosen, i) || !capacity.Fits(chosen, i)) continue;
-      std::pair<uint64_t, uint64_t> gain{0, 0};
-      const std::vector<uint32_t>& row = matrix.Row(i);
-      for (size_t j = 0; j < row.size(); ++j) {
-        const uint32_t have = points[row[j]];
-        if (have >= kk) continue;
-        const uint32_t add = std::min(kk - have, matrix.Count(i, j));
-        if (have + add >= kk) gain.first += matrix.Weight(row[j]);
-        gain.second += uint64_t{add} * matrix.Weight(row[j]);
-      }
+      const std::pair<uint64_t, uint64_t> gain = points.Gain(i);
       if (best < 0 || best_gain < gain) {  // strict: ties keep the lower index
         best = i;
         best_gain = gain;
@@ -148,7 +134,7 @@ std::vector<uint32_t> ThresholdGreedy(const CoverageMatrix& matrix,
     }
     if (best < 0) break;  // nothing fits any more
     chosen.push_back(static_cast<uint32_t>(best));
-    add(static_cast<uint32_t>(best));
+    points.Add(static_cast<uint32_t>(best));
   }
   return chosen;
 }
@@ -210,14 +196,8 @@ std::vector<uint32_t> StatesThresholdGreedy(const StatesScorer& scorer,
                                             const Capacity& capacity,
                                             std::vector<uint32_t> chosen) {
   const CoverageMatrix& matrix = scorer.matrix();
-  const auto kk = static_cast<uint32_t>(scorer.k());
-  std::vector<uint32_t> points(matrix.element_count(), 0);  // of the chosen, capped at k
-  const auto add = [&](uint32_t candidate) {
-    const std::vector<uint32_t>& row = matrix.Row(candidate);
-    for (size_t j = 0; j < row.size(); ++j)
-      points[row[j]] = std::min(kk, points[row[j]] + matrix.Count(candidate, j));
-  };
-  for (const uint32_t c : chosen) add(c);
+  CappedPoints points(matrix, scorer.k());
+  for (const uint32_t c : chosen) points.Add(c);
   StateTally covered = scorer.Covered(chosen);
   using Score = StatesScorer::Score;
   while (chosen.size() < capacity.n) {
@@ -228,14 +208,10 @@ std::vector<uint32_t> StatesThresholdGreedy(const StatesScorer& scorer,
     for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
       if (!feasible.CanAdd(chosen, i) || !capacity.Fits(chosen, i)) continue;
       StateTally completed = scorer.Zero(), added = scorer.Zero();
-      const std::vector<uint32_t>& row = matrix.Row(i);
-      for (size_t j = 0; j < row.size(); ++j) {
-        const uint32_t have = points[row[j]];
-        if (have >= kk) continue;
-        const uint32_t more = std::min(kk - have, matrix.Count(i, j));
-        if (have + more >= kk) scorer.AddElement(row[j], &completed);
-        for (uint32_t p = 0; p < more; ++p) scorer.AddElement(row[j], &added);
-      }
+      points.ForEachMissing(i, [&](uint32_t element, uint32_t more, bool completes) {
+        if (completes) scorer.AddElement(element, &completed);
+        for (uint32_t p = 0; p < more; ++p) scorer.AddElement(element, &added);
+      });
       std::pair<Score, Score> rank{scorer.ScoreOf(covered + completed), scorer.ScoreOf(added)};
       if (best < 0 || best_rank < rank) {  // strict: ties keep the lower index
         best = i;
@@ -246,7 +222,7 @@ std::vector<uint32_t> StatesThresholdGreedy(const StatesScorer& scorer,
     if (best < 0) break;  // nothing fits any more
     chosen.push_back(static_cast<uint32_t>(best));
     covered += best_completed;
-    add(static_cast<uint32_t>(best));
+    points.Add(static_cast<uint32_t>(best));
   }
   return chosen;
 }

@@ -155,15 +155,12 @@ std::vector<uint32_t> PointsGreedyComplete(const CoverageMatrix& matrix,
                                            std::vector<uint32_t> chosen, size_t n, int k) {
   const size_t m = matrix.candidate_count();
   VANTAGE_CHECK(k >= 1 && n <= m && chosen.size() <= n);
-  const auto kk = static_cast<uint32_t>(k);
-  std::vector<uint32_t> points(matrix.element_count(), 0);  // of the chosen, capped at k
+  CappedPoints points(matrix, k);
   std::vector<bool> is_chosen(m, false);
   const auto add = [&](uint32_t candidate) {
     VANTAGE_CHECK(candidate < m && !is_chosen[candidate]);
     is_chosen[candidate] = true;
-    const std::vector<uint32_t>& row = matrix.Row(candidate);
-    for (size_t j = 0; j < row.size(); ++j)
-      points[row[j]] = std::min(kk, points[row[j]] + matrix.Count(candidate, j));
+    points.Add(candidate);
   };
   for (const uint32_t c : chosen) add(c);
   while (chosen.size() < n) {
@@ -172,15 +169,7 @@ std::vector<uint32_t> PointsGreedyComplete(const CoverageMatrix& matrix,
     std::pair<uint64_t, uint64_t> best_gain{0, 0};  // (cells completed, points added)
     for (uint32_t i = 0; i < m; ++i) {
       if (is_chosen[i]) continue;
-      std::pair<uint64_t, uint64_t> gain{0, 0};
-      const std::vector<uint32_t>& row = matrix.Row(i);
-      for (size_t j = 0; j < row.size(); ++j) {
-        const uint32_t have = points[row[j]];
-        if (have >= kk) continue;
-        const uint32_t add_points = std::min(kk - have, matrix.Count(i, j));
-        if (have + add_points >= kk) gain.first += matrix.Weight(row[j]);
-        gain.second += uint64_t{add_points} * matrix.Weight(row[j]);
-      }
+      const std::pair<uint64_t, uint64_t> gain = points.Gain(i);
       if (best < 0 || best_gain < gain) {  // strict: ties keep the lower index
         best = i;
         best_gain = gain;

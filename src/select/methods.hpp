@@ -98,6 +98,47 @@ std::vector<uint32_t> KGreedyComplete(const CoverageMatrix& matrix,
                                       size_t n,
                                       int k);
 
+/// Each element's points from the candidates added so far, capped at k: seers for k-coverage,
+/// pixel hits with a count matrix (min-points). What the threshold greedies (PointsGreedyComplete
+/// and the constrained ones) keep between steps.
+class CappedPoints {
+ public:
+  CappedPoints(const CoverageMatrix& matrix, int k)
+      : matrix_(&matrix), k_(static_cast<uint32_t>(k)), points_(matrix.element_count(), 0) {}
+  void Add(uint32_t candidate) {
+    const std::vector<uint32_t>& row = matrix_->Row(candidate);
+    for (size_t j = 0; j < row.size(); ++j)
+      points_[row[j]] = std::min(k_, points_[row[j]] + matrix_->Count(candidate, j));
+  }
+  /// visit(element, more, completes) for each element of `candidate` still short of k: the
+  /// points it would add there (up to what is missing), and whether that brings it to k.
+  template <typename Visit>
+  void ForEachMissing(uint32_t candidate, const Visit& visit) const {
+    const std::vector<uint32_t>& row = matrix_->Row(candidate);
+    for (size_t j = 0; j < row.size(); ++j) {
+      const uint32_t have = points_[row[j]];
+      if (have >= k_) continue;
+      const uint32_t more = std::min(k_ - have, matrix_->Count(candidate, j));
+      visit(row[j], more, have + more >= k_);
+    }
+  }
+  /// (weight of the elements `candidate` completes, weight times the points it adds where they
+  /// are missing): the threshold greedies' order of gains.
+  std::pair<uint64_t, uint64_t> Gain(uint32_t candidate) const {
+    std::pair<uint64_t, uint64_t> gain{0, 0};
+    ForEachMissing(candidate, [&](uint32_t element, uint32_t more, bool completes) {
+      if (completes) gain.first += matrix_->Weight(element);
+      gain.second += uint64_t{more} * matrix_->Weight(element);
+    });
+    return gain;
+  }
+
+ private:
+  const CoverageMatrix* matrix_;
+  uint32_t k_;
+  std::vector<uint32_t> points_;
+};
+
 /// Min-points greedy (a matrix with point counts, k = min_points) from `chosen` up to n sensors:
 /// each step adds the candidate that completes the most cells (brings their points to k), ties
 /// broken by the most points it adds where they are still missing (each cell's share up to k,
