@@ -21,10 +21,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
 std::shared_ptr<spdlog::logger> Logger() {
   auto logger = spdlog::get("vantage");
   return logger ? logger : spdlog::default_logger();

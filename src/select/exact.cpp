@@ -50,10 +50,6 @@ constexpr double kMinBranchAndBoundSeconds = 0.02;
 // reach the points (a relaxation: a cell with enough points is seen); CBC gets the rest.
 constexpr double kRelaxedBoundShare = 0.25;
 
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 // Candidates seeing each element.
 std::vector<std::vector<uint32_t>> Columns(const CoverageMatrix& matrix) {
   std::vector<std::vector<uint32_t>> columns(matrix.element_count());

@@ -363,10 +363,6 @@ std::optional<std::vector<uint32_t>> UsableAnswer(const CoverageMatrix& matrix,
   return found;
 }
 
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 }  // namespace
 
 ExactResult SolveExactConstrained(const CoverageMatrix& matrix,

@@ -48,10 +48,6 @@ constexpr double kFirstBoundShare = 0.1;
 // An answer within this much of the bound (a fraction of R) is reported proven optimal.
 constexpr double kProofTolerance = 1e-9;
 
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
 
 // CBC's result as the child process reports it: its bound, whether it proved, and the x values.
 struct StatesCbcAnswer {

@@ -3,6 +3,7 @@
 /// in the order chosen; coverages are counted in reference cells (element weights). Explicitly
 /// instantiated for CellScorer and StatesScorer where they are templates.
 #include <algorithm>
+#include <chrono>
 #include <concepts>
 #include <cstdint>
 #include <functional>
@@ -97,6 +98,11 @@ std::vector<uint32_t> KGreedyComplete(const CoverageMatrix& matrix,
                                       std::vector<uint32_t> chosen,
                                       size_t n,
                                       int k);
+
+/// Seconds of wall time since `start` (every method's timing and time limit).
+inline double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 /// Each element's points from the candidates added so far, capped at k: seers for k-coverage,
 /// pixel hits with a count matrix (min-points). What the threshold greedies (PointsGreedyComplete

@@ -45,10 +45,6 @@ constexpr double kMinSteps = 10;
 constexpr double kTightenTimeShare = 0.9;
 constexpr double kSetCoverTimeShare = 0.25;
 
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 // The candidates an answer may contain: all, or those within the budget.
 std::vector<uint32_t> UsableCandidates(const CoverageLp& lp) {
   std::vector<uint32_t> usable;

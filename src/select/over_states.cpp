@@ -25,6 +25,7 @@ namespace vantage {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using detail::SecondsSince;
 
 }  // namespace
 
@@ -234,10 +235,6 @@ void Validate(std::span<const StateObservations> states, const SelectOptions& op
       }
     }
   }
-}
-
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
 }  // namespace
