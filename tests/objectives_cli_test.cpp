@@ -390,8 +390,6 @@ TEST(ConstraintsCli, StructuredLightPairConflictsTofWithStereoDoesNot) {
 TEST(ConstraintsCli, ConstraintOptionsThatCannotApplyExitTwoNamingThem) {
   test::TempDir dir;
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"--refine --calibration-overlap 5", "--calibration-overlap: does not combine with --refine"},
-      {"--refine --interference true", "--interference: does not combine with --refine"},
       {"--interference-overlap 1.5", "--interference-overlap: 1.5 must be a fraction in [0, 1]"},
       {"--calibration-overlap 0", "--calibration-overlap: must be at least 1 common cell"},
       {"--calibration-overlap 3 --calibration-overlap-frac 0.1",
@@ -831,9 +829,6 @@ TEST(MountingCli, BadMountingRulesExitTwoWithFileAndLine) {
        "needs either `size` (and an optional `center`) or `min` and `max`"},
       {"keep_out:\n  - {size: [2, 2, 2], center: [0, 0, 0]}\n", "",
        "every one of the 2 candidates lies inside a keep_out box"},
-      {"min_separation: 0.5\n", " --refine", "min_separation does not combine with --refine"},
-      {"keep_out:\n  - {size: [0.1, 0.1, 0.1]}\n", " --refine",
-       "keep_out does not combine with --refine"},
   };
   for (const auto& [extra, flags, message] : cases) {
     const std::string scene = dir.File("bad.yaml");

@@ -5,10 +5,12 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <set>
 
+#include "vantage/constraints.hpp"
 #include "vantage/error.hpp"
 
 namespace vantage {
@@ -238,6 +240,74 @@ TEST(Refine, CoverageNeverDrops) {
       EXPECT_LE(p.z(), 1.0 + 1e-9);
     }
   }
+}
+
+// Installation constraints (issue 20): a pose that may not be mounted is never traced, and the
+// refined constellation obeys the constraints recomputed over old and new poses.
+TEST(Refine, NewPosesAvoidWhereTheyMayNotBeMounted) {
+  const Fixture s = FaceSetup();
+  RefineOptions options;
+  options.per_sensor = 1000;  // the whole pool each round
+  // Without the rule the pool moves the camera to y = +5 cm (toward the unobserved column too).
+  const RefineResult free = RunRefine(s, options);
+  const auto above = [](const Candidate& c) { return c.world_from_body.position.y() > 1e-6; };
+  EXPECT_TRUE(std::any_of(free.candidates.begin(), free.candidates.end(), above));
+  options.may_mount = [](const Pose& body) { return body.position.y() <= 1e-6; };
+  const RefineResult r = RunRefine(s, options);
+  ASSERT_GT(r.new_candidates, 0u);
+  EXPECT_FALSE(std::any_of(r.candidates.begin(), r.candidates.end(), above));
+  EXPECT_GE(r.selection.coverage, s.start.coverage);
+}
+
+TEST(Refine, ObeysTheConstraintsOverOldAndNewPoses) {
+  // Two faces, +x and -x, one population each, N = 2: unconstrained, refinement finds a pose
+  // that sees the whole of each face (72 cells). The rule: two sensors that each see a whole face
+  // conflict — so at most one of the two faces can be seen whole.
+  Fixture s;
+  s.reference = BuildReference(s.scene, {kCell});
+  Population plus = FacePopulation();
+  Population minus = FacePopulation();
+  minus.name = "minus";
+  minus.pose = Pose{Vec3(-1.1, 0, 0), Quat::Identity()};  // region x in [-1.2, -1.0]
+  s.populations = {plus, minus};
+  s.observation_point = kPastTheCube;
+  DeployOptions deploy;
+  deploy.observation_point = s.observation_point;
+  s.candidates = DeployCandidates(s.populations, {}, {FineCamera()}, deploy);
+  ASSERT_EQ(s.candidates.size(), 2u);
+  s.observations = Observe(s.scene, s.reference, s.candidates);
+  s.select.n = 2;
+  s.select.method = Method::kLocal;
+  s.start = Select(s.observations, s.reference.size(), s.select).at(0);
+  ASSERT_LT(s.start.coverage, 2 * kFace / kShell);
+  const auto whole_faces = [](std::span<const Candidate> candidates,
+                              std::span<const Observation> observations) {
+    InstallConstraints constraints;
+    for (uint32_t a = 0; a < candidates.size(); ++a) {
+      for (uint32_t b = a + 1; b < candidates.size(); ++b) {
+        if (observations[a].reference_indices.size() == kFace &&
+            observations[b].reference_indices.size() == kFace)
+          constraints.conflicts.push_back({a, b, ConflictKind::kSeparation, 0});
+      }
+    }
+    return constraints;
+  };
+  RefineOptions options;
+  options.per_sensor = 1000;
+  const RefineResult free = RunRefine(s, options);
+  EXPECT_DOUBLE_EQ(free.selection.coverage, 2 * kFace / kShell);
+  options.constraints = whole_faces;
+  const RefineResult r = RunRefine(s, options);
+  EXPECT_GE(r.selection.coverage, s.start.coverage);
+  EXPECT_LT(r.selection.coverage, 2 * kFace / kShell);
+  ASSERT_EQ(r.selection.chosen.size(), 2u);
+  size_t whole = 0;
+  for (const uint32_t c : r.selection.chosen)
+    whole += r.observations[c].reference_indices.size() == kFace ? 1 : 0;
+  EXPECT_LE(whole, 1u);
+  // One whole face is still reachable: the other sensor keeps its part.
+  EXPECT_GT(r.selection.coverage, kFace / kShell);
+  EXPECT_DOUBLE_EQ(r.selection.coverage, UnionCoverage(r, s.reference.size()));
 }
 
 TEST(Refine, SameResultWithOneAndTwoThreads) {

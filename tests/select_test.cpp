@@ -2367,6 +2367,97 @@ TEST(Constraints, KeptSensorsMatchEnumeration) {
   EXPECT_THROW(Select(obs, 40, options), InputError);
 }
 
+// Kept sensors that the calibration rule leaves apart (issue 20): every answer holds them and a
+// chain that joins them. Exact's answer is the best connected superset of at most n (enumerated)
+// and its bound holds; best is the best single candidate that joins them, or an InputError when
+// none does; when no superset of at most n is connected, every method is an InputError.
+TEST(Constraints, DisconnectedKeptSensorsAreBridged) {
+  int bridged = 0, one_joins = 0, refused = 0;
+  for (uint64_t seed = 1; seed <= 40 && bridged < 12; ++seed) {
+    const size_t m = 8 + seed % 4;  // 8..11 candidates
+    const std::vector<Observation> obs = RandomInstance(2400 + seed, m, 40, 0.25);
+    InstallConstraints constraints;
+    constraints.calibration = CalibrationRule{3, std::nullopt};
+    // The first pair of candidates that see something and are not joined.
+    std::vector<uint32_t> kept;
+    for (uint32_t a = 0; a < m && kept.empty(); ++a) {
+      for (uint32_t b = a + 1; b < m && kept.empty(); ++b) {
+        if (!obs[a].reference_indices.empty() && !obs[b].reference_indices.empty() &&
+            !test::SatisfiesConstraints(obs, std::vector<uint32_t>{a, b}, constraints))
+          kept = {a, b};
+      }
+    }
+    if (kept.empty()) continue;
+    SCOPED_TRACE(testing::Message() << "seed " << seed << " kept " << kept[0] << ", " << kept[1]);
+    const size_t n = 4;
+    // Enumerated: the fewest sensors of a connected superset, and the best one of at most n.
+    size_t fewest = m + 1;
+    uint64_t optimum = 0, best_single = 0;
+    for (const std::vector<uint32_t>& set : AllSubsets(m)) {
+      if (!std::count(set.begin(), set.end(), kept[0]) ||
+          !std::count(set.begin(), set.end(), kept[1]) ||
+          !test::SatisfiesConstraints(obs, set, constraints))
+        continue;
+      fewest = std::min(fewest, set.size());
+      if (set.size() <= n) optimum = std::max<uint64_t>(optimum, UnionSize(obs, set));
+      if (set.size() == 3) best_single = std::max<uint64_t>(best_single, UnionSize(obs, set));
+    }
+    SelectOptions options;
+    options.n = static_cast<int>(n);
+    options.seed = seed;
+    options.ransac_iterations = 200;
+    options.constraints = constraints;
+    options.fixed = kept;
+    if (fewest > n) {
+      for (const Method method : {Method::kGreedy, Method::kExact, Method::kAll}) {
+        options.method = method;
+        EXPECT_THROW(Select(obs, 40, options), InputError) << MethodName(method);
+      }
+      ++refused;
+      continue;
+    }
+    // Two parts without conflicts: the shortest chain is the fewest sensors that join them.
+    const std::vector<uint32_t> start = ConnectKept(obs, kept, constraints);
+    EXPECT_EQ(start.size(), fewest);
+    EXPECT_TRUE(std::equal(kept.begin(), kept.end(), start.begin()));
+    EXPECT_TRUE(test::SatisfiesConstraints(obs, start, constraints));
+    for (const Method method : {Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact}) {
+      options.method = method;
+      const Selection s = Select(obs, 40, options).front();
+      ASSERT_GE(s.chosen.size(), fewest) << s.method;
+      EXPECT_LE(s.chosen.size(), n) << s.method;
+      EXPECT_TRUE(std::equal(kept.begin(), kept.end(), s.chosen.begin())) << s.method;
+      EXPECT_TRUE(test::SatisfiesConstraints(obs, s.chosen, constraints)) << s.method;
+      EXPECT_LE(UnionSize(obs, s.chosen), optimum) << s.method;
+      if (method == Method::kExact) {
+        EXPECT_EQ(UnionSize(obs, s.chosen), optimum);
+        ASSERT_TRUE(s.upper_bound.has_value());
+        EXPECT_GE(*s.upper_bound + 1e-12, static_cast<double>(optimum) / 40.0);
+        EXPECT_TRUE(s.proven_optimal);
+      }
+    }
+    options.method = Method::kAll;
+    for (const Selection& s : Select(obs, 40, options)) {
+      EXPECT_GE(s.chosen.size(), fewest) << s.method;
+      EXPECT_TRUE(test::SatisfiesConstraints(obs, s.chosen, constraints)) << s.method;
+    }
+    options.method = Method::kBest;
+    options.n = 3;
+    if (fewest == 3) {
+      const Selection best = Select(obs, 40, options).front();
+      EXPECT_EQ(UnionSize(obs, best.chosen), best_single);
+      EXPECT_TRUE(test::SatisfiesConstraints(obs, best.chosen, constraints));
+      ++one_joins;
+    } else {
+      EXPECT_THROW(Select(obs, 40, options), InputError);
+    }
+    ++bridged;
+  }
+  EXPECT_EQ(bridged, 12);
+  EXPECT_GE(one_joins, 3);
+  EXPECT_GE(refused, 1);
+}
+
 TEST(Constraints, ValidateNamesTheField) {
   const std::vector<Observation> obs = {Obs({0}), Obs({1}), Obs({2})};
   SelectOptions options;

@@ -102,6 +102,15 @@ ConstraintCheck CheckConstraints(std::span<const Observation> observations,
                                  std::span<const uint32_t> chosen,
                                  const InstallConstraints& constraints);
 
+/// Kept sensors (`kept`, conflict-free) that the calibration rule leaves in parts, joined: `kept`
+/// first, then the candidates of the shortest chains over the overlap graph that join the parts
+/// (fewest sensors per chain; a heuristic), each conflicting with nothing chosen. `kept` itself
+/// when it is connected or there is no rule; empty when no chain joins two parts. Selection
+/// grows every answer from it (docs/constraints.md, Kept sensors).
+std::vector<uint32_t> ConnectKept(std::span<const Observation> observations,
+                                  std::span<const uint32_t> kept,
+                                  const InstallConstraints& constraints);
+
 /// The conflicts of `constraints` in which a chosen sensor excluded an unchosen candidate:
 /// what the answer avoided, sorted by (a, b).
 std::vector<Conflict> ConflictsAvoided(std::span<const uint32_t> chosen,

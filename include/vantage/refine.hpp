@@ -4,9 +4,12 @@
 /// at what the constellation does not see yet), only they are traced, and selection reruns over
 /// old and new candidates; rounds repeat while coverage improves.
 #include <cstdint>
+#include <functional>
+#include <span>
 #include <vector>
 
 #include "vantage/candidates.hpp"
+#include "vantage/constraints.hpp"
 #include "vantage/observe.hpp"
 #include "vantage/population.hpp"
 #include "vantage/reference.hpp"
@@ -29,6 +32,13 @@ struct RefineOptions {
   /// How the new poses are traced (observe.hpp): empty, by Observe in this process; an MPI job's
   /// spreads them over its ranks (distribute.hpp).
   TraceFunction trace;
+  /// Installation constraints (docs/constraints.md) the refined constellation obeys, as the
+  /// start selection did: whether a new camera body pose may be mounted (outside the keep-out
+  /// boxes; empty: every pose), and the constraints over the given and new candidates together,
+  /// recomputed after each round's tracing (separation, interference, calibration; empty: none).
+  std::function<bool(const Pose& world_from_body)> may_mount;
+  std::function<InstallConstraints(std::span<const Candidate>, std::span<const Observation>)>
+      constraints;
 
   /// Throws InputError naming the field when a value is out of range or not finite.
   void Validate() const;

@@ -279,6 +279,11 @@ RefineResult Refine(const RayScene& rays,
                                   method, select);
   };
 
+  // The constraints over the candidates so far: the start obeys them (selection did).
+  const auto constrain = [&] {
+    if (options.constraints) reselect.constraints = options.constraints(candidates, observations);
+  };
+  constrain();
   RefineResult result;
   Selection current = score(start.chosen, start.method);
   result.coverage_before = current.coverage;
@@ -319,7 +324,8 @@ RefineResult Refine(const RayScene& rays,
       }
       std::vector<PoolPose> pool =
           Pool(world_from_model, mount.population, observation_point, targets, move, turn);
-      // Drop what is already a candidate of this root (or made this round): never trace twice.
+      // Drop what is already a candidate of this root (or made this round): never trace twice;
+      // and what may not be mounted there (a keep-out box).
       std::vector<Pose> bodies;
       for (const PoolPose& pose : pool) {
         const Pose body = Pose{pose.position, pose.rotation} * mount.model_from_camera;
@@ -330,7 +336,7 @@ RefineResult Refine(const RayScene& rays,
         for (size_t i = 0; i < candidates.size() && !is_known; ++i) {
           is_known = root[i] == r && same(candidates[i].world_from_body);
         }
-        if (!is_known) bodies.push_back(body);
+        if (!is_known && (!options.may_mount || options.may_mount(body))) bodies.push_back(body);
       }
       // A seeded partial Fisher–Yates draw of per_sensor poses (STYLE.md: no std::shuffle).
       Rng rng(options.seed, Stream::kRefine, static_cast<uint64_t>(round), p);
@@ -358,6 +364,7 @@ RefineResult Refine(const RayScene& rays,
         observations.push_back(std::move(seen[i]));
         root.push_back(fresh_root[i]);
       }
+      constrain();
       if (!reselect.costs.empty()) {
         reselect.costs.resize(given);
         for (size_t i = given; i < candidates.size(); ++i)

@@ -44,13 +44,6 @@ Reference BuildRunReference(const Scene& scene, double cell_size, const std::str
 /// Every candidate of `evaluator` as one "given" selection, with its coverage (evaluate, render).
 Selection GivenSelection(const CoverageEvaluator& evaluator);
 
-/// InputError naming the constraint option (docs/constraints.md) that is invalid or cannot apply
-/// to `options` (another objective, kept sensors, states, refinement). Before any ray is cast.
-/// The scene's mounting rules likewise: min_separation (named by its file:line) where it cannot
-/// apply, keep_out with refinement (new poses could fall inside a box).
-void CheckConstraintRequest(const ConstraintOptions& request, const SelectOptions& options,
-                            bool has_states, bool refine, const MountingRules& mounting = {});
-
 /// Conflicting pairs (separation, interference) selection can hold (each is a row
 /// x_i + x_j <= 1; 5 M take about 200 MB with the methods' neighbour lists).
 constexpr size_t kMaxConflictPairs = 5'000'000;
@@ -71,21 +64,27 @@ void CheckSeparationPairs(std::span<const Candidate> candidates, const MountingR
 std::vector<bool> ProjectingCandidates(std::span<const Candidate> candidates);
 
 /// The constraints selection must satisfy, from the request over the observed candidates:
-/// interference (on by default where it applies, with at least two projecting candidates),
+/// interference (when asked for, with at least two projecting candidates),
 /// calibration and the scene's mounting rules (separation pairs; the keep-out boxes, the
 /// `kept_out` candidates they excluded and the candidates inside one, which evaluate reports).
 /// With scene `states` (the first of which is `observations`), a pair interferes when it does in
-/// any state. nullopt when none is on or they cannot apply (CheckConstraintRequest refused
-/// explicit ones already).
+/// any state. nullopt when none is on. InputError for an invalid request, kept sensors that
+/// conflict or that no chain joins (or whose chain -n, the budget or method best leaves no room
+/// for), and more than kMaxConflictPairs interference pairs.
 std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& request,
                                                   const SelectOptions& options,
                                                   std::span<const Candidate> candidates,
                                                   std::span<const Observation> observations,
-                                                  bool has_states,
-                                                  bool refine,
                                                   const MountingRules& mounting = {},
                                                   size_t kept_out = 0,
                                                   std::span<const ObservedState> states = {});
+
+/// The constraints of `info` (a run's, from ResolveConstraints) over a grown candidate set, the
+/// run's first: interference and separation pairs recomputed over all of them, the calibration
+/// rule kept. For refinement, whose new poses join the given candidates.
+InstallConstraints ConstraintsOverGrown(const ConstraintsInfo& info,
+                                        std::span<const Candidate> candidates,
+                                        std::span<const Observation> observations);
 
 /// Removes the one-sensor alternatives that break the constraints selection obeyed.
 void DropInfeasibleAlternatives(const ConstraintsInfo& info, const VisibilityFile& data,

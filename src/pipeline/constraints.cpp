@@ -40,13 +40,6 @@ void ConstraintOptions::Validate() const {
 namespace detail {
 namespace {
 
-// Why constraints cannot apply to this selection; empty when they can.
-// Every objective and scene states work (docs/constraints.md).
-std::string Unsupported(const SelectOptions& /*options*/, bool /*has_states*/, bool refine) {
-  if (refine) return "does not combine with --refine yet — drop one of them";
-  return {};
-}
-
 // Kept sensors (--keep-existing) must satisfy the constraints among themselves: the others are
 // then chosen to keep them satisfied (docs/constraints.md, Kept sensors).
 void CheckKeptSensors(const ConstraintsInfo& info,
@@ -71,18 +64,45 @@ void CheckKeptSensors(const ConstraintsInfo& info,
                                          pairs)));
   }
   if (info.constraints.calibration && !check.connected()) {
+    // Parts are joined by a chain of other candidates, which every answer then holds.
     std::string parts;
     for (const std::vector<uint32_t>& part : check.components) {
       std::string names;
       for (const uint32_t i : part) names += (names.empty() ? "" : ", ") + candidates[i].name;
       parts += fmt::format("{}[{}]", parts.empty() ? "" : " ", names);
     }
-    throw InputError(AtPlace("--keep-existing", 0,
-                             fmt::format("the kept sensors are not connected by the calibration "
-                                         "rule ({} parts: {}) — vantage does not search for "
-                                         "bridging sensors yet; lower the calibration overlap or "
-                                         "drop --keep-existing",
-                                         check.components.size(), parts)));
+    const std::vector<uint32_t> joined = ConnectKept(observations, kept, info.constraints);
+    if (joined.empty())
+      throw InputError(AtPlace("--keep-existing", 0,
+                               fmt::format("the kept sensors are not connected by the calibration "
+                                           "rule ({} parts: {}), and no chain of candidates joins "
+                                           "them — lower the calibration overlap, add candidates "
+                                           "between them, or drop --keep-existing",
+                                           check.components.size(), parts)));
+    std::string chain;
+    double chain_cost = 0;
+    for (size_t p = 0; p < joined.size(); ++p) {
+      if (!options.costs.empty()) chain_cost += options.costs[joined[p]];
+      if (p >= kept.size()) chain += (chain.empty() ? "" : ", ") + candidates[joined[p]].name;
+    }
+    const size_t more = joined.size() - kept.size();
+    const std::string what = fmt::format("joining the kept sensors' {} parts ({}) takes {} more "
+                                         "sensor{} ({})",
+                                         check.components.size(), parts, more,
+                                         more == 1 ? "" : "s", chain);
+    const Objective objective = options.objective();
+    if (options.budget && chain_cost > *options.budget)
+      throw InputError(AtPlace("--budget", 0,
+                               fmt::format("{}: together they cost {:g}, over the budget {:g}",
+                                           what, chain_cost, *options.budget)));
+    if (options.method == Method::kBest && more > 1)
+      throw InputError(AtPlace("--method", 0,
+                               what + "; best adds one — use another method"));
+    if (!options.budget && objective != Objective::kSetCover &&
+        static_cast<size_t>(options.n) < joined.size())
+      throw InputError(AtPlace("-n", 0, fmt::format("{} — give -n {} or more", what,
+                                                    joined.size())));
+    spdlog::info("constraints: {}; every answer holds them", what);
   }
 }
 
@@ -116,28 +136,6 @@ bool HasCalibration(const ConstraintOptions& c) {
 }
 
 }  // namespace
-
-void CheckConstraintRequest(const ConstraintOptions& request, const SelectOptions& options,
-                            bool has_states, bool refine, const MountingRules& mounting) {
-  request.Validate();
-  if (refine && !mounting.keep_out.empty()) {
-    const KeepOutBox& box = mounting.keep_out.front();
-    throw InputError(AtPlace(box.file, box.line,
-                             "keep_out does not combine with --refine yet (refined poses could "
-                             "fall inside a box) — drop --refine or the keep-out boxes"));
-  }
-  const std::string why = Unsupported(options, has_states, refine);
-  if (why.empty()) return;
-  if (mounting.min_separation)
-    throw InputError(AtPlace(mounting.min_separation_file, mounting.min_separation_line,
-                             "min_separation " + why));
-  if (request.interference == true)
-    throw InputError(AtPlace("--interference", 0, why));
-  if (request.interference_overlap) throw InputError(AtPlace("--interference-overlap", 0, why));
-  if (request.calibration_overlap) throw InputError(AtPlace("--calibration-overlap", 0, why));
-  if (request.calibration_overlap_frac)
-    throw InputError(AtPlace("--calibration-overlap-frac", 0, why));
-}
 
 std::vector<Conflict> SeparationConflicts(std::span<const Candidate> candidates,
                                           double min_separation, size_t max_pairs) {
@@ -202,12 +200,10 @@ std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& reque
                                                   const SelectOptions& options,
                                                   std::span<const Candidate> candidates,
                                                   std::span<const Observation> observations,
-                                                  bool has_states,
-                                                  bool refine,
                                                   const MountingRules& mounting,
                                                   size_t kept_out,
                                                   std::span<const ObservedState> states) {
-  if (!Unsupported(options, has_states, refine).empty()) return std::nullopt;
+  request.Validate();
   ConstraintsInfo info;
   const std::vector<bool> projecting = ProjectingCandidates(candidates);
   for (const bool p : projecting) info.projecting += p ? 1 : 0;
@@ -260,6 +256,25 @@ std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& reque
     return std::nullopt;
   CheckKeptSensors(info, options, candidates, observations);
   return info;
+}
+
+InstallConstraints ConstraintsOverGrown(const ConstraintsInfo& info,
+                                        std::span<const Candidate> candidates,
+                                        std::span<const Observation> observations) {
+  InstallConstraints grown;
+  grown.calibration = info.constraints.calibration;
+  if (info.interference_overlap) {
+    grown.conflicts = InterferenceConflicts(observations, ProjectingCandidates(candidates),
+                                            *info.interference_overlap, kMaxConflictPairs);
+  }
+  if (info.min_separation)
+    MergeConflicts(SeparationConflicts(candidates, *info.min_separation), &grown.conflicts);
+  if (grown.conflicts.size() > kMaxConflictPairs)
+    throw InputError(fmt::format("refinement: more than {} conflicting pairs among the {} "
+                                 "candidates and new poses — lower --refine-rounds or relax the "
+                                 "constraints",
+                                 kMaxConflictPairs, candidates.size()));
+  return grown;
 }
 
 void DropInfeasibleAlternatives(const ConstraintsInfo& info, const VisibilityFile& data,

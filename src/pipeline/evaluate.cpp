@@ -210,7 +210,7 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   }
   report.constraints =
       detail::ResolveConstraints(constraints, SelectOptions{}, run.data->candidates,
-                                 run.data->observations, false, false, problem.mounting, 0, states);
+                                 run.data->observations, problem.mounting, 0, states);
   if (report.constraints) report.constraints->is_applied = false;
   report.inputs = detail::InputsOf("evaluate", scene, observe);
   report.inputs->interference = options.constraints.interference;

@@ -75,8 +75,7 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
     throw InputError(AtPlace("--refine", 0,
                              "refinement over scene states is not supported yet — drop --refine "
                              "or the scene's states"));
-  detail::CheckConstraintRequest(options.selection.constraints, select, has_states,
-                                 options.refine.has_value(), prepared.problem.mounting);
+  options.selection.constraints.Validate();
   if (options.selection.keep_existing) {
     const std::vector<KeepOutBox>& boxes = prepared.problem.mounting.keep_out;
     for (const Candidate& c : prepared.kept_out) {
@@ -111,15 +110,30 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
   Report& report = run.report;
   report.constraints = detail::ResolveConstraints(
       options.selection.constraints, select, observed.data.candidates, observed.data.observations,
-      !observed.states.empty(), options.refine.has_value(), observed.data.mounting,
-      observed.data.kept_out, observed.states);
+      observed.data.mounting, observed.data.kept_out, observed.states);
   detail::SelectResults(observed, options.selection, select, &report);
   if (options.refine) {
     RefineOptions refine = *options.refine;
     refine.seed = select.seed;
     refine.observe = options.observe;
     refine.observe.progress = nullptr;
+    if (report.constraints) {
+      // New poses obey the run's constraints: none inside a keep-out box, and the pairs and the
+      // calibration rule over old and new candidates together.
+      const ConstraintsInfo& info = *report.constraints;
+      refine.may_mount = [&info](const Pose& body) {
+        return std::none_of(info.keep_out_boxes.begin(), info.keep_out_boxes.end(),
+                            [&](const KeepOutBox& box) { return box.Contains(body.position); });
+      };
+      refine.constraints = [&info](std::span<const Candidate> candidates,
+                                   std::span<const Observation> observations) {
+        return detail::ConstraintsOverGrown(info, candidates, observations);
+      };
+    }
     report.refinement = RefinePrimary(refine, select, &observed, &report.results);
+    if (report.constraints)
+      report.constraints->constraints = detail::ConstraintsOverGrown(
+          *report.constraints, observed.data.candidates, observed.data.observations);
   }
   observed.timings.select = detail::SecondsSince(select_start);
   observed.timings.total = detail::SecondsSince(start);

@@ -52,12 +52,11 @@ MatrixSelection ResolveMatrixSelection(const VisibilityFile& data, const Selecti
                     request.min_density ? "--min-density" : "--min-points")));
   // The scene's mounting rules as the file keeps them (format 5; none in older files): its
   // min_separation applies, and its keep-out boxes are reported, as in `optimize` on the scene.
-  detail::CheckConstraintRequest(request.constraints, resolved.options, false, false,
-                                 data.mounting);
+  request.constraints.Validate();
   detail::CheckSeparationPairs(data.candidates, data.mounting);
   resolved.constraints =
       detail::ResolveConstraints(request.constraints, resolved.options, data.candidates,
-                                 data.observations, false, false, data.mounting, data.kept_out);
+                                 data.observations, data.mounting, data.kept_out);
   if (resolved.constraints) resolved.options.constraints = resolved.constraints->constraints;
   return resolved;
 }

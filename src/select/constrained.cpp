@@ -104,6 +104,70 @@ bool Capacity::Fits(std::span<const uint32_t> set, uint32_t candidate, size_t re
   return total <= budget;
 }
 
+std::vector<uint32_t> BridgeKept(const Feasibility& feasible, std::span<const uint32_t> fixed) {
+  std::vector<uint32_t> set(fixed.begin(), fixed.end());
+  if (!feasible.has_calibration() || set.empty()) return set;
+  const size_t m = feasible.candidate_count();
+  std::vector<bool> banned(m, false);  // chain members that conflicted with an earlier one
+  for (;;) {
+    ThrowIfInterrupted();
+    // The part of set[0]: a flood over the joined members of the set.
+    std::vector<int> state(m, 0);  // 0 outside the set, 1 in the set, 2 in set[0]'s part
+    for (const uint32_t s : set) state[s] = 1;
+    std::vector<uint32_t> part{set[0]};
+    state[set[0]] = 2;
+    for (size_t p = 0; p < part.size(); ++p) {
+      for (const uint32_t v : feasible.Neighbours(part[p])) {
+        if (state[v] == 1) {
+          state[v] = 2;
+          part.push_back(v);
+        }
+      }
+    }
+    if (part.size() == set.size()) return set;
+    // Breadth-first from the part, through candidates that conflict with nothing in the set,
+    // to the first member of another part.
+    std::vector<int64_t> parent(m, -1);
+    std::vector<bool> visited(m, false);
+    std::sort(part.begin(), part.end());
+    std::vector<uint32_t> queue(part.begin(), part.end());
+    for (const uint32_t p : part) visited[p] = true;
+    int64_t reached_from = -1;
+    for (size_t q = 0; q < queue.size() && reached_from < 0; ++q) {
+      const uint32_t u = queue[q];
+      for (const uint32_t v : feasible.Neighbours(u)) {
+        if (state[v] == 1) {  // another part: the chain ends at u
+          reached_from = u;
+          break;
+        }
+        if (state[v] == 2 || visited[v] || banned[v]) continue;
+        visited[v] = true;
+        if (std::any_of(set.begin(), set.end(),
+                        [&](uint32_t s) { return feasible.InConflict(s, v); }))
+          continue;
+        parent[v] = u;
+        queue.push_back(v);
+      }
+    }
+    if (reached_from < 0) return {};
+    std::vector<uint32_t> chain;
+    for (int64_t c = reached_from; state[static_cast<size_t>(c)] == 0; c = parent[static_cast<size_t>(c)])
+      chain.push_back(static_cast<uint32_t>(c));
+    std::reverse(chain.begin(), chain.end());
+    // Chain members may conflict with each other: the later one is banned and the search redone.
+    bool clash = false;
+    for (size_t a = 0; a < chain.size() && !clash; ++a) {
+      for (size_t b = a + 1; b < chain.size() && !clash; ++b) {
+        if (feasible.InConflict(chain[a], chain[b])) {
+          banned[chain[b]] = true;
+          clash = true;
+        }
+      }
+    }
+    if (!clash) set.insert(set.end(), chain.begin(), chain.end());
+  }
+}
+
 namespace {
 
 // k-coverage and point counts (k >= 2; with the matrix's counts, min-points) under the
@@ -411,8 +475,15 @@ template <MethodScorer Scorer>
 ConstrainedMethods<Scorer>::ConstrainedMethods(const Scorer& scorer,
                                                const Feasibility& feasible,
                                                const SelectOptions& options,
-                                               double setup_seconds)
-    : scorer_(scorer), feasible_(feasible), options_(options), setup_seconds_(setup_seconds) {}
+                                               double setup_seconds,
+                                               std::vector<uint32_t> start)
+    : scorer_(scorer),
+      feasible_(feasible),
+      options_(options),
+      setup_seconds_(setup_seconds),
+      start_(start.empty() ? options.fixed : std::move(start)) {
+  VANTAGE_CHECK(feasible_.IsFeasible(start_));
+}
 
 template <MethodScorer Scorer>
 Capacity ConstrainedMethods<Scorer>::CapacityFor(size_t n) const {
@@ -443,7 +514,7 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n) const {
         "ransac, n = {}: none of its {} draws satisfies the constraints; reporting the "
         "constrained greedy answer",
         n, options_.ransac_iterations);
-    answer.chosen = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, options_.fixed);
+    answer.chosen = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, start_);
   }
   answer.seconds = setup_seconds_ + SecondsSince(start);
   return answer;
@@ -452,8 +523,9 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n) const {
 template <MethodScorer Scorer>
 ConstrainedAnswer ConstrainedMethods<Scorer>::Greedy(size_t n) {
   const Clock::time_point start = Clock::now();
+  VANTAGE_CHECK(options_.budget || n >= start_.size());
   n_ = n;
-  greedy_ = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, options_.fixed);
+  greedy_ = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, start_);
   if (!options_.budget && greedy_.size() < n) {
     Logger()->warn("greedy, n = {}: only {} sensors satisfy the constraints together", n,
                    greedy_.size());
@@ -612,12 +684,13 @@ class CellsRun {
            const CoverageMatrix& matrix,
            const Feasibility& feasible,
            const SelectOptions& options,
-           double setup_seconds)
+           double setup_seconds,
+           std::vector<uint32_t> start = {})
       : evaluator_(evaluator),
         feasible_(feasible),
         options_(options),
         scorer_(matrix, Threshold(options)),
-        methods_(scorer_, feasible, options, setup_seconds) {}
+        methods_(scorer_, feasible, options, setup_seconds, std::move(start)) {}
 
   Selection Ransac(size_t n) const { return Scored(Method::kRansac, methods_.Ransac(n)); }
   Selection Greedy(size_t n) { return Scored(Method::kGreedy, methods_.Greedy(n)); }
@@ -651,7 +724,8 @@ class CellsRun {
 std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
                                            const CoverageMatrix& matrix,
                                            const Feasibility& feasible,
-                                           const SelectOptions& options) {
+                                           const SelectOptions& options,
+                                           const std::vector<uint32_t>& kept_start) {
   const Clock::time_point start = Clock::now();
   const uint64_t goal_cells = GoalCellsOf(*options.goal, matrix.reference_size());
   const CellScorer scorer(matrix);
@@ -660,7 +734,7 @@ std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
   ConstrainedObjective with_kept;
   with_kept.fixed = options.fixed;
   std::vector<uint32_t> greedy =
-      ConstrainedGreedy(scorer, feasible, everyone, goal_cells, options.fixed);
+      ConstrainedGreedy(scorer, feasible, everyone, goal_cells, kept_start);
   if (matrix.CoveredWeight(greedy) < goal_cells) {
     // Greedy could not reach it: the most any feasible set covers decides.
     const ExactResult most = SolveExactConstrained(matrix, feasible, everyone, with_kept, greedy,
@@ -703,9 +777,12 @@ std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
   while (lower < best.size()) {
     const double left = options.time_limit - SecondsSince(exact_start);
     if (left <= 0.05) break;
+    // Fewer than the kept sensors and their chain: no feasible seed to start the MILP from, so
+    // t stays unsettled (the chain need not be the shortest).
+    if (lower < kept_start.size()) break;
     Capacity t;
     t.n = lower;
-    std::vector<uint32_t> seed = ConstrainedGreedy(scorer, feasible, t, 0, options.fixed);
+    std::vector<uint32_t> seed = ConstrainedGreedy(scorer, feasible, t, 0, kept_start);
     seed = ConstrainedLocal(scorer, feasible, std::move(seed), t, options.fixed.size());
     const ExactResult most = SolveExactConstrained(matrix, feasible, t, with_kept, seed,
                                                    GreedyUpperBound(matrix, seed, lower),
@@ -750,25 +827,68 @@ std::vector<Selection> SelectConstrained(std::span<const Observation> observatio
                           fixed[p], fixed[q]));
       }
     }
-    if (!feasible.IsFeasible(fixed))
-      throw InputError("the kept sensors are not connected by the calibration rule");
+  }
+  // Kept sensors that the calibration rule leaves in parts grow from the chain that joins them.
+  const std::vector<uint32_t> kept_start = BridgeKept(feasible, fixed);
+  const bool is_bridged = kept_start.size() > fixed.size();
+  if (!fixed.empty()) {
+    if (kept_start.empty())
+      throw InputError("the kept sensors are not connected by the calibration rule, and no chain "
+                       "of candidates joins them");
+    if (options.budget && TotalCost(options.costs, kept_start) > *options.budget)
+      throw InputError(fmt::format("joining the kept sensors takes {} more sensors, over the "
+                                   "budget {:g}",
+                                   kept_start.size() - fixed.size(), *options.budget));
     const bool kept_reach_goal =
         options.goal && matrix.CoveredWeight(fixed) >= GoalCellsOf(*options.goal, reference_size);
     const bool no_room = objective != Objective::kSetCover && !options.budget &&
                          static_cast<size_t>(options.n) <= fixed.size();
-    if (kept_reach_goal || no_room) return {ScoreSelection(evaluator, fixed, "kept", options)};
+    if (!is_bridged && (kept_reach_goal || no_room))
+      return {ScoreSelection(evaluator, fixed, "kept", options)};
+    if (objective != Objective::kSetCover && !options.budget &&
+        static_cast<size_t>(options.n) < kept_start.size() && options.method != Method::kBest)
+      throw InputError(fmt::format("n = {}: joining the {} kept sensors takes {} more sensors",
+                                   options.n, fixed.size(), kept_start.size() - fixed.size()));
   }
   if (objective == Objective::kSetCover)
-    return SetCoverConstrained(evaluator, matrix, feasible, options);
-  CellsRun run(evaluator, matrix, feasible, options, setup_seconds);
+    return SetCoverConstrained(evaluator, matrix, feasible, options, kept_start);
+  CellsRun run(evaluator, matrix, feasible, options, setup_seconds, kept_start);
   const auto n = static_cast<size_t>(options.n);
-  if (options.method == Method::kBest) {
-    // The best single addition to the kept sensors: greedy's first step, optimal for that n.
-    Selection best = run.Greedy(fixed.size() + 1);
+  // The best single addition to the kept sensors (optimal for that n): greedy's first step, or
+  // with parts to join, the best of the candidates that join them all.
+  const auto best_addition = [&]() -> std::optional<Selection> {
+    Selection best;
+    if (!is_bridged) {
+      best = run.Greedy(fixed.size() + 1);
+    } else {
+      std::vector<uint32_t> trial(fixed.begin(), fixed.end());
+      trial.push_back(0);
+      int64_t best_c = -1;
+      uint64_t best_weight = 0;
+      for (uint32_t c = 0; c < matrix.candidate_count(); ++c) {
+        trial.back() = c;
+        if (!feasible.IsFeasible(trial)) continue;
+        const uint64_t weight = matrix.CoveredWeight(trial);
+        if (best_c < 0 || weight > best_weight) {
+          best_c = c;
+          best_weight = weight;
+        }
+      }
+      if (best_c < 0) return std::nullopt;
+      trial.back() = static_cast<uint32_t>(best_c);
+      best = run.Scored(Method::kBest, {trial, setup_seconds, std::nullopt, false});
+    }
     best.method = MethodName(Method::kBest);
     best.upper_bound = best.coverage;
     best.proven_optimal = true;
-    return {best};
+    return best;
+  };
+  if (options.method == Method::kBest) {
+    if (std::optional<Selection> best = best_addition()) return {*best};
+    throw InputError(fmt::format("--method best adds one sensor to the {} kept ones, and no one "
+                                 "candidate joins their parts (the chain found takes {}) — use "
+                                 "another method",
+                                 fixed.size(), kept_start.size() - fixed.size()));
   }
   switch (options.method) {
     case Method::kRansac:
@@ -797,14 +917,11 @@ std::vector<Selection> SelectConstrained(std::span<const Observation> observatio
   if (objective == Objective::kCoverage && fixed.empty()) results.push_back(SelectBest(evaluator));
   if (objective == Objective::kCoverage && !fixed.empty()) {
     // As with kept sensors unconstrained: the best single addition first.
-    Selection best = run.Greedy(fixed.size() + 1);
-    best.method = MethodName(Method::kBest);
-    best.upper_bound = best.coverage;
-    best.proven_optimal = true;
-    results.push_back(std::move(best));
+    if (std::optional<Selection> best = best_addition()) results.push_back(std::move(*best));
   }
   if (objective == Objective::kKCoverage) first_n = static_cast<size_t>(options.k);
-  first_n = std::max(first_n, fixed.size() + 1);
+  // Below the kept sensors and their chain no answer exists.
+  first_n = std::max({first_n, fixed.size() + 1, kept_start.size()});
   // Shared as for plain selection (select.cpp), so `help optimize`'s time rule holds here too.
   AllExactTime exact_time(observations.size(), options.time_limit, static_cast<int>(n));
   for (size_t k = first_n; k <= n; ++k) {
@@ -835,11 +952,14 @@ std::vector<Selection> ConstrainedCurve(std::span<const Observation> observation
   const CoverageEvaluator evaluator(observations, reference_size);
   const CoverageMatrix matrix = MatrixFor(observations, reference_size, options);
   const Feasibility feasible(observations, options.constraints);
-  CellsRun run(evaluator, matrix, feasible, options, 0);
+  const std::vector<uint32_t> start = BridgeKept(feasible, options.fixed);
+  if (start.empty() && !options.fixed.empty()) return {};  // Select refused these kept sensors
+  CellsRun run(evaluator, matrix, feasible, options, 0, start);
   const std::string greedy = MethodName(Method::kGreedy), local = MethodName(Method::kLocal);
   std::vector<Selection> curve;
-  // With kept sensors every point of the curve holds them.
-  first_n = std::max(first_n, static_cast<int>(options.fixed.size()) + 1);
+  // With kept sensors every point of the curve holds them, and the chain that joins them.
+  first_n = std::max({first_n, static_cast<int>(options.fixed.size()) + 1,
+                      static_cast<int>(start.size())});
   for (int n = first_n; n <= last_n; ++n) {
     const bool want_greedy = !has(greedy, n), want_local = !has(local, n);
     if (!want_greedy && !want_local) continue;
@@ -851,3 +971,13 @@ std::vector<Selection> ConstrainedCurve(std::span<const Observation> observation
 }
 
 }  // namespace vantage::detail
+
+namespace vantage {
+
+std::vector<uint32_t> ConnectKept(std::span<const Observation> observations,
+                                  std::span<const uint32_t> kept,
+                                  const InstallConstraints& constraints) {
+  return detail::BridgeKept(detail::Feasibility(observations, constraints), kept);
+}
+
+}  // namespace vantage

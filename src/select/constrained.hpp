@@ -153,10 +153,14 @@ struct ConstrainedAnswer {
 template <MethodScorer Scorer>
 class ConstrainedMethods {
  public:
+  /// `start`: what every answer grows from — the kept sensors (options.fixed) and, when they are
+  /// not connected, the chain that joins them (BridgeKept); feasible. Every n given is at least
+  /// its size (but for a budget).
   ConstrainedMethods(const Scorer& scorer,
                      const Feasibility& feasible,
                      const SelectOptions& options,
-                     double setup_seconds);
+                     double setup_seconds,
+                     std::vector<uint32_t> start = {});
   ConstrainedAnswer Ransac(size_t n) const;
   ConstrainedAnswer Greedy(size_t n);
   /// After Greedy(n). The unconstrained local search's answer too, when it is feasible and scores
@@ -172,6 +176,7 @@ class ConstrainedMethods {
   const Feasibility& feasible_;
   const SelectOptions& options_;
   double setup_seconds_;
+  std::vector<uint32_t> start_;
   size_t n_ = 0;
   std::vector<uint32_t> greedy_;
   std::vector<uint32_t> local_;
@@ -179,6 +184,15 @@ class ConstrainedMethods {
   double greedy_seconds_ = 0;
   double local_seconds_ = 0;
 };
+
+/// The kept sensors `fixed` joined into one part of the overlap graph (calibration rule): `fixed`
+/// first, then the members of the shortest chains (breadth-first over the overlap graph, fewest
+/// sensors, ties to the lower index) that join the part of the first kept sensor to the nearest
+/// other part, until one part is left. No chain member conflicts with anything chosen. `fixed`
+/// itself when it is connected (or there is no calibration rule); empty when no chain joins two
+/// of its parts. A heuristic (joining parts with fewest sensors is a Steiner tree problem): the
+/// MILP, which keeps only `fixed` at 1, may join them with fewer.
+std::vector<uint32_t> BridgeKept(const Feasibility& feasible, std::span<const uint32_t> fixed);
 
 /// Select for options whose `constraints` are not empty (every objective; kept sensors are
 /// Select's residual problem): the same methods and order as Select, each under the constraints.

@@ -1,5 +1,6 @@
 // Selection's entry points for the assess stage: scoring a given constellation and improving it
 // by swaps, so that refinement re-selects through selection's own code instead of its internals.
+#include "select/constrained.hpp"
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
 #include "select/scorer.hpp"
@@ -19,6 +20,19 @@ std::vector<uint32_t> ImproveBySwaps(std::span<const Observation> observations,
   const Objective objective = options.objective();
   VANTAGE_CHECK(objective != Objective::kSetCover);
   const detail::CoverageMatrix matrix = detail::MatrixFor(observations, reference_size, options);
+  if (!options.constraints.empty()) {
+    // Swaps that keep the installation constraints, as method local under them.
+    const detail::Feasibility feasible(observations, options.constraints);
+    detail::Capacity capacity;
+    capacity.n = static_cast<size_t>(options.n);
+    if (objective == Objective::kBudget) {
+      capacity.n = matrix.candidate_count();
+      capacity.costs = options.costs;
+      capacity.budget = *options.budget;
+    }
+    return detail::ConstrainedLocal(detail::CellScorer(matrix, detail::Threshold(options)),
+                                    feasible, std::move(start), capacity);
+  }
   if (objective == Objective::kMinPoints)
     return detail::PointsLocalSearch(matrix, std::move(start), detail::Threshold(options));
   detail::LocalOptions local;
