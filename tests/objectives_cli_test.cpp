@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <set>
 #include <string>
@@ -597,6 +598,118 @@ TEST(ConstraintsCli, KeptSensorsAndInterference) {
             std::string::npos)
       << clash.err;
   EXPECT_FALSE(std::filesystem::exists(dir.File("c")));
+}
+
+// --keep-existing with kept sensors that the calibration rule leaves apart: a and b share at most
+// the corner columns (fewer than 40 cells); ring_2 at (0.5, -0.6) sees +x and -y, a whole face
+// with each, so every answer holds a, b and a joining ring sensor. -n 2 leaves no room for it and
+// a rule no pair meets has no chain: both exit 2 before any output.
+TEST(ConstraintsCli, KeptSensorsApartAreJoinedByABridge) {
+  test::TempDir dir;
+  const std::string scene = CubeWithSensors(
+      dir,
+      "  - {name: a, type: fine_cam, position: [0.5, 0.5, 0.05]}\n"
+      "  - {name: b, type: fine_cam, position: [-0.5, -0.5, 0.05]}\n"
+      "populations:\n"
+      "  - {name: ring, type: fine_cam, distribution: grid, rows: 1, cols: 3,\n"
+      "     step: [0.5, 0.5, 0], pose: {xyz: [0, -0.6, 0.05]}}\n");
+  const auto run = RunVantage("optimize " + scene +
+                              " --keep-existing --calibration-overlap 40 -n 3 --out " +
+                              dir.File("k"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("joining the kept sensors' 2 parts ([a] [b]) takes 1 more sensor"),
+            std::string::npos)
+      << run.err;
+  const json k = Report(dir.File("k"));
+  ASSERT_FALSE(k["results"].empty());
+  for (const json& r : k["results"]) {
+    const std::set<std::string> chosen = Names(r["sensors"]);
+    EXPECT_EQ(chosen.size(), 3u) << r["method"];
+    EXPECT_TRUE(chosen.count("a") && chosen.count("b")) << r["method"];
+    EXPECT_TRUE(r["constraints"]["connected"].get<bool>()) << r["method"];
+  }
+  const auto few = RunVantage("optimize " + scene +
+                              " --keep-existing --calibration-overlap 40 -n 2 --out " +
+                              dir.File("n"));
+  EXPECT_EQ(few.exit_code, 2);
+  EXPECT_NE(few.err.find("-n: joining the kept sensors' 2 parts ([a] [b]) takes 1 more sensor "
+                         "(ring_2) — give -n 3 or more"),
+            std::string::npos)
+      << few.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.File("n")));
+  const auto none = RunVantage("optimize " + scene +
+                               " --keep-existing --calibration-overlap 400 -n 3 --out " +
+                               dir.File("c"));
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("--keep-existing: the kept sensors are not connected by the calibration "
+                          "rule (2 parts: [a] [b]), and no chain of candidates joins them"),
+            std::string::npos)
+      << none.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.File("c")));
+}
+
+// --refine under the constraints: the refined constellation obeys interference over old and new
+// poses, and a keep-out box around the pose it chose keeps every new pose out of it.
+TEST(ConstraintsCli, RefineObeysInterferenceAndKeepOut) {
+  test::TempDir dir;
+  const std::string text =
+      "settings:\n  cell_size: 0.01\n  n: 2\n  observation_point: [0, 0.12, 0.05]\n"
+      "sensor_types:\n  - {id: sl_cam, resolution: [320, 240], hfov: 0.6, range: [0.1, 3.0],\n"
+      "     interferes: true}\n"
+      "objects:\n  - name: cube\n    role: target\n    box: {size: [0.1, 0.1, 0.1]}\n"
+      "    pose: {xyz: [0, 0, 0.05]}\n"
+      "populations:\n"
+      "  - {name: east, type: sl_cam, distribution: grid, rows: 2, cols: 2, step: [0.1, 0.1, 0],\n"
+      "     pose: {xyz: [0.8, 0, 0.3]}}\n"
+      "  - {name: west, type: sl_cam, distribution: grid, rows: 2, cols: 2, step: [0.1, 0.1, 0],\n"
+      "     pose: {xyz: [-0.8, 0, 0.3]}}\n";
+  const std::string scene = dir.File("sl.yaml");
+  test::WriteText(scene, text);
+  const std::string flags = " --refine --method greedy --interference-overlap 0.5 --out ";
+  const auto run = RunVantage("optimize " + scene + flags + dir.File("r"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json r = Report(dir.File("r"));
+  const auto result = [](const json& report, const std::string& method) {
+    for (const json& x : report["results"])
+      if (x["method"] == method) return x;
+    return json();
+  };
+  const json refined = result(r, "refined");
+  ASSERT_FALSE(refined.is_null());
+  EXPECT_TRUE(refined["constraints"]["satisfied"].get<bool>());
+  EXPECT_GT(refined["coverage"].get<double>(), result(r, "greedy")["coverage"].get<double>());
+  // The interference pairs count the new poses too: more candidates than the 8 given.
+  EXPECT_GT(r["candidates"].size(), 8u);
+  EXPECT_EQ(r["constraints"]["interference"]["projecting_candidates"], r["candidates"].size());
+  // A new pose the refinement chose, and a 1 cm keep-out box around it.
+  std::optional<std::vector<double>> chosen_pose;
+  for (const json& name : refined["sensors"]) {
+    if (name.get<std::string>().find("_r") == std::string::npos) continue;
+    for (const json& c : r["candidates"]) {
+      if (c["name"] == name) {
+        chosen_pose = c["position"].get<std::vector<double>>();
+      }
+    }
+  }
+  ASSERT_TRUE(chosen_pose.has_value());
+  test::WriteText(scene, text + fmt::format("keep_out:\n  - {{name: pillar, center: [{}, {}, {}], "
+                                            "size: [0.01, 0.01, 0.01]}}\n",
+                                            (*chosen_pose)[0], (*chosen_pose)[1],
+                                            (*chosen_pose)[2]));
+  const auto boxed = RunVantage("optimize " + scene + flags + dir.File("b"));
+  ASSERT_EQ(boxed.exit_code, 0) << boxed.err;
+  const json b = Report(dir.File("b"));
+  for (const json& c : b["candidates"]) {
+    const std::vector<double> p = c["position"].get<std::vector<double>>();
+    double distance = 0;  // along the farthest axis
+    for (int axis = 0; axis < 3; ++axis)
+      distance = std::max(distance, std::abs(p[axis] - (*chosen_pose)[axis]));
+    EXPECT_GT(distance, 0.005) << c["name"];
+  }
+  const json boxed_refined = result(b, "refined");
+  ASSERT_FALSE(boxed_refined.is_null());
+  EXPECT_TRUE(boxed_refined["constraints"]["satisfied"].get<bool>());
+  EXPECT_GE(boxed_refined["coverage"].get<double>(), result(b, "greedy")["coverage"].get<double>());
 }
 
 // ----- mounting rules (docs/constraints.md, Mounting rules) ----------------------------------

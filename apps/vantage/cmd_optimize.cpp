@@ -42,7 +42,8 @@ void SetupOptimize(CLI::App* parent) {
       ->capture_default_str();
   app->add_flag("--refine", flags->refine,
                 "after selection, search new poses around the chosen sensors (inside their "
-                "regions), trace only those and re-select while coverage improves");
+                "regions, outside keep-out boxes), trace only those and re-select while coverage "
+                "improves, under the run's constraints over old and new poses");
   app->add_option("--refine-rounds", flags->refine_options.max_rounds, "rounds of --refine")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();

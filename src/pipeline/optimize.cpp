@@ -131,9 +131,13 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
       };
     }
     report.refinement = RefinePrimary(refine, select, &observed, &report.results);
-    if (report.constraints)
-      report.constraints->constraints = detail::ConstraintsOverGrown(
-          *report.constraints, observed.data.candidates, observed.data.observations);
+    if (report.constraints) {
+      ConstraintsInfo& info = *report.constraints;
+      info.constraints = detail::ConstraintsOverGrown(info, observed.data.candidates,
+                                                      observed.data.observations);
+      const std::vector<bool> projecting = detail::ProjectingCandidates(observed.data.candidates);
+      info.projecting = static_cast<size_t>(std::count(projecting.begin(), projecting.end(), true));
+    }
   }
   observed.timings.select = detail::SecondsSince(select_start);
   observed.timings.total = detail::SecondsSince(start);
