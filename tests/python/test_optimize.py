@@ -109,6 +109,25 @@ def test_constrained_run_matches_cli(cli_example, tmp_path):
     assert normalised(evaluated["report"]) == normalised(read_report(tmp_path / "cli_eval"))
 
 
+def test_refined_constrained_run_matches_cli(cli_example, tmp_path):
+    """--refine under every constraint (issue 20): the same folder from Python as from the CLI,
+    the refined layout satisfies them, and no new pose lies in the keep-out box."""
+    scene, _ = constrained_example(cli_example, tmp_path)
+    flags = ["-n", 3, "--method", "greedy", "--refine", "--interference-overlap", 0.2,
+             "--calibration-overlap", 20]
+    run_cli("optimize", scene, *flags, "--out", tmp_path / "cli")
+    returned = vantage.optimize(scene, n=3, method="greedy", refine=True, out=tmp_path / "py",
+                                interference_overlap=0.2, calibration_overlap=20)
+    compare_folders(tmp_path / "cli", tmp_path / "py", returned)
+    (refined,) = [r for r in returned["results"] if r["method"] == "refined"]
+    assert refined["constraints"]["satisfied"]
+    assert returned["refinement"]["new_candidates"] > 0
+    (box,) = returned["constraints"]["keep_out"]["regions"]
+    for candidate in returned["candidates"]:
+        assert any(abs(p - c) > s / 2 for p, c, s in
+                   zip(candidate["position"], box["center"], box["size"])), candidate["name"]
+
+
 def test_sensors_match_cli_json():
     import json
     cli = json.loads(run_cli("sensors", "--json").stdout)
