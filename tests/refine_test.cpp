@@ -310,6 +310,21 @@ TEST(Refine, ObeysTheConstraintsOverOldAndNewPoses) {
   EXPECT_DOUBLE_EQ(r.selection.coverage, UnionCoverage(r, s.reference.size()));
 }
 
+// A set cover goal (the fewest sensors that reach it) re-selects with greedy: set cover has no
+// local search (before, --refine --goal exited 2 naming `local`, which it had not been given).
+TEST(Refine, SetCoverGoalReselectsWithGreedy) {
+  for (const Method method : {Method::kAll, Method::kGreedy, Method::kExact}) {
+    Fixture s = FaceSetup();
+    s.select.goal = 10 / kShell;  // the strip's 12 cells reach it
+    s.select.method = method;
+    s.start = Select(s.observations, s.reference.size(), s.select).at(0);
+    const RefineResult r = RunRefine(s);
+    EXPECT_EQ(r.selection.chosen.size(), 1u) << MethodName(method);
+    EXPECT_GE(r.selection.coverage, 10 / kShell) << MethodName(method);
+    EXPECT_GE(r.selection.coverage, s.start.coverage) << MethodName(method);
+  }
+}
+
 TEST(Refine, SameResultWithOneAndTwoThreads) {
   const Fixture s = FaceSetup();
   const auto run = [&](int threads) {

@@ -74,8 +74,9 @@ bool RegionContains(const Population& population, const Vec3& world_position);
 /// (matched by Candidate::population; "" is an explicit sensor, which moves freely by the same
 /// steps). Poses are re-aimed with LookAt at the model's position and composed with the
 /// population's model_from_camera as DeployCandidates does; a population's random roll is kept.
-/// Re-selection uses `select` (kAll and kBest run as kLocal) and, for every objective but set
-/// cover, also swap local search from the current constellation; the better answer is kept, so
+/// Re-selection uses `select` (kAll and kBest run as kLocal; for set cover, which has no local
+/// search, as kGreedy) and, for every objective but set cover, also
+/// swap local search from the current constellation; the better answer is kept, so
 /// coverage never drops. Deterministic for a seed whatever the thread count.
 /// Throws InputError for invalid options, sizes that do not match, an unknown population name,
 /// or `start` naming a candidate out of range.

@@ -265,9 +265,10 @@ RefineResult Refine(const RayScene& rays,
   for (uint32_t i = 0; i < given; ++i) root[i] = i;
 
   SelectOptions reselect = select;
-  if (reselect.method == Method::kAll || reselect.method == Method::kBest)
-    reselect.method = Method::kLocal;
   const Objective objective = select.objective();
+  // One method re-selects: local search (set cover has none: greedy, as its `all` starts).
+  if (reselect.method == Method::kAll || reselect.method == Method::kBest)
+    reselect.method = objective == Objective::kSetCover ? Method::kGreedy : Method::kLocal;
   // The refined constellation has as many sensors as the one it refines.
   if (objective == Objective::kCoverage || objective == Objective::kKCoverage)
     reselect.n = static_cast<int>(start.chosen.size());
