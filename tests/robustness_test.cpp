@@ -59,6 +59,13 @@ TEST(Robustness, AlternativesAreTheBestReplacementPerSensorWithinTheTolerance) {
   EXPECT_EQ(wide[1].chosen, (std::vector<uint32_t>{2, 1}));
   EXPECT_EQ(wide[1].replaced, 0u);
 
+  // An installed sensor (--keep-existing) is never replaced: only 1's alternative is left.
+  const std::vector<uint32_t> kept = {0};
+  auto installed = NearOptimalAlternatives(evaluator, chosen, 1, 0.2, std::nullopt, std::nullopt,
+                                           kept);
+  ASSERT_EQ(installed.size(), 1u);
+  EXPECT_EQ(installed[0].replaced, 1u);
+
   // Set cover: an alternative must still reach the goal.
   EXPECT_EQ(NearOptimalAlternatives(evaluator, chosen, 1, 0.2, 0.85).size(), 1u);
   EXPECT_TRUE(NearOptimalAlternatives(evaluator, chosen, 1, 0.2, 0.95).empty());

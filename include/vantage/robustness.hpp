@@ -52,12 +52,13 @@ std::vector<SensorFailure> SensorFailures(const CoverageEvaluator& evaluator,
 /// The best single-sensor replacement for each chosen sensor whose coverage (k-coverage) is at
 /// least coverage(chosen) - `within` and, when `at_least` is given, reaches it (set cover's goal);
 /// best first, ties by the replaced sensor's position. Coverage counts as in SensorFailures.
-/// Deterministic.
+/// A chosen sensor listed in `kept` (installed) is never replaced. Deterministic.
 std::vector<Alternative> NearOptimalAlternatives(const CoverageEvaluator& evaluator,
                                                  std::span<const uint32_t> chosen, int k,
                                                  double within,
                                                  std::optional<double> at_least = std::nullopt,
-                                                 std::optional<uint32_t> min_points = std::nullopt);
+                                                 std::optional<uint32_t> min_points = std::nullopt,
+                                                 std::span<const uint32_t> kept = {});
 
 /// The candidates with both fields of view narrowed by `tolerance_deg` (resolution and principal
 /// point kept, focal lengths grown), as a unit whose optics are at the datasheet's low end.
@@ -68,6 +69,8 @@ std::vector<Candidate> ShrinkFov(std::span<const Candidate> candidates, double t
 struct RobustnessOptions {
   double fov_tolerance_deg = 3;  ///< fields of view narrowed by this [deg], >= 0
   double within = 0.01;          ///< coverage (fraction) an alternative may lose, in [0, 1]
+  /// Candidates already installed (--keep-existing): no alternative replaces them.
+  std::vector<uint32_t> kept;
   /// InputError naming the option (--fov-tolerance, --alternatives-within).
   void Validate() const;
 };

@@ -27,12 +27,14 @@ std::vector<SensorFailure> SensorFailures(const CoverageEvaluator& evaluator,
 std::vector<Alternative> NearOptimalAlternatives(const CoverageEvaluator& evaluator,
                                                  std::span<const uint32_t> chosen, int k,
                                                  double within, std::optional<double> at_least,
-                                                 std::optional<uint32_t> min_points) {
+                                                 std::optional<uint32_t> min_points,
+                                                 std::span<const uint32_t> kept) {
   const double best = evaluator.CoverageUnder(chosen, k, min_points);
   const auto candidate_count = static_cast<uint32_t>(evaluator.observations().size());
   std::vector<Alternative> alternatives;
   std::vector<uint32_t> swapped(chosen.begin(), chosen.end());
   for (size_t slot = 0; slot < chosen.size(); ++slot) {
+    if (std::find(kept.begin(), kept.end(), chosen[slot]) != kept.end()) continue;  // installed
     std::optional<Alternative> best_for_slot;
     for (uint32_t j = 0; j < candidate_count; ++j) {
       if (std::find(chosen.begin(), chosen.end(), j) != chosen.end()) continue;
@@ -98,7 +100,7 @@ Robustness AssessRobustness(const VisibilityFile& data, const std::vector<Select
   if (!result.budget)
     r.alternatives =
         NearOptimalAlternatives(evaluator, result.chosen, result.k, options.within, result.goal,
-                                result.min_points);
+                                result.min_points, options.kept);
   if (rays && !result.chosen.empty()) {
     std::vector<Candidate> chosen;
     for (uint32_t i : result.chosen) chosen.push_back(data.candidates.at(i));

@@ -176,9 +176,10 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
     report.notes.insert(report.notes.end(), notes.begin(), notes.end());
     // Robustness reads `data`, the first state's sets: not meaningful over states.
     if (!report.states) {
+      RobustnessOptions robustness = options.robustness;
+      robustness.kept = select.fixed;  // installed sensors get no alternative
       report.robustness = AssessRobustness(data, report.results, report.primary,
-                                           observed.rays.get(), options.observe,
-                                           options.robustness);
+                                           observed.rays.get(), options.observe, robustness);
       if (report.constraints)
         detail::DropInfeasibleAlternatives(*report.constraints, data, &*report.robustness);
     }

@@ -110,8 +110,10 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
     // The shrunk fields of view need the geometry: only when the scene still loads from here.
     const std::unique_ptr<RayScene> rays =
         scene.objects.empty() ? nullptr : std::make_unique<RayScene>(scene);
+    RobustnessOptions robustness = options.robustness;
+    robustness.kept = select.fixed;  // installed sensors get no alternative
     report.robustness = AssessRobustness(data, report.results, report.primary, rays.get(),
-                                         ObserveOptions{}, options.robustness);
+                                         ObserveOptions{}, robustness);
     if (report.constraints)
       detail::DropInfeasibleAlternatives(*report.constraints, data, &*report.robustness);
   }
