@@ -527,8 +527,12 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Greedy(size_t n) {
   n_ = n;
   greedy_ = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, start_);
   if (!options_.budget && greedy_.size() < n) {
-    Logger()->warn("greedy, n = {}: only {} sensors satisfy the constraints together", n,
-                   greedy_.size());
+    if (greedy_.size() == 1) {
+      Logger()->warn("greedy, n = {}: only 1 sensor satisfies the constraints", n);
+    } else {
+      Logger()->warn("greedy, n = {}: only {} sensors satisfy the constraints together", n,
+                     greedy_.size());
+    }
   }
   greedy_seconds_ = setup_seconds_ + SecondsSince(start);
   local_ = greedy_;
