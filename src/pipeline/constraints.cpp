@@ -270,10 +270,11 @@ InstallConstraints ConstraintsOverGrown(const ConstraintsInfo& info,
   if (info.min_separation)
     MergeConflicts(SeparationConflicts(candidates, *info.min_separation), &grown.conflicts);
   if (grown.conflicts.size() > kMaxConflictPairs)
-    throw InputError(fmt::format("refinement: more than {} conflicting pairs among the {} "
-                                 "candidates and new poses — lower --refine-rounds or relax the "
-                                 "constraints",
-                                 kMaxConflictPairs, candidates.size()));
+    throw InputError(AtPlace("--refine", 0,
+                             fmt::format("more than {} conflicting pairs among the {} candidates "
+                                         "and new poses — lower --refine-rounds or relax the "
+                                         "constraints",
+                                         kMaxConflictPairs, candidates.size())));
   return grown;
 }
 
