@@ -295,6 +295,14 @@ std::string CubeWithSensors(const test::TempDir& dir, const std::string& sensors
   return path;
 }
 
+// `vantage ARGS --out OUT` exits 2 with `message` in its stderr and writes nothing.
+void ExpectRefused(const std::string& args, const std::string& out, const std::string& message) {
+  const auto run = RunVantage(args + " --out " + out);
+  EXPECT_EQ(run.exit_code, 2) << args;
+  EXPECT_NE(run.err.find(message), std::string::npos) << args << ": " << run.err;
+  EXPECT_FALSE(std::filesystem::exists(out)) << args;
+}
+
 std::set<std::string> Names(const json& sensors) {
   std::set<std::string> names;
   for (const json& s : sensors) names.insert(s.get<std::string>());
@@ -590,14 +598,8 @@ TEST(ConstraintsCli, KeptSensorsAndInterference) {
   }
   const std::string both =
       scene_with(sl_1 + "  - {name: sl_2, type: kinect_xbox_360, position: [0.8, -0.015, 0.05]}\n");
-  const auto clash = RunVantage("optimize " + both + " --keep-existing --interference true --out " +
-                                dir.File("c"));
-  EXPECT_EQ(clash.exit_code, 2);
-  EXPECT_NE(clash.err.find("--keep-existing: the kept sensors conflict: 'sl_1' and 'sl_2' "
-                           "(interference"),
-            std::string::npos)
-      << clash.err;
-  EXPECT_FALSE(std::filesystem::exists(dir.File("c")));
+  ExpectRefused("optimize " + both + " --keep-existing --interference true", dir.File("c"),
+                "--keep-existing: the kept sensors conflict: 'sl_1' and 'sl_2' (interference");
 }
 
 // --keep-existing with kept sensors that the calibration rule leaves apart: a and b share at most
@@ -628,24 +630,14 @@ TEST(ConstraintsCli, KeptSensorsApartAreJoinedByABridge) {
     EXPECT_TRUE(chosen.count("a") && chosen.count("b")) << r["method"];
     EXPECT_TRUE(r["constraints"]["connected"].get<bool>()) << r["method"];
   }
-  const auto few = RunVantage("optimize " + scene +
-                              " --keep-existing --calibration-overlap 40 -n 2 --out " +
-                              dir.File("n"));
-  EXPECT_EQ(few.exit_code, 2);
-  EXPECT_NE(few.err.find("-n: joining the kept sensors' 2 parts ([a] [b]) takes 1 more sensor "
-                         "(ring_2) — give -n 3 or more"),
-            std::string::npos)
-      << few.err;
-  EXPECT_FALSE(std::filesystem::exists(dir.File("n")));
-  const auto none = RunVantage("optimize " + scene +
-                               " --keep-existing --calibration-overlap 400 -n 3 --out " +
-                               dir.File("c"));
-  EXPECT_EQ(none.exit_code, 2);
-  EXPECT_NE(none.err.find("--keep-existing: the kept sensors are not connected by the calibration "
-                          "rule (2 parts: [a] [b]), and no chain of candidates joins them"),
-            std::string::npos)
-      << none.err;
-  EXPECT_FALSE(std::filesystem::exists(dir.File("c")));
+  ExpectRefused("optimize " + scene + " --keep-existing --calibration-overlap 40 -n 2",
+                dir.File("n"),
+                "-n: joining the kept sensors' 2 parts ([a] [b]) takes 1 more sensor (ring_2) — "
+                "give -n 3 or more");
+  ExpectRefused("optimize " + scene + " --keep-existing --calibration-overlap 400 -n 3",
+                dir.File("c"),
+                "--keep-existing: the kept sensors are not connected by the calibration rule (2 "
+                "parts: [a] [b]), and no chain of candidates joins them");
 }
 
 // --refine under the constraints: the refined constellation obeys interference over old and new

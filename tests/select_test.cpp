@@ -2005,6 +2005,29 @@ std::vector<Conflict> RandomConflicts(uint64_t seed, size_t m, double p) {
   return conflicts;
 }
 
+// Every method's answer for `options` (40 cells, kept sensors options.fixed): the kept sensors
+// first, at least `fewest` and at most n sensors, feasible (checked here), covering at most the
+// enumerated `optimum`; exact's covers it with a bound at or above it, proven.
+void ExpectKeptAnswers(const std::vector<Observation>& obs, SelectOptions options,
+                       uint64_t optimum, size_t fewest) {
+  const std::vector<uint32_t>& kept = options.fixed;
+  for (const Method method : {Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact}) {
+    options.method = method;
+    const Selection s = Select(obs, 40, options).front();
+    ASSERT_GE(s.chosen.size(), fewest) << s.method;
+    EXPECT_LE(s.chosen.size(), static_cast<size_t>(options.n)) << s.method;
+    EXPECT_TRUE(std::equal(kept.begin(), kept.end(), s.chosen.begin())) << s.method;
+    EXPECT_TRUE(test::SatisfiesConstraints(obs, s.chosen, options.constraints)) << s.method;
+    EXPECT_LE(UnionSize(obs, s.chosen), optimum) << s.method;
+    if (method == Method::kExact) {
+      EXPECT_EQ(UnionSize(obs, s.chosen), optimum);
+      ASSERT_TRUE(s.upper_bound.has_value());
+      EXPECT_GE(*s.upper_bound + 1e-12, static_cast<double>(optimum) / 40.0);
+      EXPECT_TRUE(s.proven_optimal);
+    }
+  }
+}
+
 }  // namespace constraints_test
 
 TEST(Constraints, InterferenceConflictsUseTheShareOfTheSmallerSet) {
@@ -2316,21 +2339,7 @@ TEST(Constraints, KeptSensorsMatchEnumeration) {
         if (!constraints_test::IsFeasibleSet(obs, set, constraints)) continue;
         optimum = std::max<uint64_t>(optimum, UnionSize(obs, set));
       }
-      for (const Method method :
-           {Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact}) {
-        options.method = method;
-        const Selection s = Select(obs, 40, options).front();
-        ASSERT_GE(s.chosen.size(), kept.size()) << s.method;
-        EXPECT_TRUE(std::equal(kept.begin(), kept.end(), s.chosen.begin())) << s.method;
-        EXPECT_TRUE(constraints_test::IsFeasibleSet(obs, s.chosen, constraints)) << s.method;
-        EXPECT_LE(UnionSize(obs, s.chosen), optimum) << s.method;
-        if (method == Method::kExact) {
-          EXPECT_EQ(UnionSize(obs, s.chosen), optimum);
-          ASSERT_TRUE(s.upper_bound.has_value());
-          EXPECT_GE(*s.upper_bound + 1e-12, static_cast<double>(optimum) / 40.0);
-          EXPECT_TRUE(s.proven_optimal);
-        }
-      }
+      constraints_test::ExpectKeptAnswers(obs, options, optimum, kept.size());
       options.method = Method::kAll;
       for (const Selection& s : Select(obs, 40, options)) {
         EXPECT_TRUE(std::equal(kept.begin(), kept.end(), s.chosen.begin())) << s.method;
@@ -2421,21 +2430,7 @@ TEST(Constraints, DisconnectedKeptSensorsAreBridged) {
     EXPECT_EQ(start.size(), fewest);
     EXPECT_TRUE(std::equal(kept.begin(), kept.end(), start.begin()));
     EXPECT_TRUE(test::SatisfiesConstraints(obs, start, constraints));
-    for (const Method method : {Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact}) {
-      options.method = method;
-      const Selection s = Select(obs, 40, options).front();
-      ASSERT_GE(s.chosen.size(), fewest) << s.method;
-      EXPECT_LE(s.chosen.size(), n) << s.method;
-      EXPECT_TRUE(std::equal(kept.begin(), kept.end(), s.chosen.begin())) << s.method;
-      EXPECT_TRUE(test::SatisfiesConstraints(obs, s.chosen, constraints)) << s.method;
-      EXPECT_LE(UnionSize(obs, s.chosen), optimum) << s.method;
-      if (method == Method::kExact) {
-        EXPECT_EQ(UnionSize(obs, s.chosen), optimum);
-        ASSERT_TRUE(s.upper_bound.has_value());
-        EXPECT_GE(*s.upper_bound + 1e-12, static_cast<double>(optimum) / 40.0);
-        EXPECT_TRUE(s.proven_optimal);
-      }
-    }
+    constraints_test::ExpectKeptAnswers(obs, options, optimum, fewest);
     options.method = Method::kAll;
     for (const Selection& s : Select(obs, 40, options)) {
       EXPECT_GE(s.chosen.size(), fewest) << s.method;
