@@ -191,12 +191,13 @@ TEST_F(HandCase, GreedyOverStatesAddsByTheAggregate) {
   const auto mean = SelectOverStates(views_, OverStates::kMean, Options(Method::kGreedy, 2));
   EXPECT_EQ(mean[0].selection.chosen, (std::vector<uint32_t>{0, 1}));
   EXPECT_DOUBLE_EQ(mean[0].selection.coverage, 40.5 / kShell);
-  // all, n = 3: best, then ransac, greedy and local for n = 1, 2, 3; all three see (63, 36).
+  // all, n = 3: best, then ransac, greedy, local and exact for n = 1, 2, 3; all three see
+  // (63, 36).
   const auto all = SelectOverStates(views_, OverStates::kMin, Options(Method::kAll, 3));
-  ASSERT_EQ(all.size(), 10u);
-  const char* methods[] = {"best",   "ransac", "greedy", "local", "ransac",
-                           "greedy", "local",  "ransac", "greedy", "local"};
-  const int ns[] = {1, 1, 1, 1, 2, 2, 2, 3, 3, 3};
+  ASSERT_EQ(all.size(), 13u);
+  const char* methods[] = {"best",  "ransac", "greedy", "local", "exact", "ransac", "greedy",
+                           "local", "exact",  "ransac", "greedy", "local", "exact"};
+  const int ns[] = {1, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3};
   for (size_t i = 0; i < all.size(); ++i) {
     EXPECT_EQ(all[i].selection.method, methods[i]);
     EXPECT_EQ(all[i].selection.n, ns[i]);
@@ -495,6 +496,9 @@ double AggregateOf(const std::vector<RandomState>& states,
   return over == OverStates::kMin ? least : sum / static_cast<double>(states.size());
 }
 
+// The best aggregate of at most n candidates, by enumeration (defined below).
+double BruteForceAggregate(const std::vector<RandomState>& states, size_t n, OverStates over);
+
 TEST(SelectOverStates, GreedyAndLocalNeverBelowBestAndDeterministic) {
   for (uint64_t seed = 1; seed <= 5; ++seed) {
     const std::vector<RandomState> states = RandomStates(seed, 12);
@@ -503,7 +507,7 @@ TEST(SelectOverStates, GreedyAndLocalNeverBelowBestAndDeterministic) {
       views.push_back({s.name, s.reference.size(), s.observations});
     for (const OverStates over : {OverStates::kMean, OverStates::kMin}) {
       const auto results = SelectOverStates(views, over, Options(Method::kAll, 4));
-      ASSERT_EQ(results.size(), 13u);  // best, then ransac, greedy, local for n = 1..4
+      ASSERT_EQ(results.size(), 17u);  // best, then ransac, greedy, local, exact for n = 1..4
       // Best: the brute-force best single candidate.
       double best_single = -1;
       for (uint32_t c = 0; c < 12; ++c)
@@ -517,11 +521,19 @@ TEST(SelectOverStates, GreedyAndLocalNeverBelowBestAndDeterministic) {
         const std::set<uint32_t> distinct(r.selection.chosen.begin(), r.selection.chosen.end());
         EXPECT_EQ(distinct.size(), r.selection.chosen.size());
       }
-      for (size_t i = 1; i + 2 < results.size(); i += 3) {
+      for (size_t i = 1; i + 3 < results.size(); i += 4) {
         EXPECT_EQ(results[i].selection.method, "ransac");
         EXPECT_EQ(results[i + 1].selection.method, "greedy");
         EXPECT_EQ(results[i + 2].selection.method, "local");
         EXPECT_GE(results[i + 2].selection.coverage + 1e-12, results[i + 1].selection.coverage);
+        // Exact: at least local's, its bound the brute-force optimum or above, proven here.
+        const Selection& e = results[i + 3].selection;
+        EXPECT_EQ(e.method, "exact");
+        EXPECT_NEAR(e.coverage, BruteForceAggregate(states, static_cast<size_t>(e.n), over),
+                    1e-9);
+        ASSERT_TRUE(e.upper_bound.has_value());
+        EXPECT_GE(*e.upper_bound + 1e-9, e.coverage);
+        EXPECT_TRUE(e.proven_optimal);
       }
       // Deterministic: a second run chooses the same sensors in the same order.
       const auto again = SelectOverStates(views, over, Options(Method::kAll, 4));
@@ -789,7 +801,9 @@ TEST(SelectOverStates, ConstrainedMethodsAgainstEnumeration) {
         options.ransac_iterations = 40;
         options.constraints = constraints;
         const auto all = SelectOverStates(views, over, options);
-        ASSERT_EQ(all.size(), 1u + 3u * static_cast<size_t>(n));
+        ASSERT_EQ(all.size(), 1u + 4u * static_cast<size_t>(n));  // best; 4 methods per n
+        EXPECT_EQ(all.back().selection.method, "exact");
+        EXPECT_NEAR(all.back().selection.coverage, optimum, 1e-9);
         for (const StateSelection& r : all) {
           EXPECT_TRUE(FeasibleOverStates(states, r.selection.chosen, constraints))
               << r.selection.method;
@@ -902,7 +916,9 @@ TEST(SelectOverStates, MinPointsAgainstEnumeration) {
         options.min_points = points;
         options.constraints = constraints;
         const auto all = SelectOverStates(views, over, options);
-        ASSERT_EQ(all.size(), 3u * static_cast<size_t>(n));  // ransac, greedy, local per n
+        ASSERT_EQ(all.size(), 4u * static_cast<size_t>(n));  // ransac, greedy, local, exact
+        EXPECT_EQ(all.back().selection.method, "exact");
+        EXPECT_NEAR(all.back().selection.coverage, optimum, 1e-9);
         for (const StateSelection& r : all) {
           EXPECT_EQ(r.selection.objective, "min-points");
           EXPECT_TRUE(FeasibleOverStates(states, r.selection.chosen, constraints));

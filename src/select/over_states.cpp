@@ -296,12 +296,12 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
   };
   // Exact: CBC on the states' MILP, warm-started from local search, with a Lagrangian bound when
   // CBC cannot finish (objective_bounds.hpp, SolveExactStates).
-  const auto exact = [&](size_t k) {
+  const auto exact = [&](size_t k, double time_limit) {
     const Clock::time_point t = Clock::now();
     const std::vector<uint32_t> local =
         detail::LocalSearch(scorer, detail::GreedyComplete(scorer, {}, k));
     const detail::StatesExactResult solved = detail::SolveExactStates(
-        matrix, over, k, local, std::max(0.0, options.time_limit - SecondsSince(t)));
+        matrix, over, k, local, std::max(0.0, time_limit - SecondsSince(t)));
     if (!solved.proven_optimal && !solved.note.empty()) {
       const std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
       (logger ? logger : spdlog::default_logger())
@@ -348,10 +348,21 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
       case Method::kRansac:
         results.push_back(scored(Method::kRansac, methods.Ransac(n)));
         break;
-      case Method::kAll:
+      case Method::kAll: {
         if (!options.min_points) results.push_back(best());  // as Select: min-points has none
-        for (size_t k = 1; k <= n; ++k) one_n(k, true, true, true);
+        // Exact per n in a share of the time, as Select's `all` (vantage help optimize).
+        detail::AllExactTime exact_time(matrix.candidate_count(), options.time_limit,
+                                        static_cast<int>(n));
+        for (size_t k = 1; k <= n; ++k) {
+          one_n(k, true, true, true);
+          if (!exact_time.runs()) continue;
+          const Clock::time_point t = Clock::now();
+          results.push_back(
+              scored(Method::kExact, methods.Exact(exact_time.Share(static_cast<int>(k)))));
+          exact_time.Spend(SecondsSince(t));
+        }
         break;
+      }
       case Method::kExact: {
         const Clock::time_point t = Clock::now();
         methods.Greedy(n);
@@ -377,15 +388,22 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
     case Method::kRansac:
       results.push_back(ransac(n));
       break;
-    case Method::kAll:
+    case Method::kAll: {
       results.push_back(best());
+      detail::AllExactTime exact_time(matrix.candidate_count(), options.time_limit,
+                                      static_cast<int>(n));
       for (size_t k = 1; k <= n; ++k) {
         results.push_back(ransac(k));
         greedy_and_local(k, true, true);
+        if (!exact_time.runs()) continue;
+        const Clock::time_point t = Clock::now();
+        results.push_back(exact(k, exact_time.Share(static_cast<int>(k))));
+        exact_time.Spend(SecondsSince(t));
       }
       break;
+    }
     case Method::kExact:
-      results.push_back(exact(n));
+      results.push_back(exact(n, options.time_limit));
       break;
   }
   return results;
