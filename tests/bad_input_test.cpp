@@ -764,6 +764,9 @@ TEST_F(BadInput, CommandLineOptions) {
        "--iterations:", "ransac_iterations = 0"},
       {"zero_time_limit", "optimize " + scene + " --time-limit 0",
        "--time-limit:", "time_limit = 0"},
+      // Finite but beyond what a steady-clock deadline holds (stop 26).
+      {"huge_time_limit", "optimize " + scene + " --time-limit 1e300",
+       "--time-limit:", "time_limit = 1e+300 s must be a positive number of seconds, at most"},
       {"k_zero", "optimize " + scene + " --k 0", "--k:", "k = 0 must be at least 1"},
       {"k_above_n", "optimize " + scene + " --k 99", "--k:", "n = 2 is below k = 99"},
       {"unknown_command", "frobnicate", "'frobnicate'",

@@ -26,13 +26,17 @@ enum class Objective {
 /// report.json).
 std::string ObjectiveName(Objective objective);
 
+/// The longest exact run a request may ask for [s]: a deadline this far ahead still fits the
+/// steady clock's int64 nanoseconds many times over.
+constexpr double kMaxTimeLimit = 1e6;
+
 struct SelectOptions {
   int n = 1;  ///< sensors wanted, 1 <= n <= candidates (ignored by set-cover and budget)
   Method method = Method::kAll;
   int ransac_iterations = 1000;       ///< I of Algorithm 2
   double ransac_stop_coverage = 1.0;  ///< C of Algorithm 2, fraction
   uint64_t seed = 1;
-  double time_limit = 60;  ///< seconds, for exact
+  double time_limit = 60;  ///< seconds, for exact, in (0, kMaxTimeLimit]
   /// Set cover: choose the fewest sensors whose coverage reaches this fraction, in (0, 1].
   /// Methods greedy, exact, all. Above what all candidates reach together: InputError from Select.
   std::optional<double> goal;

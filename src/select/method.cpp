@@ -138,9 +138,13 @@ void SelectOptions::Validate(size_t candidate_count) const {
                      fmt::format("ransac_stop_coverage = {} must be a fraction in [0, 1]",
                                  ransac_stop_coverage));
   }
-  if (!(time_limit > 0.0) || !std::isfinite(time_limit)) {
+  // The deadline is a steady-clock time point in nanoseconds (int64: 292 years); far beyond
+  // the cap the conversion overflowed.
+  if (!(time_limit > 0.0) || !(time_limit <= kMaxTimeLimit)) {
     throw FieldError({"time_limit"},
-                     fmt::format("time_limit = {} s must be a positive number of seconds", time_limit));
+                     fmt::format("time_limit = {} s must be a positive number of seconds, at "
+                                 "most {:g} (11.6 days)",
+                                 time_limit, kMaxTimeLimit));
   }
   ValidateObjective(*this, candidate_count);
   constraints.Validate(candidate_count);
