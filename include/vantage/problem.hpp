@@ -3,6 +3,7 @@
 /// the settings of the run. Loaded from YAML (docs/scene-format.md) or SDF (GAZEBO.md).
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,9 @@ struct KeepOutBox {
   /// Whether the world point lies inside the box or on its boundary.
   bool Contains(const Vec3& world) const;
 };
+
+/// Whether the world point lies in any of `boxes` (boundaries included): where no sensor may go.
+bool InKeepOut(std::span<const KeepOutBox> boxes, const Vec3& world);
 
 /// Where sensors may be mounted (docs/constraints.md, Mounting rules).
 struct MountingRules {

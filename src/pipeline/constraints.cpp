@@ -246,9 +246,7 @@ std::optional<ConstraintsInfo> ResolveConstraints(const ConstraintOptions& reque
   info.keep_out_boxes = mounting.keep_out;
   info.keep_out_excluded = kept_out;
   for (size_t i = 0; i < candidates.size(); ++i) {
-    const Vec3& p = candidates[i].world_from_body.position;
-    if (std::any_of(mounting.keep_out.begin(), mounting.keep_out.end(),
-                    [&](const KeepOutBox& box) { return box.Contains(p); }))
+    if (InKeepOut(mounting.keep_out, candidates[i].world_from_body.position))
       info.keep_out_violations.push_back(static_cast<uint32_t>(i));
   }
   if (!info.interference_overlap && !info.constraints.calibration && !info.min_separation &&

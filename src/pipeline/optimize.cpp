@@ -122,8 +122,7 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
       // calibration rule over old and new candidates together.
       const ConstraintsInfo& info = *report.constraints;
       refine.may_mount = [&info](const Pose& body) {
-        return std::none_of(info.keep_out_boxes.begin(), info.keep_out_boxes.end(),
-                            [&](const KeepOutBox& box) { return box.Contains(body.position); });
+        return !InKeepOut(info.keep_out_boxes, body.position);
       };
       refine.constraints = [&info](std::span<const Candidate> candidates,
                                    std::span<const Observation> observations) {

@@ -64,9 +64,7 @@ void ExcludeKeptOut(PreparedScene* prepared) {
   const std::vector<KeepOutBox>& boxes = prepared->problem.mounting.keep_out;
   if (boxes.empty()) return;
   const auto inside = [&](const Candidate& c) {
-    return std::any_of(boxes.begin(), boxes.end(), [&](const KeepOutBox& box) {
-      return box.Contains(c.world_from_body.position);
-    });
+    return InKeepOut(boxes, c.world_from_body.position);
   };
   const size_t count = prepared->candidates.size();
   std::vector<bool> out(count, false);

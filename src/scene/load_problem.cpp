@@ -72,6 +72,11 @@ bool KeepOutBox::Contains(const Vec3& world) const {
   return (local.array() >= min.array()).all() && (local.array() <= max.array()).all();
 }
 
+bool InKeepOut(std::span<const KeepOutBox> boxes, const Vec3& world) {
+  return std::any_of(boxes.begin(), boxes.end(),
+                     [&](const KeepOutBox& box) { return box.Contains(world); });
+}
+
 Problem LoadProblem(const std::string& path, const LoadOptions& options) {
   const std::string extension = LowerExtension(path);
   std::string readers;
