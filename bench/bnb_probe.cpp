@@ -105,14 +105,14 @@ int main(int argc, char** argv) {
         "N={} cells {} ({:.2f}%) bound {} ({:.2f}%) gap {:.2f} pp{} | nodes {} ({:.0f}/s, "
         "{:.0f}/cpu s) root {} "
         "fixed {}+{} steps {} sg {} lp {} ({:.2f} s) | wall {:.2f} cpu {:.2f}: root {:.2f} rebuild "
-        "{:.2f} rows {:.2f} steps {:.2f} eval {:.2f} "
-        "offer {:.2f} fixing {:.2f} | steps {} evals {}\n",
+        "{:.2f} rows {:.2f} eval {:.2f} "
+        "descent {:.2f} offer {:.2f} fixing {:.2f} | evals {}\n",
         n, res.cells, res.cells / r, res.upper_bound, res.upper_bound / r,
         (double(res.upper_bound) - double(res.cells)) / r, res.proven_optimal ? " *" : "",
         res.nodes, res.nodes / wall, res.nodes / cpu, res.root_bound, res.root_fixed_in,
         res.root_removed, res.root_steps, res.root_subgradient_bound, res.root_lp_bound,
         res.root_lp_seconds, wall, cpu, p.root_seconds, p.rebuild_seconds, p.rows_seconds,
-        p.step_seconds, p.eval_seconds, p.offer_seconds, p.fixing_seconds, p.steps, p.evaluations);
+        p.eval_seconds, p.descent_seconds, p.offer_seconds, p.fixing_seconds, p.evaluations);
     std::fflush(stdout);
   }
   return 0;

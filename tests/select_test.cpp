@@ -886,6 +886,48 @@ long double ExactValue(const detail::LagrangianProblem& problem, std::span<const
   return std::ldexp(static_cast<long double>(exact.scaled_value), -exact.bits);
 }
 
+// Coordinate descent is a descent method on L: from any multipliers (the start ones, or a few
+// subgradient steps' ones) L never rises, and stays at or above CLP's LP optimum and the
+// enumerated optimum (weak duality, independently computed).
+TEST(Lagrangian, CoordinateDescentNeverRaisesLAndStaysABound) {
+  int lowered = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    const size_t m = 8 + trial;
+    const size_t r = 30 + 2 * trial;
+    const std::vector<Observation> obs = WeightedRandomInstance(4100 + trial, m, r, 0.15);
+    const detail::CoverageMatrix matrix(obs, r);
+    const std::vector<uint32_t> weights = ElementWeights(matrix);
+    for (size_t n = 2; n <= 5; ++n) {
+      const double lp = ClpLpBound(obs, r, n);
+      const auto optimum = static_cast<long double>(BruteForceOptimum(obs, n));
+      const detail::LagrangianProblem problem{matrix.rows(), weights, n};
+      for (const int steps : {0, 5}) {
+        std::vector<double> lambda = detail::StartMultipliers(problem);
+        detail::SubgradientSteps(problem, 0, steps, detail::kStartStepScale, 1e9, &lambda);
+        long double before = ExactValue(problem, lambda);
+        for (int pass = 0; pass < 3; ++pass) {
+          detail::CoordinateDescent(problem, 1, &lambda);
+          for (size_t e = 0; e < lambda.size(); ++e) {
+            ASSERT_GE(lambda[e], 0.0);
+            ASSERT_LE(lambda[e], weights[e]);
+          }
+          const long double after = ExactValue(problem, lambda);
+          const std::string where = "trial " + std::to_string(trial) + " n " + std::to_string(n) +
+                                    " steps " + std::to_string(steps) + " pass " +
+                                    std::to_string(pass);
+          EXPECT_LE(after, before + 1e-6L) << where;
+          EXPECT_GE(after, static_cast<long double>(lp) - 1e-7L) << where;
+          EXPECT_GE(after, optimum) << where;
+          if (after < before - 1e-3L) ++lowered;
+          before = after;
+        }
+      }
+    }
+  }
+  // It moves: most first passes lower L by more than round-off.
+  EXPECT_GT(lowered, 48);
+}
+
 TEST(LpBound, ClpsMultipliersProveTheLpOptimumColdOrWarmStarted) {
   for (int trial = 0; trial < 12; ++trial) {
     const size_t m = 8 + trial;

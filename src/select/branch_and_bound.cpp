@@ -4,7 +4,10 @@
 // others; the rest are free. Its bound is L of the Lagrangian relaxation over the free rows and
 // the node's own elements (those of weight > 0 that a free row sees: any other element has
 // y_e <= 0 at the node, so dropping it keeps the node's optimum and makes L no larger, and each
-// subgradient pass touches fewer elements), searched from the parent's multipliers. A dive
+// pass touches fewer elements), at the parent's multipliers improved by a pass of exact
+// coordinate descent (a node's own subgradient steps converge too slowly: at multi_bin_picking
+// N = 8 five of them left L about 90 cells above the node's LP on average, and one pass of
+// descent removes about a third of that for the cost of two steps). A dive
 // child's problem is built from its parent's rows (the same problem, in one pass over shorter
 // rows). At the root the steps start from the start multipliers and run in rounds of
 // kRootChunk, Lagrangian fixing shrinking the problem between rounds, then CLP's LP relaxation
@@ -48,13 +51,13 @@ void Lap(Clock::time_point* since, double* total) {
   *since = now;
 }
 
-// Subgradient steps at a node, warm-started from its parent's multipliers with this step scale
-// (small: the parent's multipliers are close), and how often fixing may re-bound one node. Few
-// steps per node prove more per second than many (multi_bin_picking, N = 5: 5 steps proved it in
-// 7.7 s and 671 nodes, 40 steps in 10.8 s, 1 step in 9.7 s and 3,291 nodes).
-constexpr int kNodeSteps = 5;
-constexpr double kNodeStepScale = 0.5;
-constexpr int kMaxFixingRounds = 4;
+// A node's multipliers: its parent's, improved by coordinate descent (CoordinateDescent), and how
+// often fixing may re-bound one node. One pass of descent and no subgradient steps prove the most
+// per second (bench/RESULTS.md, "Coordinate descent at the nodes": multi_bin_picking N = 9 in
+// 15.2 CPU s and 15,195 nodes, where 5 steps and no descent took 99 s and 27,719 nodes; more
+// passes or steps bound a node better and cost more than the nodes they save).
+constexpr int kNodeDescentPasses = 1;
+constexpr int kMaxFixingRounds = 2;
 // CLP at the root needs time for at least this many passes over the rows (see RootRound).
 constexpr double kMinLpPasses = 50;
 // Rows go to the Lagrangian as runs of consecutive elements when that makes the passes this many
@@ -296,9 +299,8 @@ class Search {
         RootRound(problem, target, left, *node, round == 0, &lambda);
         Lap(&lap, &profile_.root_seconds);
       } else {
-        profile_.steps +=
-            SubgradientSteps(problem, target, kNodeSteps, kNodeStepScale, left, &lambda).iterations;
-        Lap(&lap, &profile_.step_seconds);
+        CoordinateDescent(problem, kNodeDescentPasses, &lambda);
+        Lap(&lap, &profile_.descent_seconds);
       }
       for (size_t k = 0; k < elements.size(); ++k) node->lambda[elements[k]] = lambda[k];
       if (is_root) root_lambda_ = node->lambda;

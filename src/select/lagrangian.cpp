@@ -227,6 +227,60 @@ SubgradientResult SubgradientSteps(const LagrangianProblem& problem,
   return result;
 }
 
+void CoordinateDescent(const LagrangianProblem& problem, int passes, std::vector<double>* lambda) {
+  const size_t m = problem.rows.size();
+  const size_t elements = problem.weights.size();
+  VANTAGE_CHECK(lambda->size() == elements);
+  if (m == 0 || problem.slots == 0 || problem.slots > m) return;
+  std::vector<double>& l = *lambda;
+  for (size_t e = 0; e < elements; ++e)
+    l[e] = std::clamp(l[e], 0.0, static_cast<double>(problem.weights[e]));
+  // The rows through each element (the transpose of `rows`, in compressed form).
+  std::vector<uint32_t> start(elements + 1, 0);
+  for (const std::vector<uint32_t>& row : problem.rows) {
+    for (const uint32_t e : row) ++start[e + 1];
+  }
+  for (size_t e = 0; e < elements; ++e) start[e + 1] += start[e];
+  std::vector<uint32_t> seers(start.back());
+  std::vector<uint32_t> next(start.begin(), start.end() - 1);
+  for (uint32_t i = 0; i < m; ++i) {
+    for (const uint32_t e : problem.rows[i]) seers[next[e]++] = i;
+  }
+  std::vector<double> rows(m, 0.0);
+  for (size_t i = 0; i < m; ++i) {
+    for (const uint32_t e : problem.rows[i]) rows[i] += l[e];
+  }
+  std::vector<double> sorted;
+  for (int pass = 0; pass < passes; ++pass) {
+    ThrowIfInterrupted();
+    sorted = rows;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(problem.slots) - 1,
+                     sorted.end(), std::greater<>());
+    const double mu = sorted[problem.slots - 1];
+    // In lambda_e alone the function's slope is -1 + (rows through e above mu): lambda_e = t is
+    // where row i reaches mu, t_i = mu - (r_i - lambda_e). Between the smallest two t_i the
+    // slope is 0; the largest point of it leaves the other rows as they are.
+    for (size_t e = 0; e < elements; ++e) {
+      double first = std::numeric_limits<double>::infinity();
+      double second = first;
+      for (uint32_t k = start[e]; k < start[e + 1]; ++k) {
+        const double t = mu - (rows[seers[k]] - l[e]);
+        if (t < first) {
+          second = first;
+          first = t;
+        } else if (t < second) {
+          second = t;
+        }
+      }
+      const double w = problem.weights[e];
+      const double target = std::clamp(std::max(first, std::min(second, w)), 0.0, w);
+      if (target == l[e]) continue;
+      for (uint32_t k = start[e]; k < start[e + 1]; ++k) rows[seers[k]] += target - l[e];
+      l[e] = target;
+    }
+  }
+}
+
 ExactLagrangian EvaluateExactly(const LagrangianProblem& problem, std::span<const double> lambda) {
   VANTAGE_CHECK(lambda.size() == problem.weights.size());
   uint64_t total_weight = 0;
