@@ -375,15 +375,14 @@ class Search {
                     std::vector<uint32_t>* weights) {
     size_t nonzeros = 0;
     for (size_t q = 0; q < count; ++q) nonzeros += source(q).size();
-    // seen[k]: 1 when a row holds id k with weight left; then its new id + 1 (0: absent).
+    // seen[k]: 1 when a row holds id k; then its new id + 1 if it has weight left (0: absent).
+    // The weight is looked at once per id, not per nonzero: the marking pass has no branch.
     std::vector<uint32_t>& seen = seen_;
     seen.assign(space, 0u);
     ForEachRow(count, nonzeros, [&](size_t begin, size_t end) {
       for (size_t q = begin; q < end; ++q) {
         for (const uint32_t k : source(q)) {
-          if (node.weights[global(k)] != 0) {
-            std::atomic_ref<uint32_t>(seen[k]).store(1u, std::memory_order_relaxed);
-          }
+          std::atomic_ref<uint32_t>(seen[k]).store(1u, std::memory_order_relaxed);
         }
       }
     });
@@ -391,6 +390,10 @@ class Search {
     weights->clear();
     for (uint32_t k = 0; k < space; ++k) {
       if (seen[k] == 0) continue;
+      if (node.weights[global(k)] == 0) {
+        seen[k] = 0;
+        continue;
+      }
       elements->push_back(global(k));
       weights->push_back(node.weights[global(k)]);
       seen[k] = static_cast<uint32_t>(elements->size());
@@ -400,10 +403,17 @@ class Search {
     next.resize(std::max(next.size(), count));
     ForEachRow(count, nonzeros, [&](size_t begin, size_t end) {
       for (size_t q = begin; q < end; ++q) {
-        next[q].clear();
-        for (const uint32_t k : source(q)) {
-          if (seen[k] != 0) next[q].push_back(seen[k] - 1);
+        // Written without a branch (whether an element stays is hard to predict).
+        const std::span<const uint32_t> in = source(q);
+        std::vector<uint32_t>& out = next[q];
+        out.resize(in.size());
+        size_t kept = 0;
+        for (const uint32_t k : in) {
+          const uint32_t id = seen[k];
+          out[kept] = id - 1;
+          kept += id != 0 ? 1 : 0;
         }
+        out.resize(kept);
       }
     });
     // Both keep all their rows (and capacity); only the first `count` are the problem's.

@@ -241,14 +241,17 @@ void CoordinateDescent(const LagrangianProblem& problem, int passes, std::vector
     for (const uint32_t e : row) ++start[e + 1];
   }
   for (size_t e = 0; e < elements; ++e) start[e + 1] += start[e];
+  // The rows' sums in the same pass.
   std::vector<uint32_t> seers(start.back());
   std::vector<uint32_t> next(start.begin(), start.end() - 1);
-  for (uint32_t i = 0; i < m; ++i) {
-    for (const uint32_t e : problem.rows[i]) seers[next[e]++] = i;
-  }
   std::vector<double> rows(m, 0.0);
-  for (size_t i = 0; i < m; ++i) {
-    for (const uint32_t e : problem.rows[i]) rows[i] += l[e];
+  for (uint32_t i = 0; i < m; ++i) {
+    double r = 0;
+    for (const uint32_t e : problem.rows[i]) {
+      seers[next[e]++] = i;
+      r += l[e];
+    }
+    rows[i] = r;
   }
   std::vector<double> sorted;
   for (int pass = 0; pass < passes; ++pass) {
@@ -258,21 +261,20 @@ void CoordinateDescent(const LagrangianProblem& problem, int passes, std::vector
                      sorted.end(), std::greater<>());
     const double mu = sorted[problem.slots - 1];
     // In lambda_e alone the function's slope is -1 + (rows through e above mu): lambda_e = t is
-    // where row i reaches mu, t_i = mu - (r_i - lambda_e). Between the smallest two t_i the
-    // slope is 0; the largest point of it leaves the other rows as they are.
+    // where row i reaches mu, t_i = mu - (r_i - lambda_e). Between the smallest two t_i (of the
+    // largest two rows) the slope is 0; the largest point of it leaves the other rows as they are.
+    constexpr double kNone = -std::numeric_limits<double>::infinity();
     for (size_t e = 0; e < elements; ++e) {
-      double first = std::numeric_limits<double>::infinity();
-      double second = first;
+      double largest = kNone;
+      double second_largest = kNone;
       for (uint32_t k = start[e]; k < start[e + 1]; ++k) {
-        const double t = mu - (rows[seers[k]] - l[e]);
-        if (t < first) {
-          second = first;
-          first = t;
-        } else if (t < second) {
-          second = t;
-        }
+        const double r = rows[seers[k]];
+        second_largest = std::max(second_largest, std::min(largest, r));
+        largest = std::max(largest, r);
       }
       const double w = problem.weights[e];
+      const double first = mu - largest + l[e];          // +inf without a row
+      const double second = mu - second_largest + l[e];  // +inf without a second row
       const double target = std::clamp(std::max(first, std::min(second, w)), 0.0, w);
       if (target == l[e]) continue;
       for (uint32_t k = start[e]; k < start[e + 1]; ++k) rows[seers[k]] += target - l[e];
