@@ -862,22 +862,32 @@ double ClpLpBound(const std::vector<Observation>& obs, size_t cells, size_t n) {
   return lp;
 }
 
-TEST(Lagrangian, IsNeverBelowClpsLpOptimumAndConvergesToIt) {
+// The weighted random instances of the LP tests: 12 of 8-19 candidates over 30-52 cells, each
+// with n = 2..5; body(trial, obs, cells, matrix, weights, n).
+template <typename Body>
+void ForEachLpInstance(uint64_t seed, Body body) {
   for (int trial = 0; trial < 12; ++trial) {
     const size_t m = 8 + trial;
     const size_t r = 30 + 2 * trial;
-    const std::vector<Observation> obs = WeightedRandomInstance(2100 + trial, m, r, 0.15);
+    const std::vector<Observation> obs = WeightedRandomInstance(seed + trial, m, r, 0.15);
     const detail::CoverageMatrix matrix(obs, r);
-    for (size_t n = 2; n <= 5; ++n) {
-      const double lp = ClpLpBound(obs, r, n);
-      const detail::LagrangianBound bound = detail::LagrangianUpperBound(matrix, n, 0, 3000, 1e9);
-      // Weak duality: L(lambda) >= the LP optimum for every lambda, exactly.
-      EXPECT_GE(static_cast<double>(bound.value), lp - 1e-7) << "trial " << trial << " n " << n;
-      EXPECT_GE(bound.upper_bound, static_cast<uint64_t>(std::floor(lp + 1e-7)));
-      // 3,000 subgradient steps reach the LP optimum here (to about 1e-6 cells).
-      EXPECT_LE(static_cast<double>(bound.value), lp + 0.01) << "trial " << trial << " n " << n;
-    }
+    const std::vector<uint32_t> weights = ElementWeights(matrix);
+    for (size_t n = 2; n <= 5; ++n) body(trial, obs, r, matrix, weights, n);
   }
+}
+
+TEST(Lagrangian, IsNeverBelowClpsLpOptimumAndConvergesToIt) {
+  ForEachLpInstance(2100, [](int trial, const std::vector<Observation>& obs, size_t r,
+                             const detail::CoverageMatrix& matrix,
+                             const std::vector<uint32_t>& /*weights*/, size_t n) {
+    const double lp = ClpLpBound(obs, r, n);
+    const detail::LagrangianBound bound = detail::LagrangianUpperBound(matrix, n, 0, 3000, 1e9);
+    // Weak duality: L(lambda) >= the LP optimum for every lambda, exactly.
+    EXPECT_GE(static_cast<double>(bound.value), lp - 1e-7) << "trial " << trial << " n " << n;
+    EXPECT_GE(bound.upper_bound, static_cast<uint64_t>(std::floor(lp + 1e-7)));
+    // 3,000 subgradient steps reach the LP optimum here (to about 1e-6 cells).
+    EXPECT_LE(static_cast<double>(bound.value), lp + 0.01) << "trial " << trial << " n " << n;
+  });
 }
 
 // L at CLP's multipliers, exactly (EvaluateExactly's fixed point back in cells).
@@ -891,79 +901,68 @@ long double ExactValue(const detail::LagrangianProblem& problem, std::span<const
 // enumerated optimum (weak duality, independently computed).
 TEST(Lagrangian, CoordinateDescentNeverRaisesLAndStaysABound) {
   int lowered = 0;
-  for (int trial = 0; trial < 12; ++trial) {
-    const size_t m = 8 + trial;
-    const size_t r = 30 + 2 * trial;
-    const std::vector<Observation> obs = WeightedRandomInstance(4100 + trial, m, r, 0.15);
-    const detail::CoverageMatrix matrix(obs, r);
-    const std::vector<uint32_t> weights = ElementWeights(matrix);
-    for (size_t n = 2; n <= 5; ++n) {
-      const double lp = ClpLpBound(obs, r, n);
-      const auto optimum = static_cast<long double>(BruteForceOptimum(obs, n));
-      const detail::LagrangianProblem problem{matrix.rows(), weights, n};
-      for (const int steps : {0, 5}) {
-        std::vector<double> lambda = detail::StartMultipliers(problem);
-        detail::SubgradientSteps(problem, 0, steps, detail::kStartStepScale, 1e9, &lambda);
-        long double before = ExactValue(problem, lambda);
-        for (int pass = 0; pass < 3; ++pass) {
-          detail::CoordinateDescent(problem, 1, &lambda);
-          for (size_t e = 0; e < lambda.size(); ++e) {
-            ASSERT_GE(lambda[e], 0.0);
-            ASSERT_LE(lambda[e], weights[e]);
-          }
-          const long double after = ExactValue(problem, lambda);
-          const std::string where = "trial " + std::to_string(trial) + " n " + std::to_string(n) +
-                                    " steps " + std::to_string(steps) + " pass " +
-                                    std::to_string(pass);
-          EXPECT_LE(after, before + 1e-6L) << where;
-          EXPECT_GE(after, static_cast<long double>(lp) - 1e-7L) << where;
-          EXPECT_GE(after, optimum) << where;
-          if (after < before - 1e-3L) ++lowered;
-          before = after;
+  ForEachLpInstance(4100, [&lowered](int trial, const std::vector<Observation>& obs, size_t r,
+                                     const detail::CoverageMatrix& matrix,
+                                     const std::vector<uint32_t>& weights, size_t n) {
+    const double lp = ClpLpBound(obs, r, n);
+    const auto optimum = static_cast<long double>(BruteForceOptimum(obs, n));
+    const detail::LagrangianProblem problem{matrix.rows(), weights, n};
+    for (const int steps : {0, 5}) {
+      std::vector<double> lambda = detail::StartMultipliers(problem);
+      detail::SubgradientSteps(problem, 0, steps, detail::kStartStepScale, 1e9, &lambda);
+      long double before = ExactValue(problem, lambda);
+      for (int pass = 0; pass < 3; ++pass) {
+        detail::CoordinateDescent(problem, 1, &lambda);
+        for (size_t e = 0; e < lambda.size(); ++e) {
+          ASSERT_GE(lambda[e], 0.0);
+          ASSERT_LE(lambda[e], weights[e]);
         }
+        const long double after = ExactValue(problem, lambda);
+        const std::string where = "trial " + std::to_string(trial) + " n " + std::to_string(n) +
+                                  " steps " + std::to_string(steps) + " pass " +
+                                  std::to_string(pass);
+        EXPECT_LE(after, before + 1e-6L) << where;
+        EXPECT_GE(after, static_cast<long double>(lp) - 1e-7L) << where;
+        EXPECT_GE(after, optimum) << where;
+        if (after < before - 1e-3L) ++lowered;
+        before = after;
       }
     }
-  }
+  });
   // It moves: most first passes lower L by more than round-off.
   EXPECT_GT(lowered, 48);
 }
 
 TEST(LpBound, ClpsMultipliersProveTheLpOptimumColdOrWarmStarted) {
-  for (int trial = 0; trial < 12; ++trial) {
-    const size_t m = 8 + trial;
-    const size_t r = 30 + 2 * trial;
-    const std::vector<Observation> obs = WeightedRandomInstance(3100 + trial, m, r, 0.15);
-    const detail::CoverageMatrix matrix(obs, r);
-    const std::vector<uint32_t> weights = ElementWeights(matrix);
-    for (size_t n = 2; n <= 5; ++n) {
-      const double lp = ClpLpBound(obs, r, n);  // on the cells, no merging: independent
-      const size_t optimum = BruteForceOptimum(obs, n);
-      const detail::LagrangianProblem problem{matrix.rows(), weights, n};
-      const detail::LagrangianBound subgradient =
-          detail::LagrangianUpperBound(matrix, n, 0, 50, 1e9);
-      for (const bool warm : {false, true}) {
-        detail::ClpCoverageLp model(problem);
-        const detail::ClpLpSolution solution =
-            warm ? model.Solve(60, subgradient.lambda) : model.Solve(60);
-        ASSERT_TRUE(solution.optimal) << "trial " << trial << " n " << n << " warm " << warm;
-        EXPECT_NEAR(solution.objective, lp, 1e-6) << "trial " << trial << " n " << n;
-        const long double value = ExactValue(problem, solution.lambda);
-        // A proof (weak duality holds for any multipliers) ...
-        EXPECT_GE(value, static_cast<long double>(lp) - 1e-7) << "trial " << trial << " n " << n;
-        EXPECT_GE(std::floor(value), static_cast<long double>(optimum));
-        // ... equal to the LP optimum up to the truncation of lambda to 2^-24 (60 elements).
-        EXPECT_LE(value, static_cast<long double>(lp) + 1e-5) << "trial " << trial << " n " << n;
-        // The LP's x: in [0, 1], at most n in all.
-        double total = 0;
-        for (const double x : solution.x) {
-          EXPECT_GE(x, -1e-9);
-          EXPECT_LE(x, 1 + 1e-9);
-          total += x;
-        }
-        EXPECT_LE(total, static_cast<double>(n) + 1e-6);
+  ForEachLpInstance(3100, [](int trial, const std::vector<Observation>& obs, size_t r,
+                             const detail::CoverageMatrix& matrix,
+                             const std::vector<uint32_t>& weights, size_t n) {
+    const double lp = ClpLpBound(obs, r, n);  // on the cells, no merging: independent
+    const size_t optimum = BruteForceOptimum(obs, n);
+    const detail::LagrangianProblem problem{matrix.rows(), weights, n};
+    const detail::LagrangianBound subgradient = detail::LagrangianUpperBound(matrix, n, 0, 50, 1e9);
+    for (const bool warm : {false, true}) {
+      detail::ClpCoverageLp model(problem);
+      const detail::ClpLpSolution solution =
+          warm ? model.Solve(60, subgradient.lambda) : model.Solve(60);
+      ASSERT_TRUE(solution.optimal) << "trial " << trial << " n " << n << " warm " << warm;
+      EXPECT_NEAR(solution.objective, lp, 1e-6) << "trial " << trial << " n " << n;
+      const long double value = ExactValue(problem, solution.lambda);
+      // A proof (weak duality holds for any multipliers) ...
+      EXPECT_GE(value, static_cast<long double>(lp) - 1e-7) << "trial " << trial << " n " << n;
+      EXPECT_GE(std::floor(value), static_cast<long double>(optimum));
+      // ... equal to the LP optimum up to the truncation of lambda to 2^-24 (60 elements).
+      EXPECT_LE(value, static_cast<long double>(lp) + 1e-5) << "trial " << trial << " n " << n;
+      // The LP's x: in [0, 1], at most n in all.
+      double total = 0;
+      for (const double x : solution.x) {
+        EXPECT_GE(x, -1e-9);
+        EXPECT_LE(x, 1 + 1e-9);
+        total += x;
       }
+      EXPECT_LE(total, static_cast<double>(n) + 1e-6);
     }
-  }
+  });
 }
 
 TEST(LpBound, ReducedCostFixingNeverRemovesAnOptimalCandidate) {
