@@ -8,6 +8,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include <tbb/global_control.h>
+
 #include "fuzz_util.hpp"
 #include "vantage/error.hpp"
 #include "vantage/pipeline.hpp"
@@ -23,6 +25,13 @@ constexpr size_t kMaxReference = 50'000;
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
+  // One thread: with TBB's workers, how a parallel loop is split (work stealing) changes the
+  // hit counts of its body from run to run, and libFuzzer counted those as new features of the
+  // same input, so the pipeline's coverage never settled. The process lives as long as the
+  // fuzzer, so the limit is never freed.
+  static auto* const one_thread =  // NOLINT(cppcoreguidelines-owning-memory)
+      new tbb::global_control(tbb::global_control::max_allowed_parallelism, 1);
+  (void)one_thread;
   return vantage::fuzz::Initialize();
 }
 
