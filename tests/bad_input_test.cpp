@@ -5,6 +5,7 @@
 // docs/errors.md lists the messages these cases produce.
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -1209,7 +1210,9 @@ TEST_F(BadInput, InterruptWhileRayCasting) {
 TEST_F(BadInput, InterruptWhileWritingOutputs) {
   // SIGPROF and SIGVTALRM: found by the sweep of session 4 (with SIGQUIT, SIGXCPU and SIGXFSZ,
   // which dump core, so not sent here), they left out.tmp-PID behind.
-  for (const int signal : {SIGINT, SIGTERM, SIGUSR1, SIGPROF, SIGVTALRM}) {
+  // SIGSTKFLT and the real-time signals: found by the sweep of session 8, they left it too.
+  for (const int signal : {SIGINT, SIGTERM, SIGUSR1, SIGPROF, SIGVTALRM, SIGSTKFLT, SIGRTMIN,
+                           SIGRTMAX}) {
     SCOPED_TRACE(strsignal(signal));
     const int status =
         Interrupt({"optimize", CubeCell(), "--out", out_}, {"VANTAGE_TEST_WRITE_DELAY_S=0.2"},
@@ -1217,6 +1220,124 @@ TEST_F(BadInput, InterruptWhileWritingOutputs) {
     EXPECT_TRUE(EndedBy(status, signal)) << "status " << status;
     ExpectOutputsUntouched();
   }
+}
+
+// Issue 15, session 8's sweep: CLI11 read an empty value as "not given" (`-n ''` ran with the
+// scene's n) or as 0 (`--observation-point '' '' ''` looked at the origin and changed the
+// result), and read whole numbers with a leading 0 as octal and 0x as hex; yaml-cpp did the same
+// for a scene's counts and seeds.
+TEST_F(BadInput, EmptyAndNonDecimalValues) {
+  const std::string scene = CubeCell();
+  const std::string vis = dir_.File("good.vis");
+  ASSERT_EQ(RunVantage("observe " + scene + " --out " + vis).exit_code, 0);
+  const std::string empty = "the value is empty";
+  const std::string not_decimal = "is not a whole number in decimal";
+  ExpectRejected({
+      {"n_empty", "optimize " + scene + " -n ''", "--sensors:", empty},
+      {"point_empty", "optimize " + scene + " --observation-point '' '' ''",
+       "--observation-point:", empty},
+      {"cell_size_empty", "optimize " + scene + " --cell-size ''", "--cell-size:", empty},
+      {"model_path_empty", "optimize " + scene + " --model-path ''", "--model-path:", empty},
+      {"shard_empty", "observe " + scene + " --shard ''", "--shard:", empty},
+      {"constellation_empty", "evaluate " + scene + " -c ''", "--constellation:", empty},
+      {"select_file_empty", "select ''", "file:", empty},
+      {"n_octal", "optimize " + scene + " -n 010", "--sensors:", "'010' " + not_decimal},
+      {"seed_octal", "optimize " + scene + " --seed 010", "--seed:", "'010' " + not_decimal},
+      {"iterations_hex", "optimize " + scene + " --iterations 0x10", "--iterations:",
+       "'0x10' " + not_decimal},
+      {"select_n_octal", "select " + vis + " -n 02", "--sensors:", "'02' " + not_decimal},
+      Yaml("yaml_count_octal", "count: 10", "count: 010", 34,
+           "population 'ring'.count: '010' has a leading zero"),
+      Yaml("yaml_seed_octal", "seed: 3", "seed: 010", 7, "settings.seed: '010' has a leading zero"),
+      Yaml("yaml_n_hex", "n: 2", "n: 0x2", 5, "settings.n: expected a whole number, got '0x2'"),
+      Yaml("yaml_seed_beyond", "seed: 3", "seed: 18446744073709551616", 7,
+           "settings.seed = 18446744073709551616 is too large"),
+  });
+  // The largest seed the command line takes is a scene's seed too (2^63 and up were refused).
+  const std::string big_seed =
+      Write("big_seed.yaml", CubeCellWith("seed: 3", "seed: 18446744073709551615"));
+  const auto run = RunVantage("optimize " + big_seed + " --out " + dir_.File("big_seed_out"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json report = json::parse(ReadText(dir_.File("big_seed_out/report.json")));
+  EXPECT_EQ(report["seed"].get<uint64_t>(), std::numeric_limits<uint64_t>::max());
+  fs::remove_all(dir_.File("big_seed_out"));
+}
+
+// Issue 15, session 8's sweep: `observe --out` renamed its file over a device or a FIFO (as
+// root, `--out /dev/null` replaced the machine's /dev/null), over its own scene, and
+// `render --png` wrote straight onto the path (a full disk's error lost, the old picture gone).
+TEST_F(BadInput, OutputsNeverReplaceDevicesPipesOrInputs) {
+  const std::string fifo = dir_.File("fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  const std::string scene = Write("scene.yaml", ReadText(CubeCell()));
+  const std::string vis = dir_.File("part.vis");
+  ASSERT_EQ(RunVantage("observe " + scene + " --out " + vis).exit_code, 0);
+  const std::string vis_bytes = ReadText(vis);
+  struct Refused {
+    std::string args, what;
+  };
+  for (const Refused& c : std::vector<Refused>{
+           {"observe " + scene + " --out " + fifo, "exists and is not a regular file"},
+           {"observe " + scene + " --out /dev/null", "exists and is not a regular file"},
+           {"render " + out_ + " --png " + fifo, "exists and is not a regular file"},
+           {"render " + out_ + " --png /dev/full", "exists and is not a regular file"},
+           {"observe " + scene + " --out " + scene, "names the input"},
+           {"observe " + scene + " --out " + dir_.path() + "/./scene.yaml", "names the input"},
+           {"merge " + vis + " --out " + vis, "names the input"}}) {
+    SCOPED_TRACE(c.args);
+    const auto run = RunVantage(c.args);
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+    EXPECT_NE(run.err.find(c.what), std::string::npos) << run.err;
+  }
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+  EXPECT_EQ(ReadText(scene), ReadText(CubeCell()));
+  EXPECT_EQ(ReadText(vis), vis_bytes);
+  // A picture is replaced whole: the new one is a complete PNG.
+  const std::string png = dir_.File("view.png");
+  WriteText(png, "an earlier picture");
+  const auto render = RunVantage("render " + out_ + " --png " + png + " --width 32 --height 24");
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  EXPECT_EQ(ReadText(png).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  EXPECT_FALSE(fs::exists(png + ".tmp-" + std::to_string(::getpid())));
+  ExpectOutputsUntouched();
+}
+
+// Issue 15, session 8's sweep: a visibility file or constellation that is a device or a FIFO was
+// read without end (/dev/zero: out of memory, exit 1) or blocked forever; a material script
+// file:///dev/zero ran the machine out of memory. A .vis whose reference R is empty scored 0 %
+// of nothing and exited 0.
+TEST_F(BadInput, NonRegularInputsAndEmptyReference) {
+  const std::string fifo = dir_.File("fifo.vis");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  const std::string not_regular = "it is not a regular file";
+  ExpectRejected({
+      {"vis_fifo", "select " + fifo, fifo + ":", not_regular},
+      {"vis_device", "select /dev/zero", "/dev/zero:", not_regular},
+      {"constellation_device", "evaluate " + CubeCell() + " -c /dev/zero", "/dev/zero:",
+       not_regular},
+      {"merge_device", "merge /dev/zero", "/dev/zero:", not_regular},
+  });
+  // The script is skipped as not found; the visual's own diffuse colour still marks the target.
+  const std::string world = Write(
+      "zero_script.world",
+      WorldWith("<material><diffuse>0 1 0 1</diffuse></material>",
+                "<material><script><uri>file:///dev/zero</uri><name>Cell/Green</name></script>"
+                "<diffuse>0 1 0 1</diffuse></material>"));
+  const auto run = RunVantage("optimize " + world + " --out " + dir_.File("zero_out"));
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  fs::remove_all(dir_.File("zero_out"));
+
+  const std::string good = dir_.File("good.vis");
+  ASSERT_EQ(RunVantage("observe " + CubeCell() + " --out " + good).exit_code, 0);
+  VisibilityFile empty = LoadVisibilityFile(good);
+  empty.reference.keys.clear();
+  for (Observation& o : empty.observations) o = Observation{};
+  const std::string empty_path = dir_.File("empty_reference.vis");
+  SaveVisibilityFile(empty_path, empty);
+  ExpectRejected({{"vis_empty_reference", "select " + empty_path, empty_path + ":",
+                   "its reference R has no cell"}});
 }
 
 // A matrix on which exact cannot prove the optimum quickly: 240 candidates, each seeing a

@@ -40,6 +40,15 @@ CLI::Validator WholeNumberValidator();
 /// empty path, which names no file or folder to write.
 CLI::Validator OutPathValidator();
 
+/// Every option value and argument: not empty (CLI11 read `-n ""` as not given and
+/// `--observation-point "" "" ""` as the origin), and for a whole number, decimal (CLI11 read
+/// `-n 010` as octal 8 and `-n 0x3` as hex). Issue 15.
+CLI::Validator PlainValueValidator(bool whole_number);
+
+/// InputError "--out: PATH is FILE, an input of this run ..." when the output file `out` is one of
+/// `inputs` (issue 15: `observe scene.yaml --out scene.yaml` replaced the scene with the matrix).
+void RefuseOutputOverInput(const std::string& out, const std::vector<std::string>& inputs);
+
 /// A progress bar with rate and ETA on stderr when it is a terminal; empty otherwise.
 std::function<void(size_t, size_t)> ProgressBar(const std::string& label);
 

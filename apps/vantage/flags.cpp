@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <memory>
@@ -101,6 +102,34 @@ CLI::Validator OutPathValidator() {
         return "the path is empty — give the file or folder to write, e.g. results";
       },
       "");
+}
+
+CLI::Validator PlainValueValidator(bool whole_number) {
+  return CLI::Validator(
+      [whole_number](const std::string& text) -> std::string {
+        if (text.empty()) return "the value is empty — give one, or leave the option out";
+        if (!whole_number) return {};
+        std::string_view digits(text);
+        if (!digits.empty() && (digits.front() == '-' || digits.front() == '+'))
+          digits.remove_prefix(1);
+        if (digits.size() > 1 && digits.front() == '0')
+          return fmt::format("'{}' is not a whole number in decimal (a leading 0 reads as octal, "
+                             "0x as hex) — write it in decimal without leading zeros",
+                             text);
+        return {};
+      },
+      "");
+}
+
+void RefuseOutputOverInput(const std::string& out, const std::vector<std::string>& inputs) {
+  std::error_code error;
+  for (const std::string& input : inputs) {
+    // equivalent() sees through links and other spellings of one path; false when out is new.
+    if (std::filesystem::equivalent(out, input, error))
+      throw InputError(fmt::format("--out: '{}' names the input '{}' of this run — writing it would "
+                                   "replace that input; choose another file",
+                                   out, input));
+  }
 }
 
 std::function<void(size_t, size_t)> ProgressBar(const std::string& label) {

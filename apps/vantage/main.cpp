@@ -159,6 +159,16 @@ int Run(int argc, char** argv, spdlog::logger* logger, const vantage::MpiJob* jo
         option->check(vantage::cli::WholeNumberValidator());
     }
   }
+  // Every value: not empty, and whole numbers in decimal (added last, so checked first).
+  std::vector<CLI::App*> every_command = app.get_subcommands({});
+  every_command.push_back(&app);
+  for (CLI::App* command : every_command) {
+    for (CLI::Option* option : command->get_options()) {
+      if (option->get_type_size_min() == 0) continue;  // a flag: no value
+      const bool whole_number = option->get_type_name().find("INT") != std::string::npos;
+      option->check(vantage::cli::PlainValueValidator(whole_number));
+    }
+  }
 
   // `vantage help X` becomes `X --help` (CLI11 has no help command).
   std::vector<std::string> args(argv + 1, argv + argc);

@@ -19,6 +19,7 @@
 #include <limits>
 #include <unordered_map>
 
+#include "util/atomic_file.hpp"
 #include "vantage/error.hpp"
 #include "vantage/ray_scene.hpp"
 #include "vantage/render.hpp"
@@ -382,10 +383,17 @@ void WritePng(const std::string& path, const Image& image) {
   VANTAGE_CHECK(image.width > 0 && image.height > 0 &&
                 image.rgb.size() ==
                     3 * static_cast<size_t>(image.width) * static_cast<size_t>(image.height));
-  if (stbi_write_png(path.c_str(), image.width, image.height, 3, image.rgb.data(),
-                     3 * image.width) == 0)
-    throw InputError(AtPlace(
-        path, 0, "cannot write the PNG file — check that its folder exists and is writable"));
+  // Encoded in memory, then written through a temporary and a rename (issue 15: writing straight
+  // onto the path destroyed the earlier picture first and lost a full disk's error).
+  std::string png;
+  const auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                               static_cast<size_t>(size));
+  };
+  if (stbi_write_png_to_func(append, &png, image.width, image.height, 3, image.rgb.data(),
+                             3 * image.width) == 0)
+    throw InputError(AtPlace(path, 0, "cannot encode the PNG file"));
+  detail::WriteFileAtomically(path, png);
 }
 
 }  // namespace vantage

@@ -8,6 +8,7 @@
 
 #include "vantage/error.hpp"
 #include "report/run_inputs.hpp"
+#include "util/words.hpp"
 #include "vantage/report.hpp"
 
 namespace vantage {
@@ -81,9 +82,9 @@ Candidate ParseCandidate(const json& j, const std::string& where) {
 }  // namespace
 
 Constellation LoadConstellation(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(AtPlace(path, 0, "cannot open the constellation file — check the path"));
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // A device or a pipe is refused before it is read (issue 15: /dev/zero ran out of memory, a
+  // FIFO blocked forever).
+  const std::string text = detail::ReadInputFile(path, "constellation file");
   json j;
   try {
     j = json::parse(text);

@@ -38,12 +38,7 @@ namespace {
 using detail::XmlElement;
 
 std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(AtPlace(path, 0, "cannot open the world file — check the path"));
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) throw InputError(AtPlace(path, 0, "cannot read the world file"));
-  return buffer.str();
+  return detail::ReadInputFile(path, "world file");
 }
 
 /// Shortest text that reads back as the same double; never "-0".

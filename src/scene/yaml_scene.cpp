@@ -4,6 +4,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -198,6 +199,12 @@ struct LinkMount {
   Pose link_from_model;
 };
 
+/// A whole number as written: its sign and magnitude.
+struct WholeNumber {
+  bool negative = false;
+  uint64_t magnitude = 0;
+};
+
 // ---------------------------------------------------------------------------------------------
 // The reader of one scene file.
 
@@ -218,6 +225,10 @@ class SceneReader {
   // Values. Each records an error naming `what` and returns nullopt when the value is wrong.
   std::optional<double> Number(const Value& input, const std::string& what);
   std::optional<double> Positive(const Value& input, const std::string& what);
+  /// A whole number written in decimal (sign, digits, no leading zero), any size up to 2^64 - 1.
+  std::optional<WholeNumber> Whole(const Value& input, const std::string& what);
+  /// A whole number from 0 to 2^64 - 1 (a seed).
+  std::optional<uint64_t> Unsigned(const Value& input, const std::string& what);
   std::optional<int64_t> Integer(const Value& input,
                                  const std::string& what,
                                  int64_t min,
@@ -351,23 +362,64 @@ std::optional<double> SceneReader::Positive(const Value& input, const std::strin
   return number;
 }
 
-std::optional<int64_t> SceneReader::Integer(const Value& input,
-                                            const std::string& what,
-                                            int64_t min,
-                                            int64_t max) {
-  std::optional<int64_t> number;
-  if (input.node.IsScalar()) {
-    try {
-      number = input.node.as<int64_t>();
-    } catch (const YAML::Exception&) {
-      number.reset();
-    }
+std::optional<WholeNumber> SceneReader::Whole(const Value& input, const std::string& what) {
+  // Decimal only: yaml-cpp reads 010 as octal 8 and 0x10 as 16 (issue 15), which no scene's
+  // author means by a count or a seed.
+  const std::string text = input.node.IsScalar() ? input.node.Scalar() : std::string();
+  std::string_view digits(text);
+  WholeNumber number;
+  if (!digits.empty() && (digits.front() == '-' || digits.front() == '+')) {
+    number.negative = digits.front() == '-';
+    digits.remove_prefix(1);
   }
-  if (!number) {
+  const auto [end, error] =
+      std::from_chars(digits.data(), digits.data() + digits.size(), number.magnitude);
+  const bool all_digits = !digits.empty() && end == digits.data() + digits.size();
+  if (all_digits && digits.size() > 1 && digits.front() == '0') {
+    Error(input.line, fmt::format("{}: {} has a leading zero (YAML 1.1 reads it as octal) — write "
+                                  "the number without it",
+                                  what, Shown(input.node)));
+    return std::nullopt;
+  }
+  if (all_digits && error == std::errc::result_out_of_range) {
+    Error(input.line, fmt::format("{} = {} is too large — give at most {}", what, text,
+                                  std::numeric_limits<uint64_t>::max()));
+    return std::nullopt;
+  }
+  if (!all_digits || error != std::errc()) {
     Error(input.line, fmt::format("{}: expected a whole number, got {} — write e.g. 3", what,
                                   Shown(input.node)));
     return std::nullopt;
   }
+  return number;
+}
+
+std::optional<uint64_t> SceneReader::Unsigned(const Value& input, const std::string& what) {
+  const std::optional<WholeNumber> whole = Whole(input, what);
+  if (!whole) return std::nullopt;
+  if (whole->negative && whole->magnitude > 0) {
+    Error(input.line, fmt::format("{} = -{} is too small — give at least 0", what, whole->magnitude));
+    return std::nullopt;
+  }
+  return whole->magnitude;
+}
+
+std::optional<int64_t> SceneReader::Integer(const Value& input,
+                                            const std::string& what,
+                                            int64_t min,
+                                            int64_t max) {
+  const std::optional<WholeNumber> whole = Whole(input, what);
+  if (!whole) return std::nullopt;
+  constexpr uint64_t kLargest = static_cast<uint64_t>(std::numeric_limits<int64_t>::max());
+  if (whole->magnitude > kLargest + (whole->negative ? 1 : 0)) {
+    Error(input.line, fmt::format("{} = {}{} is too {} — give a value from {} to {}", what,
+                                  whole->negative ? "-" : "", whole->magnitude,
+                                  whole->negative ? "small" : "large", min, max));
+    return std::nullopt;
+  }
+  const std::optional<int64_t> number =
+      whole->negative ? static_cast<int64_t>(0 - whole->magnitude)
+                      : static_cast<int64_t>(whole->magnitude);
   if (*number < min) {
     Error(input.line, fmt::format("{} = {} is too small — give at least {}", what, *number, min));
     return std::nullopt;
@@ -563,8 +615,7 @@ void SceneReader::ReadSettings(const Value& input) {
     if (const auto roll = Boolean(*v, "settings.random_roll")) p.random_roll = *roll;
   }
   if (const auto v = fields.Get("seed")) {
-    if (const auto seed = Integer(*v, "settings.seed", 0, std::numeric_limits<int64_t>::max()))
-      p.seed = static_cast<uint64_t>(*seed);
+    if (const auto seed = Unsigned(*v, "settings.seed")) p.seed = *seed;
   }
   if (const auto v = fields.Get("ransac")) ReadRansac(*v);
   // Objectives beyond coverage (SYSTEM.md, Select): at most one of goal, k >= 2, budget.

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -44,20 +45,23 @@ class InterruptGuard {
     std::lock_guard<std::mutex> lock(Mutex());
     if (Depth()++ > 0) return;
     g_pending_signal.store(0);
-    for (size_t i = 0; i < kSignals.size(); ++i) {
+    const std::vector<int>& signals = Signals();
+    previous_.resize(signals.size());
+    installed_.assign(signals.size(), false);
+    for (size_t i = 0; i < signals.size(); ++i) {
       struct sigaction action {};
       action.sa_handler = RecordSignal;
       sigemptyset(&action.sa_mask);
-      installed_[i] = ::sigaction(kSignals[i], nullptr, &previous_[i]) == 0 &&
+      installed_[i] = ::sigaction(signals[i], nullptr, &previous_[i]) == 0 &&
                       previous_[i].sa_handler == SIG_DFL && !(previous_[i].sa_flags & SA_SIGINFO) &&
-                      ::sigaction(kSignals[i], &action, nullptr) == 0;
+                      ::sigaction(signals[i], &action, nullptr) == 0;
     }
   }
   ~InterruptGuard() {
     std::lock_guard<std::mutex> lock(Mutex());
     if (--Depth() > 0) return;
-    for (size_t i = 0; i < kSignals.size(); ++i)
-      if (installed_[i]) ::sigaction(kSignals[i], &previous_[i], nullptr);
+    for (size_t i = 0; i < installed_.size(); ++i)
+      if (installed_[i]) ::sigaction(Signals()[i], &previous_[i], nullptr);
     // Restored the default action: a signal that came during the write ends the process now.
     if (const int signal = g_pending_signal.exchange(0)) ::raise(signal);
   }
@@ -73,9 +77,20 @@ class InterruptGuard {
   // scheduler or a resource limit sends (issue 15: SIGHUP, SIGALRM and SIGUSR1 left
   // `OUT.tmp-PID` behind, then SIGQUIT, SIGXCPU, SIGXFSZ, SIGVTALRM and SIGPROF). Not the faults
   // (SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS): those are crashes.
-  static constexpr std::array<int, 14> kSignals = {
-      SIGINT,  SIGTERM, SIGHUP,  SIGQUIT,   SIGALRM, SIGUSR1, SIGUSR2,
-      SIGPIPE, SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF, SIGIO,   SIGPWR};
+  // The real-time signals (SIGRTMIN..SIGRTMAX) and SIGSTKFLT end the process too (issue 15:
+  // they left it behind as well); SIGRTMIN is a function call in glibc, so the list is built once.
+  static const std::vector<int>& Signals() {
+    static const std::vector<int> signals = [] {
+      std::vector<int> list = {SIGINT,  SIGTERM, SIGHUP,  SIGQUIT,   SIGALRM, SIGUSR1, SIGUSR2,
+                               SIGPIPE, SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF, SIGIO,   SIGPWR};
+#ifdef SIGSTKFLT
+      list.push_back(SIGSTKFLT);
+#endif
+      for (int signal = SIGRTMIN; signal <= SIGRTMAX; ++signal) list.push_back(signal);
+      return list;
+    }();
+    return signals;
+  }
   static std::mutex& Mutex() {
     static std::mutex mutex;
     return mutex;
@@ -84,8 +99,8 @@ class InterruptGuard {
     static int depth = 0;
     return depth;
   }
-  std::array<struct sigaction, kSignals.size()> previous_{};
-  std::array<bool, kSignals.size()> installed_{};
+  std::vector<struct sigaction> previous_;
+  std::vector<bool> installed_;
 };
 
 // Test hook: VANTAGE_TEST_WRITE_DELAY_S seconds of sleep after each file of a folder is written,
@@ -130,11 +145,34 @@ void WriteFile(const fs::path& path, const std::string& content) {
 
 void WriteFileAtomically(const std::string& path, const std::string& content) {
   const fs::path target(path);
+  // The rename would replace a device or a pipe with a plain file (issue 15: `observe --out
+  // /dev/null` as root replaced the machine's /dev/null). A symbolic link to a file is replaced
+  // by the new file, as any editor saving through a temporary does.
+  std::error_code status_error;
+  const fs::file_status status = fs::symlink_status(target, status_error);
+  if (fs::exists(status) && !fs::is_regular_file(status) && !fs::is_symlink(status) &&
+      !fs::is_directory(status))
+    throw InputError(fmt::format(
+        "{}: exists and is not a regular file (a device, a pipe or a socket) — choose another path",
+        path));
+  if (fs::is_symlink(status) && fs::exists(target, status_error) &&
+      !fs::is_regular_file(target, status_error) && !fs::is_directory(target, status_error))
+    throw InputError(fmt::format(
+        "{}: links to something that is not a regular file (a device, a pipe or a socket) — "
+        "choose another path",
+        path));
   const fs::path temp = target.string() + fmt::format(".tmp-{}", ::getpid());
   const InterruptGuard guard;
   std::error_code ec;
   try {
     WriteFile(temp, content);
+  } catch (const InputError&) {
+    const int reason = errno;  // read before the cleanup's calls change it
+    fs::remove(temp, ec);
+    // The path the user gave, not the temporary's.
+    throw InputError(fmt::format("{}: cannot write ({}) — check that its folder exists and is "
+                                 "writable, and that the disk is not full",
+                                 path, std::generic_category().message(reason)));
   } catch (...) {
     fs::remove(temp, ec);
     throw;

@@ -98,8 +98,16 @@ void CheckUtf8File(std::string_view text, const std::string& path) {
 
 std::string ReadInputFile(const std::string& path, std::string_view kind) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw InputError(AtPlace(path, 0, fmt::format("cannot open the {} — check the path", kind)));
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    // A device or a pipe would be read without end, or block (issue 15): named as such.
+    const bool other = std::filesystem::exists(path, ec) && !std::filesystem::is_directory(path, ec);
+    throw InputError(AtPlace(
+        path, 0,
+        other ? fmt::format("cannot open the {}: it is not a regular file (a device or a pipe?) — "
+                            "give the file itself",
+                            kind)
+              : fmt::format("cannot open the {} — check the path", kind)));
+  }
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();

@@ -309,12 +309,8 @@ XmlDocument ParseXml(std::string_view text, const std::string& path) {
 }
 
 XmlDocument ReadXmlFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(AtPlace(path, 0, "cannot open the file — check the path"));
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) throw InputError(AtPlace(path, 0, "cannot read the file"));
-  const std::string text = buffer.str();
+  // A device or a pipe is refused before it is read (issue 15: /dev/zero ran out of memory).
+  const std::string text = ReadInputFile(path, "file");
   CheckUtf8File(text, path);  // names and paths go into report.json, which is UTF-8
   return ParseXml(text, path);
 }

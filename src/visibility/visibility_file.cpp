@@ -209,10 +209,8 @@ std::string EncodeVisibilityFile(const VisibilityFile& file, bool observations) 
 }
 
 std::string ReadWholeFile(const std::string& path, const char* what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw InputError(AtPlace(path, 0, fmt::format("cannot open the {} — check the path", what)));
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // A device or a pipe is refused before it is read (issue 15: /dev/zero ran out of memory).
+  return detail::ReadInputFile(path, what);
 }
 
 // The file of `bytes`, read from `path` (for messages).
@@ -282,6 +280,9 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
   file.reference.keys = r.U64Vector();
   if (!StrictlyIncreasing(file.reference.keys))
     throw corrupt("the reference keys are not sorted and unique");
+  // observe never writes an empty R (a scene without target cells is refused); with one, every
+  // coverage would be 0 % of nothing (issue 15).
+  if (file.reference.keys.empty()) throw corrupt("its reference R has no cell");
   const uint64_t count = r.U64();
   r.CheckCount(count, 64);
   std::set<std::string> names;

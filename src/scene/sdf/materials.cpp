@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -228,6 +229,9 @@ void MaterialLibrary::ParseScript(std::string_view text, const std::string& path
 }
 
 bool MaterialLibrary::LoadFile(const std::string& path) {
+  // A folder, a device or a pipe is no script (issue 15: file:///dev/zero ran out of memory).
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
   std::ifstream in(path, std::ios::binary);
   if (!in) return false;
   std::stringstream buffer;
