@@ -1340,6 +1340,29 @@ TEST_F(BadInput, NonRegularInputsAndEmptyReference) {
                    "its reference R has no cell"}});
 }
 
+// Issue 15, session 8's sweep: a report.json's sensor type was never checked. Evaluated with the
+// file's intrinsics but exported by type name, an edited type made constellation.yaml describe
+// other cameras (re-evaluated: 27 % instead of 58 %), and an unknown one a file vantage refused.
+TEST_F(BadInput, ConstellationSensorTypes) {
+  json report = json::parse(ReadText(out_ + "/report.json"));
+  for (json& candidate : report["candidates"]) candidate["type"] = "zed";
+  const std::string edited = Write("zed.json", report.dump());
+  ExpectRejected({{"type_of_other_intrinsics", "evaluate " + CubeCell() + " -c " + edited,
+                   edited + ": sensor '",
+                   "its type 'zed' is 4416x1242 px, fx 1546.06, range 0.7-20 m where the scene or "
+                   "the catalog defines it, but the file gives 160x120 px"}});
+  for (json& candidate : report["candidates"]) candidate["type"] = "no_such_cam";
+  const std::string unknown = Write("unknown.json", report.dump());
+  const std::string folder = dir_.File("unknown_out");
+  const auto run = RunVantage("evaluate " + CubeCell() + " -c " + unknown + " --out " + folder);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("sensor type 'no_such_cam'"), std::string::npos) << run.err;
+  EXPECT_FALSE(fs::exists(folder + "/constellation.yaml"));
+  const json written = json::parse(ReadText(folder + "/report.json"));
+  EXPECT_NE(written["notes"].dump().find("constellation files not written"), std::string::npos);
+  fs::remove_all(folder);
+}
+
 // A matrix on which exact cannot prove the optimum quickly: 240 candidates, each seeing a
 // pseudo-random fifth of 6000 cells (the same file every run), copied from one real candidate.
 std::string HardVisibilityFile(const test::TempDir& dir, const std::string& seed_vis) {

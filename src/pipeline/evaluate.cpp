@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -11,6 +13,7 @@
 #include "pipeline/common.hpp"
 #include "vantage/error.hpp"
 #include "vantage/scene_states.hpp"
+#include "vantage/sensors.hpp"
 
 namespace vantage {
 namespace {
@@ -47,20 +50,62 @@ QualityFilter InheritQuality(const QualityFilter& given, const Constellation& co
 }
 
 // The constellation observed in the scene: its own reference, observations and "given" result.
+/// The given sensors' types as the scene (or the catalog) defines them. A report.json carries
+/// each sensor's intrinsics and is evaluated with them, but its exports name only the type: a
+/// type whose definition differs from the intrinsics (an edited file) would make
+/// constellation.yaml describe other cameras than those scored (issue 15), so it is refused; a
+/// type neither defines is returned, and the exports are left out.
+std::vector<std::string> CheckGivenTypes(const Constellation& constellation, const Problem& problem,
+                                         const std::string& file) {
+  std::vector<std::string> unknown;
+  for (const Candidate& c : constellation.sensors) {
+    const SensorType* defined = nullptr;
+    for (const SensorType& type : problem.sensor_types)
+      if (type.id == c.sensor.id) defined = &type;
+    if (defined == nullptr) defined = FindCatalogType(c.sensor.id);
+    if (defined == nullptr) {
+      unknown.push_back(c.sensor.id);
+      continue;
+    }
+    const SensorType& given = c.sensor;
+    const auto same = [](double a, double b) {
+      return std::abs(a - b) <= 1e-9 * std::max({1.0, std::abs(a), std::abs(b)});
+    };
+    if (given.width != defined->width || given.height != defined->height ||
+        !same(given.fx, defined->fx) || !same(given.fy, defined->fy) ||
+        !same(given.cx, defined->cx) || !same(given.cy, defined->cy) ||
+        !same(given.near, defined->near) || !same(given.far, defined->far))
+      throw InputError(AtPlace(
+          file, 0,
+          fmt::format("sensor '{}': its type '{}' is {}x{} px, fx {:g}, range {:g}-{:g} m where "
+                      "the scene or the catalog defines it, but the file gives {}x{} px, fx {:g}, "
+                      "range {:g}-{:g} m — the file was edited: give the type that matches its "
+                      "intrinsics",
+                      c.name, c.sensor.id, defined->width, defined->height, defined->fx,
+                      defined->near, defined->far, given.width, given.height, given.fx,
+                      given.near, given.far)));
+  }
+  return unknown;
+}
+
 struct Reobserved {
   Problem problem;
   std::unique_ptr<VisibilityFile> data;
   std::unique_ptr<RayScene> rays;
   Selection given;
   Timings timings;
+  std::vector<std::string> unknown_types;  ///< sensor types neither the scene nor the catalog has
 };
 
+/// `file`: the report.json the constellation came from ("" for a scene's declared layout).
 Reobserved Reobserve(const SceneInput& scene, const Constellation& constellation,
-                     const ObserveOptions& observe, const RunLimits& limits) {
+                     const std::string& file, const ObserveOptions& observe,
+                     const RunLimits& limits) {
   const auto start = std::chrono::steady_clock::now();
   Reobserved result;
   result.problem = LoadScene(scene);
   const Problem& problem = result.problem;
+  if (!file.empty()) result.unknown_types = CheckGivenTypes(constellation, problem, file);  // before any ray
   if (!problem.states.empty())
     spdlog::warn("{}: evaluated on the objects as listed; its {} states are scored by `vantage "
                  "optimize` only",
@@ -156,7 +201,9 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
     // Only the run's inputs can be at fault now: name the file they came from (issue 15).
     throw InputError(AtPlace(options.constellation, 0, fmt::format("inputs: {}", e.what())));
   }
-  Reobserved reobserved = Reobserve(scene, constellation, observe, options.limits);
+  Reobserved reobserved =
+      Reobserve(scene, constellation, options.constellation, observe, options.limits);
+  const std::vector<std::string>& unknown_types = reobserved.unknown_types;
 
   EvaluateResult result;
   const VisibilityFile& data = *reobserved.data;
@@ -227,6 +274,11 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   std::map<std::string, std::string> extra;
   std::vector<std::string> notes;
   try {
+    if (!unknown_types.empty())
+      throw InputError(fmt::format(
+          "the sensor type '{}' of {} is neither the scene's nor the catalog's, so these files "
+          "could not name it (the coverage above used the file's own intrinsics)",
+          unknown_types.front(), options.constellation));
     extra = detail::ConstellationFiles(scene.path, reobserved.problem.scene, run.data->candidates,
                                        reobserved.problem.populations,
                                        reobserved.problem.sensors, &notes);
@@ -293,7 +345,7 @@ RenderRunResult RenderRun(const RenderRunOptions& options) {
   if (constellation.inputs) observe.cull = constellation.inputs->cull;
   observe.quality = InheritQuality({}, constellation, report_path);
   // Re-observe the chosen sensors: the same voxels as the report counts.
-  const Reobserved reobserved = Reobserve(scene, constellation, observe, RunLimits{});
+  const Reobserved reobserved = Reobserve(scene, constellation, report_path, observe, RunLimits{});
   if (constellation.coverage && std::abs(*constellation.coverage - reobserved.given.coverage) > 1e-9)
     spdlog::warn("{}: coverage {:.4f} % now, {:.4f} % in the report — has the scene changed since?",
                  report_path, 100.0 * reobserved.given.coverage, 100.0 * *constellation.coverage);
