@@ -82,9 +82,17 @@ TriangleMesh MakeCylinder(double radius, double length, double max_chord_error);
 /// Rectangle in the z = 0 plane, centred at the origin, normal +z (two triangles).
 TriangleMesh MakePlane(double size_x, double size_y);
 
-/// Loads any mesh format Assimp reads (STL, DAE, OBJ, PLY...), all its nodes flattened with
-/// their transforms. Throws InputError naming the file when it is unreadable, empty, has
-/// non-finite vertices or only degenerate triangles.
-TriangleMesh LoadMeshFile(const std::string& path);
+/// Reads any mesh format Assimp reads (STL, DAE, OBJ, PLY...), all its nodes flattened with
+/// their transforms, every triangle kept (degenerate ones too). Throws InputError naming the
+/// file when it is unreadable, holds no triangle or has a non-finite vertex.
+TriangleMesh ReadMeshFile(const std::string& path);
+/// `raw` (ReadMeshFile(path)) with every vertex multiplied component-wise by `scale`, its
+/// degenerate triangles dropped. Throws InputError "PATH: a vertex of the mesh ... lies at (x, y,
+/// z) m, beyond the ±1e+09 m that vantage can ray cast ..." when a scaled vertex of any triangle
+/// lies beyond ±kMaxWorldCoordinate (checked before a triangle is dropped: a vertex far out
+/// makes its triangles slivers), or naming the file when every triangle is degenerate.
+TriangleMesh ScaledMesh(TriangleMesh raw, const Vec3& scale, const std::string& path);
+/// ScaledMesh(ReadMeshFile(path), scale, path).
+TriangleMesh LoadMeshFile(const std::string& path, const Vec3& scale = Vec3::Ones());
 
 }  // namespace vantage

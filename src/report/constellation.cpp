@@ -47,8 +47,16 @@ Candidate ParseCandidate(const json& j, const std::string& where) {
   if (!j.contains("name") || !j["name"].is_string() || j["name"].get<std::string>().empty())
     throw InputError(fmt::format("{}: 'name' must be a non-empty string", where));
   c.name = j["name"].get<std::string>();
-  const std::string at = fmt::format("{} ('{}')", where, c.name);
   c.type_id = j.contains("type") && j["type"].is_string() ? j["type"].get<std::string>() : "custom";
+  // The scene readers' check (util/words.hpp): a name with a newline breaks candidates.csv and
+  // the exported XML (issue 15).
+  for (const auto& [field, text] : {std::pair<const char*, const std::string*>{"name", &c.name},
+                                    {"type", &c.type_id}}) {
+    if (const std::string problem = detail::NameProblem(*text); !problem.empty())
+      throw InputError(
+          fmt::format("{}: {} '{}' {}", where, field, detail::Escaped(*text), problem));
+  }
+  const std::string at = fmt::format("{} ('{}')", where, c.name);
   const std::vector<double> p = Numbers(j, "position", 3, at);
   const std::vector<double> q = Numbers(j, "quaternion", 4, at);
   const std::optional<Quat> rotation = QuatFromWxyz(q);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "util/cell_size.hpp"
+#include "util/words.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
 
@@ -48,6 +49,13 @@ void LoadOptions::Validate() const {
   if (cell_size) {
     if (const std::string problem = detail::CellSizeProblem(*cell_size); !problem.empty())
       throw InputError(AtPlace("--cell-size", 0, problem));
+  }
+  // A target name is matched against the scene's names, which take no control character; it
+  // is refused here, so that no message echoes it raw (issue 15).
+  for (const std::string& target : targets) {
+    if (const std::string problem = detail::NameProblem(target); !problem.empty())
+      throw InputError(AtPlace("--target", 0,
+                               fmt::format("'{}' {}", detail::Escaped(target), problem)));
   }
   for (const std::string& folder : package_paths) {
     std::error_code ec;

@@ -359,7 +359,7 @@ TriangleMesh MakePlane(double size_x, double size_y) {
   return mesh;
 }
 
-TriangleMesh LoadMeshFile(const std::string& path) {
+TriangleMesh ReadMeshFile(const std::string& path) {
   std::error_code error;
   if (std::filesystem::is_directory(path, error))
     FailMesh(path, "it is a folder, not a mesh file (name the mesh file in it)");
@@ -383,6 +383,22 @@ TriangleMesh LoadMeshFile(const std::string& path) {
   for (const Vec3& v : raw.vertices) {
     if (!v.allFinite()) FailMesh(path, "it has a vertex that is not finite (NaN or infinity)");
   }
+  return raw;
+}
+
+TriangleMesh ScaledMesh(TriangleMesh raw, const Vec3& scale, const std::string& path) {
+  raw.Scale(scale);
+  // Every vertex is checked before any triangle is dropped: a vertex far out makes its triangles
+  // slivers, which were dropped as degenerate, so the mesh lost them without a word (issue 15).
+  for (const auto& t : raw.triangles) {
+    for (const uint32_t index : t) {
+      const std::string beyond = WorldPointProblem(raw.vertices[index]);
+      if (beyond.empty()) continue;
+      throw InputError(fmt::format(
+          "{}: a vertex of the mesh{} lies at {} — check the file's units and the scale", path,
+          scale == Vec3::Ones() ? "" : " (scale applied)", beyond));
+    }
+  }
   TriangleMesh mesh;
   mesh.vertices = std::move(raw.vertices);
   for (const auto& t : raw.triangles) {
@@ -392,6 +408,10 @@ TriangleMesh LoadMeshFile(const std::string& path) {
   if (mesh.triangles.empty()) FailMesh(path, "every triangle is degenerate (zero area)");
   CompactVertices(&mesh);
   return mesh;
+}
+
+TriangleMesh LoadMeshFile(const std::string& path, const Vec3& scale) {
+  return ScaledMesh(ReadMeshFile(path), scale, path);
 }
 
 void CheckSceneExtent(const Scene& scene, const std::string& source, int state_line,

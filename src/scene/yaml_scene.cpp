@@ -275,9 +275,12 @@ class SceneReader {
                                             ShapeSource* source);
   std::optional<TriangleMesh> ReadMesh(const Value& input, const std::string& what,
                                        ShapeSource* source);
+  /// The mesh file at `resolved`, read once, scaled by `scale` (ScaledMesh); an error at `line`
+  /// when it is missing (`not_found`), unreadable or reaches too far.
   std::optional<TriangleMesh> CachedMesh(const fs::path& resolved,
                                          int line,
-                                         const std::string& not_found);
+                                         const std::string& not_found,
+                                         const Vec3& scale);
   std::optional<Vec3> ReadScale(const Value& input, const std::string& what);
   void ReadRobots(const Value& input);
   void ReadRobot(const Value& input);
@@ -319,7 +322,7 @@ class SceneReader {
   Reporter reporter_;
   Problem* problem_;
   int objects_line_ = 0;
-  std::map<std::string, TriangleMesh> mesh_cache_;  ///< by resolved path
+  std::map<std::string, TriangleMesh> mesh_cache_;  ///< by resolved path, unscaled (ReadMeshFile)
   std::vector<SceneRobot> robots_;                  ///< `robots:` read without errors, in order
   std::vector<std::string> rejected_robots_;        ///< names of robots that had errors
   std::vector<LinkMount> link_mounts_;              ///< sensors mounted on a robot link
@@ -445,7 +448,16 @@ std::optional<bool> SceneReader::Boolean(const Value& input, const std::string& 
 }
 
 std::optional<std::string> SceneReader::Text(const Value& input, const std::string& what) {
-  if (input.node.IsScalar() && !input.node.Scalar().empty()) return input.node.Scalar();
+  if (input.node.IsScalar() && !input.node.Scalar().empty()) {
+    // Every name, id and path of a scene enters here: "a\nb" or "a\0b" would break the CSV,
+    // SDF and xacro outputs (issue 15).
+    const std::string& text = input.node.Scalar();
+    if (const std::string problem = detail::NameProblem(text); !problem.empty()) {
+      Error(input.line, fmt::format("{} '{}' {}", what, detail::Escaped(text), problem));
+      return std::nullopt;
+    }
+    return text;
+  }
   Error(input.line, fmt::format("{}: expected a word, got {} — write a plain word, e.g. part_1",
                                 what, TextOf(input.node)));
   return std::nullopt;
@@ -1095,8 +1107,8 @@ std::optional<TriangleMesh> SceneReader::ReadMesh(const Value& input, const std:
       resolved, file_node->line,
       fmt::format("{}: mesh file '{}' not found (looked for '{}') — paths are relative to the "
                   "scene file's folder",
-                  what, *file, resolved.string()));
-  if (mesh) mesh->Scale(scale);
+                  what, *file, resolved.string()),
+      scale);
   source->kind = ShapeSource::Kind::kMesh;
   source->mesh_path = fs::absolute(resolved).lexically_normal().string();
   source->scale = scale;
@@ -1105,7 +1117,8 @@ std::optional<TriangleMesh> SceneReader::ReadMesh(const Value& input, const std:
 
 std::optional<TriangleMesh> SceneReader::CachedMesh(const fs::path& resolved,
                                                     int line,
-                                                    const std::string& not_found) {
+                                                    const std::string& not_found,
+                                                    const Vec3& scale) {
   std::error_code ec;
   if (!fs::exists(resolved, ec)) {  // a folder or device: LoadMeshFile says which
     Error(line, not_found);
@@ -1115,13 +1128,19 @@ std::optional<TriangleMesh> SceneReader::CachedMesh(const fs::path& resolved,
   auto cached = mesh_cache_.find(key);
   if (cached == mesh_cache_.end()) {
     try {
-      cached = mesh_cache_.emplace(key, LoadMeshFile(key)).first;
+      cached = mesh_cache_.emplace(key, ReadMeshFile(key)).first;
     } catch (const InputError& e) {
       Error(line, e.what());
       return std::nullopt;
     }
   }
-  return cached->second;
+  // Scaled before the vertices are checked and degenerate triangles dropped (issue 15).
+  try {
+    return ScaledMesh(cached->second, scale, key);
+  } catch (const InputError& e) {
+    Error(line, e.what());
+    return std::nullopt;
+  }
 }
 
 // ----- robots --------------------------------------------------------------------------------
@@ -1291,8 +1310,8 @@ std::optional<TriangleMesh> SceneReader::ReadRobotVisual(const RobotVisual& visu
             ResolveRobotFile(visual.mesh, urdf_folder, options_.package_paths);
         mesh = CachedMesh(resolved, line,
                           fmt::format("{}: mesh '{}' not found (looked for '{}')", what,
-                                      visual.mesh, resolved.string()));
-        if (mesh) mesh->Scale(visual.scale);
+                                      visual.mesh, resolved.string()),
+                          visual.scale);
         break;
       }
     }

@@ -86,14 +86,70 @@ size_t FirstNonUtf8Byte(std::string_view text) {
   return std::string_view::npos;
 }
 
+namespace {
+
+bool IsControl(char c) {
+  const auto byte = static_cast<unsigned char>(c);
+  return byte < 0x20 || byte == 0x7F;
+}
+
+}  // namespace
+
+size_t FirstControlCharacter(std::string_view text) {
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (IsControl(text[i])) return i;
+  }
+  return std::string_view::npos;
+}
+
+std::string Escaped(std::string_view text) {
+  std::string shown;
+  shown.reserve(text.size());
+  for (const char c : text) {
+    if (!IsControl(c)) {
+      shown.push_back(c);
+    } else if (c == '\n') {
+      shown += "\\n";
+    } else if (c == '\t') {
+      shown += "\\t";
+    } else if (c == '\r') {
+      shown += "\\r";
+    } else if (c == '\0') {
+      shown += "\\0";
+    } else {
+      shown += fmt::format("\\x{:02X}", static_cast<unsigned char>(c));
+    }
+  }
+  return shown;
+}
+
+std::string NameProblem(std::string_view name) {
+  const size_t at = FirstControlCharacter(name);
+  if (at == std::string_view::npos) return "";
+  return fmt::format("has a control character (U+{:04X}) — use printable characters",
+                     static_cast<unsigned char>(name[at]));
+}
+
 void CheckUtf8File(std::string_view text, const std::string& path) {
+  const auto line_of = [&](size_t at) {
+    return 1 + static_cast<int>(std::count(text.begin(), text.begin() + at, '\n'));
+  };
   const size_t at = FirstNonUtf8Byte(text);
-  if (at == std::string_view::npos) return;
-  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + at, '\n'));
-  throw InputError(AtPlace(
-      path, line,
-      fmt::format("byte 0x{:02X} is not UTF-8 (a name in Latin-1?) — save the file as UTF-8",
-                  static_cast<unsigned char>(text[at]))));
+  if (at != std::string_view::npos) {
+    throw InputError(AtPlace(
+        path, line_of(at),
+        fmt::format("byte 0x{:02X} is not UTF-8 (a name in Latin-1?) — save the file as UTF-8",
+                    static_cast<unsigned char>(text[at]))));
+  }
+  // YAML 1.2 (c-printable) and XML 1.0 (Char) allow no other control character in a file.
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (!IsControl(text[i]) || text[i] == '\t' || text[i] == '\n' || text[i] == '\r') continue;
+    throw InputError(AtPlace(
+        path, line_of(i),
+        fmt::format("byte 0x{:02X} is a control character (U+{:04X}) — remove it; names take "
+                    "printable characters",
+                    static_cast<unsigned char>(text[i]), static_cast<unsigned char>(text[i]))));
+  }
 }
 
 std::string ReadInputFile(const std::string& path, std::string_view kind) {

@@ -18,9 +18,25 @@ std::string JoinQuoted(const std::vector<std::string>& words);
 /// overlong forms, surrogates or code points above U+10FFFF); npos when all of it is.
 size_t FirstNonUtf8Byte(std::string_view text);
 
+/// Byte offset of the first C0 control character (U+0000 to U+001F, tab and newline included) or
+/// U+007F in `text`; npos when there is none.
+size_t FirstControlCharacter(std::string_view text);
+
+/// `text` for a message: control characters written as \n, \t, \r, \0 or \xNN (U+007F as \x7F),
+/// so that a name never breaks the message's line (issue 15).
+std::string Escaped(std::string_view text);
+
+/// "" when `name` (a name, id or path read from an input file) has no control character; else
+/// "has a control character (U+000A) — use printable characters". Every reader checks its names
+/// with it where they enter, as it checks UTF-8 (issue 15: a name with a newline broke
+/// candidates.csv and the exported XML). Messages show the name through Escaped().
+std::string NameProblem(std::string_view name);
+
 /// Throws InputError "PATH:LINE: byte 0xE9 is not UTF-8 ..." unless `text`, the contents of the
 /// scene file `path`, is UTF-8 (issue 15: a Latin-1 name reached report.json and ended in a JSON
-/// type_error). Both scene readers check their files with it before parsing.
+/// type_error), or "PATH:LINE: byte 0x02 is a control character ..." when it holds a raw control
+/// character other than tab, line feed and carriage return (YAML and XML allow no other).
+/// Every scene reader (YAML, SDF, URDF) checks its files with it before parsing.
 void CheckUtf8File(std::string_view text, const std::string& path);
 
 /// The whole contents of an input file; InputError "PATH: cannot open the KIND — check the path"

@@ -115,6 +115,9 @@ void ReadMounting(detail::BinaryReader* r,
     for (const std::string* text : {&box.name, &box.file}) {
       if (detail::FirstNonUtf8Byte(*text) != std::string::npos)
         throw corrupt(where + ": its name or file is not UTF-8");
+      if (const std::string problem = detail::NameProblem(*text); !problem.empty())
+        throw corrupt(fmt::format("{}: its name or file '{}' {}", where, detail::Escaped(*text),
+                                  problem));
     }
     mounting->keep_out.push_back(std::move(box));
   }
@@ -301,6 +304,10 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
       if (const size_t at = detail::FirstNonUtf8Byte(*text); at != std::string::npos)
         throw corrupt(fmt::format("candidate {}: its {} has byte 0x{:02X}, which is not UTF-8", i,
                                   field, static_cast<unsigned char>((*text)[at])));
+      // The scene readers' check: a newline in a name breaks candidates.csv (issue 15).
+      if (const std::string problem = detail::NameProblem(*text); !problem.empty())
+        throw corrupt(fmt::format("candidate {}: its {} '{}' {}", i, field,
+                                  detail::Escaped(*text), problem));
     }
     if (c.name.empty()) throw corrupt(fmt::format("candidate {}: its name is empty", i));
     if (version >= 3) {

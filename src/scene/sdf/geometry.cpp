@@ -35,7 +35,7 @@ const TriangleMesh* Loader::LoadMesh(const std::string& path, const Doc& doc, in
   if (it != meshes_.end()) return it->second.get();
   std::unique_ptr<TriangleMesh> mesh;
   try {
-    mesh = std::make_unique<TriangleMesh>(LoadMeshFile(path));
+    mesh = std::make_unique<TriangleMesh>(ReadMeshFile(path));
   } catch (const InputError& e) {
     Error(doc, line, fmt::format("<mesh> cannot be loaded: {}", e.what()));
   }
@@ -143,9 +143,13 @@ std::optional<TriangleMesh> Loader::GeometryOf(const VisualRecord& visual) {
     }
     const TriangleMesh* mesh = LoadMesh(*path, doc, uri->line);
     if (!mesh) return std::nullopt;
-    TriangleMesh scaled = *mesh;
-    scaled.Scale(scale);
-    return scaled;
+    // Scaled before the vertices are checked and degenerate triangles dropped (issue 15).
+    try {
+      return ScaledMesh(*mesh, scale, *path);
+    } catch (const InputError& e) {
+      Error(doc, uri->line, fmt::format("<mesh> of {}: {}", what, e.what()));
+      return std::nullopt;
+    }
   }
   if (shape.name == "empty") return TriangleMesh{};
   Note(AtPlace(doc.xml.path, shape.line,

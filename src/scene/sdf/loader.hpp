@@ -254,7 +254,7 @@ class Loader {
   /// Material scripts and materials that were not found ("file:line: what, where looked"):
   /// reported with the error when no visual has the target colour (the likely cause).
   std::vector<std::string> missing_materials_;
-  std::map<std::string, std::unique_ptr<TriangleMesh>> meshes_;  ///< null: failed
+  std::map<std::string, std::unique_ptr<TriangleMesh>> meshes_;  ///< unscaled; null: failed
 };
 
 }  // namespace vantage::detail::gazebo
