@@ -1127,6 +1127,86 @@ TEST_F(BadInput, Constellations) {
 
 // Issue 15: `vantage sensors > /dev/full` exited 0 with its output lost; --json ended as an
 // internal error. Both now exit 1 saying that stdout could not be written.
+// Issue 15, hostile-input sweep: a mesh vertex far out made its triangles slivers, which were
+// dropped as degenerate before the extent check (exit 0, coverage of what was left); names with
+// control characters reached candidates.csv and the exported XML (extra rows, invalid XML).
+TEST_F(BadInput, FarMeshVerticesAndControlCharacters) {
+  Write("meshes/far.obj",
+        "v 0 0 0\nv 1e30 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n");
+  Write("meshes/far.ply",
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0\n1e30 0 0\n0 0.1 0\n3 0 1 2\n");
+  Write("meshes/tetra.obj",
+        "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  const std::string cube = "box: {size: [0.1, 0.1, 0.1]}";
+  const std::string beyond = "beyond the ±1e+09 m that vantage can ray cast";
+  const std::string control = "has a control character (U+000A) — use printable characters";
+  const std::string box = "<box><size>0.1 0.1 0.1</size></box>";
+  ExpectRejected({
+      Yaml("far_obj", cube, "mesh: {file: meshes/far.obj}", 23,
+           "meshes/far.obj: a vertex of the mesh lies at (1e+30, 0, 0) m, " + beyond),
+      Yaml("far_ply", cube, "mesh: {file: meshes/far.ply}", 23, "lies at (1e+30, 0, 0) m"),
+      // Scale applied: 0.1 m times 1e10 is 1e9 m, 1e11 too far.
+      Yaml("far_scaled", cube, "mesh: {file: meshes/tetra.obj, scale: [1e11, 1, 1]}", 23,
+           "a vertex of the mesh (scale applied) lies at (1e+10, 0, 0) m"),
+      World("far_sdf", box, "<mesh><uri>meshes/far.obj</uri></mesh>", 8, beyond),
+      Yaml("newline_population", "- name: ring", "- name: \"ri\\nng\"", 31,
+           "population name 'ri\\nng' " + control),
+      Yaml("nul_object", "- name: cube", "- name: \"cu\\0be\"", 21,
+           "object name 'cu\\0be' has a control character (U+0000)"),
+      Yaml("x01_object", "- name: cube", "- name: \"cu\\x01be\"", 21, "'cu\\x01be' has a "),
+      Yaml("tab_sensor_type", "- id: tiny_cam", "- id: \"tiny\\tcam\"", 11,
+           "sensor type id 'tiny\\tcam' has a control character (U+0009)"),
+      Yaml("raw_x02", "- name: cube", "- name: cu\x02" "be", 21,
+           "byte 0x02 is a control character (U+0002)"),
+      Yaml("raw_nul", "- name: cube", std::string("- name: cu\0be", 12), 21,
+           "byte 0x00 is a control character (U+0000)"),
+      World("newline_sdf_population", "<population name=\"ring\">",
+            "<population name=\"ri&#10;ng\">", 13, "<population> name 'ri\\nng' " + control),
+      World("x01_sdf_model", "<model name=\"cube\">", "<model name=\"cu&#1;be\">", 4,
+            "<model> name 'cu\\x01be' has a control character (U+0001)"),
+      World("raw_x01_sdf", "<model name=\"cube\">", "<model name=\"cu\x01" "be\">", 4,
+            "byte 0x01 is a control character (U+0001)"),
+      {"target_newline", "optimize " + CubeCell() + " --target 'cu\nbe'", "--target:",
+       "'cu\\nbe' " + control, "cu\nbe"},
+  });
+
+  // report.json given to evaluate --constellation.
+  const auto chosen = RunVantage("optimize " + CubeCell() + " -n 2 --out " + dir_.File("o"));
+  ASSERT_EQ(chosen.exit_code, 0) << chosen.err;
+  const json report = json::parse(ReadText(dir_.File("o/report.json")));
+  const auto renamed = [&](const std::string& file, const std::string& name) {
+    json changed = report;
+    changed["candidates"][0]["name"] = name;
+    const std::string path = Write(file + ".json", changed.dump(2));
+    return "evaluate " + CubeCell() + " --constellation " + path;
+  };
+  // A .vis file with a renamed candidate, written (checksum and all) by the library's writer.
+  const std::string good = dir_.File("good.vis");
+  ASSERT_EQ(RunVantage("observe " + CubeCell() + " --out " + good).exit_code, 0);
+  const auto vis = [&](const std::string& file, const std::string& name) {
+    VisibilityFile data = LoadVisibilityFile(good);
+    data.candidates[1].name = name;
+    const std::string path = dir_.File(file + ".vis");
+    SaveVisibilityFile(path, data);
+    return path;
+  };
+  const std::string vis_newline = vis("vis_newline", "ring\n6\x01");
+  const std::string vis_nul = vis("vis_nul", std::string("ri\0ng", 5));
+  ExpectRejected({
+      {"report_newline", renamed("report_newline", "ring\n6\x01"),
+       "report_newline.json: candidates[0]", "name 'ring\\n6\\x01' " + control},
+      {"report_nul", renamed("report_nul", std::string("ri\0ng", 5)),
+       "report_nul.json: candidates[0]",
+       "name 'ri\\0ng' has a control character (U+0000)"},
+      {"vis_newline", "select " + vis_newline, vis_newline,
+       "candidate 1: its name 'ring\\n6\\x01' " + control},
+      {"vis_nul", "select " + vis_nul, vis_nul,
+       "candidate 1: its name 'ri\\0ng' has a control character (U+0000)"},
+  });
+}
+
 TEST(StdoutFull, WriteFailureIsReported) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
   test::TempDir dir;
