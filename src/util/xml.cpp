@@ -209,8 +209,9 @@ class Parser {
       // Names enter here (SDF, URDF): "&#10;" or "&#1;" in one would break the CSV and XML
       // outputs (issue 15). No attribute of these formats takes a control character.
       if (const std::string problem = NameProblem(value); !problem.empty())
-        throw InputError(AtPlace(
-            path_, line_, fmt::format("<{}> {} '{}' {}", element.name, key, Escaped(value), problem)));
+        throw InputError(AtPlace(path_, line_,
+                                 fmt::format("<{}> {} '{}' {}", element.name, key,
+                                             Escaped(value), problem)));
       for (const auto& [k, v] : element.attributes) {
         if (k == key) Fail(fmt::format("attribute '{}' given twice in <{}>", key, element.name));
       }
