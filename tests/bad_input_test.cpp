@@ -697,6 +697,20 @@ TEST_F(BadInput, LongRunsAreBounded) {
       {"max_seconds_negative", "optimize " + scene + " --max-seconds -1", "--max-seconds",
        "-1 is not a number of seconds >= 0"},
   });
+  // Session 8's sweep: with 406 candidates, n = 5, RANSAC has no end of subsets to stop at, and
+  // 2·10⁹ iterations ran on for hours after "selecting takes at most about 0.8 s". At about
+  // 600 cells a sensor they take over 10 s on any machine (RANSAC scores each drawn sensor's
+  // list); refused after observing, before any selection.
+  const std::string many = Write("many.yaml", CubeCellWith("count: 10", "count: 400"));
+  ExpectRejected({{"ransac_iterations_over_limit",
+                   "optimize " + many + " --method ransac -n 5 --iterations 2000000000 "
+                   "--max-seconds 10",
+                   "--iterations:", "RANSAC's 2000000000 iterations of n = 5 over 406 candidates "
+                   "are estimated at about"}});
+  // The 120 subsets of the run above end RANSAC early: no refusal under a small limit.
+  const auto bounded = RunVantage("optimize " + scene + " --iterations 2147483647 --max-seconds 5 "
+                                  "--out " + dir_.File("bounded"));
+  EXPECT_EQ(bounded.exit_code, 0) << bounded.err;
 }
 
 TEST_F(BadInput, CommandLineOptions) {

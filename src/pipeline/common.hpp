@@ -96,6 +96,12 @@ void DropInfeasibleAlternatives(const ConstraintsInfo& info, const VisibilityFil
 std::optional<uint32_t> ResolveMinPoints(std::optional<int64_t> min_points,
                                          std::optional<double> min_density, double cell_size);
 
+/// Logs the estimated time of RANSAC's iterations (issue 15: `--iterations 2000000000` over 400
+/// candidates ran for hours after a "selecting takes at most 0.8 s" estimate) and refuses it,
+/// naming --iterations, when it is above `limit_seconds` (> 0). Before any selection method runs.
+void CheckSelectionTime(std::span<const Observation> observations, const SelectOptions& options,
+                        size_t state_count, double limit_seconds, const std::string& source);
+
 /// Runs selection: over the states (SelectOverStates) when the scene has them, else Select.
 /// Fills `report`'s results and states block. With report->constraints set, selection obeys them.
 void SelectResults(const ObservedScene& observed, const SelectionRequest& request,

@@ -108,6 +108,8 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
   const auto select_start = std::chrono::steady_clock::now();
   RunResult run;
   Report& report = run.report;
+  detail::CheckSelectionTime(observed.data.observations, select, observed.states.size(),
+                             options.limits.max_seconds, observed.data.scene);
   report.constraints = detail::ResolveConstraints(
       options.selection.constraints, select, observed.data.candidates, observed.data.observations,
       observed.data.mounting, observed.data.kept_out, observed.states);
