@@ -283,9 +283,6 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
   file.reference.keys = r.U64Vector();
   if (!StrictlyIncreasing(file.reference.keys))
     throw corrupt("the reference keys are not sorted and unique");
-  // observe never writes an empty R (a scene without target cells is refused); with one, every
-  // coverage would be 0 % of nothing (issue 15).
-  if (file.reference.keys.empty()) throw corrupt("its reference R has no cell");
   const uint64_t count = r.U64();
   r.CheckCount(count, 64);
   std::set<std::string> names;
@@ -383,7 +380,12 @@ void SaveVisibilityFile(const std::string& path, const VisibilityFile& file) {
 }
 
 VisibilityFile LoadVisibilityFile(const std::string& path) {
-  return DecodeVisibilityFile(ReadWholeFile(path, "visibility file"), path);
+  VisibilityFile file = DecodeVisibilityFile(ReadWholeFile(path, "visibility file"), path);
+  // observe never writes an empty R (a scene without target cells is refused); with one, every
+  // coverage would be 0 % of nothing (issue 15). Only a file: MPI's messages of poses carry none.
+  if (file.reference.keys.empty())
+    throw InputError(AtPlace(path, 0, "its reference R has no cell — recreate it with `vantage observe`"));
+  return file;
 }
 
 std::string EncodeVisibility(const VisibilityFile& file) {
