@@ -1434,6 +1434,15 @@ TEST_F(BadInput, NonRegularInputsAndEmptyReference) {
                    "its reference R has no cell"}});
 }
 
+// Issue 15, session 8's sweep: a world's leaf size beyond the world was refused without a place
+// (the YAML scene's cell_size names its line).
+TEST_F(BadInput, WorldLeafSizeBeyondTheWorld) {
+  ExpectRejected({World("leaf_huge", "<voxelGridFilterLeafSize>0.01",
+                        "<voxelGridFilterLeafSize>1e300", 31,
+                        "<voxelGridFilterLeafSize>: cell_size = 1e+300 m is larger than the world "
+                        "vantage ray casts")});
+}
+
 // Issue 15, session 8's sweep: a report.json's sensor type was never checked. Evaluated with the
 // file's intrinsics but exported by type name, an edited type made constellation.yaml describe
 // other cameras (re-evaluated: 27 % instead of 58 %), and an unknown one a file vantage refused.

@@ -13,6 +13,7 @@
 
 #include "scene/sdf/loader.hpp"
 #include "scene/sdf/text.hpp"
+#include "util/cell_size.hpp"
 
 namespace vantage::detail::gazebo {
 
@@ -89,7 +90,14 @@ void Loader::ReadPlugin() {
           }
         }
       } else if (name == "voxelGridFilterLeafSize") {
-        if (const auto v = PositiveNumber(doc, *e, "0.005")) problem_.cell_size = *v;
+        if (const auto v = PositiveNumber(doc, *e, "0.005")) {
+          // The same range as a YAML scene's cell_size, named at its line (issue 15: 1e300 was
+          // refused later with no place).
+          if (const std::string problem = detail::CellSizeProblem(*v); !problem.empty())
+            Error(doc, e->line, fmt::format("<voxelGridFilterLeafSize>: {}", problem));
+          else
+            problem_.cell_size = *v;
+        }
       } else if (name == "sensorOrientationRandomRoll") {
         if (const auto v = Boolean(doc, *e)) problem_.random_roll = *v;
       } else if (name == "observationPoint") {
