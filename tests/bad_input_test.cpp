@@ -204,11 +204,12 @@ TEST_F(BadInput, YamlScenes) {
     return Yaml(name, cube, "mesh: {file: meshes/" + file + "}", 23, what);
   };
   const std::string empty = Write("empty.yaml", "");
-  // Found by fuzzing: a chord error of 1e-8 m asked for 2·10⁸ triangles (out of memory).
+  // Found by fuzzing: a chord error of 1e-8 m asked for 2·10⁸ triangles (out of memory). The
+  // finest cell is now 1e-6 m, so a larger sphere asks for as many.
   const std::string fine_sphere =
       Write("fine_sphere.yaml",
-            "settings: {cell_size: 0.0000001}\n"
-            "objects: [{name: s, role: target, sphere: {radius: 0.3}}]\n"
+            "settings: {cell_size: 0.000001}\n"
+            "objects: [{name: s, role: target, sphere: {radius: 30}}]\n"
             "sensors: [{name: c, type: zed, position: [2, 0, 0]}]\n");
   const std::string txt = Write("scene.txt", ReadText(CubeCell()));
   fs::create_directories(dir_.File("folder.yaml"));
@@ -284,7 +285,8 @@ TEST_F(BadInput, YamlScenes) {
            "sensors:\n  - {name: ring_3, type: tiny_cam, position: [1, 0, 1]}\npopulations:", 31,
            "already used"),
       {"empty_file", "optimize " + empty, empty + ":1:", "empty"},
-      {"sphere_too_fine", "optimize " + fine_sphere, fine_sphere + ":2:", "triangles"},
+      {"sphere_too_fine", "optimize " + fine_sphere, fine_sphere + ":2:",
+       "needs more than 20000 segments"},
       {"unknown_extension", "optimize " + txt, txt, "unknown scene extension '.txt'"},
       {"missing_scene_file", "optimize " + dir_.File("absent.yaml"), dir_.File("absent.yaml"),
        "cannot open the scene file"},
@@ -718,11 +720,19 @@ TEST_F(BadInput, CommandLineOptions) {
   const std::string example = test::DataPath("../../examples/scenes/bin_picking_cell.yaml");
   const std::string fine =
       Write("fine.yaml", CubeCellWith("cell_size: 0.01", "cell_size: 0.00001"));
-  // --cell-size tessellates like the file's cell_size: at 1e-300 m the post (a cylinder) needs
-  // too many segments, so the grid-range case uses a copy whose post is a box.
+  // --cell-size tessellates like the file's cell_size: at 1e-5 m a post of radius 100 m
+  // needs too many segments; the grid-range case uses a copy whose post is a box and whose
+  // target is 10 km long (10^10 cells of 1 µm along x).
   const std::string boxes =
       Write("boxes.yaml", CubeCellWith("cylinder: {radius: 0.03, length: 0.3}",
                                        "box: {size: [0.06, 0.06, 0.3]}"));
+  std::string long_text = ReadText(boxes);
+  const std::string cube_size = "size: [0.1, 0.1, 0.1]";
+  long_text.replace(long_text.find(cube_size), cube_size.size(), "size: [10000, 0.1, 0.1]");
+  const std::string long_target = Write("long_target.yaml", long_text);
+  const std::string wide_post =
+      Write("wide_post.yaml", CubeCellWith("cylinder: {radius: 0.03, length: 0.3}",
+                                           "cylinder: {radius: 100, length: 0.3}"));
   ExpectRejected({
       {"n_zero", "optimize " + scene + " -n 0", "-n:", "n = 0 is out of range"},
       {"n_negative", "optimize " + scene + " -n -1", "-n:", "n = -1 is out of range"},
@@ -742,21 +752,30 @@ TEST_F(BadInput, CommandLineOptions) {
       {"huge_cell_size_in_file",
        "optimize " + Write("huge_cell.yaml", CubeCellWith("cell_size: 0.01", "cell_size: 1e300")),
        "huge_cell.yaml:4:", "settings.cell_size = 1e+300 m is larger than the world"},
-      {"tiny_cell_size", "optimize " + boxes + " --cell-size 1e-300", boxes + ": targets reach",
-       "a cell size of 1e-300 m can index"},
-      // The same error as cube_cell.yaml with `cell_size: 1e-300` gives (before the fix the
+      // Session 9: cells finer than 1 µm are refused at the option (they overflowed the
+      // tessellation, chord 0 for 4.9e-324, with a message blaming a cylinder).
+      {"tiny_cell_size", "optimize " + boxes + " --cell-size 1e-300", "--cell-size:",
+       "cell_size = 1e-300 m is finer than the 1e-06 m (1 µm) vantage can resolve"},
+      {"denormal_cell_size", "optimize " + scene + " --cell-size 4.9e-324", "--cell-size:",
+       "cell_size = 4.94066e-324 m is finer than"},
+      {"tiny_cell_size_in_file",
+       "optimize " + Write("tiny_cell.yaml", CubeCellWith("cell_size: 0.01", "cell_size: 1e-9")),
+       "tiny_cell.yaml:4:", "settings.cell_size = 1e-09 m is finer than"},
+      {"tiny_cell_size_grid_range", "optimize " + long_target + " --cell-size 0.000001",
+       long_target + ": targets reach", "a cell size of 1e-06 m can index"},
+      // The same error as wide_post.yaml with `cell_size: 1e-5` gives (before the fix the
       // override came after tessellation, and the post kept the file's chord of 1 mm).
-      {"tiny_cell_size_tessellation", "optimize " + scene + " --cell-size 1e-300",
-       scene + ":27: object 'post'.cylinder:",
-       "needs more than 20000 segments for a chord error of 1e-301 m"},
+      {"fine_cell_size_tessellation", "optimize " + wide_post + " --cell-size 0.00001",
+       wide_post + ":27: object 'post'.cylinder:",
+       "needs more than 20000 segments for a chord error of 1e-06 m"},
       // Found in review: 4·10⁸ reference cells exhausted the memory while R was built; now
       // refused from an estimate before (--max-memory makes it independent of the machine).
       {"cell_size_too_fine_for_memory",
        "optimize " + example + " --cell-size 0.00001 --max-memory 16000", "--cell-size",
        "makes a reference R of about 3.9e+08 cells"},
-      // With the default limit (75 % of RAM): 6·10¹² cells need far more than any machine has.
-      {"cell_size_too_fine_default_limit", "optimize " + scene + " --cell-size 0.0000001",
-       "--cell-size", "makes a reference R of about 6e+12 cells"},
+      // With the default limit (75 % of RAM): 6·10¹⁰ cells need far more than any machine has.
+      {"cell_size_too_fine_default_limit", "optimize " + scene + " --cell-size 0.000001",
+       "--cell-size", "makes a reference R of about 6e+10 cells"},
       {"scene_cell_size_too_fine_for_memory", "optimize " + fine + " --max-memory 16000",
        fine + ": a cell size of 1e-05 m (the scene's cell_size)", "makes a reference R"},
       {"negative_threads", "--threads -3 optimize " + scene, "--threads", "not in range"},
@@ -1464,6 +1483,24 @@ TEST_F(BadInput, ConstellationSensorTypes) {
   const json written = json::parse(ReadText(folder + "/report.json"));
   EXPECT_NE(written["notes"].dump().find("constellation files not written"), std::string::npos);
   fs::remove_all(folder);
+}
+
+// Session 9: a run's inputs.targets, used by evaluate as if given as --target, is blamed on the
+// report's field; the option was named though never typed.
+TEST_F(BadInput, ReportTargetsNamedAtTheirField) {
+  json report = json::parse(ReadText(out_ + "/report.json"));
+  report["inputs"]["targets"] = json::array({"cbe"});
+  const std::string unknown = Write("unknown_target.json", report.dump());
+  report["inputs"]["targets"] = json::array({"cu\u0001be"});
+  const std::string control = Write("control_target.json", report.dump());
+  ExpectRejected({{"unknown_target", "evaluate -c " + unknown,
+                   unknown + ": inputs.targets 'cbe' names no object of the scene",
+                   "did you mean 'cube'?"},
+                  {"control_character", "evaluate -c " + control, control + ": inputs.targets:",
+                   "'cu\\x01be' has a control character (U+0001)"}});
+  const auto typed = RunVantage("evaluate -c " + unknown + " --target cube --out " +
+                                dir_.File("typed_target"));
+  EXPECT_EQ(typed.exit_code, 0) << typed.err;  // --target replaces the run's targets
 }
 
 // A matrix on which exact cannot prove the optimum quickly: 240 candidates, each seeing a

@@ -79,6 +79,9 @@ struct LoadOptions {
   std::vector<std::string> model_paths;     ///< --model-path (Gazebo), searched first
   std::vector<std::string> resource_paths;  ///< --resource-path (Gazebo)
   std::vector<std::string> targets;         ///< --target NAME: overrides the file's targets
+  /// Where `targets` came from, for messages: the option, or e.g. "run/report.json: inputs.targets"
+  /// when `evaluate` or `render` inherit them from a run (issue 15: blamed on --target).
+  std::string targets_origin = "--target";
   /// --package-path: folders where a URDF's `package://PKG/...` paths are found (FOLDER/share/PKG,
   /// FOLDER/PKG, or FOLDER named PKG), searched before ROS_PACKAGE_PATH and AMENT_PREFIX_PATH.
   std::vector<std::string> package_paths;

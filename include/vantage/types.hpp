@@ -94,6 +94,10 @@ struct Aabb {
 /// stays far inside float and Embree's range.
 constexpr double kMaxWorldCoordinate = 1e9;  ///< |x|, |y|, |z| of geometry, sensors, the eye [m]
 constexpr double kMaxSensorRange = 1e9;      ///< a sensor's far [m]
+/// The finest voxel F [m]: 1 µm, below what any depth camera resolves and a few float steps (the
+/// precision of Embree's rays, 6e-8 m at 1 m from the origin) wide. Finer cells only overflowed
+/// the tessellation (chord F / 10) or the grid's memory with a message blaming the geometry.
+constexpr double kMinCellSize = 1e-6;
 /// |y| and |z| of a pixel ray scaled to depth x = 1 (fields of view up to 2 atan(1e6) ≈ 180°).
 constexpr double kMaxRaySlope = 1e6;
 

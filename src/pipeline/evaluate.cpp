@@ -22,14 +22,18 @@ namespace fs = std::filesystem;
 
 // The scene input of a re-run: what the caller gave, the rest from the run's inputs block (or,
 // for a report without one, its `scene` and `cell_size`).
-SceneInput InheritScene(SceneInput scene, const Constellation& constellation) {
+SceneInput InheritScene(SceneInput scene, const Constellation& constellation,
+                        const std::string& report_path) {
   const std::optional<RunInputs>& inputs = constellation.inputs;
   if (scene.path.empty()) scene.path = inputs && !inputs->scene.empty() ? inputs->scene : constellation.scene;
   if (!inputs) return scene;
   if (scene.load.model_paths.empty()) scene.load.model_paths = inputs->model_paths;
   if (scene.load.resource_paths.empty()) scene.load.resource_paths = inputs->resource_paths;
   if (scene.load.package_paths.empty()) scene.load.package_paths = inputs->package_paths;
-  if (scene.load.targets.empty()) scene.load.targets = inputs->targets;
+  if (scene.load.targets.empty() && !inputs->targets.empty()) {
+    scene.load.targets = inputs->targets;
+    scene.load.targets_origin = report_path + ": inputs.targets";
+  }
   if (!scene.load.cell_size) scene.load.cell_size = inputs->cell_size;
   return scene;
 }
@@ -177,7 +181,7 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
       throw;
     }
   }
-  const SceneInput scene = InheritScene(options.scene, constellation);
+  const SceneInput scene = InheritScene(options.scene, constellation, options.constellation);
   ObserveOptions observe = options.observe;
   if (!options.constellation.empty())
     observe.quality =
@@ -325,7 +329,7 @@ RenderRunResult RenderRun(const RenderRunOptions& options) {
                              "cannot open report.json — give an output folder of `vantage "
                              "optimize`, `select` or `evaluate`"));
   const Constellation constellation = LoadConstellation(report_path);
-  SceneInput scene = InheritScene(options.scene, constellation);
+  SceneInput scene = InheritScene(options.scene, constellation, report_path);
   if (scene.path.empty())
     throw InputError(AtPlace(report_path, 0, "no 'scene' path — give the scene with --scene PATH"));
   if (!fs::exists(scene.path, error))

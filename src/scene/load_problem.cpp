@@ -54,7 +54,7 @@ void LoadOptions::Validate() const {
   // is refused here, so that no message echoes it raw (issue 15).
   for (const std::string& target : targets) {
     if (const std::string problem = detail::NameProblem(target); !problem.empty())
-      throw InputError(AtPlace("--target", 0,
+      throw InputError(AtPlace(targets_origin, 0,
                                fmt::format("'{}' {}", detail::Escaped(target), problem)));
   }
   for (const std::string& folder : package_paths) {

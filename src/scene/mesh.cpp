@@ -58,8 +58,8 @@ int SegmentsFor(double radius, double max_chord_error, const char* shape) {
     const double estimate = std::floor(kPi / half_angle) + 1.0;
     if (!(estimate <= kMaxSegments)) {
       throw InputError(fmt::format(
-          "{} of radius {} m needs more than {} segments for a chord error of {} m — check the "
-          "radius and the cell size",
+          "{} of radius {:g} m needs more than {} segments for a chord error of {:g} m (a tenth of "
+          "the cell size) — check the radius, or give a larger cell size",
           shape, radius, kMaxSegments, max_chord_error));
     }
     n = std::max(3, static_cast<int>(estimate));
@@ -285,8 +285,9 @@ TriangleMesh MakeSphere(double radius, double max_chord_error) {
     rings = std::max(2, (slices + 1) / 2);
     if (slices > kMaxSegments) {
       throw InputError(
-          fmt::format("sphere of radius {} m needs more than {} segments for a chord "
-                      "error of {} m — check the radius and the cell size",
+          fmt::format("sphere of radius {:g} m needs more than {} segments for a chord "
+                      "error of {:g} m (a tenth of the cell size) — check the radius, or give a "
+                      "larger cell size",
                       radius, kMaxSegments, max_chord_error));
     }
   }
@@ -294,8 +295,9 @@ TriangleMesh MakeSphere(double radius, double max_chord_error) {
   // cell_size 1e-7 asking for 2·10⁸ triangles).
   constexpr int64_t kMaxTriangles = 10'000'000;
   if (int64_t{2} * slices * rings > kMaxTriangles) {
-    throw InputError(fmt::format("sphere of radius {} m needs {} triangles for a chord error of {} m, "
-                                 "above {} — check the radius and the cell size",
+    throw InputError(fmt::format("sphere of radius {:g} m needs {} triangles for a chord error of "
+                                 "{:g} m (a tenth of the cell size), above {} — check the radius, or "
+                                 "give a larger cell size",
                                  radius, int64_t{2} * slices * rings, max_chord_error, kMaxTriangles));
   }
   TriangleMesh mesh;

@@ -1818,7 +1818,7 @@ void SceneReader::ApplyTargetOverride() {
   }
   for (const std::string& target : options_.targets) {
     if (std::find(names.begin(), names.end(), target) == names.end()) {
-      Error(0, fmt::format("--target '{}' names no object of the scene — {}", target,
+      Error(0, fmt::format("{} '{}' names no object of the scene — {}", options_.targets_origin, target,
                            Suggest(target, names)));
     }
   }

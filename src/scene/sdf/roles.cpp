@@ -123,13 +123,14 @@ void Loader::BuildScene(std::vector<GazeboVisual>* visuals_out) {
       for (const auto& m : models_) names.push_back(m.first);
       if (!exists) {
         Error(path_, 0,
-              fmt::format("--target '{}' names no model of the world — models: {}", name,
+              fmt::format("{} '{}' names no model of the world — models: {}",
+                          options_.targets_origin, name,
                           Join(names, ", ")));
       } else if (!visible) {
         Error(path_, 0,
-              fmt::format("--target '{}' has no visible geometry (a sensor model, or a model "
+              fmt::format("{} '{}' has no visible geometry (a sensor model, or a model "
                           "without <visual>) — name a model with visuals",
-                          name));
+                          options_.targets_origin, name));
       }
     }
     for (size_t i = 0; i < visuals_.size(); ++i) {
