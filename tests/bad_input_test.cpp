@@ -1184,6 +1184,14 @@ TEST_F(BadInput, FarMeshVerticesAndControlCharacters) {
       Yaml("far_scaled", cube, "mesh: {file: meshes/tetra.obj, scale: [1e11, 1, 1]}", 23,
            "a vertex of the mesh (scale applied) lies at (1e+10, 0, 0) m"),
       World("far_sdf", box, "<mesh><uri>meshes/far.obj</uri></mesh>", 8, beyond),
+      // Session 9: a target whose triangles all collapse once its vertices are Embree's floats
+      // got reference cells (sampled in double) that no ray could hit, a silent 0 %.
+      Yaml("vanishing_target", cube, "box: {size: [1e-300, 1e-300, 1e-300]}", 21,
+           "target 'cube' is 1e-300 m across: at 0.05 m from the origin the ray caster's float "
+           "steps are 3.72529e-09 m, so every triangle collapses and no ray can hit it"),
+      World("vanishing_target_sdf", "<pose>0 0 0.05 0 0 0</pose>\n          <geometry>" + box,
+            "<pose>0.3 0.3 0.05 0 0 0</pose>\n          <geometry><box><size>1e-12 1e-12 "
+            "1e-12</size></box>", 6, "every triangle collapses"),
       Yaml("newline_population", "- name: ring", "- name: \"ri\\nng\"", 31,
            "population name 'ri\\nng' " + control),
       Yaml("nul_object", "- name: cube", "- name: \"cu\\0be\"", 21,

@@ -416,21 +416,59 @@ TriangleMesh LoadMeshFile(const std::string& path, const Vec3& scale) {
   return ScaledMesh(ReadMeshFile(path), scale, path);
 }
 
-void CheckSceneExtent(const Scene& scene, const std::string& source, int state_line,
-                      const std::string& state) {
-  for (const SceneObject& object : scene.objects) {
-    Aabb bounds;
-    for (const Vec3& v : object.mesh.vertices) bounds.Extend(v);
-    if (bounds.IsEmpty()) continue;
-    // The corner farthest from the origin on each axis.
-    const Vec3 far = bounds.min.cwiseAbs().cwiseMax(bounds.max.cwiseAbs());
-    if (WorldPointProblem(far).empty()) continue;
+namespace {
+
+/// Whether some triangle of `mesh` keeps an area once its vertices are floats, as Embree stores
+/// them: a target of 1e-12 m collapses to a point there, gets reference cells (sampled in double)
+/// and is never hit, a silent 0 % (issue 15).
+bool HasFloatTriangle(const TriangleMesh& mesh) {
+  // Through a volatile: GCC 12.2's SLP vectoriser folds a vectorised pair of (double)(float)
+  // round trips into a plain copy (seen at -O2 and -O3), so x and y kept their doubles.
+  const auto rounded = [](double x) {
+    volatile float f = static_cast<float>(x);
+    return static_cast<double>(f);
+  };
+  const auto as_float = [&](uint32_t i) {
+    const Vec3& v = mesh.vertices[i];
+    return Vec3(rounded(v.x()), rounded(v.y()), rounded(v.z()));
+  };
+  return std::any_of(mesh.triangles.begin(), mesh.triangles.end(), [&](const auto& t) {
+    return !IsDegenerate(as_float(t[0]), as_float(t[1]), as_float(t[2]));
+  });
+}
+
+/// Words for what is wrong with `object`'s extent, "" when nothing is.
+std::string ExtentProblem(const SceneObject& object) {
+  Aabb bounds;
+  for (const Vec3& v : object.mesh.vertices) bounds.Extend(v);
+  if (bounds.IsEmpty()) return {};
+  // The corner farthest from the origin on each axis.
+  const Vec3 far = bounds.min.cwiseAbs().cwiseMax(bounds.max.cwiseAbs());
+  if (!WorldPointProblem(far).empty()) {
     const Vec3 reach = (bounds.max.array() >= -bounds.min.array())
                            .select(bounds.max.array(), bounds.min.array())
                            .matrix();
-    const std::string what = fmt::format("object '{}' reaches {} — make it smaller or move it "
-                                         "near the origin",
-                                         object.name, WorldPointProblem(reach));
+    return fmt::format("object '{}' reaches {} — make it smaller or move it near the origin",
+                       object.name, WorldPointProblem(reach));
+  }
+  if (object.role == Role::kTarget && !HasFloatTriangle(object.mesh)) {
+    const float at = static_cast<float>(far.maxCoeff());
+    return fmt::format("target '{}' is {:g} m across: at {:g} m from the origin the ray caster's "
+                       "float steps are {:g} m, so every triangle collapses and no ray can hit "
+                       "it — check its size and scale",
+                       object.name, (bounds.max - bounds.min).maxCoeff(), far.maxCoeff(),
+                       std::nextafter(at, INFINITY) - at);
+  }
+  return {};
+}
+
+}  // namespace
+
+void CheckSceneExtent(const Scene& scene, const std::string& source, int state_line,
+                      const std::string& state) {
+  for (const SceneObject& object : scene.objects) {
+    const std::string what = ExtentProblem(object);
+    if (what.empty()) continue;
     // In a state, the state's changes moved or added the object: its line is the place.
     if (state_line > 0)
       throw InputError(AtPlace(source, state_line, fmt::format("state '{}': {}", state, what)));
