@@ -915,5 +915,35 @@ TEST(GazeboMaterial, FirstPassColoursAndInheritance) {
   EXPECT_EQ(detail::ToRgb255(*grey->diffuse), (std::array<int, 3>{128, 128, 128}));
 }
 
+// Session 9: a colour that is no number (1e400 overflows) and a script cut short were skipped or
+// read without a word; each is a problem naming its line (the loader turns them into notes).
+TEST(GazeboMaterial, ProblemsNamedAtTheirLine) {
+  const test::TempDir dir;
+  const std::string path = dir.File("bad.material");
+  test::WriteText(path,
+                  "material Bad/Huge\n{\n  technique\n  {\n    pass\n    {\n"
+                  "      diffuse 1e400 0 0 1\n    }\n  }\n}\n"
+                  "material Bad/Cut\n{\n  technique\n  {\n    pass\n    {\n"
+                  "      diffuse 0 1 0 1\n");
+  detail::MaterialLibrary library;
+  ASSERT_TRUE(library.LoadFile(path));
+  ASSERT_EQ(library.problems.size(), 2u);
+  EXPECT_EQ(library.problems[0],
+            path + ":11: the '{' of this block is never closed: the material script ends inside "
+                   "it (cut short?)");
+  EXPECT_EQ(library.problems[1],
+            path + ":7: 'diffuse 1e400 0 0 1' of material 'Bad/Huge' is not 3 or 4 finite "
+                   "numbers: skipped, as Ogre skips it (the material has no diffuse colour of its "
+                   "own)");
+  const detail::MaterialColours* huge = library.Find("Bad/Huge");
+  ASSERT_NE(huge, nullptr);
+  EXPECT_FALSE(huge->diffuse.has_value());
+  // What the cut script holds is still read, as before.
+  const detail::MaterialColours* cut = library.Find("Bad/Cut");
+  ASSERT_NE(cut, nullptr);
+  ASSERT_TRUE(cut->diffuse.has_value());
+  EXPECT_EQ(detail::ToRgb255(*cut->diffuse), (std::array<int, 3>{0, 255, 0}));
+}
+
 }  // namespace
 }  // namespace vantage

@@ -111,6 +111,8 @@ class TreeBuilder {
           closed = SkipBlock();
         }
         header.is_block = true;
+        // Unwinding from the innermost block out, the last one set is the outermost.
+        if (!closed) unclosed_line_ = header.line;
         nodes.push_back(std::move(header));
         if (!closed) break;
         continue;
@@ -124,6 +126,9 @@ class TreeBuilder {
     *is_closed = false;
     return nodes;
   }
+
+ /// The line of the outermost statement whose `{` the script never closes; 0 when all are.
+  int unclosed_line() const { return unclosed_line_; }
 
  private:
   bool SkipBlock() {
@@ -139,6 +144,7 @@ class TreeBuilder {
 
   const std::vector<Token>& tokens_;
   size_t pos_ = 0;
+  int unclosed_line_ = 0;
 };
 
 std::optional<double> ParseNumber(const std::string& s) {
@@ -177,6 +183,11 @@ void MaterialLibrary::ParseScript(std::string_view text, const std::string& path
   bool closed = false;
   std::vector<Node> top = builder.Block(0, &closed);
   if (closed) problems.push_back(fmt::format("{}: unbalanced '}}' in the material script", path));
+  // Session 9: a script cut short was read as far as it went, without a word.
+  if (builder.unclosed_line() > 0)
+    problems.push_back(fmt::format("{}:{}: the '{{' of this block is never closed: the material "
+                                   "script ends inside it (cut short?)",
+                                   path, builder.unclosed_line()));
   for (const Node& node : top) {
     if (!node.is_block || node.words.empty() || node.words[0].text != "material") continue;
     if (node.words.size() < 2) {
@@ -216,8 +227,12 @@ void MaterialLibrary::ParseScript(std::string_view text, const std::string& path
           if (ok) rgb[i] = *v;
         }
         if (!ok) {
-          problems.push_back(fmt::format("{}:{}: '{}' of material '{}' is not 3 or 4 numbers", path,
-                                         entry.line, key, name));
+          std::vector<std::string> values;
+          for (size_t i = 1; i < entry.words.size(); ++i) values.push_back(entry.words[i].text);
+          problems.push_back(fmt::format("{}:{}: '{} {}' of material '{}' is not 3 or 4 finite "
+                                         "numbers: skipped, as Ogre skips it (the material has no "
+                                         "{} colour of its own)",
+                                         path, entry.line, key, fmt::join(values, " "), name, key));
           continue;
         }
         *slot = rgb;
