@@ -60,7 +60,8 @@ Candidate ParseCandidate(const json& j, const std::string& where) {
   const std::vector<double> p = Numbers(j, "position", 3, at);
   const std::vector<double> q = Numbers(j, "quaternion", 4, at);
   const std::optional<Quat> rotation = QuatFromWxyz(q);
-  if (!rotation) throw InputError(fmt::format("{}: 'quaternion' has zero length", at));
+  if (!rotation) throw InputError(fmt::format("{}: 'quaternion' is zero, or shorter than 1e-09 (no "
+                                                  "direction to normalise)", at));
   c.world_from_body = Pose{Vec3(p[0], p[1], p[2]), *rotation};
   SensorType& s = c.sensor;
   s.id = c.type_id;

@@ -526,7 +526,9 @@ std::optional<Quat> SceneReader::Rotation(const Fields& fields, const std::strin
     const std::optional<Quat> rotation = QuatFromWxyz(*q);
     if (!rotation) {
       Error(quaternion->line,
-            fmt::format("{}.quaternion is zero — give [w, x, y, z], e.g. [1, 0, 0, 0]", what));
+            fmt::format("{}.quaternion is zero, or shorter than 1e-09 (no direction to "
+                        "normalise) — give [w, x, y, z], e.g. [1, 0, 0, 0]",
+                        what));
       return std::nullopt;
     }
     return rotation;

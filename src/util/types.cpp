@@ -41,6 +41,8 @@ std::optional<Quat> QuatFromWxyz(std::span<const double> wxyz) {
   const Quat rotation(wxyz[0], wxyz[1], wxyz[2], wxyz[3]);  // Eigen's constructor takes w first
   const double norm = rotation.norm();
   if (std::isfinite(norm)) {
+    // Below 1e-9 it is rounding noise around zero, not a rotation someone meant (the callers'
+    // messages say "zero, or shorter than 1e-09").
     if (norm < 1e-9) return std::nullopt;
     return rotation.normalized();
   }

@@ -124,7 +124,8 @@ Pose Loader::PoseValue(const Doc& doc, const XmlElement* pose) {
     const std::array<double, 4> wxyz = {v[6], v[3], v[4], v[5]};
     const std::optional<Quat> q = QuatFromWxyz(wxyz);
     if (!q) {
-      Error(doc, pose->line, "<pose> quaternion is zero — give a unit quaternion qx qy qz qw");
+      Error(doc, pose->line, "<pose> quaternion is zero, or shorter than 1e-09 (no direction to "
+                              "normalise) — give a unit quaternion qx qy qz qw");
       return Pose{};
     }
     return Pose{Vec3(v[0], v[1], v[2]), *q};
