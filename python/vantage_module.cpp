@@ -165,6 +165,7 @@ std::optional<std::string> OutDirOf(const py::object& out) {
   std::optional<std::string> folder = OptionalPathOf(out);
   if (folder && folder->empty())
     throw InputError(AtPlace("out", 0, "the path is empty — give the folder to write, or None"));
+  if (folder) CheckRunFolder(*folder);  // before any work, as the CLI's --out
   return folder;
 }
 

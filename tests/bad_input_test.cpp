@@ -156,7 +156,9 @@ class BadInput : public ::testing::Test {
   void ExpectRejected(const std::vector<Case>& cases) const {
     for (const Case& c : cases) {
       SCOPED_TRACE(c.name + ": vantage " + c.args);
-      const auto run = RunVantage(c.args + " --out " + out_);
+      // observe and merge write a file: out/ (a folder) would itself be refused first.
+      const bool writes_file = c.args.rfind("observe ", 0) == 0 || c.args.rfind("merge ", 0) == 0;
+      const auto run = RunVantage(c.args + " --out " + (writes_file ? out_ + ".vis" : out_));
       EXPECT_EQ(run.exit_code, 2) << run.err;
       EXPECT_NE(run.err.find(c.place), std::string::npos) << "place '" << c.place << "' in:\n"
                                                           << run.err;
@@ -869,9 +871,8 @@ TEST_F(BadInput, CommandLineOptions) {
        "'soon' is not a number — `vantage help optimize` says what it takes", "Could not convert"},
       {"random_roll_not_a_bool", "optimize " + scene + " --random-roll perhaps", "--random-roll:",
        "'perhaps' is not true or false", "Could not convert"},
-      // ... and observe --out naming a folder said "cannot write (Success)".
-      {"observe_out_is_a_folder", "observe " + scene, out_ + ": cannot write (it is a folder)",
-       "check the path", "Success"},
+      // observe --out naming a folder said "cannot write (Success)": now refused before any
+      // ray, in OutputPlacesCheckedBeforeAnyRay.
   });
 }
 
@@ -1428,6 +1429,48 @@ TEST_F(BadInput, OutputsNeverReplaceDevicesPipesOrInputs) {
   EXPECT_EQ(ReadText(png).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
   EXPECT_FALSE(fs::exists(png + ".tmp-" + std::to_string(::getpid())));
   ExpectOutputsUntouched();
+}
+
+// Session 9: an --out that cannot be written was found only when writing, after the whole ray
+// casting; a link to a folder was replaced by a real folder (the folder it named kept the old
+// outputs). Now each is refused before any ray, and a link to a folder is written through.
+TEST_F(BadInput, OutputPlacesCheckedBeforeAnyRay) {
+  const std::string scene = CubeCell();
+  const std::string real = dir_.File("real");
+  fs::create_directories(real);
+  const std::string link = dir_.File("link");
+  fs::create_directory_symlink(real, link);
+  ASSERT_EQ(RunVantage("optimize " + scene + " --out " + link).exit_code, 0);
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_TRUE(fs::exists(real + "/report.json"));
+  const std::string dangling = dir_.File("dangling");
+  fs::create_directory_symlink(dir_.File("nowhere"), dangling);
+  const std::string users = dir_.File("users");
+  fs::create_directories(users);
+  WriteText(users + "/notes.txt", "mine");
+  const std::string file = Write("a_file", "not a folder");
+  const std::string folder = dir_.File("folder.vis");
+  fs::create_directories(folder);
+  struct Refused {
+    std::string args, what;
+  };
+  for (const Refused& c : std::vector<Refused>{
+           {"optimize " + scene + " --out " + dangling, "is a link to '"},
+           {"optimize " + scene + " --out " + users, "is a non-empty folder without a report.json"},
+           {"optimize " + scene + " --out " + file, "exists and is not a folder"},
+           {"evaluate " + scene + " -c " + real + "/report.json --out " + file,
+            "exists and is not a folder"},
+           {"select " + file + " --out " + file, "exists and is not a folder"},
+           {"observe " + scene + " --out " + folder, "is a folder — give the path of a file"},
+           {"render " + real + " --png " + folder, "is a folder — give the path of a file"}}) {
+    SCOPED_TRACE(c.args);
+    const auto run = RunVantage(c.args);
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+    EXPECT_NE(run.err.find(c.what), std::string::npos) << run.err;
+    EXPECT_EQ(run.err.find("rays traced"), std::string::npos) << run.err;  // before any ray
+  }
+  EXPECT_EQ(ReadText(users + "/notes.txt"), "mine");
+  EXPECT_EQ(ReadText(file), "not a folder");
 }
 
 // Issue 15, session 8's sweep: a visibility file or constellation that is a device or a FIFO was

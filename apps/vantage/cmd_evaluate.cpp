@@ -15,6 +15,7 @@ struct EvaluateFlags {
 };
 
 void RunEvaluate(EvaluateFlags flags) {
+  if (!flags.out.empty()) CheckRunFolder(flags.out);
   flags.options.observe.progress = ProgressBar("observe");
   const EvaluateResult result = Evaluate(flags.options);
   const VisibilityFile& data = *result.run.data;

@@ -17,6 +17,7 @@ struct OptimizeFlags {
 };
 
 void RunOptimize(OptimizeFlags flags) {
+  CheckRunFolder(flags.out);
   if (flags.refine) flags.options.refine = flags.refine_options;
   flags.options.observe.progress = ProgressBar("observe");
   // Under mpirun every rank traces its share; rank 0 alone writes and prints.

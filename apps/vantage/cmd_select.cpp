@@ -14,6 +14,7 @@ struct SelectFlags {
 };
 
 void RunSelect(const SelectFlags& flags) {
+  CheckRunFolder(flags.out);
   const RunResult run = SelectFromFile(flags.options);
   WriteRun(flags.out, run);
   PrintSummary(run.report, flags.out);

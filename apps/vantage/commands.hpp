@@ -46,7 +46,8 @@ CLI::Validator OutPathValidator();
 CLI::Validator PlainValueValidator(bool whole_number);
 
 /// InputError "--out: PATH is FILE, an input of this run ..." when the output file `out` is one of
-/// `inputs` (issue 15: `observe scene.yaml --out scene.yaml` replaced the scene with the matrix).
+/// `inputs` (issue 15: `observe scene.yaml --out scene.yaml` replaced the scene with the matrix),
+/// or when it is a device, a pipe or a folder (CheckOutputFile).
 void RefuseOutputOverInput(const std::string& out, const std::vector<std::string>& inputs);
 
 /// A progress bar with rate and ETA on stderr when it is a terminal; empty otherwise.

@@ -122,6 +122,7 @@ CLI::Validator PlainValueValidator(bool whole_number) {
 }
 
 void RefuseOutputOverInput(const std::string& out, const std::vector<std::string>& inputs) {
+  CheckOutputFile(out);  // a device, a pipe or a folder: refused before any work
   std::error_code error;
   for (const std::string& input : inputs) {
     // equivalent() sees through links and other spellings of one path; false when out is new.

@@ -188,6 +188,15 @@ struct RunResult {
 /// Writes result.files into `out_dir` atomically (a sibling folder renamed into place).
 void WriteRun(const std::string& out_dir, const RunResult& result);
 
+/// Throws InputError when WriteRun could not write `out_dir` (a file, a non-empty folder
+/// without a report.json, a link to nothing). Commands call it before any work: found at the
+/// end, the refusal cost the whole ray casting.
+void CheckRunFolder(const std::string& out_dir);
+
+/// The same for one output file (a visibility file, a PNG): a device, a pipe, a socket, a
+/// folder, or a link to one of them.
+void CheckOutputFile(const std::string& path);
+
 /// `vantage optimize`: the whole pipeline.
 struct OptimizeOptions {
   SceneInput scene;

@@ -320,6 +320,7 @@ std::string ShownMethod(const std::string& report_path) {
 
 RenderRunResult RenderRun(const RenderRunOptions& options) {
   options.render.Validate();
+  if (!options.png.empty()) CheckOutputFile(options.png);  // before the scene is loaded
   const std::string report_path = fs::is_directory(options.run)
                                       ? (fs::path(options.run) / "report.json").string()
                                       : options.run;

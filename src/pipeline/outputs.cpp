@@ -95,6 +95,10 @@ void FinishRun(const Scene& scene, std::map<std::string, std::string> extra, Run
 
 }  // namespace detail
 
+void CheckRunFolder(const std::string& out_dir) { detail::CheckOutputFolder(out_dir); }
+
+void CheckOutputFile(const std::string& path) { detail::CheckOutputFile(path); }
+
 void WriteRun(const std::string& out_dir, const RunResult& result) {
   VANTAGE_CHECK(!result.files.empty());
   // A name missing from RunFolderFileNames would survive a later run that does not write it.

@@ -143,7 +143,7 @@ void WriteFile(const fs::path& path, const std::string& content) {
 
 }  // namespace
 
-void WriteFileAtomically(const std::string& path, const std::string& content) {
+void CheckOutputFile(const std::string& path) {
   const fs::path target(path);
   // The rename would replace a device or a pipe with a plain file (issue 15: `observe --out
   // /dev/null` as root replaced the machine's /dev/null). A symbolic link to a file is replaced
@@ -161,6 +161,13 @@ void WriteFileAtomically(const std::string& path, const std::string& content) {
         "{}: links to something that is not a regular file (a device, a pipe or a socket) — "
         "choose another path",
         path));
+  if (fs::is_directory(target, status_error))
+    throw InputError(fmt::format("{}: is a folder — give the path of a file", path));
+}
+
+void WriteFileAtomically(const std::string& path, const std::string& content) {
+  const fs::path target(path);
+  CheckOutputFile(path);
   const fs::path temp = target.string() + fmt::format(".tmp-{}", ::getpid());
   const InterruptGuard guard;
   std::error_code ec;
@@ -191,11 +198,20 @@ void WriteFileAtomically(const std::string& path, const std::string& content) {
   }
 }
 
-void WriteFolderAtomically(const std::string& dir, const std::map<std::string, std::string>& files,
-                           const std::set<std::string>& owned) {
+std::filesystem::path CheckOutputFolder(const std::string& dir) {
   fs::path target = fs::absolute(fs::path(dir)).lexically_normal();
   if (target.filename().empty()) target = target.parent_path();
   std::error_code ec;
+  // A link to a folder stays a link: the folder it names is the one replaced (session 9: the
+  // link was replaced by a real folder, and the folder it named kept the old outputs).
+  if (fs::is_symlink(fs::symlink_status(target, ec))) {
+    if (!fs::exists(target, ec))
+      throw InputError(fmt::format("{}: is a link to '{}', which does not exist — create that "
+                                   "folder, or choose another --out",
+                                   dir, fs::read_symlink(target, ec).string()));
+    target = fs::canonical(target, ec);
+    if (ec) throw InputError(fmt::format("{}: cannot follow the link ({})", dir, ec.message()));
+  }
   if (fs::exists(target, ec)) {
     if (!fs::is_directory(target, ec))
       throw InputError(fmt::format("{}: exists and is not a folder — choose another --out", dir));
@@ -204,6 +220,13 @@ void WriteFolderAtomically(const std::string& dir, const std::map<std::string, s
       throw InputError(fmt::format(
           "{}: is a non-empty folder without a report.json — choose an empty or new --out folder", dir));
   }
+  return target;
+}
+
+void WriteFolderAtomically(const std::string& dir, const std::map<std::string, std::string>& files,
+                           const std::set<std::string>& owned) {
+  const fs::path target = CheckOutputFolder(dir);
+  std::error_code ec;
   if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
   const fs::path temp = target.string() + fmt::format(".tmp-{}", ::getpid());
   const fs::path old = target.string() + fmt::format(".old-{}", ::getpid());

@@ -2,11 +2,21 @@
 /// Writing outputs so that a failed or interrupted run never leaves a half-written file or folder.
 /// SIGINT or SIGTERM during a write removes the temporary sibling, keeps the earlier output, and
 /// then ends the process by that signal (see InterruptGuard in atomic_file.cpp).
+#include <filesystem>
 #include <map>
 #include <set>
 #include <string>
 
 namespace vantage::detail {
+
+/// Throws InputError when WriteFileAtomically(path, ...) would refuse `path`: a device, a pipe
+/// or a socket, or a link to one. Commands call it before any work, so the refusal costs nothing.
+void CheckOutputFile(const std::string& path);
+
+/// Throws InputError when WriteFolderAtomically(dir, ...) would refuse `dir`: a file, a folder
+/// of the user's without a report.json, a link to nothing. Returns the folder to replace (a link
+/// to a folder resolved to that folder). Commands call it before any work.
+std::filesystem::path CheckOutputFolder(const std::string& dir);
 
 /// Writes `content` to `path` through a temporary sibling and a rename.
 void WriteFileAtomically(const std::string& path, const std::string& content);
