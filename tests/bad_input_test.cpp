@@ -18,6 +18,7 @@
 #include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -376,6 +377,12 @@ TEST_F(BadInput, IncludeCycles) {
                      "</uri></include>\n  </model>\n</sdf>\n");
   };
   const std::string self = model("self", "self");
+  // Includes itself through a link to the models' folder: another spelling of its own file.
+  std::string by_path = model("by_path", "by_path");
+  fs::create_directory_symlink(dir_.File("models"), dir_.File("linked_models"));
+  by_path = Write("models/by_path/model.sdf",
+                  std::regex_replace(ReadText(by_path), std::regex("model://by_path"),
+                                     "file://" + dir_.File("linked_models/by_path")));
   const std::string a = model("a", "b");
   const std::string b = model("b", "a");
   const auto world = [&](const std::string& name, const std::string& uri) {
@@ -387,7 +394,11 @@ TEST_F(BadInput, IncludeCycles) {
   };
   ExpectRejected({
       {"includes_itself", world("self", "model://self"), self + ":4:",
-       "closes an include cycle: 'self' (" + self + ") includes 'self'"},
+       "closes an include cycle: 'self' (" + self + ") includes itself"},
+      // Session 9: by another spelling of the same file (file:// and absolute), the model was
+      // walked once more and the cycle named 'self::self'.
+      {"includes_itself_by_path", world("by_path", "model://by_path"), by_path + ":4:",
+       "closes an include cycle: 'by_path' (" + by_path + ") includes itself"},
       {"include_each_other", world("pair", "model://a"), b + ":4:",
        "closes an include cycle: 'a' (" + a + ") includes 'a::b' (" + b + ") includes 'a'"},
   });

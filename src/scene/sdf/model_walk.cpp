@@ -182,7 +182,9 @@ void Loader::RefuseCycle(const Doc& doc, const XmlElement& include, IncludeResul
   Error(doc, include.line,
         fmt::format("<include> of '{}' closes an include cycle: {} — remove one of these "
                     "includes",
-                    result->name, Join(cycle, " includes ")));
+                    result->name,
+                    cycle.size() == 2 ? cycle.front() + " includes itself"
+                                      : Join(cycle, " includes ")));
   result->kind = IncludeResult::Kind::kFailed;
 }
 

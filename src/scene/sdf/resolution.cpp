@@ -119,7 +119,12 @@ Loader::Loader(std::string path, const LoadOptions& options)
 }
 
 const Doc* Loader::LoadSdf(const std::string& path, const std::string& model_dir) {
-  const std::string key = fs::path(path).lexically_normal().string();
+  // One document per file, however it is spelled (model://ts and file:///abs/ts): else a model
+  // including itself by another spelling was walked once more before the cycle was seen, and
+  // named with the nested 'ts::ts' (session 9).
+  std::error_code ec;
+  const fs::path canonical = fs::weakly_canonical(path, ec);
+  const std::string key = ec ? fs::path(path).lexically_normal().string() : canonical.string();
   const auto it = docs_.find(key);
   if (it != docs_.end()) return it->second.get();
   std::unique_ptr<Doc> doc;
