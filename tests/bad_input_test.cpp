@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
@@ -1189,6 +1190,34 @@ TEST_F(BadInput, FarMeshVerticesAndControlCharacters) {
         "0 0 0\n1e30 0 0\n0 0.1 0\n3 0 1 2\n");
   Write("meshes/tetra.obj",
         "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  const std::string ply_header =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string vertices = "0 0 0\n0.1 0 0\n0 0.1 0\n0 0 0.1\n";
+  Write("meshes/cut_vertices.ply", ply_header + "0 0 0\n0.1 0 0\n0 0.1 0\n");
+  Write("meshes/cut_faces.ply", ply_header + vertices + "3 0 2 1\n3 0 1 3\n");
+  Write("meshes/cut_face.ply", ply_header + vertices + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2");
+  // The same tetrahedron, binary little-endian: whole (accepted), then without its last byte.
+  std::string binary = ply_header;
+  binary.replace(binary.find("ascii"), 5, "binary_little_endian");
+  const auto put = [&](const auto value) {
+    binary.append(reinterpret_cast<const char*>(&value), sizeof(value));
+  };
+  for (const float v : {0.f, 0.f, 0.f, 0.1f, 0.f, 0.f, 0.f, 0.1f, 0.f, 0.f, 0.f, 0.1f}) put(v);
+  for (const std::array<int32_t, 3>& f : {std::array<int32_t, 3>{0, 2, 1}, {0, 1, 3}, {0, 3, 2},
+                                          {1, 2, 3}}) {
+    put(static_cast<uint8_t>(3));
+    for (const int32_t i : f) put(i);
+  }
+  const std::string whole_binary = Write("meshes/whole_binary.ply", binary);
+  Write("meshes/cut_binary.ply", binary.substr(0, binary.size() - 1));
+  const auto whole = RunVantage("optimize " +
+                                Write("whole_binary.yaml",
+                                      CubeCellWith("box: {size: [0.1, 0.1, 0.1]}",
+                                                   "mesh: {file: meshes/whole_binary.ply}")) +
+                                " --out " + dir_.File("whole_binary"));
+  EXPECT_EQ(whole.exit_code, 0) << whole.err;
+  EXPECT_NE(whole.err.find("3 objects, 1 targets, 68 triangles"), std::string::npos) << whole.err;
   const std::string cube = "box: {size: [0.1, 0.1, 0.1]}";
   const std::string beyond = "beyond the ±1e+09 m that vantage can ray cast";
   const std::string control = "has a control character (U+000A) — use printable characters";
@@ -1201,6 +1230,18 @@ TEST_F(BadInput, FarMeshVerticesAndControlCharacters) {
       Yaml("far_scaled", cube, "mesh: {file: meshes/tetra.obj, scale: [1e11, 1, 1]}", 23,
            "a vertex of the mesh (scale applied) lies at (1e+10, 0, 0) m"),
       World("far_sdf", box, "<mesh><uri>meshes/far.obj</uri></mesh>", 8, beyond),
+      // Session 9: a PLY cut short. Assimp filled the missing vertices with faces of no vertex,
+      // on which its triangulation asserted and aborted (exit 134), and repeated the last face
+      // for missing faces (a mesh short of faces, without a word).
+      Yaml("ply_cut_in_vertices", cube, "mesh: {file: meshes/cut_vertices.ply}", 23,
+           "meshes/cut_vertices.ply: cannot read mesh: it ends inside element 'vertex' 4 of 4 "
+           "declared in its header (a file cut short?)"),
+      Yaml("ply_cut_in_faces", cube, "mesh: {file: meshes/cut_faces.ply}", 23,
+           "it ends inside element 'face' 3 of 4 declared in its header"),
+      Yaml("ply_cut_in_a_face", cube, "mesh: {file: meshes/cut_face.ply}", 23,
+           "it ends inside element 'face' 4 of 4 declared in its header"),
+      Yaml("binary_ply_cut", cube, "mesh: {file: meshes/cut_binary.ply}", 23,
+           "it ends inside element 'face' 4 of 4 declared in its header"),
       // Session 9: a target whose triangles all collapse once its vertices are Embree's floats
       // got reference cells (sampled in double) that no ray could hit, a silent 0 %.
       Yaml("vanishing_target", cube, "box: {size: [1e-300, 1e-300, 1e-300]}", 21,

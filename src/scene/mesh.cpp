@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/ply_body.hpp"
 #include "vantage/error.hpp"
 #include "vantage/scene.hpp"
 
@@ -373,8 +374,27 @@ TriangleMesh ReadMeshFile(const std::string& path) {
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_SortByPType);
+  if (const std::string problem = detail::PlyBodyProblem(path); !problem.empty())
+    FailMesh(path, problem);
+  const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
+  if (!scene || !scene->mRootNode) FailMesh(path, importer.GetErrorString());
+  // Checked before Assimp's triangulation, which asserts (Debian's build aborts) on a face
+  // without vertices, as its PLY reader made of a file cut short (session 9).
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh& mesh = *scene->mMeshes[m];
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const aiFace& face = mesh.mFaces[f];
+      if (face.mNumIndices == 0)
+        FailMesh(path, fmt::format("face {} of mesh {} has no vertices (a file cut short?)", f + 1,
+                                   m + 1));
+      for (unsigned i = 0; i < face.mNumIndices; ++i) {
+        if (face.mIndices[i] >= mesh.mNumVertices)
+          FailMesh(path, fmt::format("face {} of mesh {} names vertex {}, but there are {}",
+                                     f + 1, m + 1, face.mIndices[i], mesh.mNumVertices));
+      }
+    }
+  }
+  scene = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_SortByPType);
   if (!scene || !scene->mRootNode) FailMesh(path, importer.GetErrorString());
 
   TriangleMesh raw;

@@ -1,0 +1,213 @@
+#include "scene/ply_body.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <sstream>
+#include <string_view>
+#include <vector>
+
+namespace vantage::detail {
+namespace {
+
+struct PlyProperty {
+  int size = 0;             ///< bytes of the value (binary), or of a list's items
+  int count_size = 0;       ///< > 0 for a list: bytes of its count
+  bool count_signed = false;
+};
+
+struct PlyElement {
+  std::string name;
+  uint64_t count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+enum class PlyFormat { kAscii, kLittleEndian, kBigEndian };
+
+struct PlyHeader {
+  PlyFormat format = PlyFormat::kAscii;
+  std::vector<PlyElement> elements;
+  size_t body_offset = 0;
+};
+
+/// Bytes of a PLY scalar type; 0 for an unknown one.
+int TypeSize(std::string_view type) {
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+  if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" ||
+      type == "float32")
+    return 4;
+  if (type == "double" || type == "float64") return 8;
+  return 0;
+}
+
+std::vector<std::string> Words(const std::string& line) {
+  std::istringstream in(line);
+  return {std::istream_iterator<std::string>(in), std::istream_iterator<std::string>()};
+}
+
+/// The header, or nullopt for anything this walker does not understand (Assimp decides then).
+std::optional<PlyHeader> ReadHeader(const std::string& bytes) {
+  PlyHeader header;
+  size_t at = 0;
+  bool first = true;
+  while (at < bytes.size()) {
+    const size_t end = bytes.find('\n', at);
+    if (end == std::string::npos) return std::nullopt;
+    std::string line = bytes.substr(at, end - at);
+    at = end + 1;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::vector<std::string> words = Words(line);
+    if (first) {
+      if (words.size() != 1 || words[0] != "ply") return std::nullopt;
+      first = false;
+      continue;
+    }
+    if (words.empty() || words[0] == "comment" || words[0] == "obj_info") continue;
+    if (words[0] == "end_header") {
+      header.body_offset = at;
+      return header;
+    }
+    if (words[0] == "format" && words.size() >= 2) {
+      if (words[1] == "ascii") header.format = PlyFormat::kAscii;
+      else if (words[1] == "binary_little_endian") header.format = PlyFormat::kLittleEndian;
+      else if (words[1] == "binary_big_endian") header.format = PlyFormat::kBigEndian;
+      else return std::nullopt;
+    } else if (words[0] == "element" && words.size() == 3) {
+      PlyElement element;
+      element.name = words[1];
+      const auto [ptr, ec] = std::from_chars(words[2].data(), words[2].data() + words[2].size(),
+                                             element.count);
+      if (ec != std::errc() || ptr != words[2].data() + words[2].size()) return std::nullopt;
+      header.elements.push_back(std::move(element));
+    } else if (words[0] == "property" && !header.elements.empty()) {
+      PlyProperty property;
+      if (words.size() == 5 && words[1] == "list") {
+        property.count_size = TypeSize(words[2]);
+        property.count_signed = words[2][0] != 'u';
+        property.size = TypeSize(words[3]);
+        if (property.count_size == 0 || property.size == 0) return std::nullopt;
+      } else if (words.size() == 3) {
+        property.size = TypeSize(words[1]);
+        if (property.size == 0) return std::nullopt;
+      } else {
+        return std::nullopt;
+      }
+      header.elements.back().properties.push_back(property);
+    } else {
+      return std::nullopt;
+    }
+  }
+  return std::nullopt;
+}
+
+std::string Missing(const PlyElement& element, uint64_t index) {
+  return fmt::format("it ends inside element '{}' {} of {} declared in its header (a file cut "
+                     "short?)",
+                     element.name, index + 1, element.count);
+}
+
+/// The list count at `bytes[at]` (binary), or nullopt when negative.
+std::optional<uint64_t> BinaryCount(const std::string& bytes, size_t at, const PlyProperty& p,
+                                    bool big_endian) {
+  uint64_t value = 0;
+  for (int i = 0; i < p.count_size; ++i) {
+    const int byte = big_endian ? i : p.count_size - 1 - i;  // most significant first
+    value = (value << 8) | static_cast<unsigned char>(bytes[at + static_cast<size_t>(byte)]);
+  }
+  if (p.count_signed && (value >> (8 * p.count_size - 1)) != 0) return std::nullopt;
+  return value;
+}
+
+std::string BinaryBodyProblem(const std::string& bytes, const PlyHeader& header) {
+  const bool big_endian = header.format == PlyFormat::kBigEndian;
+  size_t at = header.body_offset;
+  for (const PlyElement& element : header.elements) {
+    const bool has_list = std::any_of(element.properties.begin(), element.properties.end(),
+                                      [](const PlyProperty& p) { return p.count_size > 0; });
+    if (!has_list) {
+      // Fixed rows: the size at once (a count of 10^12 must not be walked row by row).
+      uint64_t row = 0;
+      for (const PlyProperty& p : element.properties) row += static_cast<uint64_t>(p.size);
+      const uint64_t left = bytes.size() - at;
+      if (row > 0 && element.count > left / row) return Missing(element, left / row);
+      at += static_cast<size_t>(row * element.count);
+      continue;
+    }
+    // Every row holds at least one count, so the walk ends within the file's size.
+    for (uint64_t i = 0; i < element.count; ++i) {
+      for (const PlyProperty& p : element.properties) {
+        const size_t need = static_cast<size_t>(p.count_size > 0 ? p.count_size : p.size);
+        if (bytes.size() - at < need) return Missing(element, i);
+        if (p.count_size == 0) {
+          at += need;
+          continue;
+        }
+        const std::optional<uint64_t> items = BinaryCount(bytes, at, p, big_endian);
+        if (!items) return fmt::format("element '{}' {} has a negative list count", element.name, i + 1);
+        at += need;
+        if (*items > (bytes.size() - at) / static_cast<uint64_t>(p.size))
+          return Missing(element, i);
+        at += static_cast<size_t>(*items * static_cast<uint64_t>(p.size));
+      }
+    }
+  }
+  return {};
+}
+
+std::string AsciiBodyProblem(const std::string& bytes, const PlyHeader& header) {
+  size_t at = header.body_offset;
+  // The next whitespace-separated word, or an empty view at the end.
+  const auto next = [&]() -> std::string_view {
+    while (at < bytes.size() && std::strchr(" \t\r\n\f\v", bytes[at]) != nullptr) ++at;
+    const size_t start = at;
+    while (at < bytes.size() && std::strchr(" \t\r\n\f\v", bytes[at]) == nullptr) ++at;
+    return std::string_view(bytes).substr(start, at - start);
+  };
+  for (const PlyElement& element : header.elements) {
+    if (element.properties.empty()) continue;
+    // Each row takes at least one word, so the walk ends within the file's size.
+    for (uint64_t i = 0; i < element.count; ++i) {
+      for (const PlyProperty& p : element.properties) {
+        const std::string_view word = next();
+        if (word.empty()) return Missing(element, i);
+        if (p.count_size == 0) continue;
+        uint64_t items = 0;
+        const auto [ptr, ec] = std::from_chars(word.data(), word.data() + word.size(), items);
+        if (ec != std::errc() || ptr != word.data() + word.size())
+          return fmt::format("element '{}' {}: the list count '{}' is no whole number >= 0",
+                             element.name, i + 1, word);
+        for (uint64_t k = 0; k < items; ++k) {
+          if (next().empty()) return Missing(element, i);
+        }
+      }
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string PlyBodyProblem(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[4] = {};
+  // Other formats are not read twice: a PLY file starts with "ply" and its line's end.
+  if (!in.read(magic, 4) || std::string_view(magic, 3) != "ply" ||
+      (magic[3] != '\n' && magic[3] != '\r'))
+    return {};
+  in.seekg(0);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::optional<PlyHeader> header = ReadHeader(bytes);
+  if (!header) return {};
+  return header->format == PlyFormat::kAscii ? AsciiBodyProblem(bytes, *header)
+                                             : BinaryBodyProblem(bytes, *header);
+}
+
+}  // namespace vantage::detail
