@@ -148,24 +148,31 @@ void CompactVertices(TriangleMesh* mesh) {
   mesh->vertices = std::move(kept);
 }
 
+/// What is wrong with `mesh`'s faces, "" when nothing: a face without vertices (Assimp's PLY
+/// reader makes them of a file cut short, and its triangulation then asserts) or a vertex index
+/// beyond the mesh's vertices (a broken PLY; reading it would read past them).
+std::string FaceProblem(const aiMesh& mesh) {
+  for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+    const aiFace& face = mesh.mFaces[f];
+    if (face.mNumIndices == 0) return fmt::format("face {} has no vertices (a file cut short?)", f);
+    for (unsigned k = 0; k < face.mNumIndices; ++k) {
+      if (face.mIndices[k] < mesh.mNumVertices) continue;
+      return fmt::format("face {} refers to vertex index {}, out of range: the mesh has {} "
+                         "vertices (indices 0 to {})",
+                         f, face.mIndices[k], mesh.mNumVertices,
+                         static_cast<int64_t>(mesh.mNumVertices) - 1);
+    }
+  }
+  return {};
+}
+
 /// Appends the triangles of one Assimp mesh, placed by `world_from_mesh`; lines and points
-/// (left by aiProcess_SortByPType) are skipped.
-/// Appends the triangles of `mesh`; a face whose vertex index is beyond the mesh's vertices
-/// (a broken PLY) sets `problem` instead of reading past them.
+/// (left by aiProcess_SortByPType) are skipped. A face problem (FaceProblem) sets `problem`.
 void AppendAssimpMesh(const aiMesh& mesh, const aiMatrix4x4& world_from_mesh, TriangleMesh* out,
                       std::string* problem) {
   if (!(mesh.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return;
-  for (unsigned f = 0; f < mesh.mNumFaces && problem->empty(); ++f) {
-    const aiFace& face = mesh.mFaces[f];
-    for (unsigned k = 0; k < face.mNumIndices; ++k) {
-      if (face.mIndices[k] < mesh.mNumVertices) continue;
-      *problem = fmt::format("face {} refers to vertex index {}, out of range: the mesh has {} "
-                             "vertices (indices 0 to {})",
-                             f, face.mIndices[k], mesh.mNumVertices,
-                             static_cast<int64_t>(mesh.mNumVertices) - 1);
-      return;
-    }
-  }
+  *problem = FaceProblem(mesh);
+  if (!problem->empty()) return;
   const auto base = static_cast<uint32_t>(out->vertices.size());
   for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
     const aiVector3D p = world_from_mesh * mesh.mVertices[v];
@@ -376,23 +383,13 @@ TriangleMesh ReadMeshFile(const std::string& path) {
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   if (const std::string problem = detail::PlyBodyProblem(path); !problem.empty())
     FailMesh(path, problem);
-  const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
+  const aiScene* scene = importer.ReadFile(path, 0);
   if (!scene || !scene->mRootNode) FailMesh(path, importer.GetErrorString());
   // Checked before Assimp's triangulation, which asserts (Debian's build aborts) on a face
   // without vertices, as its PLY reader made of a file cut short (session 9).
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-    const aiMesh& mesh = *scene->mMeshes[m];
-    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
-      const aiFace& face = mesh.mFaces[f];
-      if (face.mNumIndices == 0)
-        FailMesh(path, fmt::format("face {} of mesh {} has no vertices (a file cut short?)", f + 1,
-                                   m + 1));
-      for (unsigned i = 0; i < face.mNumIndices; ++i) {
-        if (face.mIndices[i] >= mesh.mNumVertices)
-          FailMesh(path, fmt::format("face {} of mesh {} names vertex {}, but there are {}",
-                                     f + 1, m + 1, face.mIndices[i], mesh.mNumVertices));
-      }
-    }
+    if (const std::string problem = FaceProblem(*scene->mMeshes[m]); !problem.empty())
+      FailMesh(path, problem);
   }
   scene = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_SortByPType);
   if (!scene || !scene->mRootNode) FailMesh(path, importer.GetErrorString());
