@@ -5,6 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <functional>
+#include <cstdlib>
+#include <cstdio>
+#include <csignal>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -14,6 +19,7 @@
 #include <vector>
 
 #include "scene/ply_body.hpp"
+#include "util/isolated.hpp"
 #include "test_util.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
@@ -250,10 +256,61 @@ TEST(Scene, PlyBodyWalkerNamesWhatIsMissing) {
   big += std::string("\x00\x03", 2) + std::string(12, '\x01');
   EXPECT_EQ(problem(big), "");
   EXPECT_NE(problem(big.substr(0, big.size() - 1)), "");
-  // Not a PLY, or a header this walker does not know: Assimp decides.
+  // Not a PLY: Assimp decides.
   EXPECT_EQ(problem("solid x\nendsolid x\n"), "");
+  // A malformed header never reaches Assimp, whose PLY reader segfaulted on an unknown line and
+  // looped forever without end_header (found by the mesh_file fuzzer).
   EXPECT_EQ(problem("ply\nformat ascii 1.0\nelement vertex 1\nproperty half x\nend_header\n"),
-            "");
+            "header line 4: property type 'half' is not a PLY type (char, uchar, short, ushort, "
+            "int, uint, float, double, or int8 ... float64)");
+  EXPECT_EQ(problem("ply\nformat binary_big_endian 1.0"),
+            "its header has no end_header line (a file cut short?)");
+  EXPECT_EQ(problem("PLY\nformat ascii 1.0\nelement vertex 4\npropelement face 4\nend_header\n"),
+            "header line 4: 'propelement' is no PLY header keyword (format, element, property, "
+            "comment, obj_info, end_header)");
+}
+
+// Session 9: Assimp runs in a child process (RunIsolated), so that its crashes and endless loops
+// on broken files become input errors instead of ending vantage.
+TEST(Scene, IsolatedWorkReportsCrashesLoopsAndErrors) {
+  EXPECT_EQ(detail::RunIsolated([] { return std::string("bytes\0back", 10); }, "reader", 10),
+            std::string("bytes\0back", 10));
+  const auto error = [](const std::function<std::string()>& work, double seconds) {
+    try {
+      detail::RunIsolated(work, "m.ply: cannot read mesh: Assimp", seconds);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no InputError");
+  };
+  EXPECT_EQ(error([]() -> std::string { throw InputError("m.ply: bad face"); }, 10),
+            "m.ply: bad face");
+  EXPECT_EQ(error(
+                []() -> std::string {
+                  std::fprintf(stderr, "ai_assert failure in Triangulate\n");
+                  std::abort();
+                },
+                10),
+            "m.ply: cannot read mesh: Assimp crashed on it, so the file is broken (signal 6: "
+            "Aborted; it said: ai_assert failure in Triangulate)");
+  EXPECT_EQ(error(
+                []() -> std::string {
+                  std::raise(SIGSEGV);
+                  return "";
+                },
+                10),
+            "m.ply: cannot read mesh: Assimp crashed on it, so the file is broken (signal 11: "
+            "Segmentation fault)");
+  EXPECT_EQ(error(
+                []() -> std::string {
+                  volatile uint64_t spins = 0;
+                  for (;;) spins = spins + 1;
+                },
+                1),
+            "m.ply: cannot read mesh: Assimp did not finish reading it within 1 s of CPU time (a "
+            "reader looping on a broken file?)");
+  EXPECT_THROW(detail::RunIsolated([]() -> std::string { throw std::logic_error("bug"); }, "r", 10),
+               std::runtime_error);
 }
 
 TEST(Scene, DropsDegenerateTriangles) {

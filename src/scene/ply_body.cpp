@@ -53,58 +53,73 @@ std::vector<std::string> Words(const std::string& line) {
   return {std::istream_iterator<std::string>(in), std::istream_iterator<std::string>()};
 }
 
-/// The header, or nullopt for anything this walker does not understand (Assimp decides then).
-std::optional<PlyHeader> ReadHeader(const std::string& bytes) {
+/// The header, or the words for what is wrong with it. Strict: Assimp's PLY reader segfaulted on
+/// an unknown header line and looped forever on a header without end_header (the mesh_file
+/// fuzzer, session 9), so no malformed header reaches it.
+std::optional<PlyHeader> ReadHeader(const std::string& bytes, std::string* problem) {
   PlyHeader header;
   size_t at = 0;
-  bool first = true;
+  int line_number = 0;
+  const auto fail = [&](const std::string& what) {
+    *problem = fmt::format("header line {}: {}", line_number, what);
+    return std::nullopt;
+  };
   while (at < bytes.size()) {
     const size_t end = bytes.find('\n', at);
-    if (end == std::string::npos) return std::nullopt;
+    if (end == std::string::npos) break;
     std::string line = bytes.substr(at, end - at);
     at = end + 1;
+    ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::vector<std::string> words = Words(line);
-    if (first) {
-      if (words.size() != 1 || words[0] != "ply") return std::nullopt;
-      first = false;
-      continue;
-    }
+    if (line_number == 1) continue;  // "ply", checked by the caller
     if (words.empty() || words[0] == "comment" || words[0] == "obj_info") continue;
     if (words[0] == "end_header") {
       header.body_offset = at;
       return header;
     }
-    if (words[0] == "format" && words.size() >= 2) {
+    if (words[0] == "format") {
+      if (words.size() != 3) return fail("write `format ascii 1.0` (or binary_little_endian, binary_big_endian)");
       if (words[1] == "ascii") header.format = PlyFormat::kAscii;
       else if (words[1] == "binary_little_endian") header.format = PlyFormat::kLittleEndian;
       else if (words[1] == "binary_big_endian") header.format = PlyFormat::kBigEndian;
-      else return std::nullopt;
-    } else if (words[0] == "element" && words.size() == 3) {
+      else return fail(fmt::format("format '{}' is not ascii, binary_little_endian or "
+                                   "binary_big_endian", words[1]));
+    } else if (words[0] == "element") {
       PlyElement element;
+      if (words.size() != 3) return fail("write `element NAME COUNT`");
       element.name = words[1];
       const auto [ptr, ec] = std::from_chars(words[2].data(), words[2].data() + words[2].size(),
                                              element.count);
-      if (ec != std::errc() || ptr != words[2].data() + words[2].size()) return std::nullopt;
+      if (ec != std::errc() || ptr != words[2].data() + words[2].size())
+        return fail(fmt::format("element count '{}' is no whole number >= 0", words[2]));
       header.elements.push_back(std::move(element));
-    } else if (words[0] == "property" && !header.elements.empty()) {
+    } else if (words[0] == "property") {
+      if (header.elements.empty()) return fail("a property before any element");
       PlyProperty property;
+      const std::string known = "a PLY type (char, uchar, short, ushort, int, uint, float, double, "
+                                "or int8 ... float64)";
       if (words.size() == 5 && words[1] == "list") {
         property.count_size = TypeSize(words[2]);
         property.count_signed = words[2][0] != 'u';
         property.size = TypeSize(words[3]);
-        if (property.count_size == 0 || property.size == 0) return std::nullopt;
+        if (property.count_size == 0 || property.count_size == 8 || words[2].find("float") == 0)
+          return fail(fmt::format("list count type '{}' is not a whole-number type", words[2]));
+        if (property.size == 0) return fail(fmt::format("list item type '{}' is not {}", words[3], known));
       } else if (words.size() == 3) {
         property.size = TypeSize(words[1]);
-        if (property.size == 0) return std::nullopt;
+        if (property.size == 0) return fail(fmt::format("property type '{}' is not {}", words[1], known));
       } else {
-        return std::nullopt;
+        return fail("write `property TYPE NAME` or `property list COUNT_TYPE ITEM_TYPE NAME`");
       }
       header.elements.back().properties.push_back(property);
     } else {
-      return std::nullopt;
+      return fail(fmt::format("'{}' is no PLY header keyword (format, element, property, comment, "
+                              "obj_info, end_header)",
+                              words[0].substr(0, 40)));
     }
   }
+  *problem = "its header has no end_header line (a file cut short?)";
   return std::nullopt;
 }
 
@@ -198,14 +213,17 @@ std::string AsciiBodyProblem(const std::string& bytes, const PlyHeader& header) 
 std::string PlyBodyProblem(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   char magic[4] = {};
-  // Other formats are not read twice: a PLY file starts with "ply" and its line's end.
-  if (!in.read(magic, 4) || std::string_view(magic, 3) != "ply" ||
+  // Other formats are not read twice: a PLY file starts with "ply" (or "PLY", as Assimp takes
+  // it) and its line's end.
+  if (!in.read(magic, 4) ||
+      (std::string_view(magic, 3) != "ply" && std::string_view(magic, 3) != "PLY") ||
       (magic[3] != '\n' && magic[3] != '\r'))
     return {};
   in.seekg(0);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::optional<PlyHeader> header = ReadHeader(bytes);
-  if (!header) return {};
+  std::string problem;
+  const std::optional<PlyHeader> header = ReadHeader(bytes, &problem);
+  if (!header) return problem;
   return header->format == PlyFormat::kAscii ? AsciiBodyProblem(bytes, *header)
                                              : BinaryBodyProblem(bytes, *header);
 }

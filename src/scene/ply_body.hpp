@@ -6,9 +6,10 @@
 
 namespace vantage::detail {
 
-/// "" when `path` is no PLY file this walker understands (Assimp then reports it) or when its
-/// body holds every declared element; else what is missing, e.g. "it ends inside element 'face'
-/// 4 of 4 declared in its header (a file cut short?)".
+/// "" when `path` is no PLY file (Assimp then reads it) or when its header is well formed and its
+/// body holds every declared element; else what is wrong, e.g. "it ends inside element 'face'
+/// 4 of 4 declared in its header (a file cut short?)" or "header line 4: 'propelement' is no PLY
+/// header keyword (...)". Assimp's PLY reader crashed or looped on such files.
 std::string PlyBodyProblem(const std::string& path);
 
 }  // namespace vantage::detail
