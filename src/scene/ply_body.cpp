@@ -213,11 +213,11 @@ std::string AsciiBodyProblem(const std::string& bytes, const PlyHeader& header) 
 std::string PlyBodyProblem(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   char magic[4] = {};
-  // Other formats are not read twice: a PLY file starts with "ply" (or "PLY", as Assimp takes
-  // it) and its line's end.
-  if (!in.read(magic, 4) ||
-      (std::string_view(magic, 3) != "ply" && std::string_view(magic, 3) != "PLY") ||
-      (magic[3] != '\n' && magic[3] != '\r'))
+  // Other formats are not read twice: a PLY file starts with "ply" in any case (Assimp takes
+  // "plY" too, and looped on one such header) and its line's end.
+  const auto lower = [](char c) { return static_cast<char>(c | 0x20); };
+  if (!in.read(magic, 4) || lower(magic[0]) != 'p' || lower(magic[1]) != 'l' ||
+      lower(magic[2]) != 'y' || (magic[3] != '\n' && magic[3] != '\r'))
     return {};
   in.seekg(0);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -88,6 +88,9 @@ std::string RunIsolated(const std::function<std::string()>& work, const std::str
     ::close(pipe_fds[0]);
     if (stderr_fd >= 0) ::dup2(stderr_fd, STDERR_FILENO);
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // never outlive vantage
+    // A fault ends the child by its signal, whoever handles it in vantage's process (the
+    // sanitizers, libFuzzer, Python): their handlers would report it as vantage's own.
+    for (const int fault : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) std::signal(fault, SIG_DFL);
     // A reader that loops on a broken file (Assimp's PLY reader on a header without its end)
     // is stopped by SIGXCPU, then SIGKILL a second later.
     const auto limit = static_cast<rlim_t>(std::max(1.0, cpu_seconds));
