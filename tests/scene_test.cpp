@@ -265,6 +265,8 @@ TEST(Scene, PlyBodyWalkerNamesWhatIsMissing) {
             "int, uint, float, double, or int8 ... float64)");
   EXPECT_EQ(problem("plY\nformat ascii 1.0\nelement vertex 4\nproperty list uchar int x"),
             "its header has no end_header line (a file cut short?)");
+  EXPECT_EQ(problem(std::string("ply\0\0H\nformat ascii 1.0\nend_header\n", 35)),
+            "header line 1: the first line must be `ply` alone");
   EXPECT_EQ(problem("ply\nformat binary_big_endian 1.0"),
             "its header has no end_header line (a file cut short?)");
   EXPECT_EQ(problem("PLY\nformat ascii 1.0\nelement vertex 4\npropelement face 4\nend_header\n"),

@@ -72,7 +72,11 @@ std::optional<PlyHeader> ReadHeader(const std::string& bytes, std::string* probl
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::vector<std::string> words = Words(line);
-    if (line_number == 1) continue;  // "ply", checked by the caller
+    if (line_number == 1) {
+      if (words.size() != 1 || words[0].size() != 3)
+        return fail("the first line must be `ply` alone");
+      continue;
+    }
     if (words.empty() || words[0] == "comment" || words[0] == "obj_info") continue;
     if (words[0] == "end_header") {
       header.body_offset = at;
@@ -212,12 +216,12 @@ std::string AsciiBodyProblem(const std::string& bytes, const PlyHeader& header) 
 
 std::string PlyBodyProblem(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  char magic[4] = {};
-  // Other formats are not read twice: a PLY file starts with "ply" in any case (Assimp takes
-  // "plY" too, and looped on one such header) and its line's end.
+  char magic[3] = {};
+  // Other formats are not read twice. Assimp takes a file for PLY by its first three bytes,
+  // "ply" in any case (it looped on "plY" and on "ply" followed by NULs): so does this check.
   const auto lower = [](char c) { return static_cast<char>(c | 0x20); };
-  if (!in.read(magic, 4) || lower(magic[0]) != 'p' || lower(magic[1]) != 'l' ||
-      lower(magic[2]) != 'y' || (magic[3] != '\n' && magic[3] != '\r'))
+  if (!in.read(magic, 3) || lower(magic[0]) != 'p' || lower(magic[1]) != 'l' ||
+      lower(magic[2]) != 'y')
     return {};
   in.seekg(0);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
