@@ -6,7 +6,6 @@
 #include <bit>
 #include <charconv>
 #include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <optional>
@@ -18,8 +17,8 @@ namespace vantage::detail {
 namespace {
 
 struct PlyProperty {
-  int size = 0;             ///< bytes of the value (binary), or of a list's items
-  int count_size = 0;       ///< > 0 for a list: bytes of its count
+  int size = 0;        ///< bytes of the value (binary), or of a list's items
+  int count_size = 0;  ///< > 0 for a list: bytes of its count
   bool count_signed = false;
 };
 
@@ -83,44 +82,55 @@ std::optional<PlyHeader> ReadHeader(const std::string& bytes, std::string* probl
       return header;
     }
     if (words[0] == "format") {
-      if (words.size() != 3) return fail("write `format ascii 1.0` (or binary_little_endian, binary_big_endian)");
-      if (words[1] == "ascii") header.format = PlyFormat::kAscii;
-      else if (words[1] == "binary_little_endian") header.format = PlyFormat::kLittleEndian;
-      else if (words[1] == "binary_big_endian") header.format = PlyFormat::kBigEndian;
-      else return fail(fmt::format("format '{}' is not ascii, binary_little_endian or "
-                                   "binary_big_endian", words[1]));
+      if (words.size() != 3)
+        return fail("write `format ascii 1.0` (or binary_little_endian, binary_big_endian)");
+      if (words[1] == "ascii")
+        header.format = PlyFormat::kAscii;
+      else if (words[1] == "binary_little_endian")
+        header.format = PlyFormat::kLittleEndian;
+      else if (words[1] == "binary_big_endian")
+        header.format = PlyFormat::kBigEndian;
+      else
+        return fail(
+            fmt::format("format '{}' is not ascii, binary_little_endian or "
+                        "binary_big_endian",
+                        words[1]));
     } else if (words[0] == "element") {
       PlyElement element;
       if (words.size() != 3) return fail("write `element NAME COUNT`");
       element.name = words[1];
-      const auto [ptr, ec] = std::from_chars(words[2].data(), words[2].data() + words[2].size(),
-                                             element.count);
+      const auto [ptr, ec] =
+          std::from_chars(words[2].data(), words[2].data() + words[2].size(), element.count);
       if (ec != std::errc() || ptr != words[2].data() + words[2].size())
         return fail(fmt::format("element count '{}' is no whole number >= 0", words[2]));
       header.elements.push_back(std::move(element));
     } else if (words[0] == "property") {
       if (header.elements.empty()) return fail("a property before any element");
       PlyProperty property;
-      const std::string known = "a PLY type (char, uchar, short, ushort, int, uint, float, double, "
-                                "or int8 ... float64)";
+      const std::string known =
+          "a PLY type (char, uchar, short, ushort, int, uint, float, double, "
+          "or int8 ... float64)";
       if (words.size() == 5 && words[1] == "list") {
         property.count_size = TypeSize(words[2]);
         property.count_signed = words[2][0] != 'u';
         property.size = TypeSize(words[3]);
         if (property.count_size == 0 || property.count_size == 8 || words[2].find("float") == 0)
           return fail(fmt::format("list count type '{}' is not a whole-number type", words[2]));
-        if (property.size == 0) return fail(fmt::format("list item type '{}' is not {}", words[3], known));
+        if (property.size == 0)
+          return fail(fmt::format("list item type '{}' is not {}", words[3], known));
       } else if (words.size() == 3) {
         property.size = TypeSize(words[1]);
-        if (property.size == 0) return fail(fmt::format("property type '{}' is not {}", words[1], known));
+        if (property.size == 0)
+          return fail(fmt::format("property type '{}' is not {}", words[1], known));
       } else {
         return fail("write `property TYPE NAME` or `property list COUNT_TYPE ITEM_TYPE NAME`");
       }
       header.elements.back().properties.push_back(property);
     } else {
-      return fail(fmt::format("'{}' is no PLY header keyword (format, element, property, comment, "
-                              "obj_info, end_header)",
-                              words[0].substr(0, 40)));
+      return fail(
+          fmt::format("'{}' is no PLY header keyword (format, element, property, comment, "
+                      "obj_info, end_header)",
+                      words[0].substr(0, 40)));
     }
   }
   *problem = "its header has no end_header line (a file cut short?)";
@@ -128,13 +138,16 @@ std::optional<PlyHeader> ReadHeader(const std::string& bytes, std::string* probl
 }
 
 std::string Missing(const PlyElement& element, uint64_t index) {
-  return fmt::format("it ends inside element '{}' {} of {} declared in its header (a file cut "
-                     "short?)",
-                     element.name, index + 1, element.count);
+  return fmt::format(
+      "it ends inside element '{}' {} of {} declared in its header (a file cut "
+      "short?)",
+      element.name, index + 1, element.count);
 }
 
 /// The list count at `bytes[at]` (binary), or nullopt when negative.
-std::optional<uint64_t> BinaryCount(const std::string& bytes, size_t at, const PlyProperty& p,
+std::optional<uint64_t> BinaryCount(const std::string& bytes,
+                                    size_t at,
+                                    const PlyProperty& p,
                                     bool big_endian) {
   uint64_t value = 0;
   for (int i = 0; i < p.count_size; ++i) {
@@ -170,7 +183,8 @@ std::string BinaryBodyProblem(const std::string& bytes, const PlyHeader& header)
           continue;
         }
         const std::optional<uint64_t> items = BinaryCount(bytes, at, p, big_endian);
-        if (!items) return fmt::format("element '{}' {} has a negative list count", element.name, i + 1);
+        if (!items)
+          return fmt::format("element '{}' {} has a negative list count", element.name, i + 1);
         at += need;
         if (*items > (bytes.size() - at) / static_cast<uint64_t>(p.size))
           return Missing(element, i);
@@ -183,11 +197,15 @@ std::string BinaryBodyProblem(const std::string& bytes, const PlyHeader& header)
 
 std::string AsciiBodyProblem(const std::string& bytes, const PlyHeader& header) {
   size_t at = header.body_offset;
-  // The next whitespace-separated word, or an empty view at the end.
+  // The next whitespace-separated word, or an empty view at the end. Whitespace as Words()
+  // (istream) splits the header; not std::strchr, which finds a NUL byte in every string.
+  const auto space = [](char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
+  };
   const auto next = [&]() -> std::string_view {
-    while (at < bytes.size() && std::strchr(" \t\r\n\f\v", bytes[at]) != nullptr) ++at;
+    while (at < bytes.size() && space(bytes[at])) ++at;
     const size_t start = at;
-    while (at < bytes.size() && std::strchr(" \t\r\n\f\v", bytes[at]) == nullptr) ++at;
+    while (at < bytes.size() && !space(bytes[at])) ++at;
     return std::string_view(bytes).substr(start, at - start);
   };
   for (const PlyElement& element : header.elements) {

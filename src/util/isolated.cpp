@@ -10,8 +10,8 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstdio>
 #include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
@@ -69,7 +69,8 @@ std::string LastLine(int fd) {
 
 }  // namespace
 
-std::string RunIsolated(const std::function<std::string()>& work, const std::string& who,
+std::string RunIsolated(const std::function<std::string()>& work,
+                        const std::string& who,
                         double cpu_seconds) {
   int pipe_fds[2];
   if (::pipe(pipe_fds) != 0) return work();
@@ -130,9 +131,10 @@ std::string RunIsolated(const std::function<std::string()>& work, const std::str
   const bool out_of_time =
       WIFSIGNALED(status) && (WTERMSIG(status) == SIGXCPU || WTERMSIG(status) == SIGKILL);
   if (out_of_time)
-    throw InputError(fmt::format("{} did not finish reading it within {:g} s of CPU time (a "
-                                 "reader looping on a broken file?)",
-                                 who, std::max(1.0, cpu_seconds)));
+    throw InputError(
+        fmt::format("{} did not finish reading it within {:g} s of CPU time (a "
+                    "reader looping on a broken file?)",
+                    who, std::max(1.0, cpu_seconds)));
   const std::string how =
       WIFSIGNALED(status)
           ? fmt::format("signal {}: {}", WTERMSIG(status), ::strsignal(WTERMSIG(status)))
