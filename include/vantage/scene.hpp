@@ -67,9 +67,9 @@ struct Scene {
 /// Throws InputError "FILE:LINE: object 'NAME' reaches ..." when a vertex of any object (target
 /// or occluder) lies beyond ±kMaxWorldCoordinate, where the ray caster is no longer exact (issue
 /// 15), or when every triangle of a target collapses once its vertices are floats (the ray
-/// caster's precision: a target of 1e-12 m could never be hit). The place is the object's own (SceneObject::file, line), else `source`; with a
-/// `state_line`, the objects are those of a scene state declared at source:state_line, named
-/// with the state in the message.
+/// caster's precision: a target of 1e-12 m could never be hit). The place is the object's own
+/// (SceneObject::file, line), else `source`; with a `state_line`, the objects are those of a
+/// scene state declared at source:state_line, named with the state in the message.
 void CheckSceneExtent(const Scene& scene, const std::string& source, int state_line = 0,
                       const std::string& state = {});
 

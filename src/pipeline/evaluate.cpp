@@ -53,7 +53,6 @@ QualityFilter InheritQuality(const QualityFilter& given, const Constellation& co
   return run;
 }
 
-// The constellation observed in the scene: its own reference, observations and "given" result.
 /// The given sensors' types as the scene (or the catalog) defines them. A report.json carries
 /// each sensor's intrinsics and is evaluated with them, but its exports name only the type: a
 /// type whose definition differs from the intrinsics (an edited file) would make
@@ -63,9 +62,7 @@ std::vector<std::string> CheckGivenTypes(const Constellation& constellation, con
                                          const std::string& file) {
   std::vector<std::string> unknown;
   for (const Candidate& c : constellation.sensors) {
-    const SensorType* defined = nullptr;
-    for (const SensorType& type : problem.sensor_types)
-      if (type.id == c.sensor.id) defined = &type;
+    const SensorType* defined = problem.FindType(c.sensor.id);
     if (defined == nullptr) defined = FindCatalogType(c.sensor.id);
     if (defined == nullptr) {
       unknown.push_back(c.sensor.id);
@@ -92,6 +89,7 @@ std::vector<std::string> CheckGivenTypes(const Constellation& constellation, con
   return unknown;
 }
 
+// The constellation observed in the scene: its own reference, observations and "given" result.
 struct Reobserved {
   Problem problem;
   std::unique_ptr<VisibilityFile> data;

@@ -37,10 +37,6 @@ namespace {
 
 using detail::XmlElement;
 
-std::string ReadText(const std::string& path) {
-  return detail::ReadInputFile(path, "world file");
-}
-
 /// Shortest text that reads back as the same double; never "-0".
 std::string Number(double v) {
   if (v == 0) return "0";
@@ -214,7 +210,7 @@ class Exporter {
            bool gz_cameras = false)
       : path_(path),
         gz_cameras_(gz_cameras),
-        text_(ReadText(path)),
+        text_(detail::ReadInputFile(path, "world file")),
         doc_(detail::ParseXml(text_, path)),
         populations_(populations),
         sensors_(sensors),

@@ -172,7 +172,7 @@ std::string FaceProblem(const aiMesh& mesh) {
 /// (left by aiProcess_SortByPType) are skipped. A face problem (FaceProblem) sets `problem`.
 void AppendAssimpMesh(const aiMesh& mesh, const aiMatrix4x4& world_from_mesh, TriangleMesh* out,
                       std::string* problem) {
-  if (!(mesh.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return;
+  if (!(mesh.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || !problem->empty()) return;
   *problem = FaceProblem(mesh);
   if (!problem->empty()) return;
   const auto base = static_cast<uint32_t>(out->vertices.size());

@@ -211,11 +211,6 @@ std::string EncodeVisibilityFile(const VisibilityFile& file, bool observations) 
   return w.data();
 }
 
-std::string ReadWholeFile(const std::string& path, const char* what) {
-  // A device or a pipe is refused before it is read (issue 15: /dev/zero ran out of memory).
-  return detail::ReadInputFile(path, what);
-}
-
 // The file of `bytes`, read from `path` (for messages).
 VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string& path) {
   const auto corrupt = [&](const std::string& what) {
@@ -380,7 +375,10 @@ void SaveVisibilityFile(const std::string& path, const VisibilityFile& file) {
 }
 
 VisibilityFile LoadVisibilityFile(const std::string& path) {
-  VisibilityFile file = DecodeVisibilityFile(ReadWholeFile(path, "visibility file"), path);
+  // ReadInputFile refuses a device or a pipe before reading it (issue 15: /dev/zero ran out of
+  // memory).
+  VisibilityFile file =
+      DecodeVisibilityFile(detail::ReadInputFile(path, "visibility file"), path);
   // observe never writes an empty R (a scene without target cells is refused); with one, every
   // coverage would be 0 % of nothing (issue 15). Only a file: MPI's messages of poses carry none.
   if (file.reference.keys.empty())
@@ -415,7 +413,7 @@ void SaveVisibilityShard(const std::string& path, const VisibilityShard& shard) 
 }
 
 VisibilityShard LoadVisibilityShard(const std::string& path) {
-  const std::string bytes = ReadWholeFile(path, "shard");
+  const std::string bytes = detail::ReadInputFile(path, "shard");
   const auto corrupt = [&](const std::string& what) {
     return InputError(AtPlace(
         path, 0, what + " — write the parts with `vantage observe SCENE --shard i/K --out FILE`"));

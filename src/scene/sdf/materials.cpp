@@ -127,7 +127,7 @@ class TreeBuilder {
     return nodes;
   }
 
- /// The line of the outermost statement whose `{` the script never closes; 0 when all are.
+  /// The line of the outermost statement whose `{` the script never closes; 0 when all are.
   int unclosed_line() const { return unclosed_line_; }
 
  private:
