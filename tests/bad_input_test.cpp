@@ -1255,6 +1255,10 @@ TEST_F(BadInput, FarMeshVerticesAndControlCharacters) {
       Yaml("nul_object", "- name: cube", "- name: \"cu\\0be\"", 21,
            "object name 'cu\\0be' has a control character (U+0000)"),
       Yaml("x01_object", "- name: cube", "- name: \"cu\\x01be\"", 21, "'cu\\x01be' has a "),
+      // Session 10: a backslash is shown doubled, so that "c\\n" (backslash, n) and "c\n" (a
+      // newline) read differently.
+      Yaml("backslash_object", "- name: cube", "- name: \"c\\\\n\\x01\"", 21,
+           "object name 'c\\\\n\\x01' has a control character (U+0001)"),
       Yaml("tab_sensor_type", "- id: tiny_cam", "- id: \"tiny\\tcam\"", 11,
            "sensor type id 'tiny\\tcam' has a control character (U+0009)"),
       Yaml("raw_x02", "- name: cube", "- name: cu\x02" "be", 21,

@@ -106,7 +106,9 @@ std::string Escaped(std::string_view text) {
   std::string shown;
   shown.reserve(text.size());
   for (const char c : text) {
-    if (!IsControl(c)) {
+    if (c == '\\') {
+      shown += "\\\\";  // so that a backslash in the name cannot pass for an escape
+    } else if (!IsControl(c)) {
       shown.push_back(c);
     } else if (c == '\n') {
       shown += "\\n";

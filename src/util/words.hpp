@@ -23,7 +23,8 @@ size_t FirstNonUtf8Byte(std::string_view text);
 size_t FirstControlCharacter(std::string_view text);
 
 /// `text` for a message: control characters written as \n, \t, \r, \0 or \xNN (U+007F as \x7F),
-/// so that a name never breaks the message's line (issue 15).
+/// so that a name never breaks the message's line (issue 15), and a backslash as \\ so that the
+/// name's own backslashes never read as one of those escapes.
 std::string Escaped(std::string_view text);
 
 /// "" when `name` (a name, id or path read from an input file) has no control character; else
