@@ -819,7 +819,12 @@ TEST_F(BadInput, CommandLineOptions) {
        "--time-limit:", "time_limit = 0"},
       // Finite but beyond what a steady-clock deadline holds (stop 26).
       {"huge_time_limit", "optimize " + scene + " --time-limit 1e300",
-       "--time-limit:", "time_limit = 1e+300 s must be a positive number of seconds, at most"},
+       "--time-limit:", "time_limit = 1e+300 s must be a number of seconds from 0.001 (1 ms) to "
+                        "1e+06 (11.6 days)"},
+      // Session 10: positive but below what CBC and the clock honour; the warnings quoted
+      // "a 1e-301 s time limit".
+      {"tiny_time_limit", "optimize " + scene + " --time-limit 1e-300",
+       "--time-limit:", "time_limit = 1e-300 s must be a number of seconds from 0.001 (1 ms)"},
       {"k_zero", "optimize " + scene + " --k 0", "--k:", "k = 0 must be at least 1"},
       {"k_above_n", "optimize " + scene + " --k 99", "--k:", "n = 2 is below k = 99"},
       {"unknown_command", "frobnicate", "'frobnicate'",

@@ -178,10 +178,16 @@ TEST(Select, ValidateRejectsBadOptions) {
     s.ransac_stop_coverage = c;
     EXPECT_NO_THROW(s.Validate(3)) << c;
   }
-  for (double t : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN()}) {
+  for (double t : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), 1e-300, 0.999e-3,
+                   1.001e6}) {
     SelectOptions s;
     s.time_limit = t;
     EXPECT_THROW(s.Validate(3), InputError) << t;
+  }
+  for (double t : {1e-3, 1e6}) {
+    SelectOptions s;
+    s.time_limit = t;
+    EXPECT_NO_THROW(s.Validate(3)) << t;
   }
 }
 

@@ -29,6 +29,9 @@ std::string ObjectiveName(Objective objective);
 /// The longest exact run a request may ask for [s]: a deadline this far ahead still fits the
 /// steady clock's int64 nanoseconds many times over.
 constexpr double kMaxTimeLimit = 1e6;
+/// The shortest [s]: below a millisecond CBC and the clock reads cannot honour it, and the
+/// warnings would quote limits like 1e-301 s (issue 15).
+constexpr double kMinTimeLimit = 1e-3;
 
 struct SelectOptions {
   int n = 1;  ///< sensors wanted, 1 <= n <= candidates (ignored by set-cover and budget)
@@ -36,7 +39,7 @@ struct SelectOptions {
   int ransac_iterations = 1000;       ///< I of Algorithm 2
   double ransac_stop_coverage = 1.0;  ///< C of Algorithm 2, fraction
   uint64_t seed = 1;
-  double time_limit = 60;  ///< seconds, for exact, in (0, kMaxTimeLimit]
+  double time_limit = 60;  ///< seconds, for exact, in [kMinTimeLimit, kMaxTimeLimit]
   /// Set cover: choose the fewest sensors whose coverage reaches this fraction, in (0, 1].
   /// Methods greedy, exact, all. Above what all candidates reach together: InputError from Select.
   std::optional<double> goal;

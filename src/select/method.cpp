@@ -140,11 +140,11 @@ void SelectOptions::Validate(size_t candidate_count) const {
   }
   // The deadline is a steady-clock time point in nanoseconds (int64: 292 years); far beyond
   // the cap the conversion overflowed.
-  if (!(time_limit > 0.0) || !(time_limit <= kMaxTimeLimit)) {
+  if (!(time_limit >= kMinTimeLimit) || !(time_limit <= kMaxTimeLimit)) {
     throw FieldError({"time_limit"},
-                     fmt::format("time_limit = {} s must be a positive number of seconds, at "
-                                 "most {:g} (11.6 days)",
-                                 time_limit, kMaxTimeLimit));
+                     fmt::format("time_limit = {} s must be a number of seconds from {:g} "
+                                 "(1 ms) to {:g} (11.6 days)",
+                                 time_limit, kMinTimeLimit, kMaxTimeLimit));
   }
   ValidateObjective(*this, candidate_count);
   constraints.Validate(candidate_count);
