@@ -361,5 +361,63 @@ TEST(Robot, BadUrdfIsReportedAtItsLine) {
   EXPECT_NE(error.find("missing.urdf: cannot open the URDF file"), std::string::npos) << error;
 }
 
+// A mimic chain that comes back to its start has no position to follow (LinkPoses would walk it
+// forever): refused at the first joint of each cycle, the cycle spelled out.
+TEST(Robot, MimicCycleIsRefusedAtItsJoint) {
+  test::TempDir dir;
+  const auto joint = [](const char* name, const char* parent, const char* child,
+                        const char* mimic) {
+    return fmt::format(
+        "  <joint name=\"{}\" type=\"revolute\">\n    <parent link=\"{}\"/><child link=\"{}\"/>\n"
+        "    <limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/>\n"
+        "    <mimic joint=\"{}\"/>\n  </joint>\n",
+        name, parent, child, mimic);
+  };
+  const std::string urdf = dir.File("cycle.urdf");
+  // Line 3 is joint a, line 8 joint b, line 13 joint c (each joint takes five lines).
+  test::WriteText(urdf, "<?xml version=\"1.0\"?>\n<robot name=\"r\">\n" +
+                            joint("a", "base", "l1", "b") + joint("b", "l1", "l2", "a") +
+                            joint("c", "l2", "l3", "c") +
+                            "  <link name=\"base\"/><link name=\"l1\"/><link name=\"l2\"/>"
+                            "<link name=\"l3\"/>\n</robot>\n");
+  const std::string error = LoadError(ArmScene(urdf, "      {}"));
+  EXPECT_NE(error.find("cycle.urdf:3: joint 'a' mimics itself through a -> b -> a"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("cycle.urdf:13: joint 'c' mimics itself through c -> c"),
+            std::string::npos)
+      << error;
+  EXPECT_EQ(error.find("joint 'b' mimics itself"), std::string::npos) << error;  // once a cycle
+}
+
+// urdfdom 3 logs a <visual> it cannot parse and drops it, returning the robot without that
+// occluder; vantage refuses the file at the link's line. A bad <collision> (never used) is not
+// an error.
+TEST(Robot, UnparsableVisualIsRefusedNotDropped) {
+  test::TempDir dir;
+  const auto robot_with = [&](const std::string& visual, const std::string& collision) {
+    const std::string urdf = dir.File("one.urdf");
+    test::WriteText(urdf, "<?xml version=\"1.0\"?>\n<robot name=\"r\">\n  <link name=\"base\">\n"
+                          "    <visual>" + visual + "</visual>\n    <collision>" + collision +
+                          "</collision>\n  </link>\n</robot>\n");
+    return LoadError(ArmScene(urdf, "      {}"));
+  };
+  const std::string good_box = "<geometry><box size=\"0.1 0.1 0.1\"/></geometry>";
+  for (const std::string& bad :
+       {std::string("<geometry><box size=\"0.1 0.1\"/></geometry>"),
+        std::string("<geometry><sphere/></geometry>"),
+        std::string("<geometry><cylinder radius=\"0.1\"/></geometry>"),
+        std::string("<geometry><capsule radius=\"0.1\" length=\"0.2\"/></geometry>"),
+        std::string("<geometry></geometry>"),
+        "<origin xyz=\"0 0 nope\"/>" + good_box}) {
+    const std::string error = robot_with(bad, good_box);
+    EXPECT_NE(error.find("one.urdf:3: urdfdom: "), std::string::npos) << bad << "\n" << error;
+    EXPECT_NE(error.find("Could not parse visual element for Link [base]"), std::string::npos)
+        << error;
+  }
+  EXPECT_EQ(robot_with(good_box, "<geometry><capsule radius=\"0.1\" length=\"0.2\"/></geometry>"),
+            "no error");
+}
+
 }  // namespace
 }  // namespace vantage

@@ -190,13 +190,34 @@ RobotModel LoadUrdf(const std::string& path) {
       model.reset();
       errors.push_back(e.what());
     }
-    errors.insert(errors.end(), log.errors().begin(), log.errors().end());
+    // A <collision> urdfdom cannot parse is dropped as well, but vantage never uses
+    // collisions: drop its messages (the details logged before its summary line) too.
+    std::vector<std::string> group;
+    for (const std::string& error : log.errors()) {
+      group.push_back(error);
+      if (error.find("Could not parse") == std::string::npos) continue;
+      if (error.find("collision element") == std::string::npos)
+        errors.insert(errors.end(), group.begin(), group.end());
+      group.clear();
+    }
+    errors.insert(errors.end(), group.begin(), group.end());
   }
-  if (!model) {
+  // urdfdom 3 logs a visual it cannot parse (a box size of two numbers, a <sphere/> without
+  // radius, an unknown shape) and drops it, returning a model without it: an occluder missing
+  // silently. Any error it logged refuses the file.
+  if (!model || !errors.empty()) {
     Diagnostics diag(path);
     if (errors.empty()) errors.push_back("not a URDF robot");
-    for (const std::string& error : errors)
-      diag.Error(LineNamedIn(error, lines), fmt::format("urdfdom: {} — fix the URDF", error));
+    // urdfdom's detail ("Parser found 2 elements but 3 expected") names no element; the
+    // summary after it ("Could not parse visual element for Link [base]") does: give the detail
+    // that line too.
+    std::vector<int> error_lines(errors.size(), 0);
+    for (size_t i = errors.size(); i-- > 0;) {
+      error_lines[i] = LineNamedIn(errors[i], lines);
+      if (error_lines[i] == 0 && i + 1 < errors.size()) error_lines[i] = error_lines[i + 1];
+    }
+    for (size_t i = 0; i < errors.size(); ++i)
+      diag.Error(error_lines[i], fmt::format("urdfdom: {} — fix the URDF", errors[i]));
     diag.ThrowIfAny();
   }
 
@@ -256,6 +277,29 @@ RobotModel LoadUrdf(const std::string& path) {
     if (!joint.mimic.empty() && !robot.FindJoint(joint.mimic))
       diag.Error(joint.line, fmt::format("joint '{}' mimics '{}', which is no joint of the robot",
                                          joint.name, joint.mimic));
+  }
+  diag.ThrowIfAny();
+  // A chain of mimics must end at a joint that mimics none; a cycle has no position to follow.
+  std::vector<std::string> in_reported_cycle;
+  for (const RobotJoint& start : robot.joints) {
+    if (std::find(in_reported_cycle.begin(), in_reported_cycle.end(), start.name) !=
+        in_reported_cycle.end())
+      continue;
+    std::vector<std::string> chain;
+    for (const RobotJoint* joint = &start; joint && !joint->mimic.empty();
+         joint = robot.FindJoint(joint->mimic)) {
+      chain.push_back(joint->name);
+      if (std::find(chain.begin(), chain.end(), joint->mimic) == chain.end()) continue;
+      chain.push_back(joint->mimic);
+      if (joint->mimic == start.name) {  // once per cycle, at the first of its joints met
+        in_reported_cycle.insert(in_reported_cycle.end(), chain.begin(), chain.end());
+        diag.Error(start.line,
+                   fmt::format("joint '{}' mimics itself through {} — a mimic chain must end at "
+                               "a joint that mimics none",
+                               start.name, fmt::join(chain, " -> ")));
+      }
+      break;
+    }
   }
   diag.ThrowIfAny();
   return robot;
