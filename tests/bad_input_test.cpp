@@ -1492,6 +1492,43 @@ TEST_F(BadInput, OutputsNeverReplaceDevicesPipesOrInputs) {
   ExpectOutputsUntouched();
 }
 
+// Session 10's sweep: `render --png RUN/report.json` replaced the report it read, and `observe
+// --out` naming a mesh or a URDF the scene loads replaced it (only the scene file itself was
+// compared). Every file a reader opens is now compared with the run's outputs, before any ray.
+TEST_F(BadInput, OutputsNeverReplaceAnyFileTheRunReads) {
+  const std::string mesh = Write("tet.obj", "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\n"
+                                            "f 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n");
+  const std::string urdf = Write("arm.urdf", ReadText(test::DataPath("urdf/arm3.urdf")));
+  const std::string scene =
+      Write("with_files.yaml",
+            CubeCellWith("objects:\n", "robots:\n  - {name: arm, urdf: arm.urdf, pose: {xyz: "
+                                       "[2, 2, 0]}}\nobjects:\n  - {name: tet, role: occluder, "
+                                       "mesh: {file: tet.obj}, pose: {xyz: [1.5, 1.5, 0]}}\n"));
+  const std::string mesh_bytes = ReadText(mesh), urdf_bytes = ReadText(urdf);
+  struct Refused {
+    std::string args, what;
+  };
+  for (const Refused& c : std::vector<Refused>{
+           {"observe " + scene + " --out " + mesh, "--out: '" + mesh + "' is the mesh file"},
+           {"observe " + scene + " --out " + urdf, "--out: '" + urdf + "' is the URDF file"},
+           {"render " + out_ + " --png " + out_ + "/report.json",
+            "--png: '" + out_ + "/report.json' is the constellation file"},
+           {"render " + out_ + " --png " + out_ + "/../out/./report.json",
+            "that this run reads"}}) {
+    SCOPED_TRACE(c.args);
+    const auto run = RunVantage(c.args);
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+    EXPECT_NE(run.err.find(c.what), std::string::npos) << run.err;
+    EXPECT_EQ(run.err.find("[info] memory estimate"), std::string::npos) << "refused late";
+  }
+  EXPECT_EQ(ReadText(mesh), mesh_bytes);
+  EXPECT_EQ(ReadText(urdf), urdf_bytes);
+  ExpectOutputsUntouched();
+  // The same scene observes into a new file: the inputs were the problem, not the scene.
+  const auto run = RunVantage("observe " + scene + " --out " + dir_.File("fine.vis"));
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+}
+
 // Session 9: an --out that cannot be written was found only when writing, after the whole ray
 // casting; a link to a folder was replaced by a real folder (the folder it named kept the old
 // outputs). Now each is refused before any ray, and a link to a folder is written through.

@@ -15,7 +15,7 @@ struct MergeFlags {
 };
 
 void RunMerge(const MergeFlags& flags) {
-  RefuseOutputOverInput(flags.out, flags.parts);
+  const OutputGuard guard = RefuseOutputOverInput(flags.out, flags.parts);
   const VisibilityFile merged = MergeShards(flags.parts);
   SaveVisibilityFile(flags.out, merged);
   fmt::print("merged           {} parts, {} candidates\n", flags.parts.size(),

@@ -22,7 +22,7 @@ void PrintObserved(const VisibilityFile& data) {
 }
 
 void RunObserve(ObserveFlags flags) {
-  RefuseOutputOverInput(flags.out, {flags.options.scene.path});
+  const OutputGuard guard = RefuseOutputOverInput(flags.out, {flags.options.scene.path});
   flags.options.observe.progress = ProgressBar("observe");
   if (!flags.shard.empty()) {
     const ShardSpec spec = ParseShard(flags.shard);

@@ -48,7 +48,10 @@ CLI::Validator PlainValueValidator(bool whole_number);
 /// InputError "--out: PATH is FILE, an input of this run ..." when the output file `out` is one of
 /// `inputs` (issue 15: `observe scene.yaml --out scene.yaml` replaced the scene with the matrix),
 /// or when it is a device, a pipe or a folder (CheckOutputFile).
-void RefuseOutputOverInput(const std::string& out, const std::vector<std::string>& inputs);
+/// The guard it returns refuses, while it lives, every other input (a mesh, a URDF, a material
+/// script) that names `out` (OutputGuard).
+[[nodiscard]] OutputGuard RefuseOutputOverInput(const std::string& out,
+                                                const std::vector<std::string>& inputs);
 
 /// A progress bar with rate and ETA on stderr when it is a terminal; empty otherwise.
 std::function<void(size_t, size_t)> ProgressBar(const std::string& label);

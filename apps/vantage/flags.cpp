@@ -121,7 +121,7 @@ CLI::Validator PlainValueValidator(bool whole_number) {
       "");
 }
 
-void RefuseOutputOverInput(const std::string& out, const std::vector<std::string>& inputs) {
+OutputGuard RefuseOutputOverInput(const std::string& out, const std::vector<std::string>& inputs) {
   CheckOutputFile(out);  // a device, a pipe or a folder: refused before any work
   std::error_code error;
   for (const std::string& input : inputs) {
@@ -131,6 +131,7 @@ void RefuseOutputOverInput(const std::string& out, const std::vector<std::string
                                    "replace that input; choose another file",
                                    out, input));
   }
+  return OutputGuard({{"--out", out}});
 }
 
 std::function<void(size_t, size_t)> ProgressBar(const std::string& label) {

@@ -30,6 +30,25 @@
 
 namespace vantage {
 
+namespace detail {
+class PlannedOutputs;
+}
+
+/// While one lives, a reader about to open one of `outputs` ((option, path), e.g. ("--out",
+/// "scene.vis")) as an input — the scene, a mesh, a URDF, a material script, a report — refuses it
+/// with an InputError naming the option, before any ray is cast (issue 15: `render --png
+/// run/report.json` and `observe --out mesh.ply` replaced that input with the output).
+class OutputGuard {
+ public:
+  explicit OutputGuard(std::vector<std::pair<std::string, std::string>> outputs);
+  ~OutputGuard();
+  OutputGuard(const OutputGuard&) = delete;
+  OutputGuard& operator=(const OutputGuard&) = delete;
+
+ private:
+  std::unique_ptr<detail::PlannedOutputs> planned_;
+};
+
 /// The scene of a run and what overrides its own settings (unset: the scene's).
 struct SceneInput {
   std::string path;                       ///< .yaml/.yml scene or .world/.sdf Gazebo world

@@ -314,6 +314,13 @@ std::string ShownMethod(const std::string& report_path) {
              : "given";
 }
 
+// view.png beside the run's report.json, whether the run was given as its folder or that file
+// (was: RUN/report.json/view.png, a write that failed).
+std::string DefaultPng(const std::string& run) {
+  const fs::path folder = fs::is_directory(run) ? fs::path(run) : fs::path(run).parent_path();
+  return (folder / "view.png").string();
+}
+
 }  // namespace
 
 RenderRunResult RenderRun(const RenderRunOptions& options) {
@@ -322,6 +329,8 @@ RenderRunResult RenderRun(const RenderRunOptions& options) {
   const std::string report_path = fs::is_directory(options.run)
                                       ? (fs::path(options.run) / "report.json").string()
                                       : options.run;
+  const std::string png = options.png.empty() ? DefaultPng(options.run) : options.png;
+  const OutputGuard guard({{options.png.empty() ? "render" : "--png", png}});
   std::error_code error;
   if (!fs::is_regular_file(report_path, error))
     throw InputError(AtPlace(report_path, 0,
@@ -360,7 +369,7 @@ RenderRunResult RenderRun(const RenderRunOptions& options) {
   report.results.front().method = ShownMethod(report_path);
   DeriveReport(&report);
   RenderRunResult result;
-  result.png = options.png.empty() ? (fs::path(options.run) / "view.png").string() : options.png;
+  result.png = png;
   WritePng(result.png,
            RenderView(*reobserved.rays, reobserved.problem.scene, report, options.render));
   result.sensors = reobserved.data->candidates.size();

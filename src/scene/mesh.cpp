@@ -18,6 +18,7 @@
 
 #include "scene/ply_body.hpp"
 #include "util/isolated.hpp"
+#include "util/run_files.hpp"
 #include "vantage/error.hpp"
 #include "vantage/scene.hpp"
 
@@ -432,6 +433,7 @@ TriangleMesh MeshFromBytes(const std::string& bytes) {
 }  // namespace
 
 TriangleMesh ReadMeshFile(const std::string& path) {
+  detail::NoteInputFile(path, "mesh file");
   std::error_code error;
   if (std::filesystem::is_directory(path, error))
     FailMesh(path, "it is a folder, not a mesh file (name the mesh file in it)");

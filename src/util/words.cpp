@@ -9,6 +9,7 @@
 #include <limits>
 #include <sstream>
 
+#include "util/run_files.hpp"
 #include "vantage/error.hpp"
 
 namespace vantage {
@@ -155,6 +156,7 @@ void CheckUtf8File(std::string_view text, const std::string& path) {
 }
 
 std::string ReadInputFile(const std::string& path, std::string_view kind) {
+  NoteInputFile(path, kind);
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
     // A device or a pipe would be read without end, or block (issue 15): named as such.

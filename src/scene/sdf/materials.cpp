@@ -12,6 +12,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "util/run_files.hpp"
+
 namespace vantage::detail {
 namespace {
 
@@ -247,6 +249,7 @@ bool MaterialLibrary::LoadFile(const std::string& path) {
   // A folder, a device or a pipe is no script (issue 15: file:///dev/zero ran out of memory).
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return false;
+  detail::NoteInputFile(path, "material script");
   std::ifstream in(path, std::ios::binary);
   if (!in) return false;
   std::stringstream buffer;
