@@ -1529,6 +1529,31 @@ TEST_F(BadInput, OutputsNeverReplaceAnyFileTheRunReads) {
   EXPECT_EQ(run.exit_code, 0) << run.err;
 }
 
+// Session 10's sweep: `<pose degrees="TRUE">` was read as radians (only "true" and "1" counted),
+// a rotation 57 times too large, and any other word was taken for false. sdformat reads a bool
+// in any case; another word is an error at the pose's line.
+TEST_F(BadInput, PoseDegreesAttributeIsABool) {
+  ExpectRejected({World("degrees_word", "<pose>0 0 0.4 0 0 0</pose>",
+                        "<pose degrees=\"maybe\">0 0 0.4 0 0 0</pose>", 25,
+                        "<pose degrees='maybe'> must be true or false")});
+  // The cube turned by 30 degrees about x: "TRUE" must give what "true" gives, not 30 rad.
+  const auto coverage = [&](const std::string& attribute) {
+    const std::string world =
+        Write("deg.world", WorldWith("<pose>0 0 0.05 0 0 0</pose>",
+                                     "<pose" + attribute + ">0 0 0.05 30 0 0</pose>"));
+    const auto run = RunVantage("optimize " + world + " --method greedy --out " +
+                                dir_.File("deg_out"));
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    const json report = json::parse(ReadText(dir_.File("deg_out/report.json")));
+    fs::remove_all(dir_.File("deg_out"));
+    return report["results"][0]["coverage"].get<double>();
+  };
+  const double in_degrees = coverage(" degrees=\"true\"");
+  EXPECT_EQ(coverage(" degrees=\"TRUE\""), in_degrees);
+  EXPECT_EQ(coverage(" degrees=\" 1 \""), in_degrees);
+  EXPECT_NE(coverage(""), in_degrees);  // 30 rad: another view of the cube
+}
+
 // Session 9: an --out that cannot be written was found only when writing, after the whole ray
 // casting; a link to a folder was replaced by a real folder (the folder it named kept the old
 // outputs). Now each is refused before any ray, and a link to a folder is written through.

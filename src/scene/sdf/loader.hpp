@@ -114,6 +114,9 @@ std::optional<FuelUri> ParseFuelUri(const std::string& uri);
 // ---------------------------------------------------------------------------------------------
 
 /// Reads one Gazebo world into a Problem; its member functions live in the files named below.
+/// An SDF bool as sdformat reads it: true/false/1/0 in any case; nullopt for any other word.
+std::optional<bool> BoolWord(std::string text);
+
 class Loader {
  public:
   /// Sets the model and resource search paths (resolution.cpp).

@@ -327,7 +327,7 @@ IncludeResult Loader::ResolveInclude(const Doc& doc, const XmlElement& include) 
   const int line = uri_element->line;
   const XmlElement* name_element = include.Child("name");
   const std::string base = UriBaseName(uri);
-  if (include.Attribute("merge") && *include.Attribute("merge") == "true") {
+  if (include.Attribute("merge") && BoolWord(*include.Attribute("merge")).value_or(false)) {
     Note(AtPlace(doc.xml.path, include.line,
                  fmt::format("<include merge='true'> of {}: read as a nested model", uri)));
   }

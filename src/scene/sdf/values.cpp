@@ -75,13 +75,19 @@ std::optional<int64_t> Loader::Integer(const Doc& doc,
   return value;
 }
 
-std::optional<bool> Loader::Boolean(const Doc& doc, const XmlElement& e) {
-  std::string text = e.Trimmed();
+std::optional<bool> BoolWord(std::string text) {
+  // As sdformat reads a bool: true/false/1/0 in any case, around spaces.
+  text = Trim(text);
   std::transform(text.begin(), text.end(), text.begin(), [](char c) {
     return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   });
   if (text == "true" || text == "1") return true;
   if (text == "false" || text == "0") return false;
+  return std::nullopt;
+}
+
+std::optional<bool> Loader::Boolean(const Doc& doc, const XmlElement& e) {
+  if (const std::optional<bool> value = BoolWord(e.Trimmed())) return value;
   Error(doc, e.line, fmt::format("<{}> '{}' must be true or false", e.name, e.Trimmed()));
   return std::nullopt;
 }
@@ -130,9 +136,14 @@ Pose Loader::PoseValue(const Doc& doc, const XmlElement* pose) {
     }
     return Pose{Vec3(v[0], v[1], v[2]), *q};
   }
+  // degrees="TRUE" was read as radians, a rotation 57 times too large (issue 15).
   const std::string* degrees = pose->Attribute("degrees");
-  const double scale =
-      degrees && (*degrees == "true" || *degrees == "1") ? std::numbers::pi / 180.0 : 1.0;
+  const std::optional<bool> in_degrees = degrees ? BoolWord(*degrees) : false;
+  if (!in_degrees) {
+    Error(doc, pose->line, fmt::format("<pose degrees='{}'> must be true or false", *degrees));
+    return Pose{};
+  }
+  const double scale = *in_degrees ? std::numbers::pi / 180.0 : 1.0;
   return Pose::FromXyzRpy(v[0], v[1], v[2], v[3] * scale, v[4] * scale, v[5] * scale);
 }
 
