@@ -402,6 +402,36 @@ std::string LoadError(const std::string& text) {
   return "";
 }
 
+// `on:` in a state's `add` rests on the object as it stands in that state: part_1 moved up by
+// 0.5 m (its top at 0.55 m, by hand: box of 0.1 centred at 0), or an object added before it in
+// the same state; an object the state removed is not there to rest on (session 10's sweep: the
+// base scene's part_1 was used, its top at 0.05 m).
+TEST(StatesYaml, AddedObjectRestsOnTheObjectAsItStandsInTheState) {
+  test::TempDir dir;
+  const std::string path = dir.File("scene.yaml");
+  test::WriteText(path, std::string(kObjects) + R"(states:
+  - name: raised
+    move: {part_1: {xyz: [0, 0, 0.5], rpy: [0, 0, 0]}}
+    add:
+      - {name: lid, on: part_1, pose: {xyz: [0, 0, 0.01]}, box: {size: [0.1, 0.1, 0.02]}}
+      - {name: cap, on: lid, box: {size: [0.05, 0.05, 0.05]}}
+)");
+  const Problem problem = LoadYamlScene(path);
+  ASSERT_EQ(problem.states.size(), 1u);
+  const SceneState& raised = problem.states[0];
+  ASSERT_EQ(raised.add.size(), 2u);
+  EXPECT_NEAR(raised.add[0].mesh.Bounds().min.z(), 0.56, 1e-12);  // 0.55 + the 0.01 m gap
+  EXPECT_NEAR(raised.add[1].mesh.Bounds().min.z(), 0.58, 1e-12);  // on the lid's top
+  const std::string message = LoadError(std::string(kObjects) + R"(states:
+  - name: gone
+    remove: [part_3]
+    add:
+      - {name: lid, on: part_3, box: {size: [0.1, 0.1, 0.02]}}
+)");
+  EXPECT_NE(message.find("scene.yaml:15: object 'lid'.on: no object 'part_3'"), std::string::npos)
+      << message;
+}
+
 TEST(StatesYaml, UnknownObjectNameCarriesTheStateLine) {
   const std::string message = LoadError(std::string(kObjects) + R"(states:
   - name: full

@@ -34,6 +34,10 @@ struct SceneState {
 /// names there are), added names already present, no target left. Empty when the state applies.
 std::vector<std::string> StateProblems(const Scene& base, const SceneState& state);
 
+/// The base scene's objects changed by the state as far as it applies (unknown names skipped,
+/// no error): what an object the state adds with `on:` rests on.
+std::vector<SceneObject> StateObjects(const Scene& base, const SceneState& state);
+
 /// The base scene changed by the state: reshape, remove, then move, then add. Throws one
 /// InputError ("file:line: state 'x': ...", one line per problem) listing every StateProblems
 /// entry.

@@ -97,6 +97,11 @@ std::vector<std::string> StateProblems(const Scene& base, const SceneState& stat
   return problems;
 }
 
+std::vector<SceneObject> StateObjects(const Scene& base, const SceneState& state) {
+  std::vector<std::string> ignored;  // reported by ApplyState, at the state's line
+  return Applied(base, state, &ignored);
+}
+
 Scene ApplyState(const Scene& base, const SceneState& state) {
   std::vector<std::string> problems;
   Scene scene;

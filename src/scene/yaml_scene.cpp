@@ -265,8 +265,12 @@ class SceneReader {
                                 const std::string& key,
                                 const std::string& what);
   void ReadObjects(const Value& input);
-  std::optional<SceneObject> ReadObject(const Value& input);
-  bool PlaceOn(const Value& input, const std::string& what, double gap, TriangleMesh* mesh);
+  /// `standing`: the objects an `on:` may name (a state's, as they stand in it); the scene's
+  /// objects read so far when null.
+  std::optional<SceneObject> ReadObject(const Value& input,
+                                        const std::vector<SceneObject>* standing = nullptr);
+  bool PlaceOn(const Value& input, const std::string& what, double gap,
+               const std::vector<SceneObject>& standing, TriangleMesh* mesh);
   std::optional<TriangleMesh> ReadShape(const Fields& fields, const std::string& what,
                                         ShapeSource* source);
   std::optional<TriangleMesh> ReadPrimitive(const std::string& shape,
@@ -942,7 +946,8 @@ void SceneReader::ReadObjects(const Value& input) {
   }
 }
 
-std::optional<SceneObject> SceneReader::ReadObject(const Value& input) {
+std::optional<SceneObject> SceneReader::ReadObject(const Value& input,
+                                                  const std::vector<SceneObject>* standing) {
   const Fields fields(input, "object",
                       {"name", "role", "pose", "on", "mesh", "box", "cylinder", "sphere", "plane"},
                       &reporter_);
@@ -972,7 +977,9 @@ std::optional<SceneObject> SceneReader::ReadObject(const Value& input) {
   source.world_from_shape = pose;
   if (const auto v = fields.Get("on")) {
     const double z_before = mesh->Bounds().min.z();
-    if (!PlaceOn(*v, what, pose.position.z(), &*mesh)) return std::nullopt;
+    if (!PlaceOn(*v, what, pose.position.z(), standing ? *standing : problem_->scene.objects,
+                 &*mesh))
+      return std::nullopt;
     source.world_from_shape.position.z() += mesh->Bounds().min.z() - z_before;
   }
   object.mesh = std::move(*mesh);
@@ -983,11 +990,11 @@ std::optional<SceneObject> SceneReader::ReadObject(const Value& input) {
 /// `on: other`: the mesh, posed, moves up or down so that its lowest point rests on the highest
 /// point of `other` (an object listed before it); the pose's z is then the gap between them.
 bool SceneReader::PlaceOn(const Value& input, const std::string& what, double gap,
-                          TriangleMesh* mesh) {
+                          const std::vector<SceneObject>& standing, TriangleMesh* mesh) {
   const auto other = Text(input, what + ".on");
   if (!other) return false;
   std::vector<std::string> names;
-  for (const SceneObject& object : problem_->scene.objects) {
+  for (const SceneObject& object : standing) {
     if (object.name == *other) {
       const double dz = object.mesh.Bounds().max.z() + gap - mesh->Bounds().min.z();
       Pose lift;
@@ -1676,9 +1683,15 @@ std::optional<SceneState> SceneReader::ReadState(const Value& input) {
     }
   }
   if (const auto v = fields.Get("add")) {
+    // An added object's `on:` rests on the object as it stands in this state — moved, reshaped
+    // by the state's joints, or added before it — not as in the base scene (issue 15), and not
+    // on one the state removed.
+    std::vector<SceneObject> standing = StateObjects(problem_->scene, state);
     for (const Value& item : Items(*v, what + ".add")) {
-      if (std::optional<SceneObject> object = ReadObject(item))
+      if (std::optional<SceneObject> object = ReadObject(item, &standing)) {
+        standing.push_back(*object);
         state.add.push_back(std::move(*object));
+      }
     }
   }
   if (ErrorCount() != errors_before) return std::nullopt;
