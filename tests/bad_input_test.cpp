@@ -26,6 +26,7 @@
 
 #include "test_util.hpp"
 #include "util/binary_io.hpp"
+#include "util/words.hpp"
 #include "vantage/observe.hpp"
 #include "vantage/visibility_file.hpp"
 
@@ -937,7 +938,18 @@ TEST_F(BadInput, NonUtf8Names) {
   const json report = json::parse(ReadText(dir_.File("latin1_out/report.json")));
   EXPECT_NE(report["scene"].get<std::string>().find("sc\xEF\xBF\xBDne.yaml"), std::string::npos)
       << report["scene"];
-  fs::remove_all(dir_.File("latin1_out"));
+  // Every text output is UTF-8 (session 10's sweep: report.html's subtitle and
+  // static_transforms.yaml carried the raw 0xE8), also when `select` takes the path from a .vis.
+  const std::string vis = dir_.File("latin1.vis");
+  ASSERT_EQ(RunVantage("observe '" + latin1 + "' --out " + vis).exit_code, 0);
+  ASSERT_EQ(RunVantage("select " + vis + " --out " + dir_.File("latin1_select")).exit_code, 0);
+  for (const std::string folder : {"latin1_out", "latin1_select"}) {
+    for (const auto& [name, text] : Contents(dir_.File(folder))) {
+      if (name.size() > 4 && name.substr(name.size() - 4) == ".ply") continue;  // binary
+      EXPECT_EQ(detail::FirstNonUtf8Byte(text), std::string::npos) << folder << "/" << name;
+    }
+    fs::remove_all(dir_.File(folder));
+  }
 }
 
 TEST_F(BadInput, VisibilityFiles) {
@@ -1264,6 +1276,17 @@ TEST_F(BadInput, FarMeshVerticesAndControlCharacters) {
       // newline) read differently.
       Yaml("backslash_object", "- name: cube", "- name: \"c\\\\n\\x01\"", 21,
            "object name 'c\\\\n\\x01' has a control character (U+0001)"),
+      // Session 10's sweep: C1 controls (NEL breaks lines in terminals) and U+2028, U+2029
+      // passed; written as \uNNNN in the message.
+      Yaml("nel_object", "- name: cube", "- name: \"cu\\u0085be\"", 21,
+           "object name 'cu\\u0085be' has a control character (U+0085)"),
+      Yaml("raw_c1_object", "- name: cube", "- name: cu\xC2\x9B" "be", 21,
+           "object name 'cu\\u009Bbe' has a control character (U+009B)"),
+      Yaml("line_separator_population", "- name: ring", "- name: \"ri\\u2028ng\"", 31,
+           "population name 'ri\\u2028ng' has a line or paragraph separator (U+2028)"),
+      World("paragraph_separator_sdf_model", "<model name=\"cube\">",
+            "<model name=\"cu&#x2029;be\">", 4,
+            "<model> name 'cu\\u2029be' has a line or paragraph separator (U+2029)"),
       Yaml("tab_sensor_type", "- id: tiny_cam", "- id: \"tiny\\tcam\"", 11,
            "sensor type id 'tiny\\tcam' has a control character (U+0009)"),
       Yaml("raw_x02", "- name: cube", "- name: cu\x02" "be", 21,

@@ -19,6 +19,7 @@
 #include "embedded/report_assets.hpp"
 #include "report/constraints_json.hpp"
 #include "util/markup.hpp"
+#include "util/words.hpp"
 #include "vantage/error.hpp"
 #include "vantage/visualize.hpp"
 
@@ -448,7 +449,8 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   page["meshes"] = std::move(meshes_json);
 
   std::string subtitle =
-      fmt::format("{} · {} reference voxels of {} m · {} candidates", report.scene, reference_size,
+      fmt::format("{} · {} reference voxels of {} m · {} candidates", detail::AsUtf8(report.scene),
+                  reference_size,
                   data.reference.cell_size, data.candidates.size());
   if (primary >= 0) {
     const Selection& s = report.results[static_cast<size_t>(primary)];

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "util/markup.hpp"
+#include "util/words.hpp"
 #include "vantage/error.hpp"
 #include "vantage/visualize.hpp"
 
@@ -229,7 +230,7 @@ std::string StaticTransformsYaml(const Report& report, const std::string& parent
       "#   ros2 run tf2_ros static_transform_publisher --x X --y Y --z Z --qx QX --qy QY --qz QZ\n"
       "#     --qw QW --frame-id PARENT_FRAME --child-frame-id CHILD_FRAME\n"
       "schema: vantage.static_transforms/1\n";
-  yaml += fmt::format("scene: {}\n", Quoted(report.scene));
+  yaml += fmt::format("scene: {}\n", Quoted(detail::AsUtf8(report.scene)));
   if (result == nullptr) {
     yaml += "result: null\ntransforms: []\n";
     return yaml;

@@ -94,6 +94,19 @@ bool IsControl(char c) {
   return byte < 0x20 || byte == 0x7F;
 }
 
+// The UTF-8 sequence at `i` when it is a C1 control (U+0080 to U+009F: NEL breaks lines in
+// terminals) or the line and paragraph separators U+2028, U+2029 (line breaks in editors, and in
+// JavaScript before ES2019): its code point, else 0.
+uint32_t WideBreakAt(std::string_view text, size_t i) {
+  const auto byte = [&](size_t k) { return static_cast<unsigned char>(text[k]); };
+  if (i + 1 < text.size() && byte(i) == 0xC2 && byte(i + 1) >= 0x80 && byte(i + 1) <= 0x9F)
+    return byte(i + 1);
+  if (i + 2 < text.size() && byte(i) == 0xE2 && byte(i + 1) == 0x80 &&
+      (byte(i + 2) == 0xA8 || byte(i + 2) == 0xA9))
+    return 0x2000u + byte(i + 2) - 0x80u;
+  return 0;
+}
+
 }  // namespace
 
 size_t FirstControlCharacter(std::string_view text) {
@@ -106,8 +119,12 @@ size_t FirstControlCharacter(std::string_view text) {
 std::string Escaped(std::string_view text) {
   std::string shown;
   shown.reserve(text.size());
-  for (const char c : text) {
-    if (c == '\\') {
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (const uint32_t code = WideBreakAt(text, i)) {
+      shown += fmt::format("\\u{:04X}", code);
+      i += code < 0x100 ? 1 : 2;
+    } else if (c == '\\') {
       shown += "\\\\";  // so that a backslash in the name cannot pass for an escape
     } else if (!IsControl(c)) {
       shown.push_back(c);
@@ -126,11 +143,31 @@ std::string Escaped(std::string_view text) {
   return shown;
 }
 
+std::string AsUtf8(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  while (!text.empty()) {
+    const size_t bad = FirstNonUtf8Byte(text);
+    out += text.substr(0, bad);
+    if (bad == std::string_view::npos) break;
+    out += "\xEF\xBF\xBD";  // U+FFFD
+    text.remove_prefix(bad + 1);
+  }
+  return out;
+}
+
 std::string NameProblem(std::string_view name) {
   const size_t at = FirstControlCharacter(name);
-  if (at == std::string_view::npos) return "";
-  return fmt::format("has a control character (U+{:04X}) — use printable characters",
-                     static_cast<unsigned char>(name[at]));
+  if (at != std::string_view::npos)
+    return fmt::format("has a control character (U+{:04X}) — use printable characters",
+                       static_cast<unsigned char>(name[at]));
+  for (size_t i = 0; i < name.size(); ++i) {
+    if (const uint32_t code = WideBreakAt(name, i))
+      return fmt::format("has {} (U+{:04X}) — use printable characters",
+                         code < 0x100 ? "a control character" : "a line or paragraph separator",
+                         code);
+  }
+  return "";
 }
 
 void CheckUtf8File(std::string_view text, const std::string& path) {

@@ -22,13 +22,20 @@ size_t FirstNonUtf8Byte(std::string_view text);
 /// U+007F in `text`; npos when there is none.
 size_t FirstControlCharacter(std::string_view text);
 
-/// `text` for a message: control characters written as \n, \t, \r, \0 or \xNN (U+007F as \x7F),
+/// `text` with each byte that is not part of well-formed UTF-8 replaced by U+FFFD, as report.json
+/// writes it: a path that is not UTF-8 (legal on Linux) in a text output (report.html, the
+/// static transforms) leaves the output valid UTF-8.
+std::string AsUtf8(std::string_view text);
+
+/// `text` for a message: control characters written as \n, \t, \r, \0 or \xNN (U+007F as \x7F;
+/// C1 controls and U+2028, U+2029 as \uNNNN),
 /// so that a name never breaks the message's line (issue 15), and a backslash as \\ so that the
 /// name's own backslashes never read as one of those escapes.
 std::string Escaped(std::string_view text);
 
-/// "" when `name` (a name, id or path read from an input file) has no control character; else
-/// "has a control character (U+000A) — use printable characters". Every reader checks its names
+/// "" when `name` (a name, id or path read from an input file) has no control character (C0,
+/// U+007F, C1) and no line or paragraph separator (U+2028, U+2029); else "has a control character
+/// (U+000A) — use printable characters". Every reader checks its names
 /// with it where they enter, as it checks UTF-8 (issue 15: a name with a newline broke
 /// candidates.csv and the exported XML). Messages show the name through Escaped().
 std::string NameProblem(std::string_view name);
