@@ -138,6 +138,58 @@ TEST(Scene, CylinderUsesTheFewestSegmentsThatMeetTheBound) {
   EXPECT_EQ(rim, 23);
 }
 
+// SDF's <capsule> (session 10's sweep: it was skipped, so the occluder was missing): every vertex
+// at the radius from the axis segment, the area between the capsules of radius r − e and r, and
+// each facet's centre no deeper than the chord error bound.
+TEST(Scene, CapsuleOnItsSurfaceWithinTheChordErrorBound) {
+  const double r = 0.05, l = 0.2, e = 0.0005;
+  const TriangleMesh capsule = MakeCapsule(r, l, e);
+  const auto depth = [&](const Vec3& p) {  // distance from the axis segment, minus r
+    return r - (p - Vec3(0, 0, std::clamp(p.z(), -l / 2, l / 2))).norm();
+  };
+  for (const Vec3& v : capsule.vertices) EXPECT_NEAR(depth(v), 0.0, 1e-12) << v.transpose();
+  for (const auto& t : capsule.triangles) {
+    const Vec3 centre = (capsule.vertices[t[0]] + capsule.vertices[t[1]] +
+                         capsule.vertices[t[2]]) / 3;
+    EXPECT_LT(depth(centre), e);
+    EXPECT_GE(depth(centre), 0.0);
+  }
+  const auto area = [&](double radius) { return 2 * kPi * radius * l + 4 * kPi * radius * radius; };
+  EXPECT_LT(capsule.Area(), area(r));
+  EXPECT_GT(capsule.Area(), area(r - e));
+  const Aabb b = capsule.Bounds();
+  EXPECT_NEAR(b.max.z(), l / 2 + r, 1e-12);
+  EXPECT_NEAR(b.min.z(), -l / 2 - r, 1e-12);
+  ExpectOutwardNormals(capsule);
+  ExpectClosed(capsule);
+  EXPECT_THROW(MakeCapsule(r, 0.0, e), InputError);
+}
+
+// SDF's <ellipsoid>: every vertex on x²/a² + y²/b² + z²/c² = 1, each facet's centre within the
+// bound of the surface point on its ray from the centre.
+TEST(Scene, EllipsoidOnItsSurfaceWithinTheChordErrorBound) {
+  const Vec3 radii(0.05, 0.12, 0.3);
+  const double e = 0.0005;
+  const TriangleMesh ellipsoid = MakeEllipsoid(radii, e);
+  const auto level = [&](const Vec3& p) { return p.cwiseQuotient(radii).squaredNorm(); };
+  for (const Vec3& v : ellipsoid.vertices) EXPECT_NEAR(level(v), 1.0, 1e-12);
+  for (const auto& t : ellipsoid.triangles) {
+    const Vec3 centre = (ellipsoid.vertices[t[0]] + ellipsoid.vertices[t[1]] +
+                         ellipsoid.vertices[t[2]]) / 3;
+    const Vec3 surface = centre / std::sqrt(level(centre));
+    EXPECT_LT((surface - centre).norm(), e);
+  }
+  const Aabb b = ellipsoid.Bounds();
+  for (int axis = 0; axis < 3; ++axis) {
+    EXPECT_LE(b.max[axis], radii[axis] + 1e-12);
+    EXPECT_GT(b.max[axis], radii[axis] - e);
+  }
+  EXPECT_NEAR(b.max.z(), radii.z(), 1e-12);  // the pole
+  ExpectOutwardNormals(ellipsoid);
+  ExpectClosed(ellipsoid);
+  EXPECT_THROW(MakeEllipsoid(Vec3(0.1, -1, 0.1), e), InputError);
+}
+
 TEST(Scene, PlaneFacesUp) {
   const TriangleMesh plane = MakePlane(2.0, 3.0);
   EXPECT_EQ(plane.triangles.size(), 2u);

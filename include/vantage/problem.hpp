@@ -65,6 +65,8 @@ struct Problem {
   SelectionSettings selection;
   std::optional<int> expected_candidates;  ///< numberOfSamplingSensors: a check
   std::vector<std::string> notes;          ///< non-fatal remarks made while loading
+  /// Those of `notes` that change the result (an occluder left out): logged as warnings.
+  std::vector<std::string> warnings;
   /// States of a changing scene (`states:`; docs/scene-format.md, States), in file order; empty
   /// when the scene does not change. Each applies to `scene` through ApplyState.
   std::vector<SceneState> states;

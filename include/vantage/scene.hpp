@@ -78,6 +78,12 @@ TriangleMesh MakeBox(const Vec3& size);
 /// Sphere of `radius` at the origin, tessellated so that the chord error is below
 /// `max_chord_error` (UV sphere).
 TriangleMesh MakeSphere(double radius, double max_chord_error);
+/// Capsule along z, centred at the origin: a cylinder of `length` between two hemispheres of
+/// `radius` (SDF's <capsule>), chord error below the bound.
+TriangleMesh MakeCapsule(double radius, double length, double max_chord_error);
+/// Ellipsoid of semi-axes `radii` along x, y, z at the origin (SDF's <ellipsoid>), chord error
+/// below the bound.
+TriangleMesh MakeEllipsoid(const Vec3& radii, double max_chord_error);
 /// Closed cylinder along z, centred at the origin (caps included), chord error below the bound.
 TriangleMesh MakeCylinder(double radius, double length, double max_chord_error);
 /// Rectangle in the z = 0 plane, centred at the origin, normal +z (two triangles).

@@ -109,7 +109,11 @@ Problem LoadScene(const SceneInput& input) {
   if (input.seed) problem.seed = *input.seed;
   if (input.observation_point) problem.observation_point = *input.observation_point;
   if (input.random_roll) problem.random_roll = *input.random_roll;
-  for (const std::string& note : problem.notes) spdlog::info("{}", note);
+  for (const std::string& note : problem.notes) {
+    const bool warning = std::find(problem.warnings.begin(), problem.warnings.end(), note) !=
+                         problem.warnings.end();
+    spdlog::log(warning ? spdlog::level::warn : spdlog::level::info, "{}", note);
+  }
   spdlog::info("scene {}: {} objects, {} targets, {} triangles", problem.source,
                problem.scene.objects.size(), problem.scene.TargetCount(),
                problem.scene.TriangleCount());

@@ -284,16 +284,22 @@ TriangleMesh MakeBox(const Vec3& size) {
   return mesh;
 }
 
-TriangleMesh MakeSphere(double radius, double max_chord_error) {
-  CheckPositive(radius, "radius", "sphere");
+namespace {
+
+// MakeSphere's UV sphere; `odd_rings`: no ring on the equator (MakeCapsule cuts it there).
+TriangleMesh UvSphere(double radius, double max_chord_error, bool odd_rings) {
   // Slices by the chord rule on the equator, rings by the same rule on a meridian (half a
   // circle); then refine both until the facets' deviation, not only the edges', is below the
   // bound (a quad's centre lies deeper than its edges).
+  const auto rings_for = [odd_rings](int slices) {
+    const int rings = std::max(2, (slices + 1) / 2);
+    return odd_rings && rings % 2 == 0 ? rings + 1 : rings;  // more rings: a smaller deviation
+  };
   int slices = SegmentsFor(radius, max_chord_error, "sphere");
-  int rings = std::max(2, (slices + 1) / 2);
+  int rings = rings_for(slices);
   while (UvSphereDeviation(radius, rings, slices) >= max_chord_error) {
     slices += std::max(1, slices / 8);
-    rings = std::max(2, (slices + 1) / 2);
+    rings = rings_for(slices);
     if (slices > kMaxSegments) {
       throw InputError(
           fmt::format("sphere of radius {:g} m needs more than {} segments for a chord "
@@ -331,6 +337,37 @@ TriangleMesh MakeSphere(double radius, double max_chord_error) {
     }
     mesh.triangles.push_back({south, at(rings - 1, slice + 1), at(rings - 1, slice)});
   }
+  return mesh;
+}
+
+}  // namespace
+
+TriangleMesh MakeSphere(double radius, double max_chord_error) {
+  CheckPositive(radius, "radius", "sphere");
+  return UvSphere(radius, max_chord_error, false);
+}
+
+TriangleMesh MakeCapsule(double radius, double length, double max_chord_error) {
+  CheckPositive(radius, "radius", "capsule");
+  CheckPositive(length, "length", "capsule");
+  // A sphere with an odd number of rings has none on its equator: moving its halves apart by
+  // `length` stretches the band of quads across the equator into the side wall. A wall facet has
+  // the corners' radius and the centre's depth of that band's quads on the sphere, so it deviates
+  // from the cylinder exactly as they did from the sphere: below the bound.
+  TriangleMesh mesh = UvSphere(radius, max_chord_error, true);
+  for (Vec3& v : mesh.vertices) v.z() += v.z() > 0 ? length / 2 : -length / 2;
+  return mesh;
+}
+
+TriangleMesh MakeEllipsoid(const Vec3& radii, double max_chord_error) {
+  CheckPositive(radii.x(), "radius x", "ellipsoid");
+  CheckPositive(radii.y(), "radius y", "ellipsoid");
+  CheckPositive(radii.z(), "radius z", "ellipsoid");
+  // The sphere of the largest radius squeezed along the other axes: the squeeze moves no two
+  // points apart, so a facet lies as close to the ellipsoid as it lay to the sphere.
+  const double largest = radii.maxCoeff();
+  TriangleMesh mesh = UvSphere(largest, max_chord_error, false);
+  for (Vec3& v : mesh.vertices) v = v.cwiseProduct(radii / largest);
   return mesh;
 }
 

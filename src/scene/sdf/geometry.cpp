@@ -1,6 +1,7 @@
 // The geometry of a visual: <box>, <cylinder>, <sphere> and <plane> built as meshes (primitives
 // tessellated with a chord error below F / 10, SYSTEM.md), <mesh> files loaded once each and
-// scaled; other shapes are skipped with a note (GAZEBO.md, "Poses and geometry").
+// scaled; capsules and ellipsoids tessellated too; a target of another shape is an error, an
+// occluder of one is left out with a warning (GAZEBO.md, "Poses and geometry").
 #include <fmt/format.h>
 
 #include <memory>
@@ -44,7 +45,7 @@ const TriangleMesh* Loader::LoadMesh(const std::string& path, const Doc& doc, in
   return result;
 }
 
-std::optional<TriangleMesh> Loader::GeometryOf(const VisualRecord& visual) {
+std::optional<TriangleMesh> Loader::GeometryOf(const VisualRecord& visual, bool is_target) {
   if (!visual.element) return MakePlane(kGroundPlaneSize, kGroundPlaneSize);
   const Doc& doc = *visual.doc;
   const XmlElement* geometry = visual.element->Child("geometry");
@@ -87,6 +88,28 @@ std::optional<TriangleMesh> Loader::GeometryOf(const VisualRecord& visual) {
     const auto l = PositiveNumber(doc, *length, "1");
     if (!r || !l) return std::nullopt;
     return MakeCylinder(*r, *l, chord);
+  }
+  if (shape.name == "capsule") {
+    const XmlElement* radius = shape.Child("radius");
+    const XmlElement* length = shape.Child("length");
+    if (!radius || !length) {
+      Error(doc, shape.line, "<capsule> needs <radius> and <length>");
+      return std::nullopt;
+    }
+    const auto r = PositiveNumber(doc, *radius, "0.5");
+    const auto l = PositiveNumber(doc, *length, "1");
+    if (!r || !l) return std::nullopt;
+    return MakeCapsule(*r, *l, chord);
+  }
+  if (shape.name == "ellipsoid") {
+    const XmlElement* radii = shape.Child("radii");
+    if (!radii) {
+      Error(doc, shape.line, "<ellipsoid> has no <radii> — add <radii>rx ry rz</radii>");
+      return std::nullopt;
+    }
+    const auto v = Vector(doc, *radii, true, "0.5 0.3 0.2");
+    if (!v) return std::nullopt;
+    return MakeEllipsoid(*v, chord);
   }
   if (shape.name == "plane") {
     Vec3 normal = Vec3::UnitZ();
@@ -152,8 +175,23 @@ std::optional<TriangleMesh> Loader::GeometryOf(const VisualRecord& visual) {
     }
   }
   if (shape.name == "empty") return TriangleMesh{};
-  Note(AtPlace(doc.xml.path, shape.line,
-               fmt::format("{}: <{}> geometry is not supported: skipped", what, shape.name)));
+  // <polyline>, <heightmap>: a target without its surface has no coverage to measure; an
+  // occluder left out makes the coverage too high, which the report says in its notes and the
+  // log as a warning (it was an [info] line).
+  if (is_target) {
+    Error(doc, shape.line,
+          fmt::format("{} is a target, but its <{}> geometry is not supported — give it as a "
+                      "<mesh>, or a <box>, <cylinder>, <sphere>, <capsule> or <ellipsoid>",
+                      what, shape.name));
+    return std::nullopt;
+  }
+  const std::string note = AtPlace(
+      doc.xml.path, shape.line,
+      fmt::format("{}: <{}> geometry is not supported: this occluder is left out, so the "
+                  "coverage is what the cameras would see without it — give it as a <mesh>",
+                  what, shape.name));
+  if (!notes_seen_.contains(note)) problem_.warnings.push_back(note);
+  Note(note);
   return TriangleMesh{};
 }
 

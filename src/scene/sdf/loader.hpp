@@ -216,7 +216,7 @@ class Loader {
         missing_materials_.end())
       missing_materials_.push_back(message);
   }
-  std::optional<TriangleMesh> GeometryOf(const VisualRecord& visual);
+  std::optional<TriangleMesh> GeometryOf(const VisualRecord& visual, bool is_target);
   const TriangleMesh* LoadMesh(const std::string& path, const Doc& doc, int line);
   void BuildScene(std::vector<GazeboVisual>* visuals_out);
 

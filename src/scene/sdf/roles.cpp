@@ -156,7 +156,7 @@ void Loader::BuildScene(std::vector<GazeboVisual>* visuals_out) {
   std::map<std::pair<std::string, Role>, size_t> group_index;
   for (size_t i = 0; i < visuals_.size(); ++i) {
     const VisualRecord& visual = visuals_[i];
-    std::optional<TriangleMesh> mesh = GeometryOf(visual);
+    std::optional<TriangleMesh> mesh = GeometryOf(visual, is_target[i]);
     if (visuals_out) {
       visuals_out->push_back(GazeboVisual{
           visual.model, visual.link, visual.name, visual.world_from_visual, is_target[i],
