@@ -1648,7 +1648,16 @@ TEST_F(BadInput, OutputPlacesCheckedBeforeAnyRay) {
             "exists and is not a folder"},
            {"select " + file + " --out " + file, "exists and is not a folder"},
            {"observe " + scene + " --out " + folder, "is a folder — give the path of a file"},
-           {"render " + real + " --png " + folder, "is a folder — give the path of a file"}}) {
+           {"render " + real + " --png " + folder, "is a folder — give the path of a file"},
+           // Session 10's sweep: a parent that is a file, or a missing folder for a file, was
+           // found only at the write (after the rays), naming the temporary.
+           {"observe " + scene + " --out " + file + "/x.vis",
+            "x.vis: '" + file + "' is a file, not a folder"},
+           {"observe " + scene + " --out " + dir_.File("nodir/sub/x.vis"),
+            "its folder '" + dir_.File("nodir/sub") + "' does not exist — create it first"},
+           {"render " + real + " --png " + file + "/v.png", "is a file, not a folder"},
+           {"optimize " + scene + " --out " + file + "/deeper/run",
+            "run: '" + file + "' is a file, not a folder"}}) {
     SCOPED_TRACE(c.args);
     const auto run = RunVantage(c.args);
     EXPECT_EQ(run.exit_code, 2) << run.err;

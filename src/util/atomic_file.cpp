@@ -133,6 +133,25 @@ class FolderLock {
   int fd_;
 };
 
+// The folder an output goes into, checked before any work (session 10's sweep: a parent that is
+// a file, or missing, was found only at the write, after the ray casting, and the message named
+// the temporary). `may_create`: the missing folders are made at the write (--out folders).
+void CheckParentFolder(const std::string& path, bool may_create) {
+  fs::path folder = fs::absolute(fs::path(path)).lexically_normal().parent_path();
+  std::error_code ec;
+  fs::path existing = folder;
+  while (!fs::exists(existing, ec) && existing.has_relative_path()) existing = existing.parent_path();
+  if (!fs::is_directory(existing, ec))
+    throw InputError(fmt::format("{}: '{}' is a file, not a folder — choose another path", path,
+                                 existing.string()));
+  if (existing != folder && !may_create)
+    throw InputError(fmt::format("{}: its folder '{}' does not exist — create it first", path,
+                                 folder.string()));
+  if (::access(existing.c_str(), W_OK | X_OK) != 0)
+    throw InputError(fmt::format("{}: the folder '{}' is not writable ({}) — choose another path",
+                                 path, existing.string(), std::generic_category().message(errno)));
+}
+
 void WriteFile(const fs::path& path, const std::string& content) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(content.data(), static_cast<std::streamsize>(content.size()));
@@ -163,6 +182,7 @@ void CheckOutputFile(const std::string& path) {
         path));
   if (fs::is_directory(target, status_error))
     throw InputError(fmt::format("{}: is a folder — give the path of a file", path));
+  CheckParentFolder(path, false);
 }
 
 void WriteFileAtomically(const std::string& path, const std::string& content) {
@@ -201,6 +221,7 @@ void WriteFileAtomically(const std::string& path, const std::string& content) {
 std::filesystem::path CheckOutputFolder(const std::string& dir) {
   fs::path target = fs::absolute(fs::path(dir)).lexically_normal();
   if (target.filename().empty()) target = target.parent_path();
+  CheckParentFolder(target.string(), true);
   std::error_code ec;
   // A link to a folder stays a link: the folder it names is the one replaced (session 9: the
   // link was replaced by a real folder, and the folder it named kept the old outputs).
@@ -233,7 +254,7 @@ void WriteFolderAtomically(const std::string& dir, const std::map<std::string, s
   const InterruptGuard guard;
   fs::remove_all(temp, ec);
   fs::create_directories(temp, ec);
-  if (ec) throw InputError(fmt::format("{}: cannot create ({}) — check the path", temp.string(), ec.message()));
+  if (ec) throw InputError(fmt::format("{}: cannot create ({}) — check the path", dir, ec.message()));
   try {
     for (const auto& [name, content] : files) {
       if (InterruptGuard::Interrupted()) break;
