@@ -853,6 +853,9 @@ TEST_F(BadInput, CommandLineOptions) {
        "did you mean '--threads'?"},
       {"misspelt_command", "optimise " + scene, "unknown command 'optimise'",
        "did you mean 'optimize'?"},
+      // Session 10's sweep: `help optimise` printed the general help and exited 0.
+      {"misspelt_help_topic", "help optimise", "unknown command 'optimise'",
+       "did you mean 'optimize'?"},
       {"extra_positional", "optimize " + scene + " " + scene, "unexpected argument",
        "`vantage help optimize` shows what it takes"},
       {"observation_point_beyond_range", "optimize " + scene + " --observation-point 1e300 0 0",

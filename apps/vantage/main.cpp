@@ -172,8 +172,15 @@ int Run(int argc, char** argv, spdlog::logger* logger, const vantage::MpiJob* jo
 
   // `vantage help X` becomes `X --help` (CLI11 has no help command).
   std::vector<std::string> args(argv + 1, argv + argc);
-  if (!args.empty() && args[0] == "help") args = args.size() >= 2 ? std::vector<std::string>{args[1], "--help"}
-                                                                 : std::vector<std::string>{"--help"};
+  // An unknown X is parsed alone, so that it is refused as a command with its suggestion (was:
+  // the general help, exit 0).
+  if (!args.empty() && args[0] == "help") {
+    const bool known = args.size() >= 2 &&
+                       std::find(commands.begin(), commands.end(), args[1]) != commands.end();
+    args = args.size() < 2 ? std::vector<std::string>{"--help"}
+           : known         ? std::vector<std::string>{args[1], "--help"}
+                           : std::vector<std::string>{args[1]};
+  }
   std::reverse(args.begin(), args.end());
   try {
     app.parse(args);
