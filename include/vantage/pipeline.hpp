@@ -16,6 +16,7 @@
 
 #include "vantage/candidates.hpp"
 #include "vantage/observe.hpp"
+#include "vantage/output_guard.hpp"
 #include "vantage/problem.hpp"
 #include "vantage/ray_scene.hpp"
 #include "vantage/reference.hpp"
@@ -29,25 +30,6 @@
 #include "vantage/visibility_file.hpp"
 
 namespace vantage {
-
-namespace detail {
-class PlannedOutputs;
-}
-
-/// While one lives, a reader about to open one of `outputs` ((option, path), e.g. ("--out",
-/// "scene.vis")) as an input — the scene, a mesh, a URDF, a material script, a report — refuses it
-/// with an InputError naming the option, before any ray is cast (issue 15: `render --png
-/// run/report.json` and `observe --out mesh.ply` replaced that input with the output).
-class OutputGuard {
- public:
-  explicit OutputGuard(std::vector<std::pair<std::string, std::string>> outputs);
-  ~OutputGuard();
-  OutputGuard(const OutputGuard&) = delete;
-  OutputGuard& operator=(const OutputGuard&) = delete;
-
- private:
-  std::unique_ptr<detail::PlannedOutputs> planned_;
-};
 
 /// The scene of a run and what overrides its own settings (unset: the scene's).
 struct SceneInput {

@@ -4,7 +4,6 @@
 
 #include "pipeline/common.hpp"
 #include "util/atomic_file.hpp"
-#include "util/run_files.hpp"
 #include "vantage/error.hpp"
 #include "vantage/gazebo_export.hpp"
 #include "vantage/visualize.hpp"
@@ -99,11 +98,6 @@ void FinishRun(const Scene& scene, std::map<std::string, std::string> extra, Run
 void CheckRunFolder(const std::string& out_dir) { detail::CheckOutputFolder(out_dir); }
 
 void CheckOutputFile(const std::string& path) { detail::CheckOutputFile(path); }
-
-OutputGuard::OutputGuard(std::vector<std::pair<std::string, std::string>> outputs)
-    : planned_(std::make_unique<detail::PlannedOutputs>(std::move(outputs))) {}
-
-OutputGuard::~OutputGuard() = default;
 
 void WriteRun(const std::string& out_dir, const RunResult& result) {
   VANTAGE_CHECK(!result.files.empty());

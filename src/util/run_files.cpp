@@ -7,29 +7,32 @@
 #include <mutex>
 
 #include "vantage/error.hpp"
+#include "vantage/output_guard.hpp"
 
-namespace vantage::detail {
+namespace vantage {
 namespace {
 
 std::mutex planned_mutex;
-// Every live PlannedOutputs' entries (a Python session may run two commands at once).
+// Every live OutputGuard's entries (a Python session may run two commands at once).
 std::vector<std::pair<std::string, std::string>> planned;
 
 }  // namespace
 
-PlannedOutputs::PlannedOutputs(std::vector<std::pair<std::string, std::string>> outputs)
+OutputGuard::OutputGuard(std::vector<std::pair<std::string, std::string>> outputs)
     : outputs_(std::move(outputs)) {
   const std::lock_guard<std::mutex> lock(planned_mutex);
   planned.insert(planned.end(), outputs_.begin(), outputs_.end());
 }
 
-PlannedOutputs::~PlannedOutputs() {
+OutputGuard::~OutputGuard() {
   const std::lock_guard<std::mutex> lock(planned_mutex);
   for (const auto& output : outputs_) {
     const auto it = std::find(planned.begin(), planned.end(), output);
     if (it != planned.end()) planned.erase(it);
   }
 }
+
+namespace detail {
 
 void NoteInputFile(const std::string& path, std::string_view kind) {
   const std::lock_guard<std::mutex> lock(planned_mutex);
@@ -43,4 +46,5 @@ void NoteInputFile(const std::string& path, std::string_view kind) {
   }
 }
 
-}  // namespace vantage::detail
+}  // namespace detail
+}  // namespace vantage

@@ -61,55 +61,36 @@ std::optional<TriangleMesh> Loader::GeometryOf(const VisualRecord& visual, bool 
   const XmlElement& shape = geometry->children.front();
   // SDF's chord error rule for primitives (SYSTEM.md): below F / 10.
   const double chord = problem_.cell_size / 10.0;
-  if (shape.name == "box") {
-    const XmlElement* size = shape.Child("size");
+  if (shape.name == "box" || shape.name == "ellipsoid") {  // three positive numbers
+    const bool box = shape.name == "box";
+    const XmlElement* size = shape.Child(box ? "size" : "radii");
     if (!size) {
-      Error(doc, shape.line, "<box> has no <size> — add <size>sx sy sz</size>");
+      Error(doc, shape.line,
+            box ? "<box> has no <size> — add <size>sx sy sz</size>"
+                : "<ellipsoid> has no <radii> — add <radii>rx ry rz</radii>");
       return std::nullopt;
     }
-    const auto v = Vector(doc, *size, true, "1 1 1");
+    const auto v = Vector(doc, *size, true, box ? "1 1 1" : "0.5 0.3 0.2");
     if (!v) return std::nullopt;
-    return MakeBox(*v);
+    return box ? MakeBox(*v) : MakeEllipsoid(*v, chord);
   }
-  if (shape.name == "cylinder" || shape.name == "sphere") {
+  if (shape.name == "cylinder" || shape.name == "sphere" || shape.name == "capsule") {
+    const bool has_length = shape.name != "sphere";
     const XmlElement* radius = shape.Child("radius");
     const XmlElement* length = shape.Child("length");
-    if (!radius || (shape.name == "cylinder" && !length)) {
+    if (!radius || (has_length && !length)) {
       Error(doc, shape.line,
-            fmt::format("<{}> needs <radius>{}", shape.name,
-                        shape.name == "cylinder" ? " and <length>" : ""));
+            fmt::format("<{}> needs <radius>{}", shape.name, has_length ? " and <length>" : ""));
       return std::nullopt;
     }
     const auto r = PositiveNumber(doc, *radius, "0.5");
-    if (shape.name == "sphere") {
+    if (!has_length) {
       if (!r) return std::nullopt;
       return MakeSphere(*r, chord);
     }
     const auto l = PositiveNumber(doc, *length, "1");
     if (!r || !l) return std::nullopt;
-    return MakeCylinder(*r, *l, chord);
-  }
-  if (shape.name == "capsule") {
-    const XmlElement* radius = shape.Child("radius");
-    const XmlElement* length = shape.Child("length");
-    if (!radius || !length) {
-      Error(doc, shape.line, "<capsule> needs <radius> and <length>");
-      return std::nullopt;
-    }
-    const auto r = PositiveNumber(doc, *radius, "0.5");
-    const auto l = PositiveNumber(doc, *length, "1");
-    if (!r || !l) return std::nullopt;
-    return MakeCapsule(*r, *l, chord);
-  }
-  if (shape.name == "ellipsoid") {
-    const XmlElement* radii = shape.Child("radii");
-    if (!radii) {
-      Error(doc, shape.line, "<ellipsoid> has no <radii> — add <radii>rx ry rz</radii>");
-      return std::nullopt;
-    }
-    const auto v = Vector(doc, *radii, true, "0.5 0.3 0.2");
-    if (!v) return std::nullopt;
-    return MakeEllipsoid(*v, chord);
+    return shape.name == "cylinder" ? MakeCylinder(*r, *l, chord) : MakeCapsule(*r, *l, chord);
   }
   if (shape.name == "plane") {
     Vec3 normal = Vec3::UnitZ();
