@@ -314,13 +314,6 @@ std::string ShownMethod(const std::string& report_path) {
              : "given";
 }
 
-// view.png beside the run's report.json, whether the run was given as its folder or that file
-// (was: RUN/report.json/view.png, a write that failed).
-std::string DefaultPng(const std::string& run) {
-  const fs::path folder = fs::is_directory(run) ? fs::path(run) : fs::path(run).parent_path();
-  return (folder / "view.png").string();
-}
-
 }  // namespace
 
 RenderRunResult RenderRun(const RenderRunOptions& options) {
@@ -329,7 +322,11 @@ RenderRunResult RenderRun(const RenderRunOptions& options) {
   const std::string report_path = fs::is_directory(options.run)
                                       ? (fs::path(options.run) / "report.json").string()
                                       : options.run;
-  const std::string png = options.png.empty() ? DefaultPng(options.run) : options.png;
+  // By default view.png beside report.json, whether the run was given as its folder or as that
+  // file (was: RUN/report.json/view.png, a write that failed).
+  const std::string png = options.png.empty()
+                              ? (fs::path(report_path).parent_path() / "view.png").string()
+                              : options.png;
   const OutputGuard guard({{options.png.empty() ? "render" : "--png", png}});
   std::error_code error;
   if (!fs::is_regular_file(report_path, error))
