@@ -1477,6 +1477,72 @@ TEST_F(BadInput, EmptyAndNonDecimalValues) {
   fs::remove_all(dir_.File("big_seed_out"));
 }
 
+// Issue 15, session 10's sweep, the words of a refusal and options taken without effect: a whole
+// number out of range said "not a whole number" (-n 2147483648) or named another limit than the
+// field's (a count of 2^64 "at most 18446744073709551615", a count takes at most 10^6);
+// --max-memory 1e-9 said "0 MiB above the 0 MiB limit"; --max-depth-noise 0x1p-1074 (positive,
+// 0 in metres) was refused as "0"; --refine-rounds without --refine and a --model-path or
+// --resource-path that is not a folder were accepted and did nothing.
+TEST_F(BadInput, RangesNamedAndOptionsWithoutEffectRefused) {
+  const std::string scene = CubeCell();
+  // nlohmann's parse error quotes the bytes last read: they were echoed raw, not UTF-8.
+  const std::string not_utf8 = Write("not_utf8.json", "{\"candidates\": \"\xff\xfe\"}");
+  ExpectRejected({
+      {"constellation_not_utf8", "evaluate " + scene + " -c " + not_utf8, not_utf8 + ":1:",
+       "ill-formed UTF-8 byte", "\xff"},
+      {"n_beyond_32_bits", "optimize " + scene + " -n 2147483648", "--sensors:",
+       "'2147483648' is too large — give at most 2147483647"},
+      {"n_below_32_bits", "optimize " + scene + " -n -2147483649", "--sensors:",
+       "'-2147483649' is too small — give at least -2147483648"},
+      {"n_beyond_64_bits", "optimize " + scene + " -n 99999999999999999999", "--sensors:",
+       "is too large for a whole number of 64 bits"},
+      Yaml("yaml_count_beyond_64_bits", "count: 10", "count: 18446744073709551616", 34,
+           "population 'ring'.count = 18446744073709551616 is too large — give a value from 1 to "
+           "1000000"),
+      Yaml("yaml_n_below_64_bits", "n: 2", "n: -9223372036854775809", 5,
+           "settings.n = -9223372036854775809 is too small — give a value from 1 to 2147483647"),
+      {"max_memory_tiny", "optimize " + scene + " --max-memory 1e-9", scene + ":",
+       "above the 1e-09 MiB limit"},
+      {"depth_noise_zero_in_metres", "optimize " + scene + " --max-depth-noise 0x1p-1074",
+       "--max-depth-noise", "is too small to hold in metres"},
+      {"refine_rounds_alone", "optimize " + scene + " --refine-rounds 3", "--refine-rounds:",
+       "only --refine runs rounds"},
+      {"model_path_missing", "optimize " + scene + " --model-path " + dir_.File("nowhere"),
+       "--model-path:", "'" + dir_.File("nowhere") + "' is not a folder"},
+      {"resource_path_a_file", "optimize " + scene + " --resource-path " + scene,
+       "--resource-path:", "'" + scene + "' is not a folder"},
+  });
+}
+
+// Session 10's sweep: CLI11 took `-n ' 2'` and refused `-n '2 '`. Spaces around a number are
+// dropped on both sides: the values are taken (the scene says n 2 and a 0.01 m cell).
+TEST_F(BadInput, SpacesAroundANumberAreDropped) {
+  const std::string run_dir = dir_.File("spaced_n");
+  const auto run = RunVantage("optimize " + CubeCell() + " -n '1 ' --cell-size ' 0.02 ' --out " +
+                              run_dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json report = json::parse(ReadText(run_dir + "/report.json"));
+  ASSERT_FALSE(report["results"].empty());
+  for (const json& result : report["results"]) EXPECT_EQ(result["n"].get<int>(), 1);
+  EXPECT_DOUBLE_EQ(report["cell_size"].get<double>(), 0.02);
+  fs::remove_all(run_dir);
+}
+
+// Session 10's sweep: the summary printed the scene's path and --out as they were, so a path with
+// a newline (legal on Linux) broke the summary's lines. Both are shown as messages show names.
+TEST_F(BadInput, SummaryShowsAPathOnOneLine) {
+  const std::string scene = dir_.File("cube\ncell.yaml");
+  test::WriteText(scene, ReadText(CubeCell()));
+  const std::string run_dir = dir_.File("out\nrun");
+  const auto run = RunVantage("optimize '" + scene + "' --out '" + run_dir + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("cube\\ncell.yaml\n"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("out\\nrun/\n"), std::string::npos) << run.out;
+  EXPECT_EQ(run.out.find("cube\ncell"), std::string::npos) << run.out;
+  EXPECT_TRUE(fs::exists(run_dir + "/report.json"));
+  fs::remove_all(run_dir);
+}
+
 // Issue 15, session 8's sweep: `observe --out` renamed its file over a device or a FIFO (as
 // root, `--out /dev/null` replaced the machine's /dev/null), over its own scene, and
 // `render --png` wrote straight onto the path (a full disk's error lost, the old picture gone).

@@ -227,6 +227,26 @@ TEST(Robot, UnknownJointAndOutOfLimitPositionNameTheJointAtItsLine) {
             std::string::npos);
 }
 
+// Session 10's sweep: a <limit> with lower above upper blamed the position ("2 is outside its
+// limits [1.6, -1.6]"), which no position could meet. The limits are named, at the joint's line.
+TEST(Robot, ReversedLimitsAreNamedNotThePosition) {
+  test::TempDir dir;
+  std::string urdf = test::ReadText(test::DataPath("urdf/arm3.urdf"));
+  const std::string limit = R"(<limit lower="-1.6" upper="1.6")";
+  ASSERT_NE(urdf.find(limit), std::string::npos);
+  urdf.replace(urdf.find(limit), limit.size(), R"(<limit lower="1.6" upper="-1.6")");
+  const std::string path = dir.File("reversed.urdf");
+  test::WriteText(path, urdf);
+  const std::string error = LoadError(ArmScene(path, "      j2: 0.5"));
+  EXPECT_NE(error.find("scene.yaml:7: robot 'arm'.joints: joint 'j2' of robot 'arm3': its <limit> "
+                       "has lower 1.6 above upper -1.6 (" + path + ":"),
+            std::string::npos)
+      << error;
+  EXPECT_EQ(error.find("outside its limits"), std::string::npos) << error;
+  // Unset, j2 keeps its default position and the file loads.
+  EXPECT_EQ(LoadError(ArmScene(path, "      j1: 0.5")), "no error");
+}
+
 TEST(Robot, LinkMountErrorsAndNoSecondErrorForARejectedRobot) {
   const std::string arm = test::DataPath("urdf/arm3.urdf");
   const std::string mounted =

@@ -163,6 +163,14 @@ TEST(Scene, CapsuleOnItsSurfaceWithinTheChordErrorBound) {
   ExpectOutwardNormals(capsule);
   ExpectClosed(capsule);
   EXPECT_THROW(MakeCapsule(r, 0.0, e), InputError);
+  // The tessellation's limit names the capsule (was "sphere", the shape it is made from).
+  try {
+    MakeCapsule(1000.0, 1.0, 1e-9);
+    ADD_FAILURE() << "a capsule of 2·10¹² chords was made";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()).rfind("capsule of radius 1000 m needs more than", 0), 0u)
+        << error.what();
+  }
 }
 
 // SDF's <ellipsoid>: every vertex on x²/a² + y²/b² + z²/c² = 1, each facet's centre within the
@@ -188,6 +196,13 @@ TEST(Scene, EllipsoidOnItsSurfaceWithinTheChordErrorBound) {
   ExpectOutwardNormals(ellipsoid);
   ExpectClosed(ellipsoid);
   EXPECT_THROW(MakeEllipsoid(Vec3(0.1, -1, 0.1), e), InputError);
+  try {
+    MakeEllipsoid(Vec3(1000.0, 1.0, 1.0), 1e-9);
+    ADD_FAILURE() << "an ellipsoid of 2·10¹² chords was made";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()).rfind("ellipsoid of radius 1000 m needs more than", 0), 0u)
+        << error.what();
+  }
 }
 
 TEST(Scene, PlaneFacesUp) {

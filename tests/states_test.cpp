@@ -573,10 +573,21 @@ TEST(SelectOverStates, GreedyAndLocalNeverBelowBestAndDeterministic) {
         ExpectExactAgainst(e, BruteForceAggregate(states, static_cast<size_t>(e.n), over));
         EXPECT_GE(e.coverage + 1e-12, results[i + 2].selection.coverage);
       }
-      // Deterministic: a second run chooses the same sensors in the same order.
+      // Deterministic: a second run chooses the same sensors in the same order. Exact runs in a
+      // share of wall-clock time, so on a starved machine one run may stop before the other
+      // (seen once under 4 processes on 2 cores): its answers are compared when both proved
+      // their optimum, and each is held to the enumeration above either way.
       const auto again = SelectOverStates(views, over, Options(Method::kAll, 4));
       for (size_t i = 0; i < results.size(); ++i) {
-        EXPECT_EQ(again[i].selection.chosen, results[i].selection.chosen);
+        const Selection& first = results[i].selection;
+        const Selection& second = again[i].selection;
+        if (first.method == "exact") {
+          ExpectExactAgainst(second, BruteForceAggregate(states, static_cast<size_t>(second.n), over));
+          if (first.proven_optimal && second.proven_optimal)
+            EXPECT_NEAR(second.coverage, first.coverage, 1e-12);
+          continue;
+        }
+        EXPECT_EQ(second.chosen, first.chosen);
         EXPECT_EQ(again[i].state_coverage, results[i].state_coverage);
       }
     }

@@ -28,7 +28,7 @@ void RunEvaluate(EvaluateFlags flags) {
   if (result.run.report.constraints) PrintConstraints(result.run.report);
   if (flags.out.empty()) return;
   WriteRun(flags.out, result.run);
-  fmt::print("outputs {}/\n", flags.out);
+  fmt::print("outputs {}/\n", ShownOnOneLine(flags.out));
 }
 
 }  // namespace

@@ -20,7 +20,7 @@ void RunMerge(const MergeFlags& flags) {
   SaveVisibilityFile(flags.out, merged);
   fmt::print("merged           {} parts, {} candidates\n", flags.parts.size(),
              merged.candidates.size());
-  fmt::print("visibility       {}\n", flags.out);
+  fmt::print("visibility       {}\n", ShownOnOneLine(flags.out));
 }
 
 }  // namespace

@@ -35,7 +35,7 @@ void RunObserve(ObserveFlags flags) {
     PrintObserved(shard.file);
     fmt::print("shard            {}/{}: {} candidates observed\n", shard.index, shard.count,
                shard.candidates.size());
-    fmt::print("part             {}\n", flags.out);
+    fmt::print("part             {}\n", ShownOnOneLine(flags.out));
     return;
   }
   // Under mpirun every rank traces its share; rank 0 alone writes and prints.
@@ -44,7 +44,7 @@ void RunObserve(ObserveFlags flags) {
   SaveVisibilityFile(flags.out, result->data);
   PrintObserved(result->data);
   fmt::print("observe          {:.3f} s\n", result->timings.observe);
-  fmt::print("visibility       {}\n", flags.out);
+  fmt::print("visibility       {}\n", ShownOnOneLine(flags.out));
 }
 
 }  // namespace

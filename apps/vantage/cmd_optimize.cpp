@@ -45,10 +45,17 @@ void SetupOptimize(CLI::App* parent) {
                 "after selection, search new poses around the chosen sensors (inside their "
                 "regions, outside keep-out boxes), trace only those and re-select while coverage "
                 "improves, under the run's constraints over old and new poses");
-  app->add_option("--refine-rounds", flags->refine_options.max_rounds, "rounds of --refine")
-      ->check(CLI::Range(1, 100))
-      ->capture_default_str();
-  app->callback([flags] { RunOptimize(*flags); });
+  CLI::Option* rounds =
+      app->add_option("--refine-rounds", flags->refine_options.max_rounds, "rounds of --refine")
+          ->check(CLI::Range(1, 100))
+          ->capture_default_str();
+  app->callback([flags, rounds] {
+    // Was accepted and ignored without --refine (issue 15).
+    if (rounds->count() > 0 && !flags->refine)
+      throw InputError("--refine-rounds: only --refine runs rounds — add --refine, or leave "
+                       "--refine-rounds out");
+    RunOptimize(*flags);
+  });
 }
 
 }  // namespace vantage::cli

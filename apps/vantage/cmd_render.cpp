@@ -24,7 +24,7 @@ void RunRender(RenderFlags flags) {
   flags.options.render.draw_frusta = !flags.no_frusta;
   flags.options.render.draw_legend = !flags.no_legend;
   const RenderRunResult result = RenderRun(flags.options);
-  fmt::print("render  {}  {}x{}  {} sensors, coverage {:.2f} %  {:.3f} s\n", result.png,
+  fmt::print("render  {}  {}x{}  {} sensors, coverage {:.2f} %  {:.3f} s\n", ShownOnOneLine(result.png),
              flags.options.render.width, flags.options.render.height, result.sensors,
              100.0 * result.coverage,
              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

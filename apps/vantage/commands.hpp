@@ -11,6 +11,7 @@
 #include "vantage/distribute.hpp"
 #include "vantage/error.hpp"
 #include "vantage/pipeline.hpp"
+#include "vantage/words.hpp"
 
 namespace vantage::cli {
 
@@ -42,8 +43,10 @@ CLI::Validator OutPathValidator();
 
 /// Every option value and argument: not empty (CLI11 read `-n ""` as not given and
 /// `--observation-point "" "" ""` as the origin), and for a whole number, decimal (CLI11 read
-/// `-n 010` as octal 8 and `-n 0x3` as hex). Issue 15.
-CLI::Validator PlainValueValidator(bool whole_number);
+/// `-n 010` as octal 8 and `-n 0x3` as hex). A number's spaces around it are dropped (CLI11 took
+/// `-n ' 2'` and refused `-n '2 '`).
+enum class ValueKind { kText, kNumber, kWholeNumber };
+CLI::Validator PlainValueValidator(ValueKind kind);
 
 /// InputError "--out: PATH is FILE, an input of this run ..." when the output file `out` is one of
 /// `inputs` (issue 15: `observe scene.yaml --out scene.yaml` replaced the scene with the matrix),

@@ -104,11 +104,17 @@ CLI::Validator OutPathValidator() {
       "");
 }
 
-CLI::Validator PlainValueValidator(bool whole_number) {
+CLI::Validator PlainValueValidator(ValueKind kind) {
   return CLI::Validator(
-      [whole_number](const std::string& text) -> std::string {
+      [kind](std::string& text) -> std::string {
+        if (kind != ValueKind::kText) {
+          const size_t first = text.find_first_not_of(" \t");
+          text = first == std::string::npos
+                     ? std::string()
+                     : text.substr(first, text.find_last_not_of(" \t") - first + 1);
+        }
         if (text.empty()) return "the value is empty — give one, or leave the option out";
-        if (!whole_number) return {};
+        if (kind != ValueKind::kWholeNumber) return {};
         std::string_view digits(text);
         if (!digits.empty() && (digits.front() == '-' || digits.front() == '+'))
           digits.remove_prefix(1);
@@ -156,9 +162,22 @@ std::function<void(size_t, size_t)> ProgressBar(const std::string& label) {
 }
 
 void AddSourceFlags(CLI::App* app, SceneInput* scene) {
-  app->add_option("--model-path", scene->load.model_paths, "folder of Gazebo models (repeatable)");
+  // A folder that is not there was accepted silently, and the model it should have held was then
+  // "not found" in the folders that are (issue 15): a mistyped path is named where it is typed.
+  const auto folder = [](const std::string& holding) {
+    return CLI::Validator(
+        [holding](const std::string& path) -> std::string {
+          std::error_code error;
+          if (std::filesystem::is_directory(path, error)) return {};
+          return fmt::format("'{}' is not a folder — give a folder of {}", path, holding);
+        },
+        "");
+  };
+  app->add_option("--model-path", scene->load.model_paths, "folder of Gazebo models (repeatable)")
+      ->check(folder("Gazebo models (each a folder with a model.config)"));
   app->add_option("--resource-path", scene->load.resource_paths,
-                  "folder of Gazebo resources, e.g. materials (repeatable)");
+                  "folder of Gazebo resources, e.g. materials (repeatable)")
+      ->check(folder("Gazebo resources (holding materials/scripts/)"));
   app->add_option("--package-path", scene->load.package_paths,
                   "folder where a URDF's package://PKG paths are found: holding PKG/, or an "
                   "install prefix holding share/PKG/ (repeatable; then ROS_PACKAGE_PATH, "
@@ -193,7 +212,15 @@ void AddObserveFlags(CLI::App* app, ObserveOptions* observe, RunLimits* limits) 
                   "quality: a pixel counts only when its ray meets the surface within this many "
                   "degrees of the normal (0-90]");
   app->add_option_function<double>(
-      "--max-depth-noise", [observe](double mm) { observe->quality.max_depth_noise = mm / 1000.0; },
+      "--max-depth-noise",
+      [observe](double mm) {
+        // A positive value so small that it is 0 in metres was refused as "0" (issue 15).
+        if (mm > 0 && !(mm / 1000.0 > 0))
+          throw InputError(fmt::format("--max-depth-noise {:g} mm is too small to hold in metres "
+                                       "— give a positive number of millimetres, e.g. 2",
+                                       mm));
+        observe->quality.max_depth_noise = mm / 1000.0;
+      },
       "quality: a pixel counts only when its sensor's depth noise sigma(z) is at most this many "
       "mm (docs/sensor-models.md)");
   app->add_option("--max-memory", limits->max_memory_mib,

@@ -7,6 +7,9 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <charconv>
+#include <cstdint>
+#include <limits>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -31,6 +34,36 @@ std::vector<std::string> OptionNames(const CLI::App& app) {
       for (const std::string& name : option->get_snames()) names.push_back("-" + name);
     }
   return names;
+}
+
+// A whole number in decimal that CLI11 could not convert is out of the option's range (was: "not a
+// whole number" for -n 2147483648). CLI11's integer options are 32 or 64 bits wide, so one that
+// fits 64 bits failed on 32 bits: then the limit is known; else only the end is.
+std::optional<std::string> OutOfRange(const std::string& value, bool is_unsigned) {
+  std::string_view digits(value);
+  if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
+  const bool negative = !digits.empty() && digits.front() == '-';
+  const std::string_view magnitude = negative ? digits.substr(1) : digits;
+  if (magnitude.empty() || magnitude.find_first_not_of("0123456789") != std::string_view::npos)
+    return std::nullopt;
+  if (negative && is_unsigned) return "negative — give a whole number >= 0";
+  const char* end = digits.data() + digits.size();
+  uint64_t as_unsigned = 0;
+  int64_t as_signed = 0;
+  const bool fits_64_bits =
+      is_unsigned ? std::from_chars(digits.data(), end, as_unsigned).ec == std::errc()
+                  : std::from_chars(digits.data(), end, as_signed).ec == std::errc();
+  if (!fits_64_bits)
+    return fmt::format("too {} for a whole number of 64 bits", negative ? "small" : "large");
+  const bool fits_32_bits =
+      is_unsigned ? as_unsigned <= std::numeric_limits<uint32_t>::max()
+                  : as_signed >= std::numeric_limits<int32_t>::min() &&
+                        as_signed <= std::numeric_limits<int32_t>::max();
+  if (fits_32_bits) return std::nullopt;  // not a matter of range
+  if (negative) return fmt::format("too small — give at least {}", std::numeric_limits<int32_t>::min());
+  if (is_unsigned)
+    return fmt::format("too large — give at most {}", std::numeric_limits<uint32_t>::max());
+  return fmt::format("too large — give at most {}", std::numeric_limits<int32_t>::max());
 }
 
 // What CLI11 says of a word it does not know ("The following arguments were not expected: greedy
@@ -66,6 +99,10 @@ std::optional<std::string> ConversionMessage(const CLI::App& app, const CLI::Par
   }
   const std::string help =
       chosen.empty() ? "`vantage --help`" : fmt::format("`vantage help {}`", command.get_name());
+  if (kind.rfind("a whole number", 0) == 0) {
+    if (auto range = OutOfRange(value, kind == "a whole number >= 0"))
+      return fmt::format("{}: '{}' is {}", names, value, *range);
+  }
   return fmt::format("{}: '{}' is not {} — {} says what it takes", names, value, kind, help);
 }
 
@@ -159,14 +196,19 @@ int Run(int argc, char** argv, spdlog::logger* logger, const vantage::MpiJob* jo
         option->check(vantage::cli::WholeNumberValidator());
     }
   }
-  // Every value: not empty, and whole numbers in decimal (added last, so checked first).
+  // Every value: not empty, a number without spaces around it, and whole numbers in decimal (a
+  // transform: CLI11 runs it before the checks, which then see the trimmed value).
   std::vector<CLI::App*> every_command = app.get_subcommands({});
   every_command.push_back(&app);
   for (CLI::App* command : every_command) {
     for (CLI::Option* option : command->get_options()) {
       if (option->get_type_size_min() == 0) continue;  // a flag: no value
-      const bool whole_number = option->get_type_name().find("INT") != std::string::npos;
-      option->check(vantage::cli::PlainValueValidator(whole_number));
+      const std::string type = option->get_type_name();
+      using vantage::cli::ValueKind;
+      const ValueKind kind = type.find("INT") != std::string::npos     ? ValueKind::kWholeNumber
+                             : type.find("FLOAT") != std::string::npos ? ValueKind::kNumber
+                                                                       : ValueKind::kText;
+      option->transform(vantage::cli::PlainValueValidator(kind));
     }
   }
 

@@ -173,7 +173,8 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
   const std::vector<Selection>& results = report.results;
   const std::optional<RefinementInfo>& refinement = report.refinement;
   const size_t r = data.reference.size();
-  fmt::print("scene            {}\n", data.scene);
+  // A path may hold any byte but '/' and NUL: one line, valid UTF-8, as in the messages.
+  fmt::print("scene            {}\n", ShownOnOneLine(data.scene));
   fmt::print("reference        {} voxels of {} m\n", r, data.reference.cell_size);
   fmt::print("candidates       {}\n", data.candidates.size());
   if (report.best_single >= 0) {
@@ -281,7 +282,7 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
       "total {:.3f} s\n",
       report.timings.load, report.timings.reference, report.timings.observe, report.timings.select,
       report.timings.total);
-  if (!out_dir.empty()) fmt::print("outputs          {}/\n", out_dir);
+  if (!out_dir.empty()) fmt::print("outputs          {}/\n", ShownOnOneLine(out_dir));
 }
 
 }  // namespace vantage::cli

@@ -13,4 +13,9 @@ size_t EditDistance(std::string_view a, std::string_view b);
 /// nullptr otherwise. Ties: the first.
 const std::string* ClosestWord(std::string_view word, const std::vector<std::string>& valid);
 
+/// `text` from outside (a path, a name) for one line of the summary or a message: each byte that
+/// is not well-formed UTF-8 as U+FFFD, control characters escaped (\n, \xNN, \uNNNN) and a
+/// backslash doubled, as vantage's error messages show names.
+std::string ShownOnOneLine(std::string_view text);
+
 }  // namespace vantage

@@ -30,6 +30,12 @@ double MemoryLimitMiB(double limit_mib) {
 
 size_t Threads() { return static_cast<size_t>(tbb::this_task_arena::max_concurrency()); }
 
+// A number of MiB in the refusal: whole MiB, or 3 digits below 1 MiB (a --max-memory of 1e-9 was
+// "0 MiB above the 0 MiB limit").
+std::string MiBText(double mib) {
+  return mib >= 1 ? fmt::format("{:.0f} MiB", mib) : fmt::format("{:.3g} MiB", mib);
+}
+
 // Refuses a run whose estimate exceeds the limit, before any ray is cast (issue #8).
 void CheckMemory(const MemoryEstimate& estimate, double limit_mib, const std::string& source) {
   spdlog::info(
@@ -41,10 +47,9 @@ void CheckMemory(const MemoryEstimate& estimate, double limit_mib, const std::st
   if (estimate.Total() / kMiB > limit_mib)
     throw InputError(AtPlace(
         source, 0,
-        fmt::format("this run needs about {:.0f} MiB, above the {:.0f} MiB limit — use fewer "
-                    "candidates, lower resolutions, a larger --cell-size, fewer --threads, or "
-                    "raise --max-memory",
-                    estimate.Total() / kMiB, limit_mib)));
+        fmt::format("this run needs about {}, above the {} limit — use fewer candidates, lower "
+                    "resolutions, a larger --cell-size, fewer --threads, or raise --max-memory",
+                    MiBText(estimate.Total() / kMiB), MiBText(limit_mib))));
 }
 
 }  // namespace
@@ -175,10 +180,10 @@ void CheckReferenceMemory(const PreparedScene& prepared, double limit_mib) {
   throw InputError(AtPlace(
       problem.source, 0,
       fmt::format("a cell size of {} m ({}) makes a reference R of about {:.2g} cells on the "
-                  "targets' surface, so this run needs about {:.0f} MiB, above the {:.0f} MiB "
-                  "limit — {}, or raise --max-memory",
+                  "targets' surface, so this run needs about {}, above the {} limit — {}, or "
+                  "raise --max-memory",
                   problem.cell_size, from_option ? "--cell-size" : "the scene's cell_size", cells,
-                  total / kMiB, limit_mib,
+                  MiBText(total / kMiB), MiBText(limit_mib),
                   from_option
                       ? "give a larger --cell-size"
                       : "use a larger cell_size in the scene (or override it with --cell-size)")));

@@ -286,8 +286,9 @@ TriangleMesh MakeBox(const Vec3& size) {
 
 namespace {
 
-// MakeSphere's UV sphere; `odd_rings`: no ring on the equator (MakeCapsule cuts it there).
-TriangleMesh UvSphere(double radius, double max_chord_error, bool odd_rings) {
+// MakeSphere's UV sphere; `odd_rings`: no ring on the equator (MakeCapsule cuts it there);
+// `shape` names what it becomes in the limits' messages.
+TriangleMesh UvSphere(double radius, double max_chord_error, bool odd_rings, const char* shape) {
   // Slices by the chord rule on the equator, rings by the same rule on a meridian (half a
   // circle); then refine both until the facets' deviation, not only the edges', is below the
   // bound (a quad's centre lies deeper than its edges).
@@ -295,27 +296,28 @@ TriangleMesh UvSphere(double radius, double max_chord_error, bool odd_rings) {
     const int rings = std::max(2, (slices + 1) / 2);
     return odd_rings && rings % 2 == 0 ? rings + 1 : rings;  // more rings: a smaller deviation
   };
-  int slices = SegmentsFor(radius, max_chord_error, "sphere");
+  int slices = SegmentsFor(radius, max_chord_error, shape);
   int rings = rings_for(slices);
   while (UvSphereDeviation(radius, rings, slices) >= max_chord_error) {
     slices += std::max(1, slices / 8);
     rings = rings_for(slices);
     if (slices > kMaxSegments) {
       throw InputError(
-          fmt::format("sphere of radius {:g} m needs more than {} segments for a chord "
+          fmt::format("{} of radius {:g} m needs more than {} segments for a chord "
                       "error of {:g} m (a tenth of the cell size) — check the radius, or give a "
                       "larger cell size",
-                      radius, kMaxSegments, max_chord_error));
+                      shape, radius, kMaxSegments, max_chord_error));
     }
   }
   // Bound the whole mesh, not only a circle: slices x rings grows with the square (fuzzing found
   // cell_size 1e-7 asking for 2·10⁸ triangles).
   constexpr int64_t kMaxTriangles = 10'000'000;
   if (int64_t{2} * slices * rings > kMaxTriangles) {
-    throw InputError(fmt::format("sphere of radius {:g} m needs {} triangles for a chord error of "
+    throw InputError(fmt::format("{} of radius {:g} m needs {} triangles for a chord error of "
                                  "{:g} m (a tenth of the cell size), above {} — check the radius, or "
                                  "give a larger cell size",
-                                 radius, int64_t{2} * slices * rings, max_chord_error, kMaxTriangles));
+                                 shape, radius, int64_t{2} * slices * rings, max_chord_error,
+                                 kMaxTriangles));
   }
   TriangleMesh mesh;
   mesh.vertices.push_back(Vec3(0, 0, radius));  // north pole: index 0
@@ -344,7 +346,7 @@ TriangleMesh UvSphere(double radius, double max_chord_error, bool odd_rings) {
 
 TriangleMesh MakeSphere(double radius, double max_chord_error) {
   CheckPositive(radius, "radius", "sphere");
-  return UvSphere(radius, max_chord_error, false);
+  return UvSphere(radius, max_chord_error, false, "sphere");
 }
 
 TriangleMesh MakeCapsule(double radius, double length, double max_chord_error) {
@@ -354,7 +356,7 @@ TriangleMesh MakeCapsule(double radius, double length, double max_chord_error) {
   // `length` stretches the band of quads across the equator into the side wall. A wall facet has
   // the corners' radius and the centre's depth of that band's quads on the sphere, so it deviates
   // from the cylinder exactly as they did from the sphere: below the bound.
-  TriangleMesh mesh = UvSphere(radius, max_chord_error, true);
+  TriangleMesh mesh = UvSphere(radius, max_chord_error, true, "capsule");
   for (Vec3& v : mesh.vertices) v.z() += v.z() > 0 ? length / 2 : -length / 2;
   return mesh;
 }
@@ -366,7 +368,7 @@ TriangleMesh MakeEllipsoid(const Vec3& radii, double max_chord_error) {
   // The sphere of the largest radius squeezed along the other axes: the squeeze moves no two
   // points apart, so a facet lies as close to the ellipsoid as it lay to the sphere.
   const double largest = radii.maxCoeff();
-  TriangleMesh mesh = UvSphere(largest, max_chord_error, false);
+  TriangleMesh mesh = UvSphere(largest, max_chord_error, false, "ellipsoid");
   for (Vec3& v : mesh.vertices) v = v.cwiseProduct(radii / largest);
   return mesh;
 }

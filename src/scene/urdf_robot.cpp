@@ -331,6 +331,13 @@ std::vector<std::string> JointPositionProblems(const RobotModel& robot,
                       name, robot.name));
     } else if (!std::isfinite(q)) {
       problems.push_back(fmt::format("joint '{}': position {} is not a finite number", name, q));
+    } else if (joint->limits && !(joint->limits->first <= joint->limits->second)) {
+      // Was blamed on the position ("outside its limits [1, -1]"), which no position can meet.
+      problems.push_back(
+          fmt::format("joint '{}' of robot '{}': its <limit> has lower {} above upper {} ({}:{}) "
+                      "— no position is within them; fix the limits in the URDF",
+                      name, robot.name, joint->limits->first, joint->limits->second, robot.file,
+                      joint->line));
     } else if (joint->limits && (q < joint->limits->first || q > joint->limits->second)) {
       problems.push_back(
           fmt::format("joint '{}' of robot '{}': position {} is outside its limits "

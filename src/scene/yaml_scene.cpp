@@ -226,7 +226,10 @@ class SceneReader {
   std::optional<double> Number(const Value& input, const std::string& what);
   std::optional<double> Positive(const Value& input, const std::string& what);
   /// A whole number written in decimal (sign, digits, no leading zero), any size up to 2^64 - 1.
-  std::optional<WholeNumber> Whole(const Value& input, const std::string& what);
+  // `range` names the values the caller takes ("a value from 1 to 100"), for a number too long to
+  // read at all.
+  std::optional<WholeNumber> Whole(const Value& input, const std::string& what,
+                                   const std::string& range);
   /// A whole number from 0 to 2^64 - 1 (a seed).
   std::optional<uint64_t> Unsigned(const Value& input, const std::string& what);
   std::optional<int64_t> Integer(const Value& input,
@@ -369,7 +372,8 @@ std::optional<double> SceneReader::Positive(const Value& input, const std::strin
   return number;
 }
 
-std::optional<WholeNumber> SceneReader::Whole(const Value& input, const std::string& what) {
+std::optional<WholeNumber> SceneReader::Whole(const Value& input, const std::string& what,
+                                              const std::string& range) {
   // Decimal only: yaml-cpp reads 010 as octal 8 and 0x10 as 16 (issue 15), which no scene's
   // author means by a count or a seed.
   const std::string text = input.node.IsScalar() ? input.node.Scalar() : std::string();
@@ -389,8 +393,8 @@ std::optional<WholeNumber> SceneReader::Whole(const Value& input, const std::str
     return std::nullopt;
   }
   if (all_digits && error == std::errc::result_out_of_range) {
-    Error(input.line, fmt::format("{} = {} is too large — give at most {}", what, text,
-                                  std::numeric_limits<uint64_t>::max()));
+    Error(input.line, fmt::format("{} = {} is too {} — give {}", what, text,
+                                  number.negative ? "small" : "large", range));
     return std::nullopt;
   }
   if (!all_digits || error != std::errc()) {
@@ -402,7 +406,8 @@ std::optional<WholeNumber> SceneReader::Whole(const Value& input, const std::str
 }
 
 std::optional<uint64_t> SceneReader::Unsigned(const Value& input, const std::string& what) {
-  const std::optional<WholeNumber> whole = Whole(input, what);
+  const std::optional<WholeNumber> whole =
+      Whole(input, what, fmt::format("a value from 0 to {}", std::numeric_limits<uint64_t>::max()));
   if (!whole) return std::nullopt;
   if (whole->negative && whole->magnitude > 0) {
     Error(input.line, fmt::format("{} = -{} is too small — give at least 0", what, whole->magnitude));
@@ -415,7 +420,8 @@ std::optional<int64_t> SceneReader::Integer(const Value& input,
                                             const std::string& what,
                                             int64_t min,
                                             int64_t max) {
-  const std::optional<WholeNumber> whole = Whole(input, what);
+  const std::optional<WholeNumber> whole =
+      Whole(input, what, fmt::format("a value from {} to {}", min, max));
   if (!whole) return std::nullopt;
   constexpr uint64_t kLargest = static_cast<uint64_t>(std::numeric_limits<int64_t>::max());
   if (whole->magnitude > kLargest + (whole->negative ? 1 : 0)) {

@@ -214,3 +214,9 @@ std::string ReadInputFile(const std::string& path, std::string_view kind) {
 }
 
 }  // namespace vantage::detail
+
+namespace vantage {
+
+std::string ShownOnOneLine(std::string_view text) { return detail::Escaped(detail::AsUtf8(text)); }
+
+}  // namespace vantage
