@@ -168,7 +168,8 @@ void AddSourceFlags(CLI::App* app, SceneInput* scene) {
     return CLI::Validator(
         [holding](const std::string& path) -> std::string {
           std::error_code error;
-          if (std::filesystem::is_directory(path, error)) return {};
+          // An empty path is the general "the value is empty" check's.
+          if (path.empty() || std::filesystem::is_directory(path, error)) return {};
           return fmt::format("'{}' is not a folder — give a folder of {}", path, holding);
         },
         "");

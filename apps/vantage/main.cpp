@@ -196,8 +196,9 @@ int Run(int argc, char** argv, spdlog::logger* logger, const vantage::MpiJob* jo
         option->check(vantage::cli::WholeNumberValidator());
     }
   }
-  // Every value: not empty, a number without spaces around it, and whole numbers in decimal (a
-  // transform: CLI11 runs it before the checks, which then see the trimmed value).
+  // Every value: not empty, a number without spaces around it, and whole numbers in decimal. For
+  // a number a transform (CLI11 runs it first, so the range checks see the trimmed value); for
+  // text a check, run after the option's own (e.g. --out's "the path is empty").
   std::vector<CLI::App*> every_command = app.get_subcommands({});
   every_command.push_back(&app);
   for (CLI::App* command : every_command) {
@@ -208,7 +209,10 @@ int Run(int argc, char** argv, spdlog::logger* logger, const vantage::MpiJob* jo
       const ValueKind kind = type.find("INT") != std::string::npos     ? ValueKind::kWholeNumber
                              : type.find("FLOAT") != std::string::npos ? ValueKind::kNumber
                                                                        : ValueKind::kText;
-      option->transform(vantage::cli::PlainValueValidator(kind));
+      if (kind == ValueKind::kText)
+        option->check(vantage::cli::PlainValueValidator(kind));  // after the option's own words
+      else
+        option->transform(vantage::cli::PlainValueValidator(kind));
     }
   }
 
