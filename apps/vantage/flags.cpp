@@ -170,7 +170,8 @@ void AddSourceFlags(CLI::App* app, SceneInput* scene) {
           std::error_code error;
           // An empty path is the general "the value is empty" check's.
           if (path.empty() || std::filesystem::is_directory(path, error)) return {};
-          return fmt::format("'{}' is not a folder — give a folder of {}", path, holding);
+          return fmt::format("'{}' is not a folder — give a folder of {}", ShownOnOneLine(path),
+                             holding);
         },
         "");
   };
