@@ -19,17 +19,15 @@ namespace vantage::cli {
 namespace {
 
 // --seed, --calibration-overlap: CLI11 reads "-1" into an unsigned as 2^64 - 1; refuse a sign.
+// The value comes trimmed (PlainValueValidator's transform runs first).
 std::string NonNegativeWholeNumber(std::string& text) {
-  const size_t first = text.find_first_not_of(" \t");
-  const size_t last = text.find_last_not_of(" \t");
-  if (first != std::string::npos && text[first] == '-')
+  if (!text.empty() && text.front() == '-')
     return fmt::format("{} is negative — give a whole number from 0 to {}", text,
                        std::numeric_limits<uint64_t>::max());
   // CLI11 clamps 18446744073709551616 to 2^64 - 1 (issue 15): parse it here, exactly.
   uint64_t value = 0;
-  const char* begin = text.data() + (first == std::string::npos ? 0 : first);
-  const char* end = text.data() + (last == std::string::npos ? 0 : last + 1);
-  const auto [stop, error] = std::from_chars(begin, end, value);
+  const char* end = text.data() + text.size();
+  const auto [stop, error] = std::from_chars(text.data(), end, value);
   if (error == std::errc::result_out_of_range)
     return fmt::format("{} is too large — give a whole number from 0 to {}", text,
                        std::numeric_limits<uint64_t>::max());

@@ -85,12 +85,16 @@ std::optional<std::string> ConversionMessage(const CLI::App& app, const CLI::Par
   if (option == nullptr) option = app.get_option_no_throw(name);
   std::string kind = "a value of another kind";
   std::string names = name;  // "-n,--sensors": the one typed may be the short name
+  bool whole_number = false;
+  bool is_unsigned = false;
   if (option != nullptr) {
     names = option->get_name(false, true);
     const std::string type = option->get_type_name();
-    if (type.find("UINT") != std::string::npos)
+    whole_number = type.find("INT") != std::string::npos;
+    is_unsigned = type.find("UINT") != std::string::npos;
+    if (is_unsigned)
       kind = "a whole number >= 0";
-    else if (type.find("INT") != std::string::npos)
+    else if (whole_number)
       kind = "a whole number";
     else if (type.find("FLOAT") != std::string::npos)
       kind = "a number";
@@ -99,8 +103,8 @@ std::optional<std::string> ConversionMessage(const CLI::App& app, const CLI::Par
   }
   const std::string help =
       chosen.empty() ? "`vantage --help`" : fmt::format("`vantage help {}`", command.get_name());
-  if (kind.rfind("a whole number", 0) == 0) {
-    if (auto range = OutOfRange(value, kind == "a whole number >= 0"))
+  if (whole_number) {
+    if (auto range = OutOfRange(value, is_unsigned))
       return fmt::format("{}: '{}' is {}", names, value, *range);
   }
   return fmt::format("{}: '{}' is not {} — {} says what it takes", names, value, kind, help);

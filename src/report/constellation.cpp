@@ -10,6 +10,7 @@
 #include "report/run_inputs.hpp"
 #include "util/words.hpp"
 #include "vantage/report.hpp"
+#include "vantage/words.hpp"
 
 namespace vantage {
 namespace {
@@ -101,11 +102,11 @@ Constellation LoadConstellation(const std::string& path) {
     // nlohmann quotes the bytes it last read, raw: shown as UTF-8 with controls escaped.
     throw InputError(AtPlace(path, LineOfByte(text, e.byte > 0 ? e.byte - 1 : 0),
                              fmt::format("not valid JSON ({}) — give a report.json written by vantage",
-                                         detail::Escaped(detail::AsUtf8(e.what())))));
+                                         ShownOnOneLine(e.what()))));
   } catch (const json::exception& e) {  // e.g. a number out of range: no byte position
     throw InputError(AtPlace(path, 0, fmt::format("not valid JSON ({}) — give a report.json written "
                                                   "by vantage",
-                                                  detail::Escaped(detail::AsUtf8(e.what())))));
+                                                  ShownOnOneLine(e.what()))));
   }
   if (!j.is_object() || !j.contains("candidates") || !j["candidates"].is_array())
     throw InputError(AtPlace(path, 1, "no 'candidates' array — give a report.json written by vantage"));
