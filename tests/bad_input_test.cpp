@@ -167,6 +167,9 @@ class BadInput : public ::testing::Test {
                                                           << run.err;
       EXPECT_NE(run.err.find(c.what), std::string::npos) << "'" << c.what << "' in:\n" << run.err;
       EXPECT_EQ(run.err.find("internal"), std::string::npos) << run.err;
+      // Every refusal in one voice, CLI11's too (was: its own line, "Run with --help ...").
+      EXPECT_NE(run.err.find("[error] "), std::string::npos) << run.err;
+      EXPECT_EQ(run.err.find("Run with --help"), std::string::npos) << run.err;
       if (!c.absent.empty()) {
         EXPECT_EQ(run.err.find(c.absent), std::string::npos) << "'" << c.absent << "' in:\n"
                                                              << run.err;
@@ -798,9 +801,24 @@ TEST_F(BadInput, CommandLineOptions) {
        "--cell-size", "makes a reference R of about 6e+10 cells"},
       {"scene_cell_size_too_fine_for_memory", "optimize " + fine + " --max-memory 16000",
        fine + ": a cell size of 1e-05 m (the scene's cell_size)", "makes a reference R"},
-      {"negative_threads", "--threads -3 optimize " + scene, "--threads", "not in range"},
-      {"negative_threads_after", "optimize " + scene + " --threads -3", "--threads",
-       "not in range"},
+      {"negative_threads", "--threads -3 optimize " + scene, "--threads:",
+       "-3 is out of range — give a whole number from 0 to 4096"},
+      {"negative_threads_after", "optimize " + scene + " --threads -3", "--threads:",
+       "-3 is out of range"},
+      // Session 14: CLI::Range said "Value x not in range 0 to 4096" of a word, and of 1.5.
+      {"word_threads", "--threads x optimize " + scene, "--threads:",
+       "'x' is not a whole number — give a whole number from 0 to 4096"},
+      {"fractional_threads", "--threads 1.5 optimize " + scene, "--threads:",
+       "'1.5' is not a whole number"},
+      {"threads_beyond_64_bits", "--threads 99999999999999999999 optimize " + scene, "--threads:",
+       "99999999999999999999 is out of range"},
+      {"nan_fov_tolerance", "optimize " + scene + " --fov-tolerance nan", "--fov-tolerance:",
+       "'nan' is not a number — give a number from 0 to 45"},
+      {"fractional_refine_rounds", "optimize " + scene + " --refine --refine-rounds 1.5",
+       "--refine-rounds:", "'1.5' is not a whole number — give a whole number from 1 to 100"},
+      // CLI11's "--sensors: 1 required INT missing" and "scene is required".
+      {"point_with_two_values", "optimize " + scene + " --observation-point 1 2",
+       "--observation-point:", "needs 3 values (a number each) after it"},
       {"word_seed", "optimize " + scene + " --seed abc", "--seed", "abc"},
       {"negative_seed", "optimize " + scene + " --seed -1", "--seed:", "-1 is negative"},
       // 2^64: one more than a seed can hold (CLI11 clamped it to 2^64 - 1).
@@ -831,16 +849,21 @@ TEST_F(BadInput, CommandLineOptions) {
       {"unknown_command", "frobnicate", "'frobnicate'",
        "unknown command 'frobnicate' — use one of optimize, observe, select"},
       {"unknown_command_after_option", "-q frobnicate", "'frobnicate'", "unknown command"},
-      {"missing_scene", "optimize", "scene", "required"},
+      {"missing_scene", "optimize", "`vantage optimize` needs its scene argument",
+       "— `vantage help optimize` shows what it takes"},
+      {"missing_visibility_file", "select", "`vantage select` needs its file argument",
+       "(visibility matrix written by `vantage observe`)"},
       // Quality, robustness and refinement options (issue 9).
       {"zero_incidence", "optimize " + scene + " --max-incidence 0", "--max-incidence", "must lie in (0, 90]"},
       {"incidence_above_90", "optimize " + scene + " --max-incidence 91", "--max-incidence", "must lie in (0, 90]"},
       {"negative_depth_noise", "optimize " + scene + " --max-depth-noise -1", "--max-depth-noise",
        "must be a positive number of millimetres"},
-      {"negative_fov_tolerance", "optimize " + scene + " --fov-tolerance -1", "--fov-tolerance", "not in range"},
-      {"huge_alternatives_within", "optimize " + scene + " --alternatives-within 500", "--alternatives-within",
-       "not in range"},
-      {"zero_refine_rounds", "optimize " + scene + " --refine --refine-rounds 0", "--refine-rounds", "not in range"},
+      {"negative_fov_tolerance", "optimize " + scene + " --fov-tolerance -1", "--fov-tolerance:",
+       "-1 is out of range — give a number from 0 to 45"},
+      {"huge_alternatives_within", "optimize " + scene + " --alternatives-within 500",
+       "--alternatives-within:", "500 is out of range — give a number from 0 to 100"},
+      {"zero_refine_rounds", "optimize " + scene + " --refine --refine-rounds 0", "--refine-rounds:",
+       "0 is out of range — give a whole number from 1 to 100"},
       {"unknown_option", "optimize " + scene + " --frobnicate", "unknown option '--frobnicate'",
        "`vantage help optimize` lists the options"},
       // Typos name the word and the nearest option (issue 16: CLI11 said "The following arguments
@@ -1526,6 +1549,44 @@ TEST_F(BadInput, SpacesAroundANumberAreDropped) {
   for (const json& result : report["results"]) EXPECT_EQ(result["n"].get<int>(), 1);
   EXPECT_DOUBLE_EQ(report["cell_size"].get<double>(), 0.02);
   fs::remove_all(run_dir);
+}
+
+// Session 14: CLI11's own refusals (no command, a missing argument, a range) printed its line and
+// "Run with --help for more information." without the `[error]` of every other refusal; the
+// ranges of render's whole-number options called 1.5 "not in range" and a word "not in range".
+TEST_F(BadInput, CommandLineRefusalsInOneVoice) {
+  const auto none = RunVantage("-q");
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("[error] no command given — use one of optimize, observe, select"),
+            std::string::npos)
+      << none.err;
+  EXPECT_EQ(none.err.find("Run with --help"), std::string::npos) << none.err;
+  const auto no_value = RunVantage("optimize " + CubeCell() + " -n");  // the last word: no value
+  EXPECT_EQ(no_value.exit_code, 2);
+  EXPECT_NE(no_value.err.find("[error] -n,--sensors: needs a value (a whole number) after it — "
+                              "`vantage help optimize` says what it takes"),
+            std::string::npos)
+      << no_value.err;
+  const std::string run = dir_.File("run");
+  ASSERT_EQ(RunVantage("optimize " + CubeCell() + " -n 1 --method greedy --out " + run).exit_code, 0);
+  const std::vector<std::pair<std::string, std::string>> refusals = {
+      {" --width 1.5", "--width: '1.5' is not a whole number — give a whole number from 16 to 8192"},
+      {" --height 10", "--height: 10 is out of range — give a whole number from 16 to 8192"},
+      {" --fov 0.5", "--fov: 0.5 is out of range — give a number from 1 to 170"},
+      {" --fov wide", "--fov: 'wide' is not a number — give a number from 1 to 170"},
+      {" --eye 1 2", "--eye: needs 3 values (a number each) after it — `vantage help render`"},
+  };
+  for (const auto& [args, message] : refusals) {
+    const auto refused = RunVantage("render " + run + " --png " + dir_.File("x.png") + args);
+    EXPECT_EQ(refused.exit_code, 2) << args;
+    EXPECT_NE(refused.err.find("[error] " + message), std::string::npos) << args << "\n" << refused.err;
+    EXPECT_FALSE(fs::exists(dir_.File("x.png"))) << args;
+  }
+  // In range, with a sign CLI11 also takes: drawn.
+  const auto drawn = RunVantage("render " + run + " --png " + dir_.File("x.png") + " --width +64 --height 48");
+  EXPECT_EQ(drawn.exit_code, 0) << drawn.err;
+  EXPECT_TRUE(fs::exists(dir_.File("x.png")));
+  fs::remove_all(run);
 }
 
 // Session 10's sweep: the summary printed the scene's path and --out as they were, so a path with

@@ -56,13 +56,13 @@ void SetupRender(CLI::App* parent) {
   AddPointFlag(app, "--look-at", &options.render.look_at,
                "point looked at x y z [m] (default: the centre of the targets and sensors)");
   app->add_option("--width", options.render.width, "picture width [px]")
-      ->check(CLI::Range(16, 8192))
+      ->check(NumberFrom(16, 8192, ValueKind::kWholeNumber))
       ->capture_default_str();
   app->add_option("--height", options.render.height, "picture height [px]")
-      ->check(CLI::Range(16, 8192))
+      ->check(NumberFrom(16, 8192, ValueKind::kWholeNumber))
       ->capture_default_str();
   app->add_option("--fov", flags->fov_deg, "vertical field of view [deg]")
-      ->check(CLI::Range(1.0, 170.0))
+      ->check(NumberFrom(1, 170, ValueKind::kNumber))
       ->capture_default_str();
   app->add_flag("--no-frusta", flags->no_frusta, "do not draw the sensors' frusta");
   app->add_flag("--no-legend", flags->no_legend, "do not draw the legend");

@@ -48,6 +48,10 @@ CLI::Validator OutPathValidator();
 enum class ValueKind { kText, kNumber, kWholeNumber };
 CLI::Validator PlainValueValidator(ValueKind kind);
 
+/// A number from `low` to `high` (whole where `kind` says so). CLI::Range said "Value x not in
+/// range 0.000000 to 45.000000" also of a word that is no number, and of 1.5 for a whole number.
+CLI::Validator NumberFrom(double low, double high, ValueKind kind);
+
 /// InputError "--out: PATH is FILE, an input of this run ..." when the output file `out` is one of
 /// `inputs` (issue 15: `observe scene.yaml --out scene.yaml` replaced the scene with the matrix),
 /// or when it is a device, a pipe or a folder (CheckOutputFile).

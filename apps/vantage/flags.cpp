@@ -125,6 +125,33 @@ CLI::Validator PlainValueValidator(ValueKind kind) {
       "");
 }
 
+CLI::Validator NumberFrom(double low, double high, ValueKind kind) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        const bool whole = kind == ValueKind::kWholeNumber;
+        const std::string wanted =
+            fmt::format("give {} from {} to {}", whole ? "a whole number" : "a number", low, high);
+        double value = 0;
+        if (whole) {
+          std::string_view digits(text);
+          if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
+          int64_t number = 0;
+          const char* end = digits.data() + digits.size();
+          const auto [stop, error] = std::from_chars(digits.data(), end, number);
+          if (error == std::errc::result_out_of_range && stop == end)
+            return fmt::format("{} is out of range — {}", text, wanted);
+          if (error != std::errc() || stop != end)
+            return fmt::format("'{}' is not a whole number — {}", text, wanted);
+          value = static_cast<double>(number);
+        } else if (!CLI::detail::lexical_cast(text, value) || std::isnan(value)) {
+          return fmt::format("'{}' is not a number — {}", text, wanted);
+        }
+        if (value < low || value > high) return fmt::format("{} is out of range — {}", text, wanted);
+        return {};
+      },
+      "");
+}
+
 OutputGuard RefuseOutputOverInput(const std::string& out, const std::vector<std::string>& inputs) {
   CheckOutputFile(out);  // a device, a pipe or a folder: refused before any work
   std::error_code error;
@@ -299,12 +326,12 @@ void AddRobustnessFlags(CLI::App* app, RobustnessOptions* robustness) {
   app->add_option("--fov-tolerance", robustness->fov_tolerance_deg,
                   "robustness: degrees the chosen sensors' fields of view are shrunk by "
                   "(datasheet tolerance)")
-      ->check(CLI::Range(0.0, 45.0))
+      ->check(NumberFrom(0, 45, ValueKind::kNumber))
       ->capture_default_str();
   app->add_option_function<double>(
          "--alternatives-within", [robustness](double points) { robustness->within = points / 100.0; },
          "robustness: list one-sensor alternatives losing at most this many coverage points")
-      ->check(CLI::Range(0.0, 100.0))
+      ->check(NumberFrom(0, 100, ValueKind::kNumber))
       ->default_str("1");
 }
 

@@ -72,6 +72,45 @@ std::optional<std::string> OutOfRange(const std::string& value, bool is_unsigned
 // command, or an argument too many. Empty when the error is of another kind.
 // CLI11 says "Could not convert: --k = x" for a value of the wrong type, which names neither what
 // the option takes nor where to look: name the option, the value and the kind it wants.
+// What an option takes, in words, from CLI11's type name ("INT", "UINT", "FLOAT", "BOOL", "TEXT").
+struct ValueWords {
+  std::string kind = "a value of another kind";
+  bool whole_number = false;
+  bool is_unsigned = false;
+};
+ValueWords WordsFor(const CLI::Option* option) {
+  ValueWords words;
+  if (option == nullptr) return words;
+  const std::string type = option->get_type_name();
+  words.whole_number = type.find("INT") != std::string::npos;
+  words.is_unsigned = type.find("UINT") != std::string::npos;
+  if (words.is_unsigned)
+    words.kind = "a whole number >= 0";
+  else if (words.whole_number)
+    words.kind = "a whole number";
+  else if (type.find("FLOAT") != std::string::npos)
+    words.kind = "a number";
+  else if (type.find("BOOL") != std::string::npos)
+    words.kind = "true or false";
+  else
+    words.kind = "a text";
+  return words;
+}
+
+// The command the words were given to (or the top level), its option `name`, and where to look.
+const CLI::App& ChosenCommand(const CLI::App& app) {
+  const std::vector<CLI::App*> chosen = app.get_subcommands();
+  return chosen.empty() ? app : *chosen.front();
+}
+const CLI::Option* FindOption(const CLI::App& app, const std::string& name) {
+  const CLI::Option* option = ChosenCommand(app).get_option_no_throw(name);
+  return option != nullptr ? option : app.get_option_no_throw(name);
+}
+std::string HelpFor(const CLI::App& app) {
+  const CLI::App& command = ChosenCommand(app);
+  return &command == &app ? "`vantage --help`" : fmt::format("`vantage help {}`", command.get_name());
+}
+
 std::optional<std::string> ConversionMessage(const CLI::App& app, const CLI::ParseError& error) {
   const std::string what = error.what();
   const std::string prefix = "Could not convert: ";
@@ -79,35 +118,57 @@ std::optional<std::string> ConversionMessage(const CLI::App& app, const CLI::Par
   if (what.rfind(prefix, 0) != 0 || equals == std::string::npos) return std::nullopt;
   const std::string name = what.substr(prefix.size(), equals - prefix.size());
   const std::string value = what.substr(equals + 3);
-  const std::vector<CLI::App*> chosen = app.get_subcommands();
-  const CLI::App& command = chosen.empty() ? app : *chosen.front();
-  const CLI::Option* option = command.get_option_no_throw(name);
-  if (option == nullptr) option = app.get_option_no_throw(name);
-  std::string kind = "a value of another kind";
-  std::string names = name;  // "-n,--sensors": the one typed may be the short name
-  bool whole_number = false;
-  bool is_unsigned = false;
-  if (option != nullptr) {
-    names = option->get_name(false, true);
-    const std::string type = option->get_type_name();
-    whole_number = type.find("INT") != std::string::npos;
-    is_unsigned = type.find("UINT") != std::string::npos;
-    if (is_unsigned)
-      kind = "a whole number >= 0";
-    else if (whole_number)
-      kind = "a whole number";
-    else if (type.find("FLOAT") != std::string::npos)
-      kind = "a number";
-    else if (type.find("BOOL") != std::string::npos)
-      kind = "true or false";
-  }
-  const std::string help =
-      chosen.empty() ? "`vantage --help`" : fmt::format("`vantage help {}`", command.get_name());
-  if (whole_number) {
-    if (auto range = OutOfRange(value, is_unsigned))
+  const CLI::Option* option = FindOption(app, name);
+  // "-n,--sensors": the one typed may be the short name
+  const std::string names = option != nullptr ? option->get_name(false, true) : name;
+  const ValueWords words = WordsFor(option);
+  if (words.whole_number) {
+    if (auto range = OutOfRange(value, words.is_unsigned))
       return fmt::format("{}: '{}' is {}", names, value, *range);
   }
-  return fmt::format("{}: '{}' is not {} — {} says what it takes", names, value, kind, help);
+  return fmt::format("{}: '{}' is not {} — {} says what it takes", names, value, words.kind,
+                     HelpFor(app));
+}
+
+// Every other refusal of CLI11 in vantage's voice (was: CLI11's own line, e.g. "scene is
+// required", "--sensors: 1 required INT missing", then "Run with --help for more information.",
+// without the `[error]` of every other refusal): a missing command, argument or value is named
+// with what it takes; a validator's message (already "--option: what is wrong — what to give") is
+// kept as it is.
+std::string UsageMessage(const CLI::App& app, const std::vector<std::string>& commands,
+                         const CLI::ParseError& error) {
+  const std::string what = error.what();
+  const std::string help = HelpFor(app);
+  const std::string name = error.get_name();
+  if (name == "ValidationError") return what;
+  if (name == "RequiredError") {
+    if (&ChosenCommand(app) == &app)
+      return fmt::format("no command given — use one of {} (`vantage --help` describes them)",
+                         fmt::join(commands, ", "));
+    const std::string suffix = " is required";
+    if (what.size() > suffix.size() && what.ends_with(suffix)) {
+      const std::string missing = what.substr(0, what.size() - suffix.size());
+      if (const CLI::Option* option = FindOption(app, missing); option && option->get_positional())
+        return fmt::format("`vantage {}` needs its {} argument ({}) — {} shows what it takes",
+                           ChosenCommand(app).get_name(), missing, option->get_description(), help);
+    }
+  }
+  if (name == "ArgumentMismatch") {
+    // "--sensors: 1 required INT missing": the option was given without its value.
+    const std::string option_name = what.substr(0, what.find(':'));
+    if (const CLI::Option* option = FindOption(app, option_name)) {
+      const int count = option->get_items_expected_min();
+      const std::string kind = WordsFor(option).kind;
+      const bool named = kind != "a text";  // a path or a name: "a value" says it
+      const std::string values =
+          count > 1 ? fmt::format("{} values{}", count, named ? fmt::format(" ({} each)", kind) : "")
+                    : fmt::format("a value{}", named ? fmt::format(" ({})", kind) : "");
+      return fmt::format("{}: needs {} after it — {} says what it takes",
+                         option->get_name(false, true), values,
+                         help);
+    }
+  }
+  return fmt::format("{} — {} says what it takes", what, help);
 }
 
 std::optional<std::string> UnknownWordMessage(const CLI::App& app,
@@ -127,8 +188,7 @@ std::optional<std::string> UnknownWordMessage(const CLI::App& app,
   if (first == command_line.end()) return std::nullopt;
   const std::string& word = *first;
   const std::string where = chosen.empty() ? "" : fmt::format(" of `{}`", command.get_name());
-  const std::string help = chosen.empty() ? "`vantage --help`"
-                                           : fmt::format("`vantage help {}`", command.get_name());
+  const std::string help = HelpFor(app);
   if (word.size() >= 2 && word[0] == '-') {
     const std::string flag = word.substr(0, word.find('='));
     const std::vector<std::string> names = OptionNames(command);
@@ -156,7 +216,7 @@ int Run(int argc, char** argv, spdlog::logger* logger, const vantage::MpiJob* jo
   bool quiet = false;
   int verbosity = 0;
   app.add_option("--threads", threads, "worker threads (default: all cores)")
-      ->check(CLI::Range(0, 4096))
+      ->check(vantage::cli::NumberFrom(0, 4096, vantage::cli::ValueKind::kWholeNumber))
       ->capture_default_str();
   app.add_flag("-q,--quiet", quiet, "only errors on stderr");
   app.add_flag("-v,--verbose", verbosity, "more log detail (repeatable)");
@@ -240,6 +300,7 @@ int Run(int argc, char** argv, spdlog::logger* logger, const vantage::MpiJob* jo
       if (auto message = UnknownWordMessage(app, commands, command_line))
         throw vantage::InputError(*message);
       if (auto message = ConversionMessage(app, e)) throw vantage::InputError(*message);
+      throw vantage::InputError(UsageMessage(app, commands, e));
     }
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
