@@ -817,6 +817,9 @@ TEST_F(BadInput, CommandLineOptions) {
       {"fractional_refine_rounds", "optimize " + scene + " --refine --refine-rounds 1.5",
        "--refine-rounds:", "'1.5' is not a whole number — give a whole number from 1 to 100"},
       // CLI11's "--sensors: 1 required INT missing" and "scene is required".
+      // `-n --out DIR`: CLI11 takes "--out" as -n's value; DIR was named as the word too many.
+      {"option_value_is_the_next_option", "optimize " + scene + " -n", "-n,--sensors:",
+       "'--out' is not a whole number"},
       {"point_with_two_values", "optimize " + scene + " --observation-point 1 2",
        "--observation-point:", "needs 3 values (a number each) after it"},
       {"word_seed", "optimize " + scene + " --seed abc", "--seed", "abc"},

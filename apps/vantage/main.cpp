@@ -297,9 +297,11 @@ int Run(int argc, char** argv, spdlog::logger* logger, const vantage::MpiJob* jo
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() != 0) {
       std::vector<std::string> command_line(argv + 1, argv + argc);
+      // A value not converted comes first: `-n --out x` takes "--out" as -n's value, and x is
+      // then a word too many only because of it.
+      if (auto message = ConversionMessage(app, e)) throw vantage::InputError(*message);
       if (auto message = UnknownWordMessage(app, commands, command_line))
         throw vantage::InputError(*message);
-      if (auto message = ConversionMessage(app, e)) throw vantage::InputError(*message);
       throw vantage::InputError(UsageMessage(app, commands, e));
     }
     const int code = app.exit(e);
