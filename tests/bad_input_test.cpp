@@ -27,7 +27,9 @@
 #include "test_util.hpp"
 #include "util/binary_io.hpp"
 #include "util/words.hpp"
+#include "vantage/error.hpp"
 #include "vantage/observe.hpp"
+#include "vantage/problem.hpp"
 #include "vantage/visibility_file.hpp"
 
 extern char** environ;
@@ -1538,6 +1540,47 @@ TEST_F(BadInput, RangesNamedAndOptionsWithoutEffectRefused) {
       {"resource_path_a_file", "optimize " + scene + " --resource-path " + scene,
        "--resource-path:", "'" + scene + "' is not a folder"},
   });
+}
+
+// Session 14: the folder check of --model-path and --resource-path moved from the command line
+// into LoadOptions::Validate, beside --package-path's, so that a run's own folders, inherited by
+// `render` and `evaluate` from its report.json, are checked too and named at the report's field
+// (a vanished one was: the model "not found"; a package path: blamed on --package-path).
+TEST_F(BadInput, InheritedFoldersNamedAtTheReport) {
+  const std::string models = dir_.File("models");
+  fs::copy(test::DataPath("worlds/models"), models, fs::copy_options::recursive);
+  const std::string run = dir_.File("run");
+  const auto optimized = RunVantage("optimize " + test::DataPath("worlds/export.world") +
+                                    " --model-path " + models + " -n 1 --method greedy --out " + run);
+  ASSERT_EQ(optimized.exit_code, 0) << optimized.err;
+  const std::string moved = dir_.File("moved");
+  fs::rename(models, moved);
+  const std::string place = run + "/report.json: inputs.model_paths (give --model-path to use other "
+                                  "folders): '" + models + "' is not a folder";
+  for (const std::string& command : {"render " + run + " --png " + dir_.File("x.png"),
+                                     "evaluate -c " + run + "/report.json --out " + dir_.File("e")}) {
+    const auto refused = RunVantage(command);
+    EXPECT_EQ(refused.exit_code, 2) << command;
+    EXPECT_NE(refused.err.find(place), std::string::npos) << command << "\n" << refused.err;
+  }
+  EXPECT_FALSE(fs::exists(dir_.File("x.png")));
+  EXPECT_FALSE(fs::exists(dir_.File("e")));
+  // The option replaces the run's list: the moved folder serves.
+  const auto drawn = RunVantage("render " + run + " --png " + dir_.File("x.png") + " --model-path " + moved);
+  EXPECT_EQ(drawn.exit_code, 0) << drawn.err;
+  EXPECT_TRUE(fs::exists(dir_.File("x.png")));
+  // The library's callers (the Python module) meet the same check.
+  LoadOptions options;
+  options.resource_paths = {dir_.File("x.png")};
+  try {
+    LoadProblem(test::DataPath("worlds/export.world"), options);
+    ADD_FAILURE() << "a file given as a resource folder was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--resource-path: '" + dir_.File("x.png") + "' is not a folder"),
+              std::string::npos)
+        << e.what();
+  }
+  fs::remove_all(run);
 }
 
 // Session 10's sweep: CLI11 took `-n ' 2'` and refused `-n '2 '`. Spaces around a number are

@@ -532,7 +532,9 @@ void ExpectExactAgainst(const Selection& e, double optimum) {
   EXPECT_LE(e.coverage, optimum + 1e-9);
   ASSERT_TRUE(e.upper_bound.has_value());
   EXPECT_GE(*e.upper_bound + 1e-9, optimum);
-  if (e.proven_optimal) EXPECT_NEAR(e.coverage, optimum, 1e-9);
+  if (e.proven_optimal) {
+    EXPECT_NEAR(e.coverage, optimum, 1e-9);
+  }
 }
 
 // The best aggregate of at most n candidates, by enumeration (defined below).
@@ -583,8 +585,9 @@ TEST(SelectOverStates, GreedyAndLocalNeverBelowBestAndDeterministic) {
         const Selection& second = again[i].selection;
         if (first.method == "exact") {
           ExpectExactAgainst(second, BruteForceAggregate(states, static_cast<size_t>(second.n), over));
-          if (first.proven_optimal && second.proven_optimal)
+          if (first.proven_optimal && second.proven_optimal) {
             EXPECT_NEAR(second.coverage, first.coverage, 1e-12);
+          }
           continue;
         }
         EXPECT_EQ(second.chosen, first.chosen);

@@ -187,24 +187,10 @@ std::function<void(size_t, size_t)> ProgressBar(const std::string& label) {
 }
 
 void AddSourceFlags(CLI::App* app, SceneInput* scene) {
-  // A folder that is not there was accepted silently, and the model it should have held was then
-  // "not found" in the folders that are (issue 15): a mistyped path is named where it is typed.
-  const auto folder = [](const std::string& holding) {
-    return CLI::Validator(
-        [holding](const std::string& path) -> std::string {
-          std::error_code error;
-          // An empty path is the general "the value is empty" check's.
-          if (path.empty() || std::filesystem::is_directory(path, error)) return {};
-          return fmt::format("'{}' is not a folder — give a folder of {}", ShownOnOneLine(path),
-                             holding);
-        },
-        "");
-  };
-  app->add_option("--model-path", scene->load.model_paths, "folder of Gazebo models (repeatable)")
-      ->check(folder("Gazebo models (each a folder with a model.config)"));
+  // Each folder is checked by LoadOptions::Validate, as the Python module's are.
+  app->add_option("--model-path", scene->load.model_paths, "folder of Gazebo models (repeatable)");
   app->add_option("--resource-path", scene->load.resource_paths,
-                  "folder of Gazebo resources, e.g. materials (repeatable)")
-      ->check(folder("Gazebo resources (holding materials/scripts/)"));
+                  "folder of Gazebo resources, e.g. materials (repeatable)");
   app->add_option("--package-path", scene->load.package_paths,
                   "folder where a URDF's package://PKG paths are found: holding PKG/, or an "
                   "install prefix holding share/PKG/ (repeatable; then ROS_PACKAGE_PATH, "

@@ -91,8 +91,16 @@ struct LoadOptions {
   /// tessellated, so that cylinders and spheres get the chord error F / 10 of the F used.
   std::optional<double> cell_size;
 
-  /// Throws InputError naming --cell-size when it is not a positive finite length, or
-  /// --package-path when one is not a folder. Every reader calls it before reading the file.
+  /// Where the three lists of folders came from, for messages: the options, or e.g.
+  /// "run/report.json: inputs.model_paths" when `evaluate` or `render` inherit them from a run.
+  std::string model_paths_origin = "--model-path";
+  std::string resource_paths_origin = "--resource-path";
+  std::string package_paths_origin = "--package-path";
+
+  /// Throws InputError naming --cell-size when it is not a positive finite length, or the origin
+  /// of a model, resource or package path that is not a folder (a mistyped folder was accepted,
+  /// and what it should have held was then "not found" in the others). Every reader calls it
+  /// before reading the file.
   void Validate() const;
 };
 

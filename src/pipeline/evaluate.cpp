@@ -27,9 +27,20 @@ SceneInput InheritScene(SceneInput scene, const Constellation& constellation,
   const std::optional<RunInputs>& inputs = constellation.inputs;
   if (scene.path.empty()) scene.path = inputs && !inputs->scene.empty() ? inputs->scene : constellation.scene;
   if (!inputs) return scene;
-  if (scene.load.model_paths.empty()) scene.load.model_paths = inputs->model_paths;
-  if (scene.load.resource_paths.empty()) scene.load.resource_paths = inputs->resource_paths;
-  if (scene.load.package_paths.empty()) scene.load.package_paths = inputs->package_paths;
+  // A folder of the run's that is gone is named at the report's field (was: under the option the
+  // user never typed, or the model "not found"); the option replaces the whole list.
+  const auto inherit = [&](std::vector<std::string>* given, std::string* origin,
+                           const std::vector<std::string>& run, const char* field) {
+    if (!given->empty() || run.empty()) return;
+    *given = run;
+    *origin = fmt::format("{}: inputs.{} (give {} to use other folders)", report_path, field, *origin);
+  };
+  inherit(&scene.load.model_paths, &scene.load.model_paths_origin, inputs->model_paths,
+          "model_paths");
+  inherit(&scene.load.resource_paths, &scene.load.resource_paths_origin, inputs->resource_paths,
+          "resource_paths");
+  inherit(&scene.load.package_paths, &scene.load.package_paths_origin, inputs->package_paths,
+          "package_paths");
   if (scene.load.targets.empty() && !inputs->targets.empty()) {
     scene.load.targets = inputs->targets;
     scene.load.targets_origin = report_path + ": inputs.targets";

@@ -57,13 +57,25 @@ void LoadOptions::Validate() const {
       throw InputError(AtPlace(targets_origin, 0,
                                fmt::format("'{}' {}", detail::Escaped(target), problem)));
   }
-  for (const std::string& folder : package_paths) {
-    std::error_code ec;
-    if (!std::filesystem::is_directory(folder, ec))
-      throw InputError(AtPlace("--package-path", 0,
-                               fmt::format("'{}' is not a folder — give a folder holding ROS "
-                                           "packages, or an install prefix with share/PKG",
-                                           folder)));
+  struct Folders {
+    const std::vector<std::string>& paths;
+    const std::string& origin;
+    const char* holding;
+  };
+  for (const Folders& list :
+       {Folders{model_paths, model_paths_origin, "a folder of Gazebo models (each a folder with a "
+                                                 "model.config)"},
+        Folders{resource_paths, resource_paths_origin,
+                "a folder of Gazebo resources (holding materials/scripts/)"},
+        Folders{package_paths, package_paths_origin,
+                "a folder holding ROS packages, or an install prefix with share/PKG"}}) {
+    for (const std::string& folder : list.paths) {
+      std::error_code error;
+      if (!std::filesystem::is_directory(folder, error))
+        throw InputError(AtPlace(list.origin, 0,
+                                 fmt::format("'{}' is not a folder — give {}",
+                                             ShownOnOneLine(folder), list.holding)));
+    }
   }
 }
 
