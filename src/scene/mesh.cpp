@@ -51,6 +51,14 @@ void CheckPositive(double value, const char* what, const char* shape) {
   }
 }
 
+/// The refusal of a shape whose tessellation would pass kMaxSegments around a circle.
+InputError TooManySegments(const char* shape, double radius, double max_chord_error) {
+  return InputError(fmt::format(
+      "{} of radius {:g} m needs more than {} segments for a chord error of {:g} m (a tenth of "
+      "the cell size) — check the radius, or give a larger cell size",
+      shape, radius, kMaxSegments, max_chord_error));
+}
+
 /// Smallest n >= 3 for which a circle of `radius` cut into n chords deviates from its polygon by
 /// less than `max_chord_error`: r (1 − cos(π / n)) < e (the sagitta of one chord).
 int SegmentsFor(double radius, double max_chord_error, const char* shape) {
@@ -60,12 +68,7 @@ int SegmentsFor(double radius, double max_chord_error, const char* shape) {
   if (ratio < 2.0) {
     const double half_angle = std::acos(1.0 - ratio);
     const double estimate = std::floor(kPi / half_angle) + 1.0;
-    if (!(estimate <= kMaxSegments)) {
-      throw InputError(fmt::format(
-          "{} of radius {:g} m needs more than {} segments for a chord error of {:g} m (a tenth of "
-          "the cell size) — check the radius, or give a larger cell size",
-          shape, radius, kMaxSegments, max_chord_error));
-    }
+    if (!(estimate <= kMaxSegments)) throw TooManySegments(shape, radius, max_chord_error);
     n = std::max(3, static_cast<int>(estimate));
   }
   // The closed form may land one short after rounding: step up until the rule holds.
@@ -301,13 +304,7 @@ TriangleMesh UvSphere(double radius, double max_chord_error, bool odd_rings, con
   while (UvSphereDeviation(radius, rings, slices) >= max_chord_error) {
     slices += std::max(1, slices / 8);
     rings = rings_for(slices);
-    if (slices > kMaxSegments) {
-      throw InputError(
-          fmt::format("{} of radius {:g} m needs more than {} segments for a chord "
-                      "error of {:g} m (a tenth of the cell size) — check the radius, or give a "
-                      "larger cell size",
-                      shape, radius, kMaxSegments, max_chord_error));
-    }
+    if (slices > kMaxSegments) throw TooManySegments(shape, radius, max_chord_error);
   }
   // Bound the whole mesh, not only a circle: slices x rings grows with the square (fuzzing found
   // cell_size 1e-7 asking for 2·10⁸ triangles).
