@@ -860,6 +860,48 @@ TEST(Gazebo, BadMountingRules) {
   ExpectErrorAt(LoadError(path), path, 4, "min_separation 1e-300 m is outside [1e-06, 1e+09] m");
 }
 
+// Session 14: an element SDF allows once, written twice, was read silently as its first (as
+// libsdformat reads it): the edit that added the second did nothing. It is now a warning naming
+// both lines. Two shapes in one <geometry> are ambiguous — libsdformat picks by its own order (box
+// before sphere), vantage took the first written — and refused.
+TEST(Gazebo, RepeatedElementsWarnedAndTwoShapesRefused) {
+  test::TempDir dir;
+  LoadOptions options;
+  options.model_paths = {World("models")};
+  const std::string text = test::ReadText(World("export.world"));
+  const auto edited = [&](const std::string& from, const std::string& to) {
+    std::string copy = text;
+    const size_t at = copy.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    copy.replace(at, from.size(), to);
+    const std::string path = dir.File("edited.world");
+    test::WriteText(path, copy);
+    return path;
+  };
+  // export.world's target: a 0.2 m box 0.1 m up (lines 14-16: <box>, <size>, </box>).
+  std::string path =
+      edited("<size>0.2 0.2 0.2</size>", "<size>0.2 0.2 0.2</size>\n<size>1 1 1</size>");
+  const Problem problem = Load(path, options);
+  ExpectBounds(FindObject(problem, "target_box"), Vec3(-0.1, -0.1, 0), Vec3(0.1, 0.1, 0.2));
+  const std::string warning = path + ":16: a second <size> in <box> (the first at line 15) is not "
+                                     "read — vantage, like Gazebo, reads the first; remove one";
+  EXPECT_TRUE(std::find(problem.warnings.begin(), problem.warnings.end(), warning) !=
+              problem.warnings.end());
+  EXPECT_TRUE(HasNote(problem, warning));
+  // A second <pose> of an include, and of a camera's clip: warned the same way.
+  path = edited("<pose>1 0.2 0.5 0 0 3.14159</pose>",
+                "<pose>1 0.2 0.5 0 0 3.14159</pose><pose>0 0 0 0 0 0</pose>");
+  EXPECT_TRUE(HasNote(Load(path, options), "a second <pose> in <include> (the first at line 32)"));
+  path = edited("<far>3</far>", "<far>3</far><far>9</far>");
+  EXPECT_TRUE(HasNote(Load(path, options), "a second <far> in <clip>"));
+  // Plugins hold what they like: two <name> in a plugin are no repeat.
+  EXPECT_FALSE(HasNote(Load(World("export.world"), options), "a second"));
+
+  path = edited("<geometry>", "<geometry><sphere><radius>1</radius></sphere>");
+  ExpectErrorAt(LoadError(path, options), path, 14,
+                "<geometry> has <sphere> (line 13) and <box>: one shape per geometry");
+}
+
 TEST(GazeboXml, LinesEntitiesAndStructure) {
   const detail::XmlDocument doc = detail::ParseXml(
       "\xEF\xBB\xBF<?xml version=\"1.0\"?>\n<!-- c -->\n<!DOCTYPE sdf>\n<a x='1' "

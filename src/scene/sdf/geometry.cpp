@@ -171,8 +171,7 @@ std::optional<TriangleMesh> Loader::GeometryOf(const VisualRecord& visual, bool 
       fmt::format("{}: <{}> geometry is not supported: this occluder is left out, so the "
                   "coverage is what the cameras would see without it — give it as a <mesh>",
                   what, shape.name));
-  if (!notes_seen_.contains(note)) problem_.warnings.push_back(note);
-  Note(note);
+  Warn(note);
   return TriangleMesh{};
 }
 

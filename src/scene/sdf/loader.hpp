@@ -140,6 +140,11 @@ class Loader {
   void Note(const std::string& note) {
     if (notes_seen_.insert(note).second) problem_.notes.push_back(note);
   }
+  /// A note logged as a warning: what the world says is not what vantage (or Gazebo) reads.
+  void Warn(const std::string& note) {
+    if (!notes_seen_.contains(note)) problem_.warnings.push_back(note);
+    Note(note);
+  }
 
   // Values (values.cpp). Each returns nullopt after recording an error naming the element.
   std::optional<std::vector<double>> Numbers(const Doc& doc,

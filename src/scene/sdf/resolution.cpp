@@ -70,6 +70,81 @@ std::string EntryNoCase(const std::string& dir, const std::string& name) {
   return matches.empty() ? "" : matches.front();
 }
 
+// The elements vantage reads as one value, by parent: SDF allows each once there (libsdformat,
+// like vantage, reads the first), so a second one is an edit that silently does nothing. <pose>
+// is single in every element vantage reads.
+const std::vector<std::pair<std::string_view, std::vector<std::string_view>>>& SingleChildren() {
+  static const std::vector<std::pair<std::string_view, std::vector<std::string_view>>> table = {
+      {"model", {"static"}},
+      {"include", {"uri", "name", "static"}},
+      {"visual", {"geometry", "material", "transparency"}},
+      {"box", {"size"}},
+      {"cylinder", {"radius", "length"}},
+      {"capsule", {"radius", "length"}},
+      {"sphere", {"radius"}},
+      {"ellipsoid", {"radii"}},
+      {"plane", {"normal", "size"}},
+      {"mesh", {"uri", "scale", "submesh"}},
+      {"material", {"script", "diffuse", "ambient"}},
+      {"script", {"name"}},
+      {"sensor", {"update_rate", "always_on", "visualize"}},
+      {"camera", {"horizontal_fov", "image", "clip"}},
+      {"image", {"width", "height", "format"}},
+      {"clip", {"near", "far"}},
+      {"population", {"model", "model_count", "distribution", "box", "cylinder"}},
+      {"distribution", {"type", "rows", "cols", "step"}},
+  };
+  return table;
+}
+
+// The shapes of <geometry>: libsdformat picks one by its own order (box before sphere), vantage
+// the first written, so two of them are ambiguous, not only redundant.
+bool IsShape(std::string_view name) {
+  static constexpr std::string_view kShapes[] = {"box",       "capsule", "cylinder", "ellipsoid",
+                                                 "heightmap", "image",   "mesh",     "plane",
+                                                 "polyline",  "sphere",  "empty"};
+  return std::find(std::begin(kShapes), std::end(kShapes), name) != std::end(kShapes);
+}
+
+struct Repeat {
+  const XmlElement* parent;
+  const XmlElement* first;
+  const XmlElement* second;
+};
+
+// Every second occurrence of a single element below `element` (plugins, whose content is their
+// own, and namespaced extensions are skipped), and every second shape of a <geometry>.
+void FindRepeats(const XmlElement& element, std::vector<Repeat>* repeats,
+                 std::vector<Repeat>* shapes) {
+  if (element.name == "plugin" || element.name.find(':') != std::string::npos) return;
+  const auto& table = SingleChildren();
+  const auto row = std::find_if(table.begin(), table.end(),
+                                [&](const auto& entry) { return entry.first == element.name; });
+  const XmlElement* shape = nullptr;
+  for (size_t i = 0; i < element.children.size(); ++i) {
+    const XmlElement& child = element.children[i];
+    if (element.name == "geometry" && IsShape(child.name)) {
+      // Several <polyline> make one shape (SDF 1.9); a shape beside another is the conflict.
+      if (shape && !(shape->name == "polyline" && child.name == "polyline"))
+        shapes->push_back({&element, shape, &child});
+      if (!shape) shape = &child;
+      continue;
+    }
+    const bool single =
+        child.name == "pose" ||
+        (row != table.end() &&
+         std::find(row->second.begin(), row->second.end(), child.name) != row->second.end());
+    if (!single) continue;
+    for (size_t j = 0; j < i; ++j) {
+      if (element.children[j].name == child.name) {
+        repeats->push_back({&element, &element.children[j], &child});
+        break;
+      }
+    }
+  }
+  for (const XmlElement& child : element.children) FindRepeats(child, repeats, shapes);
+}
+
 }  // namespace
 
 std::optional<FuelUri> ParseFuelUri(const std::string& uri) {
@@ -161,6 +236,21 @@ const Doc* Loader::LoadSdf(const std::string& path, const std::string& model_dir
                                "implements those)",
                                *version)));
     }
+  }
+  if (doc) {
+    std::vector<Repeat> repeats, shapes;
+    FindRepeats(doc->xml.root, &repeats, &shapes);
+    for (const Repeat& r : repeats)
+      Warn(AtPlace(path, r.second->line,
+                   fmt::format("a second <{}> in <{}> (the first at line {}) is not read — "
+                               "vantage, like Gazebo, reads the first; remove one",
+                               r.second->name, r.parent->name, r.first->line)));
+    for (const Repeat& r : shapes)
+      Error(*doc, r.second->line,
+            fmt::format("<geometry> has <{}> (line {}) and <{}>: one shape per geometry — Gazebo "
+                        "and vantage would not pick the same; keep one, or give each its own "
+                        "<visual>",
+                        r.first->name, r.first->line, r.second->name));
   }
   const Doc* result = doc.get();
   docs_[key] = std::move(doc);
