@@ -13,7 +13,7 @@ import scipy.sparse
 
 __version__: str
 
-PathLike = Union[str, os.PathLike]
+PathLike = Union[str, bytes, os.PathLike]
 Paths = Union[PathLike, Sequence[PathLike], None]
 Names = Union[str, Sequence[str], None]
 Quality = Optional[dict[str, Optional[float]]]

@@ -4,6 +4,7 @@
 // every C++ exception is turned into a Python one at the boundary (InputError ->
 // vantage.InputError, a ValueError; anything else -> RuntimeError), so that the interpreter never
 // aborts. The GIL is released while the library works, so that other Python threads run meanwhile.
+#include <fmt/format.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -29,6 +30,7 @@
 #include "vantage/select_states.hpp"
 #include "vantage/sensors.hpp"
 #include "vantage/types.hpp"
+#include "vantage/words.hpp"
 
 namespace py = pybind11;
 
@@ -39,9 +41,22 @@ using Strings = std::vector<std::string>;
 
 // ---- arguments --------------------------------------------------------------------------------
 
-// A path given as str or os.PathLike.
+// A path given as str, bytes or os.PathLike, in the bytes the OS takes: os.fsencode keeps a file
+// name that is not UTF-8 (a str holding surrogate escapes: was "Unable to cast Python instance";
+// bytes were read as the text "b'...'"). A NUL, where the OS would cut the path, is refused.
 std::string PathOf(const py::handle& value) {
-  return py::str(py::module_::import("os").attr("fspath")(value)).cast<std::string>();
+  const py::module_ os = py::module_::import("os");
+  const std::string path = os.attr("fsencode")(os.attr("fspath")(value)).cast<py::bytes>();
+  if (path.find('\0') != std::string::npos)
+    throw InputError(fmt::format("'{}' holds a NUL character, which no path can — check the path",
+                                 ShownOnOneLine(path)));
+  return path;
+}
+
+// A path back to Python as os.fsdecode gives it (a name that is not UTF-8 as surrogate escapes;
+// pybind11's UTF-8 decoding raised UnicodeDecodeError).
+py::str PathText(const std::string& path) {
+  return py::reinterpret_steal<py::str>(PyUnicode_DecodeFSDefault(path.c_str()));
 }
 
 std::optional<std::string> OptionalPathOf(const py::object& value) {
@@ -52,7 +67,9 @@ std::optional<std::string> OptionalPathOf(const py::object& value) {
 // One path or a list of them (the CLI's repeatable --model-path).
 Strings PathsOf(const py::object& value) {
   if (value.is_none()) return {};
-  if (py::isinstance<py::str>(value) || py::hasattr(value, "__fspath__")) return {PathOf(value)};
+  if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value) ||
+      py::hasattr(value, "__fspath__"))
+    return {PathOf(value)};
   Strings paths;
   for (const py::handle item : value) paths.push_back(PathOf(item));
   return paths;
@@ -445,7 +462,18 @@ void Bind(py::module_& m) {
       "ValueError) with the CLI's `file:line: message`; internal failures raise RuntimeError.";
   m.attr("__version__") = Version();
 
-  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+  static py::exception<InputError> input_error(m, "InputError", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr thrown) {
+    try {
+      if (thrown) std::rethrow_exception(thrown);
+    } catch (const InputError& e) {
+      // A message may quote a file name that is not UTF-8 (legal on Linux): its bytes become
+      // surrogate escapes, as os.fsdecode shows such names (was: a UnicodeDecodeError instead).
+      PyObject* message = PyUnicode_DecodeFSDefault(e.what());
+      PyErr_SetObject(input_error.ptr(), message);
+      Py_XDECREF(message);
+    }
+  });
   m.attr("InputError").attr("__doc__") =
       "Bad input that the user can fix: a scene, visibility or report file (the message starts "
       "with `file:line:` as the CLI's) or an option (the message names it). A ValueError.";
@@ -685,7 +713,7 @@ void Bind(py::module_& m) {
                             "cast (vantage.load). Immutable: observe() may run from several "
                             "threads at once.")
       .def_property_readonly(
-          "source", [](const ProblemHandle& p) { return p.prepared->problem.source; },
+          "source", [](const ProblemHandle& p) { return PathText(p.prepared->problem.source); },
           "path of the scene file")
       .def_property_readonly(
           "cell_size", [](const ProblemHandle& p) { return p.prepared->problem.cell_size; },
@@ -738,8 +766,8 @@ void Bind(py::module_& m) {
           "A scene with states: the first state's matrix (optimize() selects over all).\n"
           "Returns a vantage.Visibility.")
       .def("__repr__", [](const ProblemHandle& p) {
-        return "<vantage.Problem " + p.prepared->problem.source + ": " +
-               std::to_string(p.prepared->candidates.size()) + " candidates>";
+        return PathText("<vantage.Problem " + p.prepared->problem.source + ": " +
+                        std::to_string(p.prepared->candidates.size()) + " candidates>");
       });
 
   m.def(

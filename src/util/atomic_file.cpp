@@ -163,6 +163,9 @@ void WriteFile(const fs::path& path, const std::string& content) {
 }  // namespace
 
 void CheckOutputFile(const std::string& path) {
+  // The CLI refuses an empty --out first; the library's other callers (Python) meet it here (was
+  // std::filesystem's "cannot make absolute path").
+  if (path.empty()) throw InputError("the output path is empty — give the file to write");
   const fs::path target(path);
   // The rename would replace a device or a pipe with a plain file (issue 15: `observe --out
   // /dev/null` as root replaced the machine's /dev/null). A symbolic link to a file is replaced

@@ -12,6 +12,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 BINARY = pathlib.Path(os.environ.get("VANTAGE_BINARY", ROOT / "build" / "vantage"))
 SHARED = pathlib.Path(os.environ.get("VANTAGE_SHARED_DIR", ROOT.parent / "shared"))
 EXAMPLE = ROOT / "examples" / "scenes" / "bin_picking_cell.yaml"
+CUBE_CELL = ROOT / "tests" / "data" / "cli" / "cube_cell.yaml"  # tiny: 16 candidates
 COSTA = SHARED / "worlds" / "costa2017"
 METHODS = ["best", "ransac", "greedy", "local", "exact"]
 

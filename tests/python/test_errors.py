@@ -1,10 +1,12 @@
 """Bad input raises vantage.InputError (a ValueError) with the CLI's message; the interpreter
 never aborts."""
 
+import os
+
 import pytest
 
 import vantage
-from conftest import EXAMPLE, run_cli
+from conftest import CUBE_CELL, EXAMPLE, run_cli
 
 
 def cli_error(*args):
@@ -86,3 +88,27 @@ def test_progress_exception_reaches_the_caller(example_problem):
         example_problem.observe(progress=progress, threads=2)
     assert calls
     assert example_problem.observe(threads=1).matrix.shape[0] == len(example_problem.candidates)
+
+
+def test_paths_as_the_os_names_them(tmp_path):
+    """Session 14: a scene path as bytes was read as the text "b'...'", a file name that is not
+    UTF-8 (a str with surrogate escapes, as os.listdir gives it) raised "Unable to cast Python
+    instance", and a message quoting it raised UnicodeDecodeError instead of InputError."""
+    scene_text = CUBE_CELL.read_text(encoding="utf-8")
+    odd = os.fsdecode(b"\xff cell.yaml")
+    (tmp_path / odd).write_text(scene_text, encoding="utf-8")
+    problem = vantage.load(tmp_path / odd)
+    assert problem.source == str(tmp_path / odd)  # the same surrogate escapes back
+    assert len(problem.candidates) == 16  # cube_cell.yaml: 10 random + 2 x 3 grid
+    from_bytes = vantage.load(os.fsencode(tmp_path / odd))
+    assert from_bytes.source == problem.source
+    broken = tmp_path / os.fsdecode(b"\xfe broken.yaml")
+    broken.write_text(scene_text.replace("cell_size: 0.01", "cell_size: -1"), encoding="utf-8")
+    with pytest.raises(vantage.InputError) as error:
+        vantage.load(broken)
+    assert str(error.value).startswith(f"{broken}:4: settings.cell_size = -1"), str(error.value)
+    with pytest.raises(vantage.InputError, match="holds a NUL character"):
+        vantage.load(str(tmp_path / "a\0b.yaml"))
+    # An empty output path is named, not std::filesystem's "cannot make absolute path".
+    with pytest.raises(vantage.InputError, match="the output path is empty"):
+        problem.observe().save("")
