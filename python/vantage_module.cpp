@@ -79,7 +79,17 @@ Strings PathsOf(const py::object& value) {
 Strings NamesOf(const py::object& value) {
   if (value.is_none()) return {};
   if (py::isinstance<py::str>(value)) return {value.cast<std::string>()};
-  return value.cast<Strings>();
+  if (!py::isinstance<py::iterable>(value))  // was: RuntimeError "Unable to cast"
+    throw py::type_error("targets: give a name or a list of names, not " +
+                         std::string(py::str(py::type::of(value).attr("__name__"))));
+  Strings names;
+  for (const py::handle item : value) {
+    if (!py::isinstance<py::str>(item))
+      throw py::type_error("targets: every name is a str, not " +
+                           std::string(py::str(py::type::of(item).attr("__name__"))));
+    names.push_back(item.cast<std::string>());
+  }
+  return names;
 }
 
 Method MethodOf(const std::string& name) {
@@ -188,7 +198,15 @@ std::optional<std::string> OutDirOf(const py::object& out) {
 
 RunLimits LimitsOf(std::optional<double> max_memory) {
   RunLimits limits;
-  if (max_memory) limits.max_memory_mib = *max_memory;
+  if (max_memory) {
+    // The library reads 0 as "75 % of the RAM"; a caller's 0 (or less) is a mistake, as the
+    // CLI's --max-memory 0 is (was: taken as no limit of its own).
+    if (!(*max_memory > 0))
+      throw InputError(fmt::format("max_memory: {} is not a positive number of MiB — give e.g. "
+                                   "4096, or None for 75 % of the RAM",
+                                   *max_memory));
+    limits.max_memory_mib = *max_memory;
+  }
   return limits;
 }
 
@@ -835,6 +853,9 @@ void Bind(py::module_& m) {
         SetInstallRules(&options.selection, interference, interference_overlap, calibration_overlap,
                         calibration_overlap_frac, min_points, min_density);
         options.robustness = RobustnessOf(fov_tolerance, alternatives_within);
+        if (refine_rounds && !refine)  // as the CLI's --refine-rounds without --refine
+          throw InputError("refine_rounds: only refine=True runs rounds — pass refine=True, or "
+                           "leave refine_rounds out");
         if (refine) {
           RefineOptions refine_options;
           if (refine_rounds) refine_options.max_rounds = *refine_rounds;

@@ -47,7 +47,7 @@ void SetupOptimize(CLI::App* parent) {
                 "improves, under the run's constraints over old and new poses");
   CLI::Option* rounds =
       app->add_option("--refine-rounds", flags->refine_options.max_rounds, "rounds of --refine")
-          ->check(NumberFrom(1, 100, ValueKind::kWholeNumber))
+          ->check(NumberFrom(1, kMaxRefineRounds, ValueKind::kWholeNumber))
           ->capture_default_str();
   app->callback([flags, rounds] {
     // Was accepted and ignored without --refine (issue 15).

@@ -17,6 +17,10 @@
 
 namespace vantage {
 
+/// The rounds a run may ask for (--refine-rounds, optimize's refine): each traces the new poses
+/// and selects again, so more would run for hours; a run asking for refinement asks for one.
+inline constexpr int kMaxRefineRounds = 100;
+
 struct RefineOptions {
   int max_rounds = 4;   ///< rounds of search + trace + re-selection, >= 0 (0: no refinement)
   double move = 0.05;   ///< first position step [m], > 0

@@ -54,7 +54,15 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
   options.observe.Validate();
   options.limits.Validate();
   options.robustness.Validate();
-  if (options.refine) options.refine->Validate();
+  if (options.refine) {
+    options.refine->Validate();
+    // A run that asks for refinement asks for a round (the library reads 0 as none: the Python
+    // module's refine_rounds=0 did nothing silently; the CLI checked 1..100 only itself).
+    if (options.refine->max_rounds < 1 || options.refine->max_rounds > kMaxRefineRounds)
+      throw InputError(fmt::format("--refine-rounds: {} is out of range — give a whole number "
+                                   "from 1 to {}",
+                                   options.refine->max_rounds, kMaxRefineRounds));
+  }
   PreparedScene prepared = Prepare(options.scene);
   const std::string source = prepared.problem.source;
   const SelectOptions select = ResolveSelection(prepared.problem.selection, options.selection,

@@ -112,3 +112,22 @@ def test_paths_as_the_os_names_them(tmp_path):
     # An empty output path is named, not std::filesystem's "cannot make absolute path".
     with pytest.raises(vantage.InputError, match="the output path is empty"):
         problem.observe().save("")
+
+
+def test_options_the_cli_refuses_are_refused_here_too(tmp_path):
+    """Session 14: max_memory=0 was taken as "no limit of the caller's own" (the CLI refuses
+    --max-memory 0), refine_rounds=0 under refine=True did nothing and refine_rounds without
+    refine=True was ignored (the CLI refuses both), and targets=3 raised RuntimeError."""
+    problem = vantage.load(CUBE_CELL)
+    with pytest.raises(vantage.InputError, match="^max_memory: 0 is not a positive number of MiB"):
+        problem.observe(max_memory=0)
+    with pytest.raises(vantage.InputError, match="^--refine-rounds: 0 is out of range"):
+        vantage.optimize(CUBE_CELL, n=1, refine=True, refine_rounds=0, out=tmp_path / "a")
+    with pytest.raises(vantage.InputError, match="^refine_rounds: only refine=True runs rounds"):
+        vantage.optimize(CUBE_CELL, n=1, refine_rounds=3, out=tmp_path / "b")
+    assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
+    with pytest.raises(TypeError, match="targets: give a name or a list of names, not int"):
+        vantage.load(CUBE_CELL, targets=3)
+    with pytest.raises(TypeError, match="targets: every name is a str, not int"):
+        vantage.load(CUBE_CELL, targets=["cube", 3])
+    assert len(vantage.load(CUBE_CELL, targets=("cube",)).candidates) == 16
