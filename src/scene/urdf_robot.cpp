@@ -10,6 +10,7 @@
 #include <deque>
 #include <filesystem>
 #include <memory>
+#include <set>
 #include <string_view>
 
 #include "util/words.hpp"
@@ -230,6 +231,9 @@ RobotModel LoadUrdf(const std::string& path) {
   Diagnostics diag(path);
   // Breadth first from the root: each link after its parent, each joint after its parent's.
   std::deque<urdf::LinkConstSharedPtr> queue = {root};
+  // A link met twice is the child of two joints: urdfdom 3 keeps the last as its parent and
+  // builds the cycle, on which this walk ran until the memory was gone (session 14).
+  std::set<std::string> reached = {root->name};
   while (!queue.empty()) {
     const urdf::LinkConstSharedPtr link = queue.front();
     queue.pop_front();
@@ -267,10 +271,42 @@ RobotModel LoadUrdf(const std::string& path) {
         out.mimic_multiplier = joint->mimic->multiplier;
         out.mimic_offset = joint->mimic->offset;
       }
-      robot.joints.push_back(std::move(out));
       for (const urdf::LinkSharedPtr& child : link->child_links) {
-        if (child && child->name == joint->child_link_name) queue.push_back(child);
+        if (!child || child->name != joint->child_link_name) continue;
+        if (reached.insert(child->name).second) {
+          queue.push_back(child);
+          continue;
+        }
+        const auto first = std::find_if(robot.joints.begin(), robot.joints.end(),
+                                        [&](const RobotJoint& j) { return j.child_link == child->name; });
+        diag.Error(out.line,
+                   fmt::format("joint '{}' makes link '{}' the child of a second joint{} — a URDF "
+                               "is a tree, each link the child of one joint",
+                               joint->name, child->name,
+                               first == robot.joints.end()
+                                   ? " (it is the root's ancestor: a cycle)"
+                                   : fmt::format(" ('{}' is the first)", first->name)));
       }
+      robot.joints.push_back(std::move(out));
+    }
+  }
+  // urdfdom grows the tree from the one link without a parent joint; a joint from a link to
+  // itself, or a cycle of joints, leaves links and joints outside it that the walk above never
+  // meets: their occluders were dropped silently, their joints called unknown.
+  for (const auto& [name, joint] : model->joints_) {
+    if (!joint || robot.FindJoint(name)) continue;
+    const auto line = lines.joints.find(name);
+    const int at = line == lines.joints.end() ? 0 : line->second;
+    if (joint->parent_link_name == joint->child_link_name) {
+      diag.Error(at, fmt::format("joint '{}' joins link '{}' to itself — give it another child "
+                                 "link",
+                                 name, joint->child_link_name));
+    } else {
+      diag.Error(at, fmt::format("joint '{}' (link '{}' to '{}') is outside the tree that grows "
+                                 "from the root link '{}': its links form a cycle — a URDF is a "
+                                 "tree, each link the child of one joint",
+                                 name, joint->parent_link_name, joint->child_link_name,
+                                 robot.root_link));
     }
   }
   for (const RobotJoint& joint : robot.joints) {
