@@ -818,7 +818,6 @@ TEST_F(BadInput, CommandLineOptions) {
        "'nan' is not a number — give a number from 0 to 45"},
       {"fractional_refine_rounds", "optimize " + scene + " --refine --refine-rounds 1.5",
        "--refine-rounds:", "'1.5' is not a whole number — give a whole number from 1 to 100"},
-      // CLI11's "--sensors: 1 required INT missing" and "scene is required".
       // `-n --out DIR`: CLI11 takes "--out" as -n's value; DIR was named as the word too many.
       {"option_value_is_the_next_option", "optimize " + scene + " -n", "-n,--sensors:",
        "'--out' is not a whole number"},
