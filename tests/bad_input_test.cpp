@@ -4,6 +4,7 @@
 // internal; and the outputs of an earlier successful run are left exactly as they were.
 // docs/errors.md lists the messages these cases produce.
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -695,6 +696,42 @@ TEST_F(BadInput, ReaderMessages) {
 // Issue 15: valid inputs that ran for hours without a word. RANSAC stops once it has drawn every
 // subset (its answer is then the optimum, as `exact` finds it); the ray casting time is estimated
 // before any ray and --max-seconds refuses a run above it.
+// Session 14: every state is a copy of the scene observed in full, but the time and memory
+// estimates counted the first state alone (2·10⁴ states were announced as 0.03 s and ran for
+// hours), the reader compared each state's name with every other's (2·10⁵ states: hours before
+// the first ray), and the summary listed every state on one line.
+TEST_F(BadInput, StatesCountInTheEstimates) {
+  const auto with_states = [&](const std::string& name, int count, bool add) {
+    std::string text = ReadText(CubeCell()) + "states:\n";
+    for (int i = 0; i < count; ++i) {
+      text += fmt::format("  - name: s{}\n", i);
+      if (add)  // a box above the cube, somewhere else in each state: each is traced
+        text += fmt::format("    add: [{{name: b{}, role: occluder, box: {{size: [0.02, 0.02, "
+                            "0.02]}}, pose: {{xyz: [{}, 0, 0.3]}}}}]\n",
+                            i, 0.001 * i);
+    }
+    return Write(name, text);
+  };
+  const std::string too_many = with_states("too_many.yaml", 1001, false);
+  const std::string base = ReadText(CubeCell());
+  const int states_line = static_cast<int>(std::count(base.begin(), base.end(), '\n')) + 1;
+  const std::string traced = with_states("traced.yaml", 40, true);
+  ExpectRejected({
+      {"states_beyond_1000", "optimize " + too_many,
+       too_many + ":" + std::to_string(states_line) + ":", "1001 states: give at most 1000"},
+      {"states_time", "optimize " + traced + " --max-seconds 1e-6", traced + ":",
+       "of 16 candidates in each of 40 states and selecting is estimated", "rays traced"},
+  });
+  const std::string twenty = with_states("twenty.yaml", 20, false);
+  const auto run = RunVantage("optimize " + twenty + " -n 1 --method greedy --out " + dir_.File("s"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("over 20 states (s0, s1, s2, s3, s4, s5, …, s19)"), std::string::npos)
+      << run.out;
+  EXPECT_NE(run.err.find("in each of 20 states and selecting takes at most"), std::string::npos)
+      << run.err;
+  fs::remove_all(dir_.File("s"));
+}
+
 TEST_F(BadInput, LongRunsAreBounded) {
   // 16 candidates, n = 2: 120 subsets. 2^31 - 1 iterations would take hours.
   const std::string scene = CubeCell();

@@ -221,13 +221,20 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
         "quality          {}: coverages count only such pixels; 'plain' counts every pixel\n",
         fmt::join(limits, ", "));
   }
+  // A scene may have up to 1000 states: the summary's lines name the first few and the last.
+  const auto elided = [](const std::vector<std::string>& items, std::string_view separator) {
+    constexpr size_t kShown = 6;
+    if (items.size() <= kShown + 2) return fmt::format("{}", fmt::join(items, separator));
+    return fmt::format("{}{}…{}{}", fmt::join(items.begin(), items.begin() + kShown, separator),
+                       separator, separator, items.back());
+  };
   if (report.states) {
     std::vector<std::string> names;
     for (const StatesInfo::State& state : report.states->states) names.push_back(state.name);
     fmt::print(
         "states           {} over {} states ({}): coverages below are the {} of the states' "
         "coverages, listed after each\n",
-        report.states->over, names.size(), fmt::join(names, ", "),
+        report.states->over, names.size(), elided(names, ", "),
         report.states->over == "min" ? "worst" : "mean");
     fmt::print("                 (reference and best single above: state '{}')\n", names.front());
   }
@@ -260,7 +267,7 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
     if (!s->state_coverage.empty()) {
       std::vector<std::string> per_state;
       for (double c : s->state_coverage) per_state.push_back(fmt::format("{:.2f}", 100.0 * c));
-      bound += fmt::format("  (states {} %)", fmt::join(per_state, " / "));
+      bound += fmt::format("  (states {} %)", elided(per_state, " / "));
     }
     fmt::print("{:<8} n={:<3}  {:6.2f} %{}  [{}]  {:.3f} s\n", s->method, s->n, 100.0 * s->coverage,
                bound, names, s->seconds);

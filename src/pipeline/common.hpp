@@ -26,15 +26,18 @@ void CheckDeployedCandidates(std::span<const Candidate> candidates, const Proble
 /// Refuses a cell size too fine for the memory before R is built, and a run whose observe and
 /// selection estimate exceeds the limit before any ray is cast (issue #8).
 void CheckReferenceMemory(const PreparedScene& prepared, double limit_mib);
+/// `states`: the scene's states (1 without), each holding its own visibility lists and bitsets.
 void CheckObserveMemory(const Scene& scene, size_t reference_size,
                         std::span<const Candidate> candidates, double limit_mib,
-                        const std::string& source);
+                        const std::string& source, size_t states = 1);
 
 /// Logs the estimated ray casting time (EstimateObserveSeconds of the rays after culling) and
 /// refuses a run above `limit_seconds` (0: no limit) before any ray is cast.
+/// `states`: the scene's states (1 without); each may be traced again, so the estimate is the
+/// first state's times their number (at most: a state of unchanged geometry is not traced).
 void CheckObserveTime(const Reference& reference, std::span<const Candidate> candidates,
                       const ObserveOptions& observe, double limit_seconds,
-                      const std::string& source);
+                      const std::string& source, size_t states = 1);
 
 /// R of `scene` at `cell_size`, errors named after `source`; `before_build` (may be empty) runs
 /// once the targets are known to fit the grid (the memory check).

@@ -13,6 +13,7 @@
 #include <map>
 #include <numbers>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -1633,11 +1634,20 @@ void SceneReader::ReadStates(const Value& input) {
     Error(input.line, "states is empty — list at least one state (e.g. `- name: full`), or "
                       "remove the key");
   }
+  // Each state is a copy of the scene, observed in full (R and every candidate traced again):
+  // 2·10⁵ states ran for hours, their copies filling the memory (session 14).
+  constexpr size_t kMaxStates = 1'000;
+  if (items.size() > kMaxStates) {
+    Error(input.line, fmt::format("{} states: give at most {} — each state is a copy of the "
+                                  "scene, observed in full",
+                                  items.size(), kMaxStates));
+    return;
+  }
+  std::set<std::string> names;  // was a scan of the states before each: quadratic
   for (const Value& item : items) {
     std::optional<SceneState> state = ReadState(item);
     if (!state) continue;
-    const auto same = [&](const SceneState& s) { return s.name == state->name; };
-    if (std::any_of(problem_->states.begin(), problem_->states.end(), same)) {
+    if (!names.insert(state->name).second) {
       Error(item.line,
             fmt::format("state name '{}' is used twice — names must be unique", state->name));
       continue;
