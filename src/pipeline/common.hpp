@@ -23,6 +23,10 @@ void CheckCandidates(std::span<const Candidate> candidates,
 /// its population or sensor.
 void CheckDeployedCandidates(std::span<const Candidate> candidates, const Problem& problem);
 
+inline constexpr double kMiB = 1024.0 * 1024.0;
+/// --max-memory, or 75 % of the machine's RAM when it is not given (0).
+double MemoryLimitMiB(double limit_mib);
+
 /// Refuses a cell size too fine for the memory before R is built, and a run whose observe and
 /// selection estimate exceeds the limit before any ray is cast (issue #8).
 void CheckReferenceMemory(const PreparedScene& prepared, double limit_mib);

@@ -18,16 +18,6 @@ namespace vantage {
 namespace detail {
 namespace {
 
-constexpr double kMiB = 1024.0 * 1024.0;
-
-// --max-memory, or 75 % of the machine's RAM when it is not given (0).
-double MemoryLimitMiB(double limit_mib) {
-  if (limit_mib > 0) return limit_mib;
-  const double ram = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
-                     static_cast<double>(::sysconf(_SC_PAGE_SIZE));
-  return 0.75 * ram / kMiB;
-}
-
 size_t Threads() { return static_cast<size_t>(tbb::this_task_arena::max_concurrency()); }
 
 // A number of MiB in the refusal: whole MiB, or 3 digits below 1 MiB (a --max-memory of 1e-9 was
@@ -53,6 +43,13 @@ void CheckMemory(const MemoryEstimate& estimate, double limit_mib, const std::st
 }
 
 }  // namespace
+
+double MemoryLimitMiB(double limit_mib) {
+  if (limit_mib > 0) return limit_mib;
+  const double ram = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
+                     static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+  return 0.75 * ram / kMiB;
+}
 
 // Targets beyond the grid name no place of their own: the scene is named.
 Reference BuildRunReference(const Scene& scene, double cell_size, const std::string& source,

@@ -146,6 +146,24 @@ PreparedScene Prepare(const SceneInput& input) {
   }
   // A scene with states: the first state is the scene everything below measures; the others
   // are observed after it with the same candidates.
+  // Each state is a copy of the scene's meshes, made here, before the estimates of the observe
+  // stage: a large mesh in 1000 states filled the memory (session 14). These copies come before
+  // any --max-memory is known, so they are held to 75 % of the RAM.
+  if (!problem.states.empty()) {
+    double bytes = 0;
+    for (const SceneObject& object : problem.scene.objects)
+      bytes += static_cast<double>(object.mesh.vertices.size() * sizeof(Vec3) +
+                                   object.mesh.triangles.size() * sizeof(object.mesh.triangles[0]));
+    const double copies_mib = bytes * static_cast<double>(problem.states.size()) / detail::kMiB;
+    const double limit_mib = detail::MemoryLimitMiB(0);
+    if (copies_mib > limit_mib)
+      throw InputError(AtPlace(
+          problem.source, problem.states.front().line,
+          fmt::format("{} states, each a copy of the scene's {:.0f} MiB of meshes, need about "
+                      "{:.0f} MiB, above 75 % of the RAM ({:.0f} MiB) — use fewer states, or "
+                      "simpler meshes",
+                      problem.states.size(), bytes / detail::kMiB, copies_mib, limit_mib)));
+  }
   for (const SceneState& state : problem.states) {
     prepared.state_scenes.push_back(ApplyState(problem.scene, state));
     CheckSceneExtent(prepared.state_scenes.back(), problem.source, state.line, state.name);
