@@ -987,5 +987,31 @@ TEST(GazeboMaterial, ProblemsNamedAtTheirLine) {
   EXPECT_EQ(detail::ToRgb255(*cut->diffuse), (std::array<int, 3>{0, 255, 0}));
 }
 
+// Session 14: a script problem was a note, and notes are never shown once the load fails, so a
+// world whose only target takes its colour from a skipped `diffuse` said only "matches no
+// visual's material colour". The script's problems now follow that error.
+TEST(GazeboMaterial, ScriptProblemsFollowTheNoTargetError) {
+  const test::TempDir dir;
+  std::filesystem::create_directories(dir.File("materials"));
+  test::WriteText(dir.File("materials/m.material"),
+                  "material M/X\n{ technique { pass { diffuse nan 1 0 1 } } }\n"
+                  "material M/Y : M/Nope\n{ }\n");
+  std::string text = test::ReadText(World("export.world"));
+  const std::string diffuse = "<diffuse>0 1 0 1</diffuse>";
+  text.replace(text.find(diffuse), diffuse.size(),
+               "<script><uri>file://materials/m.material</uri><name>M/X</name></script>");
+  const std::string path = dir.File("scripted.world");
+  test::WriteText(path, text);
+  LoadOptions options;
+  options.model_paths = {World("models")};
+  const std::string error = LoadError(path, options);
+  EXPECT_NE(error.find("matches no visual's material colour"), std::string::npos) << error;
+  EXPECT_NE(error.find("m.material:2: 'diffuse nan 1 0 1' of material 'M/X' is not 3 or 4 finite numbers"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("m.material:3: material 'M/Y' inherits unknown material 'M/Nope'"), std::string::npos)
+      << error;
+}
+
 }  // namespace
 }  // namespace vantage

@@ -203,8 +203,10 @@ void Loader::BuildScene(std::vector<GazeboVisual>* visuals_out) {
                       is_segmentation_given_ ? "<sensorDataSegmentationColorRGB>"
                                              : "the plugin's default segmentation colour",
                       colour_text, listed));
-    // The likely cause: a visual whose material script or material was not found.
+    // The likely cause: a visual whose material script or material was not found, or a script
+    // whose colour was skipped (those were notes, never shown once the load failed).
     for (const std::string& missing : missing_materials_) AddError(missing);
+    for (const std::string& problem : materials_.problems) AddError(problem);
     return;
   }
   if (!scene_model_names_) return;
