@@ -66,12 +66,6 @@ std::optional<std::string> OutOfRange(const std::string& value, bool is_unsigned
   return fmt::format("too large — give at most {}", std::numeric_limits<int32_t>::max());
 }
 
-// What CLI11 says of a word it does not know ("The following arguments were not expected: greedy
-// --methd", or "unknown command '2'" for `--threds 2 optimize`) names neither the word nor the fix:
-// name the first unknown word of the command line — an option with the closest known one, a
-// command, or an argument too many. Empty when the error is of another kind.
-// CLI11 says "Could not convert: --k = x" for a value of the wrong type, which names neither what
-// the option takes nor where to look: name the option, the value and the kind it wants.
 // What an option takes, in words, from CLI11's type name ("INT", "UINT", "FLOAT", "BOOL", "TEXT").
 struct ValueWords {
   std::string kind = "a value of another kind";
@@ -111,6 +105,8 @@ std::string HelpFor(const CLI::App& app) {
   return &command == &app ? "`vantage --help`" : fmt::format("`vantage help {}`", command.get_name());
 }
 
+// CLI11 says "Could not convert: --k = x" for a value of the wrong type, which names neither what
+// the option takes nor where to look: name the option, the value and the kind it wants.
 std::optional<std::string> ConversionMessage(const CLI::App& app, const CLI::ParseError& error) {
   const std::string what = error.what();
   const std::string prefix = "Could not convert: ";
@@ -164,13 +160,16 @@ std::string UsageMessage(const CLI::App& app, const std::vector<std::string>& co
           count > 1 ? fmt::format("{} values{}", count, named ? fmt::format(" ({} each)", kind) : "")
                     : fmt::format("a value{}", named ? fmt::format(" ({})", kind) : "");
       return fmt::format("{}: needs {} after it — {} says what it takes",
-                         option->get_name(false, true), values,
-                         help);
+                         option->get_name(false, true), values, help);
     }
   }
   return fmt::format("{} — {} says what it takes", what, help);
 }
 
+// What CLI11 says of a word it does not know ("The following arguments were not expected: greedy
+// --methd", or "unknown command '2'" for `--threds 2 optimize`) names neither the word nor the fix:
+// name the first unknown word of the command line — an option with the closest known one, a
+// command, or an argument too many. Empty when the error is of another kind.
 std::optional<std::string> UnknownWordMessage(const CLI::App& app,
                                               const std::vector<std::string>& commands,
                                               const std::vector<std::string>& command_line) {
