@@ -149,7 +149,7 @@ CLI::Validator NumberFrom(double low, double high, ValueKind kind) {
         if (value < low || value > high) return fmt::format("{} is out of range — {}", text, wanted);
         return {};
       },
-      "");
+      fmt::format("in [{} - {}]", low, high));  // the help's words, as CLI::Range's
 }
 
 OutputGuard RefuseOutputOverInput(const std::string& out, const std::vector<std::string>& inputs) {
