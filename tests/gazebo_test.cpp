@@ -55,6 +55,24 @@ Problem Load(const std::string& path,
 
 std::string World(const std::string& name) { return test::DataPath("worlds/" + name); }
 
+/// A copy of the test world `name` with `from` replaced by `to` (it must occur), written to `as`.
+std::string EditedWorld(const std::string& name, const std::string& from, const std::string& to,
+                        const std::string& as) {
+  std::string text = test::ReadText(World(name));
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  test::WriteText(as, text);
+  return as;
+}
+
+/// The options that find the test worlds' included models.
+LoadOptions TestModels() {
+  LoadOptions options;
+  options.model_paths = {World("models")};
+  return options;
+}
+
 LoadOptions CostaOptions() {
   LoadOptions options;
   options.model_paths = {test::Costa2017Dir() + "/media/models"};
@@ -866,17 +884,9 @@ TEST(Gazebo, BadMountingRules) {
 // before sphere), vantage took the first written — and refused.
 TEST(Gazebo, RepeatedElementsWarnedAndTwoShapesRefused) {
   test::TempDir dir;
-  LoadOptions options;
-  options.model_paths = {World("models")};
-  const std::string text = test::ReadText(World("export.world"));
+  const LoadOptions options = TestModels();
   const auto edited = [&](const std::string& from, const std::string& to) {
-    std::string copy = text;
-    const size_t at = copy.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    copy.replace(at, from.size(), to);
-    const std::string path = dir.File("edited.world");
-    test::WriteText(path, copy);
-    return path;
+    return EditedWorld("export.world", from, to, dir.File("edited.world"));
   };
   // export.world's target: a 0.2 m box 0.1 m up (lines 14-16: <box>, <size>, </box>).
   std::string path =
@@ -996,15 +1006,11 @@ TEST(GazeboMaterial, ScriptProblemsFollowTheNoTargetError) {
   test::WriteText(dir.File("materials/m.material"),
                   "material M/X\n{ technique { pass { diffuse nan 1 0 1 } } }\n"
                   "material M/Y : M/Nope\n{ }\n");
-  std::string text = test::ReadText(World("export.world"));
-  const std::string diffuse = "<diffuse>0 1 0 1</diffuse>";
-  text.replace(text.find(diffuse), diffuse.size(),
-               "<script><uri>file://materials/m.material</uri><name>M/X</name></script>");
-  const std::string path = dir.File("scripted.world");
-  test::WriteText(path, text);
-  LoadOptions options;
-  options.model_paths = {World("models")};
-  const std::string error = LoadError(path, options);
+  const std::string path = EditedWorld(
+      "export.world", "<diffuse>0 1 0 1</diffuse>",
+      "<script><uri>file://materials/m.material</uri><name>M/X</name></script>",
+      dir.File("scripted.world"));
+  const std::string error = LoadError(path, TestModels());
   EXPECT_NE(error.find("matches no visual's material colour"), std::string::npos) << error;
   EXPECT_NE(error.find("m.material:2: 'diffuse nan 1 0 1' of material 'M/X' is not 3 or 4 finite numbers"),
             std::string::npos)
