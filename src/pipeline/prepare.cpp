@@ -144,8 +144,6 @@ PreparedScene Prepare(const SceneInput& input) {
     spdlog::warn("{}", note);
     prepared.notes.push_back(note);
   }
-  // A scene with states: the first state is the scene everything below measures; the others
-  // are observed after it with the same candidates.
   // Each state is a copy of the scene's meshes, made here, before the estimates of the observe
   // stage: a large mesh in 1000 states filled the memory (session 14). These copies come before
   // any --max-memory is known, so they are held to 75 % of the RAM.
@@ -164,6 +162,8 @@ PreparedScene Prepare(const SceneInput& input) {
                       "simpler meshes",
                       problem.states.size(), bytes / detail::kMiB, copies_mib, limit_mib)));
   }
+  // A scene with states: the first state is the scene everything below measures; the others
+  // are observed after it with the same candidates.
   for (const SceneState& state : problem.states) {
     prepared.state_scenes.push_back(ApplyState(problem.scene, state));
     CheckSceneExtent(prepared.state_scenes.back(), problem.source, state.line, state.name);
