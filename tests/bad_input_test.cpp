@@ -1724,6 +1724,19 @@ TEST_F(BadInput, OutputsNeverReplaceDevicesPipesOrInputs) {
   ASSERT_EQ(render.exit_code, 0) << render.err;
   EXPECT_EQ(ReadText(png).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
   EXPECT_FALSE(fs::exists(png + ".tmp-" + std::to_string(::getpid())));
+  // It is a PNG whatever the name: a name that says otherwise (session 15: a PNG written as
+  // view.jpg) is refused before the scene is read, its file untouched; the case does not matter.
+  const std::string jpeg = dir_.File("view.jpg");
+  WriteText(jpeg, "an earlier picture");
+  const auto misnamed = RunVantage("render " + out_ + " --png " + jpeg);
+  EXPECT_EQ(misnamed.exit_code, 2) << misnamed.err;
+  EXPECT_NE(misnamed.err.find("--png: '" + jpeg + "' does not end in .png"), std::string::npos)
+      << misnamed.err;
+  EXPECT_EQ(ReadText(jpeg), "an earlier picture");
+  const std::string upper = dir_.File("VIEW.PNG");
+  const auto upper_case = RunVantage("render " + out_ + " --png " + upper + " --width 32 --height 24");
+  ASSERT_EQ(upper_case.exit_code, 0) << upper_case.err;
+  EXPECT_EQ(ReadText(upper).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
   ExpectOutputsUntouched();
 }
 

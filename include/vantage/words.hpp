@@ -18,4 +18,8 @@ const std::string* ClosestWord(std::string_view word, const std::vector<std::str
 /// backslash doubled, as vantage's error messages show names.
 std::string ShownOnOneLine(std::string_view text);
 
+/// The extension of the file `path` names, dot included, in lower case ("" when none):
+/// "Scene.YAML" -> ".yaml".
+std::string LowerExtension(const std::string& path);
+
 }  // namespace vantage

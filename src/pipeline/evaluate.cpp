@@ -14,6 +14,7 @@
 #include "vantage/error.hpp"
 #include "vantage/scene_states.hpp"
 #include "vantage/sensors.hpp"
+#include "vantage/words.hpp"
 
 namespace vantage {
 namespace {
@@ -345,6 +346,12 @@ RenderRunResult RenderRun(const RenderRunOptions& options) {
                              "cannot open report.json — give an output folder of `vantage "
                              "optimize`, `select` or `evaluate`"));
   const Constellation constellation = LoadConstellation(report_path);
+  // The picture is always a PNG: a.jpg holding one would mislead every viewer and tool. After
+  // the checks that say more (a folder, a device, the report.json read), before the scene.
+  if (LowerExtension(png) != ".png")
+    throw InputError(fmt::format("--png: '{}' does not end in .png — render writes PNG pictures "
+                                 "only; give a name like view.png",
+                                 ShownOnOneLine(png)));
   SceneInput scene = InheritScene(options.scene, constellation, report_path);
   if (scene.path.empty())
     throw InputError(AtPlace(report_path, 0, "no 'scene' path — give the scene with --scene PATH"));

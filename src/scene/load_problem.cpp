@@ -34,13 +34,6 @@ const std::vector<SceneReader>& SceneReaders() {
   return readers;
 }
 
-std::string LowerExtension(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
-}
-
 }  // namespace
 
 void LoadOptions::Validate() const {

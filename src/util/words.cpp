@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -218,5 +219,12 @@ std::string ReadInputFile(const std::string& path, std::string_view kind) {
 namespace vantage {
 
 std::string ShownOnOneLine(std::string_view text) { return detail::Escaped(detail::AsUtf8(text)); }
+
+std::string LowerExtension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
 
 }  // namespace vantage
