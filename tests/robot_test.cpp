@@ -441,6 +441,15 @@ TEST(Robot, JointCyclesAreRefusedAtTheirJoint) {
   error = LoadError(ArmScene(self, "      {}"));
   EXPECT_NE(error.find("self.urdf:3: joint 'a' joins link 'base' to itself"), std::string::npos)
       << error;
+  // Lines 3, 4, 5: base -> l1, then l2 -> l3 -> l2, a loop that no path from base reaches. It is
+  // refused before urdfdom builds it (session 15: urdfdom's model of a loop is never freed).
+  const std::string loop = dir.File("loop.urdf");
+  test::WriteText(loop, head + fixed("a", "base", "l1") + fixed("b", "l2", "l3") +
+                            fixed("c", "l3", "l2") + links);
+  error = LoadError(ArmScene(loop, "      {}"));
+  EXPECT_NE(error.find("loop.urdf:5: joint 'c' closes a loop of links (l2 -> l3 -> l2)"),
+            std::string::npos)
+      << error;
 }
 
 // urdfdom 3 logs a <visual> it cannot parse and drops it, returning the robot without that
