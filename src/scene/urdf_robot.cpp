@@ -191,22 +191,23 @@ void CheckJointTree(const detail::XmlDocument& document, Diagnostics* diag) {
   }
   if (diag->HasErrors()) return;
   // Each link has one parent joint now: going up from a link ends at the root, or meets a link
-  // again — a loop, that no path from the root reaches.
-  std::set<std::string> reported;
+  // again — a loop, that no path from the root reaches. Each walk stops at a link an earlier
+  // walk settled, so that a long chain is walked once.
+  std::set<std::string> settled;  // links whose way up is known: to the root, or to a loop
   for (const auto& [start, unused] : parent_of) {
     std::vector<std::string> up = {start};  // each link's parent the next
+    std::set<std::string> on_the_way = {start};
     for (auto edge = parent_of.find(start); edge != parent_of.end();
          edge = parent_of.find(edge->second.parent)) {
       const std::string& parent = edge->second.parent;
-      if (reported.count(parent)) break;  // below a loop already named
-      const auto again = std::find(up.begin(), up.end(), parent);
-      if (again == up.end()) {
+      if (settled.count(parent)) break;
+      if (on_the_way.insert(parent).second) {
         up.push_back(parent);
         continue;
       }
+      const auto again = std::find(up.begin(), up.end(), parent);
       // Parent to child, from the child of the loop's last joint in the file: the one to remove.
       std::vector<std::string> loop(again, up.end());
-      reported.insert(loop.begin(), loop.end());
       std::reverse(loop.begin(), loop.end());
       const auto closing = std::max_element(loop.begin(), loop.end(), [&](const auto& a, const auto& b) {
         return parent_of.at(a).line < parent_of.at(b).line;
@@ -218,6 +219,7 @@ void CheckJointTree(const detail::XmlDocument& document, Diagnostics* diag) {
                                           joint.joint, fmt::join(loop, " -> "), loop.front()));
       break;
     }
+    settled.insert(up.begin(), up.end());
   }
 }
 
@@ -234,10 +236,8 @@ bool RobotJoint::IsSettable() const {
 }
 
 const RobotJoint* RobotModel::FindJoint(const std::string& joint_name) const {
-  for (const RobotJoint& joint : joints) {
-    if (joint.name == joint_name) return &joint;
-  }
-  return nullptr;
+  const auto it = joint_index.find(joint_name);
+  return it == joint_index.end() ? nullptr : &joints.at(it->second);
 }
 
 RobotModel LoadUrdf(const std::string& path) {
@@ -349,6 +349,8 @@ RobotModel LoadUrdf(const std::string& path) {
       robot.joints.push_back(std::move(out));
     }
   }
+  for (size_t i = 0; i < robot.joints.size(); ++i)
+    VANTAGE_CHECK(robot.joint_index.emplace(robot.joints[i].name, i).second);
   for (const auto& [name, joint] : model->joints_) VANTAGE_CHECK(!joint || robot.FindJoint(name));
   for (const RobotJoint& joint : robot.joints) {
     if (!joint.mimic.empty() && !robot.FindJoint(joint.mimic))
@@ -357,26 +359,35 @@ RobotModel LoadUrdf(const std::string& path) {
   }
   diag.ThrowIfAny();
   // A chain of mimics must end at a joint that mimics none; a cycle has no position to follow.
-  std::vector<std::string> in_reported_cycle;
+  // Each walk stops at a joint an earlier walk settled, so that a long chain is walked once.
+  std::set<std::string> settled;
   for (const RobotJoint& start : robot.joints) {
-    if (std::find(in_reported_cycle.begin(), in_reported_cycle.end(), start.name) !=
-        in_reported_cycle.end())
-      continue;
     std::vector<std::string> chain;
-    for (const RobotJoint* joint = &start; joint && !joint->mimic.empty();
+    std::set<std::string> in_chain;
+    for (const RobotJoint* joint = &start;
+         joint && !joint->mimic.empty() && !settled.count(joint->name);
          joint = robot.FindJoint(joint->mimic)) {
       chain.push_back(joint->name);
-      if (std::find(chain.begin(), chain.end(), joint->mimic) == chain.end()) continue;
-      chain.push_back(joint->mimic);
-      if (joint->mimic == start.name) {  // once per cycle, at the first of its joints met
-        in_reported_cycle.insert(in_reported_cycle.end(), chain.begin(), chain.end());
-        diag.Error(start.line,
-                   fmt::format("joint '{}' mimics itself through {} — a mimic chain must end at "
-                               "a joint that mimics none",
-                               start.name, fmt::join(chain, " -> ")));
-      }
+      in_chain.insert(joint->name);
+      if (!in_chain.count(joint->mimic)) continue;
+      // Named from its joint that comes first in the robot, once per cycle.
+      std::vector<std::string> cycle(std::find(chain.begin(), chain.end(), joint->mimic),
+                                     chain.end());
+      std::rotate(cycle.begin(),
+                  std::min_element(cycle.begin(), cycle.end(),
+                                   [&](const std::string& a, const std::string& b) {
+                                     return robot.joint_index.at(a) < robot.joint_index.at(b);
+                                   }),
+                  cycle.end());
+      cycle.push_back(cycle.front());
+      const RobotJoint& first = *robot.FindJoint(cycle.front());
+      diag.Error(first.line,
+                 fmt::format("joint '{}' mimics itself through {} — a mimic chain must end at "
+                             "a joint that mimics none",
+                             first.name, fmt::join(cycle, " -> ")));
       break;
     }
+    settled.insert(chain.begin(), chain.end());
   }
   diag.ThrowIfAny();
   return robot;
@@ -430,19 +441,32 @@ std::map<std::string, Pose> LinkPoses(const RobotModel& robot,
                                       const Pose& world_from_base,
                                       const JointPositions& positions) {
   for (const auto& [name, q] : positions) VANTAGE_CHECK(robot.FindJoint(name) != nullptr);
-  // A mimic joint follows its joint, which may itself mimic another (at most one per joint).
+  // A mimic joint follows its joint, which may itself mimic another (at most one per joint):
+  // q = multiplier · q(mimic) + offset, each joint's position computed once, so that a chain of
+  // thousands of mimics stays linear.
+  std::vector<std::optional<double>> position(robot.joints.size());
   const auto position_of = [&](const RobotJoint& start) {
-    const RobotJoint* joint = &start;
-    double multiplier = 1.0, offset = 0.0;
-    for (size_t hops = 0; !joint->mimic.empty(); ++hops) {
-      VANTAGE_CHECK(hops <= robot.joints.size());
-      offset += multiplier * joint->mimic_offset;
-      multiplier *= joint->mimic_multiplier;
-      joint = robot.FindJoint(joint->mimic);
-      VANTAGE_CHECK(joint != nullptr);
+    std::vector<size_t> chain;  // mimics whose position waits for the next one's
+    size_t at = static_cast<size_t>(&start - robot.joints.data());
+    while (!position[at]) {
+      const RobotJoint& joint = robot.joints[at];
+      if (joint.mimic.empty()) {
+        const auto given = positions.find(joint.name);
+        position[at] = given == positions.end() ? 0.0 : given->second;
+        break;
+      }
+      chain.push_back(at);
+      VANTAGE_CHECK(chain.size() <= robot.joints.size());
+      const RobotJoint* followed = robot.FindJoint(joint.mimic);
+      VANTAGE_CHECK(followed != nullptr);
+      at = static_cast<size_t>(followed - robot.joints.data());
     }
-    const auto it = positions.find(joint->name);
-    return multiplier * (it == positions.end() ? 0.0 : it->second) + offset;
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+      const RobotJoint& joint = robot.joints[*it];
+      const double followed = *position[robot.joint_index.at(joint.mimic)];
+      position[*it] = joint.mimic_multiplier * followed + joint.mimic_offset;
+    }
+    return *position[static_cast<size_t>(&start - robot.joints.data())];
   };
   std::map<std::string, Pose> world_from_link;
   world_from_link[robot.root_link] = world_from_base;
