@@ -1238,6 +1238,8 @@ void SceneReader::ReadRobot(const Value& input) {
             fmt::format("{}: link '{}' has no <visual> — it cannot be a target", what, link));
   }
   if (ErrorCount() != errors_before) return;
+  std::set<std::string> object_names;  // a set: robots of 10⁴ links beside 10⁴ objects
+  for (const SceneObject& o : problem_->scene.objects) object_names.insert(o.name);
   for (auto& [name, mesh] : robot.WorldMeshes(robot.joints)) {
     SceneObject object;
     object.name = std::move(name);
@@ -1247,8 +1249,7 @@ void SceneReader::ReadRobot(const Value& input) {
     object.mesh = std::move(mesh);
     object.file = problem_->source;
     object.line = robot.line;
-    const auto same_object = [&](const SceneObject& o) { return o.name == object.name; };
-    if (std::any_of(problem_->scene.objects.begin(), problem_->scene.objects.end(), same_object)) {
+    if (!object_names.insert(object.name).second) {
       Error(robot.line, fmt::format("{}: object name '{}' is already used — rename the object or "
                                     "the robot",
                                     what, object.name));
@@ -1370,11 +1371,12 @@ std::optional<std::string> SceneReader::TypeReference(const Fields& fields,
 }
 
 void SceneReader::ReadPopulations(const Value& input) {
+  std::set<std::string> names;  // as for sensors and objects
+  for (const Population& p : problem_->populations) names.insert(p.name);
   for (const Value& item : Items(input, "populations")) {
     std::optional<Population> population = ReadPopulation(item);
     if (!population) continue;
-    const auto same = [&](const Population& p) { return p.name == population->name; };
-    if (std::any_of(problem_->populations.begin(), problem_->populations.end(), same)) {
+    if (!names.insert(population->name).second) {
       Error(item.line, fmt::format("population name '{}' is used twice — names must be unique",
                                    population->name));
       continue;
