@@ -910,6 +910,15 @@ TEST(Gazebo, RepeatedElementsWarnedAndTwoShapesRefused) {
   path = edited("<geometry>", "<geometry><sphere><radius>1</radius></sphere>");
   ExpectErrorAt(LoadError(path, options), path, 14,
                 "<geometry> has <sphere> (line 13) and <box>: one shape per geometry");
+  // A warning that explains a failed load follows its error (session 15: a load that failed
+  // printed no warning): the target's colour in a second <diffuse>, not read, so no target.
+  path = edited("<diffuse>0 1 0 1</diffuse>", "<diffuse>1 1 1 1</diffuse>\n<diffuse>0 1 0 1</diffuse>");
+  const std::string error = LoadError(path, options);
+  const size_t no_target = error.find("matches no visual's material colour");
+  const size_t repeat = error.find("\nwarning: " + path + ":20: a second <diffuse> in <material>");
+  EXPECT_NE(no_target, std::string::npos) << error;
+  EXPECT_NE(repeat, std::string::npos) << error;
+  EXPECT_LT(no_target, repeat) << error;
 }
 
 TEST(GazeboXml, LinesEntitiesAndStructure) {

@@ -145,6 +145,14 @@ class Loader {
     if (!notes_seen_.contains(note)) problem_.warnings.push_back(note);
     Note(note);
   }
+  /// Throws the errors, when there are any, followed by the warnings so far: a load that fails
+  /// prints no warning, and what vantage did not read may be the cause (a second <diffuse>,
+  /// ignored, that held the target colour).
+  void ThrowIfErrors() {
+    if (!diag_.HasErrors()) return;
+    for (const std::string& warning : problem_.warnings) diag_.Error(0, "warning: " + warning);
+    diag_.ThrowIfAny();
+  }
 
   // Values (values.cpp). Each returns nullopt after recording an error naming the element.
   std::optional<std::vector<double>> Numbers(const Doc& doc,

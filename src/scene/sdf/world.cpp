@@ -51,7 +51,7 @@ namespace detail::gazebo {
 Problem Loader::Load(std::vector<GazeboVisual>* visuals_out) {
   problem_.source = path_;
   world_doc_ = LoadSdf(path_, "");
-  diag_.ThrowIfAny();  // nothing else can be read without the world file
+  ThrowIfErrors();  // nothing else can be read without the world file
   VANTAGE_CHECK(world_doc_ != nullptr);
   const std::vector<const XmlElement*> worlds = world_doc_->xml.root.Children("world");
   if (worlds.size() != 1) {
@@ -59,7 +59,7 @@ Problem Loader::Load(std::vector<GazeboVisual>* visuals_out) {
           worlds.empty() ? "no <world> element — vantage reads world files (a model file goes in "
                            "a world with <include>)"
                          : "more than one <world> — keep one per file");
-    diag_.ThrowIfAny();
+    ThrowIfErrors();
   }
   world_ = worlds[0];
   ReadPlugin();
@@ -107,7 +107,7 @@ Problem Loader::Load(std::vector<GazeboVisual>* visuals_out) {
   }
 
   BuildScene(visuals_out);
-  diag_.ThrowIfAny();
+  ThrowIfErrors();
   return std::move(problem_);
 }
 
