@@ -294,6 +294,9 @@ TEST_F(BadInput, YamlScenes) {
       Yaml("grid_with_count", "    rows: 2", "    count: 6\n    rows: 2", 40,
            "a grid takes no 'count'"),
       Yaml("grid_without_step", "    step: [0.2, 0.2, 0]\n", "", 37, "has no 'step'"),
+      // Session 15: a zero step put the 3 columns' sensors at one point, silently.
+      Yaml("grid_zero_step", "step: [0.2, 0.2, 0]", "step: [0, 0.2, 0]", 42,
+           "step is 0 along x, which puts the 3 columns at one point — give a step, or cols: 1"),
       Yaml("unknown_distribution", "distribution: random", "distribution: spiral", 33,
            "distribution 'spiral' is unknown"),
       Yaml("sensor_named_like_clone", "populations:",

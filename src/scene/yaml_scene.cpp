@@ -14,6 +14,7 @@
 #include <numbers>
 #include <optional>
 #include <set>
+#include <tuple>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -1508,7 +1509,18 @@ bool SceneReader::ReadGrid(const Fields& fields, const std::string& what, Popula
   integer("rows", &p->rows);
   integer("cols", &p->cols);
   if (const auto v = fields.Get("step")) {
-    if (const auto step = Vector(*v, what + ".step")) p->step = *step;
+    if (const auto step = Vector(*v, what + ".step")) {
+      p->step = *step;
+      // A zero step stacks a row or column at one point: copies of one candidate, never useful.
+      for (const auto& [axis, count, name] : {std::tuple{0, p->cols, "columns"},
+                                              std::tuple{1, p->rows, "rows"}}) {
+        if (count > 1 && (*step)[axis] == 0)
+          Error(v->line, fmt::format("{}.step is 0 along {}, which puts the {} {} at one point — "
+                                     "give a step, or {}: 1",
+                                     what, axis == 0 ? "x" : "y", count, name,
+                                     axis == 0 ? "cols" : "rows"));
+      }
+    }
   } else {
     Missing(fields, "step", "step: [0.3, 0.3, 0]");
   }
