@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Loading large URDF robots: a chain of N revolute joints, and the same chain with each joint
-# mimicking the one before (a mimic chain N long), each as the robot of a one-camera YAML scene;
+# Loading large URDF robots: a chain of N revolute joints, the same chain with each joint
+# mimicking the one before (a mimic chain N long), and a star (N joints from one link), each as
+# the robot of a one-camera YAML scene;
 # `vantage optimize` wall time and peak memory (GNU time), the load dominating.
 # Usage: bench/urdf_load.sh BIN OUT_DIR [N...=2000 20000]
 set -uo pipefail
@@ -10,14 +11,15 @@ SIZES=("$@"); [ ${#SIZES[@]} -eq 0 ] && SIZES=(2000 20000)
 mkdir -p "$OUT"
 printf 'robot\tjoints\tseconds\tpeak_MiB\texit\n'
 for n in "${SIZES[@]}"; do
-  for kind in chain mimic; do
+  for kind in chain mimic star; do
     python3 - "$OUT/$kind$n.urdf" "$n" "$kind" <<'PY'
 import sys
 path, n, kind = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 out = ['<?xml version="1.0"?>', '<robot name="r">', '<link name="l0"/>']
 for i in range(1, n):
     mimic = f'<mimic joint="j{i-1}"/>' if kind == 'mimic' and i > 1 else ''
-    out.append(f'<link name="l{i}"/><joint name="j{i}" type="revolute"><parent link="l{i-1}"/>'
+    parent = 0 if kind == 'star' else i - 1
+    out.append(f'<link name="l{i}"/><joint name="j{i}" type="revolute"><parent link="l{parent}"/>'
                f'<child link="l{i}"/><axis xyz="0 0 1"/>'
                f'<limit lower="-1" upper="1" effort="1" velocity="1"/>{mimic}</joint>')
 open(path, 'w').write('\n'.join(out + ['</robot>']))

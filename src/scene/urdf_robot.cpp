@@ -341,11 +341,10 @@ RobotModel LoadUrdf(const std::string& path) {
         out.mimic_multiplier = joint->mimic->multiplier;
         out.mimic_offset = joint->mimic->offset;
       }
-      for (const urdf::LinkSharedPtr& child : link->child_links) {
-        if (!child || child->name != joint->child_link_name) continue;
-        VANTAGE_CHECK(reached.insert(child->name).second);
-        queue.push_back(child);
-      }
+      // By name (a map), not by a search of child_links: a link with 10⁴ children.
+      const urdf::LinkConstSharedPtr child = model->getLink(joint->child_link_name);
+      VANTAGE_CHECK(child != nullptr && reached.insert(child->name).second);
+      queue.push_back(child);
       robot.joints.push_back(std::move(out));
     }
   }
