@@ -12,29 +12,39 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <string_view>
 
 #include "commands.hpp"
 
 namespace vantage::cli {
 namespace {
 
-// --seed, --calibration-overlap: CLI11 reads "-1" into an unsigned as 2^64 - 1; refuse a sign.
-// The value comes trimmed (PlainValueValidator's transform runs first).
-std::string NonNegativeWholeNumber(std::string& text) {
-  if (!text.empty() && text.front() == '-')
-    return fmt::format("{} is negative — give a whole number from 0 to {}", text,
-                       std::numeric_limits<uint64_t>::max());
-  // CLI11 clamps 18446744073709551616 to 2^64 - 1 (issue 15): parse it here, exactly.
+// A whole number in decimal from `low` to `high`, parsed here exactly: CLI11 reads "-1" into an
+// unsigned as 2^64 - 1 and clamps 18446744073709551616 to 2^64 - 1 (issue 15), and a double
+// would round large ones. "" when it is one, else what is wrong. The value comes trimmed
+// (PlainValueValidator's transform runs first), a leading + allowed.
+std::string WholeNumberProblem(std::string_view text, uint64_t low, uint64_t high) {
+  const std::string wanted = fmt::format("give a whole number from {} to {}", low, high);
+  std::string_view digits = text;
+  if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
+  const bool negative = !digits.empty() && digits.front() == '-';
+  if (negative) digits.remove_prefix(1);
   uint64_t value = 0;
-  const char* end = text.data() + text.size();
-  const auto [stop, error] = std::from_chars(text.data(), end, value);
-  if (error == std::errc::result_out_of_range)
-    return fmt::format("{} is too large — give a whole number from 0 to {}", text,
-                       std::numeric_limits<uint64_t>::max());
-  if (error != std::errc() || stop != end)
-    return fmt::format("{} is not a whole number — give one from 0 to {}", text,
-                       std::numeric_limits<uint64_t>::max());
+  const char* end = digits.data() + digits.size();
+  const auto [stop, error] = std::from_chars(digits.data(), end, value);
+  if (stop != end || digits.empty() || (error != std::errc() && error != std::errc::result_out_of_range))
+    return fmt::format("'{}' is not a whole number — {}", text, wanted);
+  if (negative && (value != 0 || error != std::errc()))
+    return fmt::format("{} is negative — {}", text, wanted);
+  if (error == std::errc::result_out_of_range || value > high)
+    return fmt::format("{} is too large — {}", text, wanted);
+  if (value < low) return fmt::format("{} is out of range — {}", text, wanted);
   return {};
+}
+
+// --seed, --calibration-overlap: any unsigned 64-bit number.
+std::string NonNegativeWholeNumber(std::string& text) {
+  return WholeNumberProblem(text, 0, std::numeric_limits<uint64_t>::max());
 }
 
 // --random-roll, --interference: CLI11's words for a bool (true/false, yes/no, on/off, 1/0);
@@ -126,30 +136,26 @@ CLI::Validator PlainValueValidator(ValueKind kind) {
 }
 
 CLI::Validator NumberFrom(double low, double high, ValueKind kind) {
+  const std::string help = fmt::format("in [{} - {}]", low, high);  // as CLI::Range's help
+  if (kind == ValueKind::kWholeNumber) {
+    // Whole numbers are parsed as unsigned: their ranges start at 0 or above.
+    VANTAGE_CHECK(low >= 0 && low <= high);
+    return CLI::Validator(
+        [=](std::string& text) {
+          return WholeNumberProblem(text, static_cast<uint64_t>(low), static_cast<uint64_t>(high));
+        },
+        help);
+  }
   return CLI::Validator(
       [=](std::string& text) -> std::string {
-        const bool whole = kind == ValueKind::kWholeNumber;
-        const std::string wanted =
-            fmt::format("give {} from {} to {}", whole ? "a whole number" : "a number", low, high);
+        const std::string wanted = fmt::format("give a number from {} to {}", low, high);
         double value = 0;
-        if (whole) {
-          std::string_view digits(text);
-          if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
-          int64_t number = 0;
-          const char* end = digits.data() + digits.size();
-          const auto [stop, error] = std::from_chars(digits.data(), end, number);
-          if (error == std::errc::result_out_of_range && stop == end)
-            return fmt::format("{} is out of range — {}", text, wanted);
-          if (error != std::errc() || stop != end)
-            return fmt::format("'{}' is not a whole number — {}", text, wanted);
-          value = static_cast<double>(number);
-        } else if (!CLI::detail::lexical_cast(text, value) || std::isnan(value)) {
+        if (!CLI::detail::lexical_cast(text, value) || std::isnan(value))
           return fmt::format("'{}' is not a number — {}", text, wanted);
-        }
         if (value < low || value > high) return fmt::format("{} is out of range — {}", text, wanted);
         return {};
       },
-      fmt::format("in [{} - {}]", low, high));  // the help's words, as CLI::Range's
+      help);
 }
 
 OutputGuard RefuseOutputOverInput(const std::string& out, const std::vector<std::string>& inputs) {
