@@ -445,8 +445,9 @@ std::map<std::string, Pose> LinkPoses(const RobotModel& robot,
   // thousands of mimics stays linear.
   std::vector<std::optional<double>> position(robot.joints.size());
   const auto position_of = [&](const RobotJoint& start) {
+    const size_t start_index = robot.joint_index.at(start.name);
     std::vector<size_t> chain;  // mimics whose position waits for the next one's
-    size_t at = static_cast<size_t>(&start - robot.joints.data());
+    size_t at = start_index;
     while (!position[at]) {
       const RobotJoint& joint = robot.joints[at];
       if (joint.mimic.empty()) {
@@ -456,16 +457,16 @@ std::map<std::string, Pose> LinkPoses(const RobotModel& robot,
       }
       chain.push_back(at);
       VANTAGE_CHECK(chain.size() <= robot.joints.size());
-      const RobotJoint* followed = robot.FindJoint(joint.mimic);
-      VANTAGE_CHECK(followed != nullptr);
-      at = static_cast<size_t>(followed - robot.joints.data());
+      const auto followed = robot.joint_index.find(joint.mimic);
+      VANTAGE_CHECK(followed != robot.joint_index.end());
+      at = followed->second;
     }
     for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
       const RobotJoint& joint = robot.joints[*it];
       const double followed = *position[robot.joint_index.at(joint.mimic)];
       position[*it] = joint.mimic_multiplier * followed + joint.mimic_offset;
     }
-    return *position[static_cast<size_t>(&start - robot.joints.data())];
+    return *position[start_index];
   };
   std::map<std::string, Pose> world_from_link;
   world_from_link[robot.root_link] = world_from_base;
