@@ -14,7 +14,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <map>
+#include <set>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <string_view>
@@ -449,6 +452,123 @@ TEST(HtmlReport, SelfContainedEscapedAndWithoutNetworkUrls) {
   EXPECT_LE(indices.size() * 3 / 4 / 12, 400u);
   EXPECT_GT(indices.size() * 3 / 4 / 12, 50u);
   EXPECT_NE(small["notes"].dump().find("simplified from"), std::string::npos);
+}
+
+std::vector<uint8_t> Base64Decoded(const std::string& text) {
+  const std::string alphabet =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::vector<uint8_t> bytes;
+  uint32_t bits = 0;
+  int count = 0;
+  for (const char ch : text) {
+    if (ch == '=') break;
+    bits = (bits << 6) | static_cast<uint32_t>(alphabet.find(ch));
+    count += 6;
+    if (count >= 8) {
+      count -= 8;
+      bytes.push_back(static_cast<uint8_t>(bits >> count));
+    }
+  }
+  return bytes;
+}
+
+template <typename T>
+std::vector<T> Base64Values(const std::string& text) {
+  const std::vector<uint8_t> bytes = Base64Decoded(text);
+  std::vector<T> values(bytes.size() / sizeof(T));
+  std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));
+  return values;
+}
+
+// Vertex clustering written as its definition reads, one scan with ordered maps: each vertex
+// joins the cluster of its cell (numbered as cells are first met), a cluster sits at the mean of
+// its vertices, a triangle is dropped when two corners share a cluster or its corners repeat an
+// earlier triangle's.
+TriangleMesh ClusteredAsDefined(const TriangleMesh& mesh, double cell) {
+  std::map<std::array<int64_t, 3>, uint32_t> cluster_of_cell;
+  std::vector<uint32_t> cluster;
+  std::vector<Vec3> sums;
+  std::vector<int> counts;
+  for (const Vec3& v : mesh.vertices) {
+    const std::array<int64_t, 3> key = {static_cast<int64_t>(std::floor(v.x() / cell)),
+                                        static_cast<int64_t>(std::floor(v.y() / cell)),
+                                        static_cast<int64_t>(std::floor(v.z() / cell))};
+    const auto [it, is_new] = cluster_of_cell.emplace(key, static_cast<uint32_t>(sums.size()));
+    if (is_new) {
+      sums.push_back(Vec3::Zero());
+      counts.push_back(0);
+    }
+    cluster.push_back(it->second);
+    sums[it->second] += v;
+    ++counts[it->second];
+  }
+  TriangleMesh out;
+  for (size_t i = 0; i < sums.size(); ++i) out.vertices.push_back(sums[i] / counts[i]);
+  std::set<std::array<uint32_t, 3>> seen;
+  for (const auto& t : mesh.triangles) {
+    const std::array<uint32_t, 3> c = {cluster[t[0]], cluster[t[1]], cluster[t[2]]};
+    std::array<uint32_t, 3> corners = c;
+    std::sort(corners.begin(), corners.end());
+    if (corners[0] == corners[1] || corners[1] == corners[2]) continue;
+    if (seen.insert(corners).second) out.triangles.push_back(c);
+  }
+  return out;
+}
+
+// The page's meshes are the scene's clustered at the smallest cell of the documented sequence
+// (1/4096 of the scene's diagonal, times 1.4 a round) whose triangles fit the budget: every mesh,
+// vertex for vertex (as float) and index for index.
+TEST(HtmlReport, SimplifiedMeshesAreVertexClusteringAtTheSmallestCellThatFits) {
+  Scene scene = SphereScene(kRadius);
+  TriangleMesh box = MakeBox(Vec3(0.3, 0.05, 0.2));
+  for (Vec3& v : box.vertices) v += Vec3(0, 0.3, -0.05);
+  box.triangles.push_back(box.triangles.front());  // a repeated triangle: drawn once
+  scene.objects.push_back({"wall", Role::kOccluder, box, {}});
+  auto run = MakeRun(std::move(scene), {Camera("cam", Vec3(1, 0, 0), Vec3::Zero(), 64, 0.5)}, 1);
+
+  Aabb bounds;
+  for (const SceneObject& object : run->scene.objects) bounds.Extend(object.mesh.Bounds());
+  const double diagonal = (bounds.max - bounds.min).norm();
+  for (const size_t budget : {size_t{1992}, size_t{1500}, size_t{400}, size_t{60}, size_t{1}}) {
+    SCOPED_TRACE(budget);
+    ASSERT_GT(run->scene.TriangleCount(), budget);
+    std::vector<TriangleMesh> expected;
+    double cell = 0;
+    for (int round = 0; round < 40; ++round) {  // the last round whether it fits or not
+      cell = round == 0 ? diagonal / 4096.0 : cell * 1.4;
+      expected.clear();
+      size_t triangles = 0;
+      for (const SceneObject& object : run->scene.objects) {
+        expected.push_back(ClusteredAsDefined(object.mesh, cell));
+        triangles += expected.back().triangles.size();
+      }
+      if (triangles <= budget) break;
+    }
+    HtmlReportOptions options;
+    options.max_mesh_triangles = budget;
+    const nlohmann::json page =
+        nlohmann::json::parse(DataJsonOf(HtmlReport(run->report, run->scene, options)));
+    ASSERT_EQ(page["meshes"].size(), expected.size());
+    for (size_t m = 0; m < expected.size(); ++m) {
+      const auto positions = Base64Values<float>(page["meshes"][m]["positions"]);
+      const auto indices = Base64Values<uint32_t>(page["meshes"][m]["indices"]);
+      ASSERT_EQ(positions.size(), 3 * expected[m].vertices.size());
+      ASSERT_EQ(indices.size(), 3 * expected[m].triangles.size());
+      for (size_t i = 0; i < expected[m].vertices.size(); ++i) {
+        for (int a = 0; a < 3; ++a)
+          ASSERT_EQ(positions[3 * i + a], static_cast<float>(expected[m].vertices[i][a]));
+      }
+      for (size_t t = 0; t < expected[m].triangles.size(); ++t) {
+        for (int a = 0; a < 3; ++a) ASSERT_EQ(indices[3 * t + a], expected[m].triangles[t][a]);
+      }
+    }
+    size_t kept = 0;
+    for (const TriangleMesh& mesh : expected) kept += mesh.triangles.size();
+    char words[96];
+    std::snprintf(words, sizeof words, "to %zu triangles (vertex clustering, %.3g m cells)", kept,
+                  cell);
+    EXPECT_NE(page["notes"].dump().find(words), std::string::npos) << page["notes"].dump();
+  }
 }
 
 // The page is src/report/assets/report.html with its @NAME@ placeholders filled in, and holds

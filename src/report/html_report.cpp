@@ -11,10 +11,9 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <nlohmann/json.hpp>
-#include <set>
 #include <string_view>
-#include <unordered_map>
 
 #include "embedded/report_assets.hpp"
 #include "report/constraints_json.hpp"
@@ -135,78 +134,140 @@ bool ReadFile(const std::string& path, std::string* text) {
   return in.good() || in.eof();
 }
 
-struct IndexHash {
-  size_t operator()(const std::array<int64_t, 3>& k) const {
-    uint64_t h = 1469598103934665603ull;
-    for (const int64_t v : k) h = (h ^ static_cast<uint64_t>(v)) * 1099511628211ull;
-    return static_cast<size_t>(h);
-  }
-};
-
 // Vertex clustering: vertices in one cell of size `cell` merge into their mean; triangles that
 // collapse or repeat are dropped. Keeps the silhouette of huge meshes at a bounded size.
+// By sorting, not by hash map and tree (PageMeshes clusters millions of vertices in each of its
+// rounds); clusters are numbered by their first vertex and a repeated triangle is kept where it
+// first occurs, as one scan in index order would.
 TriangleMesh ClusterVertices(const TriangleMesh& mesh, double cell) {
-  std::unordered_map<std::array<int64_t, 3>, uint32_t, IndexHash> cluster_of_cell;
-  std::vector<uint32_t> cluster(mesh.vertices.size());
-  std::vector<Vec3> sums;
-  std::vector<int> counts;
-  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const Vec3& v = mesh.vertices[i];
-    const std::array<int64_t, 3> key = {static_cast<int64_t>(std::floor(v.x() / cell)),
-                                        static_cast<int64_t>(std::floor(v.y() / cell)),
-                                        static_cast<int64_t>(std::floor(v.z() / cell))};
-    const auto [it, is_new] = cluster_of_cell.try_emplace(key, static_cast<uint32_t>(sums.size()));
-    if (is_new) {
-      sums.emplace_back(Vec3::Zero());
-      counts.push_back(0);
+  const size_t vertex_count = mesh.vertices.size();
+  if (vertex_count == 0) return {};
+  VANTAGE_CHECK(vertex_count <= std::numeric_limits<uint32_t>::max());
+  std::vector<std::array<int64_t, 3>> cell_index(vertex_count);
+  std::array<int64_t, 3> lowest;
+  lowest.fill(std::numeric_limits<int64_t>::max());
+  for (size_t i = 0; i < vertex_count; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      cell_index[i][a] = static_cast<int64_t>(std::floor(mesh.vertices[i][a] / cell));
+      lowest[a] = std::min(lowest[a], cell_index[i][a]);
     }
-    cluster[i] = it->second;
-    sums[it->second] += v;
-    ++counts[it->second];
+  }
+  // Each vertex's cell as one 63-bit key: the cell is at least 1/4096 of the scene's diagonal, so
+  // an object spans at most 4098 cells along an axis, well within 21 bits.
+  constexpr int kBitsPerAxis = 21;
+  std::vector<std::pair<uint64_t, uint32_t>> by_cell(vertex_count);
+  for (size_t i = 0; i < vertex_count; ++i) {
+    uint64_t key = 0;
+    for (int a = 0; a < 3; ++a) {
+      const int64_t offset = cell_index[i][a] - lowest[a];
+      VANTAGE_CHECK(offset < (int64_t{1} << kBitsPerAxis));
+      key = (key << kBitsPerAxis) | static_cast<uint64_t>(offset);
+    }
+    by_cell[i] = {key, static_cast<uint32_t>(i)};
+  }
+  std::sort(by_cell.begin(), by_cell.end());
+  // One run of by_cell per cell, its first vertex first; clusters numbered in that vertex's order.
+  std::vector<std::pair<uint32_t, size_t>> first_vertex_and_run;
+  for (size_t start = 0; start < vertex_count;) {
+    size_t end = start + 1;
+    while (end < vertex_count && by_cell[end].first == by_cell[start].first) ++end;
+    first_vertex_and_run.emplace_back(by_cell[start].second, start);
+    start = end;
+  }
+  std::sort(first_vertex_and_run.begin(), first_vertex_and_run.end());
+  std::vector<uint32_t> cluster(vertex_count);
+  for (size_t c = 0; c < first_vertex_and_run.size(); ++c) {
+    const size_t start = first_vertex_and_run[c].second;
+    for (size_t k = start; k < vertex_count && by_cell[k].first == by_cell[start].first; ++k)
+      cluster[by_cell[k].second] = static_cast<uint32_t>(c);
   }
   TriangleMesh out;
-  out.vertices.resize(sums.size());
-  for (size_t i = 0; i < sums.size(); ++i) out.vertices[i] = sums[i] / counts[i];
-  std::set<std::array<uint32_t, 3>> seen;
-  for (const auto& t : mesh.triangles) {
-    const std::array<uint32_t, 3> c = {cluster[t[0]], cluster[t[1]], cluster[t[2]]};
+  std::vector<int> counts(first_vertex_and_run.size(), 0);
+  out.vertices.assign(first_vertex_and_run.size(), Vec3::Zero());
+  for (size_t i = 0; i < vertex_count; ++i) {  // summed in index order: the means do not depend
+    out.vertices[cluster[i]] += mesh.vertices[i];  // on the sort
+    ++counts[cluster[i]];
+  }
+  for (size_t c = 0; c < counts.size(); ++c) out.vertices[c] = out.vertices[c] / counts[c];
+
+  // Triangles by their sorted corners, then by position: the first of each run is kept.
+  std::vector<std::pair<std::array<uint32_t, 3>, size_t>> by_corners;
+  by_corners.reserve(mesh.triangles.size());
+  for (size_t j = 0; j < mesh.triangles.size(); ++j) {
+    const auto& t = mesh.triangles[j];
+    std::array<uint32_t, 3> c = {cluster[t[0]], cluster[t[1]], cluster[t[2]]};
     if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) continue;
-    std::array<uint32_t, 3> sorted = c;
-    std::sort(sorted.begin(), sorted.end());
-    if (!seen.insert(sorted).second) continue;
-    out.triangles.push_back(c);
+    std::sort(c.begin(), c.end());
+    by_corners.emplace_back(c, j);
+  }
+  std::sort(by_corners.begin(), by_corners.end());
+  std::vector<char> kept(mesh.triangles.size(), 0);
+  for (size_t k = 0; k < by_corners.size(); ++k) {
+    if (k == 0 || by_corners[k].first != by_corners[k - 1].first) kept[by_corners[k].second] = 1;
+  }
+  for (size_t j = 0; j < mesh.triangles.size(); ++j) {
+    if (!kept[j]) continue;
+    const auto& t = mesh.triangles[j];
+    out.triangles.push_back({cluster[t[0]], cluster[t[1]], cluster[t[2]]});
   }
   return out;
 }
 
 // The meshes embedded in the page: the scene's own, or simplified until they fit the budget.
+// The cells grow by 1.4 a round from 1/4096 of the scene's diagonal; the page takes the smallest
+// that fits, found by bisection over the 40 rounds since each round clusters every vertex of the
+// scene. Larger cells leave fewer triangles all but always; where the grid cuts a shape so that
+// they do not, the bisection still ends on a round that fits, one or two rounds coarser.
 std::vector<TriangleMesh> PageMeshes(const Scene& scene, size_t max_triangles, std::string* note) {
-  std::vector<TriangleMesh> meshes;
-  for (const SceneObject& object : scene.objects) meshes.push_back(object.mesh);
   const size_t total = scene.TriangleCount();
-  if (total <= max_triangles) return meshes;
+  if (total <= max_triangles) {
+    std::vector<TriangleMesh> meshes;
+    for (const SceneObject& object : scene.objects) meshes.push_back(object.mesh);
+    return meshes;
+  }
   Aabb bounds;
-  for (const TriangleMesh& mesh : meshes) {
-    if (!mesh.IsEmpty()) bounds.Extend(mesh.Bounds());
+  for (const SceneObject& object : scene.objects) {
+    if (!object.mesh.IsEmpty()) bounds.Extend(object.mesh.Bounds());
   }
   const double diagonal = (bounds.max - bounds.min).norm();
-  double cell = diagonal / 4096.0;
-  for (int round = 0; round < 40; ++round, cell *= 1.4) {
-    std::vector<TriangleMesh> simplified;
-    size_t count = 0;
+  constexpr int kRounds = 40;
+  const auto cell_of_round = [&](int round) {
+    double cell = diagonal / 4096.0;
+    for (int r = 0; r < round; ++r) cell *= 1.4;
+    return cell;
+  };
+  struct Simplified {
+    std::vector<TriangleMesh> meshes;
+    size_t triangles = 0;
+  };
+  const auto simplify = [&](int round) {
+    Simplified out;
     for (const SceneObject& object : scene.objects) {
-      simplified.push_back(ClusterVertices(object.mesh, cell));
-      count += simplified.back().triangles.size();
+      out.meshes.push_back(ClusterVertices(object.mesh, cell_of_round(round)));
+      out.triangles += out.meshes.back().triangles.size();
     }
-    if (count <= max_triangles || round == 39) {
-      *note = fmt::format(
-          "The 3D view shows the meshes simplified from {} to {} triangles "
-          "(vertex clustering, {:.3g} m cells); pictures and numbers use the full meshes.",
-          total, count, cell);
-      return simplified;
+    return out;
+  };
+  // Invariant: every round below `low` leaves too many triangles; round `high` fits (or is the last).
+  int low = 0;
+  int high = kRounds - 1;
+  Simplified fitting;
+  while (low < high) {
+    const int middle = (low + high) / 2;
+    Simplified trial = simplify(middle);
+    if (trial.triangles <= max_triangles) {
+      high = middle;
+      fitting = std::move(trial);
+    } else {
+      low = middle + 1;
     }
   }
-  return meshes;
+  if (fitting.meshes.empty()) fitting = simplify(high);  // high was never tried: the last round
+  *note = fmt::format(
+      "The 3D view shows the meshes simplified from {} to {} triangles "
+      "(vertex clustering, {:.3g} m cells); pictures and numbers use the full meshes.",
+      total, fitting.triangles, cell_of_round(high));
+  return std::move(fitting.meshes);
 }
 
 ordered_json Vec3Json(const Vec3& v) { return ordered_json::array({v.x(), v.y(), v.z()}); }
