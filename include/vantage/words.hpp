@@ -18,6 +18,9 @@ const std::string* ClosestWord(std::string_view word, const std::vector<std::str
 /// backslash doubled, as vantage's error messages show names.
 std::string ShownOnOneLine(std::string_view text);
 
+/// `text` with the ASCII letters in lower case (other bytes, UTF-8 included, unchanged).
+std::string LowerCase(std::string text);
+
 /// The extension of the file `path` names, dot included, in lower case ("" when none):
 /// "Scene.YAML" -> ".yaml".
 std::string LowerExtension(const std::string& path);

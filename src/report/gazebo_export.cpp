@@ -15,7 +15,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -645,9 +644,7 @@ std::string SceneConstellationSdf(const Scene& scene, const std::vector<Candidat
 }
 
 bool IsGazeboWorldPath(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string extension = LowerExtension(path);
   return extension == ".world" || extension == ".sdf";
 }
 

@@ -220,11 +220,14 @@ namespace vantage {
 
 std::string ShownOnOneLine(std::string_view text) { return detail::Escaped(detail::AsUtf8(text)); }
 
-std::string LowerExtension(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
+std::string LowerCase(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
+  return text;
+}
+
+std::string LowerExtension(const std::string& path) {
+  return LowerCase(std::filesystem::path(path).extension().string());
 }
 
 }  // namespace vantage

@@ -16,6 +16,7 @@
 
 #include "scene/sdf/loader.hpp"
 #include "scene/sdf/text.hpp"
+#include "vantage/words.hpp"
 
 namespace vantage::detail::gazebo {
 namespace {
@@ -51,12 +52,6 @@ std::string PercentDecoded(const std::string& text) {
   return out;
 }
 
-std::string Lower(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return text;
-}
-
 /// The entry of `dir` named `name`, compared without case (Fuel's owners and names are
 /// case-insensitive; the cache keeps the owner in lower case); "" when there is none.
 std::string EntryNoCase(const std::string& dir, const std::string& name) {
@@ -64,7 +59,7 @@ std::string EntryNoCase(const std::string& dir, const std::string& name) {
   std::error_code ec;
   std::vector<std::string> matches;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    if (Lower(entry.path().filename().string()) == Lower(name)) matches.push_back(entry.path());
+    if (LowerCase(entry.path().filename().string()) == LowerCase(name)) matches.push_back(entry.path());
   }
   std::sort(matches.begin(), matches.end());  // directory order is not stable
   return matches.empty() ? "" : matches.front();
@@ -151,18 +146,18 @@ std::optional<FuelUri> ParseFuelUri(const std::string& uri) {
   // https://fuel.gazebosim.org/1.0/<owner>/models/<name>[/<version>][/files/<path>]
   const size_t scheme = uri.find("://");
   if (scheme == std::string::npos) return std::nullopt;
-  const std::string protocol = Lower(uri.substr(0, scheme));
+  const std::string protocol = LowerCase(uri.substr(0, scheme));
   if (protocol != "https" && protocol != "http") return std::nullopt;
   std::vector<std::string> parts = SplitList(uri.substr(scheme + 3), '/');
   parts.erase(std::remove(parts.begin(), parts.end(), std::string()), parts.end());
-  if (parts.size() < 5 || Lower(parts[3]) != "models") return std::nullopt;
+  if (parts.size() < 5 || LowerCase(parts[3]) != "models") return std::nullopt;
   FuelUri fuel;
-  fuel.host = Lower(parts[0]);
+  fuel.host = LowerCase(parts[0]);
   fuel.owner = PercentDecoded(parts[2]);
   fuel.name = PercentDecoded(parts[4]);
   size_t next = 5;
-  if (next < parts.size() && Lower(parts[next]) != "files") fuel.version = parts[next++];
-  if (next < parts.size() && Lower(parts[next]) == "files") {
+  if (next < parts.size() && LowerCase(parts[next]) != "files") fuel.version = parts[next++];
+  if (next < parts.size() && LowerCase(parts[next]) == "files") {
     std::vector<std::string> rest(parts.begin() + static_cast<std::ptrdiff_t>(next + 1), parts.end());
     fuel.file = PercentDecoded(Join(rest, "/"));
   } else if (next < parts.size()) {
@@ -353,7 +348,7 @@ std::optional<std::string> Loader::FuelCached(const FuelUri& fuel,
     const std::string model = EntryNoCase((fs::path(owner) / "models").string(), fuel.name);
     if (model.empty()) continue;
     std::string version;
-    if (!fuel.version.empty() && Lower(fuel.version) != "tip") {
+    if (!fuel.version.empty() && LowerCase(fuel.version) != "tip") {
       version = (fs::path(model) / fuel.version).string();
       if (!IsDirectory(version)) continue;
     } else {

@@ -3,9 +3,7 @@
 // fallback and reading goes on, so that one run lists every problem).
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <array>
-#include <cctype>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -15,6 +13,7 @@
 
 #include "scene/sdf/loader.hpp"
 #include "scene/sdf/text.hpp"
+#include "vantage/words.hpp"
 
 namespace vantage::detail::gazebo {
 
@@ -77,10 +76,7 @@ std::optional<int64_t> Loader::Integer(const Doc& doc,
 
 std::optional<bool> BoolWord(std::string text) {
   // As sdformat reads a bool: true/false/1/0 in any case, around spaces.
-  text = Trim(text);
-  std::transform(text.begin(), text.end(), text.begin(), [](char c) {
-    return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  });
+  text = LowerCase(Trim(text));
   if (text == "true" || text == "1") return true;
   if (text == "false" || text == "0") return false;
   return std::nullopt;
