@@ -774,6 +774,42 @@ TEST_F(BadInput, LongRunsAreBounded) {
                    "--max-seconds 10",
                    "--iterations:", "RANSAC's 2000000000 iterations of n = 5 over 406 candidates "
                    "are estimated at about"}});
+  // The scene's triangles are priced too (was: the rays alone — a 4-million-triangle scene in 8
+  // states was announced as 0.06 s and took 17 s, each state's BVH and the report page). A sphere
+  // of radius 50 m at a 1 cm cell is 497 026 triangles: at kSecondsPerTriangle per triangle and
+  // thread and kOutputSecondsPerTriangle for the outputs, about 1 s at least on any number of
+  // threads, while its 7 400 rays cost 15 ms; 4 states build it 4 times. Its ray caster's scene
+  // (about 42 MiB) and its mesh dominate the memory estimate beside one camera's image.
+  const std::string sphere_text =
+      "settings: {cell_size: 0.01, n: 1}\n"
+      "objects:\n"
+      "  - {name: plate, role: target, pose: {xyz: [0, 0, -1]}, plane: {size: [0.2, 0.2]}}\n"
+      "  - {name: ball, role: occluder, pose: {xyz: [0, 0, -150]}, sphere: {radius: 50}}\n"
+      "sensors:\n"
+      "  - {name: top, type: kinect_xbox_360, position: [0, 0, 0.5],\n"
+      "     orientation: {rpy: [0, 1.5708, 0]}}\n";
+  const std::string sphere = Write("sphere.yaml", sphere_text);
+  const std::string sphere_states =
+      Write("sphere_states.yaml", sphere_text + "states:\n  - {name: a}\n  - {name: b}\n"
+                                                "  - {name: c}\n  - {name: d}\n");
+  ExpectRejected({
+      {"triangles_over_limit", "optimize " + sphere + " --max-seconds 0.9", sphere + ":",
+       "ray casting 0.0074 M rays of 1 candidates (a scene of 497026 triangles to build) and "
+       "selecting is estimated at about", "rays traced"},
+      {"triangles_over_limit_remedy", "optimize " + sphere + " --max-seconds 0.9", sphere + ":",
+       "— use simpler meshes or fewer states, or raise --max-seconds"},
+      {"states_build_again", "optimize " + sphere_states + " --max-seconds 0.9", sphere_states,
+       "in each of 4 states (1.99 M triangles to build in all)"},
+      {"scene_over_memory", "optimize " + sphere + " --max-memory 60", sphere + ":",
+       "— use simpler meshes or fewer states, or raise --max-memory", "rays traced"},
+      // Each state's copy of the 12 MiB of meshes and a second ray caster's scene: about 157
+      // MiB where the scene alone (below) is 69 (was: 69 for both).
+      {"states_copies_in_memory", "optimize " + sphere_states + " --max-memory 100",
+       sphere_states + ":", "this run needs about", "rays traced"},
+  });
+  const auto one_state = RunVantage("optimize " + sphere + " --max-memory 100 --out " +
+                                    dir_.File("sphere_out"));
+  EXPECT_EQ(one_state.exit_code, 0) << one_state.err;
   // The 120 subsets of the run above end RANSAC early: no refusal under a small limit.
   const auto bounded = RunVantage("optimize " + scene + " --iterations 2147483647 --max-seconds 5 "
                                   "--out " + dir_.File("bounded"));

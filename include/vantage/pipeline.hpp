@@ -80,6 +80,16 @@ double EstimateObserveSeconds(uint64_t rays, size_t candidates, size_t threads);
 inline constexpr double kSecondsPerRay = 2e-6;
 inline constexpr double kSecondsPerCandidate = 3e-4;
 
+/// A deliberately high estimate of the seconds a scene's triangles cost: the ray caster's BVH of
+/// each traced state's scene (`built_triangles`: the triangles of all of them), kSecondsPerTriangle
+/// per triangle and thread, and writing the outputs of a scene of `scene_triangles` (report.html
+/// simplifies one of more than 300 000), kOutputSecondsPerTriangle per triangle on one thread;
+/// about twice the costs measured on the shared 2-core machine (4 M triangles: the BVH in about
+/// 1 s on two threads, the outputs in 3.6 s).
+double EstimateSceneSeconds(uint64_t built_triangles, uint64_t scene_triangles, size_t threads);
+inline constexpr double kSecondsPerTriangle = 1e-6;
+inline constexpr double kOutputSecondsPerTriangle = 2e-6;
+
 /// Selection settings given by the caller; unset: the scene's (SelectionSettings). Any of goal,
 /// k and budget given replaces the scene's objective altogether (so --k 2 over a scene's goal
 /// works).

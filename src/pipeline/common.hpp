@@ -24,24 +24,30 @@ void CheckCandidates(std::span<const Candidate> candidates,
 void CheckDeployedCandidates(std::span<const Candidate> candidates, const Problem& problem);
 
 inline constexpr double kMiB = 1024.0 * 1024.0;
+/// Bytes of `scene`'s meshes (vertices and triangles) in memory.
+uint64_t MeshBytes(const Scene& scene);
 /// --max-memory, or 75 % of the machine's RAM when it is not given (0).
 double MemoryLimitMiB(double limit_mib);
 
 /// Refuses a cell size too fine for the memory before R is built, and a run whose observe and
 /// selection estimate exceeds the limit before any ray is cast (issue #8).
 void CheckReferenceMemory(const PreparedScene& prepared, double limit_mib);
-/// `states`: the scene's states (1 without), each holding its own visibility lists and bitsets.
+/// `states`: the scene's states (1 without), each holding its own visibility lists and bitsets;
+/// `state_scenes`: their scenes (empty without), each a copy of the meshes, and while one is
+/// traced its ray caster's scene beside the first state's.
 void CheckObserveMemory(const Scene& scene, size_t reference_size,
                         std::span<const Candidate> candidates, double limit_mib,
-                        const std::string& source, size_t states = 1);
+                        const std::string& source, size_t states = 1,
+                        std::span<const Scene> state_scenes = {});
 
-/// Logs the estimated ray casting time (EstimateObserveSeconds of the rays after culling) and
-/// refuses a run above `limit_seconds` (0: no limit) before any ray is cast.
-/// `states`: the scene's states (1 without); each may be traced again, so the estimate is the
-/// first state's times their number (at most: a state of unchanged geometry is not traced).
+/// Logs the estimated time (EstimateObserveSeconds of the rays after culling, plus
+/// EstimateSceneSeconds of the scene's triangles) and refuses a run above `limit_seconds` (0: no
+/// limit) before any ray is cast. `state_scenes`: the scene's states (empty without); each may be
+/// traced again, its scene built again, so the estimate of the rays is the first state's times
+/// their number (at most: a state of unchanged geometry is not traced).
 void CheckObserveTime(const Reference& reference, std::span<const Candidate> candidates,
-                      const ObserveOptions& observe, double limit_seconds,
-                      const std::string& source, size_t states = 1);
+                      const ObserveOptions& observe, double limit_seconds, const Scene& scene,
+                      std::span<const Scene> state_scenes, const std::string& source);
 
 /// R of `scene` at `cell_size`, errors named after `source`; `before_build` (may be empty) runs
 /// once the targets are known to fit the grid (the memory check).

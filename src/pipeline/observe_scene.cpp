@@ -37,9 +37,12 @@ void CheckMemory(const MemoryEstimate& estimate, double limit_mib, const std::st
   if (estimate.Total() / kMiB > limit_mib)
     throw InputError(AtPlace(
         source, 0,
-        fmt::format("this run needs about {}, above the {} limit — use fewer candidates, lower "
-                    "resolutions, a larger --cell-size, fewer --threads, or raise --max-memory",
-                    MiBText(estimate.Total() / kMiB), MiBText(limit_mib))));
+        fmt::format("this run needs about {}, above the {} limit — {}, or raise --max-memory",
+                    MiBText(estimate.Total() / kMiB), MiBText(limit_mib),
+                    estimate.scene > estimate.Total() / 2
+                        ? "use simpler meshes or fewer states"
+                        : "use fewer candidates, lower resolutions, a larger --cell-size, fewer "
+                          "--threads")));
 }
 
 }  // namespace
@@ -114,13 +117,33 @@ void CheckDeployedCandidates(std::span<const Candidate> candidates, const Proble
   });
 }
 
+uint64_t MeshBytes(const Scene& scene) {
+  uint64_t bytes = 0;
+  for (const SceneObject& object : scene.objects)
+    bytes += object.mesh.vertices.size() * sizeof(Vec3) +
+             object.mesh.triangles.size() * sizeof(object.mesh.triangles[0]);
+  return bytes;
+}
+
 void CheckObserveMemory(const Scene& scene, size_t reference_size,
                         std::span<const Candidate> candidates, double limit_mib,
-                        const std::string& source, size_t states) {
+                        const std::string& source, size_t states,
+                        std::span<const Scene> state_scenes) {
   MemoryEstimate estimate = EstimateMemory(scene, reference_size, candidates, Threads());
   // Every state keeps its own lists and bitsets (was: counted once, whatever the states).
   estimate.observations *= std::max<size_t>(1, states);
   estimate.selection *= std::max<size_t>(1, states);
+  // The meshes themselves, and each state's copy of them; while a later state is traced its ray
+  // caster's scene stands beside the first's (was: the first's alone — a 4-million-triangle
+  // scene in 8 states was estimated at 355 MiB and peaked at 1.7 GiB).
+  estimate.scene += MeshBytes(scene);
+  uint64_t largest_later = 0;
+  for (size_t i = 0; i < state_scenes.size(); ++i) {
+    estimate.scene += MeshBytes(state_scenes[i]);
+    if (i > 0)
+      largest_later = std::max(largest_later, EstimateMemory(state_scenes[i], 0, {}, 1).scene);
+  }
+  estimate.scene += largest_later;
   CheckMemory(estimate, limit_mib, source);
 }
 
@@ -130,10 +153,17 @@ void CheckObserveMemory(const Scene& scene, size_t reference_size,
 // double in size, and the run is refused as soon as the ones counted already cost more: 10⁶
 // candidates were refused after 20 s of counting, now at once.
 void CheckObserveTime(const Reference& reference, std::span<const Candidate> candidates,
-                      const ObserveOptions& observe, double limit_seconds,
-                      const std::string& source, size_t states) {
+                      const ObserveOptions& observe, double limit_seconds, const Scene& scene,
+                      std::span<const Scene> state_scenes, const std::string& source) {
   // Was the first state's alone: 2·10⁴ states were announced as 0.03 s and ran for hours.
-  const double per_state = static_cast<double>(std::max<size_t>(1, states));
+  const size_t states = std::max<size_t>(1, state_scenes.size());
+  const double per_state = static_cast<double>(states);
+  // Was the rays alone: a scene of 4 M triangles in 8 states, announced as 0.06 s, took 17 s
+  // (each state's BVH) and writing its report.html as long again.
+  uint64_t built_triangles = state_scenes.empty() ? scene.TriangleCount() : 0;
+  for (const Scene& state_scene : state_scenes) built_triangles += state_scene.TriangleCount();
+  const double scene_seconds =
+      EstimateSceneSeconds(built_triangles, scene.TriangleCount(), Threads());
   uint64_t rays = 0;
   size_t counted = 0;
   double seconds = 0;
@@ -142,22 +172,31 @@ void CheckObserveTime(const Reference& reference, std::span<const Candidate> can
     for (const uint64_t r : CountRaysToTrace(reference, candidates.subspan(counted, size), observe))
       rays += r;
     counted += size;
-    seconds = per_state * EstimateObserveSeconds(rays, counted, Threads());
+    seconds = per_state * EstimateObserveSeconds(rays, counted, Threads()) + scene_seconds;
     if (limit_seconds > 0 && seconds > limit_seconds) break;
   }
   const std::string in_states = states > 1 ? fmt::format(" in each of {} states", states) : "";
+  const std::string count = built_triangles >= 1000000
+                                ? fmt::format("{:.3g} M", built_triangles / 1e6)
+                                : fmt::format("{}", built_triangles);
+  const std::string triangles = states > 1
+                                    ? fmt::format("{} triangles to build in all", count)
+                                    : fmt::format("a scene of {} triangles to build", count);
   const std::string estimate =
       counted == candidates.size()
-          ? fmt::format("ray casting {:.3g} M rays of {} candidates{} and selecting", rays / 1e6,
-                        candidates.size(), in_states)
-          : fmt::format("ray casting the first {} of {} candidates{} alone ({:.3g} M rays)",
-                        counted, candidates.size(), in_states, rays / 1e6);
+          ? fmt::format("ray casting {:.3g} M rays of {} candidates{} ({}) and selecting",
+                        rays / 1e6, candidates.size(), in_states, triangles)
+          : fmt::format("ray casting the first {} of {} candidates{} alone ({:.3g} M rays; {})",
+                        counted, candidates.size(), in_states, rays / 1e6, triangles);
   if (limit_seconds > 0 && seconds > limit_seconds)
     throw InputError(AtPlace(
         source, 0,
         fmt::format("{} is estimated at about {:.3g} s, above the --max-seconds limit of {:g} s "
-                    "— use fewer candidates or lower resolutions, or raise --max-seconds",
-                    estimate, seconds, limit_seconds)));
+                    "— {}, or raise --max-seconds",
+                    estimate, seconds, limit_seconds,
+                    scene_seconds > seconds / 2
+                        ? "use simpler meshes or fewer states"
+                        : "use fewer candidates or lower resolutions")));
   spdlog::info("time estimate: {} takes at most about {:.3g} s on {} threads", estimate, seconds,
                Threads());
 }
@@ -233,9 +272,9 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
                pixels / 1e6);
   const size_t states = std::max<size_t>(1, prepared.state_scenes.size());
   detail::CheckObserveMemory(problem.scene, reference.size(), candidates, limits.max_memory_mib,
-                             problem.source, states);
-  detail::CheckObserveTime(reference, candidates, observe, limits.max_seconds, problem.source,
-                           states);
+                             problem.source, states, prepared.state_scenes);
+  detail::CheckObserveTime(reference, candidates, observe, limits.max_seconds, problem.scene,
+                           prepared.state_scenes, problem.source);
   start = std::chrono::steady_clock::now();
   result.rays = std::make_unique<RayScene>(problem.scene);
   std::vector<Observation> observations = trace_all(*result.rays, reference, candidates);

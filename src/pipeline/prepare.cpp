@@ -37,6 +37,12 @@ double EstimateObserveSeconds(uint64_t rays, size_t candidates, size_t threads) 
          static_cast<double>(std::max<size_t>(1, threads));
 }
 
+double EstimateSceneSeconds(uint64_t built_triangles, uint64_t scene_triangles, size_t threads) {
+  return static_cast<double>(built_triangles) * kSecondsPerTriangle /
+             static_cast<double>(std::max<size_t>(1, threads)) +
+         static_cast<double>(scene_triangles) * kOutputSecondsPerTriangle;
+}
+
 namespace {
 
 // The candidates in a state that moves sensors on robot links: each moved explicit sensor's model
@@ -148,10 +154,7 @@ PreparedScene Prepare(const SceneInput& input) {
   // stage: a large mesh in 1000 states filled the memory (session 14). These copies come before
   // any --max-memory is known, so they are held to 75 % of the RAM.
   if (!problem.states.empty()) {
-    double bytes = 0;
-    for (const SceneObject& object : problem.scene.objects)
-      bytes += static_cast<double>(object.mesh.vertices.size() * sizeof(Vec3) +
-                                   object.mesh.triangles.size() * sizeof(object.mesh.triangles[0]));
+    const double bytes = static_cast<double>(detail::MeshBytes(problem.scene));
     const double copies_mib = bytes * static_cast<double>(problem.states.size()) / detail::kMiB;
     const double limit_mib = detail::MemoryLimitMiB(0);
     if (copies_mib > limit_mib)
