@@ -722,15 +722,19 @@ TEST_F(BadInput, StatesCountInTheEstimates) {
   ExpectRejected({
       {"states_beyond_1000", "optimize " + too_many,
        too_many + ":" + std::to_string(states_line) + ":", "1001 states: give at most 1000"},
+      // 3520 triangles: the cell's 76 and the added box's 12, in each of the 40 states.
       {"states_time", "optimize " + traced + " --max-seconds 1e-6", traced + ":",
-       "of 16 candidates in each of 40 states and selecting is estimated", "rays traced"},
+       "of 16 candidates in each of 40 states (3520 triangles to build in all) and selecting is "
+       "estimated", "rays traced"},
   });
   const std::string twenty = with_states("twenty.yaml", 20, false);
   const auto run = RunVantage("optimize " + twenty + " -n 1 --method greedy --out " + dir_.File("s"));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("over 20 states (s0, s1, s2, s3, s4, s5, …, s19)"), std::string::npos)
       << run.out;
-  EXPECT_NE(run.err.find("in each of 20 states and selecting takes at most"), std::string::npos)
+  EXPECT_NE(run.err.find("in each of 20 states (1520 triangles to build in all) and selecting "
+                         "takes at most"),
+            std::string::npos)
       << run.err;
   fs::remove_all(dir_.File("s"));
 }
