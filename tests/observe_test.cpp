@@ -1,6 +1,6 @@
-// Observe against analytic answers (SYSTEM.md coverage metric). Boxes have faces mid-cell so
-// that the expected counts are exact to the voxel; cameras have fine pixels (well below a cell)
-// so that every visible cell receives a ray.
+// Observe against analytic answers (SYSTEM.md coverage metric). Most boxes have faces mid-cell,
+// one has them on grid planes; cameras have fine pixels (well below a cell) so that every
+// visible cell receives a ray.
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -76,6 +76,26 @@ TEST(Observe, TwoOppositeCamerasSeeTheUnion) {
   const Candidate back = RotatedAboutZ(front, kPi);
   EXPECT_DOUBLE_EQ(CoverageOf(CubeScene(), kCell, {back}), kFace / kShell);
   EXPECT_DOUBLE_EQ(CoverageOf(CubeScene(), kCell, {front, back}), 2 * kFace / kShell);
+}
+
+// Faces on grid planes: a cube with faces at ±3 F, F = 1/64 m so that q = p / F is exact and
+// every face lies exactly on a cell boundary. The half-open cells put the face x = +3F in layer
+// 3 and x = -3F in layer -3, both as R and as the hits (SYSTEM.md): R is the 7³ - 5³ = 218 cells
+// of indices -3..3 with a ±3 among them. Head on, a face's hits have y and z inside (-3F, 3F):
+// indices -3..2, 36 cells (its row and column at index 3 are touched only by the face's edges).
+// Was: the hit origin + t d in float landed on either side of the plane ray by ray, and about
+// half the face's cells were counted outside R.
+TEST(Observe, FacesOnGridPlanesAreSeenInTheirOwnCells) {
+  constexpr double kGridCell = 1.0 / 64;
+  Scene scene;
+  scene.objects.push_back(
+      Box("cube", Role::kTarget, Vec3::Zero(), Vec3::Constant(6 * kGridCell)));
+  const Candidate front = CameraLookingMinusX(Vec3(1, 0.001, 0.002), 400, 0.2, 0.2, 3.0);
+  const Candidate back = RotatedAboutZ(front, kPi);
+  ASSERT_EQ(BuildReference(scene, {kGridCell}).size(), 218u);
+  EXPECT_DOUBLE_EQ(CoverageOf(scene, kGridCell, {front}), 36.0 / 218);
+  EXPECT_DOUBLE_EQ(CoverageOf(scene, kGridCell, {back}), 36.0 / 218);
+  EXPECT_DOUBLE_EQ(CoverageOf(scene, kGridCell, {front, back}), 72.0 / 218);
 }
 
 TEST(Observe, PlateHidingHalfTheFaceHalvesCoverage) {

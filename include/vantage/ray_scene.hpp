@@ -23,6 +23,11 @@ struct RayBatch {
   float t[kWidth];
   bool is_target[kWidth];
   float normal[3][kWidth];  ///< geometric normal of the hit (not normalised; valid on hits)
+  /// The hit on a target, valid where is_target: the point at Embree's barycentric coordinates
+  /// on the scene's own (double) triangle, v0 + u (v1 - v0) + v (v2 - v0). On a face that lies on
+  /// a grid plane it has the plane's coordinate exactly, so its cell is the face's cell of R;
+  /// origin + t d (float t and d) fell on either side of the plane ray by ray.
+  double point[3][kWidth];
 };
 
 /// The first hit of one ray, with what it hit (for shading a rendered view).

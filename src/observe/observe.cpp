@@ -106,7 +106,7 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
         const double t = batch.t[lane];
         if (t < s.near || t > s.far) continue;
         const Vec3 d(batch.dir[0][lane], batch.dir[1][lane], batch.dir[2][lane]);
-        const Vec3 p = origin + t * d;
+        const Vec3 p(batch.point[0][lane], batch.point[1][lane], batch.point[2][lane]);
         const VoxelIndex index = VoxelKeyOf(p, cell);
         VANTAGE_CHECK(VoxelIndexFits(index));
         const uint64_t key = PackVoxel(index);

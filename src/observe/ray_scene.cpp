@@ -15,6 +15,9 @@ struct RayScene::Impl {
   RTCScene scene = nullptr;
   std::vector<uint8_t> is_target;  // by geometry id
   std::vector<int32_t> object;     // by geometry id: index into Scene::objects
+  // By geometry id, targets only: the mesh in double, for RayBatch::point.
+  std::vector<const TriangleMesh*> target_mesh;
+  std::vector<TriangleMesh> target_meshes;  // owned copies (the scene may not outlive this)
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -38,6 +41,10 @@ RayScene::RayScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   impl_->scene = rtcNewScene(impl_->device);
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
   rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  size_t targets = 0;
+  for (const SceneObject& object : scene.objects)
+    targets += object.is_target() && !object.mesh.triangles.empty() ? 1 : 0;
+  impl_->target_meshes.reserve(targets);  // target_mesh points into it
   for (size_t object_index = 0; object_index < scene.objects.size(); ++object_index) {
     const SceneObject& object = scene.objects[object_index];
     if (object.mesh.triangles.empty()) continue;
@@ -62,6 +69,11 @@ RayScene::RayScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     impl_->is_target[id] = object.is_target() ? 1 : 0;
     if (impl_->object.size() <= id) impl_->object.resize(id + 1, -1);
     impl_->object[id] = static_cast<int32_t>(object_index);
+    if (impl_->target_mesh.size() <= id) impl_->target_mesh.resize(id + 1, nullptr);
+    if (object.is_target()) {
+      impl_->target_meshes.push_back(object.mesh);
+      impl_->target_mesh[id] = &impl_->target_meshes.back();
+    }
   }
   rtcCommitScene(impl_->scene);
 }
@@ -111,6 +123,15 @@ void RayScene::Intersect(RayBatch* batch) const {
       batch->normal[0][lane] = rays.hit.Ng_x[lane];
       batch->normal[1][lane] = rays.hit.Ng_y[lane];
       batch->normal[2][lane] = rays.hit.Ng_z[lane];
+      if (batch->is_target[lane]) {
+        const TriangleMesh& mesh = *impl_->target_mesh[geom];
+        const auto& corners = mesh.triangles[rays.hit.primID[lane]];
+        const Vec3& v0 = mesh.vertices[corners[0]];
+        const Vec3 point = v0 + static_cast<double>(rays.hit.u[lane]) *
+                                    (mesh.vertices[corners[1]] - v0) +
+                           static_cast<double>(rays.hit.v[lane]) * (mesh.vertices[corners[2]] - v0);
+        for (int a = 0; a < 3; ++a) batch->point[a][lane] = point[a];
+      }
     }
   }
 }
