@@ -9,6 +9,12 @@ MemoryEstimate EstimateMemory(const Scene& scene, size_t reference_size,
   MemoryEstimate estimate;
   // Embree: float vertices and indices plus a BVH of about 64 bytes per triangle.
   estimate.scene = scene.TriangleCount() * (12 + 64) + scene.TriangleCount() * 12;
+  // RayScene's own copy of the targets in double, for the exact hit points (RayBatch::point).
+  for (const SceneObject& object : scene.objects) {
+    if (object.is_target())
+      estimate.scene += object.mesh.vertices.size() * sizeof(Vec3) +
+                        object.mesh.triangles.size() * sizeof(object.mesh.triangles[0]);
+  }
   uint64_t largest_image = 0;
   for (const Candidate& c : candidates) {
     const uint64_t pixels = static_cast<uint64_t>(std::max<int64_t>(c.sensor.PixelCount(), 0));
