@@ -32,13 +32,12 @@ double MemoryLimitMiB(double limit_mib);
 /// Refuses a cell size too fine for the memory before R is built, and a run whose observe and
 /// selection estimate exceeds the limit before any ray is cast (issue #8).
 void CheckReferenceMemory(const PreparedScene& prepared, double limit_mib);
-/// `states`: the scene's states (1 without), each holding its own visibility lists and bitsets;
-/// `state_scenes`: their scenes (empty without), each a copy of the meshes, and while one is
-/// traced its ray caster's scene beside the first state's.
+/// `state_scenes`: the scene's states (empty without), each holding its own visibility lists and
+/// bitsets and a copy of the meshes, and while one is traced its ray caster's scene beside the
+/// first state's.
 void CheckObserveMemory(const Scene& scene, size_t reference_size,
                         std::span<const Candidate> candidates, double limit_mib,
-                        const std::string& source, size_t states = 1,
-                        std::span<const Scene> state_scenes = {});
+                        const std::string& source, std::span<const Scene> state_scenes = {});
 
 /// Logs the estimated time (EstimateObserveSeconds of the rays after culling, plus
 /// EstimateSceneSeconds of the scene's triangles) and refuses a run above `limit_seconds` (0: no

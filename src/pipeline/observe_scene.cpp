@@ -127,12 +127,12 @@ uint64_t MeshBytes(const Scene& scene) {
 
 void CheckObserveMemory(const Scene& scene, size_t reference_size,
                         std::span<const Candidate> candidates, double limit_mib,
-                        const std::string& source, size_t states,
-                        std::span<const Scene> state_scenes) {
+                        const std::string& source, std::span<const Scene> state_scenes) {
   MemoryEstimate estimate = EstimateMemory(scene, reference_size, candidates, Threads());
   // Every state keeps its own lists and bitsets (was: counted once, whatever the states).
-  estimate.observations *= std::max<size_t>(1, states);
-  estimate.selection *= std::max<size_t>(1, states);
+  const size_t states = std::max<size_t>(1, state_scenes.size());
+  estimate.observations *= states;
+  estimate.selection *= states;
   // The meshes themselves, and each state's copy of them; while a later state is traced its ray
   // caster's scene stands beside the first's (was: the first's alone — a 4-million-triangle
   // scene in 8 states was estimated at 355 MiB and peaked at 1.7 GiB).
@@ -270,9 +270,8 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
   for (const Candidate& c : candidates) pixels += c.sensor.PixelCount();
   spdlog::info("observe: {} candidates, {:.1f} Mpx in all images", candidates.size(),
                pixels / 1e6);
-  const size_t states = std::max<size_t>(1, prepared.state_scenes.size());
   detail::CheckObserveMemory(problem.scene, reference.size(), candidates, limits.max_memory_mib,
-                             problem.source, states, prepared.state_scenes);
+                             problem.source, prepared.state_scenes);
   detail::CheckObserveTime(reference, candidates, observe, limits.max_seconds, problem.scene,
                            prepared.state_scenes, problem.source);
   start = std::chrono::steady_clock::now();
