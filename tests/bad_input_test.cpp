@@ -2077,6 +2077,71 @@ TEST_F(BadInput, InterruptDuringExactStopsWithinASecond) {
 // clock. It now runs in a child process that is stopped at the limit, and a model of this size
 // (288 k nonzeros) goes to branch and bound, which watches the clock; either way the whole
 // method ends within the limit (plus the write), with a proven bound.
+// Session 17: an occluder whose every triangle collapses once its vertices are Embree's floats
+// (a 1e-300 m box; a 5 cm box moved 10^6 m out, where the float step is 6.25 cm) hides nothing.
+// That is what a ray caster of floats can do, but it was silent: the coverage of a scene without
+// the occluder, reported as the scene's. Now a [warning] and a report note, once per occluder.
+TEST_F(BadInput, CollapsedOccludersAreWarned) {
+  const auto scene = [&](const std::string& name, const std::string& post, const std::string& states) {
+    return Write(name,
+                 "settings: {cell_size: 0.01, n: 1}\n"
+                 "objects:\n"
+                 "  - {name: plate, role: target, pose: {xyz: [0, 0, -1]}, plane: {size: [0.2, 0.2]}}\n" +
+                     post +
+                     "sensors:\n"
+                     "  - {name: cam, type: kinect_xbox_360, position: [0, 0, 0.5]}\n" +
+                     states);
+  };
+  const auto coverage_of = [&](const std::string& path, const std::string& out) {
+    const auto run = RunVantage("optimize " + path + " --out " + dir_.File(out));
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    const json report = json::parse(ReadText(dir_.File(out + "/report.json")));
+    return std::make_pair(report["results"][0]["coverage"].get<double>(), run);
+  };
+  const auto post = [](const std::string& size) {
+    return "  - {name: post, role: occluder, pose: {xyz: [0, 0, -0.5]}, box: {size: [" + size +
+           ", " + size + ", " + size + "]}}\n";
+  };
+  const auto [open, open_run] = coverage_of(scene("open.yaml", "", ""), "open");
+  const auto [blocked, blocked_run] =
+      coverage_of(scene("blocked.yaml", post("0.1"), ""), "blocked");
+  const std::string tiny_path = scene("tiny.yaml", post("1e-300"), "");
+  const auto [tiny, tiny_run] = coverage_of(tiny_path, "tiny");
+  // A real 10 cm post on the axis hides part of the plate: the scene can tell an occluder.
+  EXPECT_LT(blocked, open - 0.05);
+  // The collapsed one hides nothing, and says so, at its line.
+  EXPECT_EQ(tiny, open);
+  const std::string words =
+      tiny_path + ":4: occluder 'post' is 1e-300 m across: at 0.5 m from the origin the ray "
+                  "caster's float steps are 5.96046e-08 m, so every triangle collapses and it "
+                  "hides nothing: the coverage is what the cameras would see without it";
+  EXPECT_NE(tiny_run.err.find("[warning] " + words), std::string::npos) << tiny_run.err;
+  const json notes = json::parse(ReadText(dir_.File("tiny/report.json")))["notes"];
+  EXPECT_EQ(std::count_if(notes.begin(), notes.end(),
+                          [&](const json& note) { return note.get<std::string>().find(words) == 0; }),
+            1)
+      << notes.dump();
+  // In states: named once for the scene (not again in each state that keeps it), and at the
+  // state's line where a state moves a 5 cm post to 10^6 m on every axis.
+  const std::string states = scene(
+      "states.yaml", post("1e-300") +
+                         "  - {name: bolt, role: occluder, pose: {xyz: [0, 0, -0.5]}, box: {size: [0.05, 0.05, 0.05]}}\n",
+      "states:\n  - name: near\n  - name: still\n  - name: far\n"
+      "    move: {bolt: {xyz: [1e6, 1e6, 1e6]}}\n");
+  const auto run = RunVantage("optimize " + states + " --out " + dir_.File("states"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  size_t named = 0;
+  for (size_t at = run.err.find("occluder 'post'"); at != std::string::npos;
+       at = run.err.find("occluder 'post'", at + 1))
+    ++named;
+  EXPECT_EQ(named, 1u) << run.err;
+  EXPECT_NE(run.err.find(states + ":11: state 'far': occluder 'bolt' is 0.05 m across: at 1e+06 m "
+                         "from the origin the ray caster's float steps are 0.0625 m, so every "
+                         "triangle collapses and it hides nothing"),
+            std::string::npos)
+      << run.err;
+}
+
 TEST_F(BadInput, ExactKeepsItsTimeLimit) {
   const std::string good = dir_.File("seed.vis");
   ASSERT_EQ(RunVantage("observe " + CubeCell() + " --out " + good).exit_code, 0);

@@ -73,6 +73,16 @@ struct Scene {
 void CheckSceneExtent(const Scene& scene, const std::string& source, int state_line = 0,
                       const std::string& state = {});
 
+/// One warning per occluder whose every triangle collapses once its vertices are floats (a 1e-9 m
+/// bolt, or a 5 cm one 10^6 m from the origin): the ray caster cannot represent it, so it hides
+/// nothing and the coverage is what the cameras would see without it. Placed as
+/// CheckSceneExtent places its errors. With `before` (the scene a state changes), occluders
+/// already collapsed there are not named again.
+std::vector<std::string> CollapsedOccluderWarnings(const Scene& scene, const std::string& source,
+                                                   int state_line = 0,
+                                                   const std::string& state = {},
+                                                   const Scene* before = nullptr);
+
 /// Axis-aligned box of the given edge lengths, centred at the origin (12 triangles, outward).
 TriangleMesh MakeBox(const Vec3& size);
 /// Sphere of `radius` at the origin, tessellated so that the chord error is below

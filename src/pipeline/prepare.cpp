@@ -170,6 +170,11 @@ PreparedScene Prepare(const SceneInput& input) {
   for (const SceneState& state : problem.states) {
     prepared.state_scenes.push_back(ApplyState(problem.scene, state));
     CheckSceneExtent(prepared.state_scenes.back(), problem.source, state.line, state.name);
+    for (std::string& warning : CollapsedOccluderWarnings(
+             prepared.state_scenes.back(), problem.source, state.line, state.name, &problem.scene)) {
+      spdlog::warn("{}", warning);
+      prepared.notes.push_back(std::move(warning));
+    }
   }
   const auto moves_sensors = [](const SceneState& state) { return !state.sensor_poses.empty(); };
   if (std::any_of(problem.states.begin(), problem.states.end(), moves_sensors)) {

@@ -98,6 +98,10 @@ Problem LoadProblem(const std::string& path, const LoadOptions& options) {
     if (std::find(names.begin(), names.end(), extension) != names.end()) {
       Problem problem = reader.load(path, options);
       CheckSceneExtent(problem.scene, problem.source);
+      for (std::string& warning : CollapsedOccluderWarnings(problem.scene, problem.source)) {
+        problem.warnings.push_back(warning);
+        problem.notes.push_back(std::move(warning));
+      }
       return problem;
     }
     readers += fmt::format("{}{}", readers.empty() ? "" : " or ",

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <numbers>
 #include <numeric>
+#include <set>
 #include <tuple>
 #include <string>
 #include <vector>
@@ -541,10 +542,26 @@ bool HasFloatTriangle(const TriangleMesh& mesh) {
   });
 }
 
+/// "is 1e-300 m across: at 0.05 m from the origin the ray caster's float steps are 3.7e-09 m,
+/// so every triangle collapses": why an object without float triangles cannot be ray cast.
+std::string CollapseWords(const Aabb& bounds) {
+  const Vec3 far = bounds.min.cwiseAbs().cwiseMax(bounds.max.cwiseAbs());
+  const float at = static_cast<float>(far.maxCoeff());
+  return fmt::format("is {:g} m across: at {:g} m from the origin the ray caster's float steps "
+                     "are {:g} m, so every triangle collapses",
+                     (bounds.max - bounds.min).maxCoeff(), far.maxCoeff(),
+                     std::nextafter(at, INFINITY) - at);
+}
+
+Aabb BoundsOf(const TriangleMesh& mesh) {
+  Aabb bounds;
+  for (const Vec3& v : mesh.vertices) bounds.Extend(v);
+  return bounds;
+}
+
 /// Words for what is wrong with `object`'s extent, "" when nothing is.
 std::string ExtentProblem(const SceneObject& object) {
-  Aabb bounds;
-  for (const Vec3& v : object.mesh.vertices) bounds.Extend(v);
+  const Aabb bounds = BoundsOf(object.mesh);
   if (bounds.IsEmpty()) return {};
   // The corner farthest from the origin on each axis.
   const Vec3 far = bounds.min.cwiseAbs().cwiseMax(bounds.max.cwiseAbs());
@@ -556,14 +573,23 @@ std::string ExtentProblem(const SceneObject& object) {
                        object.name, WorldPointProblem(reach));
   }
   if (object.role == Role::kTarget && !HasFloatTriangle(object.mesh)) {
-    const float at = static_cast<float>(far.maxCoeff());
-    return fmt::format("target '{}' is {:g} m across: at {:g} m from the origin the ray caster's "
-                       "float steps are {:g} m, so every triangle collapses and no ray can hit "
-                       "it — check its size and scale",
-                       object.name, (bounds.max - bounds.min).maxCoeff(), far.maxCoeff(),
-                       std::nextafter(at, INFINITY) - at);
+    return fmt::format("target '{}' {} and no ray can hit it — check its size and scale",
+                       object.name, CollapseWords(bounds));
   }
   return {};
+}
+
+/// The object's place for a message: the state's line, else the object's own, else the scene's.
+std::string PlaceOf(const SceneObject& object, const std::string& source, int state_line,
+                    const std::string& state, const std::string& what) {
+  if (state_line > 0) return AtPlace(source, state_line, fmt::format("state '{}': {}", state, what));
+  if (!object.file.empty()) return AtPlace(object.file, object.line, what);
+  return AtPlace(source, 0, what);
+}
+
+bool IsCollapsedOccluder(const SceneObject& object) {
+  return object.role == Role::kOccluder && !object.mesh.triangles.empty() &&
+         !HasFloatTriangle(object.mesh);
 }
 
 }  // namespace
@@ -572,13 +598,30 @@ void CheckSceneExtent(const Scene& scene, const std::string& source, int state_l
                       const std::string& state) {
   for (const SceneObject& object : scene.objects) {
     const std::string what = ExtentProblem(object);
-    if (what.empty()) continue;
     // In a state, the state's changes moved or added the object: its line is the place.
-    if (state_line > 0)
-      throw InputError(AtPlace(source, state_line, fmt::format("state '{}': {}", state, what)));
-    if (!object.file.empty()) throw InputError(AtPlace(object.file, object.line, what));
-    throw InputError(AtPlace(source, 0, what));
+    if (!what.empty()) throw InputError(PlaceOf(object, source, state_line, state, what));
   }
+}
+
+std::vector<std::string> CollapsedOccluderWarnings(const Scene& scene, const std::string& source,
+                                                   int state_line, const std::string& state,
+                                                   const Scene* before) {
+  std::set<std::string> known;
+  if (before) {
+    for (const SceneObject& object : before->objects) {
+      if (IsCollapsedOccluder(object)) known.insert(object.name);
+    }
+  }
+  std::vector<std::string> warnings;
+  for (const SceneObject& object : scene.objects) {
+    if (!IsCollapsedOccluder(object) || known.count(object.name)) continue;
+    warnings.push_back(PlaceOf(
+        object, source, state_line, state,
+        fmt::format("occluder '{}' {} and it hides nothing: the coverage is what the cameras "
+                    "would see without it — check its size and scale",
+                    object.name, CollapseWords(BoundsOf(object.mesh)))));
+  }
+  return warnings;
 }
 
 }  // namespace vantage
