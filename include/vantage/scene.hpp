@@ -18,6 +18,8 @@ struct TriangleMesh {
   Aabb Bounds() const;
   /// Sum of triangle areas [m²].
   double Area() const;
+  /// Bytes its vertices and triangles hold: what a copy of it costs (the memory estimates).
+  uint64_t Bytes() const;
   /// Appends another mesh (indices shifted).
   void Append(const TriangleMesh& other);
   /// Applies p -> pose * p to every vertex.

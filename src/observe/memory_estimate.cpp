@@ -11,9 +11,7 @@ MemoryEstimate EstimateMemory(const Scene& scene, size_t reference_size,
   estimate.scene = scene.TriangleCount() * (12 + 64) + scene.TriangleCount() * 12;
   // RayScene's own copy of the targets in double, for the exact hit points (RayBatch::point).
   for (const SceneObject& object : scene.objects) {
-    if (object.is_target())
-      estimate.scene += object.mesh.vertices.size() * sizeof(Vec3) +
-                        object.mesh.triangles.size() * sizeof(object.mesh.triangles[0]);
+    if (object.is_target()) estimate.scene += object.mesh.Bytes();
   }
   uint64_t largest_image = 0;
   for (const Candidate& c : candidates) {

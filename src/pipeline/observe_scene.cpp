@@ -119,9 +119,7 @@ void CheckDeployedCandidates(std::span<const Candidate> candidates, const Proble
 
 uint64_t MeshBytes(const Scene& scene) {
   uint64_t bytes = 0;
-  for (const SceneObject& object : scene.objects)
-    bytes += object.mesh.vertices.size() * sizeof(Vec3) +
-             object.mesh.triangles.size() * sizeof(object.mesh.triangles[0]);
+  for (const SceneObject& object : scene.objects) bytes += object.mesh.Bytes();
   return bytes;
 }
 

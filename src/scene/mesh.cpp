@@ -253,6 +253,10 @@ size_t Scene::TargetCount() const {
   return count;
 }
 
+uint64_t TriangleMesh::Bytes() const {
+  return vertices.size() * sizeof(Vec3) + triangles.size() * sizeof(triangles[0]);
+}
+
 size_t Scene::TriangleCount() const {
   size_t count = 0;
   for (const SceneObject& object : objects) count += object.mesh.triangles.size();
@@ -553,15 +557,9 @@ std::string CollapseWords(const Aabb& bounds) {
                      std::nextafter(at, INFINITY) - at);
 }
 
-Aabb BoundsOf(const TriangleMesh& mesh) {
-  Aabb bounds;
-  for (const Vec3& v : mesh.vertices) bounds.Extend(v);
-  return bounds;
-}
-
 /// Words for what is wrong with `object`'s extent, "" when nothing is.
 std::string ExtentProblem(const SceneObject& object) {
-  const Aabb bounds = BoundsOf(object.mesh);
+  const Aabb bounds = object.mesh.Bounds();
   if (bounds.IsEmpty()) return {};
   // The corner farthest from the origin on each axis.
   const Vec3 far = bounds.min.cwiseAbs().cwiseMax(bounds.max.cwiseAbs());
@@ -619,7 +617,7 @@ std::vector<std::string> CollapsedOccluderWarnings(const Scene& scene, const std
         object, source, state_line, state,
         fmt::format("occluder '{}' {} and it hides nothing: the coverage is what the cameras "
                     "would see without it — check its size and scale",
-                    object.name, CollapseWords(BoundsOf(object.mesh)))));
+                    object.name, CollapseWords(object.mesh.Bounds()))));
   }
   return warnings;
 }
