@@ -271,29 +271,43 @@ TEST(DefaultView, FramesTheChosenSensors) {
 }
 
 // A box face that lies on a cell boundary shows whole cells (issue 16: moiré stripes). The
-// target cube spans cells 0..9 per axis, so its +x face lies exactly on the boundary x = 10
-// cells; its hit points round to cell 9 or 10 pixel by pixel. Only the layer x = 9 is marked
-// observed: every pixel of the face must show it observed, none the unobserved colour.
+// target cube spans x from 0 to 10 cells, so its +x face lies exactly on the boundary x = 10
+// cells; hit points placed at eye + t·d rounded to the layer on either side pixel by pixel.
+// Every pixel now lands in the face's own cells, those R counts (half-open cells: the layer of
+// the face's points, x = 10 — VoxelKeyOf, the metric's own rule), as observe places its hits
+// (session 17: RayHit::point). Marked observed, that layer shows on every pixel of the face; the
+// layer behind it (inside the cube, no cell of the face) on none.
 TEST(Render, BoxFaceOnACellBoundaryShowsWholeCells) {
   Scene scene;
   TriangleMesh box = MakeBox(Vec3::Constant(10 * kCell));
   box.Transform(Pose{Vec3::Constant(5 * kCell), Quat::Identity()});
   scene.objects.push_back({"cube", Role::kTarget, std::move(box), {}});
   const Vec3 centre = Vec3::Constant(5 * kCell);
-  auto run = MakeRun(std::move(scene), {Camera("front", centre + Vec3(0.4, 0, 0), centre, 64, 0.3)}, 1);
-  Observation inner_layer;
-  for (int64_t y = 0; y < 10; ++y)
-    for (int64_t z = 0; z < 10; ++z) inner_layer.outside_keys.push_back(PackVoxel({9, y, z}));
-  std::sort(inner_layer.outside_keys.begin(), inner_layer.outside_keys.end());
-  run->data.observations[0] = inner_layer;
+  const int64_t face_layer = VoxelKeyOf(Vec3(10 * kCell, 5 * kCell, 5 * kCell), kCell)[0];
+  const auto layer = [](int64_t x) {
+    Observation observed;
+    for (int64_t y = 0; y < 10; ++y)
+      for (int64_t z = 0; z < 10; ++z) observed.outside_keys.push_back(PackVoxel({x, y, z}));
+    std::sort(observed.outside_keys.begin(), observed.outside_keys.end());
+    return observed;
+  };
   const std::array<Vec3, 2> eyes = {Vec3(centre + Vec3(0.4, 0.0, 0.0)),
                                     Vec3(centre + Vec3(0.4, 0.013, -0.021))};
-  for (const Vec3& eye : eyes) {
-    RenderOptions options = View(eye, 240, 0.12);
-    options.look_at = centre;
-    const Counts counts = CountPixels(RenderView(run->scene, run->report, options));
-    EXPECT_GT(counts.observed, 10000);
-    EXPECT_EQ(counts.unobserved, 0) << counts.observed << " observed";
+  for (const int64_t x : {face_layer, face_layer - 1}) {
+    auto run = MakeRun(Scene(scene), {Camera("front", centre + Vec3(0.4, 0, 0), centre, 64, 0.3)}, 1);
+    run->data.observations[0] = layer(x);
+    for (const Vec3& eye : eyes) {
+      RenderOptions options = View(eye, 240, 0.12);
+      options.look_at = centre;
+      const Counts counts = CountPixels(RenderView(run->scene, run->report, options));
+      if (x == face_layer) {
+        EXPECT_GT(counts.observed, 10000);
+        EXPECT_EQ(counts.unobserved, 0) << counts.observed << " observed";
+      } else {
+        EXPECT_EQ(counts.observed, 0) << counts.unobserved << " unobserved";
+        EXPECT_GT(counts.unobserved, 10000);
+      }
+    }
   }
 }
 

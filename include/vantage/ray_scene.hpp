@@ -37,6 +37,9 @@ struct RayHit {
   uint32_t triangle = 0;   ///< triangle index in that object's mesh
   float normal[3] = {};    ///< geometric normal, world frame, not normalised (Embree's Ng)
   bool is_target = false;
+  /// The hit on a target, valid where is_target: as RayBatch::point, so that a rendered pixel
+  /// lands in the cell the observations count.
+  double point[3] = {};
 };
 
 /// Owns an Embree device and a committed scene of every object (targets and occluders). Build it

@@ -32,6 +32,15 @@ void ReportEmbreeError(void* /*user*/, RTCError code, const char* message) {
                          : spdlog::error("embree error {}: {}", static_cast<int>(code), message);
 }
 
+/// The point at Embree's barycentric coordinates (u, v) on the scene's own double triangle,
+/// v0 + u (v1 - v0) + v (v2 - v0): exact on a face that lies on a grid plane.
+Vec3 TargetPoint(const TriangleMesh& mesh, unsigned triangle, float u, float v) {
+  const auto& corners = mesh.triangles[triangle];
+  const Vec3& v0 = mesh.vertices[corners[0]];
+  return v0 + static_cast<double>(u) * (mesh.vertices[corners[1]] - v0) +
+         static_cast<double>(v) * (mesh.vertices[corners[2]] - v0);
+}
+
 }  // namespace
 
 RayScene::RayScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
@@ -124,12 +133,8 @@ void RayScene::Intersect(RayBatch* batch) const {
       batch->normal[1][lane] = rays.hit.Ng_y[lane];
       batch->normal[2][lane] = rays.hit.Ng_z[lane];
       if (batch->is_target[lane]) {
-        const TriangleMesh& mesh = *impl_->target_mesh[geom];
-        const auto& corners = mesh.triangles[rays.hit.primID[lane]];
-        const Vec3& v0 = mesh.vertices[corners[0]];
-        const Vec3 point = v0 + static_cast<double>(rays.hit.u[lane]) *
-                                    (mesh.vertices[corners[1]] - v0) +
-                           static_cast<double>(rays.hit.v[lane]) * (mesh.vertices[corners[2]] - v0);
+        const Vec3 point = TargetPoint(*impl_->target_mesh[geom], rays.hit.primID[lane],
+                                       rays.hit.u[lane], rays.hit.v[lane]);
         for (int a = 0; a < 3; ++a) batch->point[a][lane] = point[a];
       }
     }
@@ -164,6 +169,11 @@ RayHit RayScene::IntersectHit(const float origin[3], const float dir[3], float t
   hit.normal[1] = ray.hit.Ng_y;
   hit.normal[2] = ray.hit.Ng_z;
   hit.is_target = impl_->is_target[ray.hit.geomID] != 0;
+  if (hit.is_target) {
+    const Vec3 point =
+        TargetPoint(*impl_->target_mesh[ray.hit.geomID], ray.hit.primID, ray.hit.u, ray.hit.v);
+    for (int a = 0; a < 3; ++a) hit.point[a] = point[a];
+  }
   return hit;
 }
 

@@ -160,20 +160,13 @@ Vec3 FrustumCorner(const Candidate& c, double u, double v, double depth) {
   return c.world_from_body * (depth * body);
 }
 
-// Sensors observing the surface cell a pixel lands in. A face that lies on a cell boundary has
-// hit points that round to either side of it, pixel by pixel (moiré stripes): the cells a
-// third of a cell in front of and behind the hit point are looked up too, so each face shows
-// whole cells.
-int CellCount(const std::unordered_map<uint64_t, int>& counts, const Vec3& point,
-              const Vec3& normal, double cell_size) {
-  int seeing = 0;
-  for (const double offset : {0.0, 1.0 / 3.0, -1.0 / 3.0}) {
-    const VoxelIndex key = VoxelKeyOf(point + offset * cell_size * normal, cell_size);
-    if (!VoxelIndexFits(key)) continue;
-    const auto it = counts.find(PackVoxel(key));
-    if (it != counts.end()) seeing = std::max(seeing, it->second);
-  }
-  return seeing;
+// Sensors observing the surface cell a pixel lands in: the cell of its exact hit point, as the
+// observations count it (RayHit::point), so that a face on a cell boundary shows its own cells.
+int CellCount(const std::unordered_map<uint64_t, int>& counts, const Vec3& point, double cell_size) {
+  const VoxelIndex key = VoxelKeyOf(point, cell_size);
+  if (!VoxelIndexFits(key)) return 0;
+  const auto it = counts.find(PackVoxel(key));
+  return it == counts.end() ? 0 : it->second;
 }
 
 // Fills the rectangle [x0, x1) x [y0, y1) with `color` at opacity `alpha`.
@@ -335,8 +328,8 @@ Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
               const double key = std::max(0.0, normal.dot(key_light));
               shade = 0.3 + 0.45 * facing + 0.3 * key;
               if (hit.is_target) {
-                const Vec3 point = view.eye + static_cast<double>(hit.t) * dir;
-                color = TargetColor(CellCount(counts, point, normal, cell_size));
+                const Vec3 point(hit.point[0], hit.point[1], hit.point[2]);
+                color = TargetColor(CellCount(counts, point, cell_size));
               } else {
                 // Neighbouring occluders (a table on a floor) differ a little in lightness.
                 const double tint =
