@@ -92,6 +92,15 @@ def seeds():
                 body.append(joint(f"loop{i}", f"a{i}", f"a{(i + 1) % n}", origin=""))
                 body.append(link(f"a{i}"))
             out[f"link-loop-{n}"] = robot(body)
+    # Spheres and cylinders across sizes: their tessellation (and every loop over a visual's
+    # triangles after it: scale, checks, transforms, the state's re-posing) runs a different
+    # number of times for each, hit counts the campaigns otherwise reach one ChangeASCIIInt at a
+    # time (session 17's log: jumps of 40 to 60 features from one changed radius).
+    for radius in ["0.001", "0.003", "0.01", "0.03", "0.1", "0.3", "1", "3", "10"]:
+        out[f"sizes-{radius}"] = robot([
+            link("base", f'<sphere radius="{radius}"/>'),
+            joint("j", "base", "arm", limits=(-1, 1)),
+            link("arm", f'<cylinder radius="{radius}" length="{radius}"/>')])
     # Refusals of the joints' tree and of urdfdom.
     out["self-joint"] = robot([link("a"), joint("j", "a", "a")])
     out["two-parents"] = robot([link("a"), link("b"), link("c"), joint("j1", "a", "c"),
