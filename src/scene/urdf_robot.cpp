@@ -54,6 +54,13 @@ struct ElementLines {
   std::map<std::string, int> links;
 };
 
+/// The line of `name` in `table` (ElementLines::joints or links); 0 when vantage's XML reader did
+/// not see it under that name.
+int LineOf(const std::map<std::string, int>& table, const std::string& name) {
+  const auto it = table.find(name);
+  return it == table.end() ? 0 : it->second;
+}
+
 ElementLines LinesOf(const detail::XmlDocument& document) {
   ElementLines lines;
   for (const detail::XmlElement& child : document.root.children) {
@@ -333,8 +340,7 @@ RobotModel LoadUrdf(const std::string& path) {
       out.parent_link = joint->parent_link_name;
       out.child_link = joint->child_link_name;
       out.parent_from_joint = PoseOf(joint->parent_to_joint_origin_transform);
-      const auto line = lines.joints.find(joint->name);
-      out.line = line == lines.joints.end() ? 0 : line->second;
+      out.line = LineOf(lines.joints, joint->name);
       const Vec3 axis(joint->axis.x, joint->axis.y, joint->axis.z);
       const bool moves = out.type == RobotJoint::Type::kRevolute ||
                          out.type == RobotJoint::Type::kContinuous ||
@@ -377,8 +383,7 @@ RobotModel LoadUrdf(const std::string& path) {
   // above: a loop CheckJointTree could not see in the XML).
   for (const auto& [name, joint] : model->joints_) {
     if (!joint || robot.FindJoint(name)) continue;
-    const auto line = lines.joints.find(name);
-    diag.Error(line == lines.joints.end() ? 0 : line->second,
+    diag.Error(LineOf(lines.joints, name),
                fmt::format("joint '{}' (link '{}' to '{}') is not reached from the root link "
                            "'{}': its links form a loop apart from the tree — a URDF is one tree",
                            name, joint->parent_link_name, joint->child_link_name, robot.root_link));
