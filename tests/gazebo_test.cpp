@@ -56,7 +56,9 @@ Problem Load(const std::string& path,
 std::string World(const std::string& name) { return test::DataPath("worlds/" + name); }
 
 /// A copy of the test world `name` with `from` replaced by `to` (it must occur), written to `as`.
-std::string EditedWorld(const std::string& name, const std::string& from, const std::string& to,
+std::string EditedWorld(const std::string& name,
+                        const std::string& from,
+                        const std::string& to,
                         const std::string& as) {
   std::string text = test::ReadText(World(name));
   const size_t at = text.find(from);
@@ -490,8 +492,8 @@ TEST(Gazebo, CommandLineTargetsOverride) {
 /// A green (target) sphere and cylinder with the plugin's leaf size `cell`.
 std::string BallAndCanWorld(const std::string& cell) {
   const auto model = [](const std::string& name, const std::string& shape) {
-    return "<model name='" + name + "'><link name='link'><visual name='visual'><geometry>" +
-           shape + "</geometry><material><diffuse>0 1 0 1</diffuse></material></visual></link>" +
+    return "<model name='" + name + "'><link name='link'><visual name='visual'><geometry>" + shape +
+           "</geometry><material><diffuse>0 1 0 1</diffuse></material></visual></link>" +
            "</model>\n";
   };
   return "<?xml version='1.0'?>\n<sdf version='1.6'><world name='w'>\n" +
@@ -790,6 +792,34 @@ TEST(Gazebo, NanAndNegativeValues) {
   ExpectErrorAt(LoadError(path), path, 15, "sensor type 'camera': near = 2 must be below far = 1");
 }
 
+// A plane's <normal> is a direction of any finite length. Session 18: the length of
+// (0, 1e190, 1) overflows a double, and normalising by it gave the zero vector, so the plane was
+// turned by a rotation of zeros and loaded silently wrong. Gazebo's CreatePlane frame, by hand,
+// for the normal (0, 1, 0): z = (0, 1, 0), y = z × (1, 0, 0) = (0, 0, −1), x = y × z = (1, 0, 0);
+// the 2 × 1 plane spans x ±1 and z ±0.5 at y = 0.
+TEST(Gazebo, PlaneNormalOfAnyFiniteLength) {
+  const auto world = [](const std::string& normal) {
+    return "<?xml version='1.0'?>\n<sdf version='1.6'><world name='w'>\n"
+           "<model name='wall'><static>true</static><link name='link'><visual name='visual'>\n"
+           "<geometry><plane><normal>" +
+           normal +
+           "</normal><size>2 1</size></plane></geometry>\n"
+           "<material><diffuse>0 1 0 1</diffuse></material></visual></link></model>\n"
+           "</world></sdf>\n";
+  };
+  test::TempDir dir;
+  for (const std::string normal : {"0 1 0", "0 1e190 1", "0 1.7e308 0", "0 3e-5 0"}) {
+    SCOPED_TRACE(normal);
+    test::WriteText(dir.File("plane.world"), world(normal));
+    const Problem problem = Load(dir.File("plane.world"));
+    ExpectBounds(FindObject(problem, "wall"), Vec3(-1, 0, -0.5), Vec3(1, 0, 0.5));
+  }
+  // Below 1e-12 it is no direction anyone meant: refused at its line.
+  test::WriteText(dir.File("zero.world"), world("0 0 1e-13"));
+  ExpectErrorAt(LoadError(dir.File("zero.world")), dir.File("zero.world"), 4,
+                "<normal> is zero (shorter than 1e-12)");
+}
+
 // ---------------------------------------------------------------------------------------------
 // The XML reader and the material scripts on their own.
 
@@ -869,8 +899,9 @@ TEST(Gazebo, BadMountingRules) {
   ExpectErrorAt(LoadError(path), path, 4, "<keep_out> needs the vantage: prefix");
   path = world("    <vantage:keep_out name=\"k\"><pose>0 0 0 0 0 0</pose></vantage:keep_out>\n");
   ExpectErrorAt(LoadError(path), path, 4, "<vantage:keep_out name='k'> needs <size>");
-  path = world("    <vantage:keep_out>\n      <min>0 0 0</min>\n      <max>1 0 1</max>\n"
-               "    </vantage:keep_out>\n");
+  path = world(
+      "    <vantage:keep_out>\n      <min>0 0 0</min>\n      <max>1 0 1</max>\n"
+      "    </vantage:keep_out>\n");
   ExpectErrorAt(LoadError(path), path, 6, "<max> must exceed <min> on every axis");
   path = world("    <vantage:min_separation>-0.1</vantage:min_separation>\n");
   ExpectErrorAt(LoadError(path), path, 4, "must be positive");
@@ -893,8 +924,9 @@ TEST(Gazebo, RepeatedElementsWarnedAndTwoShapesRefused) {
       edited("<size>0.2 0.2 0.2</size>", "<size>0.2 0.2 0.2</size>\n<size>1 1 1</size>");
   const Problem problem = Load(path, options);
   ExpectBounds(FindObject(problem, "target_box"), Vec3(-0.1, -0.1, 0), Vec3(0.1, 0.1, 0.2));
-  const std::string warning = path + ":16: a second <size> in <box> (the first at line 15) is not "
-                                     "read — vantage, like Gazebo, reads the first; remove one";
+  const std::string warning = path +
+                              ":16: a second <size> in <box> (the first at line 15) is not "
+                              "read — vantage, like Gazebo, reads the first; remove one";
   EXPECT_TRUE(std::find(problem.warnings.begin(), problem.warnings.end(), warning) !=
               problem.warnings.end());
   EXPECT_TRUE(HasNote(problem, warning));
@@ -912,7 +944,8 @@ TEST(Gazebo, RepeatedElementsWarnedAndTwoShapesRefused) {
                 "<geometry> has <sphere> (line 13) and <box>: one shape per geometry");
   // A warning that explains a failed load follows its error (session 15: a load that failed
   // printed no warning): the target's colour in a second <diffuse>, not read, so no target.
-  path = edited("<diffuse>0 1 0 1</diffuse>", "<diffuse>1 1 1 1</diffuse>\n<diffuse>0 1 0 1</diffuse>");
+  path = edited("<diffuse>0 1 0 1</diffuse>",
+                "<diffuse>1 1 1 1</diffuse>\n<diffuse>0 1 0 1</diffuse>");
   const std::string error = LoadError(path, options);
   const size_t no_target = error.find("matches no visual's material colour");
   const size_t repeat = error.find("\nwarning: " + path + ":20: a second <diffuse> in <material>");
@@ -990,12 +1023,14 @@ TEST(GazeboMaterial, ProblemsNamedAtTheirLine) {
   ASSERT_TRUE(library.LoadFile(path));
   ASSERT_EQ(library.problems.size(), 2u);
   EXPECT_EQ(library.problems[0],
-            path + ":11: the '{' of this block is never closed: the material script ends inside "
-                   "it (cut short?)");
+            path +
+                ":11: the '{' of this block is never closed: the material script ends inside "
+                "it (cut short?)");
   EXPECT_EQ(library.problems[1],
-            path + ":7: 'diffuse 1e400 0 0 1' of material 'Bad/Huge' is not 3 or 4 finite "
-                   "numbers: skipped, as Ogre skips it (the material has no diffuse colour of its "
-                   "own)");
+            path +
+                ":7: 'diffuse 1e400 0 0 1' of material 'Bad/Huge' is not 3 or 4 finite "
+                "numbers: skipped, as Ogre skips it (the material has no diffuse colour of its "
+                "own)");
   const detail::MaterialColours* huge = library.Find("Bad/Huge");
   ASSERT_NE(huge, nullptr);
   EXPECT_FALSE(huge->diffuse.has_value());
@@ -1015,16 +1050,18 @@ TEST(GazeboMaterial, ScriptProblemsFollowTheNoTargetError) {
   test::WriteText(dir.File("materials/m.material"),
                   "material M/X\n{ technique { pass { diffuse nan 1 0 1 } } }\n"
                   "material M/Y : M/Nope\n{ }\n");
-  const std::string path = EditedWorld(
-      "export.world", "<diffuse>0 1 0 1</diffuse>",
-      "<script><uri>file://materials/m.material</uri><name>M/X</name></script>",
-      dir.File("scripted.world"));
+  const std::string path =
+      EditedWorld("export.world", "<diffuse>0 1 0 1</diffuse>",
+                  "<script><uri>file://materials/m.material</uri><name>M/X</name></script>",
+                  dir.File("scripted.world"));
   const std::string error = LoadError(path, TestModels());
   EXPECT_NE(error.find("matches no visual's material colour"), std::string::npos) << error;
-  EXPECT_NE(error.find("m.material:2: 'diffuse nan 1 0 1' of material 'M/X' is not 3 or 4 finite numbers"),
+  EXPECT_NE(error.find(
+                "m.material:2: 'diffuse nan 1 0 1' of material 'M/X' is not 3 or 4 finite numbers"),
             std::string::npos)
       << error;
-  EXPECT_NE(error.find("m.material:3: material 'M/Y' inherits unknown material 'M/Nope'"), std::string::npos)
+  EXPECT_NE(error.find("m.material:3: material 'M/Y' inherits unknown material 'M/Nope'"),
+            std::string::npos)
       << error;
 }
 

@@ -6,10 +6,10 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <cstdlib>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
 #include <tuple>
@@ -239,7 +239,8 @@ TEST(Robot, ReversedLimitsAreNamedNotThePosition) {
   test::WriteText(path, urdf);
   const std::string error = LoadError(ArmScene(path, "      j2: 0.5"));
   EXPECT_NE(error.find("scene.yaml:7: robot 'arm'.joints: joint 'j2' of robot 'arm3': its <limit> "
-                       "has lower 1.6 above upper -1.6 (" + path + ":"),
+                       "has lower 1.6 above upper -1.6 (" +
+                       path + ":"),
             std::string::npos)
       << error;
   EXPECT_EQ(error.find("outside its limits"), std::string::npos) << error;
@@ -350,8 +351,9 @@ TEST(Robot, CommandLinePackagePath) {
 TEST(Robot, CommandLineRunOverArmStatesAndItsConstellation) {
   test::TempDir dir;
   const std::string out = dir.File("out");
-  test::CommandResult run = test::RunVantage(
-      "optimize " + test::DataPath("urdf/occlusion_cell.yaml") + " --method greedy -q --out " + out);
+  test::CommandResult run =
+      test::RunVantage("optimize " + test::DataPath("urdf/occlusion_cell.yaml") +
+                       " --method greedy -q --out " + out);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json report = nlohmann::json::parse(test::ReadText(out + "/report.json"));
   ASSERT_EQ(report["candidates"][0]["name"], "top");
@@ -404,8 +406,7 @@ TEST(Robot, MimicCycleIsRefusedAtItsJoint) {
   EXPECT_NE(error.find("cycle.urdf:3: joint 'a' mimics itself through a -> b -> a"),
             std::string::npos)
       << error;
-  EXPECT_NE(error.find("cycle.urdf:13: joint 'c' mimics itself through c -> c"),
-            std::string::npos)
+  EXPECT_NE(error.find("cycle.urdf:13: joint 'c' mimics itself through c -> c"), std::string::npos)
       << error;
   EXPECT_EQ(error.find("joint 'b' mimics itself"), std::string::npos) << error;  // once a cycle
 }
@@ -417,9 +418,10 @@ TEST(Robot, MimicCycleIsRefusedAtItsJoint) {
 TEST(Robot, JointCyclesAreRefusedAtTheirJoint) {
   test::TempDir dir;
   const auto fixed = [](const char* name, const char* parent, const char* child) {
-    return fmt::format("  <joint name=\"{}\" type=\"fixed\"><parent link=\"{}\"/>"
-                       "<child link=\"{}\"/></joint>\n",
-                       name, parent, child);
+    return fmt::format(
+        "  <joint name=\"{}\" type=\"fixed\"><parent link=\"{}\"/>"
+        "<child link=\"{}\"/></joint>\n",
+        name, parent, child);
   };
   const std::string links =
       "  <link name=\"base\"/><link name=\"l1\"/><link name=\"l2\"/><link name=\"l3\"/>\n"
@@ -457,8 +459,8 @@ TEST(Robot, JointCyclesAreRefusedAtTheirJoint) {
   const std::string hidden = dir.File("hidden_loop.urdf");
   std::string closing = fixed("c", "l3", "l2");
   closing.replace(closing.find("name="), 0, "\xEF\xBB\xBF");
-  test::WriteText(hidden, head + fixed("a", "base", "l1") + fixed("b", "l2", "l3") + closing +
-                              links);
+  test::WriteText(hidden,
+                  head + fixed("a", "base", "l1") + fixed("b", "l2", "l3") + closing + links);
   try {
     LoadUrdf(hidden);
     ADD_FAILURE() << "a loop of links loaded";
@@ -474,13 +476,50 @@ TEST(Robot, JointCyclesAreRefusedAtTheirJoint) {
 // urdfdom 3 logs a <visual> it cannot parse and drops it, returning the robot without that
 // occluder; vantage refuses the file at the link's line. A bad <collision> (never used) is not
 // an error.
+// A joint's <axis> is a direction of any finite length (session 18, found by urdf_robot): the
+// length of (0, 1e190, 1) overflows a double, and normalising by it gave the joint a zero axis
+// that turned nothing, silently. Each axis below is loaded as the unit vector written out here,
+// and link l1 at q = π/2 is the turn about it by hand.
+TEST(Robot, JointAxesOfAnyFiniteLength) {
+  test::TempDir dir;
+  const std::string urdf = dir.File("axis.urdf");
+  for (const auto& [written, unit] : {std::pair{"0 1e190 1", Vec3(0, 1, 1e-190)},
+                                      std::pair{"1.7e308 1.7e308 0", Vec3(1, 1, 0).normalized()},
+                                      std::pair{"0 0 3e-5", Vec3(0, 0, 1)}}) {
+    SCOPED_TRACE(written);
+    test::WriteText(urdf,
+                    fmt::format("<robot name=\"r\">\n  <link name=\"base\"/><link name=\"l1\"/>\n"
+                                "  <joint name=\"j\" type=\"continuous\"><parent link=\"base\"/>"
+                                "<child link=\"l1\"/><axis xyz=\"{}\"/></joint>\n</robot>\n",
+                                written));
+    const RobotModel robot = LoadUrdf(urdf);
+    ASSERT_EQ(robot.joints.size(), 1u);
+    EXPECT_LT((robot.joints[0].axis - unit).norm(), 1e-15) << robot.joints[0].axis.transpose();
+    const auto poses = LinkPoses(robot, Pose{}, {{"j", kPi / 2}});
+    ExpectSamePose(poses.at("l1"), Isometry3d(AngleAxisd(kPi / 2, unit)), "l1");
+  }
+  // Below 1e-12 it is no direction anyone meant: refused at the joint's line.
+  test::WriteText(
+      urdf,
+      "<robot name=\"r\">\n  <link name=\"base\"/><link name=\"l1\"/>\n"
+      "  <joint name=\"j\" type=\"revolute\"><parent link=\"base\"/>"
+      "<child link=\"l1\"/><axis xyz=\"0 0 1e-13\"/>"
+      "<limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint>\n</robot>\n");
+  const std::string error = LoadError(ArmScene(urdf, "      {}"));
+  EXPECT_NE(error.find("axis.urdf:3: joint 'j' has a zero <axis> (shorter than 1e-12)"),
+            std::string::npos)
+      << error;
+}
+
 TEST(Robot, UnparsableVisualIsRefusedNotDropped) {
   test::TempDir dir;
   const auto robot_with = [&](const std::string& visual, const std::string& collision) {
     const std::string urdf = dir.File("one.urdf");
-    test::WriteText(urdf, "<?xml version=\"1.0\"?>\n<robot name=\"r\">\n  <link name=\"base\">\n"
-                          "    <visual>" + visual + "</visual>\n    <collision>" + collision +
-                          "</collision>\n  </link>\n</robot>\n");
+    test::WriteText(urdf,
+                    "<?xml version=\"1.0\"?>\n<robot name=\"r\">\n  <link name=\"base\">\n"
+                    "    <visual>" +
+                        visual + "</visual>\n    <collision>" + collision +
+                        "</collision>\n  </link>\n</robot>\n");
     return LoadError(ArmScene(urdf, "      {}"));
   };
   const std::string good_box = "<geometry><box size=\"0.1 0.1 0.1\"/></geometry>";
@@ -489,8 +528,7 @@ TEST(Robot, UnparsableVisualIsRefusedNotDropped) {
         std::string("<geometry><sphere/></geometry>"),
         std::string("<geometry><cylinder radius=\"0.1\"/></geometry>"),
         std::string("<geometry><capsule radius=\"0.1\" length=\"0.2\"/></geometry>"),
-        std::string("<geometry></geometry>"),
-        "<origin xyz=\"0 0 nope\"/>" + good_box}) {
+        std::string("<geometry></geometry>"), "<origin xyz=\"0 0 nope\"/>" + good_box}) {
     const std::string error = robot_with(bad, good_box);
     EXPECT_NE(error.find("one.urdf:3: urdfdom: "), std::string::npos) << bad << "\n" << error;
     EXPECT_NE(error.find("Could not parse visual element for Link [base]"), std::string::npos)

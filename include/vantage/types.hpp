@@ -44,8 +44,14 @@ Vec3 RpyFromRotation(const Mat3& rotation);
 std::array<double, 4> WxyzOf(const Quat& rotation);
 /// The unit rotation of [w, x, y, z] (size 4, any length); nullopt when the length is below 1e-9.
 std::optional<Quat> QuatFromWxyz(std::span<const double> wxyz);
+/// A direction read from a file (a joint's axis, a plane's normal) at length 1; nullopt when a
+/// component is not finite or the length is below `min_length` (rounding noise, not a direction
+/// someone meant). Any finite direction has its unit vector, even where the length overflows a
+/// double: (0, 1e190, 1) is (0, 1, 1e-190), not the zero vector Eigen's normalized() gives.
+std::optional<Vec3> UnitDirection(const Vec3& direction, double min_length);
 
-/// Integer cell of a point: floor(p / F) per axis, grid aligned to the world origin (PCL VoxelGrid).
+/// Integer cell of a point: floor(p / F) per axis, grid aligned to the world origin (PCL
+/// VoxelGrid).
 using VoxelIndex = std::array<int64_t, 3>;
 
 /// floor(x) as an integer, without a libm call (it runs for every ray that hits a target). Values
@@ -57,7 +63,8 @@ inline int64_t FloorToInt(double x) {
 }
 
 inline VoxelIndex VoxelKeyOf(const Vec3& p, double cell_size) {
-  return {FloorToInt(p.x() / cell_size), FloorToInt(p.y() / cell_size), FloorToInt(p.z() / cell_size)};
+  return {FloorToInt(p.x() / cell_size), FloorToInt(p.y() / cell_size),
+          FloorToInt(p.z() / cell_size)};
 }
 
 /// Cells are packed into 64 bits (21 bits per axis, offset 2^20), ordered by x, then y, then z.

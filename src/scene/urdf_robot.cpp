@@ -189,7 +189,8 @@ void CheckJointTree(const detail::XmlDocument& document, Diagnostics* diag) {
                                             *name, *child_link));
       continue;
     }
-    const auto [first, is_new] = parent_of.emplace(*child_link, Edge{*name, *parent_link, element.line});
+    const auto [first, is_new] =
+        parent_of.emplace(*child_link, Edge{*name, *parent_link, element.line});
     if (!is_new)
       diag->Error(element.line, fmt::format("joint '{}' makes link '{}' the child of a second "
                                             "joint ('{}' is the first) — a URDF is a tree, each "
@@ -216,9 +217,10 @@ void CheckJointTree(const detail::XmlDocument& document, Diagnostics* diag) {
       // Parent to child, from the child of the loop's last joint in the file: the one to remove.
       std::vector<std::string> loop(again, up.end());
       std::reverse(loop.begin(), loop.end());
-      const auto closing = std::max_element(loop.begin(), loop.end(), [&](const auto& a, const auto& b) {
-        return parent_of.at(a).line < parent_of.at(b).line;
-      });
+      const auto closing =
+          std::max_element(loop.begin(), loop.end(), [&](const auto& a, const auto& b) {
+            return parent_of.at(a).line < parent_of.at(b).line;
+          });
       std::rotate(loop.begin(), closing, loop.end());
       const Edge& joint = parent_of.at(loop.front());
       diag->Error(joint.line, fmt::format("joint '{}' closes a loop of links ({} -> {}) — a URDF "
@@ -341,16 +343,17 @@ RobotModel LoadUrdf(const std::string& path) {
       out.child_link = joint->child_link_name;
       out.parent_from_joint = PoseOf(joint->parent_to_joint_origin_transform);
       out.line = LineOf(lines.joints, joint->name);
-      const Vec3 axis(joint->axis.x, joint->axis.y, joint->axis.z);
+      const std::optional<Vec3> axis =
+          UnitDirection(Vec3(joint->axis.x, joint->axis.y, joint->axis.z), 1e-12);
       const bool moves = out.type == RobotJoint::Type::kRevolute ||
                          out.type == RobotJoint::Type::kContinuous ||
                          out.type == RobotJoint::Type::kPrismatic;
-      if (moves && !(axis.norm() > 1e-12)) {
-        diag.Error(out.line, fmt::format("joint '{}' has a zero <axis> — give a direction, e.g. "
-                                         "xyz=\"0 0 1\"",
+      if (moves && !axis) {
+        diag.Error(out.line, fmt::format("joint '{}' has a zero <axis> (shorter than 1e-12) — "
+                                         "give a direction, e.g. xyz=\"0 0 1\"",
                                          joint->name));
       } else if (moves) {
-        out.axis = axis.normalized();
+        out.axis = *axis;
       }
       if (joint->limits &&
           (out.type == RobotJoint::Type::kRevolute || out.type == RobotJoint::Type::kPrismatic))
@@ -458,11 +461,10 @@ std::vector<std::string> JointPositionProblems(const RobotModel& robot,
       problems.push_back(fmt::format("joint '{}': position {} is not a finite number", name, q));
     } else if (joint->limits && !(joint->limits->first <= joint->limits->second)) {
       // Was blamed on the position ("outside its limits [1, -1]"), which no position can meet.
-      problems.push_back(
-          fmt::format("joint '{}' of robot '{}': its <limit> has lower {} above upper {} ({}:{}) "
-                      "— no position is within them; fix the limits in the URDF",
-                      name, robot.name, joint->limits->first, joint->limits->second, robot.file,
-                      joint->line));
+      problems.push_back(fmt::format(
+          "joint '{}' of robot '{}': its <limit> has lower {} above upper {} ({}:{}) "
+          "— no position is within them; fix the limits in the URDF",
+          name, robot.name, joint->limits->first, joint->limits->second, robot.file, joint->line));
     } else if (joint->limits && (q < joint->limits->first || q > joint->limits->second)) {
       problems.push_back(
           fmt::format("joint '{}' of robot '{}': position {} is outside its limits "

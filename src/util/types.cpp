@@ -33,26 +33,40 @@ std::array<double, 4> WxyzOf(const Quat& rotation) {
   return {q.w(), q.x(), q.y(), q.z()};
 }
 
+namespace {
+
+/// `v` at length 1, or nullopt (see UnitDirection). Where the length is finite this is Eigen's
+/// normalized(), so that every ordinary input keeps its last digits.
+template <typename Vector>
+std::optional<Vector> UnitOf(const Vector& v, double min_length) {
+  if (!v.allFinite()) return std::nullopt;
+  const double length = v.norm();
+  if (std::isfinite(length)) {
+    if (length < min_length) return std::nullopt;
+    return v.normalized();
+  }
+  // The length of [1e300, 1e300, 0, 0] overflows to inf, and normalising by it gave a zero
+  // quaternion that passed (issue 15), as (0, 1e190, 1) gave a joint a zero axis: scale by the
+  // largest component first, only here.
+  const Vector scaled = v / v.cwiseAbs().maxCoeff();
+  return scaled.normalized();
+}
+
+}  // namespace
+
 std::optional<Quat> QuatFromWxyz(std::span<const double> wxyz) {
   VANTAGE_CHECK(wxyz.size() == 4);
-  for (const double v : wxyz) {
-    if (!std::isfinite(v)) return std::nullopt;
-  }
-  const Quat rotation(wxyz[0], wxyz[1], wxyz[2], wxyz[3]);  // Eigen's constructor takes w first
-  const double norm = rotation.norm();
-  if (std::isfinite(norm)) {
-    // Below 1e-9 it is rounding noise around zero, not a rotation someone meant (the callers'
-    // messages say "zero, or shorter than 1e-09").
-    if (norm < 1e-9) return std::nullopt;
-    return rotation.normalized();
-  }
-  // The norm of [1e300, 1e300, 0, 0] overflows to inf, and normalising by it gave a zero
-  // quaternion that passed (issue 15): scale by the largest component first (only here, so that
-  // every other input keeps its last digits).
-  double largest = 0;
-  for (const double v : wxyz) largest = std::max(largest, std::abs(v));
-  const Quat scaled(wxyz[0] / largest, wxyz[1] / largest, wxyz[2] / largest, wxyz[3] / largest);
-  return scaled.normalized();
+  // Eigen's coeffs() order (x, y, z, w), so that the length is summed as Quat::norm() sums it.
+  const Eigen::Vector4d xyzw(wxyz[1], wxyz[2], wxyz[3], wxyz[0]);
+  // Below 1e-9 it is rounding noise around zero, not a rotation someone meant (the callers'
+  // messages say "zero, or shorter than 1e-09").
+  const std::optional<Eigen::Vector4d> unit = UnitOf(xyzw, 1e-9);
+  if (!unit) return std::nullopt;
+  return Quat(*unit);  // Eigen's Quaternion(Vector4) takes x, y, z, w
+}
+
+std::optional<Vec3> UnitDirection(const Vec3& direction, double min_length) {
+  return UnitOf(direction, min_length);
 }
 
 Pose Pose::FromXyzRpy(double x, double y, double z, double roll, double pitch, double yaw) {

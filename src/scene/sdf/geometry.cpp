@@ -15,9 +15,10 @@ namespace vantage::detail::gazebo {
 namespace {
 
 /// The plane of Gazebo's MeshManager::CreatePlane: z axis = normal, y axis = normal ×
-/// (1, 0, 0) (or × (0, 1, 0) when parallel), x axis = y × z; size along x and y.
+/// (1, 0, 0) (or × (0, 1, 0) when parallel), x axis = y × z; size along x and y. `normal` is a
+/// unit vector (UnitDirection).
 Quat PlaneRotation(const Vec3& normal) {
-  const Vec3 z = normal.normalized();
+  const Vec3& z = normal;
   Vec3 y = z.cross(Vec3::UnitX());
   if (y.squaredNorm() < 1e-12) y = z.cross(Vec3::UnitY());
   y.normalize();
@@ -99,11 +100,14 @@ std::optional<TriangleMesh> Loader::GeometryOf(const VisualRecord& visual, bool 
     if (const XmlElement* e = shape.Child("normal")) {
       const auto v = Vector(doc, *e, false, "0 0 1");
       if (!v) return std::nullopt;
-      if (v->norm() < 1e-12) {
-        Error(doc, e->line, "<normal> is zero — give a direction, e.g. <normal>0 0 1</normal>");
+      const std::optional<Vec3> unit = UnitDirection(*v, 1e-12);
+      if (!unit) {
+        Error(doc, e->line,
+              "<normal> is zero (shorter than 1e-12) — give a direction, e.g. "
+              "<normal>0 0 1</normal>");
         return std::nullopt;
       }
-      normal = *v;
+      normal = *unit;
     }
     if (const XmlElement* e = shape.Child("size")) {
       const auto v = Numbers(doc, *e, 2, "100 100");
@@ -166,11 +170,11 @@ std::optional<TriangleMesh> Loader::GeometryOf(const VisualRecord& visual, bool 
                       what, shape.name));
     return std::nullopt;
   }
-  const std::string note = AtPlace(
-      doc.xml.path, shape.line,
-      fmt::format("{}: <{}> geometry is not supported: this occluder is left out, so the "
-                  "coverage is what the cameras would see without it — give it as a <mesh>",
-                  what, shape.name));
+  const std::string note =
+      AtPlace(doc.xml.path, shape.line,
+              fmt::format("{}: <{}> geometry is not supported: this occluder is left out, so the "
+                          "coverage is what the cameras would see without it — give it as a <mesh>",
+                          what, shape.name));
   Warn(note);
   return TriangleMesh{};
 }
