@@ -1,12 +1,15 @@
 #!/usr/bin/env python3
 """Reads the libFuzzer logs of one target's campaigns (oldest first) and says whether its coverage
-has reached the plateau of fuzz/README.md: fewer than 0.5 % new features (libFuzzer's `ft:`) in
-the second half of the executions. The half is counted in executions, not seconds, so that the
-verdict does not depend on the load of the machine; the executions of several logs are added up
-(a campaign that continues from the merged corpus of the one before continues its count).
+has reached the plateau of fuzz/README.md: fewer than 0.5 % new edges (libFuzzer's `cov:`) in the
+second half of the executions. The half is counted in executions, not seconds, so that the verdict
+does not depend on the load of the machine; the executions of several logs are added up (a
+campaign that continues from the merged corpus of the one before continues its count). The
+features (`ft:`, edges and their hit-count buckets) are printed beside the edges, and
+`--measure ft` judges them instead (the rule of sessions 5 to 19, see fuzz/README.md).
 
     python3 fuzz/plateau.py fuzz/build/pipeline.log
     python3 fuzz/plateau.py --threshold 0.5 run1.log run2.log
+    python3 fuzz/plateau.py --doublings run1.log run2.log   # the gain in each doubling too
 
 Prints one line per log and a verdict; exits 0 on a plateau, 1 otherwise, 2 on a log without
 status lines.
@@ -40,7 +43,11 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("logs", nargs="+")
     parser.add_argument("--threshold", type=float, default=0.5,
-                        help="percent of the final features (default 0.5)")
+                        help="percent of the final edges (or features) (default 0.5)")
+    parser.add_argument("--measure", choices=("cov", "ft"), default="cov",
+                        help="judge the edges (cov, default) or the features (ft)")
+    parser.add_argument("--doublings", action="store_true",
+                        help="also print the gain in each doubling of the executions")
     args = parser.parse_args()
 
     timeline = []  # (cumulative executions, cov, ft)
@@ -59,16 +66,33 @@ def main():
         timeline += [(offset + p[0], p[1], p[2]) for p in points]
         offset += end[0]
 
+    def at(executions):
+        """The last status at or before `executions` (the first one if none is)."""
+        before = [p for p in timeline if p[0] <= executions]
+        return before[-1] if before else timeline[0]
+
+    def gain(first, last, column):
+        return last[column] - first[column], 100.0 * (last[column] - first[column]) / last[column]
+
     total = timeline[-1][0]
+    if args.doublings:
+        executions = 1000
+        while executions < total:
+            upto = min(2 * executions, total)
+            first, last = at(executions), at(upto)
+            (cov, cov_pc), (ft, ft_pc) = gain(first, last, 1), gain(first, last, 2)
+            print(f"  {executions:>9} to {upto:>9} executions: cov +{cov} ({cov_pc:.2f} %), "
+                  f"ft +{ft} ({ft_pc:.2f} %)")
+            executions = upto
     half = total / 2
-    at_half = [p for p in timeline if p[0] <= half] or timeline[:1]
-    ft_half, ft_end = at_half[-1][2], timeline[-1][2]
-    cov_half, cov_end = at_half[-1][1], timeline[-1][1]
-    gain = 100.0 * (ft_end - ft_half) / ft_end
-    plateau = gain < args.threshold
-    print(f"second half ({half:.0f} to {total} executions): ft {ft_half} -> {ft_end} "
-          f"(+{ft_end - ft_half}, {gain:.2f} %), cov {cov_half} -> {cov_end}: "
-          f"{'plateau' if plateau else 'still growing'} (threshold {args.threshold} %)")
+    middle, end = at(half), timeline[-1]
+    (cov, cov_pc), (ft, ft_pc) = gain(middle, end, 1), gain(middle, end, 2)
+    judged = cov_pc if args.measure == "cov" else ft_pc
+    plateau = judged < args.threshold
+    print(f"second half ({half:.0f} to {total} executions): cov {middle[1]} -> {end[1]} "
+          f"(+{cov}, {cov_pc:.2f} %), ft {middle[2]} -> {end[2]} (+{ft}, {ft_pc:.2f} %): "
+          f"{'plateau' if plateau else 'still growing'} "
+          f"({args.measure}, threshold {args.threshold} %)")
     return 0 if plateau else 1
 
 
