@@ -2142,6 +2142,57 @@ TEST_F(BadInput, CollapsedOccludersAreWarned) {
       << run.err;
 }
 
+// Issue 15, found by the pipeline fuzzer (session 20): projected pixel coordinates beyond any int
+// were cast to int — undefined behaviour that the ASan + UBSan suite now checks for
+// (float-cast-overflow, which GCC leaves out of `undefined`). A field of view of 1e-300 rad (a
+// focal length of 1.6e302 px) projected the boxes beside each axis to pixel ±1e301 in observe's
+// culling, which then traced whole images for boxes no pixel sees (observe_test has the count); a
+// frustum line through render's eye plane projected to pixel -5.9e9.
+TEST_F(BadInput, ProjectionsBeyondAnyPixelIndex) {
+  const std::string narrow = Write("needle.yaml", CubeCellWith("hfov: 1.0", "hfov: 1e-300"));
+  const auto cells_seen = [&](const std::string& options, const std::string& out) {
+    const auto run = RunVantage("optimize " + narrow + options + " --out " + dir_.File(out));
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    const json report = json::parse(ReadText(dir_.File(out + "/report.json")));
+    std::vector<std::pair<int, double>> cells;  // (n, cells seen) of each result
+    for (const json& result : report["results"]) {
+      cells.emplace_back(result["n"].get<int>(), result["coverage"].get<double>() *
+                                                     report["reference_voxels"].get<double>());
+    }
+    return cells;
+  };
+  const auto culled = cells_seen("", "needle");
+  const auto traced = cells_seen(" --no-cull", "needle_all");
+  // Every pixel's ray is the optical axis to the float ray caster, so each camera sees the one
+  // cell where its axis meets the cube: n = 1 sees one cell, n = 2 two (the wall's cameras aim
+  // at the cube's centre from different places, and no occluder stands between).
+  ASSERT_FALSE(culled.empty());
+  for (const auto& [n, cells] : culled) EXPECT_NEAR(cells, n, 1e-9) << "n = " << n;
+  EXPECT_EQ(culled, traced);
+
+  // render: an eye 20 cm below a chosen sensor, looking level towards the cube, so the frustum
+  // lines from that sensor cross the eye's plane 20 cm above it; at 1 deg of field of view such a
+  // point, clipped to 1e-6 m in front, projects to row 256 - 256 * 0.2 / (1e-6 tan 0.5 deg),
+  // about -5.9e9.
+  ASSERT_EQ(RunVantage("optimize " + CubeCell() + " --out " + dir_.File("o")).exit_code, 0);
+  const json report = json::parse(ReadText(dir_.File("o/report.json")));
+  const std::string chosen = report["results"][report["primary_result"].get<size_t>()]["sensors"][0];
+  int rendered = 0;
+  for (const json& candidate : report["candidates"]) {
+    if (candidate["name"] != chosen) continue;
+    ++rendered;
+    const double x = candidate["position"][0], y = candidate["position"][1],
+                 z = candidate["position"][2];
+    const auto run = RunVantage(fmt::format(
+        "render {} --png {} --eye {:.17g} {:.17g} {:.17g} --look-at {:.17g} {:.17g} {:.17g} --fov 1 "
+        "--width 512 --height 512",
+        dir_.File("o"), dir_.File("eye_plane.png"), x, y, z - 0.2, -x, -y, z - 0.2));
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    EXPECT_TRUE(fs::exists(dir_.File("eye_plane.png")));
+  }
+  EXPECT_EQ(rendered, 1) << chosen;
+}
+
 TEST_F(BadInput, ExactKeepsItsTimeLimit) {
   const std::string good = dir_.File("seed.vis");
   ASSERT_EQ(RunVantage("observe " + CubeCell() + " --out " + good).exit_code, 0);

@@ -265,6 +265,36 @@ TEST(Observe, CullingGivesTheSameSetsAsTracingEveryPixel) {
   EXPECT_LT(culled_rays, full_rays);
 }
 
+// Issue 15 (found by the pipeline fuzzer): a field of view of 1e-300 rad is a focal length of
+// about 1e302 px, so a box beside the optical axis projects to pixel 1e301, which was cast to int
+// (undefined; in practice INT_MIN, and a whole image of rays traced for a box no pixel sees). All
+// the pixels' rays are the optical axis to the float ray caster: one camera sees the one cell its
+// axis meets, the other, whose axis passes 20 cm beside the cube, sees nothing and traces nothing.
+TEST(Observe, FocalLengthsOfBillionsOfPixelsAreCulledExactly) {
+  const Scene scene = CubeScene();
+  // Axis hits the face x = +2.5 cells at (0.025, 0.005, 0.005): mid-cell, in cell (2, 0, 0).
+  Candidate hits = CameraLookingMinusX(Vec3(0.5, 0.005, 0.005), 40, 1e-300, 0.1, 2.0);
+  // The cube lies at body y = -0.2 m: projected to u = cx + 0.4 fx, about +1e301.
+  Candidate misses = CameraLookingMinusX(Vec3(0.5, -0.2, 0), 40, 1e-300, 0.1, 2.0);
+  ASSERT_GT(hits.sensor.fx, 1e300);
+  hits.sensor.Validate("");
+  const std::vector<Candidate> cams = {hits, misses};
+  const Reference reference = BuildReference(scene, {kCell});
+  ObserveOptions all_pixels;
+  all_pixels.cull = false;
+  const auto culled = Observe(scene, reference, cams);
+  const auto full = Observe(scene, reference, cams, all_pixels);
+  for (size_t i = 0; i < cams.size(); ++i) {
+    EXPECT_EQ(culled[i].reference_indices, full[i].reference_indices) << i;
+    EXPECT_EQ(culled[i].outside_keys, full[i].outside_keys) << i;
+    EXPECT_EQ(full[i].rays_traced, uint64_t{40} * 40) << i;
+  }
+  ASSERT_EQ(full[0].reference_indices.size(), 1u);
+  EXPECT_EQ(reference.keys[full[0].reference_indices[0]], PackVoxel({2, 0, 0}));
+  EXPECT_TRUE(full[1].reference_indices.empty());
+  EXPECT_EQ(culled[1].rays_traced, 0u);
+}
+
 TEST(Observe, SameSetsWithOneOrTwoThreads) {
   const Scene scene = CubeScene();
   std::vector<Candidate> cams;

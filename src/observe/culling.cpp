@@ -16,6 +16,11 @@ struct PixelRect {
 
 PixelRect FullImage(const SensorType& s) { return {0, 0, s.width - 1, s.height - 1}; }
 
+// A projected pixel coordinate as an int, clamped on both sides before the cast: a legal focal
+// length of 1e302 px (a field of view of 1e-300 rad) projects a box beside the axis to pixel
+// ±1e301, or ±inf, beyond any int. The rectangle is clipped to the image afterwards.
+int PixelIndex(double x) { return static_cast<int>(std::min(1e9, std::max(-1.0, x))); }
+
 // Pixels whose centre ray can reach a point of `bounds` within [near, far]. Exact culling: a ray
 // through pixel centre c hits p only if p projects to c, and the projection of a box lying in
 // front of the camera is inside the bounding rectangle of its projected corners. One pixel of
@@ -42,8 +47,8 @@ PixelRect RectOfBounds(const SensorType& s, const Pose& body_from_world, const A
   const double slack = 1e-6 * (1.0 + s.far);
   if (depth_max < s.near - slack || depth_min > s.far + slack) return {0, 0, -1, -1};
   if (depth_min <= 1e-9) return FullImage(s);  // the box straddles the camera plane
-  const auto lo = [](double x) { return static_cast<int>(std::max(-1.0, std::ceil(x - 0.5) - 1)); };
-  const auto hi = [](double x) { return static_cast<int>(std::min(1e9, std::floor(x - 0.5) + 1)); };
+  const auto lo = [](double x) { return PixelIndex(std::ceil(x - 0.5) - 1); };
+  const auto hi = [](double x) { return PixelIndex(std::floor(x - 0.5) + 1); };
   PixelRect r{lo(u_min), lo(v_min), hi(u_max), hi(v_max)};
   r.u0 = std::max(r.u0, 0);
   r.v0 = std::max(r.v0, 0);

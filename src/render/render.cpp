@@ -102,7 +102,7 @@ class Overlay {
     double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
     if (!camera_.Project(p, &x0, &y0) || !camera_.Project(q, &x1, &y1)) return;
     const double length = std::hypot(x1 - x0, y1 - y0);
-    const int samples = static_cast<int>(std::clamp(2.0 * length, 2.0, 40000.0));
+    const int samples = length < 20000.0 ? static_cast<int>(std::max(2.0, 2.0 * length)) : 40000;
     for (int i = 0; i <= samples; ++i) {
       const Vec3 point = p + (q - p) * (static_cast<double>(i) / samples);
       double x = 0, y = 0;
@@ -138,8 +138,10 @@ class Overlay {
 
  private:
   void Mark(double x, double y, double distance) {
-    const int xi = static_cast<int>(std::floor(x)), yi = static_cast<int>(std::floor(y));
-    if (xi < 0 || yi < 0 || xi >= camera_.width || yi >= camera_.height) return;
+    // Tested as doubles: a point just in front of the eye projects to pixel ±1e10 and beyond,
+    // which no int holds.
+    if (!(x >= 0 && y >= 0 && x < camera_.width && y < camera_.height)) return;
+    const int xi = static_cast<int>(x), yi = static_cast<int>(y);
     const size_t i =
         static_cast<size_t>(yi) * static_cast<size_t>(camera_.width) + static_cast<size_t>(xi);
     // Hidden behind the surface this pixel shows: drawn faintly.
