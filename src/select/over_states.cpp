@@ -288,9 +288,9 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
                                greedy_seconds + SecondsSince(l)));
     }
   };
-  const auto ransac = [&](size_t k) {
+  const auto ransac = [&](size_t k, int iterations) {
     const Clock::time_point t = Clock::now();
-    std::vector<uint32_t> chosen = detail::RansacChoice(scorer, k, options.ransac_iterations,
+    std::vector<uint32_t> chosen = detail::RansacChoice(scorer, k, iterations,
                                                         options.ransac_stop_coverage, options.seed);
     return Scored(states, over, Method::kRansac, std::move(chosen), setup + SecondsSince(t));
   };
@@ -386,14 +386,16 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
       greedy_and_local(n, false, true);
       break;
     case Method::kRansac:
-      results.push_back(ransac(n));
+      results.push_back(ransac(n, options.ransac_iterations));
       break;
     case Method::kAll: {
       results.push_back(best());
       detail::AllExactTime exact_time(matrix.candidate_count(), options.time_limit,
                                       static_cast<int>(n));
       for (size_t k = 1; k <= n; ++k) {
-        results.push_back(ransac(k));
+        results.push_back(ransac(k, detail::AllRansacShare::Iterations(
+                                        options.ransac_iterations, static_cast<int>(k),
+                                        static_cast<int>(n))));
         greedy_and_local(k, true, true);
         if (!exact_time.runs()) continue;
         const Clock::time_point t = Clock::now();

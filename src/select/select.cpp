@@ -67,10 +67,10 @@ class Pipeline {
         k_(detail::Threshold(options)),
         setup_seconds_(setup_seconds) {}
 
-  Selection Ransac(int n) const {
+  Selection Ransac(int n, int iterations) const {
     const Clock::time_point start = Clock::now();
     std::vector<uint32_t> chosen = detail::RansacChoice(
-        detail::CellScorer(matrix_, k_), static_cast<size_t>(n), options_.ransac_iterations,
+        detail::CellScorer(matrix_, k_), static_cast<size_t>(n), iterations,
         options_.ransac_stop_coverage, options_.seed);
     return Scored(Method::kRansac, std::move(chosen), setup_seconds_ + SecondsSince(start));
   }
@@ -278,7 +278,8 @@ Selection SelectRansac(const CoverageEvaluator& evaluator, const SelectOptions& 
   if (options.min_points) RequirePointCounts(evaluator.observations());
   const detail::CoverageMatrix matrix =
       detail::MatrixFor(evaluator.observations(), evaluator.reference_size(), options);
-  Selection s = Pipeline(evaluator, matrix, options, 0).Ransac(options.n);
+  Selection s =
+      Pipeline(evaluator, matrix, options, 0).Ransac(options.n, options.ransac_iterations);
   s.seconds = SecondsSince(start);
   return s;
 }
@@ -417,7 +418,7 @@ std::vector<Selection> Select(std::span<const Observation> observations,
 
   switch (options.method) {
     case Method::kRansac:
-      return {pipeline.Ransac(options.n)};
+      return {pipeline.Ransac(options.n, options.ransac_iterations)};
     case Method::kGreedy:
       return {pipeline.Greedy(options.n)};
     case Method::kLocal:
@@ -461,7 +462,8 @@ std::vector<Selection> Select(std::span<const Observation> observations,
                    observations.size(), detail::AllExactTime::kMaxCandidates);
   }
   for (int n = first_n; n <= options.n; ++n) {
-    results.push_back(pipeline.Ransac(n));
+    results.push_back(pipeline.Ransac(
+        n, detail::AllRansacShare::Iterations(options.ransac_iterations, n, options.n)));
     results.push_back(pipeline.Greedy(n));
     results.push_back(pipeline.Local());
     if (!exact_time.runs()) continue;
