@@ -5,7 +5,9 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <numeric>
+#include <sstream>
 
 #include "test_util.hpp"
 #include "vantage/distribute.hpp"
@@ -110,7 +112,10 @@ TEST(ParseShard, IndexFromTheFlagOrTheJobArray) {
   const ShardSpec s = ParseShard("1/4");
   EXPECT_EQ(s.index, 1u);
   EXPECT_EQ(s.count, 4u);
-  for (const char* bad : {"4/4", "1", "-1/4", "1/0", "a/4", "1/4x", "env/4"}) {
+  // Leading zeros are refused as every other whole number of the command line refuses them
+  // (issue 44: "01/2" was accepted).
+  for (const char* bad : {"4/4", "1", "-1/4", "1/0", "a/4", "1/4x", "env/4", "01/2", "1/02",
+                          "00/2", "+1/2", "0/+2", "env/02"}) {
     try {
       ParseShard(bad);
       ADD_FAILURE() << bad;
@@ -196,9 +201,11 @@ TEST(Shards, MergeRefusesForeignMissingAndRepeatedParts) {
   };
   const std::string p0 = dir.File("p0.vis"), p1 = dir.File("p1.vis");
   refused(p0 + " " + p1 + " " + dir.File("seed7.vis"),
-          dir.File("seed7.vis") + ": comes from another scene or other settings");
+          dir.File("seed7.vis") + ": was observed with other options than " + p0 + ": " +
+              dir.File("seed7.vis") + " has '--seed 7', " + p0 + " has not");
   refused(p0 + " " + p1 + " " + dir.File("q60.vis"),
-          dir.File("q60.vis") + ": comes from another scene or other settings");
+          dir.File("q60.vis") + ": was observed with other options than " + p0 + ": " +
+              dir.File("q60.vis") + " has '--max-incidence 60', " + p0 + " has not");
   refused(p0 + " " + p1, "shard 2/3 is missing");
   refused(p0 + " " + p1 + " " + p1, dir.File("p1.vis") + ": repeats shard 1/3");
   refused(p0 + " " + dir.File("half.vis"), "half.vis: is shard 1/2, but");
@@ -208,6 +215,111 @@ TEST(Shards, MergeRefusesForeignMissingAndRepeatedParts) {
   const auto run =
       RunVantage("merge " + p0 + " " + p1 + " " + dir.File("p2.vis") + " --out " + out);
   EXPECT_EQ(run.exit_code, 0) << run.err;
+}
+
+// A copy of the example in `folder` (its mesh beside it), with `edit` applied to its text.
+std::string ExampleCopy(const test::TempDir& dir, const std::string& folder,
+                        const std::function<std::string(std::string)>& edit = {}) {
+  std::filesystem::create_directories(dir.File(folder));
+  std::string text = test::ReadText(Example());
+  const std::string mesh = "../meshes/small_motor.obj";
+  const size_t at = text.find(mesh);
+  EXPECT_NE(at, std::string::npos);
+  text.replace(at, mesh.size(), "small_motor.obj");
+  if (edit) text = edit(text);
+  test::WriteText(dir.File(folder + "/scene.yaml"), text);
+  std::filesystem::copy_file(std::string(VANTAGE_SOURCE_DIR) + "/examples/meshes/small_motor.obj",
+                             dir.File(folder + "/small_motor.obj"));
+  return dir.File(folder + "/scene.yaml");
+}
+
+// Issue 44: parts of a scene edited between the shards (the scene's text, or only a mesh it
+// includes) were merged into a mixed matrix; the fingerprint covers the content, not the path, so
+// the same content at another path merges into the one process's file.
+TEST(Shards, MergeRefusesPartsOfAnEditedScene) {
+  test::TempDir dir;
+  const std::string scene = ExampleCopy(dir, "cell");
+  const auto observe = [&](const std::string& path, const std::string& flags,
+                           const std::string& name) {
+    const auto run = RunVantage("-q observe " + path + " " + flags + " --out " + dir.File(name));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+  };
+  observe(scene, "--shard 0/2", "p0.vis");
+  observe(scene, "--shard 1/2", "p1.vis");
+  observe(scene, "", "one.vis");
+  const std::string p0 = dir.File("p0.vis"), p1 = dir.File("p1.vis"), out = dir.File("all.vis");
+  const auto refused = [&](const std::string& part, const std::string& needle) {
+    test::WriteText(out, "earlier");
+    const auto run = RunVantage("merge " + p0 + " " + part + " --out " + out);
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+    EXPECT_NE(run.err.find(needle), std::string::npos) << run.err;
+    EXPECT_EQ(test::ReadText(out), "earlier");
+  };
+  // A bin wall moved 5 mm in the scene's text, then shard 1 observed.
+  const std::string wall = "pose: {xyz: [0, 0.145, 0.805]}";
+  test::WriteText(scene, [&] {
+    std::string text = test::ReadText(scene);
+    const size_t at = text.find(wall);
+    EXPECT_NE(at, std::string::npos);
+    return text.replace(at, wall.size(), "pose: {xyz: [0, 0.15, 0.805]}");
+  }());
+  observe(scene, "--shard 1/2", "moved.vis");
+  refused(dir.File("moved.vis"), dir.File("moved.vis") + ": was observed in another scene "
+                                     "geometry than " + p0);
+  // The scene's text as it was, the mesh it includes changed (one vertex 2 mm off).
+  ExampleCopy(dir, "edited_mesh");
+  const std::string mesh = dir.File("edited_mesh/small_motor.obj");
+  std::string obj = test::ReadText(mesh);
+  const size_t begin = obj.find("\nv ") + 1;
+  ASSERT_NE(begin, 0u);
+  const size_t end = obj.find('\n', begin);
+  std::istringstream fields(obj.substr(begin + 2, end - begin - 2));
+  double x = 0, y = 0, z = 0;
+  fields >> x >> y >> z;
+  obj.replace(begin, end - begin, fmt::format("v {} {} {}", x + 0.002, y, z));
+  test::WriteText(mesh, obj);
+  observe(dir.File("edited_mesh/scene.yaml"), "--shard 1/2", "mesh.vis");
+  refused(dir.File("mesh.vis"), dir.File("mesh.vis") + ": was observed in another scene "
+                                    "geometry than " + p0);
+  // The same content at another path: merged, shard 0's file byte for byte.
+  const std::string elsewhere = ExampleCopy(dir, "elsewhere");
+  observe(elsewhere, "--shard 1/2", "elsewhere.vis");
+  const auto run = RunVantage("merge " + dir.File("elsewhere.vis") + " " + p0 + " --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(Bytes(out), Bytes(dir.File("one.vis")));
+}
+
+// Issue 44: a part observed with --no-cull (which splits by other costs) was refused as "written
+// by different vantage builds?", naming no file; another build is named as such.
+TEST(Shards, MergeNamesTheOptionOrBuildThatDiffers) {
+  test::TempDir dir;
+  const auto observe = [&](const std::string& flags, const std::string& name) {
+    const auto run = RunVantage("-q observe " + Example() + " " + flags + " --out " +
+                                dir.File(name));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+  };
+  observe("--shard 0/2", "p0.vis");
+  observe("--shard 1/2 --no-cull", "nocull.vis");
+  {
+    ScopedEnv build("VANTAGE_TEST_BUILD_ID", "another build");
+    observe("--shard 1/2", "build.vis");
+  }
+  const std::string p0 = dir.File("p0.vis");
+  auto run = RunVantage("merge " + p0 + " " + dir.File("nocull.vis") + " --out " +
+                        dir.File("all.vis"));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find(dir.File("nocull.vis") + ": was observed with other options than " + p0 +
+                         ": " + dir.File("nocull.vis") + " has '--no-cull', " + p0 + " has not"),
+            std::string::npos)
+      << run.err;
+  EXPECT_EQ(run.err.find("different vantage builds"), std::string::npos) << run.err;
+  run = RunVantage("merge " + p0 + " " + dir.File("build.vis") + " --out " + dir.File("all.vis"));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find(dir.File("build.vis") + ": was observed by another vantage build "
+                                                 "(another build) than " + p0),
+            std::string::npos)
+      << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.File("all.vis")));
 }
 
 TEST(Shards, IndexFromTheJobArrayEnvironment) {

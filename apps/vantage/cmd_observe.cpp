@@ -21,7 +21,7 @@ void PrintObserved(const VisibilityFile& data) {
   fmt::print("candidates       {}\n", data.candidates.size());
 }
 
-void RunObserve(ObserveFlags flags) {
+void RunObserve(ObserveFlags flags, const RunSettings& settings) {
   const OutputGuard guard = RefuseOutputOverInput(flags.out, {flags.options.scene.path});
   flags.options.observe.progress = ProgressBar("observe");
   if (!flags.shard.empty()) {
@@ -30,7 +30,7 @@ void RunObserve(ObserveFlags flags) {
     if (const MpiJob* job = MpiJob::Current(); job && job->size() > 1)
       throw InputError(AtPlace("--shard", 0,
                                "shards are for job arrays, not mpirun — drop --shard or mpirun"));
-    const VisibilityShard shard = ObserveShard(flags.options, spec);
+    const VisibilityShard shard = ObserveShard(flags.options, spec, settings);
     SaveVisibilityShard(flags.out, shard);
     PrintObserved(shard.file);
     fmt::print("shard            {}/{}: {} candidates observed\n", shard.index, shard.count,
@@ -39,7 +39,7 @@ void RunObserve(ObserveFlags flags) {
     return;
   }
   // Under mpirun every rank traces its share; rank 0 alone writes and prints.
-  const std::optional<ObserveRunResult> result = ObserveInJob(flags.options);
+  const std::optional<ObserveRunResult> result = ObserveInJob(flags.options, settings);
   if (!result) return;
   SaveVisibilityFile(flags.out, result->data);
   PrintObserved(result->data);
@@ -64,7 +64,7 @@ void SetupObserve(CLI::App* parent) {
                   "observe only shard i of K (i/K, or env/K: i from SLURM_ARRAY_TASK_ID or "
                   "JOB_COMPLETION_INDEX) into a part for `vantage merge` (docs/distributed.md)")
       ->type_name("i/K");
-  app->callback([flags] { RunObserve(*flags); });
+  app->callback([flags, app] { RunObserve(*flags, GivenSettings(*app)); });
 }
 
 }  // namespace vantage::cli

@@ -16,12 +16,12 @@ struct OptimizeFlags {
   RefineOptions refine_options;
 };
 
-void RunOptimize(OptimizeFlags flags) {
+void RunOptimize(OptimizeFlags flags, const RunSettings& settings) {
   CheckRunFolder(flags.out);
   if (flags.refine) flags.options.refine = flags.refine_options;
   flags.options.observe.progress = ProgressBar("observe");
   // Under mpirun every rank traces its share; rank 0 alone writes and prints.
-  const std::optional<RunResult> run = OptimizeInJob(flags.options);
+  const std::optional<RunResult> run = OptimizeInJob(flags.options, settings);
   if (!run) return;
   WriteRun(flags.out, *run);
   PrintSummary(run->report, flags.out);
@@ -49,12 +49,12 @@ void SetupOptimize(CLI::App* parent) {
       app->add_option("--refine-rounds", flags->refine_options.max_rounds, "rounds of --refine")
           ->check(NumberFrom(1, kMaxRefineRounds, ValueKind::kWholeNumber))
           ->capture_default_str();
-  app->callback([flags, rounds] {
+  app->callback([flags, rounds, app] {
     // Was accepted and ignored without --refine (issue 15).
     if (rounds->count() > 0 && !flags->refine)
       throw InputError("--refine-rounds: only --refine runs rounds — add --refine, or leave "
                        "--refine-rounds out");
-    RunOptimize(*flags);
+    RunOptimize(*flags, GivenSettings(*app));
   });
 }
 

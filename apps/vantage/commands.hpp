@@ -60,6 +60,12 @@ CLI::Validator NumberFrom(double low, double high, ValueKind kind);
 [[nodiscard]] OutputGuard RefuseOutputOverInput(const std::string& out,
                                                 const std::vector<std::string>& inputs);
 
+/// The settings of the command `command` parsed (RunSettings, vantage/distribute.hpp): its name,
+/// then each option given, "--name value ...", in the command's order of options whatever the
+/// order typed. Left out: the scene's path and the folders searched (the content read is
+/// compared instead), --out, --shard, and the top level's --threads, -q and -v.
+RunSettings GivenSettings(const CLI::App& command);
+
 /// A progress bar with rate and ETA on stderr when it is a terminal; empty otherwise.
 std::function<void(size_t, size_t)> ProgressBar(const std::string& label);
 

@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string_view>
 
 #include "commands.hpp"
@@ -190,6 +191,24 @@ std::function<void(size_t, size_t)> ProgressBar(const std::string& label) {
     if (done == total) std::fprintf(stderr, "\n");
     std::fflush(stderr);
   };
+}
+
+RunSettings GivenSettings(const CLI::App& command) {
+  // What only says where: two nodes may hold the same files at other paths.
+  static const std::set<std::string> kWhere = {"--out", "--shard", "--model-path",
+                                               "--resource-path", "--package-path"};
+  RunSettings settings = {"command " + command.get_name()};
+  for (const CLI::Option* option : command.get_options()) {
+    if (option->count() == 0 || option->get_positional()) continue;
+    const std::string name = !option->get_lnames().empty() ? "--" + option->get_lnames().front()
+                                                           : "-" + option->get_snames().front();
+    if (kWhere.count(name)) continue;
+    std::string setting = name;
+    if (option->get_expected_min() > 0)  // a flag has no value to show
+      for (const std::string& value : option->results()) setting += " " + value;
+    settings.push_back(setting);
+  }
+  return settings;
 }
 
 void AddSourceFlags(CLI::App* app, SceneInput* scene) {

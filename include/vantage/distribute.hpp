@@ -28,6 +28,23 @@ std::vector<uint64_t> TraceCosts(const Reference& reference, std::span<const Can
 /// is within one candidate's cost of its share.
 std::vector<size_t> SplitByCost(std::span<const uint64_t> costs, size_t parts);
 
+/// What a process was asked to do besides the scene it reads: the command and each option given
+/// that shapes its result, one "--name value" text each, in a fixed order whatever the order on
+/// the command line (the CLI's GivenSettings). Left out: what only says where (the scene's path,
+/// --out, the folders searched: the content read is compared instead) or how fast (--threads).
+/// The processes of one job, and the shards of one matrix, must have the same.
+using RunSettings = std::vector<std::string>;
+
+/// This build of vantage: the GNU build id of the binary (or module) holding this code, a hash
+/// of all of it, so that two builds differ even at the same version; the version alone where the
+/// linker wrote none. VANTAGE_TEST_BUILD_ID replaces it (the tests of mixed builds).
+std::string BuildIdentity();
+
+/// The first difference between two processes' settings, in words: "A has '--no-cull', B has
+/// not" or "A has '--seed 7', B has '--seed 1'"; empty when they are the same.
+std::string SettingsDifference(const RunSettings& a, const std::string& a_name,
+                               const RunSettings& b, const std::string& b_name);
+
 /// Shard i of K (`--shard i/K`).
 struct ShardSpec {
   uint32_t index = 0;
@@ -39,11 +56,16 @@ struct ShardSpec {
 ShardSpec ParseShard(const std::string& text);
 
 /// `vantage observe --shard i/K`: ObserveRun tracing only shard i's candidates of each geometry.
-VisibilityShard ObserveShard(const ObserveRunOptions& options, const ShardSpec& shard);
+/// The part records `settings`, the build and the fingerprint of every traced geometry, which
+/// merge compares.
+VisibilityShard ObserveShard(const ObserveRunOptions& options, const ShardSpec& shard,
+                             const RunSettings& settings = {});
 
 /// `vantage merge`: the visibility file of all shards, byte for byte the one process's once saved.
-/// InputError naming the part that comes from another scene or other settings, repeats a shard or
-/// has another K, or naming the shard that is missing.
+/// InputError naming the part and the first one that differ: another build, another option
+/// (named), another scene content (the scene or a file it includes edited between the parts,
+/// whatever their paths), other candidates or R; a repeated shard, another K, or the shard that
+/// is missing.
 VisibilityFile MergeShards(std::span<const std::string> paths);
 
 /// Whether this process was started by an MPI launcher (mpirun, or srun with PMI/PMIx): read from
@@ -80,9 +102,17 @@ class MpiJob {
   int rank() const { return rank_; }
   int size() const { return size_; }
 
+  /// The job's first agreement, before any rank reads its scene: every rank runs the same build
+  /// (BuildIdentity) with the same settings. JobStopped with exit 2 and one message from rank 0
+  /// naming the first rank and option that differ (issue 44: a quality filter or --refine on one
+  /// rank only was mixed, or hung); the scene's content is compared when tracing (Tracer).
+  void AgreeOnSettings(const RunSettings& settings);
+
   /// Each rank traces its share of the candidates (split by TraceCosts), the observation sets are
   /// gathered to rank 0 (MPI_Gatherv in chunks: its counts are 32-bit). Rank 0 returns them all,
-  /// the others empty ones. JobStopped when a rank failed or the ranks' scenes differ.
+  /// the others empty ones. JobStopped when a rank failed, or (exit 2) when the ranks trace
+  /// another geometry (RayScene::GeometryFingerprint: the scene or a file it includes differs),
+  /// other candidates, R or observe options.
   TraceFunction Tracer();
 
   /// --refine in a job: rank 0's tracer of the new poses, which only rank 0 knows. It sends them
@@ -110,10 +140,13 @@ class MpiJob {
   friend struct MpiJobAccess;
 };
 
-/// `vantage optimize` in this process: Optimize when it runs alone; in an MPI job every rank
-/// observes its share and rank 0 alone selects, assesses and returns the run (the others nullopt).
-std::optional<RunResult> OptimizeInJob(const OptimizeOptions& options);
+/// `vantage optimize` in this process: Optimize when it runs alone; in an MPI job the ranks agree
+/// on `settings` (AgreeOnSettings), every rank observes its share and rank 0 alone selects,
+/// assesses and returns the run (the others nullopt).
+std::optional<RunResult> OptimizeInJob(const OptimizeOptions& options,
+                                       const RunSettings& settings = {});
 /// `vantage observe` likewise: rank 0 returns the matrix, the others nullopt.
-std::optional<ObserveRunResult> ObserveInJob(const ObserveRunOptions& options);
+std::optional<ObserveRunResult> ObserveInJob(const ObserveRunOptions& options,
+                                             const RunSettings& settings = {});
 
 }  // namespace vantage

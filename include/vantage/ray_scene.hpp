@@ -60,6 +60,12 @@ class RayScene {
   /// Single ray with the object, triangle and normal it hits. Thread-safe.
   RayHit IntersectHit(const float origin[3], const float dir[3], float tfar) const;
 
+  /// A 64-bit hash of the geometry as it is traced: each object's role, its vertices as the ray
+  /// caster holds them (float), the targets' in double too, and its triangles, in order. Equal
+  /// in every process given the same scene content, whatever the files' paths; computed on each
+  /// call (the distributed layer's check that its processes trace the same scene).
+  uint64_t GeometryFingerprint() const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -53,7 +53,14 @@ uint64_t VisibilityFingerprint(const VisibilityFile& file);
 struct VisibilityShard {
   uint32_t index = 0;                ///< i of i/K
   uint32_t count = 1;                ///< K
-  uint64_t fingerprint = 0;          ///< VisibilityFingerprint(file)
+  /// VisibilityFingerprint(file) without the scene's path: parts of one scene content observed
+  /// from two paths merge, parts of an edited scene do not (shard format version 2).
+  uint64_t fingerprint = 0;
+  /// Every traced geometry's RayScene::GeometryFingerprint, combined in trace order: the scene's
+  /// content and every file it includes, as traced (version 2).
+  uint64_t geometry = 0;
+  std::string build;                  ///< the vantage build that observed it (version 2)
+  std::vector<std::string> settings;  ///< the command's settings (RunSettings, version 2)
   std::vector<uint32_t> candidates;  ///< the candidates this shard observed, ascending
   VisibilityFile file;               ///< the other candidates' observations are empty
 };

@@ -47,9 +47,11 @@ bool LaunchedByMpi(int* ranks) {
 
 MpiJob* MpiJob::Current() { return g_job; }
 
-std::optional<RunResult> OptimizeInJob(const OptimizeOptions& options) {
+std::optional<RunResult> OptimizeInJob(const OptimizeOptions& options,
+                                       const RunSettings& settings) {
   MpiJob* job = MpiJob::Current();
   if (!job) return Optimize(options);
+  job->AgreeOnSettings(settings);
   OptimizeOptions spread = options;
   spread.trace = job->Tracer();
   if (spread.refine && job->rank() == 0) spread.refine->trace = job->BroadcastTracer();
@@ -66,9 +68,11 @@ std::optional<RunResult> OptimizeInJob(const OptimizeOptions& options) {
   return FinishOptimize(spread, std::move(observed));
 }
 
-std::optional<ObserveRunResult> ObserveInJob(const ObserveRunOptions& options) {
+std::optional<ObserveRunResult> ObserveInJob(const ObserveRunOptions& options,
+                                             const RunSettings& settings) {
   MpiJob* job = MpiJob::Current();
   if (!job) return ObserveRun(options);
+  job->AgreeOnSettings(settings);
   ObserveRunOptions spread = options;
   spread.trace = job->Tracer();
   ObserveRunResult result = ObserveRun(spread);
@@ -91,6 +95,7 @@ std::unique_ptr<MpiJob> MpiJob::Start(int*, char***) {
 
 MpiJob::~MpiJob() = default;
 
+void MpiJob::AgreeOnSettings(const RunSettings&) {}
 TraceFunction MpiJob::Tracer() { return {}; }
 TraceFunction MpiJob::BroadcastTracer() { return {}; }
 void MpiJob::ServeTraces(const RayScene&, const Reference&, const ObserveOptions&) {}
@@ -112,18 +117,23 @@ struct MpiJobAccess {
 namespace {
 
 // kPhaseServe: waiting in ServeTraces for rank 0, which says kPhaseRefine (poses follow) or
-// kPhaseFinish (the job ends).
+// kPhaseFinish (the job ends). kPhaseStart: AgreeOnSettings, before the scene is read.
 constexpr uint64_t kPhaseTrace = 1, kPhaseTraced = 2, kPhaseFinish = 3, kPhaseServe = 4,
-                   kPhaseRefine = 5;
+                   kPhaseRefine = 5, kPhaseStart = 6;
 
-// What each rank says at an agreement: its exit code so far, a hash of its message, the
-// fingerprint of its inputs (trace), and where it is.
+// What each rank says at an agreement: its exit code so far, a hash of its message, two
+// fingerprints of its inputs, and where it is. At kPhaseStart `first` is the settings' and
+// `second` the build's; at kPhaseTrace the traced geometry's and that of R, the candidates and
+// the observe options; at kPhaseRefine `first` is the size of the poses that follow.
 struct Vote {
   uint64_t code = 0;
   uint64_t message_hash = 0;
-  uint64_t fingerprint = 0;
+  uint64_t first = 0;
   uint64_t phase = 0;
+  uint64_t second = 0;
 };
+constexpr int kVoteWords = sizeof(Vote) / sizeof(uint64_t);
+static_assert(sizeof(Vote) == kVoteWords * sizeof(uint64_t));
 
 uint64_t Fnv(const void* data, size_t n, uint64_t hash = 1469598103934665603ull) {
   const auto* bytes = static_cast<const unsigned char*>(data);
@@ -133,21 +143,33 @@ uint64_t Fnv(const void* data, size_t n, uint64_t hash = 1469598103934665603ull)
 
 uint64_t HashText(const std::string& text) { return Fnv(text.data(), text.size()); }
 
-// What the ranks trace must be the same everywhere: R and every candidate's pose and sensor.
-uint64_t InputFingerprint(const Reference& reference, std::span<const Candidate> candidates) {
-  uint64_t h = Fnv(&reference.cell_size, sizeof(double));
-  h = Fnv(reference.keys.data(), reference.keys.size() * sizeof(uint64_t), h);
-  for (const Candidate& c : candidates) {
-    const Pose& p = c.world_from_body;
-    const double values[] = {p.position.x(),   p.position.y(),   p.position.z(),
-                             p.rotation.w(),   p.rotation.x(),   p.rotation.y(),
-                             p.rotation.z(),   c.sensor.fx,      c.sensor.fy,
-                             c.sensor.cx,      c.sensor.cy,      c.sensor.near,
-                             c.sensor.far,     double(c.sensor.width), double(c.sensor.height)};
-    h = Fnv(values, sizeof(values), h);
-    h = Fnv(c.name.data(), c.name.size(), h);
+// What the ranks trace with must be the same everywhere besides the geometry: R, every candidate
+// as a visibility file holds it (pose, sensor type, noise model, name) and the observe options.
+uint64_t InputFingerprint(const Reference& reference, std::span<const Candidate> candidates,
+                          const ObserveOptions& options) {
+  VisibilityFile inputs;
+  inputs.reference = reference;
+  inputs.candidates.assign(candidates.begin(), candidates.end());
+  inputs.observations.resize(candidates.size());  // not hashed; the encoder wants one each
+  inputs.quality = options.quality;
+  const uint64_t flags[] = {options.cull, options.count_points};
+  return Fnv(flags, sizeof(flags), VisibilityFingerprint(inputs));
+}
+
+std::string JoinSettings(const RunSettings& settings) {
+  std::string text;
+  for (const std::string& setting : settings) text += setting + '\n';
+  return text;
+}
+
+RunSettings SplitSettings(const std::string& text) {
+  RunSettings settings;
+  for (size_t at = 0; at < text.size();) {
+    const size_t end = text.find('\n', at);
+    settings.push_back(text.substr(at, end - at));
+    at = end == std::string::npos ? text.size() : end + 1;
   }
-  return h;
+  return settings;
 }
 
 // Waits for a non-blocking collective without spinning a core: a rank that waits (rank 0 for
@@ -166,7 +188,8 @@ void Wait(MPI_Request* request) {
 std::vector<Vote> Agree(const Vote& mine, int size) {
   std::vector<Vote> all(static_cast<size_t>(size));
   MPI_Request request;
-  MPI_Iallgather(&mine, 4, MPI_UINT64_T, all.data(), 4, MPI_UINT64_T, MPI_COMM_WORLD, &request);
+  MPI_Iallgather(&mine, kVoteWords, MPI_UINT64_T, all.data(), kVoteWords, MPI_UINT64_T,
+                 MPI_COMM_WORLD, &request);
   Wait(&request);
   return all;
 }
@@ -338,6 +361,50 @@ MpiJob::~MpiJob() {
   MPI_Finalize();
 }
 
+void MpiJob::AgreeOnSettings(const RunSettings& settings) {
+  const std::string build = BuildIdentity();
+  const std::string text = JoinSettings(settings);
+  Vote vote;
+  vote.phase = kPhaseStart;
+  vote.first = HashText(text);
+  vote.second = HashText(build);
+  const std::vector<Vote> votes = Agree(vote, size_);
+  const auto stop = [this](int code, const std::string& message) {
+    MpiJobAccess::Stop(this);
+    return JobStopped(code, rank_ == 0 ? message : std::string());
+  };
+  for (int r = 0; r < size_; ++r) {
+    const Vote& v = votes[static_cast<size_t>(r)];
+    if (v.code != 0) throw stop(static_cast<int>(AgreedCode(votes)), "");  // it reports itself
+    if (v.phase != kPhaseStart)  // done already: `vantage help`, --version
+      throw stop(2, fmt::format("rank {} of {} ran another command than rank 0 — give every rank "
+                                "the same command, files and options",
+                                r, size_));
+  }
+  for (int r = 1; r < size_; ++r) {
+    if (votes[static_cast<size_t>(r)].second != votes[0].second)
+      throw stop(2, fmt::format("rank {} of {} runs another vantage build than rank 0 ({}) — "
+                                "run one build on every rank",
+                                r, size_, build));
+  }
+  const auto differs = std::find_if(votes.begin() + 1, votes.end(), [&](const Vote& v) {
+    return v.first != votes[0].first;
+  });
+  if (differs == votes.end()) return;
+  // Rank 0 names the option: every rank sends its settings (all of them take part, as all saw
+  // the same votes).
+  size_t rounds = 0;
+  const std::vector<std::string> all = GatherBytes(text, rank_, size_, &rounds);
+  const int r = static_cast<int>(differs - votes.begin());
+  std::string difference;
+  if (rank_ == 0)
+    difference = SettingsDifference(SplitSettings(all[static_cast<size_t>(r)]),
+                                    fmt::format("rank {}", r), settings, "rank 0");
+  throw stop(2, fmt::format("rank {} of {} was given other options than rank 0: {} — give every "
+                            "rank the same command, files and options",
+                            r, size_, difference));
+}
+
 TraceFunction MpiJob::Tracer() {
   return [this](const RayScene& rays, const Reference& reference,
                 std::span<const Candidate> candidates, const ObserveOptions& options) {
@@ -345,26 +412,40 @@ TraceFunction MpiJob::Tracer() {
       MpiJobAccess::Stop(this);
       return JobStopped(code, message);
     };
+    // Rank 0 alone words a refusal: every rank sees the same votes and stops alike.
+    const auto said = [this](const std::string& message) {
+      return rank_ == 0 ? message : std::string();
+    };
     Vote entry;
     entry.phase = kPhaseTrace;
-    entry.fingerprint = InputFingerprint(reference, candidates);
+    entry.first = rays.GeometryFingerprint();
+    entry.second = InputFingerprint(reference, candidates, options);
     const std::vector<Vote> before = Agree(entry, size_);
     for (int r = 0; r < size_; ++r) {
       const Vote& v = before[static_cast<size_t>(r)];
       if (v.code != 0) throw stop(static_cast<int>(AgreedCode(before)), "");
+      // The settings agreed, so a rank that is done while rank 0 traces had fewer geometries to
+      // trace: another scene (fewer states).
+      if (v.phase == kPhaseFinish)
+        throw stop(2, said(fmt::format("rank {} of {} ended while rank 0 traced: its scene has "
+                                       "other states — give every rank the same files",
+                                       r, size_)));
       if (v.phase != kPhaseTrace)
-        throw stop(1, rank_ == 0 ? fmt::format("rank {} of {} ended while the others traced",
-                                               r, size_)
-                                 : std::string());
+        throw stop(1, said(fmt::format("rank {} of {} ended while the others traced", r, size_)));
     }
     for (int r = 1; r < size_; ++r) {
-      if (before[static_cast<size_t>(r)].fingerprint != before[0].fingerprint)
-        throw stop(2, rank_ == 0
-                          ? fmt::format("rank {} of {} has another scene, candidates or R than "
-                                        "rank 0 — give every rank the same command, files and "
-                                        "options",
-                                        r, size_)
-                          : std::string());
+      const Vote& v = before[static_cast<size_t>(r)];
+      if (v.first != before[0].first)
+        throw stop(2, said(fmt::format(
+                          "rank {} of {} traces another scene geometry than rank 0: its scene, "
+                          "or a file the scene includes (a mesh, a URDF, an included model), "
+                          "differs — give every rank the same files",
+                          r, size_)));
+      if (v.second != before[0].second)
+        throw stop(2, said(fmt::format("rank {} of {} has other candidates, R or observe options "
+                                       "than rank 0 — give every rank the same command, files "
+                                       "and options",
+                                       r, size_)));
     }
     const auto split_start = std::chrono::steady_clock::now();
     const std::vector<uint64_t> costs = SharedCosts(reference, candidates, options, rank_, size_);
@@ -442,7 +523,7 @@ TraceFunction MpiJob::BroadcastTracer() {
     std::string bytes = EncodeVisibility(poses);
     Vote ask;
     ask.phase = kPhaseRefine;
-    ask.fingerprint = bytes.size();
+    ask.first = bytes.size();
     const std::vector<Vote> votes = Agree(ask, size_);
     for (int r = 1; r < size_; ++r) {
       if (votes[static_cast<size_t>(r)].phase != kPhaseServe) {
@@ -466,11 +547,11 @@ void MpiJob::ServeTraces(const RayScene& rays, const Reference& reference,
     const std::vector<Vote> votes = Agree(wait, size_);
     if (votes[0].phase != kPhaseRefine) {
       // Rank 0's Finish (or its failure): this was the job's last agreement.
-      served_finish_.resize(votes.size() * 4);
+      served_finish_.resize(votes.size() * kVoteWords);
       std::memcpy(served_finish_.data(), votes.data(), served_finish_.size() * 8);
       return;
     }
-    std::string bytes(votes[0].fingerprint, '\0');
+    std::string bytes(votes[0].first, '\0');
     BroadcastBytes(&bytes);
     const VisibilityFile poses = DecodeVisibility(bytes, "rank 0's refined poses");
     trace(rays, reference, poses.candidates, options);
@@ -488,8 +569,7 @@ int MpiJob::Finish(int code, const std::string& message, std::string* print) {
   } else {
     // ServeTraces took part in rank 0's Finish already: the others decided on what it said then
     // (nothing had failed here); a failure since is this rank's own exit code.
-    static_assert(sizeof(Vote) == 4 * sizeof(uint64_t));
-    votes.resize(served_finish_.size() / 4);
+    votes.resize(served_finish_.size() / kVoteWords);
     std::memcpy(static_cast<void*>(votes.data()), served_finish_.data(),
                 served_finish_.size() * 8);
     votes[static_cast<size_t>(rank_)] = last;

@@ -15,8 +15,22 @@ namespace {
 // What observing a candidate costs besides its rays (setup, sorting its cells), in rays.
 constexpr uint64_t kOverheadRays = 256;
 constexpr uint32_t kMaxShards = 1u << 20;
+constexpr uint64_t kFnvOffset = 1469598103934665603ull, kFnvPrime = 1099511628211ull;
 
+// VisibilityFingerprint (which leaves the observations out) without the scene's path (issue 44:
+// content, not path).
+uint64_t PartFingerprint(VisibilityFile* file) {
+  std::string path = std::move(file->scene);
+  file->scene.clear();
+  const uint64_t fingerprint = VisibilityFingerprint(*file);
+  file->scene = std::move(path);
+  return fingerprint;
+}
+
+// A whole number in plain decimal: no sign, no leading zero (issue 44: "01/2" was accepted while
+// every other whole number of the command line refuses it).
 bool ParseWhole(std::string_view text, uint32_t* value) {
+  if (text.size() > 1 && text.front() == '0') return false;
   const char* end = text.data() + text.size();
   const auto [ptr, ec] = std::from_chars(text.data(), end, *value);
   return ec == std::errc() && ptr == end && !text.empty();
@@ -67,6 +81,12 @@ ShardSpec ParseShard(const std::string& text) {
   ShardSpec shard;
   const std::string_view index(text.data(), slash);
   const std::string_view count(text.data() + slash + 1, text.size() - slash - 1);
+  for (const std::string_view number : {index, count}) {
+    if (number.size() > 1 && number.front() == '0')
+      throw bad(fmt::format("has '{}' with a leading zero (it could be read as octal) — write i "
+                            "and K in decimal without leading zeros",
+                            number));
+  }
   if (!ParseWhole(count, &shard.count) || shard.count < 1 || shard.count > kMaxShards)
     throw bad(fmt::format("has no shard count K from 1 to {}", kMaxShards));
   if (index == "env") {
@@ -94,15 +114,21 @@ ShardSpec ParseShard(const std::string& text) {
   return shard;
 }
 
-VisibilityShard ObserveShard(const ObserveRunOptions& options, const ShardSpec& shard) {
+VisibilityShard ObserveShard(const ObserveRunOptions& options, const ShardSpec& shard,
+                             const RunSettings& settings) {
   VANTAGE_CHECK(shard.count >= 1 && shard.index < shard.count);
   VisibilityShard result;
   result.index = shard.index;
   result.count = shard.count;
+  result.build = BuildIdentity();
+  result.settings = settings;
+  result.geometry = kFnvOffset;
   bool first = true;
   ObserveRunOptions run = options;
   run.trace = [&](const RayScene& rays, const Reference& reference,
                   std::span<const Candidate> candidates, const ObserveOptions& observe) {
+    // Every traced geometry (each state's) is the scene's content as observed.
+    result.geometry = (result.geometry ^ rays.GeometryFingerprint()) * kFnvPrime;
     const std::vector<size_t> bounds =
         SplitByCost(TraceCosts(reference, candidates, observe), shard.count);
     const size_t begin = bounds[shard.index], end = bounds[shard.index + 1];
@@ -117,7 +143,7 @@ VisibilityShard ObserveShard(const ObserveRunOptions& options, const ShardSpec& 
     return all;
   };
   result.file = ObserveRun(run).data;
-  result.fingerprint = VisibilityFingerprint(result.file);
+  result.fingerprint = PartFingerprint(&result.file);
   return result;
 }
 
@@ -126,29 +152,50 @@ VisibilityFile MergeShards(std::span<const std::string> paths) {
     throw InputError(AtPlace("merge", 0, "no parts given — give the files of `vantage observe "
                                          "--shard i/K`, e.g. vantage merge part_*.vis --out all.vis"));
   std::vector<VisibilityShard> parts;
-  std::map<uint32_t, std::string> by_index;
+  std::map<uint32_t, size_t> by_index;  // shard index: position in `parts` and `paths`
   for (const std::string& path : paths) {
     VisibilityShard part = LoadVisibilityShard(path);
     if (!parts.empty()) {
+      // What differs first, in the order a user finds it: the build, an option, the scene's
+      // content, then anything else the file holds (candidates, R) — each naming both files.
       const VisibilityShard& first = parts.front();
+      const std::string& first_path = paths.front();
+      const auto refuse = [&](const std::string& what) {
+        return InputError(AtPlace(path, 0, fmt::format("{} — merge only the parts of one run, all "
+                                                       "observed with the same scene, options "
+                                                       "and vantage",
+                                                       what)));
+      };
+      if (part.build != first.build)
+        throw refuse(fmt::format("was observed by another vantage build ({}) than {} ({})",
+                                 part.build, first_path, first.build));
+      if (const std::string difference =
+              SettingsDifference(part.settings, path, first.settings, first_path);
+          !difference.empty())
+        throw refuse(fmt::format("was observed with other options than {}: {}", first_path,
+                                 difference));
+      if (part.geometry != first.geometry)
+        throw refuse(fmt::format(
+            "was observed in another scene geometry than {}: the scene, or a file it includes "
+            "(a mesh, a URDF, an included model), was changed between the two `vantage observe "
+            "--shard` runs",
+            first_path));
       if (part.fingerprint != first.fingerprint)
-        throw InputError(AtPlace(
-            path, 0,
-            fmt::format("comes from another scene or other settings than {} (fingerprint {:016x}, "
-                        "not {:016x}) — merge only the parts of one run, all observed with the "
-                        "same scene, options and vantage",
-                        paths.front(), part.fingerprint, first.fingerprint)));
+        throw refuse(fmt::format("comes from another scene or other settings than {}: other "
+                                 "candidates, R, seed or selection settings (fingerprint {:016x}, "
+                                 "not {:016x})",
+                                 first_path, part.fingerprint, first.fingerprint));
       if (part.count != first.count)
         throw InputError(AtPlace(
             path, 0, fmt::format("is shard {}/{}, but {} is of {} shards — merge the parts of one "
                                  "--shard i/K run",
-                                 part.index, part.count, paths.front(), first.count)));
+                                 part.index, part.count, first_path, first.count)));
     }
-    const auto [it, fresh] = by_index.emplace(part.index, path);
+    const auto [it, fresh] = by_index.emplace(part.index, parts.size());
     if (!fresh)
       throw InputError(AtPlace(
           path, 0, fmt::format("repeats shard {}/{} of {} — give each shard once", part.index,
-                               part.count, it->second)));
+                               part.count, paths[it->second])));
     parts.push_back(std::move(part));
   }
   const uint32_t count = parts.front().count;
@@ -160,25 +207,31 @@ VisibilityFile MergeShards(std::span<const std::string> paths) {
                       "observe ... --shard {}/{}` wrote",
                       i, count, parts.size(), count, i, count)));
   }
-  VisibilityFile merged = std::move(parts.front().file);
-  std::vector<std::string> owner(merged.candidates.size());
-  for (size_t p = 0; p < parts.size(); ++p) {
+  // Shard 0's file, whatever the order given: parts of one content from two paths merge into
+  // the file of shard 0's path.
+  const size_t base = by_index.at(0);
+  VisibilityFile merged = std::move(parts[base].file);
+  std::vector<int64_t> owner(merged.candidates.size(), -1);  // the part that observed each
+  for (const auto& [index, p] : by_index) {
     VisibilityShard& part = parts[p];
     for (uint32_t c : part.candidates) {
-      if (!owner[c].empty())
+      // Parts of one build, settings and content split alike: only a forged part gets here.
+      if (owner[c] >= 0)
         throw InputError(AtPlace(paths[p], 0,
-                                 fmt::format("observed candidate {} that {} observed too — "
-                                             "were the parts written by different vantage builds?",
-                                             c, owner[c])));
-      owner[c] = paths[p];
-      if (p > 0) merged.observations[c] = std::move(part.file.observations[c]);
+                                 fmt::format("observed candidate {} that {} observed too — the "
+                                             "parts split the candidates differently; observe "
+                                             "them again with one command",
+                                             c, paths[static_cast<size_t>(owner[c])])));
+      owner[c] = static_cast<int64_t>(p);
+      if (p != base) merged.observations[c] = std::move(part.file.observations[c]);
     }
   }
   for (size_t c = 0; c < owner.size(); ++c) {
-    if (owner[c].empty())
+    if (owner[c] < 0)
       throw InputError(AtPlace("merge", 0,
-                               fmt::format("no part observed candidate {} — were the parts "
-                                           "written by different vantage builds?",
+                               fmt::format("no part observed candidate {} — the parts split the "
+                                           "candidates differently; observe them again with one "
+                                           "command",
                                            c)));
   }
   return merged;

@@ -3,7 +3,9 @@
 #include <embree3/rtcore.h>
 #include <spdlog/spdlog.h>
 
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "vantage/error.hpp"
@@ -18,6 +20,7 @@ struct RayScene::Impl {
   // By geometry id, targets only: the mesh in double, for RayBatch::point.
   std::vector<const TriangleMesh*> target_mesh;
   std::vector<TriangleMesh> target_meshes;  // owned copies (the scene may not outlive this)
+  std::vector<std::array<size_t, 2>> sizes;  // by geometry id: vertices, triangles
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -79,12 +82,39 @@ RayScene::RayScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     if (impl_->object.size() <= id) impl_->object.resize(id + 1, -1);
     impl_->object[id] = static_cast<int32_t>(object_index);
     if (impl_->target_mesh.size() <= id) impl_->target_mesh.resize(id + 1, nullptr);
+    if (impl_->sizes.size() <= id) impl_->sizes.resize(id + 1, {0, 0});
+    impl_->sizes[id] = {object.mesh.vertices.size(), object.mesh.triangles.size()};
     if (object.is_target()) {
       impl_->target_meshes.push_back(object.mesh);
       impl_->target_mesh[id] = &impl_->target_meshes.back();
     }
   }
   rtcCommitScene(impl_->scene);
+}
+
+uint64_t RayScene::GeometryFingerprint() const {
+  // FNV-1a over 64-bit words (a byte at a time took a second for a scene of 4 M triangles).
+  uint64_t hash = 1469598103934665603ull;
+  const auto mix = [&hash](const void* data, size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (; bytes >= 8; bytes -= 8, p += 8) {
+      uint64_t word;
+      std::memcpy(&word, p, 8);
+      hash = (hash ^ word) * 1099511628211ull;
+    }
+    for (; bytes > 0; --bytes, ++p) hash = (hash ^ *p) * 1099511628211ull;
+  };
+  for (size_t id = 0; id < impl_->sizes.size(); ++id) {
+    const RTCGeometry geometry = rtcGetGeometry(impl_->scene, static_cast<unsigned>(id));
+    const auto [vertices, triangles] = impl_->sizes[id];
+    const uint64_t header[] = {id, impl_->is_target[id], vertices, triangles};
+    mix(header, sizeof(header));
+    mix(rtcGetGeometryBufferData(geometry, RTC_BUFFER_TYPE_VERTEX, 0), vertices * 3 * sizeof(float));
+    mix(rtcGetGeometryBufferData(geometry, RTC_BUFFER_TYPE_INDEX, 0), triangles * 3 * sizeof(unsigned));
+    if (const TriangleMesh* mesh = impl_->target_mesh[id])  // hits on targets use the doubles
+      mix(mesh->vertices.data(), mesh->vertices.size() * sizeof(Vec3));
+  }
+  return hash;
 }
 
 RayScene::~RayScene() = default;

@@ -364,9 +364,10 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
 }
 
 // A shard: its own magic and version, index, count, fingerprint, the candidates it observed,
-// then the whole visibility file (with its own checksum), then FNV-1a 64 of everything before.
+// then the whole visibility file (with its own checksum), then (version 2) the geometry's
+// fingerprint, the build and the settings, then FNV-1a 64 of everything before.
 constexpr char kShardMagic[8] = {'V', 'A', 'N', 'T', 'P', 'R', 'T', '\0'};
-constexpr uint32_t kShardVersion = 1;
+constexpr uint32_t kShardVersion = 2;
 
 }  // namespace
 
@@ -408,6 +409,10 @@ void SaveVisibilityShard(const std::string& path, const VisibilityShard& shard) 
   w.U64(shard.fingerprint);
   w.U32Vector(shard.candidates);
   w.Str(EncodeVisibilityFile(shard.file, true));
+  w.U64(shard.geometry);
+  w.Str(shard.build);
+  w.U32(static_cast<uint32_t>(shard.settings.size()));
+  for (const std::string& setting : shard.settings) w.Str(setting);
   w.U64(detail::Fnv1a64(w.data()));
   detail::WriteFileAtomically(path, w.data());
 }
@@ -437,6 +442,11 @@ VisibilityShard LoadVisibilityShard(const std::string& path) {
   shard.fingerprint = r.U64();
   shard.candidates = r.U32Vector();
   shard.file = DecodeVisibilityFile(r.Str(), path);
+  shard.geometry = r.U64();
+  shard.build = r.Str();
+  const uint32_t settings = r.U32();
+  for (uint32_t k = 0; k < settings && !r.AtEnd(); ++k) shard.settings.push_back(r.Str());
+  if (shard.settings.size() != settings) throw corrupt("its settings are cut short");
   if (!r.AtEnd()) throw corrupt("trailing bytes after the payload");
   if (shard.count == 0 || shard.index >= shard.count)
     throw corrupt(fmt::format("shard {}/{} is no shard", shard.index, shard.count));
