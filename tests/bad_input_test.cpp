@@ -1261,7 +1261,34 @@ TEST_F(BadInput, Constellations) {
       variant("inputs_cell", [](json& r) { r["inputs"]["cell_size"] = 1e300; });
   const std::string inputs_overlap =
       variant("inputs_overlap", [](json& r) { r["inputs"]["interference_overlap"] = 5; });
+  // Issue 44: an edited point density was blamed on --min-points, the file unnamed.
+  const std::string inputs_points =
+      variant("inputs_points", [](json& r) { r["inputs"]["min_points"] = 1000000; });
+  const std::string inputs_no_points =
+      variant("inputs_no_points", [](json& r) { r["inputs"]["min_points"] = 0; });
+  const std::string inputs_density =
+      variant("inputs_density", [](json& r) { r["inputs"]["min_density"] = -2.5; });
+  const std::string inputs_dense =
+      variant("inputs_dense", [](json& r) { r["inputs"]["min_density"] = 1e9; });
+  const std::string inputs_both = variant("inputs_both", [](json& r) {
+    r["inputs"]["min_points"] = 5;
+    r["inputs"]["min_density"] = 3;
+  });
   ExpectRejected({
+      {"constellation_inputs_min_points", "evaluate --constellation " + inputs_points,
+       inputs_points + ": inputs.min_points:", "1000000 is not a number of points in 1..65535",
+       "--min-points"},
+      {"constellation_inputs_zero_min_points", "evaluate --constellation " + inputs_no_points,
+       inputs_no_points + ": inputs.min_points:", "0 is not a number of points", "--min-points"},
+      {"constellation_inputs_min_density", "evaluate --constellation " + inputs_density,
+       inputs_density + ": inputs.min_density:", "-2.5 points per cm² is not a positive density",
+       "--min-density"},
+      {"constellation_inputs_min_density_saturated", "evaluate --constellation " + inputs_dense,
+       inputs_dense + ": inputs.min_density:", "is not a positive density of at most 65535",
+       "--min-density"},
+      {"constellation_inputs_both_densities", "evaluate --constellation " + inputs_both,
+       inputs_both + ": inputs.min_density:", "min_points and min_density are both set",
+       "--min-points"},
       {"constellation_missing", evaluate(dir_.File("absent.json")), dir_.File("absent.json"),
        "cannot open the constellation file"},
       {"constellation_truncated", evaluate(truncated), truncated + ":", "not valid JSON"},

@@ -104,9 +104,11 @@ void DropInfeasibleAlternatives(const ConstraintsInfo& info, const VisibilityFil
 
 /// The points a cell needs from --min-points, or from --min-density on cells of edge `cell_size`
 /// (MinPointsOfDensity); unset when neither is given. InputError naming the option for a value
-/// out of range or both given.
+/// out of range or both given; `origin`, when set, names where both came from instead (an edited
+/// report.json: "run/report.json: inputs.min_points"), with the key appended.
 std::optional<uint32_t> ResolveMinPoints(std::optional<int64_t> min_points,
-                                         std::optional<double> min_density, double cell_size);
+                                         std::optional<double> min_density, double cell_size,
+                                         const std::string& origin = "");
 
 /// Logs the estimated time of RANSAC's iterations (issue 15: `--iterations 2000000000` over 400
 /// candidates ran for hours after a "selecting takes at most 0.8 s" estimate) and refuses it,

@@ -215,6 +215,19 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
     // Only the run's inputs can be at fault now: name the file they came from (issue 15).
     throw InputError(AtPlace(options.constellation, 0, fmt::format("inputs: {}", e.what())));
   }
+  // The point density, the caller's, else the run's: the run's is checked here, before any ray,
+  // naming the file and key (issue 44: an edited value was blamed on --min-points); --min-density
+  // is converted with the run's cell size once the scene is read, and checked again there.
+  std::optional<int64_t> min_points = options.min_points;
+  std::optional<double> min_density = options.min_density;
+  std::string density_origin;  // empty: the flags
+  if (!min_points && !min_density && constellation.inputs) {
+    min_points = constellation.inputs->min_points;
+    min_density = constellation.inputs->min_density;
+    density_origin = options.constellation;
+    detail::ResolveMinPoints(min_points, min_density, scene.load.cell_size.value_or(1e-9),
+                             density_origin);
+  }
   Reobserved reobserved =
       Reobserve(scene, constellation, options.constellation, observe, options.limits);
   const std::vector<std::string>& unknown_types = reobserved.unknown_types;
@@ -234,14 +247,8 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   report.data = run.data.get();
   report.results = {reobserved.given};
   report.timings = reobserved.timings;
-  std::optional<int64_t> min_points = options.min_points;
-  std::optional<double> min_density = options.min_density;
-  if (!min_points && !min_density && constellation.inputs) {
-    min_points = constellation.inputs->min_points;
-    min_density = constellation.inputs->min_density;
-  }
-  if (const std::optional<uint32_t> points =
-          detail::ResolveMinPoints(min_points, min_density, run.data->reference.cell_size)) {
+  if (const std::optional<uint32_t> points = detail::ResolveMinPoints(
+          min_points, min_density, run.data->reference.cell_size, density_origin)) {
     // The layout's coverage counting only the cells with enough points (docs/constraints.md).
     SelectOptions density;
     density.min_points = points;

@@ -98,13 +98,21 @@ uint32_t MinPointsOfDensity(double per_cm2, double cell_size) {
 namespace detail {
 
 std::optional<uint32_t> ResolveMinPoints(std::optional<int64_t> min_points,
-                                         std::optional<double> min_density, double cell_size) {
+                                         std::optional<double> min_density, double cell_size,
+                                         const std::string& origin) {
+  // The flag, or the key of the file the values came from (issue 44: an edited report.json's
+  // value was blamed on the flag the user never typed).
+  const auto where = [&](const char* flag, const char* key) {
+    return origin.empty() ? std::string(flag) : fmt::format("{}: inputs.{}", origin, key);
+  };
   if (min_points && min_density)
-    throw InputError(AtPlace("--min-density", 0,
-                             "give --min-points (per cell) or --min-density (per cm²), not both"));
+    throw InputError(AtPlace(where("--min-density", "min_density"), 0,
+                             origin.empty()
+                                 ? "give --min-points (per cell) or --min-density (per cm²), not both"
+                                 : "min_points and min_density are both set — keep one"));
   if (min_points) {
     if (*min_points < 1 || *min_points > kMaxMinPoints)
-      throw InputError(AtPlace("--min-points", 0,
+      throw InputError(AtPlace(where("--min-points", "min_points"), 0,
                                fmt::format("{} is not a number of points in 1..{} (a sensor's "
                                            "count per cell saturates there)",
                                            *min_points, kMaxMinPoints)));
@@ -116,7 +124,7 @@ std::optional<uint32_t> ResolveMinPoints(std::optional<int64_t> min_points,
   const double face_cm2 = std::pow(100.0 * cell_size, 2);
   if (!(d > 0) || !std::isfinite(d) || d * face_cm2 > static_cast<double>(kMaxMinPoints))
     throw InputError(AtPlace(
-        "--min-density", 0,
+        where("--min-density", "min_density"), 0,
         fmt::format("{} points per cm² is not a positive density of at most {} points on a {:g} "
                     "cm² cell face",
                     d, kMaxMinPoints, face_cm2)));
