@@ -9,10 +9,10 @@ set(VANTAGE_STAGES util scene reference candidates visibility observe select ass
 set(VANTAGE_HEADERS_util types error rng sensors settings interrupt words output_guard)
 set(VANTAGE_HEADERS_scene scene population scene_states robot problem)
 set(VANTAGE_HEADERS_reference reference)
-set(VANTAGE_HEADERS_candidates candidates)
+set(VANTAGE_HEADERS_candidates candidates arm)
 set(VANTAGE_HEADERS_visibility visibility visibility_file)
 set(VANTAGE_HEADERS_observe observe ray_scene)
-set(VANTAGE_HEADERS_select select select_states constraints)
+set(VANTAGE_HEADERS_select select select_states constraints tour)
 set(VANTAGE_HEADERS_assess refine robustness)
 set(VANTAGE_HEADERS_report report visualize yaml_export gazebo_export)
 set(VANTAGE_HEADERS_render render)
@@ -44,6 +44,9 @@ set(VANTAGE_ONLY_urdf_parser scene)
 set(VANTAGE_ONLY_console_bridge scene)
 set(VANTAGE_ONLY_CLI "")
 set(VANTAGE_ONLY_mpi.h distribute)
+# A camera on a robot arm (issue 45): kinematics (Orocos KDL) and collisions (FCL).
+set(VANTAGE_ONLY_kdl candidates)
+set(VANTAGE_ONLY_fcl candidates)
 
 # Headers generated into the build tree, by the stage that includes them (cmake/EmbedFiles.cmake).
 set(VANTAGE_GENERATED_embedded report)

@@ -3,15 +3,34 @@
 /// the look-at orientation and random roll of the paper's 4-DoF reduction. Where sensors may go
 /// (Population, ExplicitSensor) is declared by the scene (population.hpp); this stage places them.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "vantage/population.hpp"
+#include "vantage/scene.hpp"
 #include "vantage/sensors.hpp"
 #include "vantage/types.hpp"
 
 namespace vantage {
+
+/// The links of a robot that carries cameras (issue 45): their visual meshes in the link frames,
+/// shared by every view of the robot, so that observe builds each link's BVH once.
+struct ArmBody {
+  std::string robot;
+  std::vector<std::string> links;          ///< links with visuals
+  std::vector<TriangleMesh> link_meshes;   ///< one per link, link frame
+  std::vector<std::string> joint_names;    ///< the robot's settable joints, tree order
+};
+
+/// A camera on an arm as one view stands (population kind `arm` or `reach:`): the arm's joints
+/// and where its links are, which occlude the camera in this view.
+struct ArmPose {
+  std::shared_ptr<const ArmBody> body;
+  std::vector<double> joints;           ///< one per body->joint_names [rad or m]
+  std::vector<Pose> world_from_link;    ///< one per body->links
+};
 
 /// One candidate: a sensor type at a world pose of its camera body frame (x forward).
 struct Candidate {
@@ -20,6 +39,8 @@ struct Candidate {
   SensorType sensor;
   Pose world_from_body;
   std::string population;  ///< population name, or "" for explicit sensors
+  /// A camera on a robot arm: the arm's configuration in this view; null for a fixed camera.
+  std::shared_ptr<const ArmPose> arm;
 };
 
 /// Throws InputError "WHERE: ..." unless `candidate` can become rays (issue 15): a finite pose

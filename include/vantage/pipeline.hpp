@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "vantage/arm.hpp"
 #include "vantage/candidates.hpp"
 #include "vantage/observe.hpp"
 #include "vantage/output_guard.hpp"
@@ -148,6 +149,9 @@ struct PreparedScene {
   /// The candidates the scene's keep_out boxes excluded (docs/constraints.md, Mounting rules):
   /// inside a box in the base scene or any state. Not in `candidates`; no ray is cast for them.
   std::vector<Candidate> kept_out;
+  /// The arms of the `arm` and `reach:` populations (issue 45): their kinematics, collisions,
+  /// home and joint speeds, for the tour. Empty when no camera is on an arm.
+  std::vector<ArmSetup> arms;
 };
 
 /// Loads the scene, applies the overrides and the states, deploys the candidates. InputError for
@@ -177,6 +181,7 @@ struct ObservedScene {
   std::vector<ObservedState> states;
   Timings timings;                     ///< load, reference, observe
   std::vector<std::string> notes;
+  std::vector<ArmSetup> arms;          ///< PreparedScene::arms, for the tour
 };
 
 // TraceFunction (observe.hpp): ObservePrepared calls it once per traced geometry, the scene's
@@ -208,6 +213,18 @@ void CheckRunFolder(const std::string& out_dir);
 /// folder, or a link to one of them.
 void CheckOutputFile(const std::string& path);
 
+/// A camera on an arm (issue 45, docs/arm.md): how its tours are timed.
+struct ArmTourOptions {
+  /// --cycle-time [s]: the most coverage whose tour fits (greedy; replaces the selection).
+  std::optional<double> cycle_time;
+  /// --joint-speed [rad/s or m/s]: every joint's speed, instead of the URDF's <limit velocity>.
+  std::optional<double> joint_speed;
+  int frames = 1;            ///< --frames: frames taken per view (acquisition = frames / fps)
+  double resolution = 0.01;  ///< [rad or m]: the straight moves' collision check step
+  /// InputError naming the option.
+  void Validate() const;
+};
+
 /// `vantage optimize`: the whole pipeline.
 struct OptimizeOptions {
   SceneInput scene;
@@ -218,6 +235,7 @@ struct OptimizeOptions {
   /// Set: refine the primary result (--refine); its seed and observe options are the run's.
   std::optional<RefineOptions> refine;
   TraceFunction trace;  ///< how observe traces (ObservePrepared); empty: in this process
+  ArmTourOptions arm;   ///< cameras on arms: their tours
 };
 RunResult Optimize(const OptimizeOptions& options);
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "vantage/population.hpp"
+#include "vantage/robot.hpp"
 #include "vantage/scene.hpp"
 #include "vantage/sensors.hpp"
 #include "vantage/scene_states.hpp"
@@ -71,6 +72,8 @@ struct Problem {
   /// when the scene does not change. Each applies to `scene` through ApplyState.
   std::vector<SceneState> states;
   MountingRules mounting;  ///< keep-out boxes and the minimum separation
+  /// The scene's URDF robots (`robots:`), as placed: what `arm` populations move (issue 45).
+  std::vector<PlacedRobot> robots;
 
   /// Looks up a sensor type by id; nullptr when absent.
   const SensorType* FindType(const std::string& id) const;

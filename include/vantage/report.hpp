@@ -9,6 +9,7 @@
 
 #include "vantage/robustness.hpp"
 #include "vantage/select.hpp"
+#include "vantage/tour.hpp"
 #include "vantage/visibility_file.hpp"
 
 namespace vantage {
@@ -108,6 +109,22 @@ struct ConstraintsInfo {
   bool is_applied = true;  ///< selection obeyed them (false: evaluate only checks them)
 };
 
+/// One camera on an arm (issue 45): the tour of a result's views, home to home (docs/arm.md).
+struct ArmTour {
+  std::string robot;
+  std::string population;
+  std::vector<std::string> joint_names;  ///< the layout of every configuration
+  std::vector<double> home;
+  std::vector<uint32_t> views;           ///< candidate indices, in tour order
+  std::vector<std::vector<double>> configurations;  ///< per view, in tour order
+  std::vector<double> move_seconds;      ///< per view: the move that reaches it
+  std::vector<double> acquisition_seconds;  ///< per view: frames / fps
+  double return_seconds = 0;             ///< the last view back to home
+  Tour tour;                             ///< method, exactness, totals
+  double resolution = 0;                 ///< [rad or m] of the straight moves' collision check
+  size_t unconnected_pairs = 0;          ///< moves among the views (and home) that collide
+};
+
 struct Report {
   std::string scene;
   uint64_t seed = 1;
@@ -127,6 +144,11 @@ struct Report {
   std::optional<RunInputs> inputs;
   /// Set when any installation constraint is on (report.json `constraints`, per result too).
   std::optional<ConstraintsInfo> constraints;
+  /// A camera on an arm: per result (the index of `results`), its tour; empty when no result's
+  /// views are on an arm.
+  std::vector<std::optional<ArmTour>> tours;
+  /// --cycle-time [s], when given: `results` holds the most coverage found within it.
+  std::optional<double> cycle_time;
 
   // Derived by DeriveReport.
   bool is_derived = false;

@@ -11,6 +11,8 @@ enum class Stream : uint64_t {
   kRansac = 3,
   kKMeans = 4,
   kRefine = 5,  ///< refine.hpp: which poses of a sensor's pool are traced
+  kArm = 6,     ///< arm.hpp: random joint-space views
+  kArmIk = 7,   ///< arm.hpp: the restarts of inverse kinematics
   kTest = 99,
 };
 

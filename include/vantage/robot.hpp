@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "vantage/scene.hpp"
 #include "vantage/types.hpp"
 
 namespace vantage {
@@ -23,6 +24,8 @@ struct RobotJoint {
   Vec3 axis = Vec3::UnitX();  ///< `<axis>`, unit length, in the joint frame
   /// `<limit lower upper>` of a revolute or prismatic joint [rad or m]; none for the others.
   std::optional<std::pair<double, double>> limits;
+  /// `<limit velocity>` [rad/s or m/s]; 0 when not given (the tour then needs --joint-speed).
+  double velocity = 0;
   /// `<mimic joint multiplier offset>`: q = multiplier · q(mimic) + offset; "" when none.
   std::string mimic;
   double mimic_multiplier = 1.0;
@@ -54,6 +57,9 @@ struct RobotModel {
   std::vector<std::string> links;    ///< every link, each after its parent
   std::vector<RobotJoint> joints;    ///< every joint, each after the joint of its parent link
   std::vector<RobotVisual> visuals;  ///< in link order, then document order
+  /// `<collision>` geometry, as visuals are read (`link` names its link): what the arm's
+  /// collision checks use, a link's visuals standing in where it has none (issue 45).
+  std::vector<RobotVisual> collisions;
   /// Joint name -> its index in `joints` (LoadUrdf fills it): FindJoint in logarithmic time, so
   /// that robots of thousands of joints load in linear-logarithmic time.
   std::map<std::string, size_t> joint_index;
@@ -93,5 +99,28 @@ std::map<std::string, Pose> LinkPoses(const RobotModel& robot,
 std::string ResolveRobotFile(const std::string& filename,
                              const std::string& urdf_folder,
                              const std::vector<std::string>& package_paths);
+
+/// A robot as a scene places it (YAML `robots:`), kept beside the scene's objects for the
+/// stages that move it (the `arm` populations, issue 45): its model, base pose, joint positions
+/// and, per link, its geometry in the link frame.
+struct PlacedRobot {
+  std::string name;
+  RobotModel model;
+  Pose world_from_base;
+  JointPositions joints;  ///< the `robots:` entry's positions (others at 0)
+  /// Per link with visuals, their meshes together (link frame): the object "NAME::LINK".
+  std::vector<std::pair<std::string, TriangleMesh>> visual_meshes;
+  /// One shape of a link's collision geometry: as written, and tessellated or loaded into the
+  /// link frame (its origin applied).
+  struct LinkShape {
+    RobotVisual shape;
+    TriangleMesh mesh;
+  };
+  /// Per link with geometry, in tree order: its `<collision>` shapes, else its visuals.
+  std::vector<std::pair<std::string, std::vector<LinkShape>>> collision_shapes;
+  std::vector<std::string> target_links;  ///< links whose visuals are targets
+  std::string file;  ///< the scene file
+  int line = 0;      ///< the `robots:` entry
+};
 
 }  // namespace vantage

@@ -131,6 +131,7 @@ std::vector<Candidate> DeployCandidates(const std::vector<Population>& populatio
 
   for (size_t pi = 0; pi < populations.size(); ++pi) {
     const Population& population = populations[pi];
+    if (population.arm_views) continue;  // views from an arm's joint space: ApplyArms (arm.hpp)
     const std::string what = fmt::format("population '{}'", population.name);
     const SensorType& type =
         ResolveType(population.sensor_type, types, population.file, population.line, what);

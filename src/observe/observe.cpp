@@ -9,6 +9,7 @@
 #include <map>
 #include <numbers>
 
+#include "observe/arm_occlusion.hpp"
 #include "observe/culling.hpp"
 #include "vantage/ray_scene.hpp"
 #include "vantage/error.hpp"
@@ -74,7 +75,8 @@ void SplitByReference(KeyRuns* runs, const Reference& reference, std::vector<uin
 }
 
 Observation ObserveOne(const RayScene& rays, const Reference& reference, const Candidate& candidate,
-                       const std::vector<Aabb>& blocks, const ObserveOptions& options) {
+                       const std::vector<Aabb>& blocks, const ObserveOptions& options,
+                       const detail::ArmOcclusion& arms) {
   const SensorType& s = candidate.sensor;
   const Mat3 world_from_body = candidate.world_from_body.rotation.toRotationMatrix();
   const Vec3 origin = candidate.world_from_body.position;
@@ -100,6 +102,7 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
         for (int a = 0; a < 3; ++a) batch.dir[a][lane] = static_cast<float>(d[a]);
       }
       rays.Intersect(&batch);
+      if (candidate.arm) arms.Clip(*candidate.arm, &batch);  // the arm carrying it (issue 45)
       observation.rays_traced += static_cast<uint64_t>(batch.active);
       for (int lane = 0; lane < batch.active; ++lane) {
         if (!batch.is_target[lane]) continue;
@@ -145,13 +148,14 @@ std::vector<Observation> Observe(const RayScene& rays, const Reference& referenc
   for (const Candidate& c : candidates) CheckCandidate(c, c.name);
   options.Validate();
   const std::vector<Aabb> blocks = ReferenceBlocks(reference);
+  const detail::ArmOcclusion arms(candidates);
   std::vector<Observation> observations(candidates.size());
   std::atomic<size_t> done{0};
   // Candidates are independent; each fills its own slot, so the result does not depend on the
   // thread count or the order of completion.
   tbb::parallel_for(size_t{0}, candidates.size(), [&](size_t i) {
     if (InterruptRequested()) return;  // the rest is skipped; thrown once the loop is left
-    observations[i] = ObserveOne(rays, reference, candidates[i], blocks, options);
+    observations[i] = ObserveOne(rays, reference, candidates[i], blocks, options, arms);
     const size_t finished = ++done;
     if (options.progress) options.progress(finished, candidates.size());
   });

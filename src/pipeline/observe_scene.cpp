@@ -345,6 +345,7 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
   result.notes.insert(result.notes.end(), problem.notes.begin(), problem.notes.end());
   result.scene = std::move(problem.scene);
   result.populations = std::move(problem.populations);
+  result.arms = std::move(prepared.arms);
   result.observation_point = problem.observation_point;
   result.sensors = std::move(problem.sensors);
   return result;

@@ -104,6 +104,15 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
     throw InputError(AtPlace(options.selection.min_density ? "--min-density" : "--min-points", 0,
                              "--refine does not keep point counts yet — drop one of --refine and "
                              "the point density"));
+  if (!prepared.arms.empty()) {
+    detail::CheckArmTourInputs(prepared.arms, options.arm);
+  } else if (options.arm.cycle_time) {
+    throw InputError(AtPlace("--cycle-time", 0,
+                             "no candidate is on an arm — --cycle-time times an arm's tour; add "
+                             "an `arm` population (docs/arm.md)"));
+  }
+  if (options.arm.cycle_time && (has_states || options.refine))
+    throw InputError(AtPlace("--cycle-time", 0, "--cycle-time takes no --refine and no states"));
   ObservedScene observed =
       ObservePrepared(std::move(prepared), options.observe, options.limits, options.trace);
   return OptimizeObserved{std::move(observed), select, start};
@@ -121,7 +130,13 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
   report.constraints = detail::ResolveConstraints(
       options.selection.constraints, select, observed.data.candidates, observed.data.observations,
       observed.data.mounting, observed.data.kept_out, observed.states);
-  detail::SelectResults(observed, options.selection, select, &report);
+  if (options.arm.cycle_time) {
+    // The most coverage whose tour fits the cycle time replaces the methods' results.
+    report.results.push_back(detail::CycleTimeSelection(observed.data, observed.arms, options.arm));
+    report.cycle_time = options.arm.cycle_time;
+  } else {
+    detail::SelectResults(observed, options.selection, select, &report);
+  }
   if (options.refine) {
     RefineOptions refine = *options.refine;
     refine.seed = select.seed;
@@ -171,6 +186,7 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
         "lists every state",
         report.states->states.front().name));
   }
+  detail::AddArmTours(data.candidates, observed.arms, options.arm, &report);
   DeriveReport(&report);
 
   // constellation.world (or .yaml): the input scene with only the primary result's sensors.

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "pipeline/common.hpp"
+#include "vantage/arm.hpp"
 #include "vantage/error.hpp"
 #include "vantage/pipeline.hpp"
 #include "vantage/scene_states.hpp"
@@ -106,6 +107,50 @@ void ExcludeKeptOut(PreparedScene* prepared) {
   if (!prepared->kept_out.empty()) prepared->notes.push_back(note);
 }
 
+// Cameras on arms (issue 45): the regions' `reach:` poses through inverse kinematics, the kind
+// `arm` populations' views, each collision-free, before any ray. The robots that carry cameras
+// leave the ray scene: each arm view carries its links as they stand in it (observe's
+// ArmOcclusion), so a static copy at the `robots:` joints would hide views it does not block.
+void ApplyArmPopulations(PreparedScene* prepared) {
+  Problem& problem = prepared->problem;
+  const auto has_arm = [](const Population& p) { return p.arm.has_value(); };
+  if (std::none_of(problem.populations.begin(), problem.populations.end(), has_arm)) return;
+  for (const Population& population : problem.populations) {
+    if (!population.arm) continue;
+    const ArmMount& arm = *population.arm;
+    if (!problem.states.empty())
+      throw InputError(AtPlace(arm.file, arm.line,
+                               fmt::format("population '{}': a camera on an arm in a scene with "
+                                           "`states:` is not supported — remove the states or "
+                                           "the arm population",
+                                           population.name)));
+    for (const PlacedRobot& robot : problem.robots) {
+      if (robot.name == arm.robot && !robot.target_links.empty())
+        throw InputError(AtPlace(robot.file, robot.line,
+                                 fmt::format("robot '{}' carries population '{}''s camera and "
+                                             "has target links ({}) — a camera cannot inspect "
+                                             "the arm that carries it; remove `targets`",
+                                             robot.name, population.name,
+                                             robot.target_links.front())));
+    }
+  }
+  ArmViews arms = ApplyArms(problem, std::move(prepared->candidates), problem.seed);
+  prepared->candidates = std::move(arms.candidates);
+  for (std::string& note : arms.notes) {
+    spdlog::info("{}", note);
+    prepared->notes.push_back(std::move(note));
+  }
+  std::vector<SceneObject> kept;
+  for (SceneObject& object : problem.scene.objects) {
+    const bool carried = std::any_of(arms.arms.begin(), arms.arms.end(), [&](const ArmSetup& a) {
+      return object.name.rfind(a.robot + "::", 0) == 0;
+    });
+    if (!carried) kept.push_back(std::move(object));
+  }
+  problem.scene.objects = std::move(kept);
+  prepared->arms = std::move(arms.arms);
+}
+
 }  // namespace
 
 Problem LoadScene(const SceneInput& input) {
@@ -138,6 +183,7 @@ PreparedScene Prepare(const SceneInput& input) {
   deploy.seed = problem.seed;
   prepared.candidates =
       DeployCandidates(problem.populations, problem.sensors, problem.sensor_types, deploy);
+  ApplyArmPopulations(&prepared);
   detail::CheckDeployedCandidates(prepared.candidates, problem);
   if (prepared.candidates.empty())
     throw InputError(

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
+#include "report/arm_export.hpp"
 #include "report/constraints_json.hpp"
 #include "report/run_inputs.hpp"
 #include "util/atomic_file.hpp"
@@ -240,7 +241,11 @@ std::string ReportJson(const Report& report) {
       results.back()["constraints"] =
           detail::ResultConstraintsJson(report.results[index], *report.constraints, data);
     }
+    // A camera on an arm (issue 45): the tour of the result's views.
+    if (index < report.tours.size() && report.tours[index])
+      results.back()["tour"] = detail::ArmTourJson(*report.tours[index], data);
   }
+  if (report.cycle_time) j["cycle_time"] = *report.cycle_time;
   j["results"] = std::move(results);
   // The coverage-versus-n curve's extra answers (docs/outputs.md), shaped as results entries.
   ordered_json curve = ordered_json::array();
@@ -354,6 +359,12 @@ std::map<std::string, std::string> ReportFiles(const Report& report) {
   files["reference.ply"] = VoxelPly(report.data->reference.keys, report.data->reference.cell_size);
   files["observed.ply"] =
       VoxelPly(ObservedKeys(*report.data, report.PrimaryChosen()), report.data->reference.cell_size);
+  // A camera on an arm: the primary result's tour for the robot (docs/arm.md).
+  const auto primary = static_cast<size_t>(report.primary);
+  if (report.primary >= 0 && primary < report.tours.size() && report.tours[primary]) {
+    files["views.yaml"] = detail::ViewsYaml(*report.tours[primary], *report.data);
+    files["trajectory.json"] = detail::TrajectoryJson(*report.tours[primary]);
+  }
   return files;
 }
 
@@ -362,7 +373,7 @@ const std::set<std::string>& RunFolderFileNames() {
       "report.json",         "report.html",   "candidates.csv",      "reference.ply",
       "observed.ply",        "view.png",      "constellation.world", "constellation.yaml",
       "static_transforms.yaml", "constellation.sdf", "cameras.urdf.xacro",
-      "static_transforms.launch.py"};
+      "static_transforms.launch.py", "views.yaml", "trajectory.json"};
   return names;
 }
 

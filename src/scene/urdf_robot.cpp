@@ -111,7 +111,9 @@ RobotJoint::Type TypeOf(int type) {
   }
 }
 
-std::optional<RobotVisual> VisualOf(const std::string& link, const urdf::Visual& visual) {
+/// A `<visual>` or `<collision>` (the same origin and geometry fields).
+template <typename Element>
+std::optional<RobotVisual> VisualOf(const std::string& link, const Element& visual) {
   if (!visual.geometry) return std::nullopt;
   RobotVisual out;
   out.link = link;
@@ -335,6 +337,11 @@ RobotModel LoadUrdf(const std::string& path) {
       if (std::optional<RobotVisual> converted = VisualOf(link->name, *visual))
         robot.visuals.push_back(std::move(*converted));
     }
+    for (const urdf::CollisionSharedPtr& collision : link->collision_array) {
+      if (!collision) continue;
+      if (std::optional<RobotVisual> converted = VisualOf(link->name, *collision))
+        robot.collisions.push_back(std::move(*converted));
+    }
     for (const urdf::JointSharedPtr& joint : link->child_joints) {
       RobotJoint out;
       out.name = joint->name;
@@ -358,6 +365,8 @@ RobotModel LoadUrdf(const std::string& path) {
       if (joint->limits &&
           (out.type == RobotJoint::Type::kRevolute || out.type == RobotJoint::Type::kPrismatic))
         out.limits = std::make_pair(joint->limits->lower, joint->limits->upper);
+      if (joint->limits && std::isfinite(joint->limits->velocity) && joint->limits->velocity > 0)
+        out.velocity = joint->limits->velocity;
       if (joint->mimic) {
         out.mimic = joint->mimic->joint_name;
         out.mimic_multiplier = joint->mimic->multiplier;

@@ -311,6 +311,9 @@ class SceneReader {
                                               const std::string& what);
   void ReadStateJoints(const Value& input, const std::string& what, SceneState* state);
   bool ReadLinkMount(const Value& input, const std::string& what, ExplicitSensor* sensor);
+  /// `arm:` (joint space, `joint_space`) or a region's `reach:` (issue 45, docs/arm.md).
+  std::optional<ArmMount> ReadArmMount(const Value& input, const std::string& what,
+                                       bool joint_space);
   void ReadPopulations(const Value& input);
   std::optional<Population> ReadPopulation(const Value& input);
   bool ReadRegion(const Fields& fields, const std::string& what, Population* population);
@@ -1246,7 +1249,33 @@ void SceneReader::ReadRobot(const Value& input) {
       Error(fields.Get("targets")->line,
             fmt::format("{}: link '{}' has no <visual> — it cannot be a target", what, link));
   }
+  // The collision geometry the arm's checks use (issue 45): <collision>, else the visuals.
+  PlacedRobot placed;
+  for (const std::string& link : robot.model.links) {
+    const auto of_link = [&](const std::vector<RobotVisual>& shapes) {
+      std::vector<PlacedRobot::LinkShape> out;
+      for (const RobotVisual& shape : shapes) {
+        if (shape.link != link) continue;
+        std::optional<TriangleMesh> mesh = ReadRobotVisual(
+            shape, urdf_folder, urdf->line, fmt::format("{} link '{}' <collision>", what, link));
+        if (mesh) out.push_back({shape, std::move(*mesh)});
+      }
+      return out;
+    };
+    std::vector<PlacedRobot::LinkShape> shapes = of_link(robot.model.collisions);
+    if (shapes.empty()) shapes = of_link(robot.model.visuals);
+    if (!shapes.empty()) placed.collision_shapes.emplace_back(link, std::move(shapes));
+  }
   if (ErrorCount() != errors_before) return;
+  placed.name = robot.name;
+  placed.model = robot.model;
+  placed.world_from_base = robot.world_from_base;
+  placed.joints = robot.joints;
+  placed.visual_meshes = robot.link_meshes;
+  placed.target_links = targets;
+  placed.file = problem_->source;
+  placed.line = robot.line;
+  problem_->robots.push_back(std::move(placed));
   std::set<std::string> object_names = NamesOf(problem_->scene.objects);
   for (auto& [name, mesh] : robot.WorldMeshes(robot.joints)) {
     SceneObject object;
@@ -1405,7 +1434,7 @@ std::optional<Distribution> ParseDistribution(const std::string& name) {
 std::optional<Population> SceneReader::ReadPopulation(const Value& input) {
   const Fields fields(input, "population",
                       {"name", "type", "pose", "distribution", "box", "cylinder", "count", "rows",
-                       "cols", "step", "mount"},
+                       "cols", "step", "mount", "arm", "reach"},
                       &reporter_);
   const size_t errors_before = ErrorCount();
   Population population;
@@ -1429,6 +1458,40 @@ std::optional<Population> SceneReader::ReadPopulation(const Value& input) {
         return std::nullopt;
       }
     }
+  }
+  if (const auto v = fields.Get("arm")) {
+    // Kind `arm`: views from the arm's joint space; no region, no distribution of positions.
+    for (const char* key : {"box", "cylinder", "rows", "cols", "step", "distribution", "pose",
+                            "mount", "reach"}) {
+      if (const auto other = fields.Get(key))
+        Error(other->line, fmt::format("{}: an `arm` population takes no '{}' (its views come "
+                                       "from the arm's joints; the camera's pose on the link is "
+                                       "arm.mount) — remove it",
+                                       what, key));
+    }
+    population.arm = ReadArmMount(*v, what + ".arm", true);
+    population.arm_views = true;
+    population.region = RegionShape::kNone;
+    if (population.arm && population.arm->sampling != JointSampling::kList) {
+      const auto count = fields.Get("count");
+      if (!count) {
+        Missing(fields, "count", "count: 200");
+      } else if (const auto n = Integer(*count, what + ".count", 1, 1'000'000)) {
+        population.count = static_cast<int>(*n);
+      }
+    } else if (const auto count = fields.Get("count")) {
+      Error(count->line, fmt::format("{}: the views are arm.configurations — remove `count`",
+                                     what));
+    }
+    if (!population.arm || ErrorCount() != errors_before) return std::nullopt;
+    population.arm->file = problem_->source;
+    if (population.arm->sampling == JointSampling::kList)
+      population.count = static_cast<int>(population.arm->configurations.size());
+    return population;
+  }
+  if (const auto v = fields.Get("reach")) {
+    population.arm = ReadArmMount(*v, what + ".reach", false);
+    if (population.arm) population.arm->file = problem_->source;
   }
   const bool ok = population.distribution == Distribution::kGrid
                       ? ReadGrid(fields, what, &population)
@@ -1645,6 +1708,219 @@ bool SceneReader::ReadLinkMount(const Value& input,
   sensor->look_at = false;
   link_mounts_.push_back(std::move(mount));
   return true;
+}
+
+/// `{robot, link, mount, sampling, joints, configurations, allowed_collisions, home}` (kind
+/// `arm`) or `{robot, link, mount, position_tolerance, angle_tolerance_deg, restarts,
+/// allowed_collisions, home}` (`reach:`). What can be checked without moving the arm is checked
+/// here, at its line: the robot and link, a link that no joint moves (a camera on a fixed base),
+/// a moving joint without limits, joints and configurations outside the limits.
+std::optional<ArmMount> SceneReader::ReadArmMount(const Value& input, const std::string& what,
+                                                  bool joint_space) {
+  const Fields fields =
+      joint_space
+          ? Fields(input, what,
+                   {"robot", "link", "mount", "allowed_collisions", "home", "sampling", "joints",
+                    "configurations"},
+                   &reporter_)
+          : Fields(input, what,
+                   {"robot", "link", "mount", "allowed_collisions", "home", "joints",
+                    "position_tolerance", "angle_tolerance_deg", "restarts", "match"},
+                   &reporter_);
+  const size_t errors_before = ErrorCount();
+  ArmMount arm;
+  arm.line = fields.line();
+  arm.robot_line = fields.line();
+  std::vector<std::string> robot_names;
+  for (const SceneRobot& robot : robots_) robot_names.push_back(robot.name);
+  size_t robot_index = 0;
+  if (const auto v = fields.Get("robot")) {
+    arm.robot_line = v->line;
+    const auto name = Text(*v, what + ".robot");
+    if (!name || IsRejectedRobot(*name)) return std::nullopt;
+    const auto it = std::find(robot_names.begin(), robot_names.end(), *name);
+    if (it == robot_names.end()) {
+      Error(v->line, fmt::format("{}: no robot '{}' — {}", what, *name,
+                                 robot_names.empty() ? std::string("the scene has no `robots:`")
+                                                     : Suggest(*name, robot_names)));
+      return std::nullopt;
+    }
+    robot_index = static_cast<size_t>(it - robot_names.begin());
+  } else if (robots_.size() != 1) {
+    if (robots_.empty() && !rejected_robots_.empty()) return std::nullopt;  // reported already
+    Error(fields.line(),
+          fmt::format("{}: the scene has {} robots — name one with `robot: NAME`", what,
+                      robots_.size()));
+    return std::nullopt;
+  }
+  const SceneRobot& robot = robots_[robot_index];
+  const RobotModel& model = robot.model;
+  arm.robot = robot.name;
+  const auto link = fields.Get("link");
+  if (!link) {
+    Missing(fields, "link", "link: tool0");
+    return std::nullopt;
+  }
+  arm.link_line = link->line;
+  const auto link_name = Text(*link, what + ".link");
+  if (!link_name) return std::nullopt;
+  if (std::find(model.links.begin(), model.links.end(), *link_name) == model.links.end()) {
+    Error(link->line, fmt::format("{}: robot '{}' has no link '{}' — {}", what, robot.name,
+                                  *link_name, Suggest(*link_name, model.links)));
+    return std::nullopt;
+  }
+  arm.link = *link_name;
+  if (const auto v = fields.Get("mount"))
+    arm.link_from_camera = PoseOf(*v, what + ".mount").value_or(Pose{});
+  // The movable joints between the root and the link: what can carry the camera.
+  std::vector<const RobotJoint*> chain;
+  for (std::string at = arm.link; at != model.root_link;) {
+    const auto joint = std::find_if(model.joints.begin(), model.joints.end(),
+                                    [&](const RobotJoint& j) { return j.child_link == at; });
+    if (joint == model.joints.end()) break;
+    if (joint->IsSettable()) chain.insert(chain.begin(), &*joint);
+    at = joint->parent_link;
+  }
+  if (chain.empty()) {
+    Error(link->line, fmt::format("{}: no joint moves link '{}' of robot '{}' (it is fixed to "
+                                  "the base) — a camera there has nothing to move; name a link "
+                                  "beyond a revolute or prismatic joint",
+                                  what, arm.link, robot.name));
+    return std::nullopt;
+  }
+  const auto need_limits = [&](const RobotJoint& joint, int line) {
+    if (joint.limits) return true;
+    Error(line, fmt::format("{}: joint '{}' of robot '{}' ({}:{}) has no <limit lower upper> "
+                            "(a continuous joint) — the arm's views are drawn within limits; "
+                            "make it revolute with limits, or leave it out of `joints`",
+                            what, joint.name, robot.name, model.file, joint.line));
+    return false;
+  };
+  std::vector<std::string> chain_names;
+  for (const RobotJoint* joint : chain) chain_names.push_back(joint->name);
+  if (const auto v = fields.Get("joints")) {
+    if (!v->node.IsSequence() || v->node.size() == 0) {
+      Error(v->line, fmt::format("{}.joints must be a list of joint names, got {} — write e.g. "
+                                 "[{}]",
+                                 what, Shown(v->node), chain_names.front()));
+    } else {
+      for (size_t i = 0; i < v->node.size(); ++i) {
+        const Value element = ElementOf(*v, i);
+        const auto name = Text(element, fmt::format("{}.joints[{}]", what, i));
+        if (!name) continue;
+        if (std::find(chain_names.begin(), chain_names.end(), *name) == chain_names.end()) {
+          Error(element.line, fmt::format("{}.joints: '{}' is not a movable joint between robot "
+                                          "'{}''s root and link '{}' — {}",
+                                          what, *name, robot.name, arm.link,
+                                          Suggest(*name, chain_names)));
+        } else if (std::find(arm.joints.begin(), arm.joints.end(), *name) != arm.joints.end()) {
+          Error(element.line, fmt::format("{}.joints: '{}' appears twice — keep one", what, *name));
+        } else if (need_limits(*model.FindJoint(*name), element.line)) {
+          arm.joints.push_back(*name);
+        }
+      }
+    }
+  } else {
+    for (const RobotJoint* joint : chain) {
+      if (need_limits(*joint, link->line)) arm.joints.push_back(joint->name);
+    }
+  }
+  if (joint_space) {
+    const auto configurations = fields.Get("configurations");
+    if (const auto v = fields.Get("sampling")) {
+      const auto name = Text(*v, what + ".sampling");
+      static const std::map<std::string, JointSampling> kNames = {
+          {"random", JointSampling::kRandom},
+          {"halton", JointSampling::kHalton},
+          {"grid", JointSampling::kGrid}};
+      if (name && kNames.count(*name)) {
+        arm.sampling = kNames.at(*name);
+      } else if (name) {
+        Error(v->line, fmt::format("{}.sampling: '{}' is unknown — {}", what, *name,
+                                   Suggest(*name, {"random", "halton", "grid"})));
+      }
+      if (configurations)
+        Error(v->line, fmt::format("{}: give `sampling` or `configurations`, not both", what));
+    }
+    if (configurations) {
+      arm.sampling = JointSampling::kList;
+      if (!configurations->node.IsSequence() || configurations->node.size() == 0) {
+        Error(configurations->line,
+              fmt::format("{}.configurations must be a list of `{{joint: position}}` mappings — "
+                          "write e.g. [{{{}: 0.5}}]",
+                          what, chain_names.front()));
+      } else {
+        for (size_t i = 0; i < configurations->node.size(); ++i) {
+          const Value element = ElementOf(*configurations, i);
+          const auto q =
+              ReadJoints(element, model, fmt::format("{}.configurations[{}]", what, i));
+          if (!q) continue;
+          arm.configurations.push_back(*q);
+          arm.configuration_lines.push_back(element.line);
+        }
+      }
+    }
+  } else {
+    if (const auto v = fields.Get("position_tolerance"))
+      arm.position_tolerance = Positive(*v, what + ".position_tolerance").value_or(1e-3);
+    if (const auto v = fields.Get("angle_tolerance_deg"))
+      arm.angle_tolerance =
+          Positive(*v, what + ".angle_tolerance_deg").value_or(0.0573) * std::numbers::pi / 180;
+    if (const auto v = fields.Get("match")) {
+      const auto name = Text(*v, what + ".match");
+      static const std::map<std::string, ArmMount::Match> kMatches = {
+          {"pose", ArmMount::Match::kPose},
+          {"direction", ArmMount::Match::kDirection},
+          {"position", ArmMount::Match::kPosition}};
+      if (name && kMatches.count(*name)) {
+        arm.match = kMatches.at(*name);
+      } else if (name) {
+        Error(v->line, fmt::format("{}.match: '{}' is unknown — {}", what, *name,
+                                   Suggest(*name, {"pose", "direction", "position"})));
+      }
+    }
+    if (const auto v = fields.Get("restarts"))
+      arm.ik_restarts = static_cast<int>(Integer(*v, what + ".restarts", 1, 1000).value_or(8));
+  }
+  if (const auto v = fields.Get("home")) {
+    if (const auto q = ReadJoints(*v, model, what + ".home")) arm.home = *q;
+  }
+  if (const auto v = fields.Get("allowed_collisions")) {
+    if (!v->node.IsSequence()) {
+      Error(v->line, fmt::format("{}.allowed_collisions must be a list of pairs [a, b] of link "
+                                 "or object names",
+                                 what));
+    } else {
+      std::vector<std::string> names = model.links;
+      for (const SceneObject& object : problem_->scene.objects) names.push_back(object.name);
+      for (size_t i = 0; i < v->node.size(); ++i) {
+        const Value pair = ElementOf(*v, i);
+        if (!pair.node.IsSequence() || pair.node.size() != 2) {
+          Error(pair.line, fmt::format("{}.allowed_collisions[{}] must be a pair [a, b]", what, i));
+          continue;
+        }
+        std::array<std::string, 2> both;
+        bool ok = true;
+        for (size_t k = 0; k < 2; ++k) {
+          const Value element = ElementOf(pair, k);
+          const auto name = Text(element, fmt::format("{}.allowed_collisions[{}]", what, i));
+          if (!name) {
+            ok = false;
+          } else if (std::find(names.begin(), names.end(), *name) == names.end()) {
+            Error(element.line, fmt::format("{}.allowed_collisions: '{}' is neither a link of "
+                                            "robot '{}' nor an object — {}",
+                                            what, *name, robot.name, Suggest(*name, names)));
+            ok = false;
+          } else {
+            both[k] = *name;
+          }
+        }
+        if (ok) arm.allowed_pairs.emplace_back(both[0], both[1]);
+      }
+    }
+  }
+  if (ErrorCount() != errors_before) return std::nullopt;
+  return arm;
 }
 
 // ----- states --------------------------------------------------------------------------------

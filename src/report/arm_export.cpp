@@ -1,0 +1,134 @@
+// The outputs of a camera on an arm (issue 45): its tour in report.json, views.yaml for a robot
+// program, and trajectory.json, which mirrors ROS 2's trajectory_msgs/msg/JointTrajectory so
+// that a ROS node (or MoveIt's execution) can load it field for field.
+#include "report/arm_export.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+
+#include "vantage/types.hpp"
+
+namespace vantage::detail {
+namespace {
+
+using nlohmann::ordered_json;
+
+/// Seconds as builtin_interfaces/Duration.
+ordered_json Duration(double seconds) {
+  const double whole = std::floor(seconds);
+  auto nanosec = static_cast<int64_t>(std::llround((seconds - whole) * 1e9));
+  auto sec = static_cast<int64_t>(whole);
+  if (nanosec >= 1'000'000'000) {
+    ++sec;
+    nanosec -= 1'000'000'000;
+  }
+  ordered_json d;
+  d["sec"] = sec;
+  d["nanosec"] = nanosec;
+  return d;
+}
+
+/// When the arm arrives at each view and leaves it (after its acquisition) [s from home].
+void Timeline(const ArmTour& tour, std::vector<double>* arrive, std::vector<double>* leave) {
+  double at = 0;
+  for (size_t k = 0; k < tour.views.size(); ++k) {
+    at += tour.move_seconds[k];
+    arrive->push_back(at);
+    at += tour.acquisition_seconds[k];
+    leave->push_back(at);
+  }
+}
+
+}  // namespace
+
+ordered_json ArmTourJson(const ArmTour& tour, const VisibilityFile& data) {
+  ordered_json j;
+  j["robot"] = tour.robot;
+  j["method"] = tour.tour.method;
+  j["exact"] = tour.tour.exact;
+  j["connected"] = tour.tour.connected();
+  j["seconds"] = tour.tour.connected() ? ordered_json(tour.tour.total_seconds) : ordered_json();
+  j["motion_seconds"] = tour.tour.connected() ? ordered_json(tour.tour.motion_seconds) : ordered_json();
+  j["acquisition_seconds"] = tour.tour.acquisition_seconds;
+  ordered_json order = ordered_json::array();
+  for (uint32_t view : tour.views) order.push_back(data.candidates.at(view).name);
+  j["order"] = std::move(order);
+  j["resolution"] = tour.resolution;
+  j["unconnected_moves"] = tour.unconnected_pairs;
+  return j;
+}
+
+std::string ViewsYaml(const ArmTour& tour, const VisibilityFile& data) {
+  std::vector<double> arrive, leave;
+  Timeline(tour, &arrive, &leave);
+  YAML::Emitter out;
+  out.SetDoublePrecision(9);
+  out << YAML::BeginMap;
+  out << YAML::Key << "robot" << YAML::Value << tour.robot;
+  out << YAML::Key << "joint_names" << YAML::Value << YAML::Flow << tour.joint_names;
+  out << YAML::Key << "home" << YAML::Value << YAML::Flow << tour.home;
+  out << YAML::Key << "order" << YAML::Value << tour.tour.method;
+  out << YAML::Key << "exact" << YAML::Value << tour.tour.exact;
+  if (tour.tour.connected()) {
+    out << YAML::Key << "tour_seconds" << YAML::Value << tour.tour.total_seconds;
+  } else {
+    out << YAML::Key << "tour_seconds" << YAML::Value << YAML::Null;
+  }
+  out << YAML::Key << "views" << YAML::Value << YAML::BeginSeq;
+  for (size_t k = 0; k < tour.views.size(); ++k) {
+    const Candidate& c = data.candidates.at(tour.views[k]);
+    const Pose& pose = c.world_from_body;
+    out << YAML::BeginMap;
+    out << YAML::Key << "name" << YAML::Value << c.name;
+    out << YAML::Key << "positions" << YAML::Value << YAML::Flow << tour.configurations[k];
+    out << YAML::Key << "move_seconds" << YAML::Value << tour.move_seconds[k];
+    out << YAML::Key << "arrive_seconds" << YAML::Value << arrive[k];
+    out << YAML::Key << "acquisition_seconds" << YAML::Value << tour.acquisition_seconds[k];
+    out << YAML::Key << "camera_pose" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "frame_id" << YAML::Value << "world";
+    out << YAML::Key << "xyz" << YAML::Value << YAML::Flow
+        << std::vector<double>{pose.position.x(), pose.position.y(), pose.position.z()};
+    out << YAML::Key << "quaternion_wxyz" << YAML::Value << YAML::Flow
+        << std::vector<double>{pose.rotation.w(), pose.rotation.x(), pose.rotation.y(),
+                               pose.rotation.z()};
+    out << YAML::EndMap;
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+  out << YAML::Key << "return_seconds" << YAML::Value << tour.return_seconds;
+  out << YAML::EndMap;
+  return std::string("# vantage: one camera on the arm, its views in tour order (docs/arm.md)\n") +
+         out.c_str() + "\n";
+}
+
+std::string TrajectoryJson(const ArmTour& tour) {
+  std::vector<double> arrive, leave;
+  Timeline(tour, &arrive, &leave);
+  ordered_json j;
+  j["_type"] = "trajectory_msgs/msg/JointTrajectory";
+  j["header"] = {{"stamp", {{"sec", 0}, {"nanosec", 0}}}, {"frame_id", "world"}};
+  j["joint_names"] = tour.joint_names;
+  ordered_json points = ordered_json::array();
+  const std::vector<double> still(tour.joint_names.size(), 0.0);
+  const auto point = [&](const std::vector<double>& q, double t) {
+    ordered_json p;
+    p["positions"] = q;
+    p["velocities"] = still;  // the arm stops at every view (straight moves, stop to stop)
+    p["accelerations"] = ordered_json::array();
+    p["effort"] = ordered_json::array();
+    p["time_from_start"] = Duration(t);
+    points.push_back(std::move(p));
+  };
+  point(tour.home, 0.0);
+  for (size_t k = 0; k < tour.views.size(); ++k) {
+    point(tour.configurations[k], arrive[k]);
+    if (tour.acquisition_seconds[k] > 0) point(tour.configurations[k], leave[k]);
+  }
+  point(tour.home, (leave.empty() ? 0.0 : leave.back()) + tour.return_seconds);
+  j["points"] = std::move(points);
+  return j.dump(2) + "\n";
+}
+
+}  // namespace vantage::detail

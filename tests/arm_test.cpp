@@ -1,0 +1,487 @@
+// A camera on a robot arm (issue 45), against independent truths: the annulus a planar 2-link
+// arm reaches, FCL's verdicts on primitives whose overlap is known analytically, the tour
+// against every order, the pixels a link in front of the lens hides (a slab test per pixel ray),
+// and the bad inputs the scene must refuse before any ray.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "test_util.hpp"
+#include "vantage/arm.hpp"
+#include "vantage/observe.hpp"
+#include "vantage/reference.hpp"
+#include "vantage/tour.hpp"
+
+namespace vantage {
+namespace {
+
+using test::TempDir;
+using test::WriteText;
+
+constexpr double kPi = std::numbers::pi;
+
+/// Planar 2-link arm in the z = 0 plane: joints about z, links 0.5 and 0.3 m, no geometry.
+/// With both joints over [-π, π] the tip reaches the annulus 0.2 <= r <= 0.8.
+const char* kPlanarUrdf = R"(<robot name="planar">
+  <link name="base"/>
+  <link name="upper"/>
+  <link name="fore"/>
+  <link name="tip"/>
+  <joint name="shoulder" type="revolute">
+    <parent link="base"/><child link="upper"/><axis xyz="0 0 1"/>
+    <limit lower="-3.14159265358979" upper="3.14159265358979" velocity="2" effort="1"/>
+  </joint>
+  <joint name="elbow" type="revolute">
+    <parent link="upper"/><child link="fore"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-3.14159265358979" upper="3.14159265358979" velocity="1" effort="1"/>
+  </joint>
+  <joint name="flange" type="fixed">
+    <parent link="fore"/><child link="tip"/><origin xyz="0.3 0 0"/>
+  </joint>
+</robot>
+)";
+
+Problem LoadArmScene(const TempDir& dir, const std::string& urdf, const std::string& body) {
+  WriteText(dir.File("arm.urdf"), urdf);
+  WriteText(dir.File("scene.yaml"), body);
+  return LoadYamlScene(dir.File("scene.yaml"));
+}
+
+std::vector<Candidate> Deploy(const Problem& problem) {
+  DeployOptions options;
+  options.observation_point = problem.observation_point;
+  options.seed = problem.seed;
+  return DeployCandidates(problem.populations, problem.sensors, problem.sensor_types, options);
+}
+
+const char* kPlanarObjects = R"(objects:
+  - {name: part, role: target, pose: {xyz: [0, 0, -2]}, box: {size: [0.1, 0.1, 0.1]}}
+robots:
+  - {name: arm, urdf: arm.urdf}
+)";
+
+TEST(ArmViewsTest, JointSpaceViewsOfAPlanarArmLieOnTheAnnulus) {
+  TempDir dir;
+  for (const char* sampling : {"random", "halton", "grid"}) {
+    const Problem problem = LoadArmScene(
+        dir, kPlanarUrdf,
+        std::string(kPlanarObjects) + fmt::format(R"(populations:
+  - name: wrist
+    type: intel_realsense_d415
+    count: 400
+    arm: {{robot: arm, link: tip, sampling: {}}}
+)",
+                                                  sampling));
+    const ArmViews views = ApplyArms(problem, Deploy(problem), problem.seed);
+    ASSERT_EQ(views.candidates.size(), 400u) << sampling;  // nothing to collide with
+    double nearest = 1, farthest = 0;
+    for (const Candidate& c : views.candidates) {
+      const Vec3& p = c.world_from_body.position;
+      const double r = std::hypot(p.x(), p.y());
+      EXPECT_NEAR(p.z(), 0.0, 1e-12);
+      EXPECT_GE(r, 0.2 - 1e-9) << sampling;
+      EXPECT_LE(r, 0.8 + 1e-9) << sampling;
+      // The independent law of cosines: r² = L1² + L2² + 2 L1 L2 cos(elbow).
+      ASSERT_TRUE(c.arm);
+      const double elbow = c.arm->joints[1];
+      EXPECT_NEAR(r * r, 0.25 + 0.09 + 0.3 * std::cos(elbow), 1e-9);
+      nearest = std::min(nearest, r);
+      farthest = std::max(farthest, r);
+    }
+    // Spread over the annulus, not a part of it.
+    EXPECT_LT(nearest, 0.25) << sampling;
+    EXPECT_GT(farthest, 0.78) << sampling;
+  }
+}
+
+TEST(ArmViewsTest, IkKeepsExactlyTheRegionPosesInsideTheAnnulus) {
+  TempDir dir;
+  const Problem problem = LoadArmScene(dir, kPlanarUrdf, std::string(kPlanarObjects) + R"(populations:
+  - name: reach
+    type: intel_realsense_d415
+    box: {size: [2, 2, 0.000001]}
+    count: 300
+    reach: {robot: arm, link: tip, match: position, position_tolerance: 0.0001}
+)");
+  const std::vector<Candidate> deployed = Deploy(problem);
+  ASSERT_EQ(deployed.size(), 300u);
+  const ArmViews views = ApplyArms(problem, deployed, problem.seed);
+  size_t inside = 0;
+  std::vector<std::string> kept;
+  for (const Candidate& c : views.candidates) kept.push_back(c.name);
+  for (const Candidate& c : deployed) {
+    const Vec3& p = c.world_from_body.position;
+    const double r = std::hypot(p.x(), p.y());
+    const bool is_kept = std::find(kept.begin(), kept.end(), c.name) != kept.end();
+    // Outside the annulus (by more than the tolerance): never kept.
+    if (r < 0.2 - 2e-4 || r > 0.8 + 2e-4) EXPECT_FALSE(is_kept) << c.name << " r=" << r;
+    // Well inside: inverse kinematics must find it.
+    if (r > 0.21 && r < 0.79) {
+      ++inside;
+      EXPECT_TRUE(is_kept) << c.name << " r=" << r;
+    }
+  }
+  EXPECT_GT(inside, 100u);
+  EXPECT_EQ(views.unreachable + views.candidates.size(), deployed.size());
+  for (const Candidate& c : views.candidates) {
+    // The reached camera is where the region put it, within the tolerance.
+    const auto original = std::find_if(deployed.begin(), deployed.end(),
+                                       [&](const Candidate& d) { return d.name == c.name; });
+    EXPECT_LE((c.world_from_body.position - original->world_from_body.position).norm(), 1e-4);
+  }
+}
+
+TEST(ArmViewsTest, IkReachesTheOpticalAxisOfASixAxisArm) {
+  // A UR-like chain: the camera 10 cm beyond the flange; targets drawn as configurations' own
+  // camera poses, so each is reachable, and IK must find one (position and optical axis).
+  TempDir dir;
+  const std::string urdf = R"(<robot name="six">
+  <link name="base"/><link name="l1"/><link name="l2"/><link name="l3"/><link name="l4"/>
+  <link name="l5"/><link name="l6"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 0.16"/><axis xyz="0 0 1"/><limit lower="-3.1" upper="3.1" velocity="3.1" effort="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
+    <origin xyz="0 0.14 0"/><axis xyz="0 1 0"/><limit lower="-3.1" upper="3.1" velocity="3.1" effort="1"/></joint>
+  <joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/>
+    <origin xyz="0 -0.12 0.42"/><axis xyz="0 1 0"/><limit lower="-3.1" upper="3.1" velocity="3.1" effort="1"/></joint>
+  <joint name="j4" type="revolute"><parent link="l3"/><child link="l4"/>
+    <origin xyz="0 0 0.39"/><axis xyz="0 1 0"/><limit lower="-3.1" upper="3.1" velocity="3.1" effort="1"/></joint>
+  <joint name="j5" type="revolute"><parent link="l4"/><child link="l5"/>
+    <origin xyz="0 0.11 0"/><axis xyz="0 0 1"/><limit lower="-3.1" upper="3.1" velocity="3.1" effort="1"/></joint>
+  <joint name="j6" type="revolute"><parent link="l5"/><child link="l6"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-3.1" upper="3.1" velocity="3.1" effort="1"/></joint>
+</robot>
+)";
+  const Problem problem = LoadArmScene(dir, urdf, R"(objects:
+  - {name: part, role: target, pose: {xyz: [0, 0, -2]}, box: {size: [0.1, 0.1, 0.1]}}
+robots:
+  - {name: arm, urdf: arm.urdf}
+populations:
+  - name: wrist
+    type: intel_realsense_d415
+    count: 20
+    arm: {link: l6, sampling: random, mount: {xyz: [0, 0.1, 0], rpy: [0, 0, 1.5708]}}
+)");
+  const ArmViews views = ApplyArms(problem, Deploy(problem), problem.seed);
+  ASSERT_EQ(views.candidates.size(), 20u);
+  const ArmSetup& arm = views.arms.front();
+  Pose link_from_camera = problem.populations.front().arm->link_from_camera;
+  for (size_t i = 0; i < views.candidates.size(); ++i) {
+    const Pose target = views.candidates[i].world_from_body;
+    // KDL's chain agrees with vantage's own forward kinematics.
+    const Pose tip = arm.kinematics->TipPose(views.candidates[i].arm->joints);
+    EXPECT_LE(((tip * link_from_camera).position - target.position).norm(), 1e-9);
+    for (const auto match : {ArmKinematics::Match::kDirection, ArmKinematics::Match::kPose}) {
+      const auto q = arm.kinematics->SolveIk(target, link_from_camera, match, 1e-4, 1e-3,
+                                             arm.home, 16, 7, i);
+      ASSERT_TRUE(q.has_value()) << "view " << i;
+      const Pose reached = arm.kinematics->LinkPosesAt(*q).at("l6") * link_from_camera;
+      EXPECT_LE((reached.position - target.position).norm(), 1e-4);
+      const Vec3 axis = reached.rotation * Vec3::UnitX();
+      EXPECT_GE(axis.dot(target.rotation * Vec3::UnitX()), std::cos(1e-3));
+      for (size_t j = 0; j < q->size(); ++j) {
+        EXPECT_GE((*q)[j], -3.1);
+        EXPECT_LE((*q)[j], 3.1);
+      }
+    }
+  }
+}
+
+/// A prismatic slider along x carrying `link_shape` on link "slider" (through an empty link, so
+/// that the slider and the base are not adjacent), the base a 0.2 m box at the origin.
+std::string SliderUrdf(const std::string& link_shape) {
+  return fmt::format(R"(<robot name="slider">
+  <link name="base"><collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link>
+  <link name="carriage"/>
+  <link name="slider"><collision><geometry>{}</geometry></collision></link>
+  <joint name="x" type="prismatic"><parent link="base"/><child link="carriage"/>
+    <axis xyz="1 0 0"/><limit lower="-3" upper="3" velocity="0.5" effort="1"/></joint>
+  <joint name="bolt" type="fixed"><parent link="carriage"/><child link="slider"/></joint>
+</robot>
+)",
+                     link_shape);
+}
+
+TEST(ArmCollisionTest, FclVerdictsMatchTheAnalyticOverlapOfPrimitives) {
+  TempDir dir;
+  struct Case {
+    std::string link_shape;   // on the slider, centred at x = q
+    std::string obstacle;     // a scene object
+    double touch;             // |q - 1| below which they overlap (analytic)
+  };
+  const std::vector<Case> cases = {
+      // Boxes of 0.2 and 0.3 m: overlap while the centres are nearer than 0.25 m.
+      {R"(<box size="0.2 0.2 0.2"/>)", "box: {size: [0.3, 0.3, 0.3]}", 0.25},
+      // Spheres of 0.1 and 0.15 m: 0.25 m.
+      {R"(<sphere radius="0.1"/>)", "sphere: {radius: 0.15}", 0.25},
+      // A sphere of 0.1 m against a cylinder of radius 0.2 along z: 0.3 m sideways.
+      {R"(<sphere radius="0.1"/>)", "cylinder: {radius: 0.2, length: 1}", 0.3},
+  };
+  for (const Case& c : cases) {
+    const Problem problem = LoadArmScene(dir, SliderUrdf(c.link_shape), fmt::format(R"(objects:
+  - {{name: part, role: target, pose: {{xyz: [0, 0, -3]}}, box: {{size: [0.1, 0.1, 0.1]}}}}
+  - {{name: obstacle, role: occluder, pose: {{xyz: [1, 0, 0]}}, {}}}
+robots:
+  - {{name: arm, urdf: arm.urdf}}
+)",
+                                                                                     c.obstacle));
+    const PlacedRobot& robot = problem.robots.front();
+    const ArmKinematics kinematics(robot, "slider", {"x"});
+    const ArmCollisions collisions(robot, problem.scene, {}, {"x"}, {});
+    for (const double gap : {-0.05, -0.002, 0.002, 0.05}) {
+      for (const double side : {-1.0, 1.0}) {
+        const double q = 1 + side * (c.touch + gap);
+        std::string what;
+        const ArmCollision verdict = collisions.Check(kinematics.LinkPosesAt({q}), &what);
+        const bool overlap = gap < 0;
+        // Near the base (q < 0.2 + 0.1) the slider would hit the base too: not in these q.
+        EXPECT_EQ(verdict, overlap ? ArmCollision::kScene : ArmCollision::kNone)
+            << c.obstacle << " q=" << q << " " << what;
+        if (overlap) EXPECT_NE(what.find("object 'obstacle'"), std::string::npos) << what;
+      }
+    }
+  }
+}
+
+TEST(ArmCollisionTest, SelfKeepOutAndAllowedPairs) {
+  TempDir dir;
+  const Problem problem = LoadArmScene(dir, SliderUrdf(R"(<box size="0.2 0.2 0.2"/>)"), R"(objects:
+  - {name: part, role: target, pose: {xyz: [0, 0, -3]}, box: {size: [0.1, 0.1, 0.1]}}
+robots:
+  - {name: arm, urdf: arm.urdf}
+keep_out:
+  - {name: cabinet, min: [2, -1, -1], max: [3, 1, 1]}
+)");
+  const PlacedRobot& robot = problem.robots.front();
+  const ArmKinematics kinematics(robot, "slider", {"x"});
+  const ArmCollisions collisions(robot, problem.scene, problem.mounting.keep_out, {"x"}, {});
+  // Base and slider boxes of 0.2 m: they meet while |q| < 0.2.
+  EXPECT_EQ(collisions.Check(kinematics.LinkPosesAt({0.19})), ArmCollision::kSelf);
+  EXPECT_EQ(collisions.Check(kinematics.LinkPosesAt({-0.19})), ArmCollision::kSelf);
+  EXPECT_EQ(collisions.Check(kinematics.LinkPosesAt({0.21})), ArmCollision::kNone);
+  // The keep-out box starts at x = 2: the slider's face reaches it at q = 1.9.
+  EXPECT_EQ(collisions.Check(kinematics.LinkPosesAt({1.89})), ArmCollision::kNone);
+  EXPECT_EQ(collisions.Check(kinematics.LinkPosesAt({1.91})), ArmCollision::kKeepOut);
+  // Allowed, the pair is exempt.
+  const ArmCollisions allowed(robot, problem.scene, {}, {"x"}, {{"base", "slider"}});
+  EXPECT_EQ(allowed.Check(kinematics.LinkPosesAt({0.1})), ArmCollision::kNone);
+}
+
+TEST(ArmCollisionTest, ViewsRemovedByEachTestAreCounted) {
+  TempDir dir;
+  const Problem problem = LoadArmScene(dir, SliderUrdf(R"(<box size="0.2 0.2 0.2"/>)"), R"(objects:
+  - {name: part, role: target, pose: {xyz: [0, 0, -3]}, box: {size: [0.1, 0.1, 0.1]}}
+  - {name: post, role: occluder, pose: {xyz: [-1, 0, 0]}, box: {size: [0.2, 0.2, 0.2]}}
+robots:
+  - {name: arm, urdf: arm.urdf}
+keep_out:
+  - {name: cabinet, min: [2, -1, -1], max: [3, 1, 1]}
+populations:
+  - name: wrist
+    type: intel_realsense_d415
+    arm:
+      link: slider
+      mount: {xyz: [0, 0, 0.5]}
+      configurations: [{x: 0.1}, {x: 0.5}, {x: -1.05}, {x: 1.95}, {x: 1.2}, {x: 2.5}]
+)");
+  const ArmViews views = ApplyArms(problem, Deploy(problem), problem.seed);
+  EXPECT_EQ(views.drawn, 6u);
+  EXPECT_EQ(views.self_collisions, 1u);   // 0.1
+  EXPECT_EQ(views.scene_collisions, 1u);  // -1.05 (the post)
+  EXPECT_EQ(views.arm_kept_out, 1u);      // 1.95 (the slider's face in the cabinet)
+  EXPECT_EQ(views.camera_kept_out, 1u);   // 2.5 (the camera itself inside)
+  ASSERT_EQ(views.candidates.size(), 2u);
+  EXPECT_EQ(views.candidates[0].name, "wrist_1");
+  EXPECT_EQ(views.candidates[1].name, "wrist_4");
+}
+
+// ----- the tour ----------------------------------------------------------------------------
+
+/// Motion times between random points (and home) in a 3-D joint space at unit speeds: the
+/// largest coordinate difference, as MotionSeconds times a move.
+TourTimes RandomTimes(size_t n, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(-2, 2);
+  std::vector<std::vector<double>> points(n + 1, std::vector<double>(3));
+  for (auto& p : points)
+    for (double& x : p) x = unit(rng);
+  TourTimes times;
+  times.motion.assign(n + 1, std::vector<double>(n + 1, 0));
+  for (size_t a = 0; a <= n; ++a)
+    for (size_t b = 0; b <= n; ++b)
+      times.motion[a][b] = MotionSeconds(points[a], points[b], {1.0, 0.5, 2.0});
+  for (size_t i = 0; i < n; ++i) times.acquisition.push_back(0.1 * static_cast<double>(i % 3));
+  return times;
+}
+
+double BruteForce(const TourTimes& times, std::vector<uint32_t> subset) {
+  std::sort(subset.begin(), subset.end());
+  double best = std::numeric_limits<double>::infinity();
+  do {
+    best = std::min(best, TourSeconds(times, subset));
+  } while (std::next_permutation(subset.begin(), subset.end()));
+  return best;
+}
+
+TEST(TourTest, HeldKarpEqualsEveryOrderUpToEightViews) {
+  for (uint32_t seed = 1; seed <= 12; ++seed) {
+    for (size_t n = 1; n <= 8; ++n) {
+      const TourTimes times = RandomTimes(n + 2, seed * 31 + static_cast<uint32_t>(n));
+      std::vector<uint32_t> subset;
+      for (uint32_t i = 0; i < n; ++i) subset.push_back(i + 1);  // leave view 0 out
+      const Tour tour = SolveTour(times, subset);
+      EXPECT_TRUE(tour.exact);
+      EXPECT_EQ(tour.method, "held-karp");
+      EXPECT_NEAR(tour.total_seconds, BruteForce(times, subset), 1e-9) << seed << " " << n;
+      std::vector<uint32_t> visited = tour.order;
+      std::sort(visited.begin(), visited.end());
+      EXPECT_EQ(visited, subset);
+      EXPECT_NEAR(tour.total_seconds, tour.motion_seconds + tour.acquisition_seconds, 1e-12);
+      // The heuristic never beats the exact order, and says it is not exact.
+      const Tour heuristic = SolveTour(times, subset, 0);
+      EXPECT_FALSE(heuristic.exact);
+      EXPECT_EQ(heuristic.method, "2-opt+or-opt");
+      EXPECT_GE(heuristic.total_seconds, tour.total_seconds - 1e-9);
+    }
+  }
+}
+
+TEST(TourTest, UnconnectedMovesAreAvoidedOrReported) {
+  TourTimes times = RandomTimes(4, 5);
+  const double inf = std::numeric_limits<double>::infinity();
+  times.motion[0][1] = times.motion[1][0] = inf;
+  const std::vector<uint32_t> subset = {0, 1, 2, 3};
+  const Tour tour = SolveTour(times, subset);
+  EXPECT_TRUE(tour.connected());
+  EXPECT_NEAR(tour.total_seconds, BruteForce(times, subset), 1e-9);
+  // Cut from home: no tour.
+  for (uint32_t v = 0; v < 4; ++v) times.motion[4][v] = times.motion[v][4] = inf;
+  EXPECT_FALSE(SolveTour(times, subset).connected());
+}
+
+TEST(TourTest, CycleTimeKeepsTheTourWithinIt) {
+  const TourTimes times = RandomTimes(9, 3);
+  // Each view sees cells {i, i + 1, ..., i + 3} of 12.
+  std::vector<Observation> observations(9);
+  for (uint32_t i = 0; i < 9; ++i)
+    for (uint32_t c = i; c < i + 4; ++c) observations[i].reference_indices.push_back(c);
+  for (const double limit : {0.0, 2.0, 4.0, 8.0, 100.0}) {
+    const CycleTimeResult result = MostCoverageWithinCycleTime(times, observations, 12, limit);
+    EXPECT_LE(result.tour.total_seconds, limit + 1e-12);
+    std::vector<bool> seen(12, false);
+    for (uint32_t v : result.chosen)
+      for (uint32_t c : observations[v].reference_indices) seen[c] = true;
+    EXPECT_DOUBLE_EQ(result.coverage,
+                     static_cast<double>(std::count(seen.begin(), seen.end(), true)) / 12.0);
+    if (limit == 100.0) EXPECT_DOUBLE_EQ(result.coverage, 1.0);
+    if (limit == 0.0) EXPECT_TRUE(result.chosen.empty());
+  }
+}
+
+// ----- the arm occludes its own camera -------------------------------------------------------
+
+TEST(ArmOcclusionTest, ALinkInFrontOfTheLensHidesExactlyItsSilhouette) {
+  // A target wall 2 m ahead of the camera; a 0.1 m cube link 0.5 m ahead, off-centre.
+  Scene scene;
+  SceneObject wall;
+  wall.name = "wall";
+  wall.role = Role::kTarget;
+  wall.mesh = MakeBox(Vec3(0.01, 4, 4));
+  wall.mesh.Transform(Pose{Vec3(2, 0, 0), Quat::Identity()});
+  scene.objects.push_back(wall);
+  ReferenceOptions reference_options;
+  reference_options.cell_size = 0.02;
+  const Reference reference = BuildReference(scene, reference_options);
+
+  Candidate camera;
+  camera.name = "wrist";
+  camera.sensor = SensorType::FromFov("test", 64, 48, 1.0, std::nullopt, 0.1, 5.0);
+  camera.type_id = "test";
+  camera.world_from_body = Pose{};
+  const Vec3 cube_centre(0.5, 0.031, -0.017);
+  const double half = 0.05;
+  auto body = std::make_shared<ArmBody>();
+  body->robot = "arm";
+  body->links = {"wrist_link"};
+  body->link_meshes = {MakeBox(Vec3::Constant(2 * half))};
+  auto arm = std::make_shared<ArmPose>();
+  arm->body = body;
+  arm->world_from_link = {Pose{cube_centre, Quat::Identity()}};
+  Candidate carried = camera;
+  carried.arm = arm;
+
+  ObserveOptions options;
+  options.cull = false;
+  const std::vector<Candidate> both = {camera, carried};
+  const std::vector<Observation> seen = Observe(scene, reference, both, options);
+  // The silhouette, by a slab test of every pixel's ray against the cube (double precision).
+  int64_t hidden = 0;
+  for (int v = 0; v < camera.sensor.height; ++v) {
+    for (int u = 0; u < camera.sensor.width; ++u) {
+      const Vec3 d = PixelRayInBody(camera.sensor, u, v);
+      double enter = 0, leave = 1e9;
+      for (int a = 0; a < 3; ++a) {
+        double t0 = (cube_centre[a] - half) / d[a], t1 = (cube_centre[a] + half) / d[a];
+        if (t0 > t1) std::swap(t0, t1);
+        enter = std::max(enter, t0);
+        leave = std::min(leave, t1);
+      }
+      hidden += enter <= leave ? 1 : 0;
+    }
+  }
+  ASSERT_GT(hidden, 20);
+  EXPECT_EQ(seen[0].target_pixels, static_cast<uint64_t>(camera.sensor.PixelCount()));
+  EXPECT_EQ(seen[0].target_pixels - seen[1].target_pixels, static_cast<uint64_t>(hidden));
+}
+
+// ----- bad input: exit 2 naming the place, before any ray -------------------------------------
+
+class ArmBadInputTest : public ::testing::Test {
+ protected:
+  TempDir dir_;
+  void Expect(const std::string& urdf, const std::string& population, const std::string& place,
+              const std::string& words) {
+    WriteText(dir_.File("arm.urdf"), urdf);
+    WriteText(dir_.File("scene.yaml"), std::string(kPlanarObjects) + "populations:\n" + population);
+    const auto run = test::RunVantage("optimize " + dir_.File("scene.yaml") + " --out " +
+                                      dir_.File("out"));
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+    EXPECT_NE(run.err.find("scene.yaml:" + place), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find(words), std::string::npos) << run.err;
+    EXPECT_EQ(run.err.find("rays"), std::string::npos) << "refused after casting rays: " << run.err;
+  }
+};
+
+TEST_F(ArmBadInputTest, EachIsRefusedAtItsPlace) {
+  const std::string head = "  - name: wrist\n    type: intel_realsense_d415\n    count: 10\n";
+  Expect(kPlanarUrdf, head + "    arm: {robot: crane, link: tip}\n", "9", "no robot 'crane'");
+  Expect(kPlanarUrdf, head + "    arm: {robot: arm, link: tool0}\n", "9", "no link 'tool0'");
+  Expect(kPlanarUrdf, head + "    arm: {robot: arm, link: base}\n", "9", "nothing to move");
+  std::string continuous = kPlanarUrdf;
+  continuous.replace(continuous.find("type=\"revolute\""), 15, "type=\"continuous\"");
+  Expect(continuous, head + "    arm: {robot: arm, link: tip}\n", "9", "has no <limit");
+  // Every view of a slider that cannot leave a wall around it.
+  WriteText(dir_.File("arm.urdf"), SliderUrdf(R"(<box size="0.2 0.2 0.2"/>)"));
+  WriteText(dir_.File("scene.yaml"), R"(objects:
+  - {name: part, role: target, pose: {xyz: [0, 0, -3]}, box: {size: [0.1, 0.1, 0.1]}}
+  - {name: sleeve, role: occluder, box: {size: [8, 0.25, 0.25]}}
+robots:
+  - {name: arm, urdf: arm.urdf}
+populations:
+  - name: wrist
+    type: intel_realsense_d415
+    count: 10
+    arm: {link: slider}
+)");
+  const auto run =
+      test::RunVantage("optimize " + dir_.File("scene.yaml") + " --out " + dir_.File("out"));
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  EXPECT_NE(run.err.find("scene.yaml:7: population 'wrist': no view"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("object 'sleeve'"), std::string::npos) << run.err;
+}
+
+}  // namespace
+}  // namespace vantage
