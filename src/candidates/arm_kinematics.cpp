@@ -51,6 +51,8 @@ Vec3 RotationError(const Quat& from, const Quat& to) {
 }  // namespace
 
 struct ArmKinematics::Impl {
+  /// Its own copy: the tour uses the kinematics after the scene's Problem is gone.
+  PlacedRobot own;
   const PlacedRobot* robot = nullptr;
   std::string tip;
   KDL::Chain chain;
@@ -63,8 +65,11 @@ struct ArmKinematics::Impl {
 ArmKinematics::ArmKinematics(const PlacedRobot& robot, const std::string& tip_link,
                              const std::vector<std::string>& moved)
     : impl_(std::make_unique<Impl>()) {
-  const RobotModel& model = robot.model;
-  impl_->robot = &robot;
+  impl_->own = robot;
+  impl_->own.visual_meshes.clear();
+  impl_->own.collision_shapes.clear();
+  impl_->robot = &impl_->own;
+  const RobotModel& model = impl_->own.model;
   impl_->tip = tip_link;
   for (const RobotJoint& joint : model.joints) {
     if (!joint.IsSettable()) continue;
