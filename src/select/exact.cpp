@@ -49,6 +49,8 @@ constexpr double kMinBranchAndBoundSeconds = 0.02;
 // Min-points: the share of the time limit for the plain-coverage bound over the cells that can
 // reach the points (a relaxation: a cell with enough points is seen); CBC gets the rest.
 constexpr double kRelaxedBoundShare = 0.25;
+// Set cover: the share of the time left that the goal MILP gets before the search t by t.
+constexpr double kGoalMilpTimeShare = 0.5;
 
 // Candidates seeing each element.
 std::vector<std::vector<uint32_t>> Columns(const CoverageMatrix& matrix) {
@@ -456,7 +458,203 @@ void SettleUpperBound(uint64_t cells, double cbc_bound, bool is_cbc_optimal, Exa
   result->proven_optimal = cells == result->upper_bound;
 }
 
+// Whether every value is a whole number (then objective values are too, and CBC may stop
+// within 1 of its bound).
+bool AllWhole(std::span<const double> values) {
+  return std::all_of(values.begin(), values.end(),
+                     [](double v) { return v == std::floor(v); });
+}
+
 }  // namespace
+
+GoalResult SolveGoalMilp(const CoverageMatrix& matrix, int k, std::span<const double> costs,
+                         uint64_t goal_cells, const std::vector<uint32_t>& start,
+                         double time_limit) {
+  VANTAGE_CHECK(k >= 1 && goal_cells >= 1 && (costs.empty() || costs.size() ==
+                                                                   matrix.candidate_count()));
+  GoalResult result;
+  const size_t m = matrix.candidate_count();
+  const auto cost = [&](uint32_t i) { return costs.empty() ? 1.0 : costs[i]; };
+  const std::vector<std::vector<uint32_t>> columns = Columns(matrix);
+  // k = 1: a dominated candidate is replaced by its dominator in any answer at no higher cost
+  // and no less coverage; k >= 2 (or point counts): it can still be the k-th seer.
+  std::vector<bool> excluded(m, false);
+  if (k == 1 && !matrix.has_counts()) {
+    excluded = Dominated(matrix, columns, costs);
+  } else {
+    for (uint32_t i = 0; i < m; ++i) excluded[i] = matrix.Row(i).empty();
+  }
+  std::vector<uint32_t> kept;
+  std::vector<int> column_of(m, -1);
+  for (uint32_t i = 0; i < m; ++i) {
+    if (excluded[i]) continue;
+    column_of[i] = static_cast<int>(kept.size());
+    kept.push_back(i);
+  }
+  // Classes of elements seen by the same kept candidates (the elements themselves with point
+  // counts or k >= 2, where they are already merged over every candidate that sees anything).
+  std::vector<int64_t> class_of(matrix.element_count(), -1);
+  if (k == 1 && !matrix.has_counts()) {
+    std::vector<std::span<const uint32_t>> kept_rows;
+    for (const uint32_t i : kept) kept_rows.emplace_back(matrix.Row(i));
+    class_of = RefinePartition(matrix.element_count(), kept_rows);
+  } else {
+    for (const uint32_t i : kept)
+      for (const uint32_t e : matrix.Row(i)) class_of[e] = e;
+  }
+  int64_t class_count = 0;
+  for (const int64_t c : class_of) class_count = std::max(class_count, c + 1);
+  std::vector<double> class_weight(class_count, 0.0);
+  std::vector<uint32_t> class_seers(class_count, 0);
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> entries(kept.size());  // class, count
+  for (size_t e = 0; e < class_of.size(); ++e)
+    if (class_of[e] >= 0) class_weight[class_of[e]] += matrix.Weight(static_cast<uint32_t>(e));
+  std::vector<int64_t> last_column(class_count, -1);
+  for (size_t q = 0; q < kept.size(); ++q) {
+    const std::vector<uint32_t>& row = matrix.Row(kept[q]);
+    for (size_t j = 0; j < row.size(); ++j) {
+      const int64_t c = class_of[row[j]];
+      if (last_column[c] == static_cast<int64_t>(q)) continue;
+      last_column[c] = static_cast<int64_t>(q);
+      entries[q].emplace_back(static_cast<uint32_t>(c), matrix.Count(kept[q], j));
+      class_seers[c] += entries[q].back().second;
+    }
+  }
+  const auto threshold = static_cast<uint32_t>(k);
+  double coverable = 0;
+  for (int64_t c = 0; c < class_count; ++c)
+    if (class_seers[c] >= threshold) coverable += class_weight[c];
+  if (static_cast<double>(goal_cells) > coverable) {
+    result.note = "the goal is above what all candidates reach together";
+    return result;
+  }
+  // Every coverable class needed (a goal of all that can be seen): covering rows
+  // sum_q count x_q >= k, pure set covering, whose structure CBC's cuts know. Otherwise
+  // k y_c <= sum_q count x_q and the goal row sum_c w_c y_c (+ the weight of the classes only
+  // x_q sees, for k = 1) >= goal; y continuous for k = 1 (x integer makes it 0 or up to 1 where
+  // covered), binary for k >= 2.
+  const bool cover_all = static_cast<double>(goal_cells) == coverable;
+  const uint32_t min_seers = cover_all ? threshold : std::max<uint32_t>(2, threshold);
+  std::vector<int> row_of_class(class_count, -1);
+  std::vector<double> y_weight;
+  for (int64_t c = 0; c < class_count; ++c) {
+    if (class_seers[c] >= threshold && (cover_all || class_seers[c] >= min_seers)) {
+      row_of_class[c] = static_cast<int>(y_weight.size());
+      y_weight.push_back(class_weight[c]);
+    }
+  }
+  const int x_count = static_cast<int>(kept.size());
+  const int class_rows = static_cast<int>(y_weight.size());
+  const int y_count = cover_all ? 0 : class_rows;
+  const int row_count = class_rows + (cover_all ? 0 : 1);
+  const int goal_row = class_rows;
+  std::vector<CoinBigIndex> starts{0};
+  std::vector<int> indices;
+  std::vector<double> values;
+  std::vector<double> objective;
+  for (int q = 0; q < x_count; ++q) {
+    double own = 0;
+    for (const auto& [c, count] : entries[q]) {
+      if (row_of_class[c] >= 0) {
+        indices.push_back(row_of_class[c]);
+        values.push_back(cover_all ? static_cast<double>(count) : -static_cast<double>(count));
+      } else if (!cover_all && k == 1) {
+        own += class_weight[c];
+      }
+    }
+    if (own != 0) {
+      indices.push_back(goal_row);
+      values.push_back(own);
+    }
+    starts.push_back(static_cast<CoinBigIndex>(indices.size()));
+    objective.push_back(cost(kept[q]));
+  }
+  for (int r = 0; r < y_count; ++r) {
+    indices.push_back(r);
+    values.push_back(static_cast<double>(k));
+    indices.push_back(goal_row);
+    values.push_back(y_weight[r]);
+    starts.push_back(static_cast<CoinBigIndex>(indices.size()));
+    objective.push_back(0.0);
+  }
+  const double max_nonzeros = CbcMaxNonzeros(time_limit);
+  if (static_cast<double>(indices.size()) > max_nonzeros) {
+    result.note = fmt::format(
+        "goal MILP of {} x {} with {} nonzeros is too large for a {:.3g} s time limit (at most "
+        "{:.0f}); CBC not run",
+        row_count, x_count + y_count, indices.size(), time_limit, max_nonzeros);
+    return result;
+  }
+  const std::vector<double> column_lower(x_count + y_count, 0.0);
+  const std::vector<double> column_upper(x_count + y_count, 1.0);
+  std::vector<double> row_lower(row_count), row_upper(row_count);
+  for (int r = 0; r < class_rows; ++r) {
+    row_lower[r] = cover_all ? static_cast<double>(k) : -std::numeric_limits<double>::max();
+    row_upper[r] = cover_all ? std::numeric_limits<double>::max() : 0.0;
+  }
+  if (!cover_all) {
+    row_lower[goal_row] = static_cast<double>(goal_cells);
+    row_upper[goal_row] = std::numeric_limits<double>::max();
+  }
+  CbcModelPtr model(Cbc_newModel());
+  if (!model) {
+    result.note = "CBC could not create a model";
+    return result;
+  }
+  Cbc_Model* cbc = model.get();
+  Cbc_loadProblem(cbc, x_count + y_count, row_count, starts.data(), indices.data(), values.data(),
+                  column_lower.data(), column_upper.data(), objective.data(), row_lower.data(),
+                  row_upper.data());
+  for (int q = 0; q < x_count; ++q) Cbc_setInteger(cbc, q);
+  if (k >= 2 || matrix.has_counts())
+    for (int r = 0; r < y_count; ++r) Cbc_setInteger(cbc, x_count + r);
+  Cbc_setObjSense(cbc, 1);  // minimise
+  Cbc_setLogLevel(cbc, 0);
+  Cbc_setParameter(cbc, "timeMode", "elapsed");
+  Cbc_setMaximumSeconds(cbc, kCbcTimeShare * time_limit);
+  const bool whole = costs.empty() || AllWhole(costs);
+  if (whole) Cbc_setAllowableGap(cbc, 0.99);  // whole sensors or whole costs
+  // Warm start: `start` with each dominated candidate replaced by its dominator (no less
+  // coverage), and every y at what the start reaches; every column gets a value.
+  std::vector<double> start_values(x_count + y_count, 0.0);
+  for (const uint32_t c : start) {
+    const int q = column_of[Dominator(matrix, columns, excluded, costs, c)];
+    if (q >= 0) start_values[q] = 1.0;
+  }
+  std::vector<uint32_t> start_seers(class_count, 0);
+  for (int q = 0; q < x_count; ++q) {
+    if (start_values[q] == 0.0) continue;
+    for (const auto& [c, count] : entries[q]) start_seers[c] += count;
+  }
+  for (int64_t c = 0; c < class_count; ++c) {
+    if (row_of_class[c] >= 0 && !cover_all)
+      start_values[x_count + row_of_class[c]] = start_seers[c] >= threshold ? 1.0 : 0.0;
+  }
+  std::vector<int> start_columns(x_count + y_count);
+  for (int j = 0; j < x_count + y_count; ++j) start_columns[j] = j;
+  Cbc_setMIPStartI(cbc, x_count + y_count, start_columns.data(), start_values.data());
+  const std::optional<CbcAnswer> answer =
+      SolveInChild(cbc, x_count, kCbcKillShare * time_limit, &result.note);
+  if (!answer) return result;
+  if (std::isfinite(answer->bound))
+    result.lower_bound = whole ? std::ceil(answer->bound - 1e-6) : answer->bound - 1e-9;
+  result.lower_bound = std::max(0.0, result.lower_bound);
+  if (!answer->has_solution) {
+    result.note = fmt::format("CBC found no solution ({})", StatusInWords(*answer));
+    return result;
+  }
+  for (const int q : answer->chosen_columns) result.chosen.push_back(kept[q]);
+  // Trusted only when it reaches the goal in integers (CBC's tolerances are not whole cells).
+  if (KCoveredWeight(matrix, result.chosen, k) < goal_cells) {
+    result.chosen.clear();
+    result.note = "CBC's answer misses the goal by round-off";
+    return result;
+  }
+  result.proven_optimal = answer->proven_optimal;
+  if (!result.proven_optimal)
+    result.note = fmt::format("not proved optimal: CBC {}", StatusInWords(*answer));
+  return result;
+}
 
 ExactResult SolveExact(const CoverageMatrix& matrix,
                        size_t n,
@@ -627,28 +825,52 @@ SetCoverResult SolveSetCover(const CoverageMatrix& matrix,
                              const std::vector<uint32_t>& start,
                              double time_limit) {
   VANTAGE_CHECK(goal_cells >= 1 && !start.empty() && matrix.CoveredWeight(start) >= goal_cells);
-  // Set cover through maximum coverage: the fewest sensors is the least t whose maximum coverage
-  // reaches the goal. Going up from a lower bound, each t is settled by the cheapest proof: the
-  // greedy bound below the goal (t too few), greedy or local search reaching it (t suffices), or
-  // else SolveExact within the time left. (A direct min-sensors MILP has a covering row whose root
-  // LP took CBC minutes on the 450-candidate world, beyond any time limit.)
+  // Two proofs share the time. The fewest sensors is the least t whose maximum coverage reaches
+  // the goal: going up from a lower bound, each t is settled by the cheapest proof (the greedy
+  // bound below the goal: too few; greedy or local search reaching it: enough). What that
+  // leaves open goes first to the goal as one MILP (SolveGoalMilp: its covering rows are the
+  // structure CBC's cuts and bound know, where maximum coverage's LP at t fractional sensors
+  // reaches any goal: Steiner triple systems, covering designs), for a share of the time, then
+  // t by t to SolveExact in the rest (vantage's own matrices, whose goal rows are long).
   const auto start_time = std::chrono::steady_clock::now();
-  const auto seconds_left = [&] {
-    return time_limit -
-           std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
-  };
+  const auto seconds_left = [&] { return time_limit - SecondsSince(start_time); };
   SetCoverResult result;
   result.chosen = start;
   size_t lower = std::max<size_t>(1, SetCoverLowerBound(matrix, goal_cells));
   lower = SetCoverLpLowerBound(matrix, goal_cells, std::min(lower, start.size()), start.size(),
                                time_limit);
-  for (size_t t = lower; t < result.chosen.size(); ++t) {
-    const std::vector<uint32_t> greedy = GreedyComplete(CellScorer(matrix), {}, t);
-    if (GreedyUpperBound(matrix, greedy, t) < goal_cells) {
-      lower = t + 1;  // no t sensors reach the goal
-      continue;
+  const auto settle_cheaply = [&] {  // true once settled
+    for (size_t t = lower; t < result.chosen.size(); ++t) {
+      const std::vector<uint32_t> greedy = GreedyComplete(CellScorer(matrix), {}, t);
+      if (GreedyUpperBound(matrix, greedy, t) < goal_cells) {
+        lower = t + 1;  // no t sensors reach the goal
+        continue;
+      }
+      std::vector<uint32_t> found = LocalSearch(CellScorer(matrix), greedy);
+      if (matrix.CoveredWeight(found) < goal_cells) return false;
+      result.chosen = std::move(found);  // t sensors reach the goal, and t - 1 do not
+      return true;
     }
-    std::vector<uint32_t> found = LocalSearch(CellScorer(matrix), greedy);
+    return true;
+  };
+  const auto finish = [&] {
+    result.lower_bound = std::min(lower, result.chosen.size());
+    result.proven_optimal = result.lower_bound == result.chosen.size();
+    if (result.proven_optimal) result.note.clear();
+    return result;
+  };
+  if (settle_cheaply()) return finish();
+  const GoalResult milp =
+      SolveGoalMilp(matrix, 1, {}, goal_cells, result.chosen, kGoalMilpTimeShare * seconds_left());
+  if (milp.chosen.size() >= 1 && milp.chosen.size() < result.chosen.size())
+    result.chosen = milp.chosen;
+  lower = std::max(lower, static_cast<size_t>(milp.lower_bound));
+  if (milp.proven_optimal) lower = std::max(lower, result.chosen.size());
+  result.note = milp.note;
+  if (lower >= result.chosen.size() || settle_cheaply()) return finish();
+  for (size_t t = lower; t < result.chosen.size(); ++t) {
+    std::vector<uint32_t> found =
+        LocalSearch(CellScorer(matrix), GreedyComplete(CellScorer(matrix), {}, t));
     if (matrix.CoveredWeight(found) < goal_cells) {
       const double left = seconds_left();
       if (left <= 0) {
@@ -670,9 +892,7 @@ SetCoverResult SolveSetCover(const CoverageMatrix& matrix,
     result.chosen = std::move(found);  // t sensors reach the goal, and t - 1 do not
     break;
   }
-  result.lower_bound = std::min(lower, result.chosen.size());
-  result.proven_optimal = result.lower_bound == result.chosen.size();
-  return result;
+  return finish();
 }
 
 }  // namespace vantage::detail

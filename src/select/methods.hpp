@@ -435,11 +435,32 @@ struct SetCoverResult {
   std::string note;
 };
 
+/// What SolveGoalMilp found.
+struct GoalResult {
+  std::vector<uint32_t> chosen;  ///< reaches the goal; empty when CBC found nothing usable
+  double lower_bound = 0;        ///< proven: no answer reaching the goal costs less
+  bool proven_optimal = false;   ///< chosen's cost meets lower_bound (CBC's proof)
+  std::string note;              ///< why CBC was not run, or stopped
+};
+
+/// The goal as one MILP (the cheapest answer that reaches the goal):
+///   min sum_i cost_i x_i  s.t.  k y_e <= sum_{i sees e} count_ie x_i,  sum_e w_e y_e >= goal,
+/// x binary, y in [0, 1] (binary for k >= 2 or point counts). A goal of everything the
+/// candidates can reach becomes covering rows sum_{i sees e} count_ie x_i >= k, without y. With
+/// k = 1 dominated candidates are dropped and elements re-merged over the others (RunCbc's
+/// reductions). `costs` empty: unit (the fewest sensors). Warm-started from `start` (which must
+/// reach the goal), solved in a child within `time_limit` seconds (cbc_answer.hpp's shares); not
+/// attempted beyond CbcMaxNonzeros(time_limit). Whole costs: the bound is rounded up.
+GoalResult SolveGoalMilp(const CoverageMatrix& matrix, int k, std::span<const double> costs,
+                         uint64_t goal_cells, const std::vector<uint32_t>& start,
+                         double time_limit);
+
 /// Fewest sensors reaching `goal_cells` (a lower bound on the sensors any answer needs is part of
-/// the result): the least t whose maximum coverage reaches the goal, found by going up from
-/// SetCoverLowerBound and settling each t by GreedyUpperBound (too few), greedy + LocalSearch
-/// (enough) or SolveExact within the time left. Stops at the first t it cannot settle; never
-/// returns more sensors than `start` (which reaches the goal).
+/// the result): the least t whose maximum coverage reaches the goal. Going up from
+/// SetCoverLowerBound and the LP's bound, each t is settled cheaply where it can be
+/// (GreedyUpperBound: too few; greedy + LocalSearch: enough); what is left goes to the goal as one
+/// MILP (SolveGoalMilp) for half of the time left, then t by t to SolveExact in the rest. Stops
+/// at the first t it cannot settle; never returns more sensors than `start` (which reaches it).
 SetCoverResult SolveSetCover(const CoverageMatrix& matrix,
                              uint64_t goal_cells,
                              const std::vector<uint32_t>& start,
