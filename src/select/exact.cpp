@@ -143,6 +143,34 @@ struct CbcOutcome {
 };
 
 
+// The column-wise MILP both exact models hand CBC: x (candidates) are binary; y (cells) integer
+// when a cell's count matters (k >= 2 or pixel counts), else continuous. Null when CBC cannot
+// create a model.
+CbcModelPtr LoadedCbcModel(int x_count, int y_count, int row_count,
+                           const std::vector<CoinBigIndex>& starts, const std::vector<int>& indices,
+                           const std::vector<double>& values,
+                           const std::vector<double>& column_lower,
+                           const std::vector<double>& column_upper,
+                           const std::vector<double>& objective,
+                           const std::vector<double>& row_lower,
+                           const std::vector<double>& row_upper, bool integer_cells,
+                           double sense) {
+  CbcModelPtr model(Cbc_newModel());
+  if (!model) return model;
+  Cbc_Model* cbc = model.get();
+  Cbc_loadProblem(cbc, x_count + y_count, row_count, starts.data(), indices.data(), values.data(),
+                  column_lower.data(), column_upper.data(), objective.data(), row_lower.data(),
+                  row_upper.data());
+  for (int q = 0; q < x_count; ++q) Cbc_setInteger(cbc, q);
+  if (integer_cells) {
+    for (int r = 0; r < y_count; ++r) Cbc_setInteger(cbc, x_count + r);
+  }
+  Cbc_setObjSense(cbc, sense);
+  Cbc_setLogLevel(cbc, 0);
+  Cbc_setParameter(cbc, "timeMode", "elapsed");  // wall clock, as the time limits mean
+  return model;
+}
+
 CbcOutcome RunCbc(const CoverageMatrix& matrix,
                   const MilpSpec& spec,
                   const std::vector<uint32_t>& start,
@@ -287,22 +315,14 @@ CbcOutcome RunCbc(const CoverageMatrix& matrix,
     return outcome;
   }
 
-  CbcModelPtr model(Cbc_newModel());
+  CbcModelPtr model = LoadedCbcModel(x_count, y_count, row_count, starts, indices, values,
+                                     column_lower, column_upper, objective, row_lower, row_upper,
+                                     spec.k >= 2, -1);  // maximise
   if (!model) {
     outcome.note = "CBC could not create a model";
     return outcome;
   }
   Cbc_Model* cbc = model.get();
-  Cbc_loadProblem(cbc, x_count + y_count, row_count, starts.data(), indices.data(), values.data(),
-                  column_lower.data(), column_upper.data(), objective.data(), row_lower.data(),
-                  row_upper.data());
-  for (int q = 0; q < x_count; ++q) Cbc_setInteger(cbc, q);
-  if (spec.k >= 2) {
-    for (int r = 0; r < y_count; ++r) Cbc_setInteger(cbc, x_count + r);
-  }
-  Cbc_setObjSense(cbc, -1);  // maximise
-  Cbc_setLogLevel(cbc, 0);
-  Cbc_setParameter(cbc, "timeMode", "elapsed");  // wall clock, as options.time_limit means
   // CBC notices its limit only between steps and overran it by up to 5 s in 60 (the 450-candidate
   // bench world): it gets 85 % of the time, so that the whole method stays within the limit.
   Cbc_setMaximumSeconds(cbc, kCbcTimeShare * time_limit);
@@ -596,21 +616,14 @@ GoalResult SolveGoalMilp(const CoverageMatrix& matrix, int k, std::span<const do
     row_lower[goal_row] = static_cast<double>(goal_cells);
     row_upper[goal_row] = std::numeric_limits<double>::max();
   }
-  CbcModelPtr model(Cbc_newModel());
+  CbcModelPtr model = LoadedCbcModel(x_count, y_count, row_count, starts, indices, values,
+                                     column_lower, column_upper, objective, row_lower, row_upper,
+                                     k >= 2 || matrix.has_counts(), 1);  // minimise
   if (!model) {
     result.note = "CBC could not create a model";
     return result;
   }
   Cbc_Model* cbc = model.get();
-  Cbc_loadProblem(cbc, x_count + y_count, row_count, starts.data(), indices.data(), values.data(),
-                  column_lower.data(), column_upper.data(), objective.data(), row_lower.data(),
-                  row_upper.data());
-  for (int q = 0; q < x_count; ++q) Cbc_setInteger(cbc, q);
-  if (k >= 2 || matrix.has_counts())
-    for (int r = 0; r < y_count; ++r) Cbc_setInteger(cbc, x_count + r);
-  Cbc_setObjSense(cbc, 1);  // minimise
-  Cbc_setLogLevel(cbc, 0);
-  Cbc_setParameter(cbc, "timeMode", "elapsed");
   Cbc_setMaximumSeconds(cbc, kCbcTimeShare * time_limit);
   const bool whole = costs.empty() || AllWhole(costs);
   if (whole) Cbc_setAllowableGap(cbc, 0.99);  // whole sensors or whole costs
