@@ -279,7 +279,8 @@ void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {
                         "best | ransac | greedy | local | exact | all (default: the scene's, "
                         "else all: every method, compared)");
   app->add_option("--iterations", request->ransac_iterations,
-                  "RANSAC iteration cap (default: the scene's)");
+                  "RANSAC iteration cap (default: the scene's); --method all runs it at the N "
+                  "asked and shares 5e5 drawn sensors among the smaller N's");
   app->add_option("--stop", request->ransac_stop_coverage,
                   "RANSAC stops at this coverage, fraction 0..1 (default: the scene's)");
   app->add_option("--time-limit", request->time_limit,
