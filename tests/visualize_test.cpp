@@ -20,6 +20,7 @@
 #include <set>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <optional>
 #include <string_view>
 
 #include "test_util.hpp"
@@ -142,6 +143,7 @@ RenderOptions View(const Vec3& eye, int size, double fov) {
   options.eye = eye;
   options.look_at = Vec3::Zero();
   options.draw_frusta = false;
+  options.draw_markers = false;
   return options;
 }
 
@@ -208,8 +210,126 @@ TEST(Render, CountsColoursAndFrustaOfTwoSensors) {
   EXPECT_EQ(counts.by_class[3], 0);               // no third sensor
   EXPECT_GT(counts.observed, counts.unobserved);  // the default view looks from the sensors' side
   EXPECT_GT(counts.frustum, 50);
+  // Without frusta the markers stay (issue 46); without markers either, nothing is drawn.
   options.draw_frusta = false;
+  const int markers_only = CountPixels(RenderView(run->scene, run->report, options)).frustum;
+  EXPECT_GT(markers_only, 10);
+  EXPECT_LT(markers_only, counts.frustum);
+  options.draw_markers = false;
   EXPECT_EQ(CountPixels(RenderView(run->scene, run->report, options)).frustum, 0);
+}
+
+// Where a world point lands in a picture of `view`, as a pinhole with up +z (the picture's own
+// camera, derived here from the view's definition); nullopt behind the eye.
+std::optional<std::pair<double, double>> PixelOf(const struct View& view, const Vec3& p, int width,
+                                                 int height, double fov) {
+  const Vec3 forward = (view.look_at - view.eye).normalized();
+  const Vec3 right = forward.cross(Vec3::UnitZ()).normalized(), up = right.cross(forward);
+  const Vec3 v = p - view.eye;
+  const double depth = v.dot(forward);
+  if (depth <= 0) return std::nullopt;
+  const double t = std::tan(fov / 2);
+  return std::make_pair((v.dot(right) / (depth * t * width / height) + 1) * 0.5 * width,
+                        (1 - v.dot(up) / (depth * t)) * 0.5 * height);
+}
+
+// Every chosen camera is in the default picture however far it stands (issue 46: cameras beyond
+// 12 target radii were left out): its gold marker is drawn where it projects.
+TEST(Render, DefaultViewShowsEveryChosenCameraHoweverFar) {
+  const std::vector<Vec3> eyes = {Vec3(0.4, 0.1, 0.3), Vec3(-3.5, 0.5, 0.4), Vec3(0.2, 2.9, 1.5)};
+  std::vector<Candidate> cameras;
+  for (size_t k = 0; k < eyes.size(); ++k)
+    cameras.push_back(Camera("cam" + std::to_string(k), eyes[k], Vec3::Zero(), 200, 0.3));
+  auto run = MakeRun(SphereScene(kRadius), cameras, 3);
+  ASSERT_EQ(run->report.PrimaryChosen().size(), 3u);
+  RenderOptions options;
+  options.width = 400;
+  options.height = 300;
+  options.draw_frusta = false;
+  const Image image = RenderView(run->scene, run->report, options);
+  const struct View view = DefaultView(run->scene, run->report, options.vertical_fov, 4.0 / 3.0);
+  for (const Vec3& eye : eyes) {
+    const auto pixel = PixelOf(view, eye, options.width, options.height, options.vertical_fov);
+    ASSERT_TRUE(pixel.has_value());
+    const int x = static_cast<int>(pixel->first), y = static_cast<int>(pixel->second);
+    ASSERT_TRUE(x >= 0 && y >= 0 && x < options.width && y < options.height)
+        << "(" << eye.transpose() << ") projects to " << x << ", " << y;
+    EXPECT_EQ(image.At(x, y), kFrustumColor) << "no marker at " << x << ", " << y;
+  }
+  // The sphere is in the picture too.
+  EXPECT_GT(CountPixels(image).observed, 20);
+}
+
+// A camera 0.6 m above a floor (an occluder) gets a dashed dark line straight down to it: dark
+// pixels along the projected segment from the marker to the floor point, none beyond the floor
+// point on the segment's extension.
+TEST(Render, DropLineRunsFromTheCameraDownToTheFloor) {
+  Scene scene = SphereScene(kRadius);
+  TriangleMesh floor = MakeBox(Vec3(3.0, 3.0, 0.02));
+  floor.Transform(Pose{Vec3(0, 0, -0.11 - 0.01), Quat::Identity()});
+  scene.objects.push_back({"floor", Role::kOccluder, std::move(floor), {}});
+  const Vec3 apex(0.5, 0.2, 0.49);
+  auto run = MakeRun(std::move(scene), {Camera("cam", apex, Vec3::Zero(), 200, 0.4)}, 1);
+  RenderOptions options;
+  options.width = options.height = 400;
+  options.draw_frusta = false;
+  options.eye = Vec3(2.0, -1.5, 0.8);
+  options.look_at = Vec3(0.2, 0.1, 0.0);
+  const Image image = RenderView(run->scene, run->report, options);
+  const struct View view{*options.eye, *options.look_at};
+  const auto top = PixelOf(view, apex, 400, 400, options.vertical_fov);
+  const auto foot = PixelOf(view, Vec3(apex.x(), apex.y(), -0.11), 400, 400, options.vertical_fov);
+  const auto below = PixelOf(view, Vec3(apex.x(), apex.y(), -0.45), 400, 400, options.vertical_fov);
+  ASSERT_TRUE(top && foot && below);
+  const auto dark = [&](double fx, double fy) {
+    const int cx = static_cast<int>(fx), cy = static_cast<int>(fy);
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx) {
+        const int x = cx + dx, y = cy + dy;
+        if (x < 0 || y < 0 || x >= 400 || y >= 400) continue;
+        const Rgb p = image.At(x, y);
+        if (p[0] < 90 && p[1] < 95 && p[2] < 105) return true;
+      }
+    return false;
+  };
+  int on_line = 0, samples = 0;
+  for (double t = 0.15; t <= 0.85; t += 0.02, ++samples)
+    on_line += dark(top->first + t * (foot->first - top->first), top->second + t * (foot->second - top->second));
+  EXPECT_GT(on_line, samples / 3) << on_line << " of " << samples;  // dashed: about half
+  int beyond = 0;
+  for (double t = 0.2; t <= 0.9; t += 0.05)
+    beyond += dark(foot->first + t * (below->first - foot->first), foot->second + t * (below->second - foot->second));
+  EXPECT_EQ(beyond, 0);
+}
+
+// From below with the occluders left out: a sphere resting in a cup-like floor box, seen by one
+// camera above, shows its unseen underside in red; the default view (from above) shows mostly
+// observed surface, the floor hiding the underside.
+TEST(Render, FromBelowShowsTheUnseenUndersideThroughTheOccluders) {
+  Scene scene = SphereScene(kRadius);
+  TriangleMesh floor = MakeBox(Vec3(1.0, 1.0, 0.02));
+  floor.Transform(Pose{Vec3(0, 0, -0.11), Quat::Identity()});
+  scene.objects.push_back({"floor", Role::kOccluder, std::move(floor), {}});
+  auto run = MakeRun(std::move(scene), {Camera("top", Vec3(0.05, 0.02, 0.8), Vec3::Zero(), 400, 0.5)}, 1);
+  RenderOptions options;
+  options.width = options.height = 300;
+  options.draw_frusta = false;
+  options.draw_markers = false;
+  const Counts above = CountPixels(RenderView(run->scene, run->report, options));
+  options.from_below = true;
+  const Image below_image = RenderView(run->scene, run->report, options);
+  const Counts below = CountPixels(below_image);
+  EXPECT_GT(above.observed, above.unobserved);
+  EXPECT_GT(below.unobserved, 1000);
+  EXPECT_GT(below.unobserved, below.observed);
+  // No occluder grey: the floor is left out.
+  int grey = 0;
+  for (int y = 0; y < 300; ++y)
+    for (int x = 0; x < 300; ++x) {
+      const Rgb p = below_image.At(x, y);
+      if (std::abs(p[0] - p[1]) < 4 && std::abs(p[1] - p[2]) < 4 && p[0] > 60 && p[0] < 200) ++grey;
+    }
+  EXPECT_LT(grey, 50);
 }
 
 // The default framing (issue 16): every framed point inside the picture, the frame tight (the
@@ -532,6 +652,94 @@ TriangleMesh ClusteredAsDefined(const TriangleMesh& mesh, double cell) {
 // The page's meshes are the scene's clustered at the smallest cell of the documented sequence
 // (1/4096 of the scene's diagonal, times 1.4 a round) whose triangles fit the budget: every mesh,
 // vertex for vertex (as float) and index for index.
+std::vector<uint8_t> FromBase64(const std::string& text) {
+  static const std::string alphabet =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::vector<uint8_t> out;
+  uint32_t buffer = 0;
+  int bits = 0;
+  for (const char c : text) {
+    if (c == '=') break;
+    buffer = (buffer << 6) | static_cast<uint32_t>(alphabet.find(c));
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back(static_cast<uint8_t>((buffer >> bits) & 0xFF));
+    }
+  }
+  return out;
+}
+
+// The page's what-if data (issue 46) decoded as docs/outputs.md describes it gives back every
+// candidate's observed cells exactly, whichever form each took; the parts are the cells each
+// target alone would give R (two spheres apart), adding up to |R|.
+TEST(HtmlReport, WhatIfSetsAndPartsDecodeToTheObservations) {
+  Scene scene = SphereScene(kRadius);
+  TriangleMesh second = MakeSphere(0.05, kCell / 10);
+  second.Transform(Pose{Vec3(0.4, 0, 0), Quat::Identity()});
+  scene.objects.push_back({"small", Role::kTarget, second, {}});
+  Scene small_only;
+  small_only.objects.push_back({"small", Role::kTarget, second, {}});
+  const size_t small_cells = BuildReference(small_only, ReferenceOptions{kCell}).size();
+  const size_t ball_cells = BuildReference(SphereScene(kRadius), ReferenceOptions{kCell}).size();
+  auto run = MakeRun(std::move(scene),
+                     {Camera("east", Vec3(1.2, 0, 0), Vec3::Zero(), 300, 0.6),
+                      Camera("north", Vec3(0.1, 1.0, 0.2), Vec3::Zero(), 16, 0.5),
+                      Camera("none", Vec3(5, 0, 3), Vec3(6, 0, 3), 16, 0.2)},
+                     2);
+  const nlohmann::json data = nlohmann::json::parse(DataJsonOf(HtmlReport(run->report, run->scene)));
+  ASSERT_TRUE(data["whatif"].is_object());
+  const size_t cells = run->data.reference.size();
+  EXPECT_EQ(data["whatif"]["cells"], cells);
+  const std::vector<uint8_t> raw = FromBase64(data["whatif"]["sets"]);
+  size_t at = 0;
+  const auto varint = [&] {
+    uint64_t value = 0;
+    for (int shift = 0;; shift += 7) {
+      const uint8_t b = raw.at(at++);
+      value |= uint64_t{b & 0x7Fu} << shift;
+      if (!(b & 0x80)) return value;
+    }
+  };
+  std::set<int> modes;
+  for (size_t c = 0; c < run->data.candidates.size(); ++c) {
+    const uint64_t head = varint();
+    std::vector<uint32_t> decoded;
+    modes.insert(static_cast<int>(head & 1));
+    if (head & 1) {
+      for (size_t r = 0; r < cells; ++r)
+        if (raw.at(at + r / 8) & (1 << (r % 8))) decoded.push_back(static_cast<uint32_t>(r));
+      at += (cells + 7) / 8;
+    } else {
+      int64_t r = -1;
+      for (uint64_t k = 0; k < head >> 1; ++k) {
+        r += static_cast<int64_t>(varint()) + 1;
+        decoded.push_back(static_cast<uint32_t>(r));
+      }
+    }
+    EXPECT_EQ(decoded.size(), head >> 1);
+    EXPECT_EQ(decoded, run->data.observations[c].reference_indices) << run->data.candidates[c].name;
+  }
+  EXPECT_EQ(at, raw.size());
+  EXPECT_EQ(modes.size(), 2u) << "expected a bitset (east sees much) and a list (north sees little)";
+  ASSERT_EQ(data["whatif"]["parts"].size(), 2u);
+  EXPECT_EQ(data["whatif"]["parts"][0]["name"], "ball");
+  EXPECT_EQ(data["whatif"]["parts"][0]["cells"], ball_cells);
+  EXPECT_EQ(data["whatif"]["parts"][1]["name"], "small");
+  EXPECT_EQ(data["whatif"]["parts"][1]["cells"], small_cells);
+  EXPECT_EQ(ball_cells + small_cells, cells);
+  // Every chosen sensor is framed (the page fits its view to these points).
+  EXPECT_EQ(data["view"]["sensors"].size(), run->report.PrimaryChosen().size());
+
+  // Above the budget: no what-if, and a note that says why.
+  HtmlReportOptions small_budget;
+  small_budget.max_whatif_bytes = 100;
+  const nlohmann::json without =
+      nlohmann::json::parse(DataJsonOf(HtmlReport(run->report, run->scene, small_budget)));
+  EXPECT_TRUE(without["whatif"].is_null());
+  EXPECT_NE(without["notes"].dump().find("what-if layout is not offered"), std::string::npos);
+}
+
 TEST(HtmlReport, SimplifiedMeshesAreVertexClusteringAtTheSmallestCellThatFits) {
   Scene scene = SphereScene(kRadius);
   TriangleMesh box = MakeBox(Vec3(0.3, 0.05, 0.2));

@@ -64,7 +64,11 @@ void SetupRender(CLI::App* parent) {
   app->add_option("--fov", flags->fov_deg, "vertical field of view [deg]")
       ->check(NumberFrom(1, 170, ValueKind::kNumber))
       ->capture_default_str();
-  app->add_flag("--no-frusta", flags->no_frusta, "do not draw the sensors' frusta");
+  app->add_flag("--no-frusta", flags->no_frusta,
+                "do not draw the sensors' frusta (their markers and height lines stay)");
+  app->add_flag("--from-below", options.render.from_below,
+                "look from below with the occluders left out: the target surface that rests on "
+                "or hides behind other geometry shows, red where no chosen sensor sees it");
   app->add_flag("--no-legend", flags->no_legend, "do not draw the legend");
   app->add_option("--scene", options.scene.path,
                   "scene file (default: the one the run used, report.json `inputs`)");

@@ -37,9 +37,18 @@ struct RenderOptions {
   std::optional<Vec3> eye;
   /// Point looked at [m, world]. Default: DefaultView's (the centre of what it frames).
   std::optional<Vec3> look_at;
-  /// Chosen sensors' frusta and markers; each frustum ends at the targets' far side
-  /// (FrustumDepth), never beyond `far`.
+  /// Chosen sensors' frusta; each frustum ends at the targets' far side (FrustumDepth), never
+  /// beyond `far`. Faint where they cross a target, so that they do not hide its colours.
   bool draw_frusta = true;
+  /// Chosen sensors' markers (numbered in the order chosen when there are at most 12), each with a
+  /// dashed drop line straight down to the first surface below it (or the scene's lowest point):
+  /// the height cue. Drawn with or without frusta.
+  bool draw_markers = true;
+  /// The default view from below (35° under the horizon, framing the targets) with the occluders
+  /// left out, so that
+  /// target surface resting on or hidden by other geometry shows (issue 46: the unseen third of a
+  /// part lay underneath, never in the picture). eye/look_at still override the viewpoint.
+  bool from_below = false;
   /// A legend in the top left corner: the colours, the result shown (in its method's colour).
   bool draw_legend = false;
   /// Throws InputError naming the field.
@@ -48,8 +57,8 @@ struct RenderOptions {
 
 /// Ray traces (Embree) a shaded view of `scene`: occluders grey; targets coloured by how many of
 /// the chosen sensors observe the voxel hit (kObservedColors; kUnobservedColor when none), the
-/// same voxels as report.json counts; the chosen sensors' frusta drawn over it (dimmed where
-/// hidden). Requires report.data (its reference and observations); InputError on bad options
+/// same voxels as report.json counts; the chosen sensors' markers, drop lines and frusta drawn
+/// over it (dimmed where hidden). The default view (DefaultView) has every chosen sensor in it. Requires report.data (its reference and observations); InputError on bad options
 /// or when eye == look_at.
 Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
                  const RenderOptions& options = {});

@@ -56,6 +56,10 @@ struct HtmlReportOptions {
   /// Most triangles embedded for the 3D view; larger scenes are simplified by vertex clustering
   /// (the page says so). Must be >= 1.
   size_t max_mesh_triangles = 300000;
+  /// Most bytes of the what-if data: the candidates' observation sets embedded in the page, and
+  /// the bitsets the browser decodes them into (candidates x |R| / 8). Above it the page says
+  /// that it offers no what-if layout.
+  size_t max_whatif_bytes = size_t{64} << 20;
 };
 
 /// The report.html text: one self-contained page (no network access, opens from disk) with a 3D
@@ -93,12 +97,8 @@ struct View {
   Vec3 look_at = Vec3::Zero();
 };
 
-/// Chosen sensors farther from the targets' centre than this many targets' radii stay out of the
-/// default frame (the targets would shrink to a few pixels); their frusta still cross it.
-inline constexpr double kMaxFramedDistance = 12.0;
-
 /// What the default views frame (issue 16): the targets' bounds (R's voxels without meshes), the
-/// primary result's sensors within kMaxFramedDistance, and the direction from the point looked at
+/// primary result's sensors (every one of them), and the direction from the point looked at
 /// towards the eye: 35° above the horizon, from the sensors' side turned by 30° to the side that
 /// frames them from closer (a fixed oblique azimuth when they surround the targets). Requires a
 /// derived report when report.data is set.

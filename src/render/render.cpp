@@ -28,6 +28,12 @@ namespace vantage {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// From below: at most this many occluders are passed through along one ray, each from this far
+// [m] beyond its hit (well under any cell, well over float's step at scene distances).
+constexpr int kMaxOccludersPassed = 16;
+constexpr double kPassStep = 1e-4;
+// Markers carry their number up to this many chosen sensors (more would hide the picture).
+constexpr size_t kMostNumberedSensors = 12;
 
 // Packed voxel key -> number of chosen sensors that observe it (inside R and outside it).
 std::unordered_map<uint64_t, int> ObservationCounts(const VisibilityFile& data,
@@ -40,6 +46,9 @@ std::unordered_map<uint64_t, int> ObservationCounts(const VisibilityFile& data,
   }
   return counts;
 }
+
+// Drop lines and the markers' outlines: dark, unlike any surface colour.
+constexpr Rgb kDropLineColor = {40, 48, 60};
 
 Rgb TargetColor(int sensors_seeing) {
   if (sensors_seeing <= 0) return kUnobservedColor;
@@ -87,10 +96,18 @@ ViewCamera MakeCamera(const View& view, const RenderOptions& options) {
 // overlapping samples do not accumulate.
 class Overlay {
  public:
-  Overlay(const ViewCamera& camera, const std::vector<float>& depth)
-      : camera_(camera), depth_(depth), alpha_(depth.size(), 0.0f) {}
+  /// `over_target`: per pixel, 1 where it shows a target; the lines there are drawn at
+  /// `target_alpha` so that they do not bury the target's colours (issue 46).
+  Overlay(const ViewCamera& camera, const std::vector<float>& depth,
+          const std::vector<uint8_t>& over_target, float target_alpha = 1.0f)
+      : camera_(camera),
+        depth_(depth),
+        over_target_(over_target),
+        target_alpha_(target_alpha),
+        alpha_(depth.size(), 0.0f) {}
 
-  void Segment(const Vec3& a, const Vec3& b) {
+  /// A line from a to b; `dash` > 0: dashes and gaps of that many pixels.
+  void Segment(const Vec3& a, const Vec3& b, double dash = 0) {
     // Clip to the half-space in front of the eye, then sample at about two samples per pixel.
     Vec3 p = a, q = b;
     const double za = (p - camera_.eye).dot(camera_.forward),
@@ -104,6 +121,8 @@ class Overlay {
     const double length = std::hypot(x1 - x0, y1 - y0);
     const int samples = length < 20000.0 ? static_cast<int>(std::max(2.0, 2.0 * length)) : 40000;
     for (int i = 0; i <= samples; ++i) {
+      // Samples are about half a pixel apart: a dash of `dash` pixels is 2 * dash samples.
+      if (dash > 0 && static_cast<int>(i / (2.0 * dash)) % 2 == 1) continue;
       const Vec3 point = p + (q - p) * (static_cast<double>(i) / samples);
       double x = 0, y = 0;
       if (!camera_.Project(point, &x, &y)) continue;
@@ -114,13 +133,15 @@ class Overlay {
     }
   }
 
+  /// A disc of `radius_px` around the point; markers are not dimmed over targets (they are small).
   void Disc(const Vec3& center, double radius_px) {
     double cx = 0, cy = 0;
     if (!camera_.Project(center, &cx, &cy)) return;
     const double distance = (center - camera_.eye).norm();
     for (double dy = -radius_px; dy <= radius_px; dy += 1.0) {
       for (double dx = -radius_px; dx <= radius_px; dx += 1.0) {
-        if (dx * dx + dy * dy <= radius_px * radius_px) Mark(cx + dx, cy + dy, distance);
+        if (dx * dx + dy * dy <= radius_px * radius_px)
+          Mark(cx + dx, cy + dy, distance, /*dim_over_target=*/false);
       }
     }
   }
@@ -137,7 +158,7 @@ class Overlay {
   }
 
  private:
-  void Mark(double x, double y, double distance) {
+  void Mark(double x, double y, double distance, bool dim_over_target = true) {
     // Tested as doubles: a point just in front of the eye projects to pixel ±1e10 and beyond,
     // which no int holds.
     if (!(x >= 0 && y >= 0 && x < camera_.width && y < camera_.height)) return;
@@ -146,11 +167,15 @@ class Overlay {
         static_cast<size_t>(yi) * static_cast<size_t>(camera_.width) + static_cast<size_t>(xi);
     // Hidden behind the surface this pixel shows: drawn faintly.
     const bool is_visible = distance <= static_cast<double>(depth_[i]) * 1.002 + 1e-6;
-    alpha_[i] = std::max(alpha_[i], is_visible ? 1.0f : 0.3f);
+    float alpha = is_visible ? 1.0f : 0.3f;
+    if (dim_over_target && over_target_[i]) alpha = std::min(alpha, target_alpha_);
+    alpha_[i] = std::max(alpha_[i], alpha);
   }
 
   const ViewCamera& camera_;
   const std::vector<float>& depth_;
+  const std::vector<uint8_t>& over_target_;
+  float target_alpha_ = 1.0f;
   std::vector<float> alpha_;
 };
 
@@ -208,7 +233,9 @@ void DrawText(Image* image, int x, int y, const std::string& text, int scale, co
 }
 
 // The legend, top left: the result shown in its method's colour, then the picture's colours.
-void DrawLegend(const Report& report, Image* image) {
+void DrawLegend(const Report& report, const RenderOptions& options,
+                const std::vector<std::pair<double, double>>& markers,
+                const std::vector<uint8_t>& over_target, Image* image) {
   std::vector<std::pair<Rgb, std::string>> rows;
   if (report.primary >= 0) {
     const Selection& s = report.results.at(static_cast<size_t>(report.primary));
@@ -222,8 +249,16 @@ void DrawLegend(const Report& report, Image* image) {
     rows.emplace_back(kObservedColors[k],
                       fmt::format("observed by {}{} chosen sensor{}", k + 1,
                                   k + 1 == kObservedColors.size() ? "+" : "", k ? "s" : ""));
-  rows.emplace_back(kOccluderColor, "occluder");
-  rows.emplace_back(kFrustumColor, "chosen sensors, frusta to the targets");
+  if (options.from_below) {
+    rows.emplace_back(kOccluderColor, "seen from below, occluders left out");
+  } else {
+    rows.emplace_back(kOccluderColor, "occluder");
+  }
+  if (options.draw_markers || options.draw_frusta)
+    rows.emplace_back(kFrustumColor, options.draw_frusta
+                                         ? "chosen sensors (# as chosen), frusta to the targets"
+                                         : "chosen sensors (# as chosen)");
+  if (options.draw_markers) rows.emplace_back(kDropLineColor, "height: dashed line to the surface beneath");
   const int scale = std::max(1, static_cast<int>(std::lround(image->height / 480.0)));
   const int line = 14 * scale, pad = 6 * scale, swatch = 9 * scale;
   int text_width = 0;
@@ -231,9 +266,30 @@ void DrawLegend(const Report& report, Image* image) {
     std::string copy = row.second;
     text_width = std::max(text_width, stb_easy_font_width(copy.data()) * scale);
   }
-  const int x0 = pad, y0 = pad;
   const int width = pad + swatch + pad + text_width + pad;
   const int height = pad + static_cast<int>(rows.size()) * line + pad / 2;
+  // The corner that hides no sensor marker and the least target surface (top left among equals):
+  // the legend must not cover the answer.
+  int x0 = pad, y0 = pad;
+  long best = -1;
+  for (int corner = 0; corner < 4; ++corner) {
+    const int x = corner & 1 ? image->width - pad - width : pad;
+    const int y = corner & 2 ? image->height - pad - height : pad;
+    long cost = 0;
+    for (const auto& [mx, my] : markers) {
+      if (mx >= x - pad && mx < x + width + pad && my >= y - pad && my < y + height + pad)
+        cost += 1000000;
+    }
+    for (int yy = std::max(0, y); yy < std::min(image->height, y + height); ++yy)
+      for (int xx = std::max(0, x); xx < std::min(image->width, x + width); ++xx)
+        cost += over_target[static_cast<size_t>(yy) * static_cast<size_t>(image->width) +
+                            static_cast<size_t>(xx)];
+    if (best < 0 || cost < best) {
+      best = cost;
+      x0 = x;
+      y0 = y;
+    }
+  }
   FillRect(image, x0, y0, x0 + width, y0 + height, Rgb{255, 255, 255}, 0.85);
   for (size_t r = 0; r < rows.size(); ++r) {
     const int y = y0 + pad + static_cast<int>(r) * line;
@@ -246,6 +302,62 @@ void DrawLegend(const Report& report, Image* image) {
       FillRect(image, x0 + pad, y, x0 + pad + swatch, y + swatch, rows[r].first, 1.0);
     }
     DrawText(image, x0 + pad + swatch + pad, y + scale, rows[r].second, scale, Rgb{29, 35, 43});
+  }
+}
+
+// The lowest point of the scene's meshes (where a drop line ends when nothing lies below).
+double LowestPoint(const Scene& scene) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const SceneObject& object : scene.objects) {
+    if (!object.mesh.IsEmpty()) lowest = std::min(lowest, object.mesh.Bounds().min.z());
+  }
+  return lowest;
+}
+
+// The chosen sensors' markers, each a gold disc with a dark rim and (up to 12 sensors) its number
+// in the order chosen, and a dashed line straight down from it to the first surface below (the
+// height cue, issue 46).
+void DrawMarkers(const RayScene& rays, const Scene& scene, const VisibilityFile& data,
+                 const std::vector<uint32_t>& chosen, const ViewCamera& camera,
+                 const std::vector<float>& depth, const std::vector<uint8_t>& over_target,
+                 Image* image) {
+  const double lowest = LowestPoint(scene);
+  Overlay drops(camera, depth, over_target, 0.6f), rims(camera, depth, over_target),
+      discs(camera, depth, over_target);
+  const double radius = std::max(3.0, camera.height / 160.0);
+  const std::array<float, 3> down = {0.0f, 0.0f, -1.0f};
+  for (uint32_t index : chosen) {
+    const Vec3 apex = data.candidates.at(index).world_from_body.position;
+    const std::array<float, 3> origin = {static_cast<float>(apex.x()), static_cast<float>(apex.y()),
+                                         static_cast<float>(apex.z())};
+    const RayHit below =
+        rays.IntersectHit(origin.data(), down.data(), std::numeric_limits<float>::infinity());
+    const double foot_z = below.object >= 0 ? apex.z() - static_cast<double>(below.t)
+                                            : std::min(lowest, apex.z());
+    if (std::isfinite(foot_z) && apex.z() - foot_z > 1e-6) {
+      const Vec3 foot(apex.x(), apex.y(), foot_z);
+      drops.Segment(apex, foot, std::max(3.0, camera.height / 120.0));
+      drops.Disc(foot, 0.5 * radius);
+    }
+    rims.Disc(apex, radius + std::max(1.0, radius / 3));
+    discs.Disc(apex, radius);
+  }
+  drops.Composite(kDropLineColor, image);
+  rims.Composite(kDropLineColor, image);
+  discs.Composite(kFrustumColor, image);
+  if (chosen.size() > kMostNumberedSensors) return;
+  const int scale = std::max(1, static_cast<int>(std::lround(camera.height / 480.0)));
+  for (size_t k = 0; k < chosen.size(); ++k) {
+    double x = 0, y = 0;
+    if (!camera.Project(data.candidates.at(chosen[k]).world_from_body.position, &x, &y)) continue;
+    if (!(x >= 0 && y >= 0 && x < camera.width && y < camera.height)) continue;
+    const std::string label = std::to_string(k + 1);
+    std::string copy = label;
+    const int text_width = stb_easy_font_width(copy.data()) * scale;
+    const int left = static_cast<int>(x + radius) + 3 * scale, top = static_cast<int>(y - radius) - 9 * scale;
+    FillRect(image, left - 2 * scale, top - scale, left + text_width + scale, top + 8 * scale,
+             Rgb{255, 255, 255}, 0.85);
+    DrawText(image, left, top, label, scale, kDropLineColor);
   }
 }
 
@@ -278,6 +390,19 @@ Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
 
   View view = DefaultView(scene, report, options.vertical_fov,
                           static_cast<double>(options.width) / options.height);
+  if (options.from_below) {
+    // The same azimuth, as far under the horizon as the default is above it.
+    // Framing the targets only: the underside is what this view is for.
+    Framing framing = DefaultFraming(scene, report);
+    framing.direction.z() = -framing.direction.z();
+    std::vector<Vec3> points;
+    for (int corner = 0; corner < 8; ++corner)
+      points.push_back(Vec3(corner & 1 ? framing.targets.max.x() : framing.targets.min.x(),
+                            corner & 2 ? framing.targets.max.y() : framing.targets.min.y(),
+                            corner & 4 ? framing.targets.max.z() : framing.targets.min.z()));
+    view = FitView(points, framing.direction, options.vertical_fov,
+                   static_cast<double>(options.width) / options.height);
+  }
   if (options.look_at) view.look_at = *options.look_at;
   if (options.eye) view.eye = *options.eye;
   if ((view.eye - view.look_at).norm() < 1e-9)
@@ -293,6 +418,7 @@ Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
       static_cast<size_t>(options.width) * static_cast<size_t>(options.height);
   image.rgb.assign(3 * pixel_count, 0);
   std::vector<float> depth(pixel_count, std::numeric_limits<float>::infinity());
+  std::vector<uint8_t> over_target(pixel_count, 0);
 
   const Vec3 key_light = (-camera.forward + 0.8 * camera.up - 0.5 * camera.right).normalized();
   const double cell_size = data.reference.cell_size;
@@ -310,8 +436,22 @@ Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
             const std::array<float, 3> dir_f = {static_cast<float>(dir.x()),
                                                 static_cast<float>(dir.y()),
                                                 static_cast<float>(dir.z())};
-            const RayHit hit = rays.IntersectHit(origin.data(), dir_f.data(),
-                                                         std::numeric_limits<float>::infinity());
+            RayHit hit = rays.IntersectHit(origin.data(), dir_f.data(),
+                                           std::numeric_limits<float>::infinity());
+            // From below, occluders are passed through: the ray goes on from just beyond each.
+            for (int skipped = 0; options.from_below && hit.object >= 0 && !hit.is_target &&
+                                  skipped < kMaxOccludersPassed;
+                 ++skipped) {
+              const double t = static_cast<double>(hit.t) + kPassStep;
+              const std::array<float, 3> beyond = {
+                  static_cast<float>(view.eye.x() + t * dir.x()),
+                  static_cast<float>(view.eye.y() + t * dir.y()),
+                  static_cast<float>(view.eye.z() + t * dir.z())};
+              hit = rays.IntersectHit(beyond.data(), dir_f.data(),
+                                      std::numeric_limits<float>::infinity());
+              if (hit.object >= 0) hit.t = static_cast<float>(t + hit.t);
+              if (skipped + 1 == kMaxOccludersPassed && !hit.is_target) hit.object = -1;
+            }
             Rgb color{};
             double shade = 1.0;
             if (hit.object < 0) {
@@ -321,6 +461,7 @@ Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
                        static_cast<uint8_t>(243 - 25 * s)};
             } else {
               depth[i] = hit.t;
+              over_target[i] = hit.is_target ? 1 : 0;
               Vec3 normal(hit.normal[0], hit.normal[1], hit.normal[2]);
               if (normal.norm() > 0) normal.normalize();
               if (normal.dot(dir) > 0) normal = -normal;  // two-sided: the side facing the eye
@@ -349,7 +490,8 @@ Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
       });
 
   if (options.draw_frusta) {
-    Overlay overlay(camera, depth);
+    // Faint over the targets: with several sensors their lines all converge there.
+    Overlay overlay(camera, depth, over_target, 0.35f);
     const Aabb targets = DefaultFraming(scene, report).targets;
     for (uint32_t index : chosen) {
       const Candidate& c = data.candidates.at(index);
@@ -361,11 +503,19 @@ Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
         overlay.Segment(apex, corners[k]);
         overlay.Segment(corners[k], corners[(k + 1) % 4]);
       }
-      overlay.Disc(apex, std::max(3.0, options.height / 160.0));
     }
     overlay.Composite(kFrustumColor, &image);
   }
-  if (options.draw_legend) DrawLegend(report, &image);
+  if (options.draw_markers) DrawMarkers(rays, scene, data, chosen, camera, depth, over_target, &image);
+  if (options.draw_legend) {
+    std::vector<std::pair<double, double>> markers;
+    for (uint32_t index : chosen) {
+      double x = 0, y = 0;
+      if (camera.Project(data.candidates.at(index).world_from_body.position, &x, &y))
+        markers.emplace_back(x, y);
+    }
+    DrawLegend(report, options, markers, over_target, &image);
+  }
   return image;
 }
 

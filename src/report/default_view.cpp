@@ -47,8 +47,6 @@ Framing DefaultFraming(const Scene& scene, const Report& report) {
   framing.targets = TargetsOf(scene, report);
   if (framing.targets.IsEmpty()) framing.targets = Aabb{Vec3::Constant(-0.5), Vec3::Constant(0.5)};
   const Vec3 centre = 0.5 * (framing.targets.min + framing.targets.max);
-  const double target_radius =
-      std::max(0.5 * (framing.targets.max - framing.targets.min).norm(), 1e-3);
   Vec3 mean = Vec3::Zero();
   if (report.data != nullptr && report.is_derived) {
     for (uint32_t index : report.PrimaryChosen()) {
@@ -56,9 +54,9 @@ Framing DefaultFraming(const Scene& scene, const Report& report) {
       const Vec3 p = report.data->candidates[index].world_from_body.position;
       const Vec3 d = p - centre;
       if (d.norm() > 1e-9) mean += d.normalized();
-      // A sensor very far from small targets would shrink them to a few pixels: it stays out of
-      // the frame (its frustum still points at the targets).
-      if (d.norm() <= kMaxFramedDistance * target_radius) framing.sensors.push_back(p);
+      // Every chosen sensor is framed (issue 46: a sensor left out of the frame hid the answer);
+      // the page's "targets only" view and `render --eye` show small targets close up.
+      framing.sensors.push_back(p);
     }
   }
   // Three-quarter view: 35° above the horizon, from the side the chosen sensors stand on (their

@@ -20,6 +20,7 @@
 #include "util/markup.hpp"
 #include "util/words.hpp"
 #include "vantage/error.hpp"
+#include "vantage/reference.hpp"
 #include "vantage/visualize.hpp"
 
 namespace vantage {
@@ -270,8 +271,141 @@ std::vector<TriangleMesh> PageMeshes(const Scene& scene, size_t max_triangles, s
   return std::move(fitting.meshes);
 }
 
+// ---------------------------------------------------------------------------------------------
+// The what-if sets (issue 46): each candidate's observed cells of R, compact, so that the page
+// can score any layout the reader clicks together. Per candidate a varint (count << 1 | mode)
+// then, mode 0, `count` varints of the gaps between its sorted indices (index - previous - 1,
+// previous = -1 at first); mode 1, a bitset of |R| bits (LSB first), whichever is shorter.
+
+void AppendVarint(uint64_t value, std::string* out) {
+  while (value >= 0x80) {
+    out->push_back(static_cast<char>((value & 0x7F) | 0x80));
+    value >>= 7;
+  }
+  out->push_back(static_cast<char>(value));
+}
+
+size_t VarintSize(uint64_t value) {
+  size_t size = 1;
+  for (; value >= 0x80; value >>= 7) ++size;
+  return size;
+}
+
+std::string EncodeSets(const std::vector<Observation>& observations, size_t cells) {
+  std::string out;
+  const size_t bitset_bytes = (cells + 7) / 8;
+  for (const Observation& o : observations) {
+    const std::vector<uint32_t>& indices = o.reference_indices;
+    size_t list_bytes = 0;
+    int64_t previous = -1;
+    for (const uint32_t r : indices) {
+      list_bytes += VarintSize(static_cast<uint64_t>(static_cast<int64_t>(r) - previous - 1));
+      previous = r;
+    }
+    const bool as_bitset = bitset_bytes < list_bytes;
+    AppendVarint((uint64_t{indices.size()} << 1) | (as_bitset ? 1u : 0u), &out);
+    if (as_bitset) {
+      std::string bits(bitset_bytes, '\0');
+      for (const uint32_t r : indices) bits[r / 8] = static_cast<char>(bits[r / 8] | (1 << (r % 8)));
+      out += bits;
+    } else {
+      previous = -1;
+      for (const uint32_t r : indices) {
+        AppendVarint(static_cast<uint64_t>(static_cast<int64_t>(r) - previous - 1), &out);
+        previous = r;
+      }
+    }
+  }
+  return out;
+}
+
+// The part (target object) each cell of R belongs to: the first target, in the scene's order,
+// whose triangles touch it (BuildReference's cells, so every cell of R has one when the scene is
+// the run's); -1 for none. Empty without the scene's meshes.
+std::vector<int32_t> CellParts(const Scene& scene, const Reference& reference,
+                               std::vector<std::string>* names) {
+  std::vector<int32_t> part(reference.size(), -1);
+  std::vector<uint64_t> keys;
+  for (const SceneObject& object : scene.objects) {
+    if (!object.is_target() || object.mesh.IsEmpty()) continue;
+    keys.clear();
+    const TriangleMesh& mesh = object.mesh;
+    for (const auto& t : mesh.triangles)
+      AppendTriangleCells(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]],
+                          reference.cell_size, &keys);
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    const int32_t index = static_cast<int32_t>(names->size());
+    bool any = false;
+    for (const uint64_t key : keys) {
+      const int64_t r = reference.IndexOf(key);
+      if (r < 0 || part[static_cast<size_t>(r)] >= 0) continue;
+      part[static_cast<size_t>(r)] = index;
+      any = true;
+    }
+    if (any) names->push_back(object.name);
+  }
+  if (names->empty()) part.clear();
+  return part;
+}
+
 ordered_json Vec3Json(const Vec3& v) { return ordered_json::array({v.x(), v.y(), v.z()}); }
 ordered_json RgbJson(const Rgb& c) { return ordered_json::array({c[0], c[1], c[2]}); }
+
+// The page's what-if data, or null with a note saying why there is none.
+ordered_json WhatIfJson(const Report& report, const Scene& scene, const HtmlReportOptions& options,
+                        std::vector<std::string>* notes) {
+  const VisibilityFile& data = *report.data;
+  const size_t cells = data.reference.size();
+  if (report.states) {
+    notes->emplace_back(
+        "The what-if layout is not offered over scene states (a layout's coverage is per state).");
+    return nullptr;
+  }
+  if (cells == 0 || data.candidates.empty()) return nullptr;
+  // The page decodes every set into a bitset of |R| bits.
+  const double decoded = static_cast<double>(data.candidates.size()) *
+                         static_cast<double>((cells + 31) / 32 * 4);
+  if (decoded > static_cast<double>(options.max_whatif_bytes)) {
+    notes->push_back(fmt::format(
+        "The what-if layout is not offered: {} candidates x {} cells would take {:.0f} MB in the "
+        "browser, above the {:.0f} MB the page allows.",
+        data.candidates.size(), cells, decoded / 1e6,
+        static_cast<double>(options.max_whatif_bytes) / 1e6));
+    return nullptr;
+  }
+  const std::string sets = EncodeSets(data.observations, cells);
+  if (sets.size() > options.max_whatif_bytes) {
+    notes->push_back(fmt::format(
+        "The what-if layout is not offered: the candidates' sets take {:.0f} MB, above the {:.0f} "
+        "MB the page allows.",
+        static_cast<double>(sets.size()) / 1e6,
+        static_cast<double>(options.max_whatif_bytes) / 1e6));
+    return nullptr;
+  }
+  ordered_json whatif = {{"cells", cells}, {"sets", Base64(sets.data(), sets.size())}};
+  std::vector<std::string> names;
+  const std::vector<int32_t> part = CellParts(scene, data.reference, &names);
+  if (!part.empty()) {
+    std::vector<uint16_t> part16(part.size());
+    std::vector<size_t> part_cells(names.size(), 0);
+    for (size_t r = 0; r < part.size(); ++r) {
+      part16[r] = part[r] < 0 ? uint16_t{65535} : static_cast<uint16_t>(std::min(part[r], 65534));
+      if (part[r] >= 0) ++part_cells[static_cast<size_t>(part[r])];
+    }
+    ordered_json parts = ordered_json::array();
+    for (size_t k = 0; k < names.size(); ++k)
+      parts.push_back({{"name", names[k]}, {"cells", part_cells[k]}});
+    whatif["parts"] = std::move(parts);
+    whatif["cell_part"] = Base64(part16);
+  }
+  const int primary = report.primary;
+  if (primary >= 0 && report.results[static_cast<size_t>(primary)].min_points)
+    whatif["note"] = fmt::format(
+        "counts a cell once any sensor sees it; the run's coverage counts cells with >= {} points",
+        *report.results[static_cast<size_t>(primary)].min_points);
+  return whatif;
+}
 
 }  // namespace
 
@@ -289,6 +423,7 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   ordered_json page;
   std::vector<std::string> notes = report.notes;
 
+  const Framing framing = DefaultFraming(scene, report);
   // Candidates.
   ordered_json candidates = ordered_json::array();
   for (size_t i = 0; i < data.candidates.size(); ++i) {
@@ -309,6 +444,7 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
          {"cy", s.cy},
          {"near", s.near},
          {"far", s.far},
+         {"depth", FrustumDepth(c, framing.targets)},
          {"observed", o.reference_indices.size()},
          {"coverage", fraction(o.reference_indices.size())},
          {"paper_coverage", fraction(o.reference_indices.size() + o.outside_keys.size())}});
@@ -430,7 +566,6 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   // The page fits the default view again for its canvas' aspect (report.js, fitView); the eye
   // given here is FitView's for the view's usual 2.5 : 1.
   const double fov = 0.7853981633974483;
-  const Framing framing = DefaultFraming(scene, report);
   const View view = DefaultView(scene, report, fov, 2.5);
   for (size_t k = 0; k < chosen_json.size(); ++k) {
     const Candidate& c = data.candidates.at(report.primary_sensors[k].index);
@@ -469,6 +604,7 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
       {"frustum", RgbJson(kFrustumColor)},
       {"methods", std::move(method_colors)},
       {"other_method", RgbJson(kOtherMethodColor)}};
+  ordered_json whatif = WhatIfJson(report, scene, options, &notes);
   page["notes"] = notes;
   page["three_note"] = three_note;
   page["candidates"] = std::move(candidates);
@@ -506,6 +642,7 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   } else {
     page["robustness"] = nullptr;
   }
+  page["whatif"] = std::move(whatif);
   page["voxels"] = std::move(voxels);
   page["meshes"] = std::move(meshes_json);
 

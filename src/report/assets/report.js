@@ -298,6 +298,168 @@
     document.getElementById('chart-box').appendChild(svg);
   });
 
+  // ------------------------------------------------------------------ what-if model
+  // The candidates' observed cells (html_report.cpp, EncodeSets), decoded into one bitset of |R|
+  // bits per candidate: the page scores any layout the reader clicks together, as `vantage
+  // evaluate` scores it (a cell counts once any sensor of the layout observes it).
+  function popcount(x) {
+    x -= (x >>> 1) & 0x55555555;
+    x = (x & 0x33333333) + ((x >>> 2) & 0x33333333);
+    return Math.imul((x + (x >>> 4)) & 0x0F0F0F0F, 0x01010101) >>> 24;
+  }
+  var WI = null;
+  guarded('what-if', function () {
+    if (!D.whatif) return;
+    var n = D.candidates.length, R = D.whatif.cells, words = (R + 31) >>> 5, setBytes = (R + 7) >>> 3;
+    var raw = new Uint8Array(bytes(D.whatif.sets)), at = 0;
+    function varint() {
+      var value = 0, scale = 1, b;
+      do { b = raw[at++]; value += (b & 127) * scale; scale *= 128; } while (b & 128);
+      return value;
+    }
+    var sets = new Uint32Array(n * words), sizes = new Uint32Array(n);
+    for (var i = 0; i < n; ++i) {
+      var head = varint(), count = Math.floor(head / 2), base = i * words;
+      sizes[i] = count;
+      if (head % 2) {
+        for (var b = 0; b < setBytes; ++b) {
+          var v = raw[at + b];
+          if (v) sets[base + (b >>> 2)] |= v << ((b & 3) * 8);
+        }
+        at += setBytes;
+      } else {
+        for (var k = 0, r = -1; k < count; ++k) {
+          r += varint() + 1;
+          sets[base + (r >>> 5)] |= 1 << (r & 31);
+        }
+      }
+    }
+    if (at !== raw.length) throw new Error('the what-if sets end after ' + at + ' of ' + raw.length + ' bytes');
+    var parts = D.whatif.parts || [], cellPart = parts.length ? new Uint16Array(bytes(D.whatif.cell_part)) : null;
+    WI = {cells: R, words: words, sets: sets, sizes: sizes, parts: parts, cellPart: cellPart,
+          inLayout: new Uint8Array(n), layout: [], covered: new Uint32Array(words), coveredCount: 0,
+          seen: new Uint8Array(R), partCovered: new Array(parts.length).fill(0), listeners: []};
+    // The layout's union, per-cell counts (the colours) and per-part counts.
+    WI.score = function () {
+      WI.covered.fill(0);
+      WI.seen.fill(0);
+      WI.layout.forEach(function (c) {
+        var base = c * words;
+        for (var w = 0; w < words; ++w) {
+          var bits = sets[base + w];
+          if (!bits) continue;
+          WI.covered[w] |= bits;
+          for (; bits; bits &= bits - 1) {
+            var cell = (w << 5) + (31 - Math.clz32(bits & -bits));
+            if (WI.seen[cell] < 255) ++WI.seen[cell];
+          }
+        }
+      });
+      var covered = 0;
+      for (var w = 0; w < words; ++w) covered += popcount(WI.covered[w]);
+      WI.coveredCount = covered;
+      WI.partCovered = new Array(parts.length).fill(0);
+      if (cellPart) {
+        for (var cell = 0; cell < R; ++cell) {
+          if (WI.seen[cell] && cellPart[cell] < parts.length) ++WI.partCovered[cellPart[cell]];
+        }
+      }
+    };
+    // Greedy's next step: the candidate outside the layout that adds the most cells (the lowest
+    // index among equals, as greedy breaks ties); null when none adds any.
+    WI.suggest = function () {
+      var best = -1, bestGain = 0;
+      for (var c = 0; c < n; ++c) {
+        if (WI.inLayout[c] || sizes[c] <= bestGain) continue;
+        var gain = 0, base = c * words;
+        for (var w = 0; w < words; ++w) {
+          var add = sets[base + w] & ~WI.covered[w];
+          if (add) gain += popcount(add);
+        }
+        if (gain > bestGain) { best = c; bestGain = gain; }
+      }
+      return best < 0 ? null : {index: best, gain: bestGain};
+    };
+    WI.set = function (indices) {
+      WI.inLayout.fill(0);
+      WI.layout = [];
+      indices.forEach(function (c) { if (!WI.inLayout[c]) { WI.inLayout[c] = 1; WI.layout.push(c); } });
+      WI.changed();
+    };
+    WI.toggle = function (c) {
+      if (WI.inLayout[c]) {
+        WI.inLayout[c] = 0;
+        WI.layout = WI.layout.filter(function (x) { return x !== c; });
+      } else {
+        WI.inLayout[c] = 1;
+        WI.layout.push(c);
+      }
+      WI.changed();
+    };
+    WI.changed = function () {
+      WI.score();
+      WI.listeners.forEach(function (f) { f(); });
+    };
+    WI.set(D.chosen.map(function (s) { return s.index; }));
+  });
+  // For scripts driving the page (tests/page/): the layout and its numbers.
+  window.vantagePage = {
+    layout: function () { return WI ? WI.layout.slice() : null; },
+    covered: function () { return WI ? WI.coveredCount : null; },
+    cells: function () { return WI ? WI.cells : null; },
+    parts: function () {
+      return WI ? WI.parts.map(function (p, k) { return {name: p.name, cells: p.cells, covered: WI.partCovered[k]}; }) : null;
+    }
+  };
+
+  // ------------------------------------------------------------------ what-if panel
+  guarded('what-if panel', function () {
+    var panel = document.getElementById('whatif');
+    if (!WI) {
+      panel.style.display = 'none';
+      return;
+    }
+    panel.innerHTML =
+      '<div class="head"><b>What if</b> <span class="muted">click a candidate in the view to add or remove it</span></div>' +
+      '<div>layout: <span id="whatif-count"></span> · coverage <b id="whatif-coverage"></b></div>' +
+      '<div id="whatif-sensors" class="muted"></div>' +
+      '<table id="whatif-parts"></table>' +
+      '<div id="whatif-next"></div>' +
+      '<div class="buttons"><button id="whatif-add" type="button">add it</button> ' +
+      '<button id="whatif-reset" type="button">back to the result</button> ' +
+      '<button id="whatif-clear" type="button">none</button></div>' +
+      '<div id="whatif-last" class="muted"></div>' +
+      (D.whatif.note ? '<div class="muted">The what-if ' + esc(D.whatif.note) + '.</div>' : '');
+    var next = null;
+    function cov(count, total) { return total ? (100 * count / total).toFixed(2) + ' %' : ''; }
+    function draw() {
+      var total = WI.cells;
+      var shown = document.getElementById('whatif-coverage');
+      shown.textContent = cov(WI.coveredCount, total);
+      shown.setAttribute('data-covered', WI.coveredCount);
+      shown.setAttribute('data-cells', total);
+      document.getElementById('whatif-count').textContent = WI.layout.length + ' sensor' + (WI.layout.length === 1 ? '' : 's');
+      var names = WI.layout.map(function (c) { return D.candidates[c].name; });
+      document.getElementById('whatif-sensors').textContent =
+        names.length > 6 ? names.slice(0, 5).join(', ') + ' and ' + (names.length - 5) + ' more' : names.join(', ');
+      document.getElementById('whatif-parts').innerHTML = WI.parts.length > 1 ? WI.parts.map(function (p, k) {
+        return '<tr><td>' + esc(p.name) + '</td><td class="num">' + cov(WI.partCovered[k], p.cells) + '</td></tr>';
+      }).join('') : '';
+      next = WI.suggest();
+      document.getElementById('whatif-next').innerHTML = next
+        ? 'best next camera: <b>' + esc(D.candidates[next.index].name) + '</b> +' + cov(next.gain, total).replace(' %', ' points')
+        : 'best next camera: none adds a cell';
+      document.getElementById('whatif-add').disabled = !next;
+    }
+    WI.listeners.push(draw);
+    document.getElementById('whatif-add').addEventListener('click', function () { if (next) WI.toggle(next.index); });
+    document.getElementById('whatif-reset').addEventListener('click', function () {
+      WI.set(D.chosen.map(function (s) { return s.index; }));
+    });
+    document.getElementById('whatif-clear').addEventListener('click', function () { WI.set([]); });
+    draw();
+  });
+
   // ------------------------------------------------------------------ 3D view
   function note(text) {
     var div = document.createElement('div');
@@ -317,8 +479,8 @@
     scene.background = new THREE.Color(0xeef1f5);
     // The default views (default_view.cpp, FitView): along D.view.direction, far enough that
     // every point lies in the frame with a 5 % margin, for this canvas' aspect.
-    function fitView(points, fovDeg, aspect) {
-      var d = new THREE.Vector3().fromArray(D.view.direction).normalize();
+    function fitView(points, fovDeg, aspect, direction) {
+      var d = new THREE.Vector3().fromArray(direction || D.view.direction).normalize();
       var box = new THREE.Box3().setFromPoints(points), centre = box.getCenter(new THREE.Vector3());
       var forward = d.clone().negate(), right = forward.clone().cross(new THREE.Vector3(0, 0, 1));
       if (right.length() < 1e-6) right = forward.clone().cross(new THREE.Vector3(0, 1, 0));
@@ -363,7 +525,14 @@
                                    D.view.fov_deg, camera.aspect);
                   }},
                  {name: 'targets only', key: 'targets',
-                  make: function () { return fitView(targetCorners, D.view.fov_deg, camera.aspect); }}];
+                  make: function () { return fitView(targetCorners, D.view.fov_deg, camera.aspect); }},
+                 // Surface resting on or hidden by other geometry (a part's underside on a
+                 // table) is seen from below with the occluders hidden: red where no sensor sees.
+                 {name: 'from below, occluders hidden', key: 'below', hide: ['occluders'],
+                  make: function () {
+                    var d = D.view.direction;
+                    return fitView(targetCorners, D.view.fov_deg, camera.aspect, [d[0], d[1], -d[2]]);
+                  }}];
     // With keep-out boxes, a view that frames them too (their corners, in their poses).
     if (D.keep_out && D.keep_out.length) {
       var boxCorners = [];
@@ -437,22 +606,14 @@
     layer('occluders', occluders, true);
     layer('targets (mesh)', targets, true);
 
-    // Reference voxels as points, by how many chosen sensors see each.
+    // Reference voxels as points, by how many sensors of the layout see each (the result's
+    // sensors at first; the what-if layout's as the reader changes it).
     var V = D.voxels, count = V.count;
     var idx = V.index_type === 'u16' ? new Uint16Array(bytes(V.index)) : new Int32Array(bytes(V.index));
-    var seen = new Uint8Array(bytes(V.seen));
-    var nObserved = 0;
-    for (var i = 0; i < count; ++i) if (seen[i] > 0) ++nObserved;
-    var posO = new Float32Array(3 * nObserved), colO = new Float32Array(3 * nObserved);
-    var posU = new Float32Array(3 * (count - nObserved)), colU = new Float32Array(3 * (count - nObserved));
-    var o = 0, u = 0, F = V.cell_size;
-    for (i = 0; i < count; ++i) {
-      var x = (V.origin[0] + idx[3 * i] + 0.5) * F, y = (V.origin[1] + idx[3 * i + 1] + 0.5) * F,
-          z = (V.origin[2] + idx[3 * i + 2] + 0.5) * F;
-      var col = seen[i] > 0 ? C.observed[Math.min(seen[i], 3) - 1] : C.unobserved;
-      var P = seen[i] > 0 ? posO : posU, Q = seen[i] > 0 ? colO : colU, k = 3 * (seen[i] > 0 ? o++ : u++);
-      P[k] = x; P[k + 1] = y; P[k + 2] = z;
-      Q[k] = col[0] / 255; Q[k + 1] = col[1] / 255; Q[k + 2] = col[2] / 255;
+    var F = V.cell_size;
+    var voxelCentres = new Float32Array(3 * count);
+    for (var i = 0; i < count; ++i) {
+      for (var a = 0; a < 3; ++a) voxelCentres[3 * i + a] = (V.origin[a] + idx[3 * i + a] + 0.5) * F;
     }
     // Round point sprites, drawn on a canvas here (nothing is loaded).
     var disc = document.createElement('canvas');
@@ -485,8 +646,28 @@
     // three.js r111 draws attenuated points `size` x (half the canvas height) / depth pixels wide,
     // tan(fov/2) times a world length: scaled so that a point spans about one and a half cells.
     var voxelSize = 1.5 * F / Math.tan(D.view.fov_deg * Math.PI / 360);
-    layer('observed voxels', points(posO, colO, voxelSize, true, false, F), true);
-    layer('unobserved voxels', points(posU, colU, voxelSize, true, false, F), true);
+    var observedPoints = layer('observed voxels',
+      points(new Float32Array(3 * count), new Float32Array(3 * count), voxelSize, true, false, F), true);
+    var unobservedPoints = layer('unobserved voxels',
+      points(new Float32Array(3 * count), new Float32Array(3 * count), voxelSize, true, false, F), true);
+    // Fills both clouds from per-voxel counts (observed: the first `o` points, unobserved: `u`).
+    function colourVoxels(seen) {
+      var P = observedPoints.geometry.attributes.position, Q = observedPoints.geometry.attributes.color;
+      var PU = unobservedPoints.geometry.attributes.position, QU = unobservedPoints.geometry.attributes.color;
+      var o = 0, u = 0;
+      for (var i = 0; i < count; ++i) {
+        var s = seen[i], col = s > 0 ? C.observed[Math.min(s, 3) - 1] : C.unobserved;
+        var pos = s > 0 ? P.array : PU.array, colour = s > 0 ? Q.array : QU.array, k = 3 * (s > 0 ? o++ : u++);
+        pos[k] = voxelCentres[3 * i]; pos[k + 1] = voxelCentres[3 * i + 1]; pos[k + 2] = voxelCentres[3 * i + 2];
+        colour[k] = col[0] / 255; colour[k + 1] = col[1] / 255; colour[k + 2] = col[2] / 255;
+      }
+      [P, Q, PU, QU].forEach(function (attribute) { attribute.needsUpdate = true; });
+      observedPoints.geometry.setDrawRange(0, o);
+      unobservedPoints.geometry.setDrawRange(0, u);
+      observedPoints.geometry.computeBoundingSphere();
+      unobservedPoints.geometry.computeBoundingSphere();
+    }
+    colourVoxels(WI ? WI.seen : new Uint8Array(bytes(V.seen)));
 
     // Candidates: small faded points coloured by their own coverage, so that hundreds of them do
     // not hide the targets.
@@ -498,31 +679,75 @@
     });
     var candidatePoints = layer('candidates', points(cpos, ccol, 5, false, true, 0, 0.45), true);
 
-    // Chosen sensors: markers and frusta that end at the targets' far side (frustum_depth, never
-    // beyond `far`; body x forward, image u right = -y, v down = -z).
-    var sensors = new THREE.Group(), frusta = [];
-    var markerSize = Math.max(dist * 0.008, 1e-4);
+    // The lowest point of the scene (a drop line's end when nothing lies below a sensor).
+    var sceneBox = new THREE.Box3();
+    [targets, occluders].forEach(function (g) { sceneBox.expandByObject(g); });
+    var floorZ = sceneBox.isEmpty() ? new THREE.Box3().setFromPoints(targetCorners).min.z : sceneBox.min.z;
+    var dropEnds = {}, down = new THREE.Raycaster();
+    // Where a line straight down from candidate c meets the first surface (cached).
+    function dropEnd(c) {
+      if (dropEnds[c] !== undefined) return dropEnds[c];
+      var p = D.candidates[c].p;
+      down.set(new THREE.Vector3(p[0], p[1], p[2]), new THREE.Vector3(0, 0, -1));
+      var hits = down.intersectObjects([targets, occluders], true);
+      dropEnds[c] = hits.length ? hits[0].point.z : Math.min(floorZ, p[2]);
+      return dropEnds[c];
+    }
+
+    // The layout's sensors: markers (drawn over everything, so that none is hidden), a dashed
+    // line straight down to the surface below (the height cue) and frusta that end at the
+    // targets' far side (candidates' depth, never beyond `far`; body x forward, image u right = -y,
+    // v down = -z). Translucent, the more so the more sensors, so that they do not bury the target.
+    var sensors = layer('chosen sensors', new THREE.Group(), true);
+    var drops = layer('height lines', new THREE.Group(), true);
+    var frustaLayer = layer('frusta', new THREE.Group(), true);
+    var markerSize = Math.max(dist * 0.01, 1e-4);
     var markerGeometry = new THREE.SphereBufferGeometry(markerSize, 12, 8);
-    var markerMaterial = new THREE.MeshBasicMaterial({color: css(C.frustum)});
-    D.chosen.forEach(function (s) {
-      var c = D.candidates[s.index];
-      var q = new THREE.Quaternion(c.q[1], c.q[2], c.q[3], c.q[0]);
-      var apex = new THREE.Vector3().fromArray(c.p);
-      var marker = new THREE.Mesh(markerGeometry, markerMaterial);
-      marker.position.copy(apex);
-      sensors.add(marker);
-      var corners = [[0, 0], [c.w, 0], [c.w, c.h], [0, c.h]].map(function (uv) {
-        return new THREE.Vector3(1, -(uv[0] - c.cx) / c.fx, -(uv[1] - c.cy) / c.fy)
-          .multiplyScalar(s.frustum_depth).applyQuaternion(q).add(apex);
-      });
-      for (var k = 0; k < 4; ++k) {
-        frusta.push(apex, corners[k], corners[k], corners[(k + 1) % 4]);
+    var markerMaterial = new THREE.MeshBasicMaterial({color: css(C.frustum), depthTest: false, transparent: true});
+    var rimMaterial = new THREE.MeshBasicMaterial({color: 0x28303c, depthTest: false, transparent: true, side: THREE.BackSide});
+    var dropMaterial = new THREE.LineDashedMaterial({color: 0x28303c, dashSize: markerSize * 1.5, gapSize: markerSize,
+                                                    transparent: true, opacity: 0.8});
+    function clear(group) {
+      while (group.children.length) {
+        var child = group.children.pop();
+        if (child.geometry && child.geometry !== markerGeometry) child.geometry.dispose();
       }
-    });
-    layer('chosen sensors', sensors, true);
-    var fg = new THREE.BufferGeometry().setFromPoints(frusta);
-    layer('frusta', new THREE.LineSegments(fg, new THREE.LineBasicMaterial({color: css(C.frustum)})), true);
-    // The overlap graph of the chosen sensors (installation constraints): a line per edge.
+    }
+    function drawLayout(indices) {
+      clear(sensors); clear(drops); clear(frustaLayer);
+      var frusta = [], ends = [];
+      indices.forEach(function (i) {
+        var c = D.candidates[i];
+        var q = new THREE.Quaternion(c.q[1], c.q[2], c.q[3], c.q[0]);
+        var apex = new THREE.Vector3().fromArray(c.p);
+        var rim = new THREE.Mesh(markerGeometry, rimMaterial);
+        rim.scale.setScalar(1.35);
+        rim.position.copy(apex);
+        rim.renderOrder = 10;
+        var marker = new THREE.Mesh(markerGeometry, markerMaterial);
+        marker.position.copy(apex);
+        marker.renderOrder = 11;
+        sensors.add(rim, marker);
+        var foot = dropEnd(i);
+        if (apex.z - foot > 1e-6) ends.push(apex, new THREE.Vector3(apex.x, apex.y, foot));
+        var corners = [[0, 0], [c.w, 0], [c.w, c.h], [0, c.h]].map(function (uv) {
+          return new THREE.Vector3(1, -(uv[0] - c.cx) / c.fx, -(uv[1] - c.cy) / c.fy)
+            .multiplyScalar(c.depth).applyQuaternion(q).add(apex);
+        });
+        for (var k = 0; k < 4; ++k) frusta.push(apex, corners[k], corners[k], corners[(k + 1) % 4]);
+      });
+      if (ends.length) {
+        var dl = new THREE.LineSegments(new THREE.BufferGeometry().setFromPoints(ends), dropMaterial);
+        dl.computeLineDistances();
+        drops.add(dl);
+      }
+      var opacity = Math.max(0.25, Math.min(0.8, 2 / Math.max(1, indices.length)));
+      frustaLayer.add(new THREE.LineSegments(new THREE.BufferGeometry().setFromPoints(frusta),
+        new THREE.LineBasicMaterial({color: css(C.frustum), transparent: true, opacity: opacity, depthWrite: false})));
+    }
+    drawLayout(WI ? WI.layout : D.chosen.map(function (s) { return s.index; }));
+    // The overlap graph of the result's sensors (installation constraints): a line per edge,
+    // translucent; shown at first only for a few sensors, where its lines do not cover the part.
     if (D.overlap && D.overlap.length) {
       var ends = [];
       D.overlap.forEach(function (e) {
@@ -530,7 +755,9 @@
                   new THREE.Vector3().fromArray(D.candidates[e.b].p));
       });
       var og = new THREE.BufferGeometry().setFromPoints(ends);
-      layer('overlap graph', new THREE.LineSegments(og, new THREE.LineBasicMaterial({color: 0xc2185b})), true);
+      layer('overlap graph', new THREE.LineSegments(og, new THREE.LineBasicMaterial({color: 0xc2185b, transparent: true,
+                                                                                   opacity: 0.55, depthWrite: false})),
+            D.chosen.length <= 4);
     }
 
     // Keep-out boxes (mounting rules): translucent, with their edges, each in its own pose.
@@ -559,12 +786,21 @@
       box.type = 'checkbox';
       box.checked = l.object.visible;
       box.addEventListener('change', function () { l.object.visible = box.checked; render(); });
+      l.box = box;
       label.appendChild(box);
       label.appendChild(document.createTextNode(' ' + l.name));
       panel.appendChild(label);
     });
+    function setLayer(name, visible) {
+      layers.forEach(function (l) {
+        if (l.name !== name) return;
+        l.object.visible = visible;
+        l.box.checked = visible;
+      });
+    }
     // Views to pick (the page opens on the first, or on #view=KEY of its address: sensors,
-    // targets, sensor1, ...); picking one again resets the orbit.
+    // targets, below, sensor1, ...); picking one again resets the orbit. A view may hide layers
+    // (from below: the occluders) until another view is picked.
     var pickView = document.createElement('select');
     pickView.id = 'view-pick';
     views.forEach(function (v, k) {
@@ -573,7 +809,11 @@
       option.textContent = v.name;
       pickView.appendChild(option);
     });
+    var hidden = [];
     function show(k) {
+      hidden.forEach(function (name) { setLayer(name, true); });
+      hidden = (views[k].hide || []).slice();
+      hidden.forEach(function (name) { setLayer(name, false); });
       var v = views[k].make();
       camera.fov = v.fov;
       camera.updateProjectionMatrix();
@@ -596,26 +836,53 @@
     views.forEach(function (v, k) { if (wanted && wanted[1] === v.key) pickView.value = String(k); });
     show(Number(pickView.value));
 
-    // Click a candidate: its name and numbers, and its row in the table.
-    var raycaster = new THREE.Raycaster(), mouse = new THREE.Vector2(), pick = document.getElementById('pick');
-    renderer.domElement.addEventListener('click', function (ev) {
+    // The what-if layout drawn live: voxel colours, markers, height lines and frusta.
+    if (WI) {
+      WI.listeners.push(function () {
+        colourVoxels(WI.seen);
+        drawLayout(WI.layout);
+        render();
+      });
+    }
+
+    // Click a candidate (the nearest marker within 10 pixels of the click, not a drag): its name
+    // and numbers, its row in the table, and it joins or leaves the what-if layout.
+    var pick = document.getElementById('pick');
+    function screenOf(p) {
       var rect = renderer.domElement.getBoundingClientRect();
-      mouse.x = (ev.clientX - rect.left) / rect.width * 2 - 1;
-      mouse.y = -(ev.clientY - rect.top) / rect.height * 2 + 1;
-      raycaster.params.Points.threshold = dist * 0.01;
-      raycaster.setFromCamera(mouse, camera);
-      var hits = candidatePoints.visible ? raycaster.intersectObject(candidatePoints) : [];
+      var v = new THREE.Vector3(p[0], p[1], p[2]).project(camera);
+      return {x: rect.left + (v.x + 1) / 2 * rect.width, y: rect.top + (1 - v.y) / 2 * rect.height,
+              inside: v.z > -1 && v.z < 1 && Math.abs(v.x) <= 1 && Math.abs(v.y) <= 1};
+    }
+    var pressed = null;
+    renderer.domElement.addEventListener('pointerdown', function (ev) { pressed = {x: ev.clientX, y: ev.clientY}; });
+    renderer.domElement.addEventListener('click', function (ev) {
+      if (pressed && Math.hypot(ev.clientX - pressed.x, ev.clientY - pressed.y) > 4) return;  // an orbit
+      var best = -1, bestDistance = 10;
+      if (candidatePoints.visible) {
+        D.candidates.forEach(function (c, i) {
+          var s = screenOf(c.p);
+          if (!s.inside) return;
+          var d = Math.hypot(s.x - ev.clientX, s.y - ev.clientY);
+          if (d < bestDistance) { best = i; bestDistance = d; }
+        });
+      }
       var prev = document.querySelectorAll('#candidates-table tr.hl');
       Array.prototype.forEach.call(prev, function (tr) { tr.classList.remove('hl'); });
-      if (!hits.length) { pick.style.display = 'none'; return; }
-      var i = hits[0].index, c = D.candidates[i];
+      if (best < 0) { pick.style.display = 'none'; return; }
+      var i = best, c = D.candidates[i];
+      if (WI) WI.toggle(i);
       pick.style.display = 'block';
       pick.innerHTML = '<b>' + esc(c.name) + '</b> (' + esc(c.type) + ')<br>position ' +
-        c.p.map(function (v) { return v.toFixed(3); }).join(', ') + ' m<br>coverage ' + pct(c.coverage) +
-        (chosenOrder[i] ? '<br>chosen #' + chosenOrder[i] : '');
+        c.p.map(function (v) { return v.toFixed(3); }).join(', ') + ' m<br>coverage alone ' + pct(c.coverage) +
+        (chosenOrder[i] ? '<br>chosen #' + chosenOrder[i] : '') +
+        (WI ? '<br>' + (WI.inLayout[i] ? 'added to' : 'removed from') + ' the what-if layout' : '');
       var row = document.querySelector('#candidates-table tr[data-id="' + i + '"]');
       if (row) { row.classList.add('hl'); }
     });
+    // For scripts driving the page: where candidate i and the layout's sensors are on screen.
+    window.vantagePage.screenOf = function (i) { return screenOf(D.candidates[i].p); };
+    window.vantagePage.view = function () { return views[Number(pickView.value)].key; };
 
     window.addEventListener('resize', function () {
       camera.aspect = view.clientWidth / view.clientHeight;
@@ -626,26 +893,37 @@
     render();
   }
 
+  // The legend stays a few short rows whatever the number of sensors (issue 46: eight sensors'
+  // 28 overlap counts ran across the view and covered the part), and folds away.
   guarded('legend', function () {
     var lg = document.getElementById('legend');
+    function sensorsWord(k) {
+      return (WI ? 'sensor' + (k ? 's' : '') + ' of the layout' : 'chosen sensor' + (k ? 's' : ''));
+    }
     var rows = [['sw', css(C.unobserved), 'target voxel not observed']];
     C.observed.forEach(function (c, k) {
-      rows.push(['sw', css(c), 'observed by ' + (k + 1) + (k === C.observed.length - 1 ? '+' : '') + ' chosen sensor' + (k ? 's' : '')]);
+      rows.push(['sw', css(c), 'observed by ' + (k + 1) + (k === C.observed.length - 1 ? '+' : '') + ' ' + sensorsWord(k)]);
     });
-    rows.push(['sw', css(C.frustum), 'chosen sensors, frusta to the targets']);
+    rows.push(['sw', css(C.frustum), (WI ? 'sensors of the layout' : 'chosen sensors') + ', frusta to the targets']);
+    rows.push(['line', '#28303c', 'height: dashed line down to the surface below']);
     if (D.overlap && D.overlap.length) {
-      rows.push(['sw', '#c2185b', 'overlap graph: chosen sensors sharing cells (' +
-        D.overlap.map(function (e) { return e.cells; }).join(', ') + ' cells)']);
+      var cells = D.overlap.map(function (e) { return e.cells; });
+      rows.push(['sw', '#c2185b', D.overlap.length <= 3
+        ? 'overlap graph: chosen sensors sharing cells (' + cells.join(', ') + ' cells)'
+        : 'overlap graph: ' + D.overlap.length + ' pairs of chosen sensors share cells (' +
+          Math.min.apply(null, cells) + '–' + Math.max.apply(null, cells) + ' cells a pair)']);
     }
     if (D.keep_out && D.keep_out.length) {
-      rows.push(['sw', KEEP_OUT, 'keep-out box' + (D.keep_out.length > 1 ? 'es' : '') + ' (no sensor inside): ' +
-        D.keep_out.map(function (b) { return b.name; }).join(', ')]);
+      var names = D.keep_out.map(function (b) { return b.name; });
+      rows.push(['sw', KEEP_OUT, 'keep-out box' + (names.length > 1 ? 'es' : '') + ' (no sensor inside): ' +
+        (names.length <= 4 ? names.join(', ') : names.slice(0, 3).join(', ') + ' and ' + (names.length - 3) + ' more')]);
     }
     var stops = [0, 0.25, 0.5, 0.75, 1].map(function (t) { return css(ramp(t).map(Math.round)); }).join(',');
-    lg.innerHTML = rows.map(function (r) {
-      return '<div class="row"><span class="' + r[0] + '" style="background:' + r[1] + '"></span>' + esc(r[2]) + '</div>';
-    }).join('') + '<div class="row">candidates: ' + pct(covMin) + ' <span class="ramp" style="background:linear-gradient(to right,' +
-      stops + ')"></span> ' + pct(covMax) + '</div>';
+    lg.innerHTML = '<details open><summary>legend</summary>' + rows.map(function (r) {
+      return '<div class="row"><span class="' + r[0] + '" style="' + (r[0] === 'line' ? 'color:' : 'background:') + r[1] +
+        '"></span>' + esc(r[2]) + '</div>';
+    }).join('') + '<div class="row">candidates' + (WI ? ' (click: add / remove)' : '') + ': ' + pct(covMin) +
+      ' <span class="ramp" style="background:linear-gradient(to right,' + stops + ')"></span> ' + pct(covMax) + '</div></details>';
   });
 
   if (!window.THREE || !window.THREE.OrbitControls) {
