@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "pipeline/common.hpp"
+#include "util/atomic_file.hpp"
 #include "vantage/error.hpp"
 #include "vantage/scene_states.hpp"
 #include "vantage/sensors.hpp"
@@ -288,7 +289,7 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   if (options.min_points) report.inputs->min_points = static_cast<int>(*options.min_points);
   report.inputs->min_density = options.min_density;
   if (!options.constellation.empty())
-    report.inputs->constellation = fs::absolute(options.constellation).string();
+    report.inputs->constellation = detail::AbsolutePath(options.constellation).string();
   DeriveReport(&report);
   // The layout evaluated, as the exports of optimize: a Gazebo world's edit finds each sensor's
   // element by its population or name, so a constellation from elsewhere may not fit it.
@@ -302,7 +303,8 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
           unknown_types.front(), options.constellation));
     extra = detail::ConstellationFiles(scene.path, reobserved.problem.scene, run.data->candidates,
                                        reobserved.problem.populations,
-                                       reobserved.problem.sensors, &notes);
+                                       reobserved.problem.sensors,
+                                       detail::ScoringOf(*run.data, *report.inputs), &notes);
   } catch (const InputError& e) {
     extra.clear();
     notes.push_back(fmt::format("constellation files not written: {}", e.what()));

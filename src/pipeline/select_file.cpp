@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "pipeline/common.hpp"
+#include "util/atomic_file.hpp"
 #include "vantage/error.hpp"
 
 namespace vantage {
@@ -95,7 +96,7 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   report.timings = timings;
   RunInputs inputs;
   inputs.command = "select";
-  inputs.visibility_file = std::filesystem::absolute(options.visibility_file).string();
+  inputs.visibility_file = detail::AbsolutePath(options.visibility_file).string();
   inputs.scene = data.scene;
   inputs.cull = true;
   inputs.quality = data.quality;

@@ -137,7 +137,7 @@ class FolderLock {
 // a file, or missing, was found only at the write, after the ray casting, and the message named
 // the temporary). `may_create`: the missing folders are made at the write (--out folders).
 void CheckParentFolder(const std::string& path, bool may_create) {
-  fs::path folder = fs::absolute(fs::path(path)).lexically_normal().parent_path();
+  fs::path folder = AbsolutePath(path).lexically_normal().parent_path();
   std::error_code ec;
   fs::path existing = folder;
   while (!fs::exists(existing, ec) && existing.has_relative_path()) existing = existing.parent_path();
@@ -152,6 +152,14 @@ void CheckParentFolder(const std::string& path, bool may_create) {
                                  path, existing.string(), std::generic_category().message(errno)));
 }
 
+/// A suffix no other write of this process or another one uses at the same time: ".tmp-PID-N"
+/// (N counts the calls of this process). Two threads writing one path each have their own
+/// temporary (issue 44: both used ".tmp-PID", and one failed or the folder mixed both runs).
+std::string UniqueSuffix(std::string_view kind) {
+  static std::atomic<unsigned long long> calls{0};
+  return fmt::format(".{}-{}-{}", kind, ::getpid(), calls.fetch_add(1) + 1);
+}
+
 void WriteFile(const fs::path& path, const std::string& content) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(content.data(), static_cast<std::streamsize>(content.size()));
@@ -161,6 +169,16 @@ void WriteFile(const fs::path& path, const std::string& content) {
 }
 
 }  // namespace
+
+std::filesystem::path AbsolutePath(const std::string& path) {
+  std::error_code ec;
+  fs::path absolute = fs::absolute(path, ec);
+  if (ec)
+    throw InputError(fmt::format("{}: a relative path, and the working folder no longer exists "
+                                 "({}) — give an absolute path, or run from an existing folder",
+                                 path, ec.message()));
+  return absolute;
+}
 
 void CheckOutputFile(const std::string& path) {
   // The CLI refuses an empty --out first; the library's other callers (Python) meet it here (was
@@ -191,7 +209,7 @@ void CheckOutputFile(const std::string& path) {
 void WriteFileAtomically(const std::string& path, const std::string& content) {
   const fs::path target(path);
   CheckOutputFile(path);
-  const fs::path temp = target.string() + fmt::format(".tmp-{}", ::getpid());
+  const fs::path temp = target.string() + UniqueSuffix("tmp");
   const InterruptGuard guard;
   std::error_code ec;
   try {
@@ -222,7 +240,7 @@ void WriteFileAtomically(const std::string& path, const std::string& content) {
 }
 
 std::filesystem::path CheckOutputFolder(const std::string& dir) {
-  fs::path target = fs::absolute(fs::path(dir)).lexically_normal();
+  fs::path target = AbsolutePath(dir).lexically_normal();
   if (target.filename().empty()) target = target.parent_path();
   CheckParentFolder(target.string(), true);
   std::error_code ec;
@@ -252,8 +270,8 @@ void WriteFolderAtomically(const std::string& dir, const std::map<std::string, s
   const fs::path target = CheckOutputFolder(dir);
   std::error_code ec;
   if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
-  const fs::path temp = target.string() + fmt::format(".tmp-{}", ::getpid());
-  const fs::path old = target.string() + fmt::format(".old-{}", ::getpid());
+  const fs::path temp = target.string() + UniqueSuffix("tmp");
+  const fs::path old = target.string() + UniqueSuffix("old");
   const InterruptGuard guard;
   fs::remove_all(temp, ec);
   fs::create_directories(temp, ec);

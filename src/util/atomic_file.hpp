@@ -9,6 +9,11 @@
 
 namespace vantage::detail {
 
+/// `path` made absolute against the working folder. Throws InputError naming `path` when it is
+/// relative and the working folder no longer exists (was std::filesystem's "cannot make absolute
+/// path", an exit 1): that is the user's to fix, by an absolute path or another folder.
+std::filesystem::path AbsolutePath(const std::string& path);
+
 /// Throws InputError when WriteFileAtomically(path, ...) would refuse `path`: a device, a pipe
 /// or a socket, or a link to one. Commands call it before any work, so the refusal costs nothing.
 void CheckOutputFile(const std::string& path);
