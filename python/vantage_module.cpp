@@ -13,11 +13,15 @@
 #include <tbb/task_arena.h>
 
 #include <array>
+#include <chrono>
+#include <condition_variable>
+#include <csignal>
 #include <cstdint>
 #include <functional>
 #include <limits>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
@@ -44,12 +48,19 @@ using Strings = std::vector<std::string>;
 // A path given as str, bytes or os.PathLike, in the bytes the OS takes: os.fsencode keeps a file
 // name that is not UTF-8 (a str holding surrogate escapes: was "Unable to cast Python instance";
 // bytes were read as the text "b'...'"). A NUL, where the OS would cut the path, is refused.
-std::string PathOf(const py::handle& value) {
+// `key` names the keyword in the errors: a TypeError for what is no path, an InputError for a
+// NUL.
+std::string PathOf(const py::handle& value, const std::string& key) {
   const py::module_ os = py::module_::import("os");
+  if (!py::isinstance<py::str>(value) && !py::isinstance<py::bytes>(value) &&
+      !py::hasattr(value, "__fspath__"))
+    throw py::type_error(fmt::format("{}: give a path (str, bytes or os.PathLike), not {}", key,
+                                     std::string(py::str(py::type::of(value).attr("__name__")))));
   const std::string path = os.attr("fsencode")(os.attr("fspath")(value)).cast<py::bytes>();
   if (path.find('\0') != std::string::npos)
-    throw InputError(fmt::format("'{}' holds a NUL character, which no path can — check the path",
-                                 ShownOnOneLine(path)));
+    throw InputError(fmt::format("{}: '{}' holds a NUL character, which no path can — check the "
+                                 "path",
+                                 key, ShownOnOneLine(path)));
   return path;
 }
 
@@ -59,19 +70,22 @@ py::str PathText(const std::string& path) {
   return py::reinterpret_steal<py::str>(PyUnicode_DecodeFSDefault(path.c_str()));
 }
 
-std::optional<std::string> OptionalPathOf(const py::object& value) {
+std::optional<std::string> OptionalPathOf(const py::object& value, const std::string& key) {
   if (value.is_none()) return std::nullopt;
-  return PathOf(value);
+  return PathOf(value, key);
 }
 
 // One path or a list of them (the CLI's repeatable --model-path).
-Strings PathsOf(const py::object& value) {
+Strings PathsOf(const py::object& value, const std::string& key) {
   if (value.is_none()) return {};
   if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value) ||
       py::hasattr(value, "__fspath__"))
-    return {PathOf(value)};
+    return {PathOf(value, key)};
+  if (!py::isinstance<py::iterable>(value))
+    throw py::type_error(fmt::format("{}: give a path or a list of paths, not {}", key,
+                                     std::string(py::str(py::type::of(value).attr("__name__")))));
   Strings paths;
-  for (const py::handle item : value) paths.push_back(PathOf(item));
+  for (const py::handle item : value) paths.push_back(PathOf(item, key));
   return paths;
 }
 
@@ -114,21 +128,138 @@ std::optional<OverStates> OverStatesOf(const std::optional<std::string>& name) {
   }
 }
 
+// ---- numbers, flags and words: every keyword and dict entry of the module ----------------------
+// One rule for all of them (docs/python.md, Errors; issue 44): a value of the wrong type is a
+// TypeError naming the keyword, a value of the right type that no option takes (too large for
+// any double or integer, negative where a count is meant) an InputError naming it. pybind11's
+// own casters said "Unable to cast Python instance" (a RuntimeError) inside dicts and
+// "incompatible function arguments" for 10**400.
+
+std::string TypeName(const py::handle& value) {
+  return py::str(py::type::of(value).attr("__name__"));
+}
+
+[[noreturn]] void WrongType(const std::string& key, const py::handle& value, const char* wanted) {
+  throw py::type_error(fmt::format("{}: give {}, not {}", key, wanted, TypeName(value)));
+}
+
+// The text of a number for a message, shortened (10**400 has 401 digits).
+std::string ShownNumber(const py::handle& value) {
+  std::string text = py::repr(value);
+  if (text.size() > 24) text = text.substr(0, 10) + "..." + text.substr(text.size() - 6);
+  return text;
+}
+
+bool IsInteger(const py::handle& value) {
+  // bool is an int in Python, but True as a count or a length is a mistake.
+  return !PyBool_Check(value.ptr()) && PyIndex_Check(value.ptr()) && !PyFloat_Check(value.ptr());
+}
+
+// A real number: int or float (NumPy's too), not bool, not str.
+std::optional<double> RealOf(const py::handle& value, const std::string& key) {
+  if (value.is_none()) return std::nullopt;
+  const bool number = IsInteger(value) || PyFloat_Check(value.ptr()) ||
+                      (!PyBool_Check(value.ptr()) && !PyComplex_Check(value.ptr()) &&
+                       !py::isinstance<py::str>(value) && !py::isinstance<py::bytes>(value) &&
+                       py::hasattr(value, "__float__"));
+  if (!number) WrongType(key, value, "a number");
+  const double result = PyFloat_AsDouble(value.ptr());
+  if (result == -1.0 && PyErr_Occurred()) {
+    if (!PyErr_ExceptionMatches(PyExc_OverflowError)) throw py::error_already_set();
+    PyErr_Clear();
+    throw InputError(fmt::format("{}: {} is out of range — no double holds it", key,
+                                 ShownNumber(value)));
+  }
+  return result;
+}
+
+// A whole number in [low, high]: int (NumPy's integers too), not bool, not float.
+std::optional<int64_t> WholeOf(const py::handle& value, const std::string& key, int64_t low,
+                               int64_t high) {
+  if (value.is_none()) return std::nullopt;
+  if (!IsInteger(value)) WrongType(key, value, "a whole number (int)");
+  const py::int_ integer = py::reinterpret_steal<py::int_>(PyNumber_Index(value.ptr()));
+  if (!integer) throw py::error_already_set();
+  int overflow = 0;
+  const long long result = PyLong_AsLongLongAndOverflow(integer.ptr(), &overflow);
+  if (overflow != 0 || result < low || result > high)
+    throw InputError(fmt::format("{}: {} is out of range — give {} to {}", key,
+                                 ShownNumber(value), low, high));
+  return result;
+}
+
+std::optional<int> IntOf(const py::handle& value, const std::string& key) {
+  const std::optional<int64_t> whole = WholeOf(value, key, std::numeric_limits<int>::min(),
+                                               std::numeric_limits<int>::max());
+  if (!whole) return std::nullopt;
+  return static_cast<int>(*whole);
+}
+
+// A whole number >= 0 up to 2^64 - 1 (seeds, counts of cells).
+std::optional<uint64_t> UnsignedOf(const py::handle& value, const std::string& key) {
+  if (value.is_none()) return std::nullopt;
+  if (!IsInteger(value)) WrongType(key, value, "a whole number (int)");
+  const py::int_ integer = py::reinterpret_steal<py::int_>(PyNumber_Index(value.ptr()));
+  if (!integer) throw py::error_already_set();
+  const unsigned long long result = PyLong_AsUnsignedLongLong(integer.ptr());
+  if (result == static_cast<unsigned long long>(-1) && PyErr_Occurred()) {
+    PyErr_Clear();
+    throw InputError(fmt::format("{}: {} is out of range — give 0 to 18446744073709551615", key,
+                                 ShownNumber(value)));
+  }
+  return result;
+}
+
+std::optional<bool> FlagOf(const py::handle& value, const std::string& key) {
+  if (value.is_none()) return std::nullopt;
+  // Python's bool and NumPy's bool_; not 1 or "yes", which are more likely mistakes.
+  if (PyBool_Check(value.ptr())) return value.ptr() == Py_True;
+  if (TypeName(value) == "bool_") return PyObject_IsTrue(value.ptr()) == 1;
+  WrongType(key, value, "True or False");
+}
+
+bool FlagOf(const py::handle& value, const std::string& key, bool when_none) {
+  return FlagOf(value, key).value_or(when_none);
+}
+
+std::optional<std::string> TextOf(const py::handle& value, const std::string& key) {
+  if (value.is_none()) return std::nullopt;
+  if (!py::isinstance<py::str>(value)) WrongType(key, value, "a str");
+  return value.cast<std::string>();
+}
+
+// (x, y, z): a sequence of three numbers.
+std::optional<std::array<double, 3>> PointOf(const py::handle& value, const std::string& key) {
+  if (value.is_none()) return std::nullopt;
+  if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value) ||
+      !PySequence_Check(value.ptr()))
+    WrongType(key, value, "a sequence (x, y, z) of three numbers");
+  const py::sequence items = py::reinterpret_borrow<py::sequence>(value);
+  if (items.size() != 3)
+    throw InputError(fmt::format("{}: has {} values — give (x, y, z) [m]", key, items.size()));
+  std::array<double, 3> point{};
+  for (size_t a = 0; a < 3; ++a)
+    point[a] = *RealOf(items[a], fmt::format("{}[{}]", key, a));
+  return point;
+}
+
 // `quality`: None or a dict with max_incidence [deg] and max_depth_noise [mm], as the CLI's flags.
 QualityFilter QualityOf(const py::object& value) {
   QualityFilter quality;
   if (value.is_none()) return quality;
   if (!py::isinstance<py::dict>(value))
-    throw InputError(AtPlace("quality", 0,
-                             "give a dict such as {'max_incidence': 60, 'max_depth_noise': 2} "
-                             "(degrees, millimetres) or None"));
+    throw py::type_error("quality: give a dict such as {'max_incidence': 60, "
+                         "'max_depth_noise': 2} (degrees, millimetres) or None, not " +
+                         TypeName(value));
   for (const auto& [key, item] : value.cast<py::dict>()) {
+    if (!py::isinstance<py::str>(key))
+      throw py::type_error("quality: every key is a str, not " + TypeName(key));
     const std::string name = py::str(key);
     if (item.is_none()) continue;
     if (name == "max_incidence") {
-      quality.max_incidence_deg = item.cast<double>();
+      quality.max_incidence_deg = RealOf(item, "quality['max_incidence']");
     } else if (name == "max_depth_noise") {
-      quality.max_depth_noise = item.cast<double>() / 1000.0;
+      quality.max_depth_noise = *RealOf(item, "quality['max_depth_noise']") / 1000.0;
     } else {
       throw InputError(
           AtPlace("quality", 0,
@@ -145,7 +276,8 @@ QualityFilter QualityOf(const py::object& value) {
 std::function<void(size_t, size_t)> ProgressOf(const py::object& progress) {
   if (progress.is_none()) return {};
   if (!PyCallable_Check(progress.ptr()))
-    throw InputError(AtPlace("progress", 0, "give a callable progress(done, total) or None"));
+    throw py::type_error("progress: give a callable progress(done, total) or None, not " +
+                         std::string(py::str(py::type::of(progress).attr("__name__"))));
   std::shared_ptr<py::object> callable(new py::object(progress), [](py::object* held) {
     py::gil_scoped_acquire gil;
     delete held;
@@ -156,32 +288,34 @@ std::function<void(size_t, size_t)> ProgressOf(const py::object& progress) {
   };
 }
 
-SceneInput SceneInputOf(const py::object& path,
+SceneInput SceneInputOf(const std::string& path_key,
+                        const py::object& path,
                         const py::object& model_path,
                         const py::object& resource_path,
                         const py::object& targets,
-                        std::optional<double> cell_size,
-                        std::optional<uint64_t> seed,
-                        std::optional<std::array<double, 3>> observation_point,
-                        std::optional<bool> random_roll) {
+                        const py::object& cell_size,
+                        const py::object& seed,
+                        const py::object& observation_point,
+                        const py::object& random_roll) {
   SceneInput input;
-  input.path = OptionalPathOf(path).value_or("");
-  input.load.model_paths = PathsOf(model_path);
-  input.load.resource_paths = PathsOf(resource_path);
+  input.path = OptionalPathOf(path, path_key).value_or("");
+  input.load.model_paths = PathsOf(model_path, "model_path");
+  input.load.resource_paths = PathsOf(resource_path, "resource_path");
   input.load.targets = NamesOf(targets);
-  input.load.cell_size = cell_size;
-  input.seed = seed;
-  if (observation_point) {
-    const auto& p = *observation_point;
+  input.load.cell_size = RealOf(cell_size, "cell_size");
+  input.seed = UnsignedOf(seed, "seed");
+  if (const auto point = PointOf(observation_point, "observation_point")) {
+    const auto& p = *point;
     input.observation_point = Vec3(p[0], p[1], p[2]);
   }
-  input.random_roll = random_roll;
+  input.random_roll = FlagOf(random_roll, "random_roll");
   return input;
 }
 
-ObserveOptions ObserveOptionsOf(const py::object& quality, bool cull, const py::object& progress) {
+ObserveOptions ObserveOptionsOf(const py::object& quality, const py::object& cull,
+                                const py::object& progress) {
   ObserveOptions options;
-  options.cull = cull;
+  options.cull = FlagOf(cull, "cull", true);
   options.quality = QualityOf(quality);
   options.progress = ProgressOf(progress);
   return options;
@@ -189,14 +323,15 @@ ObserveOptions ObserveOptionsOf(const py::object& quality, bool cull, const py::
 
 // `out`: None (nothing written) or the folder to write (the CLI's --out).
 std::optional<std::string> OutDirOf(const py::object& out) {
-  std::optional<std::string> folder = OptionalPathOf(out);
+  std::optional<std::string> folder = OptionalPathOf(out, "out");
   if (folder && folder->empty())
     throw InputError(AtPlace("out", 0, "the path is empty — give the folder to write, or None"));
   if (folder) CheckRunFolder(*folder);  // before any work, as the CLI's --out
   return folder;
 }
 
-RunLimits LimitsOf(std::optional<double> max_memory) {
+RunLimits LimitsOf(const py::object& max_memory_value) {
+  const std::optional<double> max_memory = RealOf(max_memory_value, "max_memory");
   RunLimits limits;
   if (max_memory) {
     // The library reads 0 as "75 % of the RAM"; a caller's 0 (or less) is a mistake, as the
@@ -210,8 +345,11 @@ RunLimits LimitsOf(std::optional<double> max_memory) {
   return limits;
 }
 
-RobustnessOptions RobustnessOf(std::optional<double> fov_tolerance,
-                               std::optional<double> alternatives_within) {
+RobustnessOptions RobustnessOf(const py::object& fov_tolerance_value,
+                               const py::object& alternatives_within_value) {
+  const std::optional<double> fov_tolerance = RealOf(fov_tolerance_value, "fov_tolerance");
+  const std::optional<double> alternatives_within =
+      RealOf(alternatives_within_value, "alternatives_within");
   RobustnessOptions robustness;
   if (fov_tolerance) robustness.fov_tolerance_deg = *fov_tolerance;
   if (alternatives_within) robustness.within = *alternatives_within / 100.0;  // points
@@ -231,17 +369,73 @@ void CheckThreads(std::optional<int> threads) {
 // The interpreter's main thread, where Python handles signals (set when the module is imported).
 std::thread::id g_main_thread;
 
+// The signal that asked the run to stop (0: none, or a call asked).
+int SignalRequested() {
+  if (!InterruptRequested()) return 0;
+  try {
+    ThrowIfInterrupted();
+  } catch (const Interrupted& interrupted) {
+    return interrupted.signal();
+  }
+  return 0;
+}
+
+// While alive (a call on the main thread, which has taken SIGINT, SIGTERM and SIGHUP from Python):
+// once a signal asked the run to stop, the call has kStopGrace to return; one that is blocked
+// (a progress callable that never returns, a lock held elsewhere) then ends the process by that
+// signal, as it would have ended without vantage (issue 44: a deadlocked call ignored SIGTERM,
+// whose request only the library's stages read).
+class SignalWatchdog {
+ public:
+  static constexpr std::chrono::seconds kStopGrace{3};
+
+  SignalWatchdog() : thread_([this] { Watch(); }) {}
+  ~SignalWatchdog() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      done_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+  }
+  SignalWatchdog(const SignalWatchdog&) = delete;
+  SignalWatchdog& operator=(const SignalWatchdog&) = delete;
+
+ private:
+  void Watch() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    std::optional<std::chrono::steady_clock::time_point> asked;
+    while (!wake_.wait_for(lock, std::chrono::milliseconds(100), [this] { return done_; })) {
+      const int signal = SignalRequested();
+      if (signal == 0) continue;
+      const auto now = std::chrono::steady_clock::now();
+      if (!asked) asked = now;
+      if (now - *asked < kStopGrace) continue;
+      std::signal(signal, SIG_DFL);
+      std::raise(signal);
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool done_ = false;
+  std::thread thread_;
+};
+
 // Runs `work` with the GIL released, on at most `threads` worker threads (None or 0: all cores;
 // results are the same for any number). `work` must not touch Python objects. Called from the
 // main thread, Ctrl-C stops the work within a second (vantage/interrupt.hpp) and raises
 // KeyboardInterrupt; Python's own handler is back once the call returns.
 template <typename Work>
-auto WithoutGil(std::optional<int> threads, Work&& work) {
+auto WithoutGil(const py::object& threads_value, Work&& work) {
+  const std::optional<int> threads = IntOf(threads_value, "threads");
   CheckThreads(threads);
   std::optional<InterruptOnSignals> interrupts;
+  std::optional<SignalWatchdog> watchdog;
   if (std::this_thread::get_id() == g_main_thread) {
     ClearInterrupt();
     interrupts.emplace();
+    watchdog.emplace();
   }
   try {
     py::gil_scoped_release release;
@@ -249,6 +443,7 @@ auto WithoutGil(std::optional<int> threads, Work&& work) {
     tbb::task_arena arena(*threads);
     return arena.execute(std::forward<Work>(work));
   } catch (const Interrupted&) {
+    watchdog.reset();
     interrupts.reset();
     ClearInterrupt();
     PyErr_SetNone(PyExc_KeyboardInterrupt);
@@ -394,17 +589,31 @@ SelectionRequest RequestOf(std::optional<int> n,
 // on `request` (a SelectionRequest or EvaluateOptions: the keywords every selecting function and
 // evaluate share).
 template <typename Request>
-void SetInstallRules(Request* request, std::optional<bool> interference,
-                     std::optional<double> interference_overlap,
-                     std::optional<uint64_t> calibration_overlap,
-                     std::optional<double> calibration_overlap_frac,
-                     std::optional<int64_t> min_points, std::optional<double> min_density) {
-  request->constraints.interference = interference;
-  request->constraints.interference_overlap = interference_overlap;
-  request->constraints.calibration_overlap = calibration_overlap;
-  request->constraints.calibration_overlap_frac = calibration_overlap_frac;
-  request->min_points = min_points;
-  request->min_density = min_density;
+void SetInstallRules(Request* request, const py::object& interference,
+                     const py::object& interference_overlap,
+                     const py::object& calibration_overlap,
+                     const py::object& calibration_overlap_frac, const py::object& min_points,
+                     const py::object& min_density) {
+  request->constraints.interference = FlagOf(interference, "interference");
+  request->constraints.interference_overlap =
+      RealOf(interference_overlap, "interference_overlap");
+  request->constraints.calibration_overlap = UnsignedOf(calibration_overlap, "calibration_overlap");
+  request->constraints.calibration_overlap_frac =
+      RealOf(calibration_overlap_frac, "calibration_overlap_frac");
+  request->min_points = WholeOf(min_points, "min_points", std::numeric_limits<int64_t>::min(),
+                                std::numeric_limits<int64_t>::max());
+  request->min_density = RealOf(min_density, "min_density");
+}
+
+// The selection keywords every selecting function shares, checked as the rule above says.
+SelectionRequest RequestOf(const py::object& n, std::optional<Method> method,
+                           const py::object& time_limit, const py::object& k,
+                           const py::object& goal, const py::object& budget,
+                           const py::object& iterations, const py::object& stop,
+                           std::optional<OverStates> over_states = std::nullopt) {
+  return RequestOf(IntOf(n, "n"), method, RealOf(time_limit, "time_limit"), IntOf(k, "k"),
+                   RealOf(goal, "goal"), RealOf(budget, "budget"), IntOf(iterations, "iterations"),
+                   RealOf(stop, "stop"), over_states);
 }
 
 // Selection as `vantage select FILE`: the same resolution, constraints included.
@@ -412,7 +621,7 @@ std::vector<Selection> SelectOn(const VisibilityFile& data,
                                 const SelectionRequest& request,
                                 std::optional<uint64_t> seed,
                                 Method default_method,
-                                std::optional<int> threads) {
+                                const py::object& threads) {
   const MatrixSelection resolved =
       ResolveMatrixSelection(data, request, seed.value_or(data.seed), default_method);
   return WithoutGil(
@@ -639,15 +848,18 @@ void Bind(py::module_& m) {
           "the quality filter the sets were made with: max_incidence [deg], max_depth_noise [mm]")
       .def(
           "select",
-          [](const VisibilityHandle& v, std::optional<int> n, const std::string& method,
-             std::optional<double> time_limit, std::optional<int> k, std::optional<double> goal,
-             std::optional<double> budget, std::optional<int> iterations,
-             std::optional<double> stop, std::optional<uint64_t> seed, std::optional<int> threads,
-             std::optional<bool> interference, std::optional<double> interference_overlap,
-             std::optional<uint64_t> calibration_overlap,
-             std::optional<double> calibration_overlap_frac, std::optional<int64_t> min_points,
-             std::optional<double> min_density) {
-            const Method chosen = MethodOf(method);
+          [](const VisibilityHandle& v, const py::object& n, const py::object& method,
+             const py::object& time_limit, const py::object& k, const py::object& goal,
+             const py::object& budget, const py::object& iterations, const py::object& stop,
+             const py::object& seed, const py::object& threads, const py::object& interference,
+             const py::object& interference_overlap, const py::object& calibration_overlap,
+             const py::object& calibration_overlap_frac, const py::object& min_points,
+             const py::object& min_density) {
+            const std::optional<std::string> method_name = TextOf(method, "method");
+            if (!method_name)
+              throw py::type_error("method: give a str (best, ransac, greedy, local or exact), "
+                                   "not NoneType");
+            const Method chosen = MethodOf(*method_name);
             if (chosen == Method::kAll)
               throw InputError(AtPlace("method", 0,
                                        "'all' gives one result per method and n — use "
@@ -657,7 +869,7 @@ void Bind(py::module_& m) {
             SetInstallRules(&request, interference, interference_overlap, calibration_overlap,
                             calibration_overlap_frac, min_points, min_density);
             std::vector<Selection> results =
-                SelectOn(*v.data, request, seed, Method::kExact, threads);
+                SelectOn(*v.data, request, UnsignedOf(seed, "seed"), Method::kExact, threads);
             return SelectionInfoOf(std::move(results.back()), *v.data);
           },
           py::arg("n") = py::none(), py::arg("method") = "exact",
@@ -682,21 +894,20 @@ void Bind(py::module_& m) {
           "Returns a vantage.Selection; raises InputError for invalid options.")
       .def(
           "select_all",
-          [](const VisibilityHandle& v, std::optional<int> n,
-             const std::optional<std::string>& method, std::optional<double> time_limit,
-             std::optional<int> k, std::optional<double> goal, std::optional<double> budget,
-             std::optional<int> iterations, std::optional<double> stop,
-             std::optional<uint64_t> seed, std::optional<int> threads,
-             std::optional<bool> interference, std::optional<double> interference_overlap,
-             std::optional<uint64_t> calibration_overlap,
-             std::optional<double> calibration_overlap_frac, std::optional<int64_t> min_points,
-             std::optional<double> min_density) {
-            SelectionRequest request = RequestOf(n, OptionalMethodOf(method), time_limit, k, goal,
-                                                 budget, iterations, stop);
+          [](const VisibilityHandle& v, const py::object& n, const py::object& method,
+             const py::object& time_limit, const py::object& k, const py::object& goal,
+             const py::object& budget, const py::object& iterations, const py::object& stop,
+             const py::object& seed, const py::object& threads, const py::object& interference,
+             const py::object& interference_overlap, const py::object& calibration_overlap,
+             const py::object& calibration_overlap_frac, const py::object& min_points,
+             const py::object& min_density) {
+            SelectionRequest request = RequestOf(n, OptionalMethodOf(TextOf(method, "method")),
+                                                 time_limit, k, goal, budget, iterations, stop);
             SetInstallRules(&request, interference, interference_overlap, calibration_overlap,
                             calibration_overlap_frac, min_points, min_density);
             std::vector<SelectionInfo> list;
-            for (Selection& s : SelectOn(*v.data, request, seed, Method::kAll, threads))
+            for (Selection& s :
+                 SelectOn(*v.data, request, UnsignedOf(seed, "seed"), Method::kAll, threads))
               list.push_back(SelectionInfoOf(std::move(s), *v.data));
             return list;
           },
@@ -715,8 +926,8 @@ void Bind(py::module_& m) {
       .def(
           "save",
           [](const VisibilityHandle& v, const py::object& path) {
-            const std::string file = PathOf(path);
-            WithoutGil(std::nullopt, [&] { SaveVisibilityFile(file, *v.data); });
+            const std::string file = PathOf(path, "path");
+            WithoutGil(py::none(), [&] { SaveVisibilityFile(file, *v.data); });
           },
           py::arg("path"),
           "Writes the matrix as a .vis file (the format of `vantage observe --out`, "
@@ -759,8 +970,8 @@ void Bind(py::module_& m) {
           "names of the scene's states (empty when it does not change)")
       .def(
           "observe",
-          [](const ProblemHandle& p, const py::object& quality, std::optional<int> threads,
-             const py::object& progress, bool cull, std::optional<double> max_memory) {
+          [](const ProblemHandle& p, const py::object& quality, const py::object& threads,
+             const py::object& progress, const py::object& cull, const py::object& max_memory) {
             const ObserveOptions options = ObserveOptionsOf(quality, cull, progress);
             const RunLimits limits = LimitsOf(max_memory);
             const std::shared_ptr<const PreparedScene> prepared = p.prepared;
@@ -791,13 +1002,13 @@ void Bind(py::module_& m) {
   m.def(
       "load",
       [](const py::object& path, const py::object& model_path, const py::object& resource_path,
-         const py::object& targets, std::optional<double> cell_size, std::optional<uint64_t> seed,
-         std::optional<std::array<double, 3>> observation_point, std::optional<bool> random_roll) {
-        const SceneInput input = SceneInputOf(path, model_path, resource_path, targets, cell_size,
+         const py::object& targets, const py::object& cell_size, const py::object& seed,
+         const py::object& observation_point, const py::object& random_roll) {
+        const SceneInput input = SceneInputOf("path", path, model_path, resource_path, targets, cell_size,
                                               seed, observation_point, random_roll);
         ProblemHandle problem;
         problem.prepared = WithoutGil(
-            std::nullopt, [&] { return std::make_shared<const PreparedScene>(Prepare(input)); });
+            py::none(), [&] { return std::make_shared<const PreparedScene>(Prepare(input)); });
         return problem;
       },
       py::arg("path"), py::kw_only(), py::arg("model_path") = py::none(),
@@ -815,9 +1026,9 @@ void Bind(py::module_& m) {
   m.def(
       "load_visibility",
       [](const py::object& path) {
-        const std::string file = PathOf(path);
+        const std::string file = PathOf(path, "path");
         VisibilityHandle result;
-        result.data = WithoutGil(std::nullopt, [&] {
+        result.data = WithoutGil(py::none(), [&] {
           return std::make_shared<const VisibilityFile>(LoadVisibilityFile(file));
         });
         return result;
@@ -829,27 +1040,30 @@ void Bind(py::module_& m) {
 
   m.def(
       "optimize",
-      [](const py::object& scene, std::optional<int> n, const std::optional<std::string>& method,
+      [](const py::object& scene, const py::object& n, const py::object& method,
          const py::object& out, const py::object& model_path, const py::object& resource_path,
-         const py::object& targets, std::optional<double> cell_size, std::optional<uint64_t> seed,
-         std::optional<std::array<double, 3>> observation_point, std::optional<bool> random_roll,
-         const py::object& quality, bool cull, std::optional<double> max_memory,
-         std::optional<int> iterations, std::optional<double> stop,
-         std::optional<double> time_limit, std::optional<double> goal, std::optional<int> k,
-         std::optional<double> budget, const std::optional<std::string>& over_states,
-         std::optional<double> fov_tolerance, std::optional<double> alternatives_within,
-         bool refine, std::optional<int> refine_rounds, std::optional<int> threads,
-         const py::object& progress, std::optional<bool> interference,
-         std::optional<double> interference_overlap, std::optional<uint64_t> calibration_overlap,
-         std::optional<double> calibration_overlap_frac, std::optional<int64_t> min_points,
-         std::optional<double> min_density) {
+         const py::object& targets, const py::object& cell_size, const py::object& seed,
+         const py::object& observation_point, const py::object& random_roll,
+         const py::object& quality, const py::object& cull, const py::object& max_memory,
+         const py::object& iterations, const py::object& stop, const py::object& time_limit,
+         const py::object& goal, const py::object& k, const py::object& budget,
+         const py::object& over_states, const py::object& fov_tolerance,
+         const py::object& alternatives_within, const py::object& refine_value,
+         const py::object& refine_rounds_value, const py::object& threads,
+         const py::object& progress, const py::object& interference,
+         const py::object& interference_overlap, const py::object& calibration_overlap,
+         const py::object& calibration_overlap_frac, const py::object& min_points,
+         const py::object& min_density) {
+        const bool refine = FlagOf(refine_value, "refine", false);
+        const std::optional<int> refine_rounds = IntOf(refine_rounds_value, "refine_rounds");
         OptimizeOptions options;
-        options.scene = SceneInputOf(scene, model_path, resource_path, targets, cell_size, seed,
+        options.scene = SceneInputOf("scene", scene, model_path, resource_path, targets, cell_size, seed,
                                      observation_point, random_roll);
         options.observe = ObserveOptionsOf(quality, cull, progress);
         options.limits = LimitsOf(max_memory);
-        options.selection = RequestOf(n, OptionalMethodOf(method), time_limit, k, goal, budget,
-                                      iterations, stop, OverStatesOf(over_states));
+        options.selection =
+            RequestOf(n, OptionalMethodOf(TextOf(method, "method")), time_limit, k, goal, budget,
+                      iterations, stop, OverStatesOf(TextOf(over_states, "over_states")));
         SetInstallRules(&options.selection, interference, interference_overlap, calibration_overlap,
                         calibration_overlap_frac, min_points, min_density);
         options.robustness = RobustnessOf(fov_tolerance, alternatives_within);
@@ -900,16 +1114,16 @@ void Bind(py::module_& m) {
       "evaluate",
       [](const py::object& scene, const py::object& constellation, const py::object& out,
          const py::object& model_path, const py::object& resource_path, const py::object& targets,
-         std::optional<double> cell_size, std::optional<uint64_t> seed, const py::object& quality,
-         bool cull, std::optional<double> max_memory, std::optional<int> threads,
-         const py::object& progress, std::optional<bool> interference,
-         std::optional<double> interference_overlap, std::optional<uint64_t> calibration_overlap,
-         std::optional<double> calibration_overlap_frac, std::optional<int64_t> min_points,
-         std::optional<double> min_density) {
+         const py::object& cell_size, const py::object& seed, const py::object& quality,
+         const py::object& cull, const py::object& max_memory, const py::object& threads,
+         const py::object& progress, const py::object& interference,
+         const py::object& interference_overlap, const py::object& calibration_overlap,
+         const py::object& calibration_overlap_frac, const py::object& min_points,
+         const py::object& min_density) {
         EvaluateOptions options;
-        options.scene = SceneInputOf(scene, model_path, resource_path, targets, cell_size, seed,
-                                     std::nullopt, std::nullopt);
-        options.constellation = PathOf(constellation);
+        options.scene = SceneInputOf("scene", scene, model_path, resource_path, targets, cell_size, seed,
+                                     py::none(), py::none());
+        options.constellation = PathOf(constellation, "constellation");
         options.observe = ObserveOptionsOf(quality, cull, progress);
         options.limits = LimitsOf(max_memory);
         SetInstallRules(&options, interference, interference_overlap, calibration_overlap,
@@ -974,6 +1188,16 @@ void Bind(py::module_& m) {
 
 PYBIND11_MODULE(vantage, m) {
   vantage::python::g_main_thread = std::this_thread::get_id();
+  // NumPy's C API, looked up now, with the GIL held and one thread (issue 44): pybind11 looks it
+  // up in a function-local static on first use, and the import inside releases the GIL, so two
+  // threads touching NumPy first together (two reading Visibility.matrix, a progress callable
+  // reading a matrix) deadlocked, one holding the GIL and waiting for the static, the other
+  // holding the static and waiting for the GIL. The dtypes the module makes are cached as well.
+  py::module_::import("numpy");
+  py::detail::npy_api::get();
+  for (const py::dtype& type : {py::dtype::of<double>(), py::dtype::of<int32_t>(),
+                                py::dtype::of<int64_t>(), py::dtype::of<uint64_t>()})
+    static_cast<void>(type);
   // The library logs through spdlog's default logger (and one named "vantage"): on stderr, as
   // the CLI's, warnings and errors only unless set_log_level says otherwise.
   std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
