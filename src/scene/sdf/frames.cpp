@@ -42,6 +42,13 @@ Pose Loader::FrameInModel(const std::string& name,
     const std::string relative_to = RelativeTo(*entry.doc, entry.pose);
     if (!relative_to.empty()) parent = relative_to;
   }
+  if (const auto placed = entries.find(parent);
+      placed != entries.end() && placed->second.is_placed_by_frame) {
+    Error(*entry.doc, entry.pose ? entry.pose->line : entry.line,
+          fmt::format("frame '{}' of model '{}' is placed relative to '{}', a model placed by "
+                      "its placement_frame — place it relative to another frame",
+                      name, model, parent));
+  }
   const Pose parent_pose = FrameInModel(parent, entries, resolved, visiting, model, *entry.doc,
                                         entry.pose ? entry.pose->line : entry.line);
   Pose pose = parent_pose * PoseValue(*entry.doc, entry.pose);

@@ -77,7 +77,12 @@ struct Sink {
 
 struct ModelContext {
   std::string scoped;  ///< instance name, "outer::inner" when nested
+  /// Where the model goes: the pose of its model frame, or, with a placement frame, the pose
+  /// that frame of the model must have (SDF 1.8 placement_frame; VisitModel moves the model).
   Pose world_from_model;
+  std::string placement_frame;        ///< "" = the model frame
+  const Doc* placement_doc = nullptr;  ///< the file of the element that names it
+  int placement_line = 0;              ///< and its line
   bool hidden = false;  ///< inside a sensor model: its bodies never occlude
   Sink sink;
   Site site;
@@ -98,6 +103,9 @@ struct FrameEntry {
   bool honours_relative_to = true;   ///< false for an included model's own pose
   std::string default_parent;        ///< "" = the model frame
   int line = 0;
+  /// A nested model placed by its placement_frame: its pose is its placement frame's, so other
+  /// frames cannot be placed relative to it (refused at their pose).
+  bool is_placed_by_frame = false;
 };
 
 /// A Fuel model URI, https://fuel.gazebosim.org/1.0/<owner>/models/<name>[/<version>][/files/..].
@@ -172,8 +180,17 @@ class Loader {
   /// The pose value of a <pose> (identity when null or wrong; errors recorded).
   Pose PoseValue(const Doc& doc, const XmlElement* pose);
   std::string RelativeTo(const Doc& doc, const XmlElement* pose);
-  /// A pose at world level: relative_to must be empty or "world".
+  /// A pose at world level: relative_to empty, "world", or (in the world file) a world-level
+  /// <frame>, <model> or named <include> (WorldFrame).
   Pose WorldPose(const Doc& doc, const XmlElement* pose);
+  /// The world pose of a world-level frame, model or named include of the world file, following
+  /// relative_to and attached_to; an error at `line` when there is none of that name, it is
+  /// placed by a placement_frame, or the chain is a cycle.
+  Pose WorldFrame(const std::string& name, int line);
+  /// Sets `context`'s placement frame: an include's <placement_frame> (in `include_doc`), else
+  /// the model's placement_frame attribute (in `model_doc`), else none.
+  void SetPlacementFrame(const Doc& include_doc, const XmlElement* include, const Doc& model_doc,
+                         const XmlElement& model, ModelContext* context);
   /// Child value of `parent` or `fallback` when the child is absent.
   double NumberOr(const Doc& doc,
                   const XmlElement* parent,
@@ -250,6 +267,8 @@ class Loader {
   std::vector<SensorRecord> sensors_;
   std::vector<std::pair<std::string, bool>> models_;
   std::set<std::string> top_names_;
+  std::map<std::string, Pose> world_frames_;       ///< WorldFrame's results
+  std::set<std::string> world_frames_visiting_;    ///< WorldFrame's chain, to refuse cycles
   /// The models the walk is inside, outermost first (scoped name, file), to refuse include cycles.
   std::vector<std::pair<const XmlElement*, std::string>> open_models_;
   std::set<std::string> population_names_;

@@ -34,10 +34,6 @@ void Loader::VisitModel(const Doc& doc, const XmlElement& model, const ModelCont
   if (context.sink.models) context.sink.models->emplace_back(context.scoped, context.hidden);
   const std::string* own_name = model.Attribute("name");
   const std::string type_name = own_name ? Trim(*own_name) : context.scoped;
-  if (model.Attribute("placement_frame")) {
-    Note(AtPlace(doc.xml.path, model.line,
-                 fmt::format("model '{}': placement_frame is not applied", context.scoped)));
-  }
 
   // The model's named frames, for relative_to. Includes are resolved here, once.
   std::map<std::string, FrameEntry> entries;
@@ -60,7 +56,9 @@ void Loader::VisitModel(const Doc& doc, const XmlElement& model, const ModelCont
     const std::string* name_attribute = child.Attribute("name");
     const std::string name = name_attribute ? Trim(*name_attribute) : "";
     if (child.name == "link" || child.name == "model") {
-      add_entry(name, child, FrameEntry{&doc, child.Child("pose"), true, "", child.line});
+      add_entry(name, child,
+                FrameEntry{&doc, child.Child("pose"), true, "", child.line,
+                           child.name == "model" && child.Attribute("placement_frame")});
       if (child.name == "link") {
         for (const XmlElement* sensor : child.Children("sensor")) {
           const std::string* type = sensor->Attribute("type");
@@ -81,7 +79,9 @@ void Loader::VisitModel(const Doc& doc, const XmlElement& model, const ModelCont
                   FrameEntry{result.doc, result.model->Child("pose"), false, "", child.line});
       } else if (result.kind != IncludeResult::Kind::kSkipped &&
                  result.kind != IncludeResult::Kind::kFailed) {
-        add_entry(result.name, child, FrameEntry{&doc, child.Child("pose"), true, "", child.line});
+        add_entry(result.name, child,
+                  FrameEntry{&doc, child.Child("pose"), true, "", child.line,
+                             child.Child("placement_frame") != nullptr});
       }
       includes[&child] = std::move(result);
     }
@@ -95,6 +95,22 @@ void Loader::VisitModel(const Doc& doc, const XmlElement& model, const ModelCont
   const auto in_model = [&](const std::string& name, int line) {
     return FrameInModel(name, entries, resolved, visiting, context.scoped, doc, line);
   };
+  // SDF 1.8 placement_frame: the pose given is that of frame F of the model, so the model frame
+  // goes to world_from_F · model_from_F⁻¹ (libsdformat's rule; tested against it).
+  Pose world_from_model = context.world_from_model;
+  const std::string& placement = context.placement_frame;
+  if (!placement.empty() && placement != "__model__" && !entries.contains(placement)) {
+    Error(*context.placement_doc, context.placement_line,
+          fmt::format("placement_frame '{}' names no link, model or frame of model '{}' — name "
+                      "one of its own frames",
+                      placement, context.scoped));
+  } else if (!placement.empty()) {
+    world_from_model =
+        world_from_model *
+        FrameInModel(placement, entries, resolved, visiting, context.scoped,
+                     *context.placement_doc, context.placement_line)
+            .Inverse();
+  }
   // Pose of a link's child (visual, sensor) in the link: relative_to defaults to the link.
   const auto link_from_child = [&](const std::string& link, const XmlElement* pose) {
     const std::string relative_to = RelativeTo(doc, pose);
@@ -115,7 +131,7 @@ void Loader::VisitModel(const Doc& doc, const XmlElement& model, const ModelCont
           record.model = context.scoped;
           record.link = name;
           record.name = visual_name ? *visual_name : "";
-          record.world_from_visual = context.world_from_model * model_from_link *
+          record.world_from_visual = world_from_model * model_from_link *
                                      link_from_child(name, visual->Child("pose"));
           record.doc = &doc;
           record.element = visual;
@@ -132,7 +148,7 @@ void Loader::VisitModel(const Doc& doc, const XmlElement& model, const ModelCont
           record.model = context.scoped;
           record.type_name = type_name;
           record.sensor_name = sensor_name ? *sensor_name : "";
-          record.world_from_model = context.world_from_model;
+          record.world_from_model = world_from_model;
           record.model_from_camera = model_from_link * link_from_child(name, sensor->Child("pose"));
           record.doc = &doc;
           record.element = sensor;
@@ -143,7 +159,8 @@ void Loader::VisitModel(const Doc& doc, const XmlElement& model, const ModelCont
     } else if (child.name == "model" && !name.empty()) {
       ModelContext nested = context;
       nested.scoped = context.scoped + "::" + name;
-      nested.world_from_model = context.world_from_model * in_model(name, child.line);
+      nested.world_from_model = world_from_model * in_model(name, child.line);
+      SetPlacementFrame(doc, nullptr, doc, child, &nested);
       nested.hidden = hidden;
       VisitModel(doc, child, nested);
     } else if (child.name == "include") {
@@ -154,7 +171,10 @@ void Loader::VisitModel(const Doc& doc, const XmlElement& model, const ModelCont
       }
       ModelContext nested = context;
       nested.scoped = context.scoped + "::" + result.name;
-      nested.world_from_model = context.world_from_model * in_model(result.name, child.line);
+      nested.world_from_model = world_from_model * in_model(result.name, child.line);
+      nested.placement_frame.clear();
+      if (result.kind == IncludeResult::Kind::kModel)
+        SetPlacementFrame(doc, &child, *result.doc, *result.model, &nested);
       nested.hidden = hidden;
       if (result.kind == IncludeResult::Kind::kGroundPlane) {
         if (nested.sink.models) nested.sink.models->emplace_back(nested.scoped, hidden);
@@ -206,6 +226,7 @@ void Loader::VisitWorldEntity(const Doc& doc, const XmlElement& e) {
       const XmlElement* include_pose = e.Child("pose");
       context.world_from_model = include_pose ? WorldPose(doc, include_pose)
                                               : WorldPose(*result.doc, result.model->Child("pose"));
+      SetPlacementFrame(doc, &e, *result.doc, *result.model, &context);
     } else {
       context.world_from_model = WorldPose(doc, e.Child("pose"));
     }
@@ -217,6 +238,7 @@ void Loader::VisitWorldEntity(const Doc& doc, const XmlElement& e) {
       return;
     }
     context.world_from_model = WorldPose(doc, e.Child("pose"));
+    SetPlacementFrame(doc, nullptr, doc, e, &context);
   }
   if (!top_names_.insert(context.scoped).second) {
     Error(doc, e.line,

@@ -158,13 +158,99 @@ std::string Loader::RelativeTo(const Doc& doc, const XmlElement* pose) {
 
 Pose Loader::WorldPose(const Doc& doc, const XmlElement* pose) {
   const std::string relative_to = RelativeTo(doc, pose);
-  if (!relative_to.empty() && relative_to != "world") {
+  if (relative_to.empty() || relative_to == "world") return PoseValue(doc, pose);
+  if (&doc != world_doc_) {
+    // The top-level pose of an included model file: libsdformat refuses relative_to there too.
     Error(doc, pose->line,
-          fmt::format("<pose relative_to='{}'> at world level is not supported — give the pose "
-                      "in world coordinates",
+          fmt::format("<pose relative_to='{}'> on a model file's own model is not supported — "
+                      "give the pose relative to its parent (no relative_to)",
                       relative_to));
+    return PoseValue(doc, pose);
   }
-  return PoseValue(doc, pose);
+  return WorldFrame(relative_to, pose->line) * PoseValue(doc, pose);
+}
+
+Pose Loader::WorldFrame(const std::string& name, int line) {
+  if (name == "world") return Pose{};
+  if (const auto it = world_frames_.find(name); it != world_frames_.end()) return it->second;
+  const Doc& doc = *world_doc_;
+  // The world-level element of that name: <frame name>, <model name>, <include><name>.
+  const XmlElement* found = nullptr;
+  for (const XmlElement& child : world_->children) {
+    std::string child_name;
+    if (child.name == "frame" || child.name == "model") {
+      const std::string* attribute = child.Attribute("name");
+      child_name = attribute ? Trim(*attribute) : "";
+    } else if (child.name == "include" && child.Child("name")) {
+      child_name = child.Child("name")->Trimmed();
+    }
+    if (!child_name.empty() && child_name == name) {
+      found = &child;
+      break;
+    }
+  }
+  if (!found) {
+    Error(doc, line,
+          fmt::format("relative_to '{}' names no frame, model or named include of the world — "
+                      "name one (an <include> by its <name>; scoped names a::b are not "
+                      "supported)",
+                      name));
+    return Pose{};
+  }
+  const bool placed = found->name == "include"
+                          ? found->Child("placement_frame") != nullptr
+                          : found->Attribute("placement_frame") != nullptr;
+  if (placed) {
+    Error(doc, line,
+          fmt::format("relative_to '{}' names a model placed by its placement_frame — place "
+                      "this pose relative to the world or to another frame",
+                      name));
+    return Pose{};
+  }
+  if (!world_frames_visiting_.insert(name).second) {
+    Error(doc, found->line,
+          fmt::format("'{}' is placed relative to itself (a relative_to cycle) — break the cycle",
+                      name));
+    return Pose{};
+  }
+  const XmlElement* pose = found->Child("pose");
+  Pose result;
+  if (found->name == "include" && !pose) {
+    Error(doc, line,
+          fmt::format("relative_to '{}' names an <include> without its own <pose> — give it one",
+                      name));
+  } else {
+    std::string parent = RelativeTo(doc, pose);
+    if (parent.empty() && found->name == "frame") {
+      const std::string* attached_to = found->Attribute("attached_to");
+      if (attached_to) parent = Trim(*attached_to);
+    }
+    result = (parent.empty() ? Pose{} : WorldFrame(parent, pose ? pose->line : found->line)) *
+             PoseValue(doc, pose);
+  }
+  world_frames_visiting_.erase(name);
+  world_frames_[name] = result;
+  return result;
+}
+
+void Loader::SetPlacementFrame(const Doc& include_doc, const XmlElement* include,
+                               const Doc& model_doc, const XmlElement& model,
+                               ModelContext* context) {
+  context->placement_frame.clear();
+  context->placement_doc = nullptr;
+  if (include) {
+    if (const XmlElement* frame = include->Child("placement_frame")) {
+      context->placement_frame = frame->Trimmed();
+      context->placement_doc = &include_doc;
+      context->placement_line = frame->line;
+      return;
+    }
+  }
+  if (const std::string* attribute = model.Attribute("placement_frame")) {
+    context->placement_frame = Trim(*attribute);
+    context->placement_doc = &model_doc;
+    context->placement_line = model.line;
+  }
 }
 
 double Loader::NumberOr(const Doc& doc,

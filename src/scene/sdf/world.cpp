@@ -8,10 +8,13 @@
 // Population structs (their positions are drawn later by PopulationPositions).
 //
 // Frames: `<pose relative_to="X">` is honoured when X names the parent (or "__model__"/"world")
-// or a link, nested model, include or <frame> of the same model; anything else (scoped names
-// "a::b", relative_to between top-level models) is an error. The SDF 1.5/1.6 `frame` attribute
-// is ignored, as Gazebo classic ignored it. `placement_frame`, `<state>` and merge-includes are
-// not applied (a note says so).
+// or a link, nested model, include or <frame> of the same model, and at world level a world
+// <frame>, <model> or named <include> (values.cpp, WorldFrame); anything else (scoped names
+// "a::b", a frame placed relative to a model that a placement_frame places) is an error. SDF
+// 1.8's placement_frame (an include's element, a model's attribute) places the model so that
+// that frame lands at the pose given (model_walk.cpp). The SDF 1.5/1.6 `frame` attribute is
+// ignored, as Gazebo classic ignored it. `<state>` and merge-includes are not applied (a note
+// says so).
 //
 // Targets: a visual is a target when its colour rounds (round(255·v)) to the plugin's
 // sensorDataSegmentationColorRGB. Its colour is the emissive one where the Ogre script or the
