@@ -19,7 +19,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 FUZZ_BUILD=${FUZZ_BUILD:-fuzz/build}
 FUZZ_SECONDS=${FUZZ_SECONDS:-60}
-FUZZ_TARGETS=${FUZZ_TARGETS:-yaml_scene gazebo_world visibility_file constellation mesh_file urdf_robot pipeline}
+FUZZ_TARGETS=${FUZZ_TARGETS:-yaml_scene gazebo_world visibility_file constellation mesh_file urdf_robot pipeline exporter}
 JOBS=${JOBS:-2}
 FUZZ_TIMEOUT=${FUZZ_TIMEOUT:-10}
 

@@ -17,7 +17,7 @@ PACKAGES=(
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib
   python3-setuptools python3-wheel python3-pip python3-venv
   libopenmpi-dev openmpi-bin jq
-  python3-jsonschema python3-yaml
+  python3-jsonschema python3-yaml libexpat1-dev
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

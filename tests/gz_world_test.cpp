@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -28,6 +29,7 @@
 #include "vantage/error.hpp"
 #include "vantage/pipeline.hpp"
 #include "vantage/problem.hpp"
+#include "vantage/visualize.hpp"
 
 namespace vantage {
 namespace {
@@ -191,6 +193,140 @@ TEST(GzWorld, CamerasAreCandidatesWhereSdformatPutsThem) {
   ASSERT_TRUE(reference.count("cam_a"));
   EXPECT_EQ(reference.at("cam_a").fx, 250);
   EXPECT_EQ(reference.at("cam_a").cx, 150);
+}
+
+// SDF 1.8's placement_frame (an include's element, a model's attribute, a nested model's) and
+// poses relative_to world-level frames, models and named includes: every camera where
+// libsdformat's own pose resolution puts it (issue 44: placement_frame was ignored, a camera
+// 10 cm off; relative_to another model was refused).
+TEST(GzWorld, PlacementFrameAndWorldLevelRelativeToAsSdformat) {
+  ClearPathEnv();
+  test::TempDir dir;
+  const std::string world = R"(<?xml version="1.0"?>
+<sdf version="1.9">
+  <world name="frames">
+    <model name="part">
+      <static>true</static>
+      <pose>0 0 0.05 0 0 0.3</pose>
+      <link name="body">
+        <visual name="v">
+          <geometry><box><size>0.1 0.1 0.1</size></box></geometry>
+          <material><diffuse>0 1 0 1</diffuse></material>
+        </visual>
+      </link>
+    </model>
+    <frame name="fixture">
+      <pose relative_to="part">0.4 0.1 0.5 0.1 0.2 0.3</pose>
+    </frame>
+    <frame name="mount" attached_to="fixture">
+      <pose>0.05 0 0.02 0 0.4 0</pose>
+    </frame>
+    <include>
+      <name>cam_placed</name>
+      <uri>model://gz_depth_cam</uri>
+      <pose relative_to="mount">0 0 0 0 0.3 3.0</pose>
+      <placement_frame>body</placement_frame>
+    </include>
+    <include>
+      <name>cam_plain</name>
+      <uri>model://gz_depth_cam</uri>
+      <pose relative_to="fixture">0.1 -0.3 0.05 0 0.2 2.5</pose>
+    </include>
+    <include>
+      <name>cam_beside</name>
+      <uri>model://gz_depth_cam</uri>
+      <pose relative_to="cam_plain">0 0.2 0 0 0 0</pose>
+    </include>
+    <model name="cam_attribute" placement_frame="lens">
+      <static>true</static>
+      <pose relative_to="fixture">-0.6 0.3 0 0 0.5 -0.4</pose>
+      <link name="link">
+        <pose>0.01 0.02 0.03 0 0.1 0</pose>
+        <sensor name="depth" type="depth_camera">
+          <pose>0.005 0 0.01 0 0 0.1</pose>
+          <camera>
+            <horizontal_fov>1.0</horizontal_fov>
+            <image><width>160</width><height>120</height></image>
+            <clip><near>0.1</near><far>4</far></clip>
+          </camera>
+        </sensor>
+      </link>
+      <frame name="lens" attached_to="link">
+        <pose relative_to="link">0.02 0 0 0 0.2 0</pose>
+      </frame>
+    </model>
+    <model name="rig">
+      <static>true</static>
+      <pose>-0.5 -0.4 0.6 0 0 0.8</pose>
+      <link name="base"/>
+      <model name="arm" placement_frame="tip">
+        <pose>0.1 0 0.1 0 0.7 0</pose>
+        <link name="tip">
+          <pose>0.03 0.01 -0.02 0.2 0 0</pose>
+        </link>
+        <link name="link">
+          <sensor name="depth" type="depth_camera">
+            <camera>
+              <horizontal_fov>1.0</horizontal_fov>
+              <image><width>160</width><height>120</height></image>
+              <clip><near>0.1</near><far>4</far></clip>
+            </camera>
+          </sensor>
+        </link>
+      </model>
+    </model>
+  </world>
+</sdf>
+)";
+  test::WriteText(dir.File("frames.sdf"), world);
+  const auto reference = SdformatCameras(dir.File("frames.sdf"), ModelDir(Gz("models")));
+  ASSERT_EQ(reference.size(), 5u);
+  LoadOptions options;
+  options.model_paths = {Gz("models")};
+  const Problem problem = LoadGazeboWorld(dir.File("frames.sdf"), options);
+  ExpectSameCameras(Deploy(problem), reference);
+
+  const auto line_of = [](const std::string& text, const std::string& needle) {
+    const size_t at = text.find(needle);
+    EXPECT_NE(at, std::string::npos) << needle;
+    return 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
+  };
+  const auto refused = [&](const std::string& text, const std::string& file) {
+    test::WriteText(dir.File(file), text);
+    try {
+      LoadGazeboWorld(dir.File(file), options);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  // A pose relative to a model that its placement frame places: refused at the pose's line.
+  std::string relative = world;
+  relative.replace(relative.find("relative_to=\"cam_plain\""), 23, "relative_to=\"cam_placed\"");
+  EXPECT_NE(refused(relative, "relative.sdf")
+                .find(fmt::format("relative.sdf:{}: relative_to 'cam_placed' names a model placed "
+                                  "by its placement_frame",
+                                  line_of(relative, "relative_to=\"cam_placed\""))),
+            std::string::npos)
+      << refused(relative, "relative.sdf");
+  // A name that is no world-level frame, model or named include: refused at its line.
+  std::string unknown = world;
+  unknown.replace(unknown.find("relative_to=\"mount\""), 19, "relative_to=\"nowhere\"");
+  EXPECT_NE(refused(unknown, "unknown.sdf")
+                .find(fmt::format("unknown.sdf:{}: relative_to 'nowhere' names no frame, model or "
+                                  "named include of the world",
+                                  line_of(unknown, "relative_to=\"nowhere\""))),
+            std::string::npos)
+      << refused(unknown, "unknown.sdf");
+  // A placement frame that the model does not have: refused at its line.
+  std::string missing = world;
+  missing.replace(missing.find("<placement_frame>body<"), 22, "<placement_frame>lens<");
+  EXPECT_NE(refused(missing, "missing.sdf")
+                .find(fmt::format("missing.sdf:{}: placement_frame 'lens' names no link, model "
+                                  "or frame of model 'cam_placed'",
+                                  line_of(missing, "<placement_frame>lens<"))),
+            std::string::npos)
+      << refused(missing, "missing.sdf");
 }
 
 // The same world in SDF 1.11 (beyond libsdformat12): vantage's own reader, the same cameras.
@@ -450,7 +586,7 @@ std::string Output(const std::string& command) {
   return out;
 }
 
-/// The frame name the exports use ("rig::mount" -> "rig__mount").
+/// The model name constellation.sdf uses ("rig::mount" -> "rig__mount").
 std::string Exported(std::string name) {
   for (size_t at; (at = name.find("::")) != std::string::npos;) name.replace(at, 2, "__");
   return name;
@@ -472,12 +608,15 @@ TEST(GzWorld, ExportsPutTheChosenCamerasBackExactly) {
   std::vector<Candidate> chosen;
   for (const uint32_t i : run.report.PrimaryChosen()) chosen.push_back(run.data->candidates[i]);
   ASSERT_EQ(chosen.size(), 5u);
-  for (Candidate& c : chosen) c.name = Exported(c.name);
+  std::vector<Candidate> as_models = chosen;
+  for (Candidate& c : as_models) c.name = Exported(c.name);
 
   const std::string sdf = run.files.at("constellation.sdf");
   test::WriteText(dir.File("out/constellation.sdf"), sdf);
-  ExpectSameCameras(chosen,
+  ExpectSameCameras(as_models,
                     SdformatCameras(dir.File("out/constellation.sdf"), ModelDir(Gz("models"))));
+  // The ROS exports name frames by docs/outputs.md's encoding ("rig::mount" -> "rig..mount").
+  for (Candidate& c : chosen) c.name = ExportedFrameName(c.name);
   // Only cam_a (off-centre, fx != fy) needs <lens><intrinsics>; one Sensors system.
   size_t intrinsics = 0;
   for (size_t at = 0; (at = sdf.find("<intrinsics>", at)) != std::string::npos; ++at) ++intrinsics;

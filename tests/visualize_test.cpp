@@ -455,6 +455,45 @@ TEST(Render, BadOptionsAndUnwritablePathsAreInputErrors) {
 // --------------------------------------------------------------------------------------------
 // Static transforms
 
+// docs/outputs.md, Frame names: every name of up to 4 bytes over an alphabet that holds the
+// encoding's own escape '.', SDF's "::", a space, a non-ASCII byte and the optical suffix's
+// letters gives a distinct frame, of the frame alphabet only, that decodes back to the name, is
+// never another camera's optical frame or joint, and never the parent frame (issue 44).
+TEST(StaticTransforms, FrameNamesAreUniqueAndReversibleOverEveryShortName) {
+  const std::string alphabet = std::string("._: a-1") + '\xc3';
+  std::vector<std::string> names = {"cam_optical", "cam_optical_frame", "cam", "world",
+                                    "x_optical_optical", "_optical", "cam--left", "$(arg x)"};
+  std::vector<std::string> level = {""};
+  for (int length = 1; length <= 4; ++length) {
+    std::vector<std::string> next;
+    for (const std::string& prefix : level)
+      for (const char c : alphabet) next.push_back(prefix + c);
+    names.insert(names.end(), next.begin(), next.end());
+    level = std::move(next);
+  }
+  std::map<std::string, std::string> frames;  // frame -> name
+  for (const std::string& name : names) {
+    const std::string frame = ExportedFrameName(name);
+    ASSERT_TRUE(frames.emplace(frame, name).second)
+        << "'" << name << "' and '" << frames[frame] << "' share the frame " << frame;
+    EXPECT_EQ(SensorNameOfFrame(frame), name);
+    for (const char c : frame)
+      EXPECT_TRUE(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.')
+          << frame;
+    EXPECT_NE(frame, "world");
+  }
+  for (const auto& [frame, name] : frames) {
+    EXPECT_FALSE(frames.contains(frame + "_optical_frame")) << name;
+    EXPECT_FALSE(frames.contains(frame + "_optical")) << name;  // its joint would clash
+  }
+  EXPECT_EQ(ExportedFrameName("d415_overhead_35"), "d415_overhead_35");
+  EXPECT_EQ(ExportedFrameName("rig::wrist"), "rig..wrist");
+  EXPECT_EQ(ExportedFrameName("cam 1"), "cam.201");
+  EXPECT_EQ(ExportedFrameName("base_link", "base_link"), ".62ase_link");
+  EXPECT_THROW(SensorNameOfFrame("a.zz"), InputError);
+  EXPECT_THROW(SensorNameOfFrame("a b"), InputError);
+}
+
 TEST(StaticTransforms, ChosenSensorsWithRosQuaternionsAndOpticalFrames) {
   const Vec3 eye(0.8, 0.3, 0.5);
   auto run = MakeRun(SphereScene(kRadius),

@@ -1,13 +1,28 @@
 #pragma once
 /// constellation.world (SYSTEM.md, Outputs): the input Gazebo world with only the chosen sensors,
 /// as plain static models at their poses, ready to load in Gazebo or to evaluate again.
+#include <cstdint>
+#include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "vantage/candidates.hpp"
 #include "vantage/scene.hpp"
+#include "vantage/visibility.hpp"
 
 namespace vantage {
+
+/// What shaped a run's coverage besides the scene's geometry and the sensors' poses: the options
+/// that the command written into a generated constellation.sdf passes to `vantage evaluate`, so
+/// that it scores the layout as the run did (issue 44: without the cell size it gave 60.57 %
+/// against the run's 74.58 %).
+struct ScoringOptions {
+  double cell_size = 0;                ///< the run's cell edge F [m] (0: not known, no command)
+  QualityFilter quality;               ///< --max-incidence, --max-depth-noise
+  std::optional<int64_t> min_points;   ///< --min-points
+  std::optional<double> min_density;   ///< --min-density [points per cm²]
+};
 
 /// The text of `world_path` with every `<population>` and every depth-sensor model of the world
 /// replaced by one static model per chosen candidate, placed so that its camera frame lands
@@ -53,11 +68,20 @@ std::string ConstellationSdf(const std::string& world_path,
 /// 1.9) of one static model per object, its shapes as SDF geometry at their world poses (visual
 /// and collision; meshes by absolute path, with their scale), plus the chosen cameras as
 /// ConstellationSdf writes them, and gz-sim's Physics, UserCommands, SceneBroadcaster and Sensors
-/// systems. A comment names the targets for `vantage evaluate constellation.sdf --target ...`.
-/// An object whose shapes are unknown (a robot link, one a state reshaped) is left out with a
-/// line in `notes`.
+/// systems. Its first element, `<vantage:rescore>`, holds the command that scores it again:
+/// `vantage evaluate constellation.sdf --cell-size F --target T...` and the options of `scoring`
+/// that were set (run in the folder of the file). Model names are ConstellationModelName's,
+/// unique. An object whose shapes are unknown (a robot link, one a state reshaped) is left out
+/// with a line in `notes`.
 std::string SceneConstellationSdf(const Scene& scene, const std::vector<Candidate>& chosen,
+                                  const ScoringOptions& scoring = {},
                                   std::vector<std::string>* notes = nullptr);
+
+/// An SDF model name for a sensor or object (docs/outputs.md, constellation.sdf): "::" (which
+/// SDF reserves) -> "__", "/" -> "_", a name that SDF reserves ("world", "__...__") prefixed by
+/// "vantage_"; then, when a sibling already has it, "_2", "_3", ... until unique in `taken`,
+/// which receives it.
+std::string ConstellationModelName(const std::string& name, std::set<std::string>* taken);
 
 /// True when `path` names a Gazebo world by its extension (`.world` or `.sdf`, any case).
 bool IsGazeboWorldPath(const std::string& path);

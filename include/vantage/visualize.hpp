@@ -85,8 +85,21 @@ std::string StaticTransformsYaml(const Report& report, const std::string& parent
 /// cameras.urdf.xacro (docs/outputs.md): the primary result's cameras as fixed joints from
 /// `parent_frame` (a xacro argument; a macro `vantage_cameras parent=...` for use in a robot) to
 /// each camera's body frame, and from it to its optical frame, rpy(-pi/2, 0, -pi/2). Frame names
-/// are the candidates' with "::" -> "__" and other characters outside [A-Za-z0-9_.-] -> '_'.
+/// are ExportedFrameName's.
 std::string CamerasXacro(const Report& report, const std::string& parent_frame = "world");
+
+/// The frame name of a sensor in cameras.urdf.xacro, static_transforms.launch.py and
+/// static_transforms.yaml (docs/outputs.md, "Frame names"): the name's bytes A-Z a-z 0-9 _ -
+/// as they are, "::" as "..", every other byte as '.' and two lowercase hex digits ("cam 1" ->
+/// "cam.201", "ü" -> ".c3.bc"); also escaped: the '_' of a trailing "_optical" or
+/// "_optical_frame" (so that no body frame or joint is another sensor's optical one) and the
+/// first byte of a name equal to `parent_frame`. Distinct names give distinct frames, and
+/// SensorNameOfFrame gives the name back.
+std::string ExportedFrameName(const std::string& sensor_name,
+                              const std::string& parent_frame = "world");
+/// The inverse of ExportedFrameName: ".." -> "::", ".hh" -> that byte. Throws InputError on a
+/// text that no name gives.
+std::string SensorNameOfFrame(const std::string& frame);
 /// static_transforms.launch.py: a ROS 2 launch file with one tf2_ros static_transform_publisher
 /// node per frame of CamerasXacro (the same names and poses; argument parent_frame).
 std::string StaticTransformsLaunch(const Report& report, const std::string& parent_frame = "world");

@@ -5,6 +5,7 @@
 #include <functional>
 #include <string>
 
+#include "vantage/gazebo_export.hpp"
 #include "vantage/pipeline.hpp"
 
 namespace vantage::detail {
@@ -121,6 +122,10 @@ void CheckSelectionTime(std::span<const Observation> observations, const SelectO
 void SelectResults(const ObservedScene& observed, const SelectionRequest& request,
                    const SelectOptions& options, Report* report);
 
+/// What shaped the coverage of a run observed into `data` with `inputs` (for the command that
+/// scores constellation.sdf again).
+ScoringOptions ScoringOf(const VisibilityFile& data, const RunInputs& inputs);
+
 /// The run's inputs block: the scene input with absolute paths and the observe options.
 RunInputs InputsOf(const std::string& command, const SceneInput& scene,
                    const ObserveOptions& observe);
@@ -136,6 +141,7 @@ std::map<std::string, std::string> ConstellationFiles(const std::string& scene_p
                                                       const std::vector<Candidate>& chosen,
                                                       const std::vector<Population>& populations,
                                                       const std::vector<ExplicitSensor>& sensors,
+                                                      const ScoringOptions& scoring,
                                                       std::vector<std::string>* notes);
 
 /// Serialises every output of a derived report: report.json, candidates.csv, the PLY clouds,

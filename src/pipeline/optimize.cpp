@@ -196,7 +196,8 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
     for (uint32_t i : report.PrimaryChosen()) chosen.push_back(data.candidates[i]);
     std::vector<std::string> notes;
     extra = detail::ConstellationFiles(options.scene.path, observed.scene, chosen,
-                                       observed.populations, observed.sensors, &notes);
+                                       observed.populations, observed.sensors,
+                                       detail::ScoringOf(data, *report.inputs), &notes);
     for (const std::string& note : notes) spdlog::warn("{}", note);
     report.notes.insert(report.notes.end(), notes.begin(), notes.end());
     // Robustness reads `data`, the first state's sets: not meaningful over states.

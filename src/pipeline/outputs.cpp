@@ -28,6 +28,15 @@ std::vector<std::string> Absolute(const std::vector<std::string>& paths) {
 
 }  // namespace
 
+ScoringOptions ScoringOf(const VisibilityFile& data, const RunInputs& inputs) {
+  ScoringOptions scoring;
+  scoring.cell_size = data.reference.cell_size;
+  scoring.quality = data.quality;
+  scoring.min_points = inputs.min_points;
+  scoring.min_density = inputs.min_density;
+  return scoring;
+}
+
 RunInputs InputsOf(const std::string& command, const SceneInput& scene,
                    const ObserveOptions& observe) {
   RunInputs inputs;
@@ -70,6 +79,7 @@ std::map<std::string, std::string> ConstellationFiles(const std::string& scene_p
                                                       const std::vector<Candidate>& chosen,
                                                       const std::vector<Population>& populations,
                                                       const std::vector<ExplicitSensor>& sensors,
+                                                      const ScoringOptions& scoring,
                                                       std::vector<std::string>* notes) {
   std::map<std::string, std::string> files;
   if (IsGazeboWorldPath(scene_path)) {
@@ -78,7 +88,7 @@ std::map<std::string, std::string> ConstellationFiles(const std::string& scene_p
     files["constellation.sdf"] = ConstellationSdf(scene_path, chosen, populations, sensors);
   } else {
     files["constellation.yaml"] = ConstellationYaml(scene_path, chosen);
-    files["constellation.sdf"] = SceneConstellationSdf(scene, chosen, notes);
+    files["constellation.sdf"] = SceneConstellationSdf(scene, chosen, scoring, notes);
   }
   return files;
 }

@@ -15,7 +15,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -30,6 +32,7 @@
 #include "vantage/error.hpp"
 #include "vantage/scene.hpp"
 #include "vantage/types.hpp"
+#include "vantage/visualize.hpp"
 
 namespace vantage {
 namespace {
@@ -50,7 +53,8 @@ std::string PoseText(const Pose& pose) {
 }
 
 /// SDF 1.7+ reserves "::" in names; "/" is vantage's model/sensor separator.
-std::string ModelName(const std::string& name) {
+std::string ModelName(const std::string& raw) {
+  const std::string name = detail::AsUtf8(raw);  // XML holds UTF-8 only
   std::string out;
   for (size_t i = 0; i < name.size(); ++i) {
     if (name.compare(i, 2, "::") == 0) {
@@ -167,7 +171,8 @@ std::string GzCameraText(const Candidate& candidate, const std::string& name,
   out += fmt::format("{}<sensor name=\"depth\" type=\"depth_camera\">\n", i2);
   out += fmt::format("{}<always_on>true</always_on>\n", i3);
   out += fmt::format("{}<update_rate>{}</update_rate>\n", i3, Number(t.fps > 0 ? t.fps : 30));
-  out += fmt::format("{}<topic>{}/depth</topic>\n", i3, escaped);
+  // gz-transport topics take no spaces and few symbols: the ROS frame name's encoding.
+  out += fmt::format("{}<topic>{}/depth</topic>\n", i3, ExportedFrameName(candidate.name));
   out += fmt::format("{}<camera>\n", i3);
   out += fmt::format("{}<horizontal_fov>{}</horizontal_fov>\n", i4,
                      Number(2 * std::atan(t.width / (2 * t.fx))));
@@ -419,6 +424,18 @@ std::string Exporter::Run(const std::vector<Candidate>& chosen) {
     }
   }
 
+  // The names the world keeps: a new model may not take one (SDF wants siblings' names unique).
+  std::set<std::string> taken;
+  for (const XmlElement& child : world_->children) {
+    if (is_cut_top(&child)) continue;
+    std::string name = DeclaredName(child);
+    if (const std::string* attribute = child.Attribute("name"); name.empty() && attribute)
+      name = detail::TrimXmlSpace(*attribute);
+    if (name.empty() && child.name == "include" && child.Child("uri"))
+      name = UriBaseName(child.Child("uri")->Trimmed());
+    if (!name.empty()) taken.insert(name);
+  }
+
   // The chosen sensors' new elements.
   std::string added;
   int sensors_added = 0;
@@ -462,13 +479,14 @@ std::string Exporter::Run(const std::vector<Candidate>& chosen) {
       }
     }
     VANTAGE_CHECK(source != nullptr);
+    const std::string name = ConstellationModelName(candidate.name, &taken);
     if (gz_cameras_) {
-      added += GzCameraText(candidate, ModelName(candidate.name), indent, unit_);
+      added += GzCameraText(candidate, name, indent, unit_);
       ++sensors_added;
       continue;
     }
     const Pose world_from_model = candidate.world_from_body * model_from_camera.Inverse();
-    added += EntityText(*source, ModelName(candidate.name), world_from_model, indent);
+    added += EntityText(*source, name, world_from_model, indent);
     sensors_added += sensor_count;
   }
 
@@ -556,7 +574,47 @@ std::string ConstellationSdf(const std::string& world_path,
   return Exporter(world_path, populations, sensors, notes, /*gz_cameras=*/true).Run(chosen);
 }
 
+std::string ConstellationModelName(const std::string& name, std::set<std::string>* taken) {
+  std::string base = ModelName(name);
+  // sdformat reserves "world" and every "__...__" name (and "::" never reaches here).
+  const bool reserved = base.empty() || base == "world" ||
+                        (base.size() >= 4 && base.rfind("__", 0) == 0 &&
+                         base.compare(base.size() - 2, 2, "__") == 0);
+  if (reserved) base = "vantage_" + base;
+  std::string unique = base;
+  for (int k = 2; !taken->insert(unique).second; ++k) unique = fmt::format("{}_{}", base, k);
+  return unique;
+}
+
 namespace {
+
+/// `text` as one word for a POSIX shell: as it is when it holds only safe characters, else in
+/// single quotes (a quote inside as '\'').
+std::string ShellWord(const std::string& text) {
+  const bool safe = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("_-./:=,+@%", c) != nullptr;
+  });
+  if (safe) return text;
+  std::string out = "'";
+  for (const char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+/// `vantage evaluate FILE --cell-size F --target T ...` with every option of `scoring` that is
+/// set, in the CLI's units (max_depth_noise in mm).
+std::string RescoreCommand(const std::string& file, const std::vector<std::string>& targets,
+                           const ScoringOptions& scoring) {
+  std::string command = fmt::format("vantage evaluate {} --cell-size {}", ShellWord(file),
+                                    Number(scoring.cell_size));
+  for (const std::string& target : targets) command += " --target " + ShellWord(target);
+  if (scoring.quality.max_incidence_deg)
+    command += " --max-incidence " + Number(*scoring.quality.max_incidence_deg);
+  if (scoring.quality.max_depth_noise)
+    command += " --max-depth-noise " + Number(*scoring.quality.max_depth_noise * 1000.0);
+  if (scoring.min_points) command += fmt::format(" --min-points {}", *scoring.min_points);
+  if (scoring.min_density) command += " --min-density " + Number(*scoring.min_density);
+  return command;
+}
 
 /// One SDF `<geometry>` of a shape (SDF's box, cylinder, sphere and plane are centred at their
 /// origin, the cylinder along z, the plane facing +z: as MakeBox and the others build them).
@@ -585,19 +643,32 @@ std::string GeometryText(const ShapeSource& shape) {
 }  // namespace
 
 std::string SceneConstellationSdf(const Scene& scene, const std::vector<Candidate>& chosen,
+                                  const ScoringOptions& scoring,
                                   std::vector<std::string>* notes) {
-  // (An XML comment may not hold "--": the option is named in words.)
+  // The models' names first: the command names the targets by them.
+  std::set<std::string> models;
+  std::vector<std::string> object_names;
+  std::vector<std::string> targets;
+  for (const SceneObject& object : scene.objects) {
+    object_names.push_back(object.shapes.empty() ? ""
+                                                 : ConstellationModelName(object.name, &models));
+    if (object.is_target() && !object.shapes.empty()) targets.push_back(object_names.back());
+  }
+  std::vector<std::string> camera_names;
+  for (const Candidate& candidate : chosen)
+    camera_names.push_back(ConstellationModelName(candidate.name, &models));
+  // (An XML comment may not hold "--": the command is an element's text, which may.)
   std::string out =
       "<?xml version=\"1.0\"?>\n"
       "<!-- vantage constellation: the scene's objects and the chosen cameras, for gz-sim.\n"
-      "     Score it again with `vantage evaluate constellation.sdf`, each of these models\n"
-      "     given as a target (the target option):";
-  std::set<std::string> models;
-  for (const SceneObject& object : scene.objects) {
-    if (object.is_target() && !object.shapes.empty())
-      out += fmt::format(" {}", detail::MarkupEscape(ModelName(object.name)));
+      "     Score it again, in this folder, with the command in <vantage:rescore> below: the\n"
+      "     run's cell size, targets and options that shaped its coverage (docs/outputs.md). -->\n"
+      "<sdf version=\"1.9\" xmlns:vantage=\"https://vantage.invalid/sdf\">\n"
+      "  <world name=\"constellation\">\n";
+  if (scoring.cell_size > 0) {
+    out += fmt::format("    <vantage:rescore>{}</vantage:rescore>\n",
+                       detail::MarkupEscape(RescoreCommand("constellation.sdf", targets, scoring)));
   }
-  out += " -->\n<sdf version=\"1.9\">\n  <world name=\"constellation\">\n";
   // A world that names any system loads no default ones: these are gz-sim's usual four.
   for (const auto& [file, name] :
        {std::pair{"physics", "Physics"}, {"user-commands", "UserCommands"},
@@ -609,13 +680,13 @@ std::string SceneConstellationSdf(const Scene& scene, const std::vector<Candidat
                : "</plugin>\n";
   }
   std::vector<std::string> left_out;
-  for (const SceneObject& object : scene.objects) {
+  for (size_t o = 0; o < scene.objects.size(); ++o) {
+    const SceneObject& object = scene.objects[o];
     if (object.shapes.empty()) {
       left_out.push_back(object.name);
       continue;
     }
-    const std::string name = ModelName(object.name);
-    models.insert(name);
+    const std::string& name = object_names[o];
     out += fmt::format("    <model name=\"{}\">\n      <static>true</static>\n"
                        "      <link name=\"link\">\n",
                        detail::MarkupEscape(name));
@@ -629,11 +700,8 @@ std::string SceneConstellationSdf(const Scene& scene, const std::vector<Candidat
     }
     out += "      </link>\n    </model>\n";
   }
-  for (const Candidate& candidate : chosen) {
-    std::string name = ModelName(candidate.name);
-    while (!models.insert(name).second) name += "_camera";
-    out += GzCameraText(candidate, name, "    ", "  ");
-  }
+  for (size_t k = 0; k < chosen.size(); ++k)
+    out += GzCameraText(chosen[k], camera_names[k], "    ", "  ");
   out += "  </world>\n</sdf>\n";
   if (notes && !left_out.empty())
     notes->push_back(fmt::format("constellation.sdf: {} object{} left out ({}): robot links and "

@@ -22,4 +22,21 @@ inline std::string MarkupEscape(std::string_view text) {
   return out;
 }
 
+/// `text` for the inside of an XML comment, which may not hold "--" (nor end with '-'): the
+/// second '-' of each pair, and a last '-', are written \u002d (issue 44: a sensor named
+/// `cam--left` made cameras.urdf.xacro malformed). Nothing is unescaped in a comment: this is
+/// only for people to read.
+inline std::string CommentText(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (size_t i = 0; i < text.size(); ++i) {
+    const bool after_dash = !out.empty() && out.back() == '-';
+    if (text[i] == '-' && (after_dash || i + 1 == text.size()))
+      out += "\\u002d";
+    else
+      out += text[i];
+  }
+  return out;
+}
+
 }  // namespace vantage::detail

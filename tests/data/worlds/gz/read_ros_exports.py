@@ -29,7 +29,8 @@ for joint in macro.findall('joint'):
 tree = ast.parse(open(sys.argv[2]).read())
 for node in ast.walk(tree):
     if isinstance(node, ast.Call) and getattr(node.func, 'id', '') == '_static_transform':
-        name = node.args[0].value
-        parent = node.args[1].value if isinstance(node.args[1], ast.Constant) else '$parent'
-        numbers = [float(e.value) for e in node.args[2].elts + node.args[3].elts]
+        # _static_transform(node, child, parent, xyz, xyzw)
+        name = node.args[1].value
+        parent = node.args[2].value if isinstance(node.args[2], ast.Constant) else '$parent'
+        numbers = [float(e.value) for e in node.args[3].elts + node.args[4].elts]
         print('launch', name, parent, ' '.join(repr(n) for n in numbers))
