@@ -118,7 +118,9 @@ TEST(ArmViewsTest, IkKeepsExactlyTheRegionPosesInsideTheAnnulus) {
     const double r = std::hypot(p.x(), p.y());
     const bool is_kept = std::find(kept.begin(), kept.end(), c.name) != kept.end();
     // Outside the annulus (by more than the tolerance): never kept.
-    if (r < 0.2 - 2e-4 || r > 0.8 + 2e-4) EXPECT_FALSE(is_kept) << c.name << " r=" << r;
+    if (r < 0.2 - 2e-4 || r > 0.8 + 2e-4) {
+      EXPECT_FALSE(is_kept) << c.name << " r=" << r;
+    }
     // Well inside: inverse kinematics must find it.
     if (r > 0.21 && r < 0.79) {
       ++inside;
@@ -245,7 +247,9 @@ robots:
         // Near the base (q < 0.2 + 0.1) the slider would hit the base too: not in these q.
         EXPECT_EQ(verdict, overlap ? ArmCollision::kScene : ArmCollision::kNone)
             << c.obstacle << " q=" << q << " " << what;
-        if (overlap) EXPECT_NE(what.find("object 'obstacle'"), std::string::npos) << what;
+        if (overlap) {
+          EXPECT_NE(what.find("object 'obstacle'"), std::string::npos) << what;
+        }
       }
     }
   }
@@ -381,8 +385,12 @@ TEST(TourTest, CycleTimeKeepsTheTourWithinIt) {
       for (uint32_t c : observations[v].reference_indices) seen[c] = true;
     EXPECT_DOUBLE_EQ(result.coverage,
                      static_cast<double>(std::count(seen.begin(), seen.end(), true)) / 12.0);
-    if (limit == 100.0) EXPECT_DOUBLE_EQ(result.coverage, 1.0);
-    if (limit == 0.0) EXPECT_TRUE(result.chosen.empty());
+    if (limit == 100.0) {
+      EXPECT_DOUBLE_EQ(result.coverage, 1.0);
+    }
+    if (limit == 0.0) {
+      EXPECT_TRUE(result.chosen.empty());
+    }
   }
 }
 
