@@ -44,9 +44,10 @@ set(VANTAGE_ONLY_urdf_parser scene)
 set(VANTAGE_ONLY_console_bridge scene)
 set(VANTAGE_ONLY_CLI "")
 set(VANTAGE_ONLY_mpi.h distribute)
-# A camera on a robot arm (issue 45): kinematics (Orocos KDL) and collisions (FCL).
+# A camera on a robot arm (issue 45): kinematics (Orocos KDL), collisions (FCL), planning (OMPL).
 set(VANTAGE_ONLY_kdl candidates)
 set(VANTAGE_ONLY_fcl candidates)
+set(VANTAGE_ONLY_ompl candidates)
 
 # Headers generated into the build tree, by the stage that includes them (cmake/EmbedFiles.cmake).
 set(VANTAGE_GENERATED_embedded report)

@@ -65,6 +65,10 @@ void SetupOptimize(CLI::App* parent) {
                   "a camera on an arm: the step [rad or m] at which a straight joint-space move "
                   "is checked for collisions")
       ->capture_default_str();
+  app->add_option("--plan-time", arm.plan_seconds,
+                  "a camera on an arm: the most seconds spent planning around one colliding move "
+                  "(OMPL RRT-Connect; its sample budget usually ends it first)")
+      ->capture_default_str();
   app->callback([flags, rounds, app] {
     // Was accepted and ignored without --refine (issue 15).
     if (rounds->count() > 0 && !flags->refine)

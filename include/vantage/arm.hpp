@@ -4,6 +4,7 @@
 /// against the cell and itself (FCL), and the motion time between two views. Only the candidates
 /// stage links KDL and FCL (cmake/Layering.cmake).
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -144,5 +145,36 @@ bool StraightMotionIsFree(const ArmKinematics& kinematics, const ArmCollisions& 
 /// max_i |to_i - from_i| / speed_i [s].
 double MotionSeconds(const std::vector<double>& from, const std::vector<double>& to,
                      const std::vector<double>& speeds);
+
+/// A move around what the straight segment hits: full configurations from `from` to `to` (both
+/// included), each segment between them straight and collision-free at the resolution.
+struct PlannedMotion {
+  bool found = false;
+  std::vector<std::vector<double>> waypoints;  ///< empty when not found
+  /// Sum over the segments of MotionSeconds (the arm stops at each waypoint) [s], +inf when not
+  /// found; never less than the straight move's time (MotionSeconds is a norm).
+  double seconds = std::numeric_limits<double>::infinity();
+  bool stopped_by_time = false;  ///< the time limit, not the sample budget, ended the search
+};
+
+/// How PlanMotion searches.
+struct MotionPlanOptions {
+  double resolution = 0.01;   ///< [rad or m]: every segment checked at this joint step
+  double time_limit = 2.0;    ///< [s] per move: a safety net; the sample budget ends a search
+  size_t max_samples = 4000;  ///< RRT-Connect iterations: the deterministic end of a search
+  uint64_t seed = 1;          ///< with `stream`: Rng(seed, kArmPlan, stream) seeds the sampler
+  uint64_t stream = 0;
+};
+
+/// A collision-free path from `from` to `to` in joint space (the moved joints and any joint
+/// that differs between the two, within the URDF limits); not found when the search fails or
+/// an end collides. OMPL's RRT-Connect with the FCL checks (ArmCollisions) as its state
+/// validity, its sampler seeded from `options`' seed and stream and its nearest neighbours
+/// searched exactly, so the same call gives the same path; then shortened greedily (from each
+/// waypoint, straight to the farthest later one that is free). Deterministic unless the time
+/// limit, rather than the sample budget, ends a search.
+PlannedMotion PlanMotion(const ArmKinematics& kinematics, const ArmCollisions& collisions,
+                         const std::vector<double>& from, const std::vector<double>& to,
+                         const std::vector<double>& speeds, const MotionPlanOptions& options);
 
 }  // namespace vantage

@@ -221,6 +221,9 @@ struct ArmTourOptions {
   std::optional<double> joint_speed;
   int frames = 1;            ///< --frames: frames taken per view (acquisition = frames / fps)
   double resolution = 0.01;  ///< [rad or m]: the straight moves' collision check step
+  /// --plan-time [s]: the most one move's planning around a collision may take (OMPL); the
+  /// planner's sample budget normally ends it first (deterministic).
+  double plan_seconds = 2.0;
   /// InputError naming the option.
   void Validate() const;
 };

@@ -109,6 +109,14 @@ struct ConstraintsInfo {
   bool is_applied = true;  ///< selection obeyed them (false: evaluate only checks them)
 };
 
+/// The waypoints of a move planned around a collision (its ends excluded), straight between
+/// them, each with when the arm reaches it [s after the move starts].
+struct ArmVia {
+  std::vector<std::vector<double>> waypoints;
+  std::vector<double> seconds;
+  bool empty() const { return waypoints.empty(); }
+};
+
 /// One camera on an arm (issue 45): the tour of a result's views, home to home (docs/arm.md).
 struct ArmTour {
   std::string robot;
@@ -118,11 +126,16 @@ struct ArmTour {
   std::vector<uint32_t> views;           ///< candidate indices, in tour order
   std::vector<std::vector<double>> configurations;  ///< per view, in tour order
   std::vector<double> move_seconds;      ///< per view: the move that reaches it
+  /// Per view: the waypoints between the previous stop and it when the straight move collides
+  /// and the planner went around; empty for a straight move.
+  std::vector<ArmVia> move_via;
+  ArmVia return_via;  ///< the same for the move back to home
   std::vector<double> acquisition_seconds;  ///< per view: frames / fps
   double return_seconds = 0;             ///< the last view back to home
   Tour tour;                             ///< method, exactness, totals
   double resolution = 0;                 ///< [rad or m] of the straight moves' collision check
-  size_t unconnected_pairs = 0;          ///< moves among the views (and home) that collide
+  size_t unconnected_pairs = 0;  ///< checked moves that collide and the planner did not connect
+  size_t planned_pairs = 0;      ///< checked moves that collide and the planner went around
 };
 
 struct Report {

@@ -13,6 +13,7 @@ enum class Stream : uint64_t {
   kRefine = 5,  ///< refine.hpp: which poses of a sensor's pool are traced
   kArm = 6,     ///< arm.hpp: random joint-space views
   kArmIk = 7,   ///< arm.hpp: the restarts of inverse kinematics
+  kArmPlan = 8, ///< arm.hpp: the planner's samples around a colliding move (PlanMotion)
   kTest = 99,
 };
 

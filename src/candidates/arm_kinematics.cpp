@@ -253,7 +253,27 @@ std::optional<std::vector<double>> ArmKinematics::SolveIk(
         q[i] = std::clamp(q[i] + step(k), limits_[i].first, limits_[i].second);
       }
     }
-    if (accepted(q)) return q;
+    if (!accepted(q)) continue;
+    // A turned joint reaches the same pose 2π further on: of the equivalent angles within its
+    // limits, take the one nearest the start's (home), so that restarts drawn far away do not
+    // leave views that the arm reaches only by long detours.
+    for (size_t i : moved_) {
+      const RobotJoint* joint = impl_->robot->model.FindJoint(joint_names_[i]);
+      if (joint->type != RobotJoint::Type::kRevolute && joint->type != RobotJoint::Type::kContinuous)
+        continue;
+      // A joint that mimics it with another ratio would not come back to its pose.
+      const auto& joints = impl_->robot->model.joints;
+      if (std::any_of(joints.begin(), joints.end(),
+                      [&](const RobotJoint& j) { return j.mimic == joint->name; }))
+        continue;
+      const double turn = 2 * std::numbers::pi;
+      const double nearest = q[i] + turn * std::round((start[i] - q[i]) / turn);
+      for (const double candidate : {nearest, nearest - turn, nearest + turn}) {
+        if (candidate < limits_[i].first || candidate > limits_[i].second) continue;
+        if (std::abs(candidate - start[i]) < std::abs(q[i] - start[i])) q[i] = candidate;
+      }
+    }
+    return q;
   }
   return std::nullopt;
 }

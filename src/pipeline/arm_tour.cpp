@@ -31,6 +31,11 @@ void ArmTourOptions::Validate() const {
   if (frames < 1 || frames > 100000)
     throw InputError(AtPlace("--frames", 0,
                              fmt::format("{} is not a number of frames from 1 to 100000", frames)));
+  if (!(std::isfinite(plan_seconds) && plan_seconds > 0 && plan_seconds <= 3600))
+    throw InputError(AtPlace("--plan-time", 0,
+                             fmt::format("{} is not a number of seconds in (0, 3600] — give e.g. "
+                                         "--plan-time 2",
+                                         plan_seconds)));
   if (!(std::isfinite(resolution) && resolution > 0 && resolution <= 1))
     throw InputError(AtPlace("--motion-resolution", 0,
                              fmt::format("{} is not a step in (0, 1] [rad or m]", resolution)));
@@ -77,58 +82,123 @@ TourTimes StraightTimes(const std::vector<Candidate>& candidates,
   return times;
 }
 
-/// Checks the moves of `order` (home first and last) at the resolution; marks those that collide
-/// unconnected. Returns whether every move was free. `checked` remembers verdicts by pair.
-bool CheckMoves(const std::vector<Candidate>& candidates, const std::vector<uint32_t>& views,
-                const ArmSetup& arm, const std::vector<uint32_t>& order,
-                const ArmTourOptions& options, std::map<std::pair<size_t, size_t>, bool>* checked,
-                TourTimes* times) {
-  const size_t home = views.size();
-  const auto configuration = [&](size_t k) -> const std::vector<double>& {
-    return k == home ? arm.home : candidates[views[k]].arm->joints;
-  };
-  bool all_free = true;
-  size_t at = home;
-  std::vector<size_t> stops(order.begin(), order.end());
-  stops.push_back(home);
-  for (size_t next : stops) {
-    const auto key = std::minmax(at, next);
-    auto found = checked->find(key);
-    if (found == checked->end()) {
-      const bool free = StraightMotionIsFree(*arm.kinematics, *arm.collisions, configuration(at),
-                                             configuration(next), options.resolution);
-      found = checked->emplace(key, free).first;
-    }
-    if (!found->second) {
-      times->motion[at][next] = times->motion[next][at] = kInf;
-      all_free = false;
-    }
-    at = next;
-  }
-  return all_free;
-}
+/// A checked move, by pair of stops (lower index first): its time (straight, planned around a
+/// collision, or +inf) and, when planned, the waypoints between the two stops (lower to higher).
+struct MoveVerdict {
+  double seconds = 0;
+  bool planned = false;
+  std::vector<std::vector<double>> via;
+};
+using MoveVerdicts = std::map<std::pair<size_t, size_t>, MoveVerdict>;
 
-/// The tour of `views` with every move it uses checked: solve on optimistic times, mark the
-/// moves that collide unconnected, solve again until the answer's moves are all free (or it
-/// needs an unconnected one). Optimal where Held–Karp ran: unchecked moves are never slower
-/// than their straight time, and a collision makes a move unconnected.
-Tour LazyTour(const std::vector<Candidate>& candidates, const std::vector<uint32_t>& views,
-              const ArmSetup& arm, const ArmTourOptions& options, TourTimes* times,
-              std::map<std::pair<size_t, size_t>, bool>* checked) {
-  std::vector<uint32_t> all(views.size());
-  for (uint32_t k = 0; k < views.size(); ++k) all[k] = k;
+/// What the moves among `views` (candidate indices) and home are checked with.
+struct MoveChecker {
+  const std::vector<Candidate>& candidates;
+  const std::vector<uint32_t>& views;
+  const ArmSetup& arm;
+  const ArmTourOptions& options;
+  uint64_t seed;
+  MoveVerdicts verdicts;
+
+  size_t home() const { return views.size(); }
+  const std::vector<double>& Configuration(size_t k) const {
+    return k == home() ? arm.home : candidates[views[k]].arm->joints;
+  }
+  /// The planner's stream for a pair: the candidates' indices (home: 2^32 - 1), the same pair
+  /// the same stream whatever the views' order.
+  uint64_t Stream(size_t a, size_t b) const {
+    const auto id = [&](size_t k) -> uint64_t { return k == home() ? 0xFFFFFFFFu : views[k]; };
+    return (id(a) << 32) | id(b);
+  }
+
+  /// Checks the moves of `order` (home first and last) at the resolution; a move whose straight
+  /// segment collides is planned around (OMPL), its time the planned path's, or +inf when the
+  /// planner fails. Returns whether no time of `times` changed (the order's times were final).
+  bool Check(const std::vector<uint32_t>& order, TourTimes* times) {
+    bool unchanged = true;
+    size_t at = home();
+    std::vector<size_t> stops(order.begin(), order.end());
+    stops.push_back(home());
+    for (size_t next : stops) {
+      const auto key = std::minmax(at, next);
+      if (!verdicts.count(key)) {
+        const std::vector<double>& from = Configuration(key.first);
+        const std::vector<double>& to = Configuration(key.second);
+        MoveVerdict verdict;
+        verdict.seconds = times->motion[key.first][key.second];
+        if (!StraightMotionIsFree(*arm.kinematics, *arm.collisions, from, to,
+                                  options.resolution)) {
+          MotionPlanOptions plan;
+          plan.resolution = options.resolution;
+          plan.time_limit = options.plan_seconds;
+          plan.seed = seed;
+          plan.stream = Stream(key.first, key.second);
+          const PlannedMotion motion =
+              PlanMotion(*arm.kinematics, *arm.collisions, from, to, Speeds(arm, options), plan);
+          if (motion.stopped_by_time)
+            spdlog::warn("planning the move between {} and {} stopped at --plan-time {} s: the "
+                         "answer may differ on a faster machine — raise --plan-time",
+                         Name(key.first), Name(key.second), options.plan_seconds);
+          verdict.seconds = motion.seconds;  // +inf when not found
+          verdict.planned = motion.found;
+          if (motion.found)
+            verdict.via.assign(motion.waypoints.begin() + 1, motion.waypoints.end() - 1);
+          // Planned or not, the move is slower than its straight time was taken to be.
+          times->motion[key.first][key.second] = times->motion[key.second][key.first] =
+              verdict.seconds;
+          unchanged = false;
+        }
+        verdicts.emplace(key, std::move(verdict));
+      }
+      at = next;
+    }
+    return unchanged;
+  }
+
+  /// The waypoints of the move from stop `a` to stop `b` (ends excluded), in that direction,
+  /// with when each is reached.
+  ArmVia Via(size_t a, size_t b) const {
+    ArmVia via;
+    const auto found = verdicts.find(std::minmax(a, b));
+    if (found == verdicts.end()) return via;
+    via.waypoints = found->second.via;
+    if (a > b) std::reverse(via.waypoints.begin(), via.waypoints.end());
+    const std::vector<double> speeds = Speeds(arm, options);
+    const std::vector<double>* previous = &Configuration(a);
+    double t = 0;
+    for (const auto& q : via.waypoints) {
+      t += MotionSeconds(*previous, q, speeds);
+      via.seconds.push_back(t);
+      previous = &q;
+    }
+    return via;
+  }
+
+  std::string Name(size_t k) const {
+    return k == home() ? std::string("home") : candidates[views[k]].name;
+  }
+};
+
+/// The tour of `views` with every move it uses checked: solve on optimistic times, check the
+/// moves it uses (planning around those that collide), solve again until the answer's moves
+/// all have their final times (or it needs an unconnected one). Optimal where Held–Karp ran:
+/// an unchecked move's straight time is never more than its final time (a planned path is no
+/// faster than the straight move: MotionSeconds is a norm).
+Tour LazyTour(MoveChecker* checker, TourTimes* times) {
+  std::vector<uint32_t> all(checker->views.size());
+  for (uint32_t k = 0; k < all.size(); ++k) all[k] = k;
   for (;;) {
     Tour tour = SolveTour(*times, all);
     if (!tour.connected()) return tour;
-    if (CheckMoves(candidates, views, arm, tour.order, options, checked, times)) return tour;
+    if (checker->Check(tour.order, times)) return tour;
   }
 }
 
 ArmTour TourOf(const std::vector<Candidate>& candidates, const std::vector<uint32_t>& views,
-               const ArmSetup& arm, const ArmTourOptions& options) {
+               const ArmSetup& arm, const ArmTourOptions& options, uint64_t seed) {
   TourTimes times = StraightTimes(candidates, views, arm, options);
-  std::map<std::pair<size_t, size_t>, bool> checked;
-  const Tour tour = LazyTour(candidates, views, arm, options, &times, &checked);
+  MoveChecker checker{candidates, views, arm, options, seed, {}};
+  const Tour tour = LazyTour(&checker, &times);
   ArmTour out;
   out.robot = arm.robot;
   out.population = arm.population;
@@ -141,11 +211,16 @@ ArmTour TourOf(const std::vector<Candidate>& candidates, const std::vector<uint3
     out.views.push_back(views[k]);
     out.configurations.push_back(candidates[views[k]].arm->joints);
     out.move_seconds.push_back(times.motion[at][k]);
+    out.move_via.push_back(checker.Via(at, k));
     out.acquisition_seconds.push_back(times.acquisition[k]);
     at = k;
   }
   out.return_seconds = times.motion[at][views.size()];
-  for (const auto& [pair, free] : checked) out.unconnected_pairs += free ? 0 : 1;
+  out.return_via = checker.Via(at, views.size());
+  for (const auto& [pair, verdict] : checker.verdicts) {
+    out.unconnected_pairs += std::isfinite(verdict.seconds) ? 0 : 1;
+    out.planned_pairs += verdict.planned ? 1 : 0;
+  }
   // The tour's indices are the views' candidate indices.
   for (uint32_t& k : out.tour.order) k = views[k];
   return out;
@@ -185,7 +260,7 @@ void AddArmTours(const std::vector<Candidate>& candidates, const std::vector<Arm
       if (of->robot == arm->robot) views.push_back(i);
     }
     if (!arm) continue;
-    report->tours[r] = TourOf(candidates, views, *arm, options);
+    report->tours[r] = TourOf(candidates, views, *arm, options, report->seed);
     const ArmTour& tour = *report->tours[r];
     spdlog::info("{} n={}: tour of {} views {:.2f} s ({:.2f} s moving, {:.2f} s acquiring; {}{})",
                  result.method, result.n, views.size(), tour.tour.total_seconds,
@@ -195,7 +270,7 @@ void AddArmTours(const std::vector<Candidate>& candidates, const std::vector<Arm
 }
 
 Selection CycleTimeSelection(const VisibilityFile& data, const std::vector<ArmSetup>& arms,
-                             const ArmTourOptions& options) {
+                             const ArmTourOptions& options, uint64_t seed) {
   VANTAGE_CHECK(options.cycle_time.has_value());
   const auto start = std::chrono::steady_clock::now();
   // The views of the first arm, with their observations.
@@ -214,14 +289,13 @@ Selection CycleTimeSelection(const VisibilityFile& data, const std::vector<ArmSe
   std::vector<Observation> observations;
   for (uint32_t i : views) observations.push_back(data.observations[i]);
   TourTimes times = StraightTimes(data.candidates, views, *arm, options);
-  std::map<std::pair<size_t, size_t>, bool> checked;
+  MoveChecker checker{data.candidates, views, *arm, options, seed, {}};
   CycleTimeResult result;
   for (;;) {
     result = MostCoverageWithinCycleTime(times, observations, data.reference.size(),
                                          *options.cycle_time);
     if (result.chosen.empty()) break;
-    if (CheckMoves(data.candidates, views, *arm, result.tour.order, options, &checked, &times))
-      break;
+    if (checker.Check(result.tour.order, &times)) break;
   }
   Selection selection;
   selection.method = "cycle-time";

@@ -151,11 +151,12 @@ void FinishRun(const Scene& scene, std::map<std::string, std::string> extra, Run
 /// Cameras on arms (issue 45, src/pipeline/arm_tour.cpp): InputError naming --joint-speed when a
 /// moved joint has no <limit velocity> and no --joint-speed is given, or a tour option.
 void CheckArmTourInputs(const std::vector<ArmSetup>& arms, const ArmTourOptions& options);
-/// report->tours: per result, the tour of its views on one arm (the first arm it uses).
+/// report->tours: per result, the tour of its views on one arm (the first arm it uses); moves
+/// whose straight segment collides are planned around with report->seed.
 void AddArmTours(const std::vector<Candidate>& candidates, const std::vector<ArmSetup>& arms,
                  const ArmTourOptions& options, Report* report);
 /// --cycle-time: the greedy most coverage whose checked tour fits (method "cycle-time").
 Selection CycleTimeSelection(const VisibilityFile& data, const std::vector<ArmSetup>& arms,
-                             const ArmTourOptions& options);
+                             const ArmTourOptions& options, uint64_t seed);
 
 }  // namespace vantage::detail

@@ -132,7 +132,8 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
       observed.data.mounting, observed.data.kept_out, observed.states);
   if (options.arm.cycle_time) {
     // The most coverage whose tour fits the cycle time replaces the methods' results.
-    report.results.push_back(detail::CycleTimeSelection(observed.data, observed.arms, options.arm));
+    report.results.push_back(detail::CycleTimeSelection(observed.data, observed.arms, options.arm,
+                                                        select.seed));
     report.cycle_time = options.arm.cycle_time;
   } else {
     detail::SelectResults(observed, options.selection, select, &report);

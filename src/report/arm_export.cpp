@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "vantage/types.hpp"
@@ -41,6 +42,19 @@ void Timeline(const ArmTour& tour, std::vector<double>* arrive, std::vector<doub
   }
 }
 
+/// A planned move's waypoints (the straight move collides): `key: [{positions, seconds}, ...]`,
+/// seconds after the move starts.
+void Via(const ArmVia& via, const char* key, YAML::Emitter* out) {
+  *out << YAML::Key << key << YAML::Value << YAML::BeginSeq;
+  for (size_t s = 0; s < via.waypoints.size(); ++s) {
+    *out << YAML::BeginMap;
+    *out << YAML::Key << "positions" << YAML::Value << YAML::Flow << via.waypoints[s];
+    *out << YAML::Key << "seconds" << YAML::Value << via.seconds[s];
+    *out << YAML::EndMap;
+  }
+  *out << YAML::EndSeq;
+}
+
 }  // namespace
 
 ordered_json ArmTourJson(const ArmTour& tour, const VisibilityFile& data) {
@@ -57,6 +71,7 @@ ordered_json ArmTourJson(const ArmTour& tour, const VisibilityFile& data) {
   j["order"] = std::move(order);
   j["resolution"] = tour.resolution;
   j["unconnected_moves"] = tour.unconnected_pairs;
+  j["planned_moves"] = tour.planned_pairs;
   return j;
 }
 
@@ -84,6 +99,8 @@ std::string ViewsYaml(const ArmTour& tour, const VisibilityFile& data) {
     out << YAML::Key << "name" << YAML::Value << c.name;
     out << YAML::Key << "positions" << YAML::Value << YAML::Flow << tour.configurations[k];
     out << YAML::Key << "move_seconds" << YAML::Value << tour.move_seconds[k];
+    if (k < tour.move_via.size() && !tour.move_via[k].empty())
+      Via(tour.move_via[k], "via", &out);
     out << YAML::Key << "arrive_seconds" << YAML::Value << arrive[k];
     out << YAML::Key << "acquisition_seconds" << YAML::Value << tour.acquisition_seconds[k];
     out << YAML::Key << "camera_pose" << YAML::Value << YAML::BeginMap;
@@ -98,6 +115,7 @@ std::string ViewsYaml(const ArmTour& tour, const VisibilityFile& data) {
   }
   out << YAML::EndSeq;
   out << YAML::Key << "return_seconds" << YAML::Value << tour.return_seconds;
+  if (!tour.return_via.empty()) Via(tour.return_via, "return_via", &out);
   out << YAML::EndMap;
   return std::string("# vantage: one camera on the arm, its views in tour order (docs/arm.md)\n") +
          out.c_str() + "\n";
@@ -121,12 +139,20 @@ std::string TrajectoryJson(const ArmTour& tour) {
     p["time_from_start"] = Duration(t);
     points.push_back(std::move(p));
   };
+  // A planned move's waypoints, at the times the tour gives them (the arm stops at each).
+  const auto via_points = [&](const ArmVia& via, double depart) {
+    for (size_t s = 0; s < via.waypoints.size(); ++s) point(via.waypoints[s], depart + via.seconds[s]);
+  };
   point(tour.home, 0.0);
+  double departed = 0;
   for (size_t k = 0; k < tour.views.size(); ++k) {
+    if (k < tour.move_via.size()) via_points(tour.move_via[k], departed);
     point(tour.configurations[k], arrive[k]);
     if (tour.acquisition_seconds[k] > 0) point(tour.configurations[k], leave[k]);
+    departed = leave[k];
   }
-  point(tour.home, (leave.empty() ? 0.0 : leave.back()) + tour.return_seconds);
+  via_points(tour.return_via, departed);
+  point(tour.home, departed + tour.return_seconds);
   j["points"] = std::move(points);
   return j.dump(2) + "\n";
 }
