@@ -15,6 +15,7 @@
 #include "vantage/observe.hpp"
 #include "vantage/reference.hpp"
 #include "vantage/tour.hpp"
+#include "vantage/track.hpp"
 
 namespace vantage {
 namespace {
@@ -477,6 +478,85 @@ TEST(TourTest, CycleTimeKeepsTheTourWithinIt) {
       EXPECT_TRUE(result.chosen.empty());
     }
   }
+}
+
+// ----- following a changing scene ---------------------------------------------------------------
+
+/// Every sequence of one view per state and its value; the best value kept.
+Track EnumerateTrack(const TrackProblem& p) {
+  const size_t states = p.coverage.size(), n = p.motion.size() - 1;
+  Track best;
+  std::vector<uint32_t> views(states, 0);
+  for (;;) {
+    bool ok = true;
+    double coverage = 0, seconds = 0;
+    for (size_t s = 0; s < states && ok; ++s) {
+      const double c = p.coverage[s][views[s]];
+      const double m = s > 0 ? p.motion[views[s - 1]][views[s]]
+                             : (p.start_at_home ? p.motion[n][views[s]] : 0.0);
+      ok = std::isfinite(c) && std::isfinite(m) &&
+           (!p.max_move_seconds || m <= *p.max_move_seconds);
+      coverage += c;
+      seconds += m;
+    }
+    const double value = coverage - p.seconds_weight * seconds;
+    if (ok && (!best.feasible || value > best.value + 1e-12)) {
+      best.feasible = true;
+      best.value = value;
+      best.coverage = coverage;
+      best.views = views;
+    }
+    size_t s = 0;
+    while (s < states && ++views[s] == n) views[s++] = 0;
+    if (s == states) break;
+  }
+  return best;
+}
+
+TEST(TrackTest, DynamicProgrammeEqualsEveryViewSequence) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(0, 1);
+  size_t feasible = 0, with_limit = 0;
+  for (int instance = 0; instance < 120; ++instance) {
+    const size_t n = 2 + static_cast<size_t>(instance % 4);       // 2..5 views
+    const size_t states = 1 + static_cast<size_t>(instance % 5);  // 1..5 states
+    TrackProblem p;
+    const TourTimes times = RandomTimes(n, static_cast<uint32_t>(instance + 1));
+    p.motion = times.motion;
+    p.coverage.assign(states, std::vector<double>(n));
+    for (auto& row : p.coverage)
+      for (double& c : row) c = std::round(unit(rng) * 8) / 8;  // ties happen
+    if (instance % 7 == 3) p.coverage[0][0] = -std::numeric_limits<double>::infinity();
+    if (instance % 5 == 2) p.motion[0][1] = p.motion[1][0] = std::numeric_limits<double>::infinity();
+    p.seconds_weight = (instance % 3) * 0.2;
+    p.start_at_home = instance % 2 == 0;
+    if (instance % 4 == 1) {
+      p.max_move_seconds = 1.5;
+      ++with_limit;
+    }
+    const Track dp = SolveTrack(p);
+    const Track all = EnumerateTrack(p);
+    ASSERT_EQ(dp.feasible, all.feasible) << instance;
+    if (!all.feasible) continue;
+    ++feasible;
+    EXPECT_NEAR(dp.value, all.value, 1e-9) << instance;
+    // The DP's own sequence has the value it claims.
+    double coverage = 0, seconds = 0;
+    for (size_t s = 0; s < states; ++s) {
+      coverage += p.coverage[s][dp.views[s]];
+      seconds += dp.move_seconds[s];
+      const double m = s > 0 ? p.motion[dp.views[s - 1]][dp.views[s]]
+                             : (p.start_at_home ? p.motion[n][dp.views[s]] : 0.0);
+      EXPECT_DOUBLE_EQ(dp.move_seconds[s], m);
+      if (p.max_move_seconds) {
+        EXPECT_LE(m, *p.max_move_seconds);
+      }
+    }
+    EXPECT_NEAR(dp.coverage, coverage, 1e-12);
+    EXPECT_NEAR(dp.value, coverage - p.seconds_weight * seconds, 1e-12);
+  }
+  EXPECT_GT(feasible, 100u);
+  EXPECT_GT(with_limit, 20u);
 }
 
 // ----- the arm occludes its own camera -------------------------------------------------------
