@@ -129,3 +129,27 @@ def test_vantage_refuses_them_too(name, tmp_path):
                             capture_output=True, text=True)
     assert result.returncode == 2, result.stderr
     assert str(path) + ":" in result.stderr
+
+
+ARM_EXAMPLE = ROOT / "examples" / "scenes" / "arm_wrist_camera.yaml"
+
+
+@pytest.mark.parametrize("change,blamed", [
+    # An `arm` population has no region (vantage: "an `arm` population takes no 'box'").
+    (lambda s: s["populations"][1].update(box={"size": [1, 1, 1]}), ["populations", 1]),
+    (lambda s: s["populations"][1]["arm"].update(sampling="sobol"),
+     ["populations", 1, "arm", "sampling"]),
+    (lambda s: s["populations"][1]["arm"].update(configurations=[{"wrist_1_joint": 0}]),
+     ["populations", 1, "arm"]),
+    (lambda s: s["populations"][0]["reach"].update(match="roll"),
+     ["populations", 0, "reach", "match"]),
+    (lambda s: s["populations"][0]["reach"].update(restarts=0),
+     ["populations", 0, "reach", "restarts"]),
+], ids=["arm_with_region", "unknown_sampling", "sampling_and_list", "unknown_match",
+        "zero_restarts"])
+def test_arm_keys_are_checked(change, blamed):
+    scene = yaml.safe_load(ARM_EXAMPLE.read_text())
+    assert errors(scene) == []
+    change(scene)
+    paths = [list(e.absolute_path) for e in errors(scene)]
+    assert blamed in paths, paths
