@@ -4,6 +4,7 @@
 // and the bad inputs the scene must refuse before any ray.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -130,6 +131,15 @@ TEST(ArmViewsTest, IkKeepsExactlyTheRegionPosesInsideTheAnnulus) {
   }
   EXPECT_GT(inside, 100u);
   EXPECT_EQ(views.unreachable + views.candidates.size(), deployed.size());
+  // On one thread the same views, to the bit (KDL's joints cache their pose: one chain shared
+  // by threads once raced).
+  tbb::task_arena one_thread(1);
+  const ArmViews serial = one_thread.execute([&] { return ApplyArms(problem, deployed, problem.seed); });
+  ASSERT_EQ(serial.candidates.size(), views.candidates.size());
+  for (size_t i = 0; i < serial.candidates.size(); ++i) {
+    EXPECT_EQ(serial.candidates[i].name, views.candidates[i].name);
+    EXPECT_EQ(serial.candidates[i].arm->joints, views.candidates[i].arm->joints);
+  }
   for (const Candidate& c : views.candidates) {
     // The reached camera is where the region put it, within the tolerance.
     const auto original = std::find_if(deployed.begin(), deployed.end(),

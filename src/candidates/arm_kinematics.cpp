@@ -151,7 +151,10 @@ Pose ArmKinematics::TipPose(const std::vector<double>& configuration) const {
   KDL::JntArray q(impl_->chain.getNrOfJoints());
   for (size_t k = 0; k < impl_->chain_joint.size(); ++k)
     q(static_cast<unsigned>(k)) = configuration[impl_->chain_joint[k]];
-  KDL::ChainFkSolverPos_recursive fk(impl_->chain);
+  // A copy per call: KDL::Joint caches its last pose in mutable members, so one chain shared by
+  // threads races (views differed from run to run by one in a thousand).
+  const KDL::Chain chain = impl_->chain;
+  KDL::ChainFkSolverPos_recursive fk(chain);
   KDL::Frame base_from_tip;
   VANTAGE_CHECK(fk.JntToCart(q, base_from_tip) >= 0);
   return impl_->robot->world_from_base * FromKdl(base_from_tip);
@@ -162,7 +165,7 @@ std::optional<std::vector<double>> ArmKinematics::SolveIk(
     double position_tolerance, double angle_tolerance, const std::vector<double>& start,
     int restarts, uint64_t seed, uint64_t stream) const {
   VANTAGE_CHECK(start.size() == joint_names_.size());
-  const KDL::Chain& chain = impl_->chain;
+  const KDL::Chain chain = impl_->chain;  // a copy per call: KDL joints cache (see TipPose)
   const unsigned n = chain.getNrOfJoints();
   KDL::ChainFkSolverPos_recursive fk(chain);
   KDL::ChainJntToJacSolver jacobian_solver(chain);
