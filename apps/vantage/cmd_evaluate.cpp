@@ -25,7 +25,17 @@ void RunEvaluate(EvaluateFlags flags) {
   const Selection& given = result.run.report.results.front();
   fmt::print("union   {} sensors            {:6.2f} %  (paper metric {:.2f} %)\n",
              given.chosen.size(), 100.0 * given.coverage, 100.0 * given.paper_coverage);
-  if (result.run.report.constraints) PrintConstraints(result.run.report);
+  const Report& report = result.run.report;
+  if (report.ceiling && !report.parts.empty()) {
+    // What the scene lets any layout reach: the surface resting on or enclosed by other geometry.
+    if (report.exposure_known && !data.reference.exposed_only && data.reference.size() > 0)
+      fmt::print("unexposed       {:.2f} % of R: no layout sees it (resting on or enclosed by "
+                 "other geometry)\n",
+                 100.0 * report.unexposed / data.reference.size());
+    PrintParts(report, {0});
+  }
+  PrintPoseTolerance(report);
+  if (report.constraints) PrintConstraints(report);
   if (flags.out.empty()) return;
   WriteRun(flags.out, result.run);
   fmt::print("outputs {}/\n", ShownOnOneLine(flags.out));
@@ -47,6 +57,7 @@ void SetupEvaluate(CLI::App* parent) {
                   "declares (a gz-sim world's cameras, a YAML scene's `sensors:`)");
   AddConstraintFlags(app, &flags->options.constraints);
   AddPointDensityFlags(app, &flags->options.min_points, &flags->options.min_density);
+  AddPoseToleranceFlags(app, &flags->options.pose_tolerance);
   app->add_option("-o,--out", flags->out, "also write a report folder here")
       ->check(OutPathValidator());
   app->callback([flags] { RunEvaluate(*flags); });

@@ -37,6 +37,7 @@ void SetupOptimize(CLI::App* parent) {
   AddObserveFlags(app, &flags->options.observe, &flags->options.limits);
   AddSelectionFlags(app, &flags->options.selection);
   AddRobustnessFlags(app, &flags->options.robustness);
+  AddPoseToleranceFlags(app, &flags->options.pose_tolerance);
   app->add_option("-o,--out", flags->out, "output folder, default ./vantage_out (vantage's files in it are replaced "
                   "atomically; your own files there are kept)")
       ->check(OutPathValidator())

@@ -31,6 +31,7 @@ void SetupSelect(CLI::App* parent) {
       ->required();
   AddSelectionFlags(app, &flags->options.selection);
   AddRobustnessFlags(app, &flags->options.robustness);
+  AddPoseToleranceFlags(app, &flags->options.pose_tolerance);
   app->add_option("--seed", flags->options.seed,
                   "random seed (default: the one stored in the file)");
   app->add_option("-o,--out", flags->out, "output folder, default ./vantage_out (vantage's files in it are replaced "

@@ -32,6 +32,12 @@ void AddPointDensityFlags(CLI::App* app, std::optional<int64_t>* min_points,
                           std::optional<double>* min_density);
 /// --fov-tolerance, --alternatives-within (points, stored as a fraction).
 void AddRobustnessFlags(CLI::App* app, RobustnessOptions* robustness);
+/// --pose-tolerance P,A and --pose-samples S (optimize, select, evaluate).
+void AddPoseToleranceFlags(CLI::App* app, std::optional<PoseToleranceOptions>* tolerance);
+/// The summary's per-part table (results[shown]) and pose-tolerance lines; evaluate prints them
+/// too.
+void PrintParts(const Report& report, const std::vector<size_t>& shown);
+void PrintPoseTolerance(const Report& report);
 
 /// The check of the unsigned options (--seed, --calibration-overlap): refuses a sign (CLI11
 /// would wrap "-1" to 2^64 - 1) and values beyond 2^64 - 1 (CLI11 would clamp them).

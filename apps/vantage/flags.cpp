@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -241,6 +242,10 @@ void AddSceneFlags(CLI::App* app, SceneInput* scene, bool scene_positional) {
   app->add_option("--random-roll", scene->random_roll,
                   "true|false: random roll after the look-at (default: the scene's)")
       ->check(CLI::Validator(TrueOrFalse, "true|false"));
+  app->add_flag_callback("--exposed-only", [scene] { scene->exposed_only = true; },
+                         "coverage counts only exposed surface: cells resting on or enclosed by "
+                         "other geometry, which no viewpoint sees, leave R (default: every cell, "
+                         "the paper's metric)");
 }
 
 void AddObserveFlags(CLI::App* app, ObserveOptions* observe, RunLimits* limits) {
@@ -332,6 +337,43 @@ void AddConstraintFlags(CLI::App* app, ConstraintOptions* c) {
   app->add_option("--calibration-overlap-frac", c->calibration_overlap_frac,
                   "calibration: as --calibration-overlap, an edge needing this share (0..1] of "
                   "the smaller of the two sensors' observed cells");
+}
+
+void AddPoseToleranceFlags(CLI::App* app, std::optional<PoseToleranceOptions>* tolerance) {
+  CLI::Option* given = app->add_option_function<std::string>(
+      "--pose-tolerance",
+      [tolerance](const std::string& text) {
+        const size_t comma = text.find(',');
+        double values[2] = {0, 0};
+        bool ok = comma != std::string::npos;
+        for (int i = 0; ok && i < 2; ++i) {
+          const std::string part = i == 0 ? text.substr(0, comma) : text.substr(comma + 1);
+          char* end = nullptr;
+          values[i] = std::strtod(part.c_str(), &end);
+          ok = !part.empty() && end == part.c_str() + part.size() && std::isfinite(values[i]);
+        }
+        if (!ok)
+          throw InputError(fmt::format(
+              "--pose-tolerance '{}': give the mounting error as metres,degrees — e.g. 0.02,2 for "
+              "2 cm and 2 degrees",
+              ShownOnOneLine(text)));
+        if (!*tolerance) *tolerance = PoseToleranceOptions{};
+        (*tolerance)->position = values[0];
+        (*tolerance)->angle_deg = values[1];
+      },
+      "P,A: mounting tolerance, metres and degrees (e.g. 0.02,2): each result's coverage over "
+      "layouts whose sensors are off by up to P and A (mean, 5th percentile, worst, costliest "
+      "sensor)");
+  app->add_option_function<int>(
+         "--pose-samples",
+         [tolerance](int samples) {
+           if (!*tolerance) *tolerance = PoseToleranceOptions{};
+           (*tolerance)->samples = samples;
+         },
+         "perturbed layouts per result for --pose-tolerance")
+      ->check(NumberFrom(1, 10000, ValueKind::kWholeNumber))
+      ->default_str("64")
+      ->needs(given);
 }
 
 void AddRobustnessFlags(CLI::App* app, RobustnessOptions* robustness) {

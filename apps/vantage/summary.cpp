@@ -75,7 +75,7 @@ void PrintRobustness(const VisibilityFile& data,
   }
   if (!robustness.fov_note.empty()) parts.push_back(robustness.fov_note);
   if (!parts.empty())
-    fmt::print("robustness       of {} n={}: {}\n", result.method, result.n,
+    fmt::print("robustness       of {}: {}\n", ResultLabel(results, robustness.result),
                fmt::join(parts, "; "));
   if (robustness.fov_shrunk_coverage)
     fmt::print(
@@ -90,6 +90,26 @@ void PrintRobustness(const VisibilityFile& data,
                100.0 * robustness.alternatives_within);
 }
 
+// What all candidates reach together, and the share of R no viewpoint can see: why a goal above
+// the ceiling is out of reach.
+void PrintCeiling(const Report& report) {
+  const VisibilityFile& data = *report.data;
+  const double r = static_cast<double>(data.reference.size());
+  std::string unexposed;
+  if (report.exposure_known && data.reference.exposed_only) {
+    unexposed = fmt::format(
+        "; R counts exposed surface only (--exposed-only: {} unexposed voxels left out)",
+        report.unexposed);
+  } else if (report.exposure_known) {
+    unexposed = fmt::format(
+        "; {:.2f} % of R is unexposed (resting on or enclosed by other geometry), so no layout "
+        "exceeds {:.2f} %",
+        r ? 100.0 * report.unexposed / r : 0.0, r ? 100.0 * (1.0 - report.unexposed / r) : 0.0);
+  }
+  fmt::print("ceiling          {:.2f} % with all {} candidates together{}\n", 100.0 * *report.ceiling,
+             data.candidates.size(), unexposed);
+}
+
 std::string ConflictText(const Conflict& c, const VisibilityFile& data) {
   return fmt::format("{} ~ {} ({})", data.candidates.at(c.a).name, data.candidates.at(c.b).name,
                      c.kind == ConflictKind::kInterference
@@ -98,6 +118,74 @@ std::string ConflictText(const Conflict& c, const VisibilityFile& data) {
 }
 
 }  // namespace
+
+// Per target part: its voxels, unexposed share, ceiling and each shown result's coverage.
+void PrintParts(const Report& report, const std::vector<size_t>& shown) {
+  if (report.parts.size() < 2) return;
+  const bool exposed_only = report.data->reference.exposed_only;
+  constexpr size_t kRows = 12;
+  size_t width = 4;
+  for (size_t p = 0; p < std::min(kRows, report.parts.size()); ++p)
+    width = std::max(width, std::min<size_t>(ShownOnOneLine(report.parts[p].name).size(), 24));
+  std::string header = fmt::format("  {:<{}} {:>8}", "part", width, "voxels");
+  if (report.exposure_known) header += fmt::format(" {:>9}", exposed_only ? "left out" : "unexposed");
+  header += fmt::format(" {:>8}", "ceiling");
+  for (const size_t index : shown) header += fmt::format(" {:>8}", report.results[index].method);
+  fmt::print("by part (%)\n{}\n", header);
+  for (size_t p = 0; p < std::min(kRows, report.parts.size()); ++p) {
+    const TargetPart& part = report.parts[p];
+    std::string name = ShownOnOneLine(part.name);
+    if (name.size() > width) name = name.substr(0, width - 1) + "~";
+    std::string line = fmt::format("  {:<{}} {:>8}", name, width, part.cells);
+    if (report.exposure_known) {
+      line += exposed_only ? fmt::format(" {:>9}", part.left_out)
+                           : fmt::format(" {:9.2f}", part.cells ? 100.0 * part.unexposed / part.cells : 0.0);
+    }
+    line += fmt::format(" {:8.2f}", 100.0 * part.ceiling);
+    for (const size_t index : shown)
+      line += fmt::format(" {:8.2f}", 100.0 * report.result_part_coverage[index][p]);
+    fmt::print("{}\n", line);
+  }
+  if (report.parts.size() > kRows)
+    fmt::print("  ... {} more parts (report.json)\n", report.parts.size() - kRows);
+}
+
+// --pose-tolerance: per result shown, its coverage over the perturbed layouts and the sensor
+// whose mounting error alone costs the most.
+void PrintPoseTolerance(const Report& report) {
+  if (!report.pose_tolerance) return;
+  const PoseTolerance& t = *report.pose_tolerance;
+  fmt::print("pose tolerance   sensors off by up to {:g} m and {:g} deg, {} layouts per result\n",
+             t.options.position, t.options.angle_deg, t.options.samples);
+  // The same results as the method lines: each method at its largest n.
+  std::vector<const PoseSpread*> shown;
+  for (const PoseSpread& s : t.results) {
+    const Selection& result = report.results.at(static_cast<size_t>(s.result));
+    auto same = std::find_if(shown.begin(), shown.end(), [&](const PoseSpread* o) {
+      return report.results.at(static_cast<size_t>(o->result)).method == result.method;
+    });
+    if (same == shown.end()) {
+      shown.push_back(&s);
+    } else if (result.n >= report.results.at(static_cast<size_t>((*same)->result)).n) {
+      *same = &s;
+    }
+  }
+  for (const PoseSpread* s : shown) {
+    const Selection& result = report.results.at(static_cast<size_t>(s->result));
+    std::string costliest;
+    if (!s->sensor_loss.empty()) {
+      const size_t at = static_cast<size_t>(
+          std::find(result.chosen.begin(), result.chosen.end(), s->costliest) -
+          result.chosen.begin());
+      costliest = fmt::format("; costliest {} ({:+.2f} alone)",
+                              report.data->candidates.at(s->costliest).name,
+                              -100.0 * s->sensor_loss.at(at));
+    }
+    fmt::print("  {}: {:.2f} % planned; mean {:.2f}, 5th percentile {:.2f}, worst {:.2f}{}\n",
+               ResultLabel(report.results, s->result), 100.0 * s->nominal, 100.0 * s->mean,
+               100.0 * s->p5, 100.0 * s->worst, costliest);
+  }
+}
 
 // The installation constraints (docs/constraints.md) and the primary result's check: what it
 // avoided (or, when only checked, breaks) and its overlap graph.
@@ -158,7 +246,7 @@ void PrintConstraints(const Report& report) {
                                 data.candidates.at(e.b).name, e.cells));
   }
   if (constraints.calibration || !edges.empty()) {
-    fmt::print("overlap graph    of {} n={}: {}{}\n", primary.method, primary.n,
+    fmt::print("overlap graph    of {}: {}{}\n", ResultLabel(report.results, report.primary),
                edges.empty() ? "no edges" : fmt::format("{}", fmt::join(edges, ", ")),
                constraints.calibration
                    ? (check.connected()
@@ -187,6 +275,7 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
                r ? 100.0 * data.observations[best].reference_indices.size() / r : 0.0,
                plain_only ? " (plain coverage: every pixel counts)" : "");
   }
+  if (report.ceiling) PrintCeiling(report);
   // The objective, when it is not plain coverage (all results share it).
   if (!results.empty()) {
     const Selection& first = results.front();
@@ -257,6 +346,11 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
     if (s->upper_bound)
       bound = s->proven_optimal ? "  (optimal)"
                                 : fmt::format("  (bound {:.2f} %)", 100.0 * *s->upper_bound);
+    if (!s->proven_optimal) {
+      if (const int proof = ProvenBy(results, static_cast<int>(index)); proof >= 0)
+        bound = fmt::format("  (optimal: as good as {}'s proven optimum)",
+                            results[static_cast<size_t>(proof)].method);
+    }
     if (s->n_lower_bound) {
       bound = s->proven_optimal ? "  (fewest: optimal)"
                                 : fmt::format("  (at least {} sensors)", *s->n_lower_bound);
@@ -272,14 +366,16 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
     fmt::print("{:<8} n={:<3}  {:6.2f} %{}  [{}]  {:.3f} s\n", s->method, s->n, 100.0 * s->coverage,
                bound, names, s->seconds);
   }
+  PrintParts(report, shown);
   PrintCoverageByN(results);
+  PrintPoseTolerance(report);
   if (report.constraints) PrintConstraints(report);
   if (refinement) {
-    const Selection& from = results.at(static_cast<size_t>(refinement->from_result));
     fmt::print(
-        "refinement       {:+.2f} points over {} n={}: {} rounds, {} new poses, {:.1f} M extra "
+        "refinement       {:+.2f} points over {}: {} rounds, {} new poses, {:.1f} M extra "
         "rays, {:.2f} s\n",
-        100.0 * (refinement->coverage_after - refinement->coverage_before), from.method, from.n,
+        100.0 * (refinement->coverage_after - refinement->coverage_before),
+        ResultLabel(results, refinement->from_result),
         refinement->rounds, refinement->new_candidates, refinement->extra_rays / 1e6,
         refinement->seconds);
   }

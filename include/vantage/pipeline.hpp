@@ -17,6 +17,7 @@
 #include "vantage/arm.hpp"
 #include "vantage/candidates.hpp"
 #include "vantage/observe.hpp"
+#include "vantage/pose_tolerance.hpp"
 #include "vantage/output_guard.hpp"
 #include "vantage/problem.hpp"
 #include "vantage/ray_scene.hpp"
@@ -39,6 +40,9 @@ struct SceneInput {
   std::optional<uint64_t> seed;           ///< --seed
   std::optional<Vec3> observation_point;  ///< --observation-point [m, world]
   std::optional<bool> random_roll;        ///< --random-roll
+  /// --exposed-only: coverage counts only surface some viewpoint could see (docs/outputs.md,
+  /// "The ceiling"); unset: the paper's metric (evaluate: the constellation's run's).
+  std::optional<bool> exposed_only;
   /// InputError naming the option: an observation point that is not finite or beyond what the
   /// voxel grid and Embree can represent.
   void Validate() const;
@@ -146,6 +150,7 @@ struct PreparedScene {
   Timings timings;                   ///< load
   std::vector<std::string> notes;    ///< non-fatal remarks for the report
   bool cell_size_from_option = false;  ///< the cell size is the override's (for messages)
+  bool exposed_only = false;  ///< --exposed-only: R holds only exposed surface
   /// The candidates the scene's keep_out boxes excluded (docs/constraints.md, Mounting rules):
   /// inside a box in the base scene or any state. Not in `candidates`; no ray is cast for them.
   std::vector<Candidate> kept_out;
@@ -199,6 +204,10 @@ struct RunResult {
   std::unique_ptr<VisibilityFile> data;
   Report report;                               ///< derived; report.data == data.get()
   std::map<std::string, std::string> files;    ///< report.json, report.html, ... by file name
+  /// What the exports had to leave out ("constellation.sdf: 5 objects are left out"): WriteRun
+  /// logs them as warnings, so that a run that writes nothing says nothing (they are in
+  /// report.notes too).
+  std::vector<std::string> export_warnings;
 };
 
 /// Writes result.files into `out_dir` atomically (a sibling folder renamed into place).
@@ -235,6 +244,8 @@ struct OptimizeOptions {
   RunLimits limits;
   SelectionRequest selection;
   RobustnessOptions robustness;
+  /// --pose-tolerance: every result's coverage over perturbed layouts (seed: the run's).
+  std::optional<PoseToleranceOptions> pose_tolerance;
   /// Set: refine the primary result (--refine); its seed and observe options are the run's.
   std::optional<RefineOptions> refine;
   TraceFunction trace;  ///< how observe traces (ObservePrepared); empty: in this process
@@ -274,6 +285,8 @@ struct SelectFileOptions {
   SelectionRequest selection;
   std::optional<uint64_t> seed;  ///< unset: the file's
   RobustnessOptions robustness;
+  /// --pose-tolerance, assessed when the file's scene still loads (its geometry re-traces).
+  std::optional<PoseToleranceOptions> pose_tolerance;
 };
 RunResult SelectFromFile(const SelectFileOptions& options);
 
@@ -308,6 +321,8 @@ struct EvaluateOptions {
   /// or --min-density per cm²); both unset take the constellation's run's.
   std::optional<int64_t> min_points;
   std::optional<double> min_density;
+  /// --pose-tolerance: the layout's coverage over perturbed layouts (seed: the scene's or --seed).
+  std::optional<PoseToleranceOptions> pose_tolerance;
 };
 struct EvaluateResult {
   RunResult run;                         ///< one result, method "given": every sensor

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "vantage/pose_tolerance.hpp"
 #include "vantage/robustness.hpp"
 #include "vantage/select.hpp"
 #include "vantage/tour.hpp"
@@ -59,6 +60,7 @@ struct RunInputs {
   std::optional<uint64_t> seed;             ///< --seed
   std::optional<Vec3> observation_point;    ///< --observation-point
   std::optional<bool> random_roll;          ///< --random-roll
+  bool exposed_only = false;                ///< --exposed-only
   bool cull = true;                         ///< false: --no-cull
   QualityFilter quality;                    ///< --max-incidence, --max-depth-noise
   std::optional<int> n;                     ///< -n
@@ -80,6 +82,9 @@ struct RunInputs {
   bool refine = false;                      ///< --refine
   std::optional<int> refine_rounds;         ///< --refine-rounds
   std::optional<double> fov_tolerance_deg;  ///< --fov-tolerance
+  std::optional<double> pose_tolerance_m;   ///< --pose-tolerance, its position [m]
+  std::optional<double> pose_tolerance_deg;  ///< --pose-tolerance, its angle [deg]
+  std::optional<int> pose_samples;          ///< --pose-samples
   std::optional<double> alternatives_within;  ///< --alternatives-within, coverage points
   std::string visibility_file;              ///< select: the .vis file
   std::string constellation;                ///< evaluate: the constellation file
@@ -90,6 +95,16 @@ struct ChosenSensor {
   uint32_t index = 0;        ///< candidate index
   double marginal_gain = 0;  ///< share of R it adds to those chosen before it
   double cumulative = 0;     ///< share of R of it and those before it
+};
+
+/// One target part of R (a target object by name; Reference::part_names), as report.json's
+/// `ceiling.parts` and the summary's parts table show it.
+struct TargetPart {
+  std::string name;
+  size_t cells = 0;      ///< its cells in R
+  size_t unexposed = 0;  ///< of them, no viewpoint can see (Reference::exposed; 0 when unknown)
+  size_t left_out = 0;   ///< --exposed-only: its unexposed cells, left out of R
+  double ceiling = 0;    ///< the share of its cells that all candidates reach together
 };
 
 /// Everything one report holds. The writers (ReportJson, HtmlReport, ...) only serialise it: the
@@ -150,6 +165,9 @@ struct Report {
   std::vector<std::string> notes;
   /// Read-outs for one result (usually the primary), when computed (issue 9).
   std::optional<Robustness> robustness;
+  /// --pose-tolerance: every result's coverage over perturbed layouts (report.json
+  /// `pose_tolerance`).
+  std::optional<PoseTolerance> pose_tolerance;
   std::optional<RefinementInfo> refinement;
   /// Set for a scene with states; `data` then holds the first state's reference and sets.
   std::optional<StatesInfo> states;
@@ -176,6 +194,20 @@ struct Report {
   std::vector<ChosenSensor> primary_sensors;
   /// The candidate that sees the most of R alone (ties: the first); -1 without candidates.
   int best_single = -1;
+  /// The ceiling: the coverage all candidates reach together, counted as the results count it
+  /// (their k or min_points; plain coverage without results). Unset with states (the results
+  /// count over states; `data` holds the first only) or without candidates.
+  std::optional<double> ceiling;
+  /// R's target parts, each with its ceiling; empty when R does not know its parts (an old
+  /// visibility file) or with states.
+  std::vector<TargetPart> parts;
+  /// Per result, per part (as `parts`): the share of the part's cells the result covers. Empty
+  /// when `parts` is.
+  std::vector<std::vector<double>> result_part_coverage;
+  /// Whether R's exposure is known (Reference::exposed), and how many of its cells are
+  /// unexposed (with --exposed-only: how many were left out of R).
+  bool exposure_known = false;
+  size_t unexposed = 0;
 
   /// The primary result's chosen candidates (empty without one). Requires is_derived.
   const std::vector<uint32_t>& PrimaryChosen() const;
@@ -184,6 +216,15 @@ struct Report {
 /// Fills the derived fields of `report` from its data and results (once, before the writers).
 /// Requires report->data.
 void DeriveReport(Report* report);
+
+/// The result whose optimality proves results[index] optimal: itself when proven, else a proven
+/// optimal result of the same objective and n whose coverage it equals (exact proved that no
+/// layout of n does better, so this one is optimal too). -1 when none.
+int ProvenBy(const std::vector<Selection>& results, int index);
+
+/// How results[index] is named wherever a method is named: "greedy n=3", "exact n=3 (proven
+/// optimal)", "greedy n=3 (proven optimal by exact)".
+std::string ResultLabel(const std::vector<Selection>& results, int index);
 
 /// The result that stands for the run: among those with the largest n, the highest coverage
 /// (ties: the first). -1 when there is no result.

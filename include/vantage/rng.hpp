@@ -14,6 +14,7 @@ enum class Stream : uint64_t {
   kArm = 6,     ///< arm.hpp: random joint-space views
   kArmIk = 7,   ///< arm.hpp: the restarts of inverse kinematics
   kArmPlan = 8, ///< arm.hpp: the planner's samples around a colliding move (PlanMotion)
+  kPoseTolerance = 9,  ///< pose_tolerance.hpp: each sensor's perturbed poses
   kTest = 99,
 };
 

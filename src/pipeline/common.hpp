@@ -49,9 +49,20 @@ void CheckObserveTime(const Reference& reference, std::span<const Candidate> can
                       const ObserveOptions& observe, double limit_seconds, const Scene& scene,
                       std::span<const Scene> state_scenes, const std::string& source);
 
-/// R of `scene` at `cell_size`, errors named after `source`; `before_build` (may be empty) runs
+/// Select, its refusal of a goal above what all candidates reach completed with the share of R
+/// no viewpoint can see (Reference::exposed), when known.
+std::vector<Selection> SelectExplained(std::span<const Observation> observations,
+                                       const Reference& reference, const SelectOptions& options);
+
+/// --pose-tolerance (`options` set): every result of `report` over perturbed layouts, traced in
+/// `rays` with the run's seed, recorded in report.json `inputs`. Skipped with a note over scene
+/// states (the results count over states, `data` holds the first) or without `rays`.
+void AddPoseTolerance(const std::optional<PoseToleranceOptions>& options, const RayScene* rays,
+                      const ObserveOptions& observe, Report* report);
+
+/// R of `scene` (options: its cell size, --exposed-only), errors named after `source`; `before_build` (may be empty) runs
 /// once the targets are known to fit the grid (the memory check).
-Reference BuildRunReference(const Scene& scene, double cell_size, const std::string& source,
+Reference BuildRunReference(const Scene& scene, const ReferenceOptions& options, const std::string& source,
                             const std::function<void()>& before_build = {});
 
 /// Every candidate of `evaluator` as one "given" selection, with its coverage (evaluate, render).

@@ -48,6 +48,7 @@ SceneInput InheritScene(SceneInput scene, const Constellation& constellation,
     scene.load.targets_origin = report_path + ": inputs.targets";
   }
   if (!scene.load.cell_size) scene.load.cell_size = inputs->cell_size;
+  if (!scene.exposed_only && inputs->exposed_only) scene.exposed_only = true;
   return scene;
 }
 
@@ -134,7 +135,8 @@ Reobserved Reobserve(const SceneInput& scene, const Constellation& constellation
   data.selection.n = static_cast<int>(constellation.sensors.size());
   data.candidates = constellation.sensors;
   data.quality = observe.quality;
-  data.reference = detail::BuildRunReference(problem.scene, problem.cell_size, problem.source);
+  const ReferenceOptions reference{problem.cell_size, scene.exposed_only.value_or(false)};
+  data.reference = detail::BuildRunReference(problem.scene, reference, problem.source);
   result.timings.reference = detail::SecondsSince(stage);
   detail::CheckObserveMemory(problem.scene, data.reference.size(), data.candidates,
                              limits.max_memory_mib, problem.source);
@@ -178,6 +180,7 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   options.observe.Validate();
   options.limits.Validate();
   options.constraints.Validate();
+  if (options.pose_tolerance) options.pose_tolerance->Validate();
   detail::ResolveMinPoints(options.min_points, options.min_density, 0.01);  // before any work
   Constellation constellation;
   if (options.constellation.empty()) {
@@ -271,7 +274,9 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
       ObservedState observed;
       observed.name = state.name;
       observed.reference =
-          detail::BuildRunReference(scene_of_state, problem.cell_size, problem.source);
+          detail::BuildRunReference(scene_of_state,
+                                    {problem.cell_size, scene.exposed_only.value_or(false)},
+                                    problem.source);
       observed.observations =
           Observe(RayScene(scene_of_state), observed.reference, run.data->candidates, observe);
       states.push_back(std::move(observed));
@@ -309,8 +314,9 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
     extra.clear();
     notes.push_back(fmt::format("constellation files not written: {}", e.what()));
   }
-  for (const std::string& note : notes) spdlog::warn("{}", note);
+  run.export_warnings = notes;
   report.notes.insert(report.notes.end(), notes.begin(), notes.end());
+  detail::AddPoseTolerance(options.pose_tolerance, reobserved.rays.get(), observe, &report);
   detail::FinishRun(reobserved.problem.scene, std::move(extra), &run);
   return result;
 }

@@ -55,12 +55,12 @@ double MemoryLimitMiB(double limit_mib) {
 }
 
 // Targets beyond the grid name no place of their own: the scene is named.
-Reference BuildRunReference(const Scene& scene, double cell_size, const std::string& source,
-                            const std::function<void()>& before_build) {
+Reference BuildRunReference(const Scene& scene, const ReferenceOptions& options,
+                            const std::string& source, const std::function<void()>& before_build) {
   try {
-    CheckTargetsFitGrid(scene, cell_size);
+    CheckTargetsFitGrid(scene, options.cell_size);
     if (before_build) before_build();
-    return BuildReference(scene, ReferenceOptions{cell_size});
+    return BuildReference(scene, options);
   } catch (const InputError& e) {
     const std::string message = e.what();
     if (message.rfind(source + ":", 0) == 0) throw;
@@ -209,7 +209,9 @@ void CheckObserveTime(const Reference& reference, std::span<const Candidate> can
 void CheckReferenceMemory(const PreparedScene& prepared, double limit_mib) {
   const Problem& problem = prepared.problem;
   const double cells = EstimateReferenceCells(problem.scene, problem.cell_size);
-  const double build = 32.0 * cells;
+  // Plus the exposure grid (one byte per cell of the targets' box, ComputeExposure).
+  const double build =
+      32.0 * cells + static_cast<double>(ExposureGridCells(problem.scene, problem.cell_size));
   const size_t capped = static_cast<size_t>(std::min(cells, 1e18));
   const MemoryEstimate later =
       EstimateMemory(problem.scene, capped, prepared.candidates, Threads());
@@ -249,10 +251,10 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
   ObservedScene result;
   result.timings = prepared.timings;
   auto start = std::chrono::steady_clock::now();
-  const ReferenceOptions reference_options{problem.cell_size};
+  const ReferenceOptions reference_options{problem.cell_size, prepared.exposed_only};
   reference_options.Validate();
   Reference reference =
-      detail::BuildRunReference(problem.scene, problem.cell_size, problem.source, [&] {
+      detail::BuildRunReference(problem.scene, reference_options, problem.source, [&] {
         detail::CheckReferenceMemory(prepared, limits.max_memory_mib);
       });
   result.timings.reference = detail::SecondsSince(start);
@@ -314,7 +316,7 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
       const auto state_start = std::chrono::steady_clock::now();
       try {
         state.reference =
-            detail::BuildRunReference(state_scenes[i], problem.cell_size, problem.source);
+            detail::BuildRunReference(state_scenes[i], reference_options, problem.source);
       } catch (const InputError& e) {
         throw InputError(AtPlace(problem.source, problem.states[i].line,
                                  fmt::format("state '{}': {}", state.name, e.what())));

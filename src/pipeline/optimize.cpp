@@ -54,6 +54,7 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
   options.observe.Validate();
   options.limits.Validate();
   options.robustness.Validate();
+  if (options.pose_tolerance) options.pose_tolerance->Validate();
   if (options.refine) {
     options.refine->Validate();
     // A run that asks for refinement asks for a round (the library reads 0 as none: the Python
@@ -199,7 +200,7 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
     extra = detail::ConstellationFiles(options.scene.path, observed.scene, chosen,
                                        observed.populations, observed.sensors,
                                        detail::ScoringOf(data, *report.inputs), &notes);
-    for (const std::string& note : notes) spdlog::warn("{}", note);
+    run.export_warnings = notes;
     report.notes.insert(report.notes.end(), notes.begin(), notes.end());
     // Robustness reads `data`, the first state's sets: not meaningful over states.
     if (!report.states) {
@@ -211,6 +212,7 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
         detail::DropInfeasibleAlternatives(*report.constraints, data, &*report.robustness);
     }
   }
+  detail::AddPoseTolerance(options.pose_tolerance, observed.rays.get(), options.observe, &report);
   detail::FinishRun(observed.scene, std::move(extra), &run);
   return run;
 }

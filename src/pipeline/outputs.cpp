@@ -3,6 +3,9 @@
 #include <filesystem>
 
 #include "pipeline/common.hpp"
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include "util/atomic_file.hpp"
 #include "vantage/error.hpp"
 #include "vantage/gazebo_export.hpp"
@@ -50,9 +53,39 @@ RunInputs InputsOf(const std::string& command, const SceneInput& scene,
   inputs.seed = scene.seed;
   inputs.observation_point = scene.observation_point;
   inputs.random_roll = scene.random_roll;
+  inputs.exposed_only = scene.exposed_only.value_or(false);
   inputs.cull = observe.cull;
   inputs.quality = observe.quality;
   return inputs;
+}
+
+void AddPoseTolerance(const std::optional<PoseToleranceOptions>& options, const RayScene* rays,
+                      const ObserveOptions& observe, Report* report) {
+  if (!options) return;
+  if (report->inputs) {
+    report->inputs->pose_tolerance_m = options->position;
+    report->inputs->pose_tolerance_deg = options->angle_deg;
+    report->inputs->pose_samples = options->samples;
+  }
+  std::string skipped;
+  if (report->states) {
+    skipped = "the results count over scene states";
+  } else if (!rays) {
+    skipped = "the scene no longer loads from here, and its geometry is needed to re-trace";
+  }
+  if (!skipped.empty()) {
+    const std::string note = fmt::format("--pose-tolerance: skipped — {}", skipped);
+    spdlog::warn("{}", note);
+    report->notes.push_back(note);
+    return;
+  }
+  PoseToleranceOptions seeded = *options;
+  seeded.seed = report->seed;
+  const auto start = std::chrono::steady_clock::now();
+  report->pose_tolerance =
+      AssessPoseTolerance(*report->data, report->results, *rays, observe, seeded);
+  spdlog::info("pose tolerance: {} results x {} layouts in {:.3f} s", report->results.size(),
+               seeded.samples, SecondsSince(start));
 }
 
 void AddSelectionInputs(const SelectionRequest& request, RunInputs* inputs) {
@@ -114,6 +147,7 @@ void WriteRun(const std::string& out_dir, const RunResult& result) {
   // A name missing from RunFolderFileNames would survive a later run that does not write it.
   for (const auto& [name, content] : result.files) VANTAGE_CHECK(RunFolderFileNames().count(name));
   detail::WriteFolderAtomically(out_dir, result.files, RunFolderFileNames());
+  for (const std::string& warning : result.export_warnings) spdlog::warn("{}", warning);
 }
 
 }  // namespace vantage

@@ -234,6 +234,7 @@ PreparedScene Prepare(const SceneInput& input) {
   ExcludeKeptOut(&prepared);
   detail::CheckSeparationPairs(prepared.candidates, problem.mounting);
   prepared.cell_size_from_option = input.load.cell_size.has_value();
+  prepared.exposed_only = input.exposed_only.value_or(false);
   prepared.timings.load = detail::SecondsSince(start);
   return prepared;
 }

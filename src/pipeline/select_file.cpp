@@ -65,6 +65,7 @@ MatrixSelection ResolveMatrixSelection(const VisibilityFile& data, const Selecti
 RunResult SelectFromFile(const SelectFileOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   options.robustness.Validate();
+  if (options.pose_tolerance) options.pose_tolerance->Validate();
   RunResult run;
   run.data = std::make_unique<VisibilityFile>(LoadVisibilityFile(options.visibility_file));
   const VisibilityFile& data = *run.data;
@@ -85,7 +86,7 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   const SelectOptions& select = resolved.options;  // constraints included
   Report& report = run.report;
   report.constraints = std::move(resolved.constraints);
-  report.results = Select(data.observations, data.reference.size(), select);
+  report.results = detail::SelectExplained(data.observations, data.reference, select);
   report.curve =
       CoverageCurve(data.observations, data.reference.size(), select, report.results);
   timings.select = detail::SecondsSince(select_start);
@@ -107,10 +108,13 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   report.inputs = std::move(inputs);
   DeriveReport(&report);
   const Scene scene = ReportScene(data.scene);
+  // The shrunk fields of view and the pose tolerance need the geometry: only when the scene
+  // still loads from here.
+  const std::unique_ptr<RayScene> rays =
+      scene.objects.empty() || (report.primary < 0 && !options.pose_tolerance)
+          ? nullptr
+          : std::make_unique<RayScene>(scene);
   if (report.primary >= 0) {
-    // The shrunk fields of view need the geometry: only when the scene still loads from here.
-    const std::unique_ptr<RayScene> rays =
-        scene.objects.empty() ? nullptr : std::make_unique<RayScene>(scene);
     RobustnessOptions robustness = options.robustness;
     robustness.kept = select.fixed;  // installed sensors get no alternative
     report.robustness = AssessRobustness(data, report.results, report.primary, rays.get(),
@@ -118,6 +122,7 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
     if (report.constraints)
       detail::DropInfeasibleAlternatives(*report.constraints, data, &*report.robustness);
   }
+  detail::AddPoseTolerance(options.pose_tolerance, rays.get(), ObserveOptions{}, &report);
   detail::FinishRun(scene, {}, &run);
   return run;
 }

@@ -165,13 +165,34 @@ void CheckSelectionTime(std::span<const Observation> observations, const SelectO
                     limit_seconds, source)));
 }
 
+std::vector<Selection> SelectExplained(std::span<const Observation> observations,
+                                       const Reference& reference, const SelectOptions& options) {
+  try {
+    return Select(observations, reference.size(), options);
+  } catch (const InputError& e) {
+    // A goal above what all candidates reach: say how much of R no viewpoint can see at all
+    // (issue 46: the parts' undersides on the tote floor were never mentioned).
+    const std::string message = e.what();
+    if (!options.goal || message.find("reach together") == std::string::npos ||
+        reference.exposed.size() != reference.size() || reference.exposed_only)
+      throw;
+    const auto unexposed = static_cast<double>(
+        std::count(reference.exposed.begin(), reference.exposed.end(), uint8_t{0}));
+    const double share = unexposed / static_cast<double>(reference.size());
+    throw InputError(fmt::format(
+        "{} ({:.2f} % of R is unexposed — resting on or enclosed by other geometry, no camera "
+        "sees it — so no layout exceeds {:.2f} %; --exposed-only counts only exposed surface)",
+        message, 100.0 * share, 100.0 * (1.0 - share)));
+  }
+}
+
 void SelectResults(const ObservedScene& observed, const SelectionRequest& request,
                    const SelectOptions& given, Report* report) {
   SelectOptions options = given;
   if (report->constraints) options.constraints = report->constraints->constraints;
   if (observed.states.empty()) {
     report->results =
-        Select(observed.data.observations, observed.data.reference.size(), options);
+        SelectExplained(observed.data.observations, observed.data.reference, options);
     report->curve = CoverageCurve(observed.data.observations, observed.data.reference.size(),
                                   options, report->results);
     return;

@@ -6,6 +6,9 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
+#include <optional>
+#include <tuple>
 #include <cmath>
 
 #include "util/cell_size.hpp"
@@ -85,15 +88,18 @@ bool TriangleTouchesHalfOpenCell(const Vec3 (&tri)[3], const Cell& k, std::vecto
   return true;
 }
 
+// Calls sink(cell, polygon) for each cell of [lo, hi] that the triangle touches (half-open
+// cells), with the part of the triangle inside the closed cell.
+template <typename Sink>
 void VisitBlock(const Vec3 (&tri)[3], const Cell& lo, const Cell& hi, std::vector<Vec3>* poly,
-                std::vector<uint64_t>* keys) {
+                const Sink& sink) {
   const int64_t count = (hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
   if (count <= 8) {
     for (int64_t x = lo[0]; x <= hi[0]; ++x)
       for (int64_t y = lo[1]; y <= hi[1]; ++y)
         for (int64_t z = lo[2]; z <= hi[2]; ++z) {
           const Cell c{x, y, z};
-          if (TriangleTouchesHalfOpenCell(tri, c, poly)) keys->push_back(PackVoxel(c));
+          if (TriangleTouchesHalfOpenCell(tri, c, poly)) sink(c, *poly);
         }
     return;
   }
@@ -107,8 +113,8 @@ void VisitBlock(const Vec3 (&tri)[3], const Cell& lo, const Cell& hi, std::vecto
   Cell first_hi = hi, second_lo = lo;
   first_hi[axis] = mid;
   second_lo[axis] = mid + 1;
-  VisitBlock(tri, lo, first_hi, poly, keys);
-  VisitBlock(tri, second_lo, hi, poly, keys);
+  VisitBlock(tri, lo, first_hi, poly, sink);
+  VisitBlock(tri, second_lo, hi, poly, sink);
 }
 
 }  // namespace
@@ -134,7 +140,7 @@ void AppendTriangleCells(const Vec3& a, const Vec3& b, const Vec3& c, double cel
   }
   VANTAGE_CHECK(VoxelIndexFits(lo) && VoxelIndexFits(hi));
   std::vector<Vec3> poly;
-  VisitBlock(tri, lo, hi, &poly, keys);
+  VisitBlock(tri, lo, hi, &poly, [keys](const Cell& c, const std::vector<Vec3>&) { keys->push_back(PackVoxel(c)); });
 }
 
 void CheckTargetsFitGrid(const Scene& scene, double cell_size) {
@@ -174,38 +180,526 @@ double EstimateReferenceCells(const Scene& scene, double cell_size) {
   return area_cells / (cell_size * cell_size) + std::sqrt(3.0) * edge_cells / cell_size + triangles;
 }
 
+namespace {
+
+// Exposure (issue 46). A point of a target's surface is exposed when, on one side of it, the point
+// kContactDistance along its normal is free space (inside no closed object, no other object's
+// surface in between) that reaches beyond the targets' box. The reach is decided on a grid of
+// cells: the targets' box with kExposureMargin cells around it, flooded from its faces through
+// the cells no surface touches and no closed object holds. A cell of R is exposed when a sample
+// of its surface is.
+constexpr int64_t kExposureMargin = 2;
+constexpr double kContactDistance = 0.25;  // in cells: nearer geometry is contact
+enum : uint8_t { kFree = 0, kWall = 1, kSolid = 2, kOutside = 3 };
+
+struct ExposureBox {
+  Cell lo{}, hi{};
+  std::array<int64_t, 3> n{};
+  uint64_t Size() const { return static_cast<uint64_t>(n[0] * n[1] * n[2]); }
+  uint64_t Index(const Cell& c) const {
+    return static_cast<uint64_t>(((c[0] - lo[0]) * n[1] + (c[1] - lo[1])) * n[2] + (c[2] - lo[2]));
+  }
+  uint64_t Column(int64_t x, int64_t y) const {
+    return static_cast<uint64_t>((x - lo[0]) * n[1] + (y - lo[1]));
+  }
+  bool Contains(const Cell& c) const {
+    for (int a = 0; a < 3; ++a)
+      if (c[a] < lo[a] || c[a] > hi[a]) return false;
+    return true;
+  }
+};
+
+// Empty when there is no target, or the box would exceed kMaxExposureGridCells.
+std::optional<ExposureBox> ExposureBoxOf(const Scene& scene, double cell_size) {
+  const Aabb bounds = scene.TargetBounds();
+  if (bounds.IsEmpty() || !bounds.min.allFinite() || !bounds.max.allFinite()) return std::nullopt;
+  ExposureBox box;
+  double cells = 1;
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] = FloorToInt(bounds.min[a] / cell_size) - kExposureMargin;
+    box.hi[a] = FloorToInt(bounds.max[a] / cell_size) + kExposureMargin;
+    cells *= static_cast<double>(box.hi[a] - box.lo[a] + 1);
+    box.n[a] = box.hi[a] - box.lo[a] + 1;
+  }
+  if (!VoxelIndexFits(box.lo) || !VoxelIndexFits(box.hi) ||
+      cells > static_cast<double>(kMaxExposureGridCells))
+    return std::nullopt;
+  return box;
+}
+
+// A closed, consistently oriented mesh (vertices welded by position): every directed edge a->b
+// is matched by as many b->a. Its winding number tells inside from outside whichever way it
+// faces: an outward box holds its inside, an inward room mesh holds nothing.
+bool IsClosed(const TriangleMesh& mesh) {
+  if (mesh.triangles.empty()) return false;
+  std::vector<uint32_t> order(mesh.vertices.size());
+  for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  const auto less = [&](uint32_t a, uint32_t b) {
+    const Vec3& p = mesh.vertices[a];
+    const Vec3& q = mesh.vertices[b];
+    return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<uint32_t> welded(mesh.vertices.size());
+  uint32_t id = 0;
+  for (size_t i = 0; i < order.size(); ++i) {
+    if (i > 0 && less(order[i - 1], order[i])) ++id;
+    welded[order[i]] = id;
+  }
+  std::vector<std::pair<uint32_t, uint32_t>> forward, backward;
+  for (const auto& t : mesh.triangles) {
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t a = welded[t[e]], b = welded[t[(e + 1) % 3]];
+      if (a == b) continue;
+      forward.emplace_back(a, b);
+      backward.emplace_back(b, a);
+    }
+  }
+  std::sort(forward.begin(), forward.end());
+  std::sort(backward.begin(), backward.end());
+  return forward == backward;
+}
+
+// A triangle in cell units, with its object and whether that object is closed.
+struct CellTri {
+  Vec3 v[3];
+  uint32_t object;
+  bool closed;
+};
+
+// Signed crossing of the vertical line through (px, py) with a triangle: its z and +1 when the
+// triangle faces up (the line leaves an outward solid upwards there), -1 down; 0: no crossing.
+int VerticalCrossing(const CellTri& t, double px, double py, double* z) {
+  const auto edge = [](const Vec3& u, const Vec3& v, double x, double y) {
+    return (v.x() - u.x()) * (y - u.y()) - (v.y() - u.y()) * (x - u.x());
+  };
+  const double area = edge(t.v[0], t.v[1], t.v[2].x(), t.v[2].y());
+  if (area == 0 || !std::isfinite(area)) return 0;  // vertical: the line runs beside it
+  const double w0 = edge(t.v[1], t.v[2], px, py) / area;
+  const double w1 = edge(t.v[2], t.v[0], px, py) / area;
+  const double w2 = edge(t.v[0], t.v[1], px, py) / area;
+  if (w0 < 0 || w1 < 0 || w2 < 0) return 0;
+  *z = w0 * t.v[0].z() + w1 * t.v[1].z() + w2 * t.v[2].z();
+  return area > 0 ? 1 : -1;
+}
+
+// Whether the segment p -> q meets the closed triangle (touching counts: contact).
+bool SegmentMeetsTriangle(const Vec3& p, const Vec3& q, const CellTri& t) {
+  constexpr double kSlack = 1e-9;
+  const Vec3 d = q - p;
+  const Vec3 e1 = t.v[1] - t.v[0], e2 = t.v[2] - t.v[0];
+  const Vec3 normal = e1.cross(e2);
+  const double scale = normal.norm();
+  if (!(scale > 0)) return false;
+  const double denom = normal.dot(d);
+  const double dist = normal.dot(p - t.v[0]);
+  double s = 0;
+  if (std::abs(denom) <= kSlack * scale * d.norm()) {
+    if (std::abs(dist) > kSlack * scale) return false;  // parallel beside it
+    s = 0;  // in its plane: test p itself (the segment is short; its start decides)
+  } else {
+    s = -dist / denom;
+    if (s < -kSlack || s > 1 + kSlack) return false;
+  }
+  const Vec3 x = p + std::clamp(s, 0.0, 1.0) * d - t.v[0];
+  // Barycentric coordinates of x in the triangle's plane.
+  const double d00 = e1.dot(e1), d01 = e1.dot(e2), d11 = e2.dot(e2);
+  const double d20 = x.dot(e1), d21 = x.dot(e2);
+  const double det = d00 * d11 - d01 * d01;
+  if (!(det > 0)) return false;
+  const double v = (d11 * d20 - d01 * d21) / det;
+  const double w = (d00 * d21 - d01 * d20) / det;
+  return v >= -kSlack && w >= -kSlack && v + w <= 1 + kSlack;
+}
+
+// A closed object's surface crossing a vertical line: +1 facing up, -1 down (VerticalCrossing).
+struct Crossing {
+  uint32_t object;
+  int sign;
+  double z;
+  bool operator<(const Crossing& o) const { return std::tie(object, z) < std::tie(o.object, o.z); }
+};
+
+// Inside a closed object: its winding number above height z (the signs of its crossings above,
+// `crossings` sorted by object) is positive for one of them.
+bool IsInside(const std::vector<Crossing>& crossings, double z) {
+  for (size_t i = 0; i < crossings.size();) {
+    int winding = 0;
+    size_t j = i;
+    for (; j < crossings.size() && crossings[j].object == crossings[i].object; ++j)
+      if (crossings[j].z > z) winding += crossings[j].sign;
+    if (winding > 0) return true;
+    i = j;
+  }
+  return false;
+}
+
+// Sorted (key, triangle) pairs: the triangles listed by grid cell or by column.
+using Listing = std::vector<std::pair<uint64_t, uint32_t>>;
+
+template <typename Visit>
+void ForEachListed(const Listing& listing, uint64_t key, const Visit& visit) {
+  auto it = std::lower_bound(listing.begin(), listing.end(), std::make_pair(key, uint32_t{0}));
+  for (; it != listing.end() && it->first == key; ++it) visit(it->second);
+}
+
+class ExposureGrid {
+ public:
+  ExposureGrid(const Scene& scene, double cell_size, const ExposureBox& box)
+      : scene_(scene), cell_size_(cell_size), box_(box), grid_(box.Size(), kFree) {
+    for (const SceneObject& object : scene.objects) closed_.push_back(IsClosed(object.mesh));
+    // Triangles are kept as references (8 bytes each), their cell coordinates made when needed.
+    for (uint32_t o = 0; o < scene.objects.size(); ++o) {
+      for (uint32_t t = 0; t < scene.objects[o].mesh.triangles.size(); ++t)
+        if (NearBox(Tri({o, t}))) tris_.push_back({o, t});
+    }
+    ListAndWall();
+    FillSolids();
+    Flood();
+  }
+
+  // Whether the surface point p (cell units) of object `object`, with unit normal n, is exposed.
+  bool IsExposed(const Vec3& p, const Vec3& n, uint32_t object) const {
+    for (const double side : {1.0, -1.0}) {
+      const Vec3 q = p + side * kContactDistance * n;
+      if (IsSolid(q) || IsBlocked(p, q, object)) continue;
+      if (ReachesOutside(q)) return true;
+    }
+    return false;
+  }
+
+ private:
+  // Triangles that matter: those reaching the box, in xy for the closed ones (their insides).
+  bool NearBox(const CellTri& t) const {
+    for (int a = 0; a < 3; ++a) {
+      if (t.closed && a == 2) break;
+      const double mn = std::min({t.v[0][a], t.v[1][a], t.v[2][a]});
+      const double mx = std::max({t.v[0][a], t.v[1][a], t.v[2][a]});
+      if (!(mx >= static_cast<double>(box_.lo[a]) && mn < static_cast<double>(box_.hi[a] + 1)))
+        return false;
+    }
+    return true;
+  }
+
+  // Every surface is a wall; each cell lists its triangles, each column its closed ones.
+  void ListAndWall() {
+    tbb::enumerable_thread_specific<std::pair<Listing, Listing>> per_thread;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, tris_.size(), 256),
+                      [&](const tbb::blocked_range<size_t>& range) {
+      Listing& cells = per_thread.local().first;
+      Listing& columns = per_thread.local().second;
+      std::vector<Vec3> poly;
+      for (size_t i = range.begin(); i != range.end(); ++i) {
+        const CellTri t = Tri(tris_[i]);
+        Cell lo, hi;
+        bool inside = true;
+        for (int a = 0; a < 3; ++a) {
+          lo[a] = std::max(box_.lo[a], FloorToInt(std::min({t.v[0][a], t.v[1][a], t.v[2][a]})));
+          hi[a] = std::min(box_.hi[a], FloorToInt(std::max({t.v[0][a], t.v[1][a], t.v[2][a]})));
+          inside = inside && lo[a] <= hi[a];
+        }
+        if (inside) {
+          VisitBlock(t.v, lo, hi, &poly, [&](const Cell& c, const std::vector<Vec3>&) {
+            const uint64_t index = box_.Index(c);
+            std::atomic_ref<uint8_t>(grid_[index]).store(kWall, std::memory_order_relaxed);
+            cells.emplace_back(index, static_cast<uint32_t>(i));
+          });
+        }
+        if (!t.closed) continue;
+        for (int64_t x = lo[0]; x <= hi[0]; ++x)
+          for (int64_t y = lo[1]; y <= hi[1]; ++y)
+            columns.emplace_back(box_.Column(x, y), static_cast<uint32_t>(i));
+      }
+    });
+    for (const auto& [cells, columns] : per_thread) {
+      cells_.insert(cells_.end(), cells.begin(), cells.end());
+      columns_.insert(columns_.end(), columns.begin(), columns.end());
+    }
+    // Sorted: the same listing whatever the threads did.
+    std::sort(cells_.begin(), cells_.end());
+    std::sort(columns_.begin(), columns_.end());
+  }
+
+  // The crossings of the vertical line through (px, py) with the closed objects over `column`.
+  void CrossingsAt(double px, double py, uint64_t column, std::vector<Crossing>* out) const {
+    out->clear();
+    ForEachListed(columns_, column, [&](uint32_t i) {
+      double z = 0;
+      if (const int sign = VerticalCrossing(Tri(tris_[i]), px, py, &z); sign != 0)
+        out->push_back({tris_[i].object, sign, z});
+    });
+    std::sort(out->begin(), out->end());
+  }
+
+  bool IsSolid(const Vec3& q) const {
+    const Cell c{FloorToInt(q.x()), FloorToInt(q.y()), FloorToInt(q.z())};
+    if (!box_.Contains(c)) return false;
+    // The line runs a hair beside q, so that a diagonal laid out on the grid is not met twice.
+    thread_local std::vector<Crossing> crossings;
+    CrossingsAt(q.x() + 3.1e-6, q.y() + 7.3e-6, box_.Column(c[0], c[1]), &crossings);
+    return IsInside(crossings, q.z());
+  }
+
+  // Another object's surface between p and q (the object's own inside is IsSolid's).
+  bool IsBlocked(const Vec3& p, const Vec3& q, uint32_t object) const {
+    Cell lo, hi;
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::max(box_.lo[a], FloorToInt(std::min(p[a], q[a])));
+      hi[a] = std::min(box_.hi[a], FloorToInt(std::max(p[a], q[a])));
+    }
+    bool blocked = false;
+    for (int64_t x = lo[0]; x <= hi[0] && !blocked; ++x)
+      for (int64_t y = lo[1]; y <= hi[1] && !blocked; ++y)
+        for (int64_t z = lo[2]; z <= hi[2] && !blocked; ++z) {
+          ForEachListed(cells_, box_.Index({x, y, z}), [&](uint32_t i) {
+            if (!blocked && tris_[i].object != object)
+              blocked = SegmentMeetsTriangle(p, q, Tri(tris_[i]));
+          });
+        }
+    return blocked;
+  }
+
+  // The cell of q, or one of its 26 neighbours, is free space reached from the box's faces.
+  bool ReachesOutside(const Vec3& q) const {
+    const Cell c{FloorToInt(q.x()), FloorToInt(q.y()), FloorToInt(q.z())};
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const Cell n{c[0] + dx, c[1] + dy, c[2] + dz};
+          if (box_.Contains(n) && grid_[box_.Index(n)] == kOutside) return true;
+        }
+    return false;
+  }
+
+  // The free cells whose centre (a little off, so that a mesh laid out on the grid never passes
+  // exactly through the line) lies inside a closed object.
+  void FillSolids() {
+    constexpr double kOffX = 0.5 + 0.0137, kOffY = 0.5 + 0.0291;
+    tbb::parallel_for(tbb::blocked_range<int64_t>(box_.lo[0], box_.hi[0] + 1),
+                      [&](const tbb::blocked_range<int64_t>& range) {
+      std::vector<Crossing> crossings;
+      for (int64_t x = range.begin(); x != range.end(); ++x) {
+        for (int64_t y = box_.lo[1]; y <= box_.hi[1]; ++y) {
+          const uint64_t column = box_.Column(x, y);
+          CrossingsAt(static_cast<double>(x) + kOffX, static_cast<double>(y) + kOffY, column,
+                      &crossings);
+          if (crossings.empty()) continue;
+          for (int64_t z = box_.lo[2]; z <= box_.hi[2]; ++z) {
+            uint8_t& cell = grid_[box_.Index({x, y, z})];
+            if (cell == kFree && IsInside(crossings, static_cast<double>(z) + 0.5)) cell = kSolid;
+          }
+        }
+      }
+    });
+  }
+
+  // Free space reached from the box's faces, layer by layer (6-connected).
+  void Flood() {
+    std::vector<uint32_t> frontier, next;
+    for (int64_t x = box_.lo[0]; x <= box_.hi[0]; ++x)
+      for (int64_t y = box_.lo[1]; y <= box_.hi[1]; ++y)
+        for (int64_t z = box_.lo[2]; z <= box_.hi[2]; ++z) {
+          const bool on_face = x == box_.lo[0] || x == box_.hi[0] || y == box_.lo[1] ||
+                               y == box_.hi[1] || z == box_.lo[2] || z == box_.hi[2];
+          if (!on_face) continue;
+          const uint64_t index = box_.Index({x, y, z});
+          if (grid_[index] != kFree) continue;
+          grid_[index] = kOutside;
+          frontier.push_back(static_cast<uint32_t>(index));
+        }
+    const int64_t stride[3] = {box_.n[1] * box_.n[2], box_.n[2], 1};
+    while (!frontier.empty()) {
+      next.clear();
+      for (const uint32_t index : frontier) {
+        const int64_t at[3] = {index / stride[0], (index % stride[0]) / stride[1],
+                               index % stride[1]};
+        for (int a = 0; a < 3; ++a) {
+          for (const int step : {-1, 1}) {
+            if (at[a] + step < 0 || at[a] + step >= box_.n[a]) continue;
+            const uint64_t neighbour = static_cast<uint64_t>(index + step * stride[a]);
+            if (grid_[neighbour] != kFree) continue;
+            grid_[neighbour] = kOutside;
+            next.push_back(static_cast<uint32_t>(neighbour));
+          }
+        }
+      }
+      frontier.swap(next);
+    }
+  }
+
+  struct TriRef {
+    uint32_t object, index;
+  };
+  CellTri Tri(const TriRef& r) const {
+    const TriangleMesh& mesh = scene_.objects[r.object].mesh;
+    const auto& t = mesh.triangles[r.index];
+    return {{mesh.vertices[t[0]] / cell_size_, mesh.vertices[t[1]] / cell_size_,
+             mesh.vertices[t[2]] / cell_size_},
+            r.object,
+            static_cast<bool>(closed_[r.object])};
+  }
+
+  const Scene& scene_;
+  double cell_size_;
+  std::vector<char> closed_;  // per object: IsClosed
+  ExposureBox box_;
+  std::vector<uint8_t> grid_;
+  std::vector<TriRef> tris_;
+  Listing cells_;    // grid index -> triangles touching the cell
+  Listing columns_;  // column -> closed triangles over it
+};
+
+}  // namespace
+
+uint64_t ExposureGridCells(const Scene& scene, double cell_size) {
+  if (!std::isfinite(cell_size) || cell_size <= 0) return 0;
+  const std::optional<ExposureBox> box = ExposureBoxOf(scene, cell_size);
+  return box ? box->Size() : 0;
+}
+
+std::vector<uint8_t> ComputeExposure(const Scene& scene, const Reference& reference) {
+  const double cell_size = reference.cell_size;
+  const std::optional<ExposureBox> box = ExposureBoxOf(scene, cell_size);
+  if (!box) return {};
+  const ExposureGrid grid(scene, cell_size, *box);
+  struct Tri {
+    uint32_t object;
+    size_t index;
+  };
+  std::vector<Tri> targets;
+  for (uint32_t o = 0; o < scene.objects.size(); ++o) {
+    if (!scene.objects[o].is_target()) continue;
+    for (size_t i = 0; i < scene.objects[o].mesh.triangles.size(); ++i) targets.push_back({o, i});
+  }
+  // Each triangle's part in each of its cells is sampled at its centroid and halfway from there
+  // to each corner; a cell is exposed once any sample is. Bytes only ever go from 0 to 1.
+  std::vector<uint8_t> exposed(reference.keys.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, targets.size(), 256),
+                    [&](const tbb::blocked_range<size_t>& range) {
+    std::vector<Vec3> poly;
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      const TriangleMesh& mesh = scene.objects[targets[i].object].mesh;
+      const auto& t = mesh.triangles[targets[i].index];
+      const Vec3 tri[3] = {mesh.vertices[t[0]] / cell_size, mesh.vertices[t[1]] / cell_size,
+                           mesh.vertices[t[2]] / cell_size};
+      const Vec3 normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalized();
+      if (!normal.allFinite()) continue;  // degenerate: no side to be seen from
+      Cell lo, hi;
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = FloorToInt(std::min({tri[0][a], tri[1][a], tri[2][a]}));
+        hi[a] = FloorToInt(std::max({tri[0][a], tri[1][a], tri[2][a]}));
+      }
+      VisitBlock(tri, lo, hi, &poly, [&](const Cell& c, const std::vector<Vec3>& part) {
+        const int64_t index = reference.IndexOf(PackVoxel(c));
+        if (index < 0) return;  // left out already (never: R holds every touched cell)
+        std::atomic_ref<uint8_t> flag(exposed[static_cast<size_t>(index)]);
+        if (flag.load(std::memory_order_relaxed)) return;
+        Vec3 centroid = Vec3::Zero();
+        for (const Vec3& v : part) centroid += v;
+        centroid /= static_cast<double>(part.size());
+        bool is_exposed = grid.IsExposed(centroid, normal, targets[i].object);
+        for (size_t v = 0; v < part.size() && !is_exposed; ++v)
+          is_exposed = grid.IsExposed(0.5 * (centroid + part[v]), normal, targets[i].object);
+        if (is_exposed) flag.store(1, std::memory_order_relaxed);
+      });
+    }
+  });
+  return exposed;
+}
+
 Reference BuildReference(const Scene& scene, const ReferenceOptions& options) {
   options.Validate();
   struct Tri {
     const TriangleMesh* mesh;
     size_t index;
+    uint32_t part;
   };
+  Reference reference;
+  reference.cell_size = options.cell_size;
   std::vector<Tri> triangles;
   for (const SceneObject& object : scene.objects) {
     if (!object.is_target()) continue;
-    for (size_t i = 0; i < object.mesh.triangles.size(); ++i) triangles.push_back({&object.mesh, i});
+    auto part = std::find(reference.part_names.begin(), reference.part_names.end(), object.name);
+    if (part == reference.part_names.end())
+      part = reference.part_names.insert(reference.part_names.end(), object.name);
+    const auto part_index = static_cast<uint32_t>(part - reference.part_names.begin());
+    for (size_t i = 0; i < object.mesh.triangles.size(); ++i)
+      triangles.push_back({&object.mesh, i, part_index});
   }
   if (triangles.empty())
     throw InputError("the scene has no target surface — mark at least one object as a target");
   CheckTargetsFitGrid(scene, options.cell_size);
+  std::optional<ExposureBox> exposure_box;
+  if (options.exposed_only) {
+    exposure_box = ExposureBoxOf(scene, options.cell_size);
+    if (!exposure_box)
+      throw InputError(fmt::format(
+          "--exposed-only: the targets' box spans more than {} cells of {} m, too many to find "
+          "their exposed surface — give a larger --cell-size",
+          kMaxExposureGridCells, options.cell_size));
+  }
 
-  tbb::enumerable_thread_specific<std::vector<uint64_t>> per_thread;
+  struct Cells {
+    std::vector<uint64_t> keys;
+    std::vector<uint32_t> parts;  // per key, the part of the triangle that touched it
+  };
+  tbb::enumerable_thread_specific<Cells> per_thread;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, triangles.size(), 1024),
                     [&](const tbb::blocked_range<size_t>& range) {
-                      std::vector<uint64_t>& keys = per_thread.local();
+                      Cells& cells = per_thread.local();
                       for (size_t i = range.begin(); i != range.end(); ++i) {
                         const TriangleMesh& mesh = *triangles[i].mesh;
                         const auto& t = mesh.triangles[triangles[i].index];
                         AppendTriangleCells(mesh.vertices[t[0]], mesh.vertices[t[1]],
-                                            mesh.vertices[t[2]], options.cell_size, &keys);
+                                            mesh.vertices[t[2]], options.cell_size, &cells.keys);
+                        cells.parts.resize(cells.keys.size(), triangles[i].part);
                       }
                     });
-  Reference reference;
-  reference.cell_size = options.cell_size;
-  for (const auto& keys : per_thread) reference.keys.insert(reference.keys.end(), keys.begin(), keys.end());
+  for (const Cells& cells : per_thread)
+    reference.keys.insert(reference.keys.end(), cells.keys.begin(), cells.keys.end());
   // Sorting makes the result independent of how the work was split between threads.
   std::sort(reference.keys.begin(), reference.keys.end());
   reference.keys.erase(std::unique(reference.keys.begin(), reference.keys.end()), reference.keys.end());
+  // A cell on two parts' surfaces belongs to the first: the smallest part index, in any order.
+  reference.part_of.assign(reference.keys.size(), UINT32_MAX);
+  for (Cells& cells : per_thread) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, cells.keys.size(), 4096),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        for (size_t i = range.begin(); i != range.end(); ++i) {
+                          std::atomic_ref<uint32_t> part(
+                              reference.part_of[static_cast<size_t>(reference.IndexOf(cells.keys[i]))]);
+                          uint32_t now = part.load(std::memory_order_relaxed);
+                          while (cells.parts[i] < now &&
+                                 !part.compare_exchange_weak(now, cells.parts[i],
+                                                             std::memory_order_relaxed)) {
+                          }
+                        }
+                      });
+    cells = Cells{};
+  }
+  reference.exposed = ComputeExposure(scene, reference);
+  if (options.exposed_only) {
+    VANTAGE_CHECK(reference.exposed.size() == reference.keys.size());
+    reference.exposed_only = true;
+    reference.left_out.assign(reference.part_names.size(), 0);
+    size_t kept = 0;
+    for (size_t i = 0; i < reference.keys.size(); ++i) {
+      if (!reference.exposed[i]) {
+        ++reference.left_out[reference.part_of[i]];
+        continue;
+      }
+      reference.keys[kept] = reference.keys[i];
+      reference.part_of[kept] = reference.part_of[i];
+      reference.exposed[kept] = 1;
+      ++kept;
+    }
+    reference.keys.resize(kept);
+    reference.part_of.resize(kept);
+    reference.exposed.resize(kept);
+    if (reference.keys.empty())
+      throw InputError("--exposed-only: no cell of the targets' surface is exposed — every face "
+                       "rests on or is enclosed by other geometry");
+  }
   return reference;
 }
 

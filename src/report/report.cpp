@@ -103,6 +103,23 @@ ordered_json ResultJson(const Selection& s, const VisibilityFile& data,
   return r;
 }
 
+// report.json's `pose_tolerance`: per result its coverage over the perturbed layouts.
+ordered_json PoseToleranceJson(const PoseTolerance& tolerance, const VisibilityFile& data) {
+  ordered_json j;
+  j["position_m"] = tolerance.options.position;
+  j["angle_deg"] = tolerance.options.angle_deg;
+  j["samples"] = tolerance.options.samples;
+  ordered_json results = ordered_json::array();
+  for (const PoseSpread& s : tolerance.results) {
+    ordered_json one = {{"result", s.result}, {"nominal", s.nominal}, {"mean", s.mean},
+                        {"p5", s.p5},         {"worst", s.worst}};
+    if (!s.sensor_loss.empty()) one["costliest_sensor"] = data.candidates.at(s.costliest).name;
+    results.push_back(std::move(one));
+  }
+  j["results"] = std::move(results);
+  return j;
+}
+
 ordered_json RobustnessJson(const Robustness& robustness, const VisibilityFile& data) {
   const auto name = [&](uint32_t index) { return data.candidates.at(index).name; };
   const auto failure = [&](const SensorFailure& f) {
@@ -133,6 +150,63 @@ ordered_json RobustnessJson(const Robustness& robustness, const VisibilityFile& 
   return j;
 }
 
+// Per cell of R, whether `chosen` covers it as a result counts: `needed` sensors (k), or with
+// min_points that many pixels' hits.
+std::vector<char> CoveredCells(const VisibilityFile& data, const std::vector<uint32_t>& chosen,
+                               int k, const std::optional<uint32_t>& min_points) {
+  const uint64_t needed = min_points ? *min_points : static_cast<uint64_t>(std::max(k, 1));
+  std::vector<uint64_t> amount(data.reference.size(), 0);
+  for (uint32_t index : chosen) {
+    VANTAGE_CHECK(index < data.observations.size());
+    const Observation& o = data.observations[index];
+    VANTAGE_CHECK(!min_points || o.has_point_counts());
+    for (size_t j = 0; j < o.reference_indices.size(); ++j)
+      amount[o.reference_indices[j]] += min_points ? o.reference_hits[j] : 1;
+  }
+  std::vector<char> covered(amount.size());
+  for (size_t i = 0; i < amount.size(); ++i) covered[i] = amount[i] >= needed;
+  return covered;
+}
+
+// Per part, the share of its cells that `covered` holds.
+std::vector<double> PartShares(const Reference& reference, const std::vector<char>& covered,
+                               const std::vector<TargetPart>& parts) {
+  std::vector<size_t> count(parts.size(), 0);
+  for (size_t i = 0; i < covered.size(); ++i) count[reference.part_of[i]] += covered[i] ? 1 : 0;
+  std::vector<double> shares;
+  for (size_t p = 0; p < parts.size(); ++p) shares.push_back(Fraction(count[p], parts[p].cells));
+  return shares;
+}
+
+// report.json's `ceiling`: what all candidates reach together, in all and per part, and the
+// surface no viewpoint can see.
+ordered_json CeilingJson(const Report& report) {
+  const VisibilityFile& data = *report.data;
+  ordered_json j;
+  j["coverage"] = *report.ceiling;
+  j["candidates"] = data.candidates.size();
+  j["exposed_only"] = data.reference.exposed_only;
+  if (report.exposure_known) {
+    j[data.reference.exposed_only ? "left_out_voxels" : "unexposed_voxels"] = report.unexposed;
+    if (!data.reference.exposed_only)
+      j["unexposed"] = Fraction(report.unexposed, data.reference.size());
+  }
+  ordered_json parts = ordered_json::array();
+  for (const TargetPart& part : report.parts) {
+    ordered_json one = {{"name", part.name}, {"voxels", part.cells}, {"coverage", part.ceiling}};
+    if (report.exposure_known) {
+      if (data.reference.exposed_only) {
+        one["left_out_voxels"] = part.left_out;
+      } else {
+        one["unexposed_voxels"] = part.unexposed;
+      }
+    }
+    parts.push_back(std::move(one));
+  }
+  j["parts"] = std::move(parts);
+  return j;
+}
+
 }  // namespace
 
 const char* Version() { return VANTAGE_VERSION; }
@@ -148,6 +222,32 @@ int PrimaryResult(const std::vector<Selection>& results) {
       best = static_cast<int>(i);
   }
   return best;
+}
+
+int ProvenBy(const std::vector<Selection>& results, int index) {
+  const Selection& s = results.at(static_cast<size_t>(index));
+  if (s.proven_optimal) return index;
+  for (size_t j = 0; j < results.size(); ++j) {
+    const Selection& p = results[j];
+    if (!p.proven_optimal || p.n != s.n || p.objective != s.objective || p.k != s.k ||
+        p.goal != s.goal || p.budget != s.budget || p.min_points != s.min_points ||
+        p.state_coverage.size() != s.state_coverage.size())
+      continue;
+    if (s.budget && (!s.cost || *s.cost > *s.budget)) continue;
+    // Set cover: the same n is as few sensors; the others: the proven best coverage at n.
+    if (s.goal || s.coverage >= p.coverage) return static_cast<int>(j);
+  }
+  return -1;
+}
+
+std::string ResultLabel(const std::vector<Selection>& results, int index) {
+  const Selection& s = results.at(static_cast<size_t>(index));
+  const int proof = ProvenBy(results, index);
+  std::string label = fmt::format("{} n={}", s.method, s.n);
+  if (proof == index) return label + " (proven optimal)";
+  if (proof >= 0)
+    return label + fmt::format(" (proven optimal by {})", results[static_cast<size_t>(proof)].method);
+  return label;
 }
 
 const std::vector<uint32_t>& Report::PrimaryChosen() const {
@@ -180,6 +280,49 @@ void DeriveReport(Report* report) {
     if (data.observations[i].reference_indices.size() >
         data.observations[static_cast<size_t>(report->best_single)].reference_indices.size())
       report->best_single = static_cast<int>(i);
+  }
+  // The ceiling and each part (issue 46); with states the results count over states instead.
+  report->ceiling.reset();
+  report->parts.clear();
+  report->result_part_coverage.clear();
+  const Reference& reference = data.reference;
+  report->exposure_known = reference.exposed_only || reference.exposed.size() == reference_size;
+  report->unexposed = 0;
+  if (reference.exposed_only) {
+    for (uint64_t cells : reference.left_out) report->unexposed += cells;
+  } else if (report->exposure_known) {
+    report->unexposed = static_cast<size_t>(std::count(reference.exposed.begin(), reference.exposed.end(), 0));
+  }
+  if (!report->states && !data.observations.empty()) {
+    const Selection* first = report->results.empty() ? nullptr : &report->results.front();
+    std::vector<uint32_t> all(data.observations.size());
+    for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<uint32_t>(i);
+    const std::optional<uint32_t> min_points =
+        first && first->min_points ? std::optional<uint32_t>(*first->min_points) : std::nullopt;
+    const std::vector<char> ceiling = CoveredCells(data, all, first ? first->k : 1, min_points);
+    report->ceiling = Fraction(static_cast<size_t>(std::count(ceiling.begin(), ceiling.end(), 1)),
+                               reference_size);
+    if (!reference.part_names.empty() && reference.part_of.size() == reference_size) {
+      report->parts.resize(reference.part_names.size());
+      for (size_t p = 0; p < report->parts.size(); ++p) {
+        report->parts[p].name = reference.part_names[p];
+        if (reference.exposed_only) report->parts[p].left_out = reference.left_out.at(p);
+      }
+      for (size_t i = 0; i < reference_size; ++i) {
+        TargetPart& part = report->parts[reference.part_of[i]];
+        ++part.cells;
+        if (!reference.exposed_only && report->exposure_known && !reference.exposed[i])
+          ++part.unexposed;
+      }
+      const std::vector<double> shares = PartShares(reference, ceiling, report->parts);
+      for (size_t p = 0; p < report->parts.size(); ++p) report->parts[p].ceiling = shares[p];
+      for (const Selection& s : report->results) {
+        const std::optional<uint32_t> points =
+            s.min_points ? std::optional<uint32_t>(*s.min_points) : std::nullopt;
+        report->result_part_coverage.push_back(
+            PartShares(reference, CoveredCells(data, s.chosen, s.k, points), report->parts));
+      }
+    }
   }
   report->primary_sensors.clear();
   if (report->primary >= 0) {
@@ -237,6 +380,12 @@ std::string ReportJson(const Report& report) {
     const double* plain =
         report.result_plain_coverage.empty() ? nullptr : &report.result_plain_coverage.at(index);
     results.push_back(ResultJson(report.results[index], data, plain));
+    if (!report.result_part_coverage.empty()) {
+      ordered_json parts = ordered_json::object();
+      for (size_t p = 0; p < report.parts.size(); ++p)
+        parts[report.parts[p].name] = report.result_part_coverage[index][p];
+      results.back()["part_coverage"] = std::move(parts);
+    }
     if (report.constraints) {
       results.back()["constraints"] =
           detail::ResultConstraintsJson(report.results[index], *report.constraints, data);
@@ -252,6 +401,7 @@ std::string ReportJson(const Report& report) {
   for (const Selection& s : report.curve) curve.push_back(ResultJson(s, data, nullptr));
   j["curve"] = std::move(curve);
   if (report.primary >= 0) j["primary_result"] = report.primary;
+  if (report.ceiling) j["ceiling"] = CeilingJson(report);
   if (report.constraints) j["constraints"] = detail::ConstraintsJson(*report.constraints);
   if (const auto p = std::find_if(report.results.begin(), report.results.end(),
                                   [](const Selection& s) { return s.min_points.has_value(); });
@@ -264,6 +414,19 @@ std::string ReportJson(const Report& report) {
     j["min_points"] = std::move(density);
   }
   if (report.robustness) j["robustness"] = RobustnessJson(*report.robustness, data);
+  if (report.pose_tolerance) {
+    ordered_json tolerance = PoseToleranceJson(*report.pose_tolerance, data);
+    // Each sensor's own cost, by name, in the result's chosen order.
+    for (size_t i = 0; i < report.pose_tolerance->results.size(); ++i) {
+      const PoseSpread& s = report.pose_tolerance->results[i];
+      const Selection& result = report.results.at(static_cast<size_t>(s.result));
+      ordered_json losses = ordered_json::object();
+      for (size_t k = 0; k < s.sensor_loss.size(); ++k)
+        losses[data.candidates.at(result.chosen.at(k)).name] = s.sensor_loss[k];
+      tolerance["results"][i]["sensor_loss"] = std::move(losses);
+    }
+    j["pose_tolerance"] = std::move(tolerance);
+  }
   if (report.states) {
     ordered_json states = ordered_json::array();
     for (const StatesInfo::State& state : report.states->states) {

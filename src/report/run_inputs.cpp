@@ -107,6 +107,7 @@ ordered_json RunInputsJson(const RunInputs& in) {
   }
   Put(&j, "random_roll", in.random_roll);
   j["cull"] = in.cull;
+  if (in.exposed_only) j["exposed_only"] = true;
   Put(&j, "max_incidence_deg", in.quality.max_incidence_deg);
   if (in.quality.max_depth_noise) j["max_depth_noise_mm"] = *in.quality.max_depth_noise * 1000.0;
   Put(&j, "n", in.n);
@@ -128,6 +129,9 @@ ordered_json RunInputsJson(const RunInputs& in) {
   if (in.refine) j["refine"] = true;
   Put(&j, "refine_rounds", in.refine_rounds);
   Put(&j, "fov_tolerance_deg", in.fov_tolerance_deg);
+  Put(&j, "pose_tolerance_m", in.pose_tolerance_m);
+  Put(&j, "pose_tolerance_deg", in.pose_tolerance_deg);
+  Put(&j, "pose_samples", in.pose_samples);
   Put(&j, "alternatives_within", in.alternatives_within);
   if (!in.visibility_file.empty()) j["visibility_file"] = in.visibility_file;
   if (!in.constellation.empty()) j["constellation"] = in.constellation;
@@ -157,6 +161,7 @@ RunInputs ParseRunInputs(const json& j, const std::string& where) {
   r.Point("observation_point", &in.observation_point);
   r.Boolean("random_roll", &in.random_roll);
   r.Boolean("cull", &in.cull);
+  r.Boolean("exposed_only", &in.exposed_only);
   r.Number("max_incidence_deg", &in.quality.max_incidence_deg);
   std::optional<double> noise_mm;
   r.Number("max_depth_noise_mm", &noise_mm);
@@ -180,6 +185,9 @@ RunInputs ParseRunInputs(const json& j, const std::string& where) {
   r.Boolean("refine", &in.refine);
   r.Integer("refine_rounds", &in.refine_rounds);
   r.Number("fov_tolerance_deg", &in.fov_tolerance_deg);
+  r.Number("pose_tolerance_m", &in.pose_tolerance_m);
+  r.Number("pose_tolerance_deg", &in.pose_tolerance_deg);
+  r.Integer("pose_samples", &in.pose_samples);
   r.Number("alternatives_within", &in.alternatives_within);
   r.String("visibility_file", &in.visibility_file);
   r.String("constellation", &in.constellation);

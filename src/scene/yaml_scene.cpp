@@ -541,6 +541,15 @@ std::optional<Quat> SceneReader::Rotation(const Fields& fields, const std::strin
   if (radians || degrees) {
     const auto v = Vector(radians ? *radians : *degrees, what + (radians ? ".rpy" : ".rpy_deg"));
     if (!v) return std::nullopt;
+    // rpy: [0, 90, -10] is degrees where radians belong (a turn of 90 rad): no angle of a pose
+    // needs more than a full turn.
+    if (radians && (v->array().abs() > 2.0 * std::numbers::pi + 1e-9).any()) {
+      Error(radians->line,
+            fmt::format("{}.rpy [{:g}, {:g}, {:g}] has an angle above 2π (6.283) radians — these "
+                        "look like degrees: write rpy_deg: [{:g}, {:g}, {:g}]",
+                        what, v->x(), v->y(), v->z(), v->x(), v->y(), v->z()));
+      return std::nullopt;
+    }
     const Vec3 rpy = radians ? *v : Vec3(*v * kDegree);
     return Quat(RotationFromRpy(rpy.x(), rpy.y(), rpy.z())).normalized();
   }

@@ -28,8 +28,11 @@ namespace {
 // `interferes` flag (after its depth-noise model) and, after the candidates, the scene's mounting
 // rules (keep-out boxes, min_separation, the count of candidates the boxes excluded): older files
 // read with the flag unset (decided by the technology) and no rules, as they always behaved.
+// Version 6 adds, after the mounting rules, R's target parts (names, each cell's part), each
+// cell's exposure and --exposed-only's cells left out per part (issue 46): older files read
+// without parts or exposure, which the report then does not show.
 constexpr char kMagic[8] = {'V', 'A', 'N', 'T', 'V', 'I', 'S', '\0'};
-constexpr uint32_t kFormatVersion = 5;
+constexpr uint32_t kFormatVersion = 6;
 constexpr uint32_t kOldestReadVersion = 1;
 
 void WriteOptional(detail::BinaryWriter* w, const std::optional<double>& value) {
@@ -155,6 +158,41 @@ SensorType ReadSensor(detail::BinaryReader* r) {
   return s;
 }
 
+// R's parts and exposure (version 6): part names, each cell's part, each cell's exposure (as
+// u32s), whether unexposed cells were left out, and how many per part.
+void WriteParts(detail::BinaryWriter* w, const Reference& reference) {
+  w->U64(reference.part_names.size());
+  for (const std::string& name : reference.part_names) w->Str(name);
+  w->U32Vector(reference.part_of);
+  w->U32Vector(std::vector<uint32_t>(reference.exposed.begin(), reference.exposed.end()));
+  w->U32(reference.exposed_only ? 1 : 0);
+  w->U64Vector(reference.left_out);
+}
+
+template <typename Corrupt>
+void ReadParts(detail::BinaryReader* r, const Corrupt& corrupt, Reference* reference) {
+  const uint64_t count = r->U64();
+  r->CheckCount(count, 8);
+  for (uint64_t i = 0; i < count; ++i) reference->part_names.push_back(r->Str());
+  reference->part_of = r->U32Vector();
+  const std::vector<uint32_t> exposed = r->U32Vector();
+  reference->exposed_only = r->U32() != 0;
+  reference->left_out = r->U64Vector();
+  const size_t cells = reference->keys.size();
+  if (!reference->part_of.empty() && reference->part_of.size() != cells)
+    throw corrupt("the reference's parts do not match its cells");
+  if (std::any_of(reference->part_of.begin(), reference->part_of.end(),
+                  [&](uint32_t part) { return part >= count; }))
+    throw corrupt("a reference cell names a part the file does not have");
+  if (!exposed.empty() && exposed.size() != cells)
+    throw corrupt("the reference's exposure does not match its cells");
+  if (std::any_of(exposed.begin(), exposed.end(), [](uint32_t e) { return e > 1; }))
+    throw corrupt("a reference cell's exposure is neither 0 nor 1");
+  reference->exposed.assign(exposed.begin(), exposed.end());
+  if (reference->exposed_only ? reference->left_out.size() != count : !reference->left_out.empty())
+    throw corrupt("the reference's cells left out do not match its parts");
+}
+
 bool StrictlyIncreasing(const std::vector<uint64_t>& keys) {
   return std::adjacent_find(keys.begin(), keys.end(),
                             [](uint64_t a, uint64_t b) { return a >= b; }) == keys.end();
@@ -207,6 +245,7 @@ std::string EncodeVisibilityFile(const VisibilityFile& file, bool observations) 
     w.U16Vector(o.reference_hits);
   }
   WriteMounting(&w, file.mounting, file.kept_out);
+  WriteParts(&w, file.reference);
   w.U64(detail::Fnv1a64(w.data()));
   return w.data();
 }
@@ -359,6 +398,7 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
     file.observations.push_back(std::move(o));
   }
   if (version >= 5) ReadMounting(&r, corrupt, &file.mounting, &file.kept_out);
+  if (version >= 6) ReadParts(&r, corrupt, &file.reference);
   if (!r.AtEnd()) throw corrupt("trailing bytes after the payload");
   return file;
 }

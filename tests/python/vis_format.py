@@ -30,6 +30,11 @@ class VisFile:
     keep_out: list = dataclasses.field(default_factory=list)  # (name, pose, min, max) (version 5)
     min_separation: object = None  # [m] (version 5)
     kept_out: int = 0  # candidates the keep-out boxes excluded (version 5)
+    part_names: list = dataclasses.field(default_factory=list)  # R's target parts (version 6)
+    part_of: list = dataclasses.field(default_factory=list)  # per key, its part (version 6)
+    exposed: list = dataclasses.field(default_factory=list)  # per key, 1 exposed (version 6)
+    exposed_only: bool = False  # unexposed cells left out of R (version 6)
+    left_out: list = dataclasses.field(default_factory=list)  # per part, cells left out (version 6)
 
 
 class _Reader:
@@ -84,7 +89,7 @@ def fnv1a64(data):
 
 
 def read_vis(path):
-    """The sets of a format-4 or format-5 .vis file, its checksum verified."""
+    """The sets of a format-4, 5 or 6 .vis file, its checksum verified."""
     with open(path, "rb") as f:
         data = f.read()
     assert data[:8] == b"VANTVIS\0", "not a vantage visibility file"
@@ -93,7 +98,7 @@ def read_vis(path):
     r = _Reader(data[:-8])
     r.at = 8
     version = r.u32()
-    assert version in (4, 5), f"format version {version}"
+    assert version in (4, 5, 6), f"format version {version}"
     scene, seed = r.string(), r.u64()
     r.u32(), r.u32(), r.f64()  # n, RANSAC iterations and stop coverage
     r.string(), r.optional(), r.u32(), r.optional()  # method, goal, k, budget
@@ -132,6 +137,12 @@ def read_vis(path):
         vis.min_separation = r.optional()
         r.string(), r.u32()  # its file, line
         vis.kept_out = r.u64()
+    if version >= 6:
+        vis.part_names = [r.string() for _ in range(r.u64())]
+        vis.part_of = r.u32s()
+        vis.exposed = r.u32s()
+        vis.exposed_only = r.u32() != 0
+        vis.left_out = r.u64s()
     assert r.at == len(r.data), "trailing bytes"
     return vis
 

@@ -111,6 +111,18 @@ Problem Loader::Load(std::vector<GazeboVisual>* visuals_out) {
 
   BuildScene(visuals_out);
   ThrowIfErrors();
+  // Without the original plugin nothing names an observation point: candidates look at the
+  // part, as a YAML scene's do, not at the world's origin (a cell 2 m away lost half its
+  // coverage, silently). With the plugin, its default 0 0 0 (GAZEBO.md).
+  if (!has_classic_plugin_ && problem_.scene.TargetCount() > 0) {
+    const Aabb bounds = problem_.scene.TargetBounds();
+    problem_.observation_point = 0.5 * (bounds.min + bounds.max);
+    const Vec3& p = problem_.observation_point;
+    Note(fmt::format(
+        "{}: no <observationPoint> (the world has no sensor placement plugin): candidates look "
+        "at the centre of the targets' bounds, [{:.4g}, {:.4g}, {:.4g}] m",
+        path_, p.x(), p.y(), p.z()));
+  }
   return std::move(problem_);
 }
 
