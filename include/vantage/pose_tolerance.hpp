@@ -3,6 +3,7 @@
 /// little off its planned pose (a bracket off by 2 cm and 2 degrees), from perturbed layouts that
 /// are re-traced, beside the single-failure and field-of-view read-outs of robustness.hpp.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "vantage/observe.hpp"
@@ -40,12 +41,15 @@ struct PoseTolerance {
   std::vector<PoseSpread> results;  ///< one per assessed result, in result order
 };
 
-/// The pose of candidate `candidate` in perturbed layout `sample`: an offset uniform in the ball
-/// of radius options.position, then a turn about a uniformly random axis (through the sensor) by
-/// an angle uniform in [0, options.angle_deg]. Drawn from (seed, candidate, sample) alone, so a
-/// sensor shared by two results is off by the same amount in both.
-Pose PerturbedPose(const Pose& planned, const PoseToleranceOptions& options, uint32_t candidate,
+/// The pose of a sensor in perturbed layout `sample`: an offset uniform in the ball of radius
+/// options.position, then a turn about a uniformly random axis (through the sensor) by an angle
+/// uniform in [0, options.angle_deg]. Drawn from (seed, `key`, sample) alone; AssessPoseTolerance
+/// keys a sensor by its name (SensorKey), so a sensor is off by the same amount in every result
+/// and in every command (`select` and `evaluate` of the same layout agree).
+Pose PerturbedPose(const Pose& planned, const PoseToleranceOptions& options, uint64_t key,
                    uint32_t sample);
+/// FNV-1a 64 of a sensor's name: its key for PerturbedPose.
+uint64_t SensorKey(const std::string& name);
 
 /// The spread of every result of `results` over `data` (the visibility file of the scene whose
 /// RayScene is `rays`), each chosen sensor re-traced once per sample with `observe` (the data's

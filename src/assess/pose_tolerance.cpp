@@ -29,9 +29,18 @@ void PoseToleranceOptions::Validate() const {
         fmt::format("--pose-samples {} must lie in [1, 10000] — e.g. 64", samples));
 }
 
-Pose PerturbedPose(const Pose& planned, const PoseToleranceOptions& options, uint32_t candidate,
+uint64_t SensorKey(const std::string& name) {
+  uint64_t hash = 14695981039346656037ull;
+  for (const char c : name) {
+    hash ^= static_cast<unsigned char>(c);
+    hash *= 1099511628211ull;
+  }
+  return hash;
+}
+
+Pose PerturbedPose(const Pose& planned, const PoseToleranceOptions& options, uint64_t key,
                    uint32_t sample) {
-  Rng rng(options.seed, Stream::kPoseTolerance, candidate, sample);
+  Rng rng(options.seed, Stream::kPoseTolerance, key, sample);
   // A uniform direction (z uniform in [-1, 1], azimuth uniform) for the offset and the axis.
   const auto direction = [&rng] {
     const double z = rng.Uniform(-1.0, 1.0);
@@ -62,7 +71,8 @@ PoseTolerance AssessPoseTolerance(const VisibilityFile& data, const std::vector<
       if (!slot.emplace(c, static_cast<uint32_t>(slot.size())).second) continue;
       for (uint32_t sample = 0; sample < samples; ++sample) {
         Candidate moved = data.candidates.at(c);
-        moved.world_from_body = PerturbedPose(moved.world_from_body, options, c, sample);
+        moved.world_from_body =
+            PerturbedPose(moved.world_from_body, options, SensorKey(moved.name), sample);
         perturbed.push_back(std::move(moved));
       }
     }
