@@ -59,6 +59,32 @@ BENCHMARK_CAPTURE(BM_ObserveOneCamera, sr300_all_pixels, "intel_realsense_sr300"
 BENCHMARK_CAPTURE(BM_ObserveOneCamera, sr300_culled, "intel_realsense_sr300", true)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_ObserveOneCamera, multisense_culled, "multisense_s7", true)->Unit(benchmark::kMillisecond);
 
+// The physical sensor model's cost (issue 43): the same culled SR300 images with a projector
+// 75 mm beside the camera (its field the camera's), ideal against physical. The extra work is one
+// occlusion ray per pixel that hits a target, sent as 16-wide packets.
+void BM_ObserveSecondAperture(benchmark::State& state, bool physical) {
+  const Scene scene = BenchScene();
+  const Reference reference = BuildReference(scene, {0.005});
+  Candidate cam = Camera("intel_realsense_sr300", 0.6);
+  SecondAperture projector;
+  projector.kind = SecondAperture::Kind::kProjector;
+  projector.baseline = 0.075;
+  cam.sensor.second_aperture = projector;
+  const std::vector<Candidate> cams(8, cam);
+  ObserveOptions options;
+  options.physical = physical;
+  uint64_t rays = 0, hits = 0;
+  for (auto _ : state) {
+    const auto obs = Observe(scene, reference, cams, options);
+    rays = hits = 0;
+    for (const auto& o : obs) rays += o.rays_traced, hits += o.target_pixels;
+  }
+  state.counters["rays/s"] = benchmark::Counter(static_cast<double>(rays), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["measured_px"] = static_cast<double>(hits);
+}
+BENCHMARK_CAPTURE(BM_ObserveSecondAperture, ideal, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ObserveSecondAperture, physical, true)->Unit(benchmark::kMillisecond);
+
 void BM_VoxelDedup(benchmark::State& state) {
   Rng rng(1, Stream::kTest, 0);
   std::vector<uint64_t> keys(static_cast<size_t>(state.range(0)));

@@ -251,6 +251,17 @@ void AddSceneFlags(CLI::App* app, SceneInput* scene, bool scene_positional) {
 void AddObserveFlags(CLI::App* app, ObserveOptions* observe, RunLimits* limits) {
   app->add_flag_callback("--no-cull", [observe] { observe->cull = false; },
                          "trace every pixel (slower; same result)");
+  // The sensor model (issue 43; docs/sensor-models.md, Sensor model).
+  CLI::Option* ideal = app->add_flag_callback(
+      "--ideal", [observe] { observe->physical = false; },
+      "the paper's ideal pinhole: every pixel whose ray first meets a target counts (default for "
+      "a Gazebo world of the original system)");
+  CLI::Option* physical = app->add_flag_callback(
+      "--physical", [observe] { observe->physical = true; },
+      "the physical sensor model: a pixel counts only where the type's projector or second "
+      "imager sees the point and stereo can match it (default for other scenes)");
+  ideal->excludes(physical);
+  physical->excludes(ideal);
   app->add_option("--max-incidence", observe->quality.max_incidence_deg,
                   "quality: a pixel counts only when its ray meets the surface within this many "
                   "degrees of the normal (0-90]");

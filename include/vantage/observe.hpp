@@ -3,6 +3,7 @@
 /// target points it sees form its observation set O_i (SYSTEM.md, coverage metric).
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -18,6 +19,12 @@ namespace vantage {
 const DepthNoise* NoiseModelOf(const Candidate& candidate);
 
 struct ObserveOptions {
+  /// The sensor model (issue 43; docs/sensor-models.md): true, physical (a pixel's hit counts
+  /// only where the type's second aperture sees it and stereo can match it); false, the paper's
+  /// ideal pinhole (--ideal). Unset: physical, except for a Gazebo world of the original system,
+  /// read as that system (ideal) unless --physical; the pipeline decides by the scene's file.
+  std::optional<bool> physical;
+
   /// Trace only pixels whose ray can reach a target's bounds (exact: same result as tracing all).
   bool cull = true;
   QualityFilter quality;

@@ -30,6 +30,20 @@ struct RayBatch {
   double point[3][kWidth];
 };
 
+/// Segments from one point (a projector, a second imager) to up to 16 points, each tested for an
+/// occluder between them (issue 43: the physical sensor model).
+struct OcclusionBatch {
+  static constexpr int kWidth = 16;
+  float origin[3];
+  /// Per lane, the segment's end minus its start: the ray runs over parameters [0, tfar].
+  float dir[3][kWidth] = {};
+  bool query[kWidth] = {};  ///< lanes to test; the others are left alone
+  /// Where the segments stop, short of their ends so the surface a point lies on does not
+  /// occlude it.
+  float tfar = 1;
+  bool occluded[kWidth];  ///< result, valid where query
+};
+
 /// The first hit of one ray, with what it hit (for shading a rendered view).
 struct RayHit {
   float t = 0;             ///< ray parameter of the hit; inf on a miss
@@ -57,6 +71,9 @@ class RayScene {
 
   /// Traces the active lanes of `batch` (coherent packet) and fills t / is_target. Thread-safe.
   void Intersect(RayBatch* batch) const;
+  /// Tests the queried lanes of `batch` for an occluder (any hit) along their segments, as one
+  /// packet. Thread-safe.
+  void Occluded(OcclusionBatch* batch) const;
   /// Single ray with the object, triangle and normal it hits. Thread-safe.
   RayHit IntersectHit(const float origin[3], const float dir[3], float tfar) const;
 

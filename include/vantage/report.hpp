@@ -62,6 +62,9 @@ struct RunInputs {
   std::optional<bool> random_roll;          ///< --random-roll
   bool exposed_only = false;                ///< --exposed-only
   bool cull = true;                         ///< false: --no-cull
+  /// The sensor model the run used (--ideal, --physical or the scene's default): written as
+  /// `sensor_model: "physical"` when physical, left out when ideal (reports as before issue 43).
+  bool physical = false;
   QualityFilter quality;                    ///< --max-incidence, --max-depth-noise
   std::optional<int> n;                     ///< -n
   std::optional<std::string> method;        ///< --method
@@ -190,6 +193,11 @@ struct Report {
   std::vector<double> result_plain_coverage;
   /// With a quality filter: per candidate its coverage counting every pixel; empty otherwise.
   std::vector<double> candidate_plain_coverage;
+  /// Observed with the physical sensor model and no states: per result the coverage its
+  /// sensors would have under the paper's ideal pinhole (same filter, its k); empty otherwise.
+  std::vector<double> result_ideal_coverage;
+  /// Observed with the physical sensor model: per candidate its ideal-pinhole coverage.
+  std::vector<double> candidate_ideal_coverage;
   /// The primary result's sensors with their marginal gains; empty without a primary.
   std::vector<ChosenSensor> primary_sensors;
   /// The candidate that sees the most of R alone (ties: the first); -1 without candidates.

@@ -20,6 +20,41 @@ struct DepthNoise {
   double Sigma(double z) const { return a + (b + c * z) * z; }
 };
 
+/// The aperture besides the camera that a depth measurement needs (issue 43;
+/// docs/sensor-models.md, Second aperture): structured light's projector must light the point,
+/// stereo's second imager must see it. A time-of-flight sensor's co-located illuminator needs
+/// nothing: kind kNone (which also overrides a catalog entry's aperture in a custom type).
+struct SecondAperture {
+  enum class Kind { kNone, kProjector, kImager };
+  Kind kind = Kind::kNone;
+  /// Distance [m] from the camera's optical centre to the aperture's, along the image's right
+  /// (+u, body -y): the side shadows fall to only mirrors them.
+  double baseline = 0;
+  /// Angle [rad] by which the aperture's axis turns from the camera's toward the camera (about
+  /// body z); 0: parallel axes.
+  double toe_in = 0;
+  /// Projector field: a frustum of full angles hfov x vfov [rad], or, when cone > 0, a circular
+  /// cone of full angle `cone` [rad]. Unset (0): the camera's own field of view.
+  double hfov = 0, vfov = 0, cone = 0;
+  /// Imager field: its own intrinsics; width 0: the camera's (a rectified stereo pair).
+  int width = 0, height = 0;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  /// Stereo: the largest disparity the matcher searches [px]; points nearer than
+  /// fx * baseline / disparity_range (fx: the depth image's) are refused. Unset: no limit.
+  std::optional<double> disparity_range;
+  std::string source;  ///< where the numbers come from
+
+  bool active() const { return kind != Kind::kNone; }
+};
+
+/// "projector", "imager" or "none".
+const char* KindName(SecondAperture::Kind kind);
+
+/// The widest baseline [m] a second aperture may have: no depth sensor's body is wider.
+inline constexpr double kMaxBaseline = 1.0;
+/// The largest toe-in [rad] (45 deg): beyond it the apertures would barely share a field.
+inline constexpr double kMaxToeIn = 0.7853981633974483;
+
 struct SensorType {
   std::string id;          ///< catalog id or a user/model name
   std::string name;        ///< display name
@@ -37,6 +72,9 @@ struct SensorType {
   /// Whether its projector washes out another projecting sensor's pattern (projector
   /// interference, docs/constraints.md); unset: from the technology (ProjectsLight).
   std::optional<bool> interferes;
+  /// The projector or second imager (physical model, issue 43); unset: the catalog entry's by
+  /// type id, else none. Observe applies it unless the ideal pinhole is asked for.
+  std::optional<SecondAperture> second_aperture;
 
   /// Horizontal / vertical field of view [rad] implied by the intrinsics.
   double HorizontalFov() const;
@@ -65,6 +103,26 @@ std::string MatchCatalogId(const SensorType& type);
 /// flight. Active stereo (a texture projector that stereo matching does not rely on) and passive
 /// stereo do not.
 bool ProjectsLight(const SensorType& type, std::string_view catalog_id = {});
+
+/// What is wrong with `aperture` as `camera`'s second aperture ("" when nothing): a baseline,
+/// toe-in, field angle, intrinsics or disparity range that is negative, NaN or beyond what a
+/// sensor body allows. SensorType::Validate reports it.
+std::string SecondApertureProblem(const SensorType& camera, const SecondAperture& aperture);
+/// The second aperture a sensor's pixels need (issue 43): the type's own, else that of the
+/// catalog entry `catalog_id` names; nullptr when it has none (or kind none: a time-of-flight
+/// illuminator).
+const SecondAperture* SecondApertureOf(const SensorType& type, std::string_view catalog_id);
+
+/// The nearest depth stereo matching can return, fx * baseline / disparity_range [m]; 0 when the
+/// aperture sets no disparity range (or is not an imager).
+double StereoNearestDepth(const SensorType& camera, const SecondAperture& aperture);
+/// The aperture's optical centre in the camera's body frame, (0, -baseline, 0).
+Vec3 ApertureCentreInBody(const SecondAperture& aperture);
+/// Rotation from the aperture's body frame (x along its axis) to the camera's: toe-in about z.
+Mat3 BodyFromAperture(const SecondAperture& aperture);
+/// Whether a camera-body-frame point lies inside the aperture's field (its frustum, cone or
+/// image; the camera's own field where the aperture gives none).
+bool InApertureField(const SensorType& camera, const SecondAperture& aperture, const Vec3& p_body);
 
 /// Body-frame direction of the ray through the centre of pixel (u, v), scaled so that its x
 /// (depth) component is 1: a hit at ray parameter t has depth t.

@@ -38,6 +38,11 @@ struct Observation {
   /// With a quality filter: R's cells seen by any pixel, passing or not (the plain coverage);
   /// empty without one.
   std::vector<uint32_t> plain_reference_indices;
+  /// Made with the physical sensor model (issue 43) where it changed what this candidate sees:
+  /// R's cells the ideal pinhole would have counted (the same quality filter), for the ideal
+  /// coverage the report shows beside. Empty, and ideal_differs false, where they are the same.
+  std::vector<uint32_t> ideal_reference_indices;
+  bool ideal_differs = false;
   uint64_t rays_traced = 0;     ///< pixels actually ray cast (after culling)
   uint64_t target_pixels = 0;   ///< pixels whose first hit is a target within [near, far]
   uint64_t quality_pixels = 0;  ///< of those, the ones that pass the quality filter
@@ -49,5 +54,10 @@ struct Observation {
 /// when they were made with a quality filter; a plain copy otherwise. For the plain coverage
 /// that the report shows beside the quality-filtered one.
 std::vector<Observation> WithoutQuality(std::span<const Observation> observations);
+
+/// The same observations as the ideal pinhole made them (reference_indices =
+/// ideal_reference_indices where the physical model changed them; pixel counts kept only where
+/// it did not). For the ideal coverage that the report shows beside the physical one.
+std::vector<Observation> IdealObservations(std::span<const Observation> observations);
 
 }  // namespace vantage

@@ -25,6 +25,9 @@ struct VisibilityFile {
   std::vector<Candidate> candidates;
   std::vector<Observation> observations;  ///< one per candidate
   QualityFilter quality;  ///< the filter the observations were made with (format version 3)
+  /// Whether the observations were made with the physical sensor model (issue 43; format
+  /// version 6, older files: ideal). Re-tracing (robustness, refinement) uses the same model.
+  bool physical = false;
   /// The scene's mounting rules (format version 5; older files: none): `vantage select` applies
   /// its min_separation and reports its keep-out boxes as `optimize` on the scene does
   /// (docs/constraints.md). Each candidate's `sensor.interferes` is kept from version 5 too.

@@ -124,6 +124,7 @@ Robustness AssessRobustness(const VisibilityFile& data, const std::vector<Select
     }
     ObserveOptions shrunk_options = observe;
     shrunk_options.quality = data.quality;
+    shrunk_options.physical = data.physical;
     shrunk_options.progress = nullptr;
     const std::vector<Observation> shrunk = Observe(
         *rays, data.reference, ShrinkFov(chosen, options.fov_tolerance_deg), shrunk_options);

@@ -213,19 +213,21 @@ uint64_t AgreedCode(const std::vector<Vote>& votes) {
   return code;
 }
 
-// The observations of a share as bytes: per candidate its counts, then its four lists.
+// The observations of a share as bytes: per candidate its counts, then its five lists.
 std::string Encode(std::span<const Observation> observations) {
   std::string bytes;
   const auto put = [&](const void* p, size_t n) { bytes.append(static_cast<const char*>(p), n); };
   for (const Observation& o : observations) {
     const uint64_t header[] = {o.reference_indices.size(), o.outside_keys.size(),
                                o.plain_reference_indices.size(), o.rays_traced,
-                               o.target_pixels, o.quality_pixels, o.reference_hits.size()};
+                               o.target_pixels, o.quality_pixels, o.reference_hits.size(),
+                               o.ideal_differs ? 1u : 0u, o.ideal_reference_indices.size()};
     put(header, sizeof(header));
     put(o.reference_indices.data(), o.reference_indices.size() * 4);
     put(o.outside_keys.data(), o.outside_keys.size() * 8);
     put(o.plain_reference_indices.data(), o.plain_reference_indices.size() * 4);
     put(o.reference_hits.data(), o.reference_hits.size() * 2);
+    put(o.ideal_reference_indices.data(), o.ideal_reference_indices.size() * 4);
   }
   return bytes;
 }
@@ -238,7 +240,7 @@ void Decode(const std::string& bytes, std::span<Observation> observations) {
     at += n;
   };
   for (Observation& o : observations) {
-    uint64_t header[7];
+    uint64_t header[9];
     get(header, sizeof(header));
     o.reference_indices.resize(header[0]);
     o.outside_keys.resize(header[1]);
@@ -251,6 +253,9 @@ void Decode(const std::string& bytes, std::span<Observation> observations) {
     get(o.outside_keys.data(), header[1] * 8);
     get(o.plain_reference_indices.data(), header[2] * 4);
     get(o.reference_hits.data(), header[6] * 2);
+    o.ideal_differs = header[7] != 0;  // the physical sensor model (issue 43)
+    o.ideal_reference_indices.resize(header[8]);
+    get(o.ideal_reference_indices.data(), header[8] * 4);
   }
   VANTAGE_CHECK(at == bytes.size());
 }

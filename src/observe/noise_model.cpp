@@ -9,4 +9,5 @@ const DepthNoise* NoiseModelOf(const Candidate& candidate) {
   return catalog && catalog->depth_noise ? &*catalog->depth_noise : nullptr;
 }
 
+
 }  // namespace vantage

@@ -74,6 +74,29 @@ void SplitByReference(KeyRuns* runs, const Reference& reference, std::vector<uin
   }
 }
 
+// The physical model of one candidate (issue 43): where its second aperture is in the world, and
+// what a hit must satisfy besides the ideal pinhole's.
+struct PhysicalModel {
+  const SecondAperture* aperture = nullptr;  // null: ideal pinhole
+  Vec3 centre;              // the aperture's optical centre, world
+  double nearest = 0;       // stereo's nearest depth [m]
+  OcclusionBatch segments;  // per batch: from the aperture to the hits
+};
+
+PhysicalModel MakePhysicalModel(const Candidate& candidate, bool physical) {
+  PhysicalModel model;
+  model.aperture = physical ? SecondApertureOf(candidate.sensor, candidate.type_id) : nullptr;
+  if (!model.aperture) return model;
+  const Pose& pose = candidate.world_from_body;
+  model.centre = pose.position + pose.rotation * ApertureCentreInBody(*model.aperture);
+  model.nearest = StereoNearestDepth(candidate.sensor, *model.aperture);
+  for (int a = 0; a < 3; ++a) model.segments.origin[a] = static_cast<float>(model.centre[a]);
+  // Stop 0.01 % short of the point: the surface it lies on must not occlude it, whatever float
+  // rounding does to the segment's end.
+  model.segments.tfar = 1.0f - 1e-4f;
+  return model;
+}
+
 Observation ObserveOne(const RayScene& rays, const Reference& reference, const Candidate& candidate,
                        const std::vector<Aabb>& blocks, const ObserveOptions& options,
                        const detail::ArmOcclusion& arms) {
@@ -85,14 +108,20 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
   const double min_cos_incidence =
       quality.max_incidence_deg ? std::cos(*quality.max_incidence_deg * std::numbers::pi / 180.0) : -1.0;
   const DepthNoise* noise = quality.max_depth_noise ? NoiseModelOf(candidate) : nullptr;
+  PhysicalModel physical = MakePhysicalModel(candidate, options.physical.value_or(true));
+  const bool is_physical = physical.aperture != nullptr;
   Observation observation;
-  KeyRuns keys, quality_keys;
+  // keys: every measured pixel's cell; quality_keys: those passing the filter; ideal_keys: as
+  // the ideal pinhole counts (the filter's pixels when one is on), with the physical model only.
+  KeyRuns keys, quality_keys, ideal_keys;
   const bool count = options.count_points;
 
   RayBatch batch;
   for (int a = 0; a < 3; ++a) batch.origin[a] = static_cast<float>(origin[a]);
   // The direction's body-x component is 1, so the hit parameter t is the depth itself.
   batch.tfar = std::nextafter(static_cast<float>(s.far), std::numeric_limits<float>::infinity());
+  bool passes_quality[RayBatch::kWidth];
+  uint64_t keys_of[RayBatch::kWidth];
 
   for (const RowSpan& span : SpansToTrace(candidate, blocks, options.cull)) {
     for (int u_start = span.u0; u_start <= span.u1; u_start += RayBatch::kWidth) {
@@ -104,6 +133,7 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
       rays.Intersect(&batch);
       if (candidate.arm) arms.Clip(*candidate.arm, &batch);  // the arm carrying it (issue 45)
       observation.rays_traced += static_cast<uint64_t>(batch.active);
+      for (int lane = 0; lane < RayBatch::kWidth; ++lane) physical.segments.query[lane] = false;
       for (int lane = 0; lane < batch.active; ++lane) {
         if (!batch.is_target[lane]) continue;
         const double t = batch.t[lane];
@@ -113,9 +143,6 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
         const VoxelIndex index = VoxelKeyOf(p, cell);
         VANTAGE_CHECK(VoxelIndexFits(index));
         const uint64_t key = PackVoxel(index);
-        ++observation.target_pixels;
-        keys.Add(key, count && !quality.active());
-        if (!quality.active()) continue;
         bool passes = true;
         if (quality.max_incidence_deg) {
           const Vec3 n(batch.normal[0][lane], batch.normal[1][lane], batch.normal[2][lane]);
@@ -123,9 +150,38 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
           passes = norms > 0 && std::abs(d.dot(n)) >= min_cos_incidence * norms;
         }
         if (passes && noise) passes = noise->Sigma(t) <= *quality.max_depth_noise;
-        if (!passes) continue;
+        if (!is_physical) {
+          ++observation.target_pixels;
+          keys.Add(key, count && !quality.active());
+          if (!quality.active() || !passes) continue;
+          ++observation.quality_pixels;
+          quality_keys.Add(key, count);
+          continue;
+        }
+        if (passes) ideal_keys.Add(key, false);
+        // Physical: stereo cannot match nearer than its disparity search reaches; the aperture
+        // must have the point in its field and lie on the side of the surface the camera sees.
+        if (t < physical.nearest) continue;
+        const Vec3 p_body = world_from_body.transpose() * (p - origin);
+        if (!InApertureField(s, *physical.aperture, p_body)) continue;
+        const Vec3 n(batch.normal[0][lane], batch.normal[1][lane], batch.normal[2][lane]);
+        if (n.dot(physical.centre - p) * n.dot(origin - p) <= 0) continue;
+        const Vec3 segment = p - physical.centre;
+        for (int a = 0; a < 3; ++a) physical.segments.dir[a][lane] = static_cast<float>(segment[a]);
+        physical.segments.query[lane] = true;
+        passes_quality[lane] = passes;
+        keys_of[lane] = key;
+      }
+      if (!is_physical) continue;
+      // One occlusion packet for the hits that reached it, in lane order as before.
+      rays.Occluded(&physical.segments);
+      for (int lane = 0; lane < batch.active; ++lane) {
+        if (!physical.segments.query[lane] || physical.segments.occluded[lane]) continue;
+        ++observation.target_pixels;
+        keys.Add(keys_of[lane], count && !quality.active());
+        if (!quality.active() || !passes_quality[lane]) continue;
         ++observation.quality_pixels;
-        quality_keys.Add(key, count);
+        quality_keys.Add(keys_of[lane], count);
       }
     }
   }
@@ -137,6 +193,11 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
     SplitByReference(&quality_keys, reference, &observation.reference_indices,
                      count ? &observation.reference_hits : nullptr, &observation.outside_keys);
     SplitByReference(&keys, reference, &observation.plain_reference_indices, nullptr, nullptr);
+  }
+  if (is_physical) {
+    SplitByReference(&ideal_keys, reference, &observation.ideal_reference_indices, nullptr, nullptr);
+    observation.ideal_differs = observation.ideal_reference_indices != observation.reference_indices;
+    if (!observation.ideal_differs) observation.ideal_reference_indices.clear();
   }
   return observation;
 }

@@ -171,6 +171,39 @@ void RayScene::Intersect(RayBatch* batch) const {
   }
 }
 
+void RayScene::Occluded(OcclusionBatch* batch) const {
+  static_assert(OcclusionBatch::kWidth == 16);
+  int first = -1;
+  for (int lane = 0; lane < 16 && first < 0; ++lane) first = batch->query[lane] ? lane : -1;
+  if (first < 0) return;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  alignas(64) int valid[16];
+  alignas(64) RTCRay16 rays;
+  for (int lane = 0; lane < 16; ++lane) {
+    valid[lane] = batch->query[lane] ? -1 : 0;
+    // Idle lanes repeat a queried lane's segment (Embree's AVX2 halves check every ray; see
+    // Intersect).
+    const int source = batch->query[lane] ? lane : first;
+    rays.org_x[lane] = batch->origin[0];
+    rays.org_y[lane] = batch->origin[1];
+    rays.org_z[lane] = batch->origin[2];
+    rays.dir_x[lane] = batch->dir[0][source];
+    rays.dir_y[lane] = batch->dir[1][source];
+    rays.dir_z[lane] = batch->dir[2][source];
+    rays.tnear[lane] = 0.0f;
+    rays.tfar[lane] = batch->tfar;
+    rays.time[lane] = 0.0f;
+    rays.mask[lane] = 0xFFFFFFFFu;
+    rays.id[lane] = static_cast<unsigned>(lane);
+    rays.flags[lane] = 0;
+  }
+  rtcOccluded16(valid, impl_->scene, &context, &rays);
+  // Embree sets tfar to -inf on the occluded rays.
+  for (int lane = 0; lane < 16; ++lane)
+    if (batch->query[lane]) batch->occluded[lane] = !(rays.tfar[lane] >= 0.0f);
+}
+
 RayHit RayScene::IntersectHit(const float origin[3], const float dir[3], float tfar) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);

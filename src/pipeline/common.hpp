@@ -10,6 +10,14 @@
 
 namespace vantage::detail {
 
+/// `observe` with its sensor model decided (issue 43): as given (--ideal, --physical), else
+/// ideal for a Gazebo world of the original system and physical for any other scene.
+ObserveOptions WithSensorModel(ObserveOptions observe, const std::string& scene_path);
+
+/// Whether any of `candidates` has a second aperture (SecondApertureOf): without one the physical
+/// model sees what the ideal pinhole sees, and a run is recorded as ideal.
+bool AnyApertureIn(std::span<const Candidate> candidates);
+
 /// Seconds since `start` on the steady clock.
 double SecondsSince(std::chrono::steady_clock::time_point start);
 

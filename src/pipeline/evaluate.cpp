@@ -135,6 +135,13 @@ Reobserved Reobserve(const SceneInput& scene, const Constellation& constellation
   data.selection.n = static_cast<int>(constellation.sensors.size());
   data.candidates = constellation.sensors;
   data.quality = observe.quality;
+  // A type the scene defines carries its own second aperture (report.json keeps intrinsics
+  // only): the scene's definition, so that the layout is seen with the scene's model.
+  for (Candidate& c : data.candidates) {
+    const SensorType* defined = problem.FindType(c.sensor.id);
+    if (defined && !c.sensor.second_aperture) c.sensor.second_aperture = defined->second_aperture;
+  }
+  data.physical = observe.physical.value_or(true) && detail::AnyApertureIn(data.candidates);
   const ReferenceOptions reference{problem.cell_size, scene.exposed_only.value_or(false)};
   data.reference = detail::BuildRunReference(problem.scene, reference, problem.source);
   result.timings.reference = detail::SecondsSince(stage);
@@ -142,7 +149,9 @@ Reobserved Reobserve(const SceneInput& scene, const Constellation& constellation
                              limits.max_memory_mib, problem.source);
   stage = std::chrono::steady_clock::now();
   result.rays = std::make_unique<RayScene>(problem.scene);
-  data.observations = Observe(*result.rays, data.reference, data.candidates, observe);
+  ObserveOptions model = observe;
+  model.physical = data.physical;
+  data.observations = Observe(*result.rays, data.reference, data.candidates, model);
   result.timings.observe = detail::SecondsSince(stage);
   stage = std::chrono::steady_clock::now();
   result.given = detail::GivenSelection(CoverageEvaluator(data.observations, data.reference.size()));
@@ -200,6 +209,10 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   if (!options.constellation.empty())
     observe.quality =
         InheritQuality(options.observe.quality, constellation, options.constellation);
+  // The sensor model: --ideal/--physical, else the run's when it was physical, else the scene's.
+  if (!observe.physical && constellation.inputs && constellation.inputs->physical)
+    observe.physical = true;
+  observe = detail::WithSensorModel(observe, scene.path);
   // The constraints, the caller's (checked above, so that their errors name the flags) over the
   // run's, checked before any ray.
   ConstraintOptions constraints = options.constraints;
@@ -269,6 +282,8 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
       constraints.interference.value_or(constraints.interference_overlap.has_value());
   if (!problem.states.empty() && wants_interference) {
     states.emplace_back();
+    ObserveOptions state_model = observe;
+    state_model.physical = run.data->physical;
     for (const SceneState& state : problem.states) {
       const Scene scene_of_state = ApplyState(problem.scene, state);
       ObservedState observed;
@@ -278,7 +293,7 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
                                     {problem.cell_size, scene.exposed_only.value_or(false)},
                                     problem.source);
       observed.observations =
-          Observe(RayScene(scene_of_state), observed.reference, run.data->candidates, observe);
+          Observe(RayScene(scene_of_state), observed.reference, run.data->candidates, state_model);
       states.push_back(std::move(observed));
     }
   }
@@ -287,6 +302,7 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
                                  run.data->observations, problem.mounting, 0, states);
   if (report.constraints) report.constraints->is_applied = false;
   report.inputs = detail::InputsOf("evaluate", scene, observe);
+  report.inputs->physical = run.data->physical;
   report.inputs->interference = options.constraints.interference;
   report.inputs->interference_overlap = options.constraints.interference_overlap;
   report.inputs->calibration_overlap = options.constraints.calibration_overlap;
@@ -386,6 +402,8 @@ RenderRunResult RenderRun(const RenderRunOptions& options) {
   ObserveOptions observe;
   if (constellation.inputs) observe.cull = constellation.inputs->cull;
   observe.quality = InheritQuality({}, constellation, report_path);
+  // The run's model: report.json says physical when it was (issue 43).
+  observe.physical = constellation.inputs && constellation.inputs->physical;
   // Re-observe the chosen sensors: the same voxels as the report counts.
   const Reobserved reobserved = Reobserve(scene, constellation, report_path, observe, RunLimits{});
   if (constellation.coverage && std::abs(*constellation.coverage - reobserved.given.coverage) > 1e-9)

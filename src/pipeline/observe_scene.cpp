@@ -11,6 +11,7 @@
 #include <functional>
 
 #include "pipeline/common.hpp"
+#include "vantage/gazebo_export.hpp"
 #include "vantage/error.hpp"
 #include "vantage/scene_states.hpp"
 
@@ -241,11 +242,32 @@ void CheckReferenceMemory(const PreparedScene& prepared, double limit_mib) {
                       : "use a larger cell_size in the scene (or override it with --cell-size)")));
 }
 
+bool AnyApertureIn(std::span<const Candidate> candidates) {
+  return std::any_of(candidates.begin(), candidates.end(), [](const Candidate& c) {
+    return SecondApertureOf(c.sensor, c.type_id) != nullptr;
+  });
+}
+
+ObserveOptions WithSensorModel(ObserveOptions observe, const std::string& scene_path) {
+  // A Gazebo world of the original system is read as that system: the paper's ideal pinhole.
+  if (!observe.physical) observe.physical = !IsGazeboWorldPath(scene_path);
+  spdlog::info("sensor model: {}", *observe.physical ? "physical (second apertures, stereo range)"
+                                                     : "ideal pinhole");
+  return observe;
+}
+
 }  // namespace detail
 
-ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& observe,
+ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& given,
                               const RunLimits& limits, const TraceFunction& trace) {
-  observe.Validate();
+  given.Validate();
+  ObserveOptions observe = detail::WithSensorModel(given, prepared.problem.source);
+  // Physical only where some candidate has a second aperture: otherwise both models see the
+  // same, and the run is reported (and stored) as ideal, exactly as before issue 43.
+  bool any_aperture = detail::AnyApertureIn(prepared.candidates);
+  for (const std::vector<Candidate>& state : prepared.state_candidates)
+    any_aperture = any_aperture || detail::AnyApertureIn(state);
+  observe.physical = *observe.physical && any_aperture;
   limits.Validate();
   Problem& problem = prepared.problem;
   ObservedScene result;
@@ -341,6 +363,7 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& obse
   data.candidates = std::move(prepared.candidates);
   data.observations = std::move(observations);
   data.quality = observe.quality;
+  data.physical = *observe.physical;
   data.mounting = problem.mounting;
   data.kept_out = prepared.kept_out.size();
   result.notes = std::move(prepared.notes);

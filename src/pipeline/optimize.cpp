@@ -143,6 +143,7 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
     RefineOptions refine = *options.refine;
     refine.seed = select.seed;
     refine.observe = options.observe;
+    refine.observe.physical = observed.data.physical;  // new poses seen as the run's were
     refine.observe.progress = nullptr;
     if (report.constraints) {
       // New poses obey the run's constraints: none inside a keep-out box, and the pairs and the
@@ -176,6 +177,7 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
   report.timings = observed.timings;
   report.notes = observed.notes;
   report.inputs = detail::InputsOf("optimize", options.scene, options.observe);
+  report.inputs->physical = data.physical;
   detail::AddSelectionInputs(options.selection, &*report.inputs);
   report.inputs->refine = options.refine.has_value();
   if (options.refine) report.inputs->refine_rounds = options.refine->max_rounds;

@@ -101,6 +101,7 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   inputs.scene = data.scene;
   inputs.cull = true;
   inputs.quality = data.quality;
+  inputs.physical = data.physical;
   inputs.seed = options.seed;
   detail::AddSelectionInputs(options.selection, &inputs);
   inputs.fov_tolerance_deg = options.robustness.fov_tolerance_deg;

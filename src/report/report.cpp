@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 #include <nlohmann/json.hpp>
 
 #include "report/arm_export.hpp"
@@ -68,6 +69,32 @@ ordered_json QualityJson(const VisibilityFile& data) {
     j["types_without_noise_model"] = std::move(unknown);
   }
   return j;
+}
+
+// report.json's `sensor_model` (issue 43), written when the physical model was on: per sensor
+// type among the candidates, its second aperture and stereo's nearest depth beside the
+// datasheet's.
+ordered_json SensorModelJson(const VisibilityFile& data) {
+  ordered_json types = ordered_json::array();
+  std::vector<std::string> seen;
+  for (const Candidate& c : data.candidates) {
+    if (std::find(seen.begin(), seen.end(), c.type_id) != seen.end()) continue;
+    seen.push_back(c.type_id);
+    ordered_json t = {{"type", c.type_id}};
+    const SecondAperture* a = SecondApertureOf(c.sensor, c.type_id);
+    t["second_aperture"] = a ? KindName(a->kind) : "none";
+    if (a) {
+      t["baseline"] = a->baseline;
+      if (a->toe_in != 0) t["toe_in_deg"] = a->toe_in * 180.0 / std::numbers::pi;
+      if (const double nearest = StereoNearestDepth(c.sensor, *a); nearest > 0) {
+        t["disparity_range"] = *a->disparity_range;
+        t["stereo_nearest_depth"] = nearest;
+      }
+    }
+    t["datasheet_near"] = c.sensor.near;
+    types.push_back(std::move(t));
+  }
+  return {{"model", "physical"}, {"types", std::move(types)}};
 }
 
 // One entry of report.json's `results` (or `curve`); `plain_coverage` may be null.
@@ -275,6 +302,18 @@ void DeriveReport(Report* report) {
         report->result_plain_coverage.push_back(plain_evaluator.Coverage(s.chosen, s.k));
     }
   }
+  report->result_ideal_coverage.clear();
+  report->candidate_ideal_coverage.clear();
+  if (data.physical) {
+    const std::vector<Observation> ideal = IdealObservations(data.observations);
+    const CoverageEvaluator ideal_evaluator(ideal, reference_size);
+    for (const Observation& o : ideal)
+      report->candidate_ideal_coverage.push_back(Fraction(o.reference_indices.size(), reference_size));
+    if (!report->states) {
+      for (const Selection& s : report->results)
+        report->result_ideal_coverage.push_back(ideal_evaluator.Coverage(s.chosen, s.k));
+    }
+  }
   report->best_single = data.observations.empty() ? -1 : 0;
   for (size_t i = 1; i < data.observations.size(); ++i) {
     if (data.observations[i].reference_indices.size() >
@@ -367,6 +406,7 @@ std::string ReportJson(const Report& report) {
   const bool quality = data.quality.active();
   for (size_t i = 0; i < data.candidates.size(); ++i) {
     candidates.push_back(CandidateJson(data.candidates[i], data.observations[i], reference_size));
+    if (data.physical) candidates.back()["ideal_coverage"] = report.candidate_ideal_coverage.at(i);
     if (!quality) continue;
     candidates.back()["plain_coverage"] = report.candidate_plain_coverage.at(i);
     candidates.back()["target_pixels"] = data.observations[i].target_pixels;
@@ -374,6 +414,7 @@ std::string ReportJson(const Report& report) {
   }
   j["candidates"] = std::move(candidates);
   if (quality) j["quality"] = QualityJson(data);
+  if (data.physical) j["sensor_model"] = SensorModelJson(data);
   ordered_json results = ordered_json::array();
   for (size_t index = 0; index < report.results.size(); ++index) {
     // Plain coverage from `data` is the first state's: shown only without states.
@@ -386,6 +427,8 @@ std::string ReportJson(const Report& report) {
         parts[report.parts[p].name] = report.result_part_coverage[index][p];
       results.back()["part_coverage"] = std::move(parts);
     }
+    if (!report.result_ideal_coverage.empty())
+      results.back()["ideal_coverage"] = report.result_ideal_coverage.at(index);
     if (report.constraints) {
       results.back()["constraints"] =
           detail::ResultConstraintsJson(report.results[index], *report.constraints, data);

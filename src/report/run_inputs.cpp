@@ -108,6 +108,7 @@ ordered_json RunInputsJson(const RunInputs& in) {
   Put(&j, "random_roll", in.random_roll);
   j["cull"] = in.cull;
   if (in.exposed_only) j["exposed_only"] = true;
+  if (in.physical) j["sensor_model"] = "physical";
   Put(&j, "max_incidence_deg", in.quality.max_incidence_deg);
   if (in.quality.max_depth_noise) j["max_depth_noise_mm"] = *in.quality.max_depth_noise * 1000.0;
   Put(&j, "n", in.n);
@@ -162,6 +163,12 @@ RunInputs ParseRunInputs(const json& j, const std::string& where) {
   r.Boolean("random_roll", &in.random_roll);
   r.Boolean("cull", &in.cull);
   r.Boolean("exposed_only", &in.exposed_only);
+  std::optional<std::string> model;
+  r.String("sensor_model", &model);
+  if (model && *model != "physical" && *model != "ideal")
+    throw InputError(fmt::format("{}: inputs.sensor_model '{}' is not physical or ideal", where,
+                                 *model));
+  in.physical = model == "physical";
   r.Number("max_incidence_deg", &in.quality.max_incidence_deg);
   std::optional<double> noise_mm;
   r.Number("max_depth_noise_mm", &noise_mm);

@@ -271,6 +271,7 @@ class SceneReader {
                       bool resolution_changed,
                       SensorType* type);
   void ReadRangeAndCost(const Fields& fields, const std::string& what, SensorType* type);
+  void ReadSecondAperture(const Value& input, const std::string& what, SensorType* type);
   void ReadResolution(const Fields& fields,
                       const std::string& what,
                       SensorType* type,
@@ -897,12 +898,145 @@ void SceneReader::ReadRangeAndCost(const Fields& fields,
   }
 }
 
+/// `second_aperture:` of a custom type (issue 43; docs/sensor-models.md): its kind, pose and
+/// field, each number checked at its own line; what a base type has is kept where not given.
+void SceneReader::ReadSecondAperture(const Value& input, const std::string& type_what,
+                                     SensorType* type) {
+  const std::string what = type_what + ".second_aperture";
+  const Fields fields(input, what,
+                      {"kind", "baseline", "toe_in", "toe_in_deg", "hfov", "hfov_deg", "vfov",
+                       "vfov_deg", "cone", "cone_deg", "resolution", "intrinsics",
+                       "disparity_range"},
+                      &reporter_);
+  const size_t errors_before = ErrorCount();
+  SecondAperture aperture = type->second_aperture.value_or(SecondAperture{});
+  aperture.source = "scene file";
+  if (const auto v = fields.Get("kind")) {
+    const auto kind = Text(*v, what + ".kind");
+    if (!kind) return;
+    const std::vector<std::string> kinds = {"projector", "imager", "illuminator", "none"};
+    SecondAperture::Kind parsed = SecondAperture::Kind::kNone;
+    if (*kind == "projector") {
+      parsed = SecondAperture::Kind::kProjector;
+    } else if (*kind == "imager") {
+      parsed = SecondAperture::Kind::kImager;
+    } else if (*kind != "illuminator" && *kind != "none") {
+      Error(v->line, fmt::format("{}.kind '{}' is not projector, imager, illuminator or none — {}",
+                                 what, *kind, Suggest(*kind, kinds)));
+      return;
+    }
+    // Another kind: nothing of the base's aperture applies.
+    if (parsed != aperture.kind) aperture = SecondAperture{parsed, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+                                                           std::nullopt, "scene file"};
+  } else if (!type->second_aperture) {
+    Missing(fields, "kind", "kind: projector (or imager, illuminator)");
+    return;
+  }
+  if (!aperture.active()) {
+    for (const char* key : {"baseline", "toe_in", "toe_in_deg", "hfov", "hfov_deg", "vfov",
+                            "vfov_deg", "cone", "cone_deg", "resolution", "intrinsics",
+                            "disparity_range"}) {
+      if (const auto v = fields.Get(key))
+        Error(v->line, fmt::format("{}.{}: an illuminator (kind {}) has no field or pose — "
+                                   "remove it", what, key, KindName(aperture.kind)));
+    }
+    type->second_aperture = aperture;
+    return;
+  }
+  if (const auto v = fields.Get("baseline")) {
+    const auto b = Number(*v, what + ".baseline");
+    if (b && (*b < 0 || *b > kMaxBaseline)) {
+      Error(v->line, fmt::format("{}.baseline = {} m must lie in [0, {:g}] m (no sensor body is "
+                                 "wider) — give the distance between the optical centres",
+                                 what, *b, kMaxBaseline));
+    } else if (b) {
+      aperture.baseline = *b;
+    }
+  }
+  // Angles: radians under the plain key, degrees under KEY_deg, one of the two.
+  const auto angle = [&](const std::string& key, double max, bool zero_ok) -> std::optional<double> {
+    const auto radians = fields.Get(key);
+    const auto degrees = fields.Get(key + "_deg");
+    if (radians && degrees) {
+      Error(degrees->line, fmt::format("{}: both {} and {}_deg are given — keep one", what, key, key));
+      return std::nullopt;
+    }
+    if (!radians && !degrees) return std::nullopt;
+    const Value& v = radians ? *radians : *degrees;
+    const std::string name = fmt::format("{}.{}{}", what, key, radians ? "" : "_deg");
+    const auto value = Number(v, name);
+    if (!value) return std::nullopt;
+    const double a = radians ? *value : *value * kDegree;
+    if (a < 0 || (a == 0 && !zero_ok) || a > max || (a == max && max == kPi)) {
+      Error(v.line, fmt::format("{} = {} must lie in {}0, {:g}{} {}", name, *value,
+                                zero_ok ? "[" : "(", radians ? max : max / kDegree,
+                                max == kPi ? ")" : "]", radians ? "rad" : "deg"));
+      return std::nullopt;
+    }
+    return a;
+  };
+  if (const auto a = angle("toe_in", kMaxToeIn, true)) aperture.toe_in = *a;
+  const auto hfov = angle("hfov", kPi, false);
+  const auto vfov = angle("vfov", kPi, false);
+  const auto cone = angle("cone", kPi, false);
+  if (hfov || vfov || cone) aperture.hfov = aperture.vfov = aperture.cone = 0;
+  if (hfov) aperture.hfov = *hfov;
+  if (vfov) aperture.vfov = *vfov;
+  if (cone) aperture.cone = *cone;
+  if (const auto v = fields.Get("resolution")) {
+    const auto w = Numbers(*v, 2, what + ".resolution");
+    if (w && ((*w)[0] < 1 || (*w)[1] < 1 || (*w)[0] > 100'000 || (*w)[1] > 100'000 ||
+              (*w)[0] != std::floor((*w)[0]) || (*w)[1] != std::floor((*w)[1]))) {
+      Error(v->line, fmt::format("{}.resolution: expected [width, height], whole pixels in "
+                                 "[1, 100000]", what));
+    } else if (w) {
+      aperture.width = static_cast<int>((*w)[0]);
+      aperture.height = static_cast<int>((*w)[1]);
+    }
+  }
+  if (const auto v = fields.Get("intrinsics")) {
+    const auto k = Numbers(*v, 4, what + ".intrinsics");
+    if (k && ((*k)[0] <= 0 || (*k)[1] <= 0)) {
+      Error(v->line, fmt::format("{}.intrinsics: fx and fy must be positive [px] — write [fx, fy, "
+                                 "cx, cy]", what));
+    } else if (k) {
+      aperture.fx = (*k)[0];
+      aperture.fy = (*k)[1];
+      aperture.cx = (*k)[2];
+      aperture.cy = (*k)[3];
+    }
+  }
+  if (fields.Has("resolution") != fields.Has("intrinsics"))
+    Error(fields.line(), fmt::format("{}: an imager's own field needs both resolution and "
+                                     "intrinsics (leave both out for the camera's own)", what));
+  if (const auto v = fields.Get("disparity_range")) {
+    const auto d = Number(*v, what + ".disparity_range");
+    if (d && (*d <= 0 || *d > type->width)) {
+      Error(v->line, fmt::format("{}.disparity_range = {} px must lie in (0, {}] px (the image's "
+                                 "width) — give the stereo matcher's disparity search range",
+                                 what, *d, type->width));
+    } else if (d) {
+      aperture.disparity_range = *d;
+    }
+  }
+  if (ErrorCount() != errors_before) return;
+  // What depends on the kind or on the camera (a field the kind cannot have, intrinsics whose
+  // rays vantage cannot cast): the aperture's own line.
+  const std::string problem = SecondApertureProblem(*type, aperture);
+  if (!problem.empty()) {
+    Error(fields.line(), fmt::format("{}: {}", what, problem));
+    return;
+  }
+  type->second_aperture = aperture;
+}
+
 /// A custom type: every field given, or `base: CATALOG_ID` and the fields that differ.
 std::optional<SensorType> SceneReader::ReadSensorType(const Value& input) {
   const size_t errors_before = ErrorCount();
   const Fields fields(input, "sensor type",
                       {"id", "base", "name", "technology", "resolution", "hfov", "hfov_deg", "vfov",
-                       "vfov_deg", "intrinsics", "range", "fps", "cost", "depth_noise", "interferes"},
+                       "vfov_deg", "intrinsics", "range", "fps", "cost", "depth_noise", "interferes",
+                       "second_aperture"},
                       &reporter_);
   const auto id_node = fields.Get("id");
   if (!id_node) {
@@ -942,6 +1076,7 @@ std::optional<SensorType> SceneReader::ReadSensorType(const Value& input) {
   ReadResolution(fields, what, &type, &resolution_changed);
   ReadIntrinsics(fields, what, base, resolution_changed, &type);
   ReadRangeAndCost(fields, what, &type);
+  if (const auto v = fields.Get("second_aperture")) ReadSecondAperture(*v, what, &type);
   if (ErrorCount() != errors_before) return rejected();
   try {
     type.Validate();

@@ -51,9 +51,107 @@ SensorType WithD400Noise(SensorType t, double baseline_m) {
   return t;
 }
 
+constexpr double kPi = std::numbers::pi;
+
+// A full field angle in (0, pi) [rad].
+bool IsFieldAngle(double angle) { return std::isfinite(angle) && angle > 0 && angle < kPi; }
+
 bool Close(double a, double b) { return std::abs(a - b) <= 1e-6 * std::max(1.0, std::abs(b)); }
 
 }  // namespace
+
+const char* KindName(SecondAperture::Kind kind) {
+  switch (kind) {
+    case SecondAperture::Kind::kProjector: return "projector";
+    case SecondAperture::Kind::kImager: return "imager";
+    case SecondAperture::Kind::kNone: break;
+  }
+  return "none";
+}
+
+std::string SecondApertureProblem(const SensorType& camera, const SecondAperture& a) {
+  if (!a.active()) return "";
+  if (!std::isfinite(a.baseline) || a.baseline < 0 || a.baseline > kMaxBaseline)
+    return fmt::format("baseline = {} m must be in [0, {:g}] m — give the distance between the "
+                       "camera's and the {}'s optical centres", a.baseline, kMaxBaseline,
+                       KindName(a.kind));
+  if (!std::isfinite(a.toe_in) || a.toe_in < 0 || a.toe_in > kMaxToeIn)
+    return fmt::format("toe_in = {:g} deg must be in [0, {:g}] deg", a.toe_in * 180 / kPi,
+                       kMaxToeIn * 180 / kPi);
+  const auto angle = [](const char* name, double value) -> std::string {
+    if (value == 0 || IsFieldAngle(value)) return "";
+    return fmt::format("{} = {:g} deg must be a field angle in (0, 180) deg", name,
+                       value * 180 / kPi);
+  };
+  for (const std::string& p : {angle("hfov", a.hfov), angle("vfov", a.vfov), angle("cone", a.cone)})
+    if (!p.empty()) return p;
+  if (a.vfov != 0 && a.hfov == 0) return "vfov needs hfov — give both or a cone";
+  if (a.kind == SecondAperture::Kind::kImager) {
+    if (a.hfov != 0 || a.cone != 0)
+      return "an imager's field is its intrinsics (resolution, intrinsics), not hfov or cone";
+    if (a.width != 0 || a.height != 0) {
+      if (a.width <= 0 || a.height <= 0 || int64_t{a.width} * a.height > int64_t{64} << 20)
+        return fmt::format("resolution {}x{} must be positive and at most 64 Mpx", a.width,
+                           a.height);
+      if (!std::isfinite(a.fx) || !std::isfinite(a.fy) || a.fx <= 0 || a.fy <= 0 ||
+          !std::isfinite(a.cx) || !std::isfinite(a.cy) ||
+          std::max(std::abs(a.cx), std::abs(a.cx - a.width)) / a.fx > kMaxRaySlope ||
+          std::max(std::abs(a.cy), std::abs(a.cy - a.height)) / a.fy > kMaxRaySlope)
+        return "intrinsics must be positive, finite focal lengths and a finite principal point";
+    }
+  } else if (a.width != 0 || a.height != 0) {
+    return "a projector's field is hfov/vfov or a cone, not a resolution";
+  }
+  if (a.disparity_range) {
+    const double d = *a.disparity_range;
+    if (a.kind != SecondAperture::Kind::kImager)
+      return "disparity_range belongs to a second imager (stereo)";
+    if (!std::isfinite(d) || d <= 0 || d > camera.width)
+      return fmt::format("disparity_range = {} px must be in (0, {}] px (the image's width)", d,
+                         camera.width);
+  }
+  return "";
+}
+
+const SecondAperture* SecondApertureOf(const SensorType& type, std::string_view catalog_id) {
+  const SensorType* entry = type.second_aperture ? nullptr : FindCatalogType(catalog_id);
+  const std::optional<SecondAperture>& aperture =
+      type.second_aperture || !entry ? type.second_aperture : entry->second_aperture;
+  return aperture && aperture->active() ? &*aperture : nullptr;
+}
+
+double StereoNearestDepth(const SensorType& camera, const SecondAperture& aperture) {
+  if (aperture.kind != SecondAperture::Kind::kImager || !aperture.disparity_range) return 0;
+  return camera.fx * aperture.baseline / *aperture.disparity_range;
+}
+
+Vec3 ApertureCentreInBody(const SecondAperture& aperture) {
+  return Vec3(0, -aperture.baseline, 0);
+}
+
+Mat3 BodyFromAperture(const SecondAperture& aperture) {
+  // The aperture sits at -y (right): turning its axis toward the camera turns it toward +y.
+  return Eigen::AngleAxisd(aperture.toe_in, Vec3::UnitZ()).toRotationMatrix();
+}
+
+bool InApertureField(const SensorType& camera, const SecondAperture& aperture,
+                     const Vec3& p_body) {
+  const Vec3 p = BodyFromAperture(aperture).transpose() * (p_body - ApertureCentreInBody(aperture));
+  if (!(p.x() > 0)) return false;
+  const double right = -p.y() / p.x(), down = -p.z() / p.x();  // image-plane slopes
+  if (aperture.cone > 0) return std::atan(std::hypot(right, down)) <= aperture.cone / 2;
+  if (aperture.hfov > 0) {
+    const double vfov = aperture.vfov > 0 ? aperture.vfov : aperture.hfov;
+    return std::abs(right) <= std::tan(aperture.hfov / 2) &&
+           std::abs(down) <= std::tan(vfov / 2);
+  }
+  // An image: its intrinsics, or the camera's own (rectified pair, projector of the same field).
+  const bool own = aperture.width > 0;
+  const double u = (own ? aperture.cx : camera.cx) + (own ? aperture.fx : camera.fx) * right;
+  const double v = (own ? aperture.cy : camera.cy) + (own ? aperture.fy : camera.fy) * down;
+  return u >= 0 && v >= 0 && u < (own ? aperture.width : camera.width) &&
+         v < (own ? aperture.height : camera.height);
+}
 
 double SensorType::HorizontalFov() const { return 2.0 * std::atan(width / (2.0 * fx)); }
 double SensorType::VerticalFov() const { return 2.0 * std::atan(height / (2.0 * fy)); }
@@ -108,6 +206,10 @@ void SensorType::Validate(const std::string& where) const {
   if (!std::isfinite(cost) || cost < 0) fail(fmt::format("cost = {} must be >= 0", cost));
   if (!std::isfinite(fps) || fps < 0)
     fail(fmt::format("fps = {} must be a frame rate >= 0 (0: not given)", fps));
+  if (second_aperture) {
+    const std::string problem = SecondApertureProblem(*this, *second_aperture);
+    if (!problem.empty()) fail("second_aperture: " + problem);
+  }
   if (depth_noise) {
     const DepthNoise& n = *depth_noise;
     if (!std::isfinite(n.a) || !std::isfinite(n.b) || !std::isfinite(n.c))

@@ -33,4 +33,17 @@ std::vector<Observation> WithoutQuality(std::span<const Observation> observation
   return plain;
 }
 
+std::vector<Observation> IdealObservations(std::span<const Observation> observations) {
+  std::vector<Observation> ideal;
+  ideal.reserve(observations.size());
+  for (const Observation& o : observations) {
+    Observation p;
+    p.reference_indices = o.ideal_differs ? o.ideal_reference_indices : o.reference_indices;
+    if (!o.ideal_differs) p.reference_hits = o.reference_hits;
+    p.rays_traced = o.rays_traced;
+    ideal.push_back(std::move(p));
+  }
+  return ideal;
+}
+
 }  // namespace vantage

@@ -31,8 +31,12 @@ namespace {
 // Version 6 adds, after the mounting rules, R's target parts (names, each cell's part), each
 // cell's exposure and --exposed-only's cells left out per part (issue 46): older files read
 // without parts or exposure, which the report then does not show.
+// Version 7 (issue 43, the physical sensor model) adds whether the observations were made with
+// the physical model (after the quality filter), each sensor's second aperture (after its
+// `interferes` flag) and per observation the cells the ideal pinhole would have counted (after
+// its pixel counts): older files read as ideal, which they were.
 constexpr char kMagic[8] = {'V', 'A', 'N', 'T', 'V', 'I', 'S', '\0'};
-constexpr uint32_t kFormatVersion = 6;
+constexpr uint32_t kFormatVersion = 7;
 constexpr uint32_t kOldestReadVersion = 1;
 
 void WriteOptional(detail::BinaryWriter* w, const std::optional<double>& value) {
@@ -49,12 +53,45 @@ void WritePose(detail::BinaryWriter* w, const Pose& pose) {
   w->F64(pose.rotation.z());
 }
 
+// A sensor's second aperture: presence (0 unset, 1 set), kind, pose, field, disparity range.
+void WriteAperture(detail::BinaryWriter* w, const std::optional<SecondAperture>& aperture) {
+  w->U32(aperture ? 1 : 0);
+  if (!aperture) return;
+  const SecondAperture& a = *aperture;
+  w->U32(static_cast<uint32_t>(a.kind));
+  for (double v : {a.baseline, a.toe_in, a.hfov, a.vfov, a.cone}) w->F64(v);
+  w->U32(static_cast<uint32_t>(a.width));
+  w->U32(static_cast<uint32_t>(a.height));
+  for (double v : {a.fx, a.fy, a.cx, a.cy}) w->F64(v);
+  WriteOptional(w, a.disparity_range);
+  w->Str(a.source);
+}
+
 template <typename Corrupt>
 std::optional<double> ReadOptional(detail::BinaryReader* r, const char* what, const Corrupt& corrupt) {
   const uint32_t has_value = r->U32();
   const double value = r->F64();
   if (has_value > 1) throw corrupt(fmt::format("{} has a bad presence flag", what));
   return has_value ? std::optional<double>(value) : std::nullopt;
+}
+
+template <typename Corrupt>
+std::optional<SecondAperture> ReadAperture(detail::BinaryReader* r, const Corrupt& corrupt) {
+  const uint32_t present = r->U32();
+  if (present > 1) throw corrupt("a second aperture has a bad presence flag");
+  if (!present) return std::nullopt;
+  SecondAperture a;
+  const uint32_t kind = r->U32();
+  if (kind > static_cast<uint32_t>(SecondAperture::Kind::kImager))
+    throw corrupt("a second aperture's kind is unknown");
+  a.kind = static_cast<SecondAperture::Kind>(kind);
+  for (double* v : {&a.baseline, &a.toe_in, &a.hfov, &a.vfov, &a.cone}) *v = r->F64();
+  a.width = static_cast<int>(r->U32());
+  a.height = static_cast<int>(r->U32());
+  for (double* v : {&a.fx, &a.fy, &a.cx, &a.cy}) *v = r->F64();
+  a.disparity_range = ReadOptional(r, "disparity range", corrupt);
+  a.source = r->Str();
+  return a;  // checked with the sensor (SensorType::Validate)
 }
 
 Pose ReadPose(detail::BinaryReader* r) {
@@ -217,6 +254,7 @@ std::string EncodeVisibilityFile(const VisibilityFile& file, bool observations) 
   WriteOptional(&w, settings.budget);
   WriteOptional(&w, file.quality.max_incidence_deg);
   WriteOptional(&w, file.quality.max_depth_noise);
+  w.U32(file.physical ? 1 : 0);
   w.F64(file.reference.cell_size);
   w.U64Vector(file.reference.keys);
   w.U64(file.candidates.size());
@@ -233,6 +271,7 @@ std::string EncodeVisibilityFile(const VisibilityFile& file, bool observations) 
     w.Str(noise ? noise->source : std::string());
     // interferes: 0 unset (by the technology), 1 false, 2 true.
     w.U32(c.sensor.interferes ? (*c.sensor.interferes ? 2 : 1) : 0);
+    WriteAperture(&w, c.sensor.second_aperture);
     WritePose(&w, c.world_from_body);
     static const Observation kNone;
     const Observation& o = observations ? file.observations[i] : kNone;
@@ -243,6 +282,8 @@ std::string EncodeVisibilityFile(const VisibilityFile& file, bool observations) 
     w.U64(o.target_pixels);
     w.U64(o.quality_pixels);
     w.U16Vector(o.reference_hits);
+    w.U32(o.ideal_differs ? 1 : 0);
+    w.U32Vector(o.ideal_reference_indices);
   }
   WriteMounting(&w, file.mounting, file.kept_out);
   WriteParts(&w, file.reference);
@@ -305,6 +346,11 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
       throw corrupt(fmt::format("its quality filter: {}", e.what()));
     }
   }
+  if (version >= 7) {
+    const uint32_t physical = r.U32();
+    if (physical > 1) throw corrupt("its sensor model flag is not 0 or 1");
+    file.physical = physical == 1;
+  }
   file.reference.cell_size = r.F64();
   if (!std::isfinite(file.reference.cell_size) || !(file.reference.cell_size > 0))
     throw corrupt(
@@ -356,6 +402,7 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
       if (interferes > 2) throw corrupt("a sensor's interferes flag is not 0, 1 or 2");
       if (interferes > 0) c.sensor.interferes = interferes == 2;
     }
+    if (version >= 7) c.sensor.second_aperture = ReadAperture(&r, corrupt);
     c.world_from_body = ReadPose(&r);
     Observation o;
     o.reference_indices = r.U32Vector();
@@ -367,6 +414,14 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
       o.quality_pixels = r.U64();
     }
     if (version >= 4) o.reference_hits = r.U16Vector();
+    if (version >= 7) {
+      const uint32_t differs = r.U32();
+      if (differs > 1) throw corrupt("an observation's ideal flag is not 0 or 1");
+      o.ideal_differs = differs == 1;
+      o.ideal_reference_indices = r.U32Vector();
+      if (!o.ideal_differs && !o.ideal_reference_indices.empty())
+        throw corrupt("an observation holds ideal cells without its ideal flag");
+    }
     const auto check_indices = [&](const std::vector<uint32_t>& indices) {
       for (size_t k = 0; k < indices.size(); ++k) {
         if (indices[k] >= file.reference.keys.size() || (k > 0 && indices[k] <= indices[k - 1]))
@@ -375,6 +430,7 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
     };
     check_indices(o.reference_indices);
     check_indices(o.plain_reference_indices);
+    check_indices(o.ideal_reference_indices);
     if (!o.reference_hits.empty() && !o.has_point_counts())
       throw corrupt("an observation's point counts do not match its cells");
     const std::string where = fmt::format("candidate {} ('{}')", i, c.name);

@@ -1,0 +1,252 @@
+// The physical sensor model (issue 43): a pixel's hit counts only where the type's second
+// aperture (projector, second imager) sees the point and stereo can match it. Each test checks
+// observe against geometry worked out by hand: a step's projector shadow, stereo's nearest depth
+// f·B/d_max, an aperture looking elsewhere; and bad apertures refused at their line.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <set>
+
+#include "test_util.hpp"
+#include "vantage/observe.hpp"
+#include "vantage/reference.hpp"
+#include "vantage/sensors.hpp"
+
+namespace vantage {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+ObserveOptions Model(bool physical) {
+  ObserveOptions options;
+  options.physical = physical;
+  return options;
+}
+
+std::set<uint64_t> CellsOf(const Observation& o, const Reference& reference) {
+  std::set<uint64_t> cells;
+  for (uint32_t i : o.reference_indices) cells.insert(reference.keys[i]);
+  return cells;
+}
+
+// A box of height h on a plane, a camera at height H looking straight down with its image's
+// right along +x, and a projector offset by B along +x. The box covers x >= 0 (beyond the image),
+// so its edge at x = 0 lies under the camera. The projector's rays over that edge reach the plane
+// at x = -h B / (H - h): the strip [-hB/(H-h), 0] is seen by the camera but unlit.
+struct Step {
+  double H = 2.0, h = 0.5, baseline = 0.3, cell = 0.02;
+
+  Scene MakeScene() const {
+    Scene scene;
+    scene.objects.push_back({"floor", Role::kTarget, MakePlane(4, 4), {}});
+    TriangleMesh box = MakeBox(Vec3(2, 4, h));
+    box.Transform(Pose{Vec3(1, 0, h / 2), Quat::Identity()});
+    scene.objects.push_back({"step", Role::kOccluder, std::move(box), {}});
+    return scene;
+  }
+
+  Candidate Camera() const {
+    Candidate c;
+    c.name = "cam";
+    c.type_id = "structured_light";
+    // 301 px over 0.5 rad: pixel centres fall off the cell boundaries of the strip.
+    c.sensor = SensorType::FromFov(c.type_id, 301, 301, 0.5, std::nullopt, 0.1, 5.0);
+    SecondAperture projector;
+    projector.kind = SecondAperture::Kind::kProjector;
+    projector.baseline = baseline;
+    projector.hfov = projector.vfov = 2.0;  // wide: the whole image is in its field
+    c.sensor.second_aperture = projector;
+    // Body x (forward) = -z, body -y (image right) = +x, body z = +y.
+    Mat3 r;
+    r.col(0) = Vec3(0, 0, -1);
+    r.col(1) = Vec3(-1, 0, 0);
+    r.col(2) = Vec3(0, 1, 0);
+    c.world_from_body = Pose{Vec3(0, 0, H), Quat(r)};
+    return c;
+  }
+};
+
+TEST(Physical, StepShadowDropsExactlyTheStripGeometryGives) {
+  const Step step;
+  const double strip = step.h * step.baseline / (step.H - step.h);  // 0.1 m: 5 cells
+  ASSERT_NEAR(strip, 0.1, 1e-12);
+  const Scene scene = step.MakeScene();
+  const Reference reference = BuildReference(scene, {step.cell});
+  const std::vector<Candidate> cams = {step.Camera()};
+  const std::set<uint64_t> ideal = CellsOf(Observe(scene, reference, cams, Model(false))[0], reference);
+  const std::set<uint64_t> physical =
+      CellsOf(Observe(scene, reference, cams, Model(true))[0], reference);
+  ASSERT_GT(ideal.size(), 500u);
+  // Cell by cell: a floor cell is dropped exactly when its x extent lies inside the strip.
+  size_t expected_drops = 0;
+  for (uint64_t key : ideal) {
+    const VoxelIndex index = UnpackVoxel(key);
+    const double x0 = index[0] * step.cell, x1 = x0 + step.cell;
+    const bool in_strip = x0 >= -strip - 1e-9 && x1 <= 1e-9;
+    expected_drops += in_strip ? 1 : 0;
+    EXPECT_EQ(physical.count(key) == 0, in_strip)
+        << "cell x in [" << x0 << ", " << x1 << "], y index " << index[1];
+  }
+  // Every observed row of the image crosses the strip: 5 cells per row.
+  EXPECT_GT(expected_drops, 5u * 40);
+  EXPECT_EQ(ideal.size() - physical.size(), expected_drops);
+  for (uint64_t key : physical) EXPECT_EQ(ideal.count(key), 1u);  // nothing gained
+}
+
+TEST(Physical, ZeroBaselineDropsNothing) {
+  Step step;
+  step.baseline = 0;
+  const Scene scene = step.MakeScene();
+  const Reference reference = BuildReference(scene, {step.cell});
+  const std::vector<Candidate> cams = {step.Camera()};
+  const Observation ideal = Observe(scene, reference, cams, Model(false))[0];
+  const Observation physical = Observe(scene, reference, cams, Model(true))[0];
+  EXPECT_EQ(physical.reference_indices, ideal.reference_indices);
+  EXPECT_EQ(physical.target_pixels, ideal.target_pixels);
+  EXPECT_FALSE(physical.ideal_differs);
+}
+
+// A stereo camera at the origin looking along +x at a plane whose depth grows across the image.
+// Stereo refuses exactly the pixels whose analytic depth is below f·B/d_max.
+TEST(Physical, StereoRefusesExactlyThePointsNearerThanFBOverDmax) {
+  Candidate cam;
+  cam.name = "stereo";
+  cam.type_id = "stereo";
+  cam.sensor = SensorType::FromFov("stereo", 120, 90, 1.0, std::nullopt, 0.1, 5.0);
+  SecondAperture imager;
+  imager.kind = SecondAperture::Kind::kImager;
+  imager.baseline = 0.05;
+  imager.width = imager.height = 400;  // a wide right imager: its field holds every point
+  imager.fx = imager.fy = 50;
+  imager.cx = imager.cy = 200;
+  imager.disparity_range = 8;
+  cam.sensor.second_aperture = imager;
+  cam.world_from_body = Pose{Vec3::Zero(), Quat::Identity()};
+  const double nearest = cam.sensor.fx * 0.05 / 8;
+  EXPECT_DOUBLE_EQ(StereoNearestDepth(cam.sensor, imager), nearest);
+  ASSERT_GT(nearest, 0.5);
+  ASSERT_LT(nearest, 0.7);
+
+  // The plane through (0.6, 0, 0) with normal (1, -0.6, 0): depth 0.6 / (1 + 0.6 r) along the
+  // ray (1, r, .), from about 0.46 m to 0.9 m over the image.
+  const Vec3 normal = Vec3(1, -0.6, 0).normalized();
+  TriangleMesh plane = MakePlane(6, 6);
+  const Quat to_normal = Quat::FromTwoVectors(Vec3::UnitZ(), normal);
+  plane.Transform(Pose{Vec3(0.6, 0, 0), to_normal});
+  Scene scene;
+  scene.objects.push_back({"plane", Role::kTarget, std::move(plane), {}});
+  const Reference reference = BuildReference(scene, {0.01});
+
+  uint64_t all = 0, far_enough = 0;
+  double margin = 1;
+  for (int v = 0; v < cam.sensor.height; ++v) {
+    for (int u = 0; u < cam.sensor.width; ++u) {
+      const Vec3 d = PixelRayInBody(cam.sensor, u, v);
+      const double depth = normal.dot(Vec3(0.6, 0, 0)) / normal.dot(d);
+      ++all;
+      far_enough += depth >= nearest ? 1 : 0;
+      margin = std::min(margin, std::abs(depth - nearest));
+    }
+  }
+  ASSERT_GT(margin, 1e-5);  // no pixel within float rounding of the limit
+  ASSERT_GT(far_enough, all / 5);
+  ASSERT_LT(far_enough, all * 4 / 5);
+  const std::vector<Candidate> cams = {cam};
+  EXPECT_EQ(Observe(scene, reference, cams, Model(false))[0].target_pixels, all);
+  const Observation physical = Observe(scene, reference, cams, Model(true))[0];
+  EXPECT_EQ(physical.target_pixels, far_enough);
+  EXPECT_TRUE(physical.ideal_differs);
+}
+
+// A projector with a 10 deg cone turned 45 deg toward +y from 0.2 m to the camera's right: at
+// 1 m its cone is centred 0.8 m left of the camera's axis, radius about 0.1 m, and misses a
+// 0.2 m target on the axis entirely.
+TEST(Physical, ApertureLookingElsewhereDropsEverything) {
+  Candidate cam;
+  cam.name = "cam";
+  cam.type_id = "cone";
+  cam.sensor = SensorType::FromFov("cone", 100, 100, 0.6, std::nullopt, 0.1, 5.0);
+  SecondAperture projector;
+  projector.kind = SecondAperture::Kind::kProjector;
+  projector.baseline = 0.2;
+  projector.toe_in = kPi / 4;
+  projector.cone = 10 * kPi / 180;
+  cam.sensor.second_aperture = projector;
+  cam.world_from_body = Pose{Vec3::Zero(), Quat::Identity()};
+  TriangleMesh target = MakePlane(0.2, 0.2);
+  target.Transform(Pose{Vec3(1, 0, 0), Quat::FromTwoVectors(Vec3::UnitZ(), -Vec3::UnitX())});
+  Scene scene;
+  scene.objects.push_back({"target", Role::kTarget, std::move(target), {}});
+  const Reference reference = BuildReference(scene, {0.01});
+  const std::vector<Candidate> cams = {cam};
+  const Observation ideal = Observe(scene, reference, cams, Model(false))[0];
+  const Observation physical = Observe(scene, reference, cams, Model(true))[0];
+  EXPECT_EQ(ideal.reference_indices.size(), reference.size());
+  EXPECT_TRUE(physical.reference_indices.empty());
+  EXPECT_EQ(physical.target_pixels, 0u);
+  EXPECT_EQ(physical.ideal_reference_indices, ideal.reference_indices);
+  // Turned away (no toe-in) the same cone, centred 0.2 m right of the target, still misses it;
+  // a cone wide enough to hold the target sees all of it.
+  cam.sensor.second_aperture->toe_in = 0;
+  cam.sensor.second_aperture->cone = 60 * kPi / 180;
+  EXPECT_EQ(Observe(scene, reference, std::vector<Candidate>{cam}, Model(true))[0].reference_indices,
+            ideal.reference_indices);
+}
+
+// The tiny CLI scene with the custom type given a second aperture.
+std::string CubeCellWithAperture(const std::string& aperture) {
+  std::string text = test::ReadText(test::DataPath("cli/cube_cell.yaml"));
+  const std::string range = "    range: [0.1, 3.0]\n";
+  const size_t at = text.find(range);
+  EXPECT_NE(at, std::string::npos);
+  text.insert(at + range.size(), aperture);
+  return text;
+}
+
+TEST(Physical, BadApertureIsRefusedAtItsLineBeforeAnyRay) {
+  test::TempDir dir;
+  struct BadCase {
+    std::string aperture;
+    int line;
+    std::string what;
+  };
+  // Line 15 is `second_aperture:`, its fields follow.
+  const std::vector<BadCase> cases = {
+      {"    second_aperture:\n      kind: imager\n      baseline: -0.05\n", 17, "baseline = -0.05"},
+      {"    second_aperture:\n      kind: imager\n      baseline: .nan\n", 17, "baseline"},
+      {"    second_aperture:\n      kind: projector\n      baseline: 3\n", 17, "no sensor body"},
+      {"    second_aperture:\n      kind: imager\n      baseline: 0.05\n      disparity_range: -8\n",
+       18, "disparity_range = -8"},
+      {"    second_aperture:\n      kind: imager\n      baseline: 0.05\n      disparity_range: 1000\n",
+       18, "the image's width"},
+      {"    second_aperture:\n      kind: projector\n      baseline: 0.05\n      hfov_deg: 190\n",
+       18, "hfov_deg = 190"},
+      {"    second_aperture:\n      kind: projector\n      cone_deg: .nan\n", 17, "cone_deg"},
+      {"    second_aperture:\n      kind: projector\n      toe_in_deg: -3\n", 17, "toe_in_deg = -3"},
+      {"    second_aperture:\n      kind: laser\n", 16, "kind 'laser'"},
+      {"    second_aperture:\n      kind: projector\n      disparity_range: 64\n", 15,
+       "disparity_range belongs to a second imager"},
+  };
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const BadCase& c = cases[i];
+    SCOPED_TRACE(c.aperture);
+    const std::string path = dir.File("bad" + std::to_string(i) + ".yaml");
+    test::WriteText(path, CubeCellWithAperture(c.aperture));
+    const auto run = test::RunVantage("optimize " + path + " --out " + dir.File("out"));
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+    EXPECT_NE(run.err.find(path + ":" + std::to_string(c.line) + ":"), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find(c.what), std::string::npos) << run.err;
+    EXPECT_EQ(run.err.find("observe:"), std::string::npos) << "no ray before the refusal";
+  }
+  // A good aperture loads and runs.
+  const std::string good = dir.File("good.yaml");
+  test::WriteText(good, CubeCellWithAperture("    second_aperture:\n      kind: imager\n"
+                                             "      baseline: 0.05\n      disparity_range: 64\n"));
+  const auto run = test::RunVantage("optimize " + good + " --out " + dir.File("good_out"));
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+}
+
+}  // namespace
+}  // namespace vantage
