@@ -35,6 +35,7 @@ class VisFile:
     exposed: list = dataclasses.field(default_factory=list)  # per key, 1 exposed (version 6)
     exposed_only: bool = False  # unexposed cells left out of R (version 6)
     left_out: list = dataclasses.field(default_factory=list)  # per part, cells left out (version 6)
+    physical: bool = False  # observed with the physical sensor model (version 7)
 
 
 class _Reader:
@@ -98,11 +99,16 @@ def read_vis(path):
     r = _Reader(data[:-8])
     r.at = 8
     version = r.u32()
-    assert version in (4, 5, 6), f"format version {version}"
+    assert version in (4, 5, 6, 7), f"format version {version}"
     scene, seed = r.string(), r.u64()
     r.u32(), r.u32(), r.f64()  # n, RANSAC iterations and stop coverage
     r.string(), r.optional(), r.u32(), r.optional()  # method, goal, k, budget
     r.optional(), r.optional()  # quality: max incidence, max depth noise
+    physical = False
+    if version >= 7:
+        flag = r.u32()  # the sensor model: 0 ideal, 1 physical
+        assert flag <= 1, f"sensor model flag {flag}"
+        physical = flag == 1
     cell_size = r.f64()
     keys = r.u64s()
     candidates = []
@@ -117,6 +123,9 @@ def read_vis(path):
             flag = r.u32()  # 0 unset, 1 false, 2 true
             assert flag <= 2, f"interferes flag {flag}"
             interferes = None if flag == 0 else flag == 2
+        if version >= 7 and r.u32():  # second aperture: presence, then its fields
+            assert r.u32() <= 2, "second aperture kind"
+            r.take("<5d"), r.u32(), r.u32(), r.take("<4d"), r.optional(), r.string()
         position = r.take("<3d")
         quaternion = r.take("<4d")
         indices = r.u32s()
@@ -124,9 +133,14 @@ def read_vis(path):
         rays = r.u64()
         r.u32s(), r.u64(), r.u64()  # plain cells, target and quality pixels
         hits = r.u16s()
+        if version >= 7:
+            differs = r.u32()  # the ideal pinhole's cells, when the physical model changed them
+            ideal = r.u32s()
+            assert differs <= 1 and (differs or not ideal), "ideal cells"
         candidates.append(VisCandidate(name, type_id, population, position, quaternion, indices,
                                        rays, hits, interferes))
     vis = VisFile(version, scene, seed, cell_size, keys, candidates)
+    vis.physical = physical
     if version >= 5:
         for _ in range(r.u64()):  # keep-out boxes
             name = r.string()
