@@ -18,6 +18,7 @@ PACKAGES=(
   python3-setuptools python3-wheel python3-pip python3-venv
   libopenmpi-dev openmpi-bin jq
   python3-jsonschema python3-yaml libexpat1-dev
+  libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-ocaf-dev
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

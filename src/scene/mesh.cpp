@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "scene/ply_body.hpp"
+#include "scene/step_reader.hpp"
 #include "util/isolated.hpp"
 #include "util/run_files.hpp"
 #include "vantage/error.hpp"
@@ -474,6 +475,7 @@ TriangleMesh MeshFromBytes(const std::string& bytes) {
 }  // namespace
 
 TriangleMesh ReadMeshFile(const std::string& path) {
+  if (detail::IsCadFile(path)) return detail::ReadCadMesh(path, detail::kDefaultCadDeflection);
   detail::NoteInputFile(path, "mesh file");
   std::error_code error;
   if (std::filesystem::is_directory(path, error))

@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "scene/step_reader.hpp"
 #include "util/cell_size.hpp"
 #include "util/words.hpp"
 #include "vantage/error.hpp"
@@ -345,6 +346,11 @@ class SceneReader {
   Problem* problem_;
   int objects_line_ = 0;
   std::map<std::string, TriangleMesh> mesh_cache_;  ///< by resolved path, unscaled (ReadMeshFile)
+  /// A CAD file's parts (issue 46), by absolute path, unscaled: an assembly's objects.
+  std::map<std::string, std::vector<detail::CadPart>> cad_parts_;
+  std::set<int> by_colour_lines_;  ///< objects given `role: by_colour`, by line
+  /// `object`, or one object per solid when its mesh is a CAD assembly (CadParts).
+  std::vector<SceneObject> CadParts(SceneObject object, int line);
   std::vector<SceneRobot> robots_;                  ///< `robots:` read without errors, in order
   std::vector<std::string> rejected_robots_;        ///< names of robots that had errors
   std::vector<LinkMount> link_mounts_;              ///< sensors mounted on a robot link
@@ -1101,13 +1107,68 @@ void SceneReader::ReadObjects(const Value& input) {
   for (const Value& item : items) {
     std::optional<SceneObject> object = ReadObject(item);
     if (!object) continue;
-    if (!names.insert(object->name).second) {
-      Error(item.line,
-            fmt::format("object name '{}' is used twice — names must be unique", object->name));
-      continue;
+    for (SceneObject& piece : CadParts(std::move(*object), item.line)) {
+      if (!names.insert(piece.name).second) {
+        Error(item.line,
+              fmt::format("object name '{}' is used twice — names must be unique", piece.name));
+        continue;
+      }
+      problem_->scene.objects.push_back(std::move(piece));
     }
-    problem_->scene.objects.push_back(std::move(*object));
   }
+}
+
+// A CAD assembly (issue 46): one object per solid, named "OBJECT/PART" from the file's product
+// names, so that --target OBJECT/PART picks a part; `role: by_colour` makes the parts whose colour
+// in the file is the paper's green (0, 255, 0 in 8 bits) targets and the others occluders.
+std::vector<SceneObject> SceneReader::CadParts(SceneObject object, int line) {
+  const bool by_colour = by_colour_lines_.count(line) > 0;
+  const auto parts = object.shapes.size() == 1 && object.shapes[0].kind == ShapeSource::Kind::kMesh
+                         ? cad_parts_.find(object.shapes[0].mesh_path)
+                         : cad_parts_.end();
+  if (parts == cad_parts_.end()) {
+    if (by_colour)
+      Error(line, fmt::format("object '{}': role by_colour takes the roles from a CAD file's "
+                              "colours — give a mesh file .step/.stp/.iges/.igs, or role target "
+                              "or occluder",
+                              object.name));
+    std::vector<SceneObject> one;
+    one.push_back(std::move(object));
+    return one;
+  }
+  const auto is_green = [](const std::optional<std::array<double, 3>>& c) {
+    const auto byte = [](double v) { return static_cast<int>(std::lround(255.0 * v)); };
+    return c && byte((*c)[0]) == 0 && byte((*c)[1]) == 255 && byte((*c)[2]) == 0;
+  };
+  const ShapeSource& source = object.shapes[0];
+  if (parts->second.size() == 1 && !by_colour) {
+    std::vector<SceneObject> one;
+    one.push_back(std::move(object));
+    return one;
+  }
+  std::vector<SceneObject> pieces;
+  size_t targets = 0;
+  for (const detail::CadPart& part : parts->second) {
+    SceneObject piece;
+    piece.name = parts->second.size() == 1 ? object.name : object.name + "/" + part.name;
+    piece.role = by_colour ? (is_green(part.colour) ? Role::kTarget : Role::kOccluder) : object.role;
+    targets += piece.is_target() ? 1 : 0;
+    piece.file = object.file;
+    piece.line = object.line;
+    try {
+      piece.mesh = ScaledMesh(part.mesh, source.scale, source.mesh_path);
+    } catch (const InputError&) {
+      continue;  // a part of degenerate triangles only: the others are the object
+    }
+    piece.mesh.Transform(source.world_from_shape);
+    // No shapes: exports write the triangles, not the whole CAD file once per part.
+    pieces.push_back(std::move(piece));
+  }
+  if (by_colour && targets == 0)
+    Error(line, fmt::format("object '{}': role by_colour, but no part of {} is green (0, 255, 0) "
+                            "— colour the targets green in CAD, or give role target",
+                            object.name, source.mesh_path));
+  return pieces;
 }
 
 std::optional<SceneObject> SceneReader::ReadObject(const Value& input,
@@ -1126,9 +1187,11 @@ std::optional<SceneObject> SceneReader::ReadObject(const Value& input,
     if (const auto role = Text(*v, what + ".role")) {
       if (*role == "target") {
         object.role = Role::kTarget;
+      } else if (*role == "by_colour") {  // a CAD file's colours decide (CadParts)
+        by_colour_lines_.insert(input.line);
       } else if (*role != "occluder") {
         Error(v->line, fmt::format("{}: role '{}' is unknown — {}", what, *role,
-                                   Suggest(*role, {"target", "occluder"})));
+                                   Suggest(*role, {"target", "occluder", "by_colour"})));
       }
     }
   }
@@ -1301,7 +1364,16 @@ std::optional<TriangleMesh> SceneReader::CachedMesh(const fs::path& resolved,
   auto cached = mesh_cache_.find(key);
   if (cached == mesh_cache_.end()) {
     try {
-      cached = mesh_cache_.emplace(key, ReadMeshFile(key)).first;
+      if (detail::IsCadFile(key)) {
+        // Meshed to a quarter cell (issue 46); the parts kept for an assembly's objects.
+        std::vector<detail::CadPart> parts = detail::ReadCadFile(key, problem_->cell_size / 4.0);
+        TriangleMesh joined;
+        for (const detail::CadPart& part : parts) joined.Append(part.mesh);
+        cad_parts_[fs::absolute(resolved).lexically_normal().string()] = std::move(parts);
+        cached = mesh_cache_.emplace(key, std::move(joined)).first;
+      } else {
+        cached = mesh_cache_.emplace(key, ReadMeshFile(key)).first;
+      }
     } catch (const InputError& e) {
       Error(line, e.what());
       return std::nullopt;

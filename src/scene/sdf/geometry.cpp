@@ -9,6 +9,7 @@
 #include <string>
 
 #include "scene/sdf/loader.hpp"
+#include "scene/step_reader.hpp"
 #include "scene/sdf/text.hpp"
 
 namespace vantage::detail::gazebo {
@@ -37,7 +38,10 @@ const TriangleMesh* Loader::LoadMesh(const std::string& path, const Doc& doc, in
   if (it != meshes_.end()) return it->second.get();
   std::unique_ptr<TriangleMesh> mesh;
   try {
-    mesh = std::make_unique<TriangleMesh>(ReadMeshFile(path));
+    // A CAD file is meshed to a quarter cell (issue 46; step_reader.hpp).
+    mesh = std::make_unique<TriangleMesh>(detail::IsCadFile(path)
+                                              ? detail::ReadCadMesh(path, problem_.cell_size / 4.0)
+                                              : ReadMeshFile(path));
   } catch (const InputError& e) {
     Error(doc, line, fmt::format("<mesh> cannot be loaded: {}", e.what()));
   }
