@@ -195,6 +195,66 @@ TEST(Physical, ApertureLookingElsewhereDropsEverything) {
             ideal.reference_indices);
 }
 
+// The catalog's stereo apertures give the nearest depths the issue quotes, computed here from the
+// datasheets' own numbers (depth field, baseline) and the 126-disparity search, independently of
+// the catalog's focal lengths: D415 at 1280x720 about 0.44 m, D435 at 848x480 about 0.17 m.
+TEST(Physical, CatalogStereoNearestDepthsMatchTheDatasheets) {
+  const auto nearest = [](const char* id) {
+    const SensorType* type = FindCatalogType(id);
+    EXPECT_NE(type, nullptr) << id;
+    if (!type) return 0.0;
+    const SecondAperture* aperture = SecondApertureOf(*type, id);
+    EXPECT_NE(aperture, nullptr) << id;
+    return aperture ? StereoNearestDepth(*type, *aperture) : 0.0;
+  };
+  const auto by_hand = [](int width, double hfov_deg, double baseline) {
+    return width / 2.0 / std::tan(hfov_deg / 2 * kPi / 180) * baseline / 126;
+  };
+  EXPECT_NEAR(nearest("intel_realsense_d415_1280x720"), by_hand(1280, 65, 0.055), 1e-9);
+  EXPECT_NEAR(nearest("intel_realsense_d415_1280x720"), 0.44, 0.01);
+  EXPECT_NEAR(nearest("intel_realsense_d435_848x480"), by_hand(848, 87, 0.050), 1e-9);
+  EXPECT_NEAR(nearest("intel_realsense_d435_848x480"), 0.17, 0.01);
+  // Halving the resolution halves f and with it the nearest depth (the whitepaper's advice).
+  EXPECT_NEAR(nearest("intel_realsense_d415_848x480") / nearest("intel_realsense_d415_1280x720"),
+              848.0 / 1280.0, 1e-9);
+}
+
+// Every entry validates; apertures only where a source gave them (structured light's projector,
+// stereo's second imager, none for time of flight); the paper's types keep their intrinsics.
+TEST(Physical, CatalogEntriesValidateAndKeepThePapersTypes) {
+  for (const SensorType& type : Catalog()) {
+    SCOPED_TRACE(type.id);
+    EXPECT_NO_THROW(type.Validate());
+    EXPECT_EQ(MatchCatalogId(type), type.id);  // no two entries share intrinsics and range
+    if (!type.second_aperture) continue;
+    const SecondAperture& a = *type.second_aperture;
+    EXPECT_FALSE(a.source.empty());
+    EXPECT_FALSE(type.technology.starts_with("time of flight"));
+    EXPECT_EQ(a.kind == SecondAperture::Kind::kImager,
+              type.technology.find("stereo") != std::string::npos);
+  }
+  // Gazebo's models of the original system (SENSORS.md): W, H, hfov, near, far.
+  struct Paper {
+    const char* id;
+    int w, h;
+    double hfov, near, far;
+  };
+  for (const Paper& p : {Paper{"kinect_xbox_360", 640, 480, 0.994838, 0.4, 4.0},
+                         Paper{"intel_realsense_d415", 1280, 720, 1.106539, 0.16, 10.0},
+                         Paper{"zed", 4416, 1242, 1.91986, 0.7, 20.0},
+                         Paper{"multisense_s7", 2048, 1088, 1.39626, 0.4, 5.0}}) {
+    const SensorType gazebo =
+        SensorType::FromFov(p.id, p.w, p.h, p.hfov, std::nullopt, p.near, p.far);
+    EXPECT_EQ(MatchCatalogId(gazebo), p.id);
+  }
+  const SensorType* kinect = FindCatalogType("kinect_xbox_360");
+  ASSERT_TRUE(kinect && kinect->second_aperture);
+  EXPECT_EQ(kinect->second_aperture->kind, SecondAperture::Kind::kProjector);
+  EXPECT_DOUBLE_EQ(kinect->second_aperture->baseline, 0.075);
+  EXPECT_EQ(SecondApertureOf(*FindCatalogType("azure_kinect_wfov_unbinned"), "azure_kinect_wfov_unbinned"),
+            nullptr);
+}
+
 // The tiny CLI scene with the custom type given a second aperture.
 std::string CubeCellWithAperture(const std::string& aperture) {
   std::string text = test::ReadText(test::DataPath("cli/cube_cell.yaml"));

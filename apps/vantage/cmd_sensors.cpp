@@ -22,10 +22,10 @@ void RunSensors(bool as_json) {
     fmt::print("{}\n", list.dump(2));
     return;
   }
-  fmt::print("{:<22} {:<34} {:>10} {:>13} {:>12} {:>5} {:>7}\n", "id", "sensor", "W x H",
+  fmt::print("{:<29} {:<34} {:>10} {:>13} {:>12} {:>5} {:>7}\n", "id", "sensor", "W x H",
              "fov (deg)", "range (m)", "fps", "cost");
   for (const SensorType& s : Catalog()) {
-    fmt::print("{:<22} {:<34} {:>10} {:>13} {:>12} {:>5} {:>7}\n", s.id, s.name,
+    fmt::print("{:<29} {:<34} {:>10} {:>13} {:>12} {:>5} {:>7}\n", s.id, s.name,
                fmt::format("{}x{}", s.width, s.height),
                fmt::format("{:.1f}x{:.1f}", s.HorizontalFov() * kRadToDeg, s.VerticalFov() * kRadToDeg),
                fmt::format("{:g}-{:g}", s.near, s.far), s.fps, s.cost);

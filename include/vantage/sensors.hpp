@@ -90,7 +90,8 @@ struct SensorType {
                             std::optional<double> vfov, double near, double far);
 };
 
-/// The 14 types of SENSORS.md, in its order.
+/// The ten types of the original system (SENSORS.md), then current cameras and their modes from
+/// datasheets (docs/sensor-models.md), in that order.
 const std::vector<SensorType>& Catalog();
 /// Catalog entry by id, or nullptr.
 const SensorType* FindCatalogType(std::string_view id);

@@ -51,6 +51,41 @@ SensorType WithD400Noise(SensorType t, double baseline_m) {
   return t;
 }
 
+// The second apertures of the catalog (issue 43; docs/sensor-models.md, "The catalog's apertures"):
+// each number from the source named in the aperture's `source`; what no source gives (a
+// projector's field, a disparity search range) stays unset rather than guessed.
+SecondAperture Imager(double baseline, std::optional<double> disparity_range, std::string source) {
+  SecondAperture a;
+  a.kind = SecondAperture::Kind::kImager;
+  a.baseline = baseline;
+  a.disparity_range = disparity_range;
+  a.source = std::move(source);
+  return a;
+}
+
+SecondAperture Projector(double baseline, std::string source) {
+  SecondAperture a;
+  a.kind = SecondAperture::Kind::kProjector;
+  a.baseline = baseline;
+  a.source = std::move(source);
+  return a;
+}
+
+// Intel's D4 vision processor searches 126 disparities (Grunnet-Jepsen et al., "Tuning depth
+// cameras for best performance": MinZ = focal length [px] x baseline / 126); baselines from the
+// Intel RealSense D400 Series datasheet (337029).
+SecondAperture D400Imager(double baseline) {
+  return Imager(baseline, 126.0,
+                fmt::format("Intel D400 datasheet: baseline {:g} mm; Intel tuning whitepaper: "
+                            "126-disparity search",
+                            baseline * 1000));
+}
+
+SensorType WithAperture(SensorType t, SecondAperture aperture) {
+  t.second_aperture = std::move(aperture);
+  return t;
+}
+
 constexpr double kPi = std::numbers::pi;
 
 // A full field angle in (0, pi) [rad].
@@ -225,12 +260,18 @@ void SensorType::Validate(const std::string& where) const {
 }
 
 const std::vector<SensorType>& Catalog() {
-  // SENSORS.md: the ten types of the original system (Gazebo values, square pixels), then four
-  // current cameras from vendors' datasheets (separate fields of view).
+  // SENSORS.md: the ten types of the original system (Gazebo values, square pixels: their ids and
+  // intrinsics stay, so the paper's worlds still match them), then current cameras and modes from
+  // vendors' datasheets (separate fields of view). docs/sensor-models.md gives each number's
+  // source.
   static const std::vector<SensorType> catalog = {
-      WithNoise(Entry("kinect_xbox_360", "Microsoft Kinect for Xbox 360", "structured light", 640,
-                      480, 0.994838, std::nullopt, 0.4, 4.0, 30, 150),
-                PrimeSenseNoise("")),
+      // Khoshelham and Oude Elberink, "Accuracy and Resolution of Kinect Depth Data for Indoor
+      // Mapping Applications", Sensors 12(2), 2012: IR projector 7.5 cm from the IR camera.
+      WithAperture(
+          WithNoise(Entry("kinect_xbox_360", "Microsoft Kinect for Xbox 360", "structured light",
+                          640, 480, 0.994838, std::nullopt, 0.4, 4.0, 30, 150),
+                    PrimeSenseNoise("")),
+          Projector(0.075, "Khoshelham and Oude Elberink, Sensors 2012: projector-camera base 7.5 cm")),
       WithNoise(Entry("asus_xtion_pro_live", "ASUS Xtion PRO LIVE", "structured light", 640, 480,
                       1.01229, std::nullopt, 0.5, 3.5, 30, 200),
                 PrimeSenseNoise("same PrimeSense PS1080 engine as the Kinect for Xbox 360; ")),
@@ -244,23 +285,36 @@ const std::vector<SensorType>& Catalog() {
                  "Fankhauser et al., ICAR 2015: 1.5 - 0.5 z + 0.3 z^2 mm at normal incidence"}),
       Entry("orbbec_astra", "Orbbec Astra", "structured light", 640, 480, 1.0472, std::nullopt,
             0.6, 8.0, 30, 150),
-      Entry("multisense_s7", "Carnegie Robotics MultiSense S7", "stereo", 2048, 1088, 1.39626,
-            std::nullopt, 0.4, 5.0, 15, 6000),
+      // Carnegie Robotics: the S7's stereo baseline is 7 cm; the MultiSense searches 64, 128 or
+      // 256 disparities (support article "What does maximum disparities mean?"): the widest.
+      WithAperture(Entry("multisense_s7", "Carnegie Robotics MultiSense S7", "stereo", 2048, 1088,
+                         1.39626, std::nullopt, 0.4, 5.0, 15, 6000),
+                   Imager(0.07, 256.0,
+                          "Carnegie Robotics MultiSense S7 datasheet: baseline 70 mm; up to 256 "
+                          "disparities")),
       Entry("intel_realsense_sr300", "Intel RealSense SR300", "structured light (coded)", 640,
             480, 1.24791, std::nullopt, 0.2, 1.5, 60, 150),
-      Entry("zed", "Stereolabs ZED", "stereo", 4416, 1242, 1.91986, std::nullopt, 0.7, 20.0, 15,
-            450),
-      WithD400Noise(Entry("intel_realsense_d415", "Intel RealSense D415", "active stereo", 1280,
-                          720, 1.106539, std::nullopt, 0.16, 10.0, 90, 300),
-                    0.055),
+      // Stereolabs ZED datasheet: baseline 120 mm; its disparity search is not published.
+      WithAperture(Entry("zed", "Stereolabs ZED", "stereo", 4416, 1242, 1.91986, std::nullopt, 0.7,
+                         20.0, 15, 450),
+                   Imager(0.12, std::nullopt, "Stereolabs ZED datasheet: baseline 120 mm")),
+      WithAperture(WithD400Noise(Entry("intel_realsense_d415", "Intel RealSense D415",
+                                       "active stereo", 1280, 720, 1.106539, std::nullopt, 0.16,
+                                       10.0, 90, 300),
+                                 0.055),
+                   D400Imager(0.055)),
       Entry("photoneo_phoxi_s", "Photoneo PhoXi 3D Scanner S", "structured light", 2064, 1536,
             0.672088562, std::nullopt, 0.354, 0.588, 5, 9000),
-      WithD400Noise(Entry("intel_realsense_d435", "Intel RealSense D435", "active stereo", 1280,
-                          720, 87 * kDeg, 58 * kDeg, 0.28, 10.0, 90, 300),
-                    0.050),
-      WithD400Noise(Entry("intel_realsense_d455", "Intel RealSense D455", "active stereo", 1280,
-                          720, 87 * kDeg, 58 * kDeg, 0.52, 6.0, 90, 400),
-                    0.095),
+      WithAperture(WithD400Noise(Entry("intel_realsense_d435", "Intel RealSense D435",
+                                       "active stereo", 1280, 720, 87 * kDeg, 58 * kDeg, 0.28,
+                                       10.0, 90, 300),
+                                 0.050),
+                   D400Imager(0.050)),
+      WithAperture(WithD400Noise(Entry("intel_realsense_d455", "Intel RealSense D455",
+                                       "active stereo", 1280, 720, 87 * kDeg, 58 * kDeg, 0.52,
+                                       6.0, 90, 400),
+                                 0.095),
+                   D400Imager(0.095)),
       // Azure Kinect DK hardware specification: random error std. dev. <= 17 mm (an upper
       // bound, constant over the range).
       WithNoise(Entry("azure_kinect_nfov", "Azure Kinect DK, NFOV unbinned", "time of flight", 640,
@@ -268,6 +322,34 @@ const std::vector<SensorType>& Catalog() {
                 {0.017, 0, 0, "Azure Kinect DK hardware specification: random error <= 17 mm"}),
       WithNoise(Entry("azure_kinect_wfov", "Azure Kinect DK, WFOV 2x2 binned", "time of flight",
                       512, 512, 120 * kDeg, 120 * kDeg, 0.25, 2.88, 30, 400),
+                {0.017, 0, 0, "Azure Kinect DK hardware specification: random error <= 17 mm"}),
+      // Modes (issue 43). D400 datasheet: D415 depth field 65 x 40 deg, Min-Z at 1280x720 about
+      // 0.45 m (also the tuning whitepaper's MinZ for disparity shift 0), depth at 1280x720 up to
+      // 30 fps, at 848x480 up to 90 fps; the family's range 0.16 (D415) / 0.11 (D430 module of
+      // the D435) to 10 m where no Min-Z is given for the mode. Stereo's own nearest depth
+      // f·B/126 applies on top under the physical model.
+      WithAperture(WithD400Noise(Entry("intel_realsense_d415_1280x720",
+                                       "Intel RealSense D415, 1280x720", "active stereo", 1280,
+                                       720, 65 * kDeg, 40 * kDeg, 0.45, 10.0, 30, 300),
+                                 0.055),
+                   D400Imager(0.055)),
+      WithAperture(WithD400Noise(Entry("intel_realsense_d415_848x480",
+                                       "Intel RealSense D415, 848x480", "active stereo", 848, 480,
+                                       65 * kDeg, 40 * kDeg, 0.16, 10.0, 90, 300),
+                                 0.055),
+                   D400Imager(0.055)),
+      WithAperture(WithD400Noise(Entry("intel_realsense_d435_848x480",
+                                       "Intel RealSense D435, 848x480", "active stereo", 848, 480,
+                                       87 * kDeg, 58 * kDeg, 0.11, 10.0, 90, 300),
+                                 0.050),
+                   D400Imager(0.050)),
+      // Azure Kinect DK hardware specification, depth modes: NFOV 2x2 binned 320x288, 75x65 deg,
+      // 0.5-5.46 m, 30 fps; WFOV unbinned 1024x1024, 120x120 deg, 0.25-2.21 m, 15 fps.
+      WithNoise(Entry("azure_kinect_nfov_binned", "Azure Kinect DK, NFOV 2x2 binned",
+                      "time of flight", 320, 288, 75 * kDeg, 65 * kDeg, 0.5, 5.46, 30, 400),
+                {0.017, 0, 0, "Azure Kinect DK hardware specification: random error <= 17 mm"}),
+      WithNoise(Entry("azure_kinect_wfov_unbinned", "Azure Kinect DK, WFOV unbinned",
+                      "time of flight", 1024, 1024, 120 * kDeg, 120 * kDeg, 0.25, 2.21, 15, 400),
                 {0.017, 0, 0, "Azure Kinect DK hardware specification: random error <= 17 mm"}),
   };
   return catalog;
