@@ -9,6 +9,8 @@
 #include <numbers>
 #include <set>
 
+#include <nlohmann/json.hpp>
+
 #include "test_util.hpp"
 #include "vantage/observe.hpp"
 #include "vantage/reference.hpp"
@@ -253,6 +255,73 @@ TEST(Physical, CatalogEntriesValidateAndKeepThePapersTypes) {
   EXPECT_DOUBLE_EQ(kinect->second_aperture->baseline, 0.075);
   EXPECT_EQ(SecondApertureOf(*FindCatalogType("azure_kinect_wfov_unbinned"), "azure_kinect_wfov_unbinned"),
             nullptr);
+}
+
+// --by-type on a scene whose answer is known by construction: a floating 0.1 m cube (faces in
+// the middle of 2 cm cells: R is the 6 x 6 x 6 shell, 152 cells), two `top` cameras at the same
+// pose 0.5 m above its top face and one `side` camera 0.5 m from its +x face. Each sees one face
+// (36 cells); the two faces share a row of 6 edge cells. So `top` alone covers 36 cells with one
+// camera or two, `side` 36 with its one, the mix of one of each 66: a gain of 30 cells.
+TEST(Physical, ByTypeFindsEachTypesBestAndTheMixGain) {
+  test::TempDir dir;
+  const std::string scene = dir.File("two_types.yaml");
+  test::WriteText(scene, R"(settings:
+  cell_size: 0.02
+  n: 2
+  observation_point: [0, 0, 0.06]
+sensor_types:
+  - {id: top, resolution: [160, 120], hfov: 1.0, range: [0.1, 3.0], cost: 100}
+  - {id: side, resolution: [160, 120], hfov: 1.0, range: [0.1, 3.0], cost: 30}
+objects:
+  - name: cube
+    role: target
+    box: {size: [0.1, 0.1, 0.1]}
+    pose: {xyz: [0, 0, 0.06]}
+sensors:
+  - {name: top_a, type: top, position: [0, 0, 0.61], orientation: {rpy: [0, 1.5707963267948966, 0]}}
+  - {name: top_b, type: top, position: [0, 0, 0.61], orientation: {rpy: [0, 1.5707963267948966, 0]}}
+  - {name: side_a, type: side, position: [0.55, 0, 0.06], orientation: {rpy: [0, 0, 3.141592653589793]}}
+)");
+  const std::string out = dir.File("out");
+  const auto run = test::RunVantage("optimize " + scene + " --by-type --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("by type"), std::string::npos) << run.out;
+  const nlohmann::json report = nlohmann::json::parse(test::ReadText(out + "/report.json"));
+  const double cells = 152;
+  ASSERT_EQ(report["reference_voxels"].get<double>(), cells);
+  const nlohmann::json& types = report["by_type"]["types"];
+  ASSERT_EQ(types.size(), 2u);
+  EXPECT_EQ(types[0]["type"], "top");
+  EXPECT_EQ(types[0]["candidates"], 2);
+  EXPECT_EQ(types[0]["unit_cost"], 100.0);
+  ASSERT_EQ(types[0]["best"].size(), 2u);  // n = 1 and 2
+  for (int n = 1; n <= 2; ++n) {
+    const nlohmann::json& best = types[0]["best"][n - 1];
+    EXPECT_EQ(best["n"], n);
+    EXPECT_NEAR(best["coverage"].get<double>() * cells, 36, 1e-9);
+    EXPECT_EQ(best["total_cost"], 100.0 * n);
+    EXPECT_EQ(best["optimal"], true);  // --method all proves it with exact
+  }
+  EXPECT_EQ(types[1]["type"], "side");
+  ASSERT_EQ(types[1]["best"].size(), 1u);  // one candidate: no pair of its own
+  EXPECT_NEAR(types[1]["best"][0]["coverage"].get<double>() * cells, 36, 1e-9);
+  const nlohmann::json& mix = report["by_type"]["mix"];
+  ASSERT_EQ(mix.size(), 2u);
+  EXPECT_NEAR(mix[0]["coverage"].get<double>() * cells, 36, 1e-9);
+  EXPECT_NEAR(mix[0]["gain"].get<double>(), 0, 1e-12);
+  EXPECT_NEAR(mix[1]["coverage"].get<double>() * cells, 66, 1e-9);
+  EXPECT_NEAR(mix[1]["gain"].get<double>() * cells, 30, 1e-9);
+  EXPECT_EQ(mix[1]["best_single_type"], "top");
+  EXPECT_EQ(mix[1]["types"], nlohmann::json::array({"top", "side"}));
+  EXPECT_EQ(mix[1]["total_cost"], 130.0);
+  EXPECT_EQ(mix[1]["optimal"], true);
+
+  // Objectives that do not choose n are refused before any ray, naming --by-type.
+  const auto goal = test::RunVantage("optimize " + scene + " --by-type --goal 0.2 --out " +
+                                     dir.File("goal"));
+  EXPECT_EQ(goal.exit_code, 2) << goal.err;
+  EXPECT_NE(goal.err.find("--by-type"), std::string::npos) << goal.err;
+  EXPECT_EQ(goal.err.find("observe:"), std::string::npos) << goal.err;
 }
 
 // The tiny CLI scene with the custom type given a second aperture.

@@ -42,6 +42,9 @@ void SetupOptimize(CLI::App* parent) {
                   "atomically; your own files there are kept)")
       ->check(OutPathValidator())
       ->capture_default_str();
+  app->add_flag("--by-type", flags->options.by_type,
+                "which sensor to buy: also choose the best constellation of each sensor type "
+                "alone at every n, and show what mixing types gains (report.json by_type)");
   app->add_flag("--refine", flags->refine,
                 "after selection, search new poses around the chosen sensors (inside their "
                 "regions, outside keep-out boxes), trace only those and re-select while coverage "

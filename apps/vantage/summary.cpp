@@ -256,6 +256,43 @@ void PrintConstraints(const Report& report) {
   }
 }
 
+// --by-type (issue 43): one row per sensor type, its best coverage alone at each n, then the
+// run's best (the mix) and what the mix gains over the best single type.
+void PrintByType(const TypeComparisonTable& table) {
+  if (table.mix.empty()) return;
+  const int first_n = table.mix.front().n, last_n = table.mix.back().n;
+  size_t width = 26;
+  for (const TypeComparison& type : table.types) width = std::max(width, type.type_id.size());
+  fmt::print("by type          each type alone: coverage % at n = {}..{} (* proven optimal), its "
+             "candidates and unit cost\n",
+             first_n, last_n);
+  const auto cells = [&](const std::vector<Selection>& best) {
+    std::string row;
+    for (int n = first_n; n <= last_n; ++n) {
+      const auto s = std::find_if(best.begin(), best.end(),
+                                  [n](const Selection& x) { return x.n == n; });
+      row += s == best.end() ? fmt::format(" {:>8}", "-")
+                             : fmt::format(" {:>7.2f}{}", 100.0 * s->coverage,
+                                           s->proven_optimal ? "*" : " ");
+    }
+    return row;
+  };
+  for (const TypeComparison& type : table.types)
+    fmt::print("  {:<{}} {:>4} × {:<8g}{}\n", type.type_id, width, type.candidates,
+               type.unit_cost, cells(type.best));
+  fmt::print("  {:<{}} {:>15}{}\n", "mix (the run's best)", width, "", cells(table.mix));
+  std::string gains;
+  for (const Selection& s : table.mix) {
+    double best_single = -1;
+    for (const TypeComparison& type : table.types)
+      for (const Selection& t : type.best)
+        if (t.n == s.n) best_single = std::max(best_single, t.coverage);
+    gains += best_single < 0 ? fmt::format(" {:>8}", "-")
+                             : fmt::format(" {:>+7.2f} ", 100.0 * (s.coverage - best_single));
+  }
+  fmt::print("  {:<{}} {:>15}{}\n", "gain over the best type", width, "", gains);
+}
+
 void PrintSummary(const Report& report, const std::string& out_dir) {
   const VisibilityFile& data = *report.data;
   const std::vector<Selection>& results = report.results;
@@ -368,6 +405,7 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
   }
   PrintParts(report, shown);
   PrintCoverageByN(results);
+  if (report.by_type) PrintByType(*report.by_type);
   PrintPoseTolerance(report);
   if (report.constraints) PrintConstraints(report);
   if (refinement) {

@@ -250,6 +250,10 @@ struct OptimizeOptions {
   std::optional<RefineOptions> refine;
   TraceFunction trace;  ///< how observe traces (ObservePrepared); empty: in this process
   ArmTourOptions arm;   ///< cameras on arms: their tours
+  /// --by-type (issue 43): also select over each sensor type's candidates alone, per n
+  /// (Report::by_type). For the objectives that choose n (coverage, k-coverage, min-points);
+  /// not with states, --keep-existing, --refine or --cycle-time (InputError naming --by-type).
+  bool by_type = false;
 };
 RunResult Optimize(const OptimizeOptions& options);
 

@@ -22,6 +22,29 @@ struct Timings {
   double load = 0, reference = 0, observe = 0, select = 0, total = 0;
 };
 
+/// `optimize --by-type` (issue 43, docs/sensor-models.md "Which sensor to buy"): one sensor type
+/// among the candidates, its best constellations of that type alone.
+struct TypeComparison {
+  std::string type_id;
+  std::string name;      ///< display name (the type's, else its id)
+  size_t candidates = 0;  ///< the run's candidates of this type
+  double unit_cost = 0;   ///< SensorType::cost
+  /// Per n from 1 (k with k-coverage) to the run's n, at most the type's candidates: the best
+  /// answer over this type's candidates alone, chosen by the run's selection (same method,
+  /// objective and constraints). `chosen` indexes the run's candidates; `upper_bound` is the
+  /// least bound any method proved at that n, `proven_optimal` whether one proved it optimal;
+  /// `cost` the total unit cost.
+  std::vector<Selection> best;
+};
+
+/// `optimize --by-type`: every type alone and the mix of all of them.
+struct TypeComparisonTable {
+  std::vector<TypeComparison> types;  ///< in order of the types' first candidates
+  /// Per n, the run's own best answer over all candidates (its results and curve), shaped as
+  /// TypeComparison::best.
+  std::vector<Selection> mix;
+};
+
 /// What `--refine` did (issue 9): the refined constellation is results[result], grown from
 /// results[from_result] by tracing new poses around its sensors.
 struct RefinementInfo {
@@ -183,6 +206,9 @@ struct Report {
   std::vector<std::optional<ArmTour>> tours;
   /// --cycle-time [s], when given: `results` holds the most coverage found within it.
   std::optional<double> cycle_time;
+  /// `optimize --by-type`: the best constellation of each sensor type alone, per n (report.json
+  /// `by_type`).
+  std::optional<TypeComparisonTable> by_type;
 
   // Derived by DeriveReport.
   bool is_derived = false;

@@ -18,6 +18,13 @@ ObserveOptions WithSensorModel(ObserveOptions observe, const std::string& scene_
 /// model sees what the ideal pinhole sees, and a run is recorded as ideal.
 bool AnyApertureIn(std::span<const Candidate> candidates);
 
+/// `optimize --by-type` (by_type.cpp): per sensor type among data's candidates, the run's
+/// selection `options` over that type's candidates alone (conflicts renumbered), best per n; and
+/// the run's own best per n from its `results` and `curve`.
+TypeComparisonTable CompareTypes(const VisibilityFile& data, const SelectOptions& options,
+                                 const std::vector<Selection>& results,
+                                 const std::vector<Selection>& curve);
+
 /// Seconds since `start` on the steady clock.
 double SecondsSince(std::chrono::steady_clock::time_point start);
 

@@ -112,6 +112,21 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
                              "no candidate is on an arm — --cycle-time times an arm's tour; add "
                              "an `arm` population (docs/arm.md)"));
   }
+  if (options.by_type) {
+    // Refused before any ray: each of these answers something other than "n sensors of a type".
+    const char* conflict = has_states                      ? "the scene's states"
+                           : options.selection.keep_existing ? "--keep-existing"
+                           : options.refine                 ? "--refine"
+                           : options.arm.cycle_time         ? "--cycle-time"
+                           : select.goal                    ? "a coverage goal"
+                           : select.budget                  ? "a budget"
+                                                            : nullptr;
+    if (conflict)
+      throw InputError(AtPlace("--by-type", 0,
+                               fmt::format("compares n sensors of each type, which {} does not "
+                                           "choose — drop one of --by-type and {}",
+                                           conflict, conflict)));
+  }
   if (options.arm.cycle_time && (has_states || options.refine))
     throw InputError(AtPlace("--cycle-time", 0, "--cycle-time takes no --refine and no states"));
   ObservedScene observed =
@@ -138,6 +153,11 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
     report.cycle_time = options.arm.cycle_time;
   } else {
     detail::SelectResults(observed, options.selection, select, &report);
+  }
+  if (options.by_type) {
+    SelectOptions own = select;
+    if (report.constraints) own.constraints = report.constraints->constraints;
+    report.by_type = detail::CompareTypes(observed.data, own, report.results, report.curve);
   }
   if (options.refine) {
     RefineOptions refine = *options.refine;
