@@ -16,6 +16,7 @@
 #include <string_view>
 
 #include "embedded/report_assets.hpp"
+#include "report/by_type_json.hpp"
 #include "report/constraints_json.hpp"
 #include "util/markup.hpp"
 #include "util/words.hpp"
@@ -610,6 +611,8 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   page["candidates"] = std::move(candidates);
   page["results"] = std::move(results);
   page["curve"] = std::move(curve);
+  // optimize --by-type (issue 43): each sensor type alone per N beside the mix, as report.json.
+  page["by_type"] = report.by_type ? detail::ByTypeJson(*report.by_type, data) : ordered_json();
   page["chosen"] = std::move(chosen_json);
   // The primary result's overlap graph (docs/constraints.md): lines between the chosen sensors
   // that share cells, under the calibration rule when there is one.

@@ -41,7 +41,7 @@ def main():
         return 77
     os.makedirs(work, exist_ok=True)
     out = os.path.join(work, "out")
-    run([vantage, "optimize", scene, "-n", "3", "--method", "greedy", "--out", out])
+    run([vantage, "optimize", scene, "-n", "3", "--method", "greedy", "--by-type", "--out", out])
     report = json.load(open(os.path.join(out, "report.json")))
     names = [c["name"] for c in report["candidates"]]
     primary = report["results"][report["primary_result"]]
@@ -61,6 +61,12 @@ def main():
         check(status == "ok", f"page status is ok ({status})")
         if shots:
             browser.screenshot(os.path.join(shots, "page_default.png"))
+
+        # optimize --by-type (issue 43): a row per type and n, and one per n for the mix.
+        rows = browser.evaluate("document.querySelectorAll('#by-type-table tbody tr').length")
+        by_type = report["by_type"]
+        expected = sum(len(t["best"]) for t in by_type["types"]) + len(by_type["mix"])
+        check(rows == expected, f"the by-type table shows each type and the mix ({rows} of {expected} rows)")
 
         # Framing: every chosen camera inside the default picture.
         chosen = [names.index(n) for n in primary["sensors"]]

@@ -134,6 +134,42 @@
        return row;
      })));
 
+    // optimize --by-type (issue 43): the best constellation of each sensor type alone at every N,
+    // then the run's best over all types (the mix) with its gain over the best single type.
+    if (D.by_type) {
+      document.getElementById('by-type-title').hidden = false;
+      var byTypeText = document.getElementById('by-type-text');
+      byTypeText.hidden = false;
+      byTypeText.textContent = 'Each sensor type alone, chosen by the run\'s own selection at every N, ' +
+        'and the mix of all types; gain: what the mix covers beyond the best single type at that N.';
+      var typeRows = [];
+      D.by_type.types.forEach(function (t) {
+        t.best.forEach(function (b) {
+          typeRows.push({type: t.type, n: b.n, coverage: b.coverage, upper_bound: b.upper_bound,
+                         optimal: b.optimal, candidates: t.candidates, unit_cost: t.unit_cost,
+                         total_cost: b.total_cost, gain: null, sensors: b.sensors.join(', ')});
+        });
+      });
+      D.by_type.mix.forEach(function (m) {
+        typeRows.push({type: 'mix: ' + m.types.join(' + '), n: m.n, coverage: m.coverage,
+                       upper_bound: m.upper_bound, optimal: m.optimal, candidates: null,
+                       unit_cost: null, total_cost: m.total_cost, gain: m.gain,
+                       sensors: m.sensors.join(', ')});
+      });
+      makeTable(document.getElementById('by-type-table'), [
+        {label: 'type', value: function (r) { return r.type; }},
+        {label: 'N', num: true, value: function (r) { return r.n; }},
+        {label: 'coverage', num: true, value: function (r) { return r.coverage; }, show: pct},
+        {label: 'upper bound', num: true, value: function (r) { return r.upper_bound; }, show: pct},
+        {label: 'optimal', value: function (r) { return r.optimal ? 'yes' : 'no'; }},
+        {label: 'candidates', num: true, value: function (r) { return r.candidates; }},
+        {label: 'unit cost', num: true, value: function (r) { return r.unit_cost; }},
+        {label: 'total cost', num: true, value: function (r) { return r.total_cost; }},
+        {label: 'gain of the mix', num: true, value: function (r) { return r.gain; }, show: pct},
+        {label: 'sensors', value: function (r) { return r.sensors; }}
+      ], typeRows);
+    }
+
     // Robustness of the primary result: each sensor failing, the narrower fields of view and
     // one-sensor alternatives.
     var rb = D.robustness;
