@@ -152,8 +152,9 @@ sensors:
                                              "fixture/plate"}));
   EXPECT_EQ(targets, (std::vector<std::string>{"fixture/bracket"}));
   for (const SceneObject& object : problem.scene.objects) {
-    if (object.name == "fixture/bracket")  // placed by the object's pose, in metres
+    if (object.name == "fixture/bracket") {  // placed by the object's pose, in metres
       EXPECT_NEAR(object.mesh.Bounds().min.x(), 1.080, 1e-9);
+    }
   }
   // --target picks a part by its name.
   LoadOptions options;

@@ -138,12 +138,12 @@ def test_sensors_match_cli_json():
 
 def test_visibility_file_keeps_the_mounting_rules(cli_example, tmp_path):
     """A .vis of a scene with mounting rules (format 5 on) holds them (read by the independent
-    reader), with R's target parts and exposure (format 6), and Visibility.select applies its min_separation as optimize on the scene does."""
+    reader), with R's target parts and exposure (format 6 on), and Visibility.select applies its min_separation as optimize on the scene does."""
     from vis_format import read_vis
     scene, kept_out = constrained_example(cli_example, tmp_path)
     run_cli("observe", scene, "--out", tmp_path / "c.vis")
     raw = read_vis(tmp_path / "c.vis")
-    assert raw.version == 6
+    assert raw.version == 7
     assert len(raw.part_of) == len(raw.keys) and len(raw.exposed) == len(raw.keys)
     assert set(raw.part_of) <= set(range(len(raw.part_names)))
     assert raw.min_separation == 0.3
