@@ -1872,6 +1872,13 @@ TEST_F(BadInput, PoseDegreesAttributeIsABool) {
   EXPECT_EQ(coverage(" degrees=\"TRUE\""), in_degrees);
   EXPECT_EQ(coverage(" degrees=\" 1 \""), in_degrees);
   EXPECT_NE(coverage(""), in_degrees);  // 30 rad: another view of the cube
+  // Gazebo reads 30 as radians and so does vantage, with a warning at the line (a YAML scene,
+  // vantage's own format, refuses it: answers_test).
+  const std::string world = Write("rad.world", WorldWith("<pose>0 0 0.05 0 0 0</pose>",
+                                                          "<pose>0 0 0.05 30 0 0</pose>"));
+  const auto run = RunVantage("optimize " + world + " --method greedy --out " + dir_.File("rad"));
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("rad.world:7: <pose> angles 30 0 0"), std::string::npos) << run.err;
 }
 
 // Session 10's sweep: <capsule>, <ellipsoid>, <polyline> and <heightmap> visuals were skipped
@@ -1994,6 +2001,8 @@ TEST_F(BadInput, NonRegularInputsAndEmptyReference) {
   ASSERT_EQ(RunVantage("observe " + CubeCell() + " --out " + good).exit_code, 0);
   VisibilityFile empty = LoadVisibilityFile(good);
   empty.reference.keys.clear();
+  empty.reference.part_of.clear();  // per-cell lists follow the keys
+  empty.reference.exposed.clear();
   for (Observation& o : empty.observations) o = Observation{};
   const std::string empty_path = dir_.File("empty_reference.vis");
   SaveVisibilityFile(empty_path, empty);
@@ -2058,6 +2067,8 @@ std::string HardVisibilityFile(const test::TempDir& dir, const std::string& seed
   VisibilityFile hard = seed;
   constexpr uint32_t kCells = 6000, kCandidates = 240;
   hard.reference.keys.clear();
+  hard.reference.part_of.clear();  // per-cell lists follow the keys
+  hard.reference.exposed.clear();
   for (uint64_t key = 0; key < kCells; ++key) hard.reference.keys.push_back(key);
   hard.candidates.clear();
   hard.observations.clear();

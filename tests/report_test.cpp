@@ -172,6 +172,52 @@ uint64_t Fnv1a64(const std::string& bytes) {
   return h;
 }
 
+// The bytes of a format-5 file (docs/outputs.md) from a version-7 one whose sensors have no
+// second aperture and whose reference has no parts: less the parts section at the end (36 zero
+// bytes: no names, empty part and exposure lists, not exposed-only, no left-out counts), each
+// observation's ideal flag and empty ideal list (12 zero bytes, last in each candidate), each
+// sensor's absent aperture (u32 0 just before the pose) and the physical flag (u32 0 just before
+// the cell size), with version 5 and the checksum recomputed here (FNV-1a 64).
+std::string AsVersion5(const std::string& bytes, const std::vector<Vec3>& positions,
+                       const std::vector<std::string>& names, double cell_size) {
+  std::string body = bytes.substr(0, bytes.size() - 8);
+  EXPECT_EQ(body.substr(body.size() - 36), std::string(36, '\0'));
+  body.erase(body.size() - 36);
+  const std::string zero(12, '\0');
+  // Each candidate's last 12 bytes: before the next one's name (u64 length + text), or before
+  // the 40-byte mounting section for the last. From the last, so earlier offsets hold.
+  for (size_t i = names.size(); i >= 1; --i) {
+    size_t at = body.size() - 40 - 12;
+    if (i < names.size()) {
+      const uint64_t length = names[i].size();
+      at = body.find(zero + std::string(reinterpret_cast<const char*>(&length), 8) + names[i]);
+    }
+    EXPECT_NE(at, std::string::npos);
+    EXPECT_EQ(body.substr(at, 12), zero);
+    body.erase(at, 12);
+  }
+  for (const Vec3& p : positions) {
+    const size_t at = body.find(std::string(reinterpret_cast<const char*>(p.data()), 24));
+    EXPECT_NE(at, std::string::npos);
+    EXPECT_EQ(body.substr(at - 4, 4), std::string(4, '\0'));
+    body.erase(at - 4, 4);
+  }
+  const size_t cell = body.find(std::string(reinterpret_cast<const char*>(&cell_size), 8));
+  EXPECT_NE(cell, std::string::npos);
+  EXPECT_EQ(body.substr(cell - 4, 4), std::string(4, '\0'));
+  body.erase(cell - 4, 4);
+  body[8] = 5;
+  const uint64_t h = Fnv1a64(body);
+  return body + std::string(reinterpret_cast<const char*>(&h), 8);
+}
+
+// SmallData as older formats could hold it: no second apertures (format 7).
+VisibilityFile SmallOldData() {
+  VisibilityFile data = SmallData();
+  for (Candidate& c : data.candidates) c.sensor.second_aperture.reset();
+  return data;
+}
+
 // The bytes of a format-4 file (docs/outputs.md): a version-5 file without mounting rules, less
 // its 40-byte mounting section at the end (no boxes: u64 0; min_separation: opt 0, str "", u32
 // 0; kept out: u64 0, all zero bytes) and each sensor's unset interferes flag (u32 0 just before
@@ -197,11 +243,15 @@ std::string AsVersion4(const std::string& bytes, const std::vector<Vec3>& positi
 // interferes unset, and select reads it as it did: the same results as the new file.
 TEST(VisibilityFile, Version4LoadsWithoutMountingRulesAndSelectsAsBefore) {
   test::TempDir dir;
-  const VisibilityFile data = SmallData();
+  const VisibilityFile data = SmallOldData();
   SaveVisibilityFile(dir.File("new.vis"), data);
   std::vector<Vec3> positions;
   for (const Candidate& c : data.candidates) positions.push_back(c.world_from_body.position);
-  test::WriteText(dir.File("v4.vis"), AsVersion4(test::ReadText(dir.File("new.vis")), positions));
+  const std::vector<std::string> names = {"cam0", "cam1", "cam2"};
+  test::WriteText(dir.File("v4.vis"),
+                  AsVersion4(AsVersion5(test::ReadText(dir.File("new.vis")), positions, names,
+                                        data.reference.cell_size),
+                             positions));
   const VisibilityFile old = LoadVisibilityFile(dir.File("v4.vis"));
   EXPECT_TRUE(old.mounting.empty());
   EXPECT_EQ(old.kept_out, 0u);
@@ -250,13 +300,14 @@ std::string AsVersion3(std::string bytes, const std::vector<std::string>& names)
 
 TEST(VisibilityFile, OldVersionLoadsWithoutCountsAndMinPointsRefusesIt) {
   test::TempDir dir;
-  const VisibilityFile data = SmallData();  // no counts
+  const VisibilityFile data = SmallOldData();  // no counts
   SaveVisibilityFile(dir.File("new.vis"), data);
   const std::vector<std::string> names = {"cam0", "cam1", "cam2"};
   std::vector<Vec3> positions;
   for (const Candidate& c : data.candidates) positions.push_back(c.world_from_body.position);
-  test::WriteText(dir.File("old.vis"),
-                  AsVersion3(AsVersion4(test::ReadText(dir.File("new.vis")), positions), names));
+  const std::string v5 = AsVersion5(test::ReadText(dir.File("new.vis")), positions, names,
+                                    data.reference.cell_size);
+  test::WriteText(dir.File("old.vis"), AsVersion3(AsVersion4(v5, positions), names));
   const VisibilityFile old = LoadVisibilityFile(dir.File("old.vis"));
   ASSERT_EQ(old.observations.size(), 3u);
   for (size_t i = 0; i < 3; ++i) {
@@ -382,6 +433,8 @@ TEST(Report, PrimaryStepsCountCellsAsTheResultDoes) {
   data.observations[0].reference_hits = {5, 1, 3};
   data.observations[1].reference_indices = {1, 2, 3};
   data.observations[1].reference_hits = {4, 1, 9};
+  // A file with min_points counts for every candidate: the ceiling reads the unchosen cam2 too.
+  data.observations[2].reference_hits = {1, 1, 1};
   Report report = SmallReport(data);
   // Plain: 3 cells, then cell 3 is new.
   ASSERT_EQ(report.primary_sensors.size(), 2u);

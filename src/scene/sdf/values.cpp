@@ -139,16 +139,17 @@ Pose Loader::PoseValue(const Doc& doc, const XmlElement* pose) {
     Error(doc, pose->line, fmt::format("<pose degrees='{}'> must be true or false", *degrees));
     return Pose{};
   }
-  // <pose>0 0 1 0 90 -10</pose> is degrees where radians belong: no angle of a pose needs more
-  // than a full turn.
+  // <pose>0 0 1 0 90 -10</pose> is likely degrees where radians belong, but Gazebo reads it as
+  // radians and vantage reads worlds as Gazebo does: a warning, not a refusal (YAML scenes,
+  // vantage's own format, refuse it).
   if (!*in_degrees && (std::abs(v[3]) > 2.0 * std::numbers::pi + 1e-9 ||
                        std::abs(v[4]) > 2.0 * std::numbers::pi + 1e-9 ||
                        std::abs(v[5]) > 2.0 * std::numbers::pi + 1e-9)) {
-    Error(doc, pose->line,
-          fmt::format("<pose> angles {:g} {:g} {:g} include one above 2π (6.283) radians — these "
-                      "look like degrees: write <pose degrees=\"true\">",
-                      v[3], v[4], v[5]));
-    return Pose{};
+    Warn(AtPlace(doc.xml.path, pose->line,
+                 fmt::format("<pose> angles {:g} {:g} {:g} include one above 2π (6.283) radians, "
+                             "read as radians as Gazebo does — if they are degrees, write "
+                             "<pose degrees=\"true\">",
+                             v[3], v[4], v[5])));
   }
   const double scale = *in_degrees ? std::numbers::pi / 180.0 : 1.0;
   return Pose::FromXyzRpy(v[0], v[1], v[2], v[3] * scale, v[4] * scale, v[5] * scale);
