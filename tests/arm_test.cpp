@@ -4,16 +4,21 @@
 // and the bad inputs the scene must refuse before any ray.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <map>
+#include <set>
+#include <tuple>
 
 #include "test_util.hpp"
 #include "vantage/arm.hpp"
 #include "vantage/observe.hpp"
+#include "vantage/pipeline.hpp"
 #include "vantage/reference.hpp"
 #include "vantage/tour.hpp"
 #include "vantage/track.hpp"
@@ -492,6 +497,16 @@ TEST(TourTest, CycleTimeKeepsTheTourWithinIt) {
 
 // ----- following a changing scene ---------------------------------------------------------------
 
+/// The time of the move into state s (the problem's own override, else `motion`), read here
+/// from the raw tables.
+double EnumeratedMove(const TrackProblem& p, size_t s, uint32_t from, uint32_t to) {
+  if (s < p.state_moves.size()) {
+    for (const auto& [pair, seconds] : p.state_moves[s])
+      if (pair.first == from && pair.second == to) return seconds;
+  }
+  return p.motion[from][to];
+}
+
 /// Every sequence of one view per state and its value; the best value kept.
 Track EnumerateTrack(const TrackProblem& p) {
   const size_t states = p.coverage.size(), n = p.motion.size() - 1;
@@ -502,10 +517,13 @@ Track EnumerateTrack(const TrackProblem& p) {
     double coverage = 0, seconds = 0;
     for (size_t s = 0; s < states && ok; ++s) {
       const double c = p.coverage[s][views[s]];
-      const double m = s > 0 ? p.motion[views[s - 1]][views[s]]
-                             : (p.start_at_home ? p.motion[n][views[s]] : 0.0);
+      const double m = s > 0 ? EnumeratedMove(p, s, views[s - 1], views[s])
+                             : (p.start_at_home ? EnumeratedMove(p, 0, static_cast<uint32_t>(n),
+                                                                 views[s])
+                                                : 0.0);
+      const double before = s > 0 && !p.acquisition.empty() ? p.acquisition[views[s - 1]] : 0.0;
       ok = std::isfinite(c) && std::isfinite(m) &&
-           (!p.max_move_seconds || m <= *p.max_move_seconds);
+           (s == 0 || !p.state_interval || before + m <= *p.state_interval);
       coverage += c;
       seconds += m;
     }
@@ -541,8 +559,15 @@ TEST(TrackTest, DynamicProgrammeEqualsEveryViewSequence) {
     p.seconds_weight = (instance % 3) * 0.2;
     p.start_at_home = instance % 2 == 0;
     if (instance % 4 == 1) {
-      p.max_move_seconds = 1.5;
+      p.state_interval = 1.5;
+      if (instance % 8 == 1) p.acquisition = times.acquisition;
       ++with_limit;
+    }
+    if (instance % 3 == 1) {
+      // A move into some state checked and slower there (planned), or unconnected.
+      p.state_moves.resize(states);
+      p.state_moves[states - 1][{0, static_cast<uint32_t>(n - 1)}] = 2.5;
+      p.state_moves[0][{static_cast<uint32_t>(n), 1}] = std::numeric_limits<double>::infinity();
     }
     const Track dp = SolveTrack(p);
     const Track all = EnumerateTrack(p);
@@ -555,11 +580,14 @@ TEST(TrackTest, DynamicProgrammeEqualsEveryViewSequence) {
     for (size_t s = 0; s < states; ++s) {
       coverage += p.coverage[s][dp.views[s]];
       seconds += dp.move_seconds[s];
-      const double m = s > 0 ? p.motion[dp.views[s - 1]][dp.views[s]]
-                             : (p.start_at_home ? p.motion[n][dp.views[s]] : 0.0);
+      const double m =
+          s > 0 ? EnumeratedMove(p, s, dp.views[s - 1], dp.views[s])
+                : (p.start_at_home ? EnumeratedMove(p, 0, static_cast<uint32_t>(n), dp.views[s])
+                                   : 0.0);
       EXPECT_DOUBLE_EQ(dp.move_seconds[s], m);
-      if (p.max_move_seconds) {
-        EXPECT_LE(m, *p.max_move_seconds);
+      if (p.state_interval && s > 0) {
+        EXPECT_LE(m + (p.acquisition.empty() ? 0.0 : p.acquisition[dp.views[s - 1]]),
+                  *p.state_interval);
       }
     }
     EXPECT_NEAR(dp.coverage, coverage, 1e-12);
@@ -567,6 +595,176 @@ TEST(TrackTest, DynamicProgrammeEqualsEveryViewSequence) {
   }
   EXPECT_GT(feasible, 100u);
   EXPECT_GT(with_limit, 20u);
+}
+
+/// The example of a hand closing on a part (examples/scenes/arm_track_hand.yaml).
+std::string TrackExample() {
+  return std::string(VANTAGE_SOURCE_DIR) + "/examples/scenes/arm_track_hand.yaml";
+}
+
+TEST(TrackPipelineTest, OptimizeTrackEqualsEveryViewSequenceOfTheExample) {
+  // Through the pipeline's wiring (Optimize's halves): the answer against every sequence of one
+  // view per state, valued here from the observations (|O ∩ R_s| / |R_s|) and the joints
+  // (max_i |Δq_i| / v_i at the URDF speeds), none of the pipeline's tables reused.
+  struct Case {
+    double penalty;
+    std::optional<double> interval;
+  };
+  std::set<std::vector<std::string>> answers;
+  size_t unconstrained = 0;  // cases where no sequence beats the answer even ignoring collisions
+  for (const Case& c : {Case{0.0, {}}, Case{0.01, {}}, Case{0.2, {}}, Case{0.0, 2.5}}) {
+    OptimizeOptions options;
+    options.scene.path = TrackExample();
+    options.arm.track = true;
+    options.arm.move_penalty = c.penalty;
+    options.arm.state_interval = c.interval;
+    OptimizeObserved observed = ObserveForOptimize(options);
+    const ObservedScene& scene = observed.observed;
+    const std::vector<Candidate> candidates = scene.data.candidates;  // observed moves on
+    const size_t n = candidates.size(), states = scene.states.size();
+    ASSERT_EQ(states, 3u);
+    ASSERT_GT(n, 10u);
+    std::vector<std::vector<double>> coverage(states, std::vector<double>(n));
+    for (size_t s = 0; s < states; ++s)
+      for (size_t k = 0; k < n; ++k)
+        coverage[s][k] = static_cast<double>(scene.states[s].observations[k].reference_indices.size()) /
+                         static_cast<double>(scene.states[s].reference.size());
+    const ArmSetup arm = scene.arms.front();
+    const auto seconds = [&](const std::vector<double>& a, const std::vector<double>& b) {
+      double slowest = 0;
+      for (size_t i = 0; i < a.size(); ++i)
+        if (a[i] != b[i]) slowest = std::max(slowest, std::abs(a[i] - b[i]) / arm.speeds[i]);
+      return slowest;
+    };
+    const auto joints = [&](size_t k) -> const std::vector<double>& {
+      return k == n ? arm.home : candidates[k].arm->joints;
+    };
+    std::vector<double> acquisition;
+    for (const Candidate& candidate : candidates) acquisition.push_back(1.0 / candidate.sensor.fps);
+    const RunResult run = FinishOptimize(options, std::move(observed));
+    ASSERT_TRUE(run.report.track);
+    const TrackInfo& track = *run.report.track;
+    ASSERT_EQ(track.states.size(), states);
+    // A straight move into state s collides there (or in the state before): the test's own
+    // check at the resolution, cached by pair.
+    std::map<std::tuple<size_t, size_t, size_t>, bool> collides;
+    const auto blocked = [&](size_t s, size_t a, size_t b) {
+      const auto key = std::make_tuple(s, std::min(a, b), std::max(a, b));
+      if (!collides.count(key))
+        collides[key] = !StraightMotionIsFree(*arm.kinematics, *arm.move_collisions[s], joints(a),
+                                              joints(b), options.arm.resolution);
+      return collides[key];
+    };
+    std::vector<std::string> answer;
+    std::vector<size_t> chosen;
+    for (size_t s = 0; s < states; ++s) {
+      EXPECT_FALSE(track.states[s].planned);
+      EXPECT_EQ(track.states[s].views_free, n);  // every view is free in every state
+      EXPECT_DOUBLE_EQ(track.states[s].coverage, coverage[s][track.states[s].view]);
+      answer.push_back(candidates[track.states[s].view].name);
+      chosen.push_back(track.states[s].view);
+    }
+    // Every sequence valued above the answer at the straight moves' times (an upper bound on
+    // its true value: a planned move is slower) needs a move that collides; the answer's own
+    // value is its straight one, its moves free.
+    size_t above = 0;
+    double answer_value = 0;
+    std::vector<size_t> views(states, 0);
+    for (;;) {
+      double value = 0;
+      bool fits = true;
+      for (size_t s = 0; s < states; ++s) {
+        const size_t from = s == 0 ? n : views[s - 1];
+        const double move = seconds(joints(from), joints(views[s]));
+        if (s > 0 && c.interval && acquisition[from] + move > *c.interval) fits = false;
+        value += coverage[s][views[s]] - c.penalty * move;
+      }
+      if (views == chosen) answer_value = value;
+      if (fits && value > track.value + 1e-9) {
+        ++above;
+        bool any = false;
+        for (size_t s = 0; s < states && !any; ++s)
+          any = (s == 0 ? n : views[s - 1]) != views[s] &&
+                blocked(s, s == 0 ? n : views[s - 1], views[s]);
+        EXPECT_TRUE(any) << "a free sequence beats the answer, penalty " << c.penalty;
+      }
+      size_t s = 0;
+      while (s < states && ++views[s] == n) views[s++] = 0;
+      if (s == states) break;
+    }
+    EXPECT_NEAR(track.value, answer_value, 1e-9) << c.penalty;
+    for (size_t s = 0; s < states; ++s) {
+      const size_t from = s == 0 ? n : chosen[s - 1];
+      if (from != chosen[s]) {
+        EXPECT_FALSE(blocked(s, from, chosen[s]));
+      }
+    }
+    if (above == 0) ++unconstrained;
+    answers.insert(answer);
+  }
+  EXPECT_GE(answers.size(), 2u) << "the penalty and the interval never changed the answer";
+  EXPECT_GE(unconstrained, 2u);
+}
+
+TEST(TrackPipelineTest, TheCliReportsEachStatesViewAndRefusesBadInput) {
+  TempDir dir;
+  const auto run = test::RunVantage("optimize " + TrackExample() +
+                                    " --track --move-penalty 0.01 --out " + dir.File("out"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("closing"), std::string::npos) << run.out;
+  const auto report = nlohmann::json::parse(test::ReadText(dir.File("out/report.json")));
+  ASSERT_TRUE(report.contains("track"));
+  ASSERT_EQ(report["track"]["states"].size(), 3u);
+  EXPECT_EQ(report["track"]["states"][2]["state"], "closed");
+  EXPECT_EQ(report["results"][0]["method"], "track");
+  EXPECT_EQ(report["results"][0]["tour"]["states"].size(), 3u);
+  double sum = 0;
+  for (const auto& state : report["track"]["states"]) sum += state["coverage"].get<double>();
+  EXPECT_NEAR(report["track"]["coverage_sum"].get<double>(), sum, 1e-12);
+  const std::string views = test::ReadText(dir.File("out/views.yaml"));
+  EXPECT_NE(views.find("state: closed"), std::string::npos) << views;
+
+  // Bad input: exit 2 naming the option (or the place), before any ray.
+  const auto refused = [&](const std::string& scene, const std::string& flags,
+                           const std::string& words) {
+    WriteText(dir.File("scene.yaml"), scene);
+    const auto r = test::RunVantage("optimize " + dir.File("scene.yaml") + " " + flags +
+                                    " --out " + dir.File("bad"));
+    EXPECT_EQ(r.exit_code, 2) << flags << "\n" << r.err;
+    EXPECT_NE(r.err.find(words), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("rays"), std::string::npos) << "refused after casting rays: " << r.err;
+  };
+  WriteText(dir.File("arm.urdf"), kPlanarUrdf);
+  const std::string arm = std::string(kPlanarObjects) + R"(populations:
+  - name: wrist
+    type: intel_realsense_d415
+    count: 6
+    arm: {robot: arm, link: tip}
+)";
+  const std::string states = "states:\n  - name: a\n  - name: b\n    remove: [box]\n";
+  refused(arm, "--track", "--track: the scene has no `states:`");
+  refused(R"(objects:
+  - {name: part, role: target, box: {size: [0.1, 0.1, 0.1]}}
+  - {name: box, box: {size: [0.1, 0.1, 0.1]}, pose: {xyz: [0.3, 0, 0]}}
+populations:
+  - {name: ring, type: intel_realsense_d415, count: 4, cylinder: {radius: 1, length: 0.1}}
+)" + states,
+          "--track", "--track: no candidate is on an arm");
+  refused(arm, "--move-penalty 0.1", "--move-penalty: only --track");
+  refused(arm, "--track --state-interval -1", "--state-interval: -1 is not");
+  const std::string with_states = std::string(R"(objects:
+  - {name: part, role: target, pose: {xyz: [0, 0, -2]}, box: {size: [0.1, 0.1, 0.1]}}
+  - {name: box, box: {size: [0.1, 0.1, 0.1]}, pose: {xyz: [3, 0, 0]}}
+robots:
+  - {name: arm, urdf: arm.urdf}
+populations:
+  - name: wrist
+    type: intel_realsense_d415
+    count: 6
+    arm: {robot: arm, link: tip}
+)") + states;
+  refused(with_states, "", "follows them only with --track");
+  refused(with_states, "--track --state-interval 0.001", "--state-interval: no sequence");
 }
 
 // ----- the arm occludes its own camera -------------------------------------------------------

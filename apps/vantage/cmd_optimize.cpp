@@ -73,6 +73,15 @@ void SetupOptimize(CLI::App* parent) {
                   "a camera on an arm: the most seconds spent planning around one colliding move "
                   "(OMPL RRT-Connect; its sample budget usually ends it first)")
       ->capture_default_str();
+  app->add_flag("--track", arm.track,
+                "a camera on an arm follows the scene's states (in time order): one view per "
+                "state, the exact most summed coverage minus --move-penalty per second of motion");
+  app->add_option("--move-penalty", arm.move_penalty,
+                  "with --track: coverage (a fraction of R) given up per second of motion "
+                  "(default 0)");
+  app->add_option("--state-interval", arm.state_interval,
+                  "with --track: the states are this many seconds apart; each view's acquisition "
+                  "and the move to the next state's view must fit");
   app->callback([flags, rounds, app] {
     // Was accepted and ignored without --refine (issue 15).
     if (rounds->count() > 0 && !flags->refine)

@@ -293,6 +293,20 @@ void PrintByType(const TypeComparisonTable& table) {
   fmt::print("  {:<{}} {:>15}{}\n", "gain over the best type", width, "", gains);
 }
 
+// optimize --track (docs/arm.md): each state's view, its coverage there and the move to it.
+void PrintTrack(const VisibilityFile& data, const TrackInfo& track) {
+  fmt::print("track            one arm view per state, exact (dynamic programme): summed coverage "
+             "{:.2f} %, {:.2f} s moving, value {:.4f} (move penalty {:g} per s{})\n",
+             100.0 * track.coverage_sum, track.move_seconds, track.value, track.move_penalty,
+             track.state_interval ? fmt::format(", states {:g} s apart", *track.state_interval)
+                                  : std::string());
+  size_t width = 5;
+  for (const TrackInfo::State& s : track.states) width = std::max(width, s.name.size());
+  for (const TrackInfo::State& s : track.states)
+    fmt::print("  {:<{}}  {:>6.2f} %  {:>6.2f} s{}  {}\n", s.name, width, 100.0 * s.coverage,
+               s.move_seconds, s.planned ? " (planned)" : "", data.candidates.at(s.view).name);
+}
+
 void PrintSummary(const Report& report, const std::string& out_dir) {
   const VisibilityFile& data = *report.data;
   const std::vector<Selection>& results = report.results;
@@ -354,7 +368,7 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
     return fmt::format("{}{}…{}{}", fmt::join(items.begin(), items.begin() + kShown, separator),
                        separator, separator, items.back());
   };
-  if (report.states) {
+  if (report.states && !report.track) {
     std::vector<std::string> names;
     for (const StatesInfo::State& state : report.states->states) names.push_back(state.name);
     fmt::print(
@@ -403,6 +417,7 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
     fmt::print("{:<8} n={:<3}  {:6.2f} %{}  [{}]  {:.3f} s\n", s->method, s->n, 100.0 * s->coverage,
                bound, names, s->seconds);
   }
+  if (report.track) PrintTrack(data, *report.track);
   PrintParts(report, shown);
   PrintCoverageByN(results);
   if (report.by_type) PrintByType(*report.by_type);

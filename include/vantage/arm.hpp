@@ -102,7 +102,20 @@ struct ArmSetup {
   std::vector<double> home;  ///< the tour's start and end: `home:`, else the robot's joints
   /// Each joint's <limit velocity> [rad/s or m/s] (0 where the URDF gives none).
   std::vector<double> speeds;
+  /// --track over the scene's states (the pipeline's, before any ray): per state, the arm
+  /// against that state's cell (`state_collisions`, its views) and against the cells of that
+  /// state and the one before it together (`move_collisions`: a move into the state; state 0's
+  /// is its own); `state_free[s][i]` whether candidate i is collision-free in state s. Empty
+  /// otherwise.
+  std::vector<std::shared_ptr<const ArmCollisions>> state_collisions;
+  std::vector<std::shared_ptr<const ArmCollisions>> move_collisions;
+  std::vector<std::vector<bool>> state_free;
 };
+
+/// The checks of `arm` (of `problem`'s population and robot: its keep-out boxes, moved joints
+/// and allowed pairs) against another cell, e.g. a state's scene.
+std::shared_ptr<const ArmCollisions> ArmCollisionsIn(const Problem& problem, const ArmSetup& arm,
+                                                     const Scene& scene);
 
 /// The candidates once the arms are applied, and what each test removed (all populations).
 struct ArmViews {

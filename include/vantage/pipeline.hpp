@@ -43,6 +43,8 @@ struct SceneInput {
   /// --exposed-only: coverage counts only surface some viewpoint could see (docs/outputs.md,
   /// "The ceiling"); unset: the paper's metric (evaluate: the constellation's run's).
   std::optional<bool> exposed_only;
+  /// --track: a camera on an arm may follow the scene's `states:` (refused otherwise).
+  bool arm_follows_states = false;
   /// InputError naming the option: an observation point that is not finite or beyond what the
   /// voxel grid and Embree can represent.
   void Validate() const;
@@ -233,6 +235,14 @@ struct ArmTourOptions {
   /// --plan-time [s]: the most one move's planning around a collision may take (OMPL); the
   /// planner's sample budget normally ends it first (deterministic).
   double plan_seconds = 2.0;
+  /// --track: with the scene's `states:` in time order, one view per state (TrackInfo, exact
+  /// dynamic programme); replaces the selection.
+  bool track = false;
+  /// --move-penalty P: coverage (a fraction of R) subtracted per second of motion; default 0.
+  std::optional<double> move_penalty;
+  /// --state-interval T [s]: the states are T apart; acquisition and the move to the next
+  /// state's view must fit in it.
+  std::optional<double> state_interval;
   /// InputError naming the option.
   void Validate() const;
 };

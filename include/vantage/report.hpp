@@ -177,6 +177,34 @@ struct ArmTour {
   double resolution = 0;                 ///< [rad or m] of the straight moves' collision check
   size_t unconnected_pairs = 0;  ///< checked moves that collide and the planner did not connect
   size_t planned_pairs = 0;      ///< checked moves that collide and the planner went around
+  /// --track: per view, the state it is taken in (views then in state order, a view repeated
+  /// when the arm stays); empty for a tour.
+  std::vector<std::string> states;
+  /// --track --state-interval [s]: the states' spacing; each view's acquisition starts at the
+  /// first's plus its state's index times this (the arm waits there when it arrives early).
+  std::optional<double> state_interval;
+};
+
+/// `optimize --track` (issue 45, docs/arm.md): one camera on an arm follows the scene's states,
+/// one view per state, the exact best of Σ coverage − move_penalty · Σ move seconds.
+struct TrackInfo {
+  double move_penalty = 0;               ///< coverage (fraction) per second of motion
+  std::optional<double> state_interval;  ///< [s]
+  double value = 0;                      ///< the objective of the answer
+  double coverage_sum = 0;               ///< Σ over the states of the view's coverage
+  double move_seconds = 0;               ///< Σ of the moves into the states (home's first)
+  struct State {
+    std::string name;
+    uint32_t view = 0;          ///< candidate index
+    double coverage = 0;        ///< the view's coverage of this state's R
+    double move_seconds = 0;    ///< the move that reaches it (from home, or the last state's)
+    bool planned = false;       ///< that move goes around a collision (OMPL)
+    size_t views_free = 0;      ///< the arm's views collision-free in this state
+  };
+  std::vector<State> states;
+  size_t views = 0;          ///< the arm's views considered
+  size_t checked_moves = 0;  ///< moves collision-checked (only those an answer used)
+  size_t solves = 0;         ///< dynamic programmes solved (again after a move got slower)
 };
 
 struct Report {
@@ -206,6 +234,8 @@ struct Report {
   std::vector<std::optional<ArmTour>> tours;
   /// --cycle-time [s], when given: `results` holds the most coverage found within it.
   std::optional<double> cycle_time;
+  /// --track: the view per state (report.json `track`); results[0] holds its distinct views.
+  std::optional<TrackInfo> track;
   /// `optimize --by-type`: the best constellation of each sensor type alone, per n (report.json
   /// `by_type`).
   std::optional<TypeComparisonTable> by_type;

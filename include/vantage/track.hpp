@@ -3,7 +3,9 @@
 /// per state in time order, solved exactly by dynamic programming (src/select/track.cpp).
 /// Selection's side: numbers only (coverages per state and view, motion times between views).
 #include <cstdint>
+#include <map>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace vantage {
@@ -14,12 +16,23 @@ namespace vantage {
 struct TrackProblem {
   std::vector<std::vector<double>> coverage;  ///< states × views
   std::vector<std::vector<double>> motion;    ///< (views + 1)², home last
+  /// Per state (empty, or one map per state): the moves into state s whose time is not
+  /// `motion`'s — (from, to) → seconds, from = n for home — e.g. a move checked in the scenes
+  /// of the two states it joins and planned around a collision there (+inf: unconnected).
+  std::vector<std::map<std::pair<uint32_t, uint32_t>, double>> state_moves;
+  /// Per view (empty: 0): its acquisition time [s], counted against `state_interval`.
+  std::vector<double> acquisition;
   /// The penalty per second of motion subtracted from the summed coverage (>= 0).
   double seconds_weight = 0;
-  /// When set: the move between consecutive states (and from home to the first) must take at
-  /// most this many seconds [s]; moves beyond it are not allowed.
-  std::optional<double> max_move_seconds;
+  /// When set: the states are this many seconds apart [s], a view taken at the start of its
+  /// state, so between consecutive states the acquisition at the earlier view and the move to
+  /// the next must fit: acquisition[u] + move(u, v) <= state_interval. The move from home to
+  /// the first state's view is made before the states begin (not limited).
+  std::optional<double> state_interval;
   bool start_at_home = true;  ///< the first move is from home (counted in the penalty)
+
+  /// The time of the move from `from` to `to` into state `state` [s] (from = n: home).
+  double MoveSeconds(size_t state, uint32_t from, uint32_t to) const;
 };
 
 /// One view per state: the sequence and its value (Σ coverage − weight · Σ move seconds).
@@ -33,8 +46,9 @@ struct Track {
 };
 
 /// The exact best sequence by dynamic programming over (state, view): best[s][v] = coverage[s][v]
-/// + max_u (best[s-1][u] − weight · motion[u][v]); O(S · V²). Ties keep the lower view index
-/// (deterministic). InternalError on inconsistent sizes.
+/// + max_u (best[s-1][u] − weight · move(s, u, v)); O(S · V²). Exact because the value is a sum
+/// of terms each of which depends on one state's view and the move into it. Ties keep the lower
+/// view index (deterministic). InternalError on inconsistent sizes.
 Track SolveTrack(const TrackProblem& problem);
 
 }  // namespace vantage

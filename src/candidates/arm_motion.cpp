@@ -42,6 +42,10 @@ PlannedMotion PlanMotion(const ArmKinematics& kinematics, const ArmCollisions& c
                          const std::vector<double>& speeds, const MotionPlanOptions& options) {
   VANTAGE_CHECK(from.size() == to.size() && from.size() == kinematics.joint_names().size());
   VANTAGE_CHECK(options.resolution > 0 && options.max_samples > 0);
+  // OMPL's progress lines are not vantage's log: set before any OMPL object exists (set at the
+  // planner's setup, "Planner range detected" still reached stdout, into the summary).
+  ompl::msg::setLogLevel(ompl::msg::LOG_NONE);
+  ompl::msg::noOutputHandler();
   PlannedMotion motion;
   const auto is_free = [&](const std::vector<double>& q) {
     return collisions.Check(kinematics.LinkPosesAt(q)) == ArmCollision::kNone;
@@ -103,7 +107,6 @@ PlannedMotion PlanMotion(const ArmKinematics& kinematics, const ArmCollisions& c
   og::RRTConnect planner(information);
   planner.setNearestNeighbors<ompl::NearestNeighborsLinear>();
   planner.setProblemDefinition(problem);
-  ompl::msg::setLogLevel(ompl::msg::LOG_NONE);  // its progress lines are not vantage's log
   planner.setup();
 
   // The sample budget ends the search (the same on every machine); the time limit is a net.

@@ -325,6 +325,19 @@ ArmViews ApplyArms(const Problem& problem, std::vector<Candidate> deployed, uint
   return result;
 }
 
+std::shared_ptr<const ArmCollisions> ArmCollisionsIn(const Problem& problem, const ArmSetup& arm,
+                                                     const Scene& scene) {
+  const auto population =
+      std::find_if(problem.populations.begin(), problem.populations.end(),
+                   [&](const Population& p) { return p.name == arm.population && p.arm; });
+  VANTAGE_CHECK(population != problem.populations.end());
+  std::vector<std::string> moving;
+  for (size_t i : arm.kinematics->moved()) moving.push_back(arm.kinematics->joint_names()[i]);
+  return std::make_shared<ArmCollisions>(RobotOf(problem, *population->arm), scene,
+                                         problem.mounting.keep_out, moving,
+                                         population->arm->allowed_pairs);
+}
+
 bool StraightMotionIsFree(const ArmKinematics& kinematics, const ArmCollisions& collisions,
                           const std::vector<double>& from, const std::vector<double>& to,
                           double resolution) {

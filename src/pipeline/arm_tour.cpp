@@ -3,17 +3,21 @@
 // options before any ray.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <tuple>
 
 #include "pipeline/common.hpp"
 #include "vantage/error.hpp"
+#include "vantage/interrupt.hpp"
 #include "vantage/pipeline.hpp"
 #include "vantage/tour.hpp"
+#include "vantage/track.hpp"
 
 namespace vantage {
 
@@ -39,6 +43,31 @@ void ArmTourOptions::Validate() const {
   if (!(std::isfinite(resolution) && resolution > 0 && resolution <= 1))
     throw InputError(AtPlace("--motion-resolution", 0,
                              fmt::format("{} is not a step in (0, 1] [rad or m]", resolution)));
+  if (move_penalty && !track)
+    throw InputError(AtPlace("--move-penalty", 0,
+                             "only --track weighs the moves between states — add --track, or "
+                             "leave --move-penalty out"));
+  if (state_interval && !track)
+    throw InputError(AtPlace("--state-interval", 0,
+                             "only --track follows states in time — add --track, or leave "
+                             "--state-interval out"));
+  if (move_penalty && !(std::isfinite(*move_penalty) && *move_penalty >= 0 &&
+                        *move_penalty <= 1000))
+    throw InputError(AtPlace("--move-penalty", 0,
+                             fmt::format("{} is not a coverage share per second in [0, 1000] — "
+                                         "give e.g. --move-penalty 0.01 (one point of coverage "
+                                         "per second of motion)",
+                                         *move_penalty)));
+  if (state_interval && !(std::isfinite(*state_interval) && *state_interval > 0 &&
+                          *state_interval <= 1e6))
+    throw InputError(AtPlace("--state-interval", 0,
+                             fmt::format("{} is not a positive number of seconds — give e.g. "
+                                         "--state-interval 2",
+                                         *state_interval)));
+  if (track && cycle_time)
+    throw InputError(AtPlace("--track", 0,
+                             "--track chooses one view per state, --cycle-time views for one "
+                             "tour — give one of them"));
 }
 
 namespace detail {
@@ -307,6 +336,331 @@ Selection CycleTimeSelection(const VisibilityFile& data, const std::vector<ArmSe
   selection.paper_coverage = evaluator.PaperCoverage(selection.chosen);
   selection.seconds = SecondsSince(start);
   return selection;
+}
+
+namespace {
+
+/// The scene of state `a` with state `b`'s objects added: a move between the two states must be
+/// free in both (the scene changes while the arm moves).
+Scene BothStates(const Scene& a, const Scene& b) {
+  Scene both = a;
+  both.objects.insert(both.objects.end(), b.objects.begin(), b.objects.end());
+  return both;
+}
+
+/// The track's views: every candidate on the first arm's robot (candidate indices).
+std::vector<uint32_t> TrackViews(const std::vector<Candidate>& candidates,
+                                 const std::vector<ArmSetup>& arms) {
+  std::vector<uint32_t> views;
+  for (uint32_t i = 0; i < candidates.size(); ++i) {
+    const ArmSetup* of = SetupOf(arms, candidates[i]);
+    if (of && of->robot == arms.front().robot) views.push_back(i);
+  }
+  return views;
+}
+
+/// The waypoints of a planned path without its ends, each with when it is reached.
+ArmVia ViaOf(const std::vector<std::vector<double>>& inner, const std::vector<double>& from,
+             const std::vector<double>& speeds) {
+  ArmVia via;
+  via.waypoints = inner;
+  const std::vector<double>* previous = &from;
+  double t = 0;
+  for (const auto& q : via.waypoints) {
+    t += MotionSeconds(*previous, q, speeds);
+    via.seconds.push_back(t);
+    previous = &q;
+  }
+  return via;
+}
+
+}  // namespace
+
+void PrepareArmTrack(PreparedScene* prepared, const ArmTourOptions& options) {
+  if (!options.track) return;
+  Problem& problem = prepared->problem;
+  if (problem.states.empty())
+    throw InputError(AtPlace("--track", 0,
+                             "the scene has no `states:` — --track follows a changing scene, one "
+                             "view per state in time order; add states (docs/scene-format.md) "
+                             "or drop --track"));
+  if (prepared->arms.empty())
+    throw InputError(AtPlace("--track", 0,
+                             "no candidate is on an arm — --track moves one arm camera from "
+                             "state to state; add an `arm` population or `reach:` (docs/arm.md)"));
+  const size_t states = problem.states.size();
+  VANTAGE_CHECK(prepared->state_scenes.size() == states);
+  const std::string robot = prepared->arms.front().robot;
+  const std::vector<uint32_t> views = TrackViews(prepared->candidates, prepared->arms);
+  std::vector<std::vector<bool>> free_in(states, std::vector<bool>(views.size(), false));
+  for (ArmSetup& arm : prepared->arms) {
+    if (arm.robot != robot) continue;
+    arm.state_collisions.clear();
+    for (const Scene& scene : prepared->state_scenes)
+      arm.state_collisions.push_back(ArmCollisionsIn(problem, arm, scene));
+    arm.state_free.assign(states, std::vector<bool>(prepared->candidates.size(), false));
+  }
+  // Each view in each state, against that state's cell (its own population's checks).
+  for (size_t s = 0; s < states; ++s) {
+    std::vector<char> free(views.size(), 0);
+    std::vector<std::string> pairs(views.size());
+    tbb::parallel_for(size_t{0}, views.size(), [&](size_t k) {
+      if (InterruptRequested()) return;
+      const Candidate& c = prepared->candidates[views[k]];
+      const ArmSetup& arm = *SetupOf(prepared->arms, c);
+      free[k] = arm.state_collisions[s]->Check(arm.kinematics->LinkPosesAt(c.arm->joints),
+                                               &pairs[k]) == ArmCollision::kNone;
+    });
+    ThrowIfInterrupted();
+    size_t count = 0;
+    std::map<std::string, size_t> often;
+    for (size_t k = 0; k < views.size(); ++k) {
+      const Candidate& c = prepared->candidates[views[k]];
+      for (ArmSetup& arm : prepared->arms)
+        if (arm.population == c.population) arm.state_free[s][views[k]] = free[k] != 0;
+      free_in[s][k] = free[k] != 0;
+      count += free[k] != 0 ? 1 : 0;
+      if (free[k] == 0) ++often[pairs[k]];
+    }
+    const SceneState& state = problem.states[s];
+    const std::string file = state.file.empty() ? problem.source : state.file;
+    if (count == 0) {
+      const auto most = std::max_element(often.begin(), often.end(), [](const auto& a,
+                                                                         const auto& b) {
+        return a.second < b.second;
+      });
+      throw InputError(AtPlace(file, state.line,
+                               fmt::format("state '{}': none of the {} views of the arm on robot "
+                                           "'{}' is collision-free in this state (most often {}) "
+                                           "— --track needs a view in every state; move the "
+                                           "state's objects or widen the arm's views",
+                                           state.name, views.size(), robot,
+                                           most == often.end() ? std::string() : most->first)));
+    }
+    const std::string note = fmt::format("--track: state '{}': {} of {} views of the arm are "
+                                         "collision-free in it",
+                                         state.name, count, views.size());
+    spdlog::info("{}", note);
+    if (count < views.size()) prepared->notes.push_back(note);
+  }
+  // The moves into each state: against that state's cell and the one before it together.
+  ArmSetup& first = prepared->arms.front();
+  first.move_collisions = {first.state_collisions.front()};
+  for (size_t s = 1; s < states; ++s)
+    first.move_collisions.push_back(ArmCollisionsIn(
+        problem, first, BothStates(prepared->state_scenes[s - 1], prepared->state_scenes[s])));
+  // Before any ray: could any sequence obey --state-interval at the straight moves' times (no
+  // move is faster)? Coverage does not matter here, only which views are allowed where.
+  if (options.state_interval) {
+    TrackProblem feasible;
+    const TourTimes times = StraightTimes(prepared->candidates, views, first, options);
+    feasible.motion = times.motion;
+    feasible.acquisition = times.acquisition;
+    feasible.state_interval = options.state_interval;
+    feasible.coverage.assign(states, std::vector<double>(views.size(), 0.0));
+    for (size_t s = 0; s < states; ++s)
+      for (size_t k = 0; k < views.size(); ++k)
+        if (!free_in[s][k]) feasible.coverage[s][k] = -kInf;
+    if (!SolveTrack(feasible).feasible)
+      throw InputError(AtPlace("--state-interval", 0,
+                               fmt::format("no sequence of the arm's {} views, one per state, "
+                                           "moves from each state's view to the next's within "
+                                           "{} s (acquisition included, at the joints' top "
+                                           "speeds) — lengthen --state-interval",
+                                           views.size(), *options.state_interval)));
+  }
+}
+
+void TrackSelection(const ObservedScene& observed, const ArmTourOptions& options, uint64_t seed,
+                    Report* report) {
+  const auto start = std::chrono::steady_clock::now();
+  const VisibilityFile& data = observed.data;
+  const std::vector<ArmSetup>& arms = observed.arms;
+  VANTAGE_CHECK(!arms.empty() && !observed.states.empty());
+  const ArmSetup& arm = arms.front();
+  const std::vector<uint32_t> views = TrackViews(data.candidates, arms);
+  const size_t states = observed.states.size(), n = views.size();
+  VANTAGE_CHECK(arm.move_collisions.size() == states && arm.state_collisions.size() == states);
+  const std::vector<double> speeds = Speeds(arm, options);
+  TrackProblem problem;
+  const TourTimes times = StraightTimes(data.candidates, views, arm, options);
+  problem.motion = times.motion;
+  problem.acquisition = times.acquisition;
+  problem.seconds_weight = options.move_penalty.value_or(0.0);
+  problem.state_interval = options.state_interval;
+  problem.state_moves.resize(states);
+  problem.coverage.assign(states, std::vector<double>(n, -kInf));
+  std::vector<size_t> free_count(states, 0);
+  for (size_t s = 0; s < states; ++s) {
+    const ObservedState& state = observed.states[s];
+    const CoverageEvaluator evaluator(state.observations, state.reference.size());
+    for (size_t k = 0; k < n; ++k) {
+      const ArmSetup& own = *SetupOf(arms, data.candidates[views[k]]);
+      if (!own.state_free[s][views[k]]) continue;  // the arm hits this state's cell there
+      ++free_count[s];
+      const uint32_t one[] = {views[k]};
+      problem.coverage[s][k] = evaluator.Coverage(one);
+    }
+  }
+  const auto configuration = [&](size_t k) -> const std::vector<double>& {
+    return k == n ? arm.home : data.candidates[views[k]].arm->joints;
+  };
+  const auto name = [&](size_t k) {
+    return k == n ? std::string("home") : data.candidates[views[k]].name;
+  };
+  const auto id = [&](size_t k) -> uint64_t { return k == n ? 0xFFFFFFFFu : views[k]; };
+  // A move checked in `collisions` at the resolution, planned around where it collides.
+  const auto check = [&](size_t from, size_t to, const ArmCollisions& collisions,
+                         uint64_t stream, const std::string& where) {
+    MoveVerdict verdict;
+    verdict.seconds = times.motion[from][to];
+    if (StraightMotionIsFree(*arm.kinematics, collisions, configuration(from), configuration(to),
+                             options.resolution))
+      return verdict;
+    MotionPlanOptions plan;
+    plan.resolution = options.resolution;
+    plan.time_limit = options.plan_seconds;
+    plan.seed = seed;
+    plan.stream = stream;
+    const PlannedMotion motion = PlanMotion(*arm.kinematics, collisions, configuration(from),
+                                            configuration(to), speeds, plan);
+    if (motion.stopped_by_time)
+      spdlog::warn("planning the move between {} and {} {} stopped at --plan-time {} s: the "
+                   "answer may differ on a faster machine — raise --plan-time",
+                   name(from), name(to), where, options.plan_seconds);
+    verdict.seconds = motion.seconds;  // +inf when not found
+    verdict.planned = motion.found;
+    if (motion.found) verdict.via.assign(motion.waypoints.begin() + 1, motion.waypoints.end() - 1);
+    return verdict;
+  };
+  // Solve on the straight moves' times, check the moves the answer uses in the cells they cross
+  // (planning around a collision), and solve again until every move it uses has its checked
+  // time: exact, as a checked move is never faster than its straight time (a norm).
+  std::map<std::tuple<size_t, size_t, size_t>, MoveVerdict> verdicts;  // (state, lower, upper)
+  Track track;
+  size_t solves = 0;
+  for (;;) {
+    ++solves;
+    track = SolveTrack(problem);
+    if (!track.feasible) break;
+    bool changed = false;
+    for (size_t s = 0; s < states; ++s) {
+      const size_t from = s == 0 ? n : track.views[s - 1], to = track.views[s];
+      if (from == to) continue;  // the arm stays
+      const auto [low, high] = std::minmax(from, to);
+      if (verdicts.count({s, low, high})) continue;
+      MoveVerdict verdict =
+          check(low, high, *arm.move_collisions[s],
+                (id(low) << 32) ^ id(high) ^ (static_cast<uint64_t>(s) << 48),
+                fmt::format("into state '{}'", observed.states[s].name));
+      if (verdict.seconds != times.motion[low][high]) {
+        const auto a = static_cast<uint32_t>(low), b = static_cast<uint32_t>(high);
+        problem.state_moves[s][{a, b}] = problem.state_moves[s][{b, a}] = verdict.seconds;
+        changed = true;
+      }
+      verdicts.emplace(std::make_tuple(s, low, high), std::move(verdict));
+    }
+    if (!changed) break;
+  }
+  if (!track.feasible)
+    throw InputError(AtPlace(options.state_interval ? "--state-interval" : "--track", 0,
+                             fmt::format("no sequence of the arm's {} views, one per state, is "
+                                         "connected{}: the moves it needs collide and the "
+                                         "planner found no way around — {}",
+                                         n,
+                                         options.state_interval
+                                             ? fmt::format(" within {} s", *options.state_interval)
+                                             : std::string(),
+                                         options.state_interval ? "lengthen --state-interval"
+                                                                : "move the cell's objects")));
+  // The answer: a result of its distinct views, its path as the arm's tour, each state's view.
+  TrackInfo info;
+  info.move_penalty = problem.seconds_weight;
+  info.state_interval = options.state_interval;
+  info.value = track.value;
+  info.coverage_sum = track.coverage;
+  info.views = n;
+  info.checked_moves = verdicts.size();
+  info.solves = solves;
+  Selection selection;
+  selection.method = "track";
+  selection.objective = "track";
+  ArmTour tour;
+  tour.robot = arm.robot;
+  tour.population = arm.population;
+  tour.joint_names = arm.kinematics->joint_names();
+  tour.home = arm.home;
+  tour.resolution = options.resolution;
+  tour.state_interval = options.state_interval;
+  tour.tour.method = "track";
+  tour.tour.exact = true;
+  double paper = 0;
+  for (size_t s = 0; s < states; ++s) {
+    const size_t k = track.views[s];
+    const uint32_t candidate = views[k];
+    const size_t from = s == 0 ? n : track.views[s - 1];
+    const auto found = verdicts.find({s, std::min(from, k), std::max(from, k)});
+    const bool planned = found != verdicts.end() && found->second.planned;
+    info.states.push_back({observed.states[s].name, candidate, problem.coverage[s][k],
+                           track.move_seconds[s], planned, free_count[s]});
+    info.move_seconds += track.move_seconds[s];
+    if (std::find(selection.chosen.begin(), selection.chosen.end(), candidate) ==
+        selection.chosen.end())
+      selection.chosen.push_back(candidate);
+    selection.state_coverage.push_back(problem.coverage[s][k]);
+    const ObservedState& state = observed.states[s];
+    const uint32_t one[] = {candidate};
+    paper += CoverageEvaluator(state.observations, state.reference.size()).PaperCoverage(one);
+    tour.views.push_back(candidate);
+    tour.states.push_back(state.name);
+    tour.configurations.push_back(configuration(k));
+    tour.move_seconds.push_back(track.move_seconds[s]);
+    std::vector<std::vector<double>> inner;
+    if (planned) {
+      inner = found->second.via;
+      if (from > k) std::reverse(inner.begin(), inner.end());
+    }
+    tour.move_via.push_back(ViaOf(inner, configuration(from), speeds));
+    tour.acquisition_seconds.push_back(times.acquisition[k]);
+    tour.planned_pairs += planned ? 1 : 0;
+  }
+  // Back home after the last state, in its cell.
+  const size_t last = track.views.back();
+  const MoveVerdict back = check(last, n, *arm.state_collisions.back(),
+                                 (id(last) << 32) ^ id(n) ^ (static_cast<uint64_t>(states) << 48),
+                                 "back home");
+  tour.return_seconds = back.seconds;
+  tour.return_via = ViaOf(back.via, configuration(last), speeds);
+  tour.planned_pairs += back.planned ? 1 : 0;
+  tour.unconnected_pairs += std::isfinite(back.seconds) ? 0 : 1;
+  selection.n = static_cast<int>(selection.chosen.size());
+  selection.coverage = track.coverage / static_cast<double>(states);
+  selection.paper_coverage = paper / static_cast<double>(states);
+  selection.seconds = SecondsSince(start);
+  tour.tour.order = tour.views;
+  tour.tour.motion_seconds = info.move_seconds + tour.return_seconds;
+  double acquiring = 0;
+  for (double a : tour.acquisition_seconds) acquiring += a;
+  tour.tour.acquisition_seconds = acquiring;
+  // From home to home: with --state-interval the states are that far apart (the arm waits).
+  tour.tour.total_seconds =
+      options.state_interval
+          ? track.move_seconds.front() +
+                static_cast<double>(states - 1) * *options.state_interval +
+                tour.acquisition_seconds.back() + tour.return_seconds
+          : tour.tour.motion_seconds + acquiring;
+  spdlog::info("--track: {} states, {} distinct views, summed coverage {:.4f}, {:.2f} s moving, "
+               "value {:.4f} (exact; {} moves checked, {} solves)",
+               states, selection.n, track.coverage, info.move_seconds, track.value,
+               info.checked_moves, solves);
+  report->results = {selection};
+  report->tours = {tour};
+  report->track = std::move(info);
+  StatesInfo states_info;
+  states_info.over = "track";
+  for (const ObservedState& state : observed.states)
+    states_info.states.push_back({state.name, state.reference.size(), state.same_as});
+  report->states = std::move(states_info);
 }
 
 }  // namespace detail

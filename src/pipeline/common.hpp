@@ -184,5 +184,13 @@ void AddArmTours(const std::vector<Candidate>& candidates, const std::vector<Arm
 /// --cycle-time: the greedy most coverage whose checked tour fits (method "cycle-time").
 Selection CycleTimeSelection(const VisibilityFile& data, const std::vector<ArmSetup>& arms,
                              const ArmTourOptions& options, uint64_t seed);
+/// --track (before any ray): InputError naming --track without states or without an arm, at a
+/// state's line when no view of the arm is collision-free in it, naming --state-interval when no
+/// sequence fits it even at the straight moves' times; sets the arms' per-state collisions.
+void PrepareArmTrack(PreparedScene* prepared, const ArmTourOptions& options);
+/// --track: the exact best view per state (SolveTrack over the checked moves) as the only
+/// result, its path as the tour, report->track and report->states.
+void TrackSelection(const ObservedScene& observed, const ArmTourOptions& options, uint64_t seed,
+                    Report* report);
 
 }  // namespace vantage::detail

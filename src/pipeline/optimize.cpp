@@ -64,7 +64,10 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
                                    "from 1 to {}",
                                    options.refine->max_rounds, kMaxRefineRounds));
   }
-  PreparedScene prepared = Prepare(options.scene);
+  options.arm.Validate();
+  SceneInput scene = options.scene;
+  scene.arm_follows_states = options.arm.track;
+  PreparedScene prepared = Prepare(scene);
   const std::string source = prepared.problem.source;
   const SelectOptions select = ResolveSelection(prepared.problem.selection, options.selection,
                                                 prepared.problem.seed, prepared.candidates,
@@ -129,6 +132,26 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
   }
   if (options.arm.cycle_time && (has_states || options.refine))
     throw InputError(AtPlace("--cycle-time", 0, "--cycle-time takes no --refine and no states"));
+  if (options.arm.track) {
+    // One view per state by coverage of one view: no other objective, no constraints.
+    const char* conflict = options.by_type                         ? "--by-type"
+                           : options.selection.over_states           ? "--over-states"
+                           : select.goal                             ? "a coverage goal"
+                           : select.budget                           ? "a budget"
+                           : select.k > 1                            ? "k-coverage"
+                           : select.min_points                       ? "a point density"
+                           : options.selection.constraints.interference.value_or(false) ||
+                                   options.selection.constraints.calibration_overlap ||
+                                   options.selection.constraints.calibration_overlap_frac
+                               ? "an installation constraint"
+                               : nullptr;
+    if (conflict)
+      throw InputError(AtPlace("--track", 0,
+                               fmt::format("--track scores one view per state by its coverage, "
+                                           "which {} does not — drop one of --track and {}",
+                                           conflict, conflict)));
+    detail::PrepareArmTrack(&prepared, options.arm);
+  }
   ObservedScene observed =
       ObservePrepared(std::move(prepared), options.observe, options.limits, options.trace);
   return OptimizeObserved{std::move(observed), select, start};
@@ -146,7 +169,10 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
   report.constraints = detail::ResolveConstraints(
       options.selection.constraints, select, observed.data.candidates, observed.data.observations,
       observed.data.mounting, observed.data.kept_out, observed.states);
-  if (options.arm.cycle_time) {
+  if (options.arm.track) {
+    // One view per state, exactly (dynamic programme over the checked moves).
+    detail::TrackSelection(observed, options.arm, select.seed, &report);
+  } else if (options.arm.cycle_time) {
     // The most coverage whose tour fits the cycle time replaces the methods' results.
     report.results.push_back(detail::CycleTimeSelection(observed.data, observed.arms, options.arm,
                                                         select.seed));
@@ -210,7 +236,7 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
         "lists every state",
         report.states->states.front().name));
   }
-  detail::AddArmTours(data.candidates, observed.arms, options.arm, &report);
+  if (!options.arm.track) detail::AddArmTours(data.candidates, observed.arms, options.arm, &report);
   DeriveReport(&report);
 
   // constellation.world (or .yaml): the input scene with only the primary result's sensors.

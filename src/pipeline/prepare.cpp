@@ -111,19 +111,35 @@ void ExcludeKeptOut(PreparedScene* prepared) {
 // `arm` populations' views, each collision-free, before any ray. The robots that carry cameras
 // leave the ray scene: each arm view carries its links as they stand in it (observe's
 // ArmOcclusion), so a static copy at the `robots:` joints would hide views it does not block.
-void ApplyArmPopulations(PreparedScene* prepared) {
+void ApplyArmPopulations(PreparedScene* prepared, bool follows_states) {
   Problem& problem = prepared->problem;
   const auto has_arm = [](const Population& p) { return p.arm.has_value(); };
   if (std::none_of(problem.populations.begin(), problem.populations.end(), has_arm)) return;
   for (const Population& population : problem.populations) {
     if (!population.arm) continue;
     const ArmMount& arm = *population.arm;
-    if (!problem.states.empty())
+    if (!problem.states.empty() && !follows_states)
       throw InputError(AtPlace(arm.file, arm.line,
                                fmt::format("population '{}': a camera on an arm in a scene with "
-                                           "`states:` is not supported — remove the states or "
-                                           "the arm population",
+                                           "`states:` follows them only with --track (one view "
+                                           "per state, docs/arm.md) — add --track, or remove "
+                                           "the states or the arm population",
                                            population.name)));
+    // The carrying arm's pose is each view's: a state may not set it.
+    const std::string own = arm.robot + "::";
+    for (const SceneState& state : problem.states) {
+      std::vector<std::string> touched = state.remove;
+      for (const auto& [name, mesh] : state.reshape) touched.push_back(name);
+      for (const auto& [name, pose] : state.move) touched.push_back(name);
+      for (const std::string& name : touched) {
+        if (name.rfind(own, 0) != 0) continue;
+        throw InputError(AtPlace(state.file.empty() ? problem.source : state.file, state.line,
+                                 fmt::format("state '{}' changes '{}' of robot '{}', which "
+                                             "carries population '{}''s camera — each view sets "
+                                             "that arm's joints; change other objects only",
+                                             state.name, name, arm.robot, population.name)));
+      }
+    }
     for (const PlacedRobot& robot : problem.robots) {
       if (robot.name == arm.robot && !robot.target_links.empty())
         throw InputError(AtPlace(robot.file, robot.line,
@@ -183,7 +199,7 @@ PreparedScene Prepare(const SceneInput& input) {
   deploy.seed = problem.seed;
   prepared.candidates =
       DeployCandidates(problem.populations, problem.sensors, problem.sensor_types, deploy);
-  ApplyArmPopulations(&prepared);
+  ApplyArmPopulations(&prepared, input.arm_follows_states);
   detail::CheckDeployedCandidates(prepared.candidates, problem);
   if (prepared.candidates.empty())
     throw InputError(

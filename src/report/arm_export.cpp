@@ -31,12 +31,19 @@ ordered_json Duration(double seconds) {
   return d;
 }
 
-/// When the arm arrives at each view and leaves it (after its acquisition) [s from home].
-void Timeline(const ArmTour& tour, std::vector<double>* arrive, std::vector<double>* leave) {
+/// When the arm arrives at each view, starts its acquisition and leaves (after it) [s from
+/// home]. With a state interval (--track) view k's acquisition starts at the first's + k · T
+/// (the moves fit: the arm waits); otherwise at once.
+void Timeline(const ArmTour& tour, std::vector<double>* arrive, std::vector<double>* leave,
+              std::vector<double>* acquire = nullptr) {
   double at = 0;
   for (size_t k = 0; k < tour.views.size(); ++k) {
     at += tour.move_seconds[k];
     arrive->push_back(at);
+    if (tour.state_interval && k > 0)
+      at = std::max(at, (acquire ? (*acquire)[0] : arrive->front()) +
+                            static_cast<double>(k) * *tour.state_interval);
+    if (acquire) acquire->push_back(at);
     at += tour.acquisition_seconds[k];
     leave->push_back(at);
   }
@@ -69,6 +76,7 @@ ordered_json ArmTourJson(const ArmTour& tour, const VisibilityFile& data) {
   ordered_json order = ordered_json::array();
   for (uint32_t view : tour.views) order.push_back(data.candidates.at(view).name);
   j["order"] = std::move(order);
+  if (!tour.states.empty()) j["states"] = tour.states;  // --track: the state of each view
   j["resolution"] = tour.resolution;
   j["unconnected_moves"] = tour.unconnected_pairs;
   j["planned_moves"] = tour.planned_pairs;
@@ -76,8 +84,8 @@ ordered_json ArmTourJson(const ArmTour& tour, const VisibilityFile& data) {
 }
 
 std::string ViewsYaml(const ArmTour& tour, const VisibilityFile& data) {
-  std::vector<double> arrive, leave;
-  Timeline(tour, &arrive, &leave);
+  std::vector<double> arrive, leave, acquire;
+  Timeline(tour, &arrive, &leave, &acquire);
   YAML::Emitter out;
   out.SetDoublePrecision(9);
   out << YAML::BeginMap;
@@ -97,11 +105,14 @@ std::string ViewsYaml(const ArmTour& tour, const VisibilityFile& data) {
     const Pose& pose = c.world_from_body;
     out << YAML::BeginMap;
     out << YAML::Key << "name" << YAML::Value << c.name;
+    if (k < tour.states.size()) out << YAML::Key << "state" << YAML::Value << tour.states[k];
     out << YAML::Key << "positions" << YAML::Value << YAML::Flow << tour.configurations[k];
     out << YAML::Key << "move_seconds" << YAML::Value << tour.move_seconds[k];
     if (k < tour.move_via.size() && !tour.move_via[k].empty())
       Via(tour.move_via[k], "via", &out);
     out << YAML::Key << "arrive_seconds" << YAML::Value << arrive[k];
+    if (tour.state_interval)
+      out << YAML::Key << "acquire_seconds" << YAML::Value << acquire[k];
     out << YAML::Key << "acquisition_seconds" << YAML::Value << tour.acquisition_seconds[k];
     out << YAML::Key << "camera_pose" << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "frame_id" << YAML::Value << "world";
@@ -121,9 +132,36 @@ std::string ViewsYaml(const ArmTour& tour, const VisibilityFile& data) {
          out.c_str() + "\n";
 }
 
+ordered_json ArmTrackJson(const TrackInfo& track, const VisibilityFile& data) {
+  ordered_json j;
+  j["method"] = "dynamic-programme";
+  j["exact"] = true;
+  j["move_penalty"] = track.move_penalty;
+  j["state_interval"] = track.state_interval ? ordered_json(*track.state_interval) : ordered_json();
+  j["value"] = track.value;
+  j["coverage_sum"] = track.coverage_sum;
+  j["move_seconds"] = track.move_seconds;
+  j["views"] = track.views;
+  j["checked_moves"] = track.checked_moves;
+  j["solves"] = track.solves;
+  ordered_json states = ordered_json::array();
+  for (const TrackInfo::State& state : track.states) {
+    ordered_json s;
+    s["state"] = state.name;
+    s["view"] = data.candidates.at(state.view).name;
+    s["coverage"] = state.coverage;
+    s["move_seconds"] = state.move_seconds;
+    s["planned"] = state.planned;
+    s["views_free"] = state.views_free;
+    states.push_back(std::move(s));
+  }
+  j["states"] = std::move(states);
+  return j;
+}
+
 std::string TrajectoryJson(const ArmTour& tour) {
-  std::vector<double> arrive, leave;
-  Timeline(tour, &arrive, &leave);
+  std::vector<double> arrive, leave, acquire;
+  Timeline(tour, &arrive, &leave, &acquire);
   ordered_json j;
   j["_type"] = "trajectory_msgs/msg/JointTrajectory";
   j["header"] = {{"stamp", {{"sec", 0}, {"nanosec", 0}}}, {"frame_id", "world"}};
@@ -148,6 +186,7 @@ std::string TrajectoryJson(const ArmTour& tour) {
   for (size_t k = 0; k < tour.views.size(); ++k) {
     if (k < tour.move_via.size()) via_points(tour.move_via[k], departed);
     point(tour.configurations[k], arrive[k]);
+    if (acquire[k] > arrive[k]) point(tour.configurations[k], acquire[k]);  // waits for its state
     if (tour.acquisition_seconds[k] > 0) point(tour.configurations[k], leave[k]);
     departed = leave[k];
   }

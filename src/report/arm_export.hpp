@@ -11,6 +11,9 @@ namespace vantage::detail {
 /// report.json's `tour` of a result.
 nlohmann::ordered_json ArmTourJson(const ArmTour& tour, const VisibilityFile& data);
 
+/// report.json's `track` (optimize --track): each state's view, coverage and move.
+nlohmann::ordered_json ArmTrackJson(const TrackInfo& track, const VisibilityFile& data);
+
 /// views.yaml: the joint names, then each view in tour order (its candidate, configuration,
 /// arrival and acquisition times, camera pose), home first and last.
 std::string ViewsYaml(const ArmTour& tour, const VisibilityFile& data);

@@ -439,6 +439,7 @@ std::string ReportJson(const Report& report) {
       results.back()["tour"] = detail::ArmTourJson(*report.tours[index], data);
   }
   if (report.cycle_time) j["cycle_time"] = *report.cycle_time;
+  if (report.track) j["track"] = detail::ArmTrackJson(*report.track, data);
   j["results"] = std::move(results);
   // The coverage-versus-n curve's extra answers (docs/outputs.md), shaped as results entries.
   ordered_json curve = ordered_json::array();

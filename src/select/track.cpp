@@ -14,12 +14,22 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 
+double TrackProblem::MoveSeconds(size_t state, uint32_t from, uint32_t to) const {
+  if (state < state_moves.size() && !state_moves[state].empty()) {
+    const auto found = state_moves[state].find({from, to});
+    if (found != state_moves[state].end()) return found->second;
+  }
+  return motion[from][to];
+}
+
 Track SolveTrack(const TrackProblem& problem) {
   const size_t states = problem.coverage.size();
   const size_t n = problem.motion.empty() ? 0 : problem.motion.size() - 1;
   VANTAGE_CHECK(problem.motion.size() == n + 1);
   for (const auto& row : problem.motion) VANTAGE_CHECK(row.size() == n + 1);
   for (const auto& row : problem.coverage) VANTAGE_CHECK(row.size() == n);
+  VANTAGE_CHECK(problem.state_moves.empty() || problem.state_moves.size() == states);
+  VANTAGE_CHECK(problem.acquisition.empty() || problem.acquisition.size() == n);
   VANTAGE_CHECK(problem.seconds_weight >= 0 && std::isfinite(problem.seconds_weight));
   Track track;
   if (states == 0) {
@@ -28,11 +38,16 @@ Track SolveTrack(const TrackProblem& problem) {
   }
   const size_t home = n;
   const auto allowed = [&](double coverage) { return std::isfinite(coverage); };
-  // A move's cost, or nullopt when it is not allowed (unconnected or over the limit).
-  const auto move = [&](size_t from, size_t to) -> std::optional<double> {
-    const double seconds = problem.motion[from][to];
+  // A move's time into `state`, or nullopt when it is not allowed (unconnected, or the
+  // acquisition before it and the move do not fit the time between two states).
+  const auto move = [&](size_t state, size_t from, size_t to) -> std::optional<double> {
+    const double seconds = problem.MoveSeconds(state, static_cast<uint32_t>(from),
+                                               static_cast<uint32_t>(to));
     if (!std::isfinite(seconds)) return std::nullopt;
-    if (problem.max_move_seconds && seconds > *problem.max_move_seconds) return std::nullopt;
+    if (state > 0 && problem.state_interval) {
+      const double acquiring = problem.acquisition.empty() ? 0.0 : problem.acquisition[from];
+      if (acquiring + seconds > *problem.state_interval) return std::nullopt;
+    }
     return seconds;
   };
   // best[s][v]: the largest value of states 0..s ending at v; -inf: unreachable.
@@ -42,7 +57,7 @@ Track SolveTrack(const TrackProblem& problem) {
     if (!allowed(problem.coverage[0][v])) continue;
     double cost = 0;
     if (problem.start_at_home) {
-      const auto seconds = move(home, v);
+      const auto seconds = move(0, home, v);
       if (!seconds) continue;
       cost = problem.seconds_weight * *seconds;
     }
@@ -54,7 +69,7 @@ Track SolveTrack(const TrackProblem& problem) {
       if (!allowed(problem.coverage[s][v])) continue;
       for (size_t u = 0; u < n; ++u) {
         if (best[s - 1][u] == -kInf) continue;
-        const auto seconds = move(u, v);
+        const auto seconds = move(s, u, v);
         if (!seconds) continue;
         const double value = best[s - 1][u] - problem.seconds_weight * *seconds;
         if (value > best[s][v]) {  // strict: ties keep the lower u
@@ -80,8 +95,10 @@ Track SolveTrack(const TrackProblem& problem) {
   for (size_t s = 0; s < states; ++s) {
     const uint32_t v = track.views[s];
     track.coverage += problem.coverage[s][v];
-    const double seconds = s > 0 ? problem.motion[track.views[s - 1]][v]
-                                 : (problem.start_at_home ? problem.motion[home][v] : 0.0);
+    const double seconds =
+        s > 0 ? problem.MoveSeconds(s, track.views[s - 1], v)
+              : (problem.start_at_home ? problem.MoveSeconds(0, static_cast<uint32_t>(home), v)
+                                       : 0.0);
     track.move_seconds.push_back(seconds);
   }
   return track;
