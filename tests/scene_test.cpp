@@ -2,6 +2,7 @@
 // YAML scene format (docs/scene-format.md) and its error messages.
 #include "vantage/scene.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -401,6 +402,59 @@ void ExpectMeshError(const std::string& path) {
     const std::string message = e.what();
     EXPECT_EQ(message.rfind(path + ": cannot read mesh", 0), 0u) << message;
   }
+}
+
+// Issue 47: a binary STL is read without Assimp's child process. A unit cube's 12 facets, each
+// with its own three vertices as STL stores them (one corner written as -0), must come back as
+// the cube: 8 corners, area 6, volume 1 — and as exactly the mesh Assimp makes of the same
+// facets written as ASCII STL (another reader of the same surface).
+TEST(Scene, BinaryStlIsTheCubeAssimpReads) {
+  TempDir dir;
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  const auto corner = [](int i) {
+    return std::array<float, 3>{i & 1 ? 1.0f : -0.0f, i & 2 ? 1.0f : 0.0f, i & 4 ? 1.0f : 0.0f};
+  };
+  std::vector<std::array<int, 3>> facets;
+  for (const auto& q : quads) {
+    facets.push_back({q[0], q[1], q[2]});
+    facets.push_back({q[0], q[2], q[3]});
+  }
+  std::string binary(80, ' ');
+  const uint32_t count = static_cast<uint32_t>(facets.size());
+  binary.append(reinterpret_cast<const char*>(&count), 4);
+  std::string ascii = "solid cube\n";
+  for (const auto& f : facets) {
+    const float normal[3] = {0, 0, 0};
+    binary.append(reinterpret_cast<const char*>(normal), 12);
+    ascii += " facet normal 0 0 0\n  outer loop\n";
+    for (const int i : f) {
+      const auto p = corner(i);
+      binary.append(reinterpret_cast<const char*>(p.data()), 12);
+      ascii += fmt::format("   vertex {} {} {}\n", p[0], p[1], p[2]);
+    }
+    binary.append(2, '\0');
+    ascii += "  endloop\n endfacet\n";
+  }
+  ascii += "endsolid cube\n";
+  ASSERT_EQ(binary.size(), 84u + 50u * 12u);
+  WriteText(dir.File("cube.stl"), binary);
+  WriteText(dir.File("cube_ascii.stl"), ascii);
+  const TriangleMesh mesh = LoadMeshFile(dir.File("cube.stl"));
+  EXPECT_EQ(mesh.vertices.size(), 8u);  // -0 and +0 are one corner
+  EXPECT_EQ(mesh.triangles.size(), 12u);
+  EXPECT_NEAR(mesh.Area(), 6.0, 1e-12);
+  double volume = 0;  // divergence theorem over the outward facets
+  for (const auto& t : mesh.triangles)
+    volume += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]])) / 6.0;
+  EXPECT_NEAR(volume, 1.0, 1e-12);
+  for (const Vec3& v : mesh.vertices) EXPECT_FALSE(std::signbit(v.x()));
+  const TriangleMesh by_assimp = LoadMeshFile(dir.File("cube_ascii.stl"));
+  EXPECT_EQ(by_assimp.vertices, mesh.vertices);
+  EXPECT_EQ(by_assimp.triangles, mesh.triangles);
+  // One byte more: not a binary STL by the size rule, and no ASCII one either: refused.
+  WriteText(dir.File("cut.stl"), binary + " ");
+  ExpectMeshError(dir.File("cut.stl"));
 }
 
 TEST(Scene, MeshErrorsNameTheFile) {
