@@ -204,6 +204,20 @@ TEST(PoseTolerance, ZeroToleranceGivesThePlannedCoverage) {
     EXPECT_DOUBLE_EQ(s.worst, s.nominal);
     for (double loss : s.sensor_loss) EXPECT_DOUBLE_EQ(loss, 0.0);
   }
+  // The same with the results reversed: the pair first chosen in the order (1, 0), so that the
+  // sensors' first-seen order differs from their index order.
+  std::vector<Selection> reversed = {t.results[1], t.results[0]};
+  std::reverse(reversed[0].chosen.begin(), reversed[0].chosen.end());
+  ASSERT_GT(reversed[0].chosen[0], reversed[0].chosen[1]);
+  const PoseTolerance again = AssessPoseTolerance(t.data, reversed, *t.rays, {}, none);
+  ASSERT_EQ(again.results.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_DOUBLE_EQ(again.results[i].nominal, reversed[i].coverage) << i;
+    EXPECT_DOUBLE_EQ(again.results[i].worst, reversed[i].coverage) << i;
+    // Each sensor moved by nothing beside the others as planned loses nothing (a planned
+    // observation read from another sensor's place lost half of R here).
+    for (double loss : again.results[i].sensor_loss) EXPECT_DOUBLE_EQ(loss, 0.0) << i;
+  }
 }
 
 TEST(PoseTolerance, TheSensorWithoutMarginCostsTheMost) {
@@ -377,7 +391,7 @@ TEST(Words, AGzWorldWithoutThePluginAimsAtTheTargetsCentre) {
 TEST(PoseTolerance, OptimizeReportsItAndZeroIsThePlan) {
   test::TempDir dir;
   const auto run = RunVantage("optimize " + Example() +
-                              " -n 2 --method greedy --pose-tolerance 0,0 --pose-samples 4 --out " +
+                              " -n 2 --method all --pose-tolerance 0,0 --pose-samples 4 --out " +
                               dir.File("run"));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("pose tolerance"), std::string::npos) << run.out;
@@ -386,6 +400,7 @@ TEST(PoseTolerance, OptimizeReportsItAndZeroIsThePlan) {
   ASSERT_EQ(tolerance["results"].size(), report["results"].size());
   for (const json& r : tolerance["results"]) {
     const double planned = report["results"][r["result"].get<size_t>()]["coverage"].get<double>();
+    EXPECT_DOUBLE_EQ(r["nominal"].get<double>(), planned);
     EXPECT_DOUBLE_EQ(r["mean"].get<double>(), planned);
     EXPECT_DOUBLE_EQ(r["worst"].get<double>(), planned);
   }

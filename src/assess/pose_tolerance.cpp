@@ -82,7 +82,11 @@ PoseTolerance AssessPoseTolerance(const VisibilityFile& data, const std::vector<
   traced.progress = nullptr;
   std::vector<Observation> pool = Observe(rays, data.reference, perturbed, traced);
   const auto sensors = static_cast<uint32_t>(slot.size());
-  for (const auto& [candidate, place] : slot) pool.push_back(data.observations.at(candidate));
+  // The planned observations in the sensors' places (the map iterates by candidate index, which
+  // is not the order the results first chose them in).
+  std::vector<uint32_t> by_place(slot.size());
+  for (const auto& [candidate, place] : slot) by_place[place] = candidate;
+  for (uint32_t candidate : by_place) pool.push_back(data.observations.at(candidate));
   const CoverageEvaluator evaluator(pool, data.reference.size());
   const auto planned = [&](uint32_t c) { return sensors * samples + slot.at(c); };
   const auto moved = [&](uint32_t c, uint32_t sample) { return slot.at(c) * samples + sample; };

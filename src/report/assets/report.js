@@ -170,6 +170,52 @@
       ], typeRows);
     }
 
+    // What all candidates reach together, each target part (for the primary result and the
+    // ceiling), and the mounting tolerance: report.json's entries (issue 46).
+    var A = D.answers || {};
+    if (!A.ceiling) {
+      document.getElementById('ceiling-text').textContent = D.states
+        ? 'Over scene states each result counts per state (see the results): no single ceiling.'
+        : 'Not computed for this run.';
+    } else {
+      var cl = A.ceiling;
+      var ct = 'All ' + cl.candidates + ' candidates together reach ' + pct(cl.coverage) + ' (the ceiling).';
+      if (cl.unexposed !== undefined)
+        ct += ' ' + pct(cl.unexposed) + ' of the target surface is unexposed (resting on or enclosed by other ' +
+              'geometry, found from the geometry alone): no layout can exceed ' + pct(1 - cl.unexposed) + '.';
+      else if (cl.exposed_only)
+        ct += ' Only exposed surface counts (--exposed-only): ' + cl.left_out_voxels +
+              ' unexposed voxels are left out of the reference.';
+      var primaryParts = D.primary ? A.part_coverage[D.primary.index] : null;
+      if (primaryParts) ct += ' Each part, for ' + D.primary.method + ' N = ' + D.primary.n + ' and for the ceiling:';
+      document.getElementById('ceiling-text').textContent = ct;
+      var partColumns = [
+        {label: 'part', value: function (r) { return r.name; }},
+        {label: 'voxels', num: true, value: function (r) { return r.voxels; }}];
+      if (cl.unexposed !== undefined)
+        partColumns.push({label: 'unexposed voxels', num: true, value: function (r) { return r.unexposed_voxels; }});
+      if (primaryParts)
+        partColumns.push({label: 'this run', num: true, value: function (r) { return primaryParts[r.name]; }, show: pct});
+      partColumns.push({label: 'ceiling', num: true, value: function (r) { return r.coverage; }, show: pct});
+      makeTable(document.getElementById('parts-table'), partColumns, cl.parts);
+    }
+    if (A.pose_tolerance) {
+      var pt = A.pose_tolerance;
+      ['tolerance-title', 'tolerance-text'].forEach(function (id) { document.getElementById(id).hidden = false; });
+      document.getElementById('tolerance-text').textContent =
+        'Coverage of ' + pt.samples + ' layouts per result with every sensor moved up to ' + pt.position_m +
+        ' m and turned up to ' + pt.angle_deg + '° (seeded): mean, 5th percentile and worst, and the sensor ' +
+        'whose error costs most.';
+      makeTable(document.getElementById('tolerance-table'), [
+        {label: 'result', value: function (r) { var x = D.results[r.result]; return x.method + ' N = ' + x.n; }},
+        {label: 'planned', num: true, value: function (r) { return r.nominal; }, show: pct},
+        {label: 'mean', num: true, value: function (r) { return r.mean; }, show: pct},
+        {label: '5th percentile', num: true, value: function (r) { return r.p5; }, show: pct},
+        {label: 'worst', num: true, value: function (r) { return r.worst; }, show: pct},
+        {label: 'costliest sensor', value: function (r) { return r.costliest_sensor || ''; }}
+      ], pt.results);
+    }
+
     // Robustness of the primary result: each sensor failing, the narrower fields of view and
     // one-sensor alternatives.
     var rb = D.robustness;
