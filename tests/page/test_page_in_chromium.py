@@ -68,6 +68,13 @@ def main():
         expected = sum(len(t["best"]) for t in by_type["types"]) + len(by_type["mix"])
         check(rows == expected, f"the by-type table shows each type and the mix ({rows} of {expected} rows)")
 
+        # The ceiling and each part (issue 46): report.json's numbers, a row per part.
+        ceiling = report["ceiling"]
+        text = browser.evaluate("document.getElementById('ceiling-text').textContent")
+        check(f"{100 * ceiling['coverage']:.2f} %" in text, f"the page gives the ceiling ({text[:80]})")
+        rows = browser.evaluate("document.querySelectorAll('#parts-table tbody tr').length")
+        check(rows == len(ceiling["parts"]), f"a row per target part ({rows} of {len(ceiling['parts'])})")
+
         # Framing: every chosen camera inside the default picture.
         chosen = [names.index(n) for n in primary["sensors"]]
         for i in chosen:
