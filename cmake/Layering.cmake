@@ -16,7 +16,7 @@ set(VANTAGE_HEADERS_select select select_states constraints tour track)
 set(VANTAGE_HEADERS_assess refine robustness pose_tolerance)
 set(VANTAGE_HEADERS_report report visualize yaml_export gazebo_export)
 set(VANTAGE_HEADERS_render render)
-set(VANTAGE_HEADERS_pipeline pipeline)
+set(VANTAGE_HEADERS_pipeline pipeline external_matrix)
 set(VANTAGE_HEADERS_distribute distribute)
 
 # Stages each stage may include (itself included). Selection sees only the matrix header of the
