@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Writes a vantage visibility file (.vis, format 5; docs/outputs.md, "The visibility matrix")
 from any matrix, so that `vantage select` runs its selection on visibility computed elsewhere:
-another simulator, a real capture, a set-cover benchmark. Plain Python, no vantage needed.
+another simulator, a real capture, a set-cover benchmark. Plain Python, no vantage needed;
+with the module built, vantage.Visibility.from_matrix makes the same matrix in memory
+(docs/python.md).
 
 As a module:
 
@@ -16,19 +18,21 @@ As a command (OR-Library set-cover files: rows are cells, columns are candidates
                                                                   # its cell indices
 
 The candidates get placeholder poses and a placeholder sensor (its cost is the candidate's
-cost); the cells get placeholder keys in a line of 1 cm voxels. `vantage select FILE` then
+cost); the cells get placeholder keys of 1 cm voxels in a row. `vantage select FILE` then
 reports selection as usual (report.html without meshes; ignore the robustness read-out, which
 re-traces the placeholder poses)."""
 
 import argparse
 import math
+import numbers
 import struct
 import sys
 
 MAGIC = b"VANTVIS\0"
 VERSION = 5
 KEY_OFFSET = 1 << 20
-MAX_INDEX = (1 << 21) - 1
+MAX_CELLS = 1 << 32  # indices into R are 32-bit
+MAX_POINT_COUNT = 65535  # where vantage's counts saturate; no --min-points is above it
 
 
 def fnv1a64(data):
@@ -73,37 +77,81 @@ class _Writer:
 
 
 def cell_key(index):
-    """A packed key (docs/outputs.md) for placeholder cell `index`: voxels along x, then y, z."""
-    side = MAX_INDEX + 1 - KEY_OFFSET  # 2^20 per axis on the positive side
-    i, rest = index % side, index // side
-    j, k = rest % side, rest // side
-    if k >= side:
-        raise ValueError(f"{index + 1} cells are more than a .vis file can hold")
+    """The packed key (docs/outputs.md) of placeholder cell `index`: (i, j, k) with k fastest,
+    2^20 cells per axis, so that the keys ascend with the index as R's must (the same as
+    vantage's CellOfExternalIndex)."""
+    side = 1 << 20
+    i, j, k = index // side // side, index // side % side, index % side
     return ((i + KEY_OFFSET) << 42) | ((j + KEY_OFFSET) << 21) | (k + KEY_OFFSET)
+
+
+def name_problem(name):
+    """What vantage's readers refuse in a name (its NameProblem), or None."""
+    for ch in name:
+        code = ord(ch)
+        if code < 0x20 or 0x7F <= code <= 0x9F or code in (0x2028, 0x2029):
+            return f"has a control character or line break (U+{code:04X})"
+        if 0xD800 <= code <= 0xDFFF:
+            return f"has a lone surrogate (U+{code:04X}), which UTF-8 cannot hold"
+    return None
+
+
+def _whole(value, what):
+    """An integer (Python's or NumPy's, not bool), or a whole float; TypeError otherwise."""
+    if isinstance(value, bool):
+        raise TypeError(f"{what}: give a whole number, not bool")
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    if isinstance(value, numbers.Real) and math.isfinite(value) and value == int(value):
+        return int(value)
+    if isinstance(value, numbers.Real):
+        raise ValueError(f"{what}: {value} is not a whole number")
+    raise TypeError(f"{what}: give a whole number, not {type(value).__name__}")
 
 
 def write_vis(path, rows, cell_count, names=None, costs=None, hits=None, scene="external matrix",
               seed=1):
-    """Writes `rows` (one per candidate: the indices of the cells it sees, in [0, cell_count))
-    as a format-5 .vis file. `names`: distinct, non-empty (default c0, c1, ...); `costs`: one
-    per candidate, >= 0 (default 1); `hits`: optional, one list per row, each cell's pixel count
-    (1..65535) for --min-points (default 1 per cell seen). Raises ValueError naming what is
-    wrong before writing anything."""
+    """Writes `rows` (one per candidate: the indices of the cells it sees, in [0, cell_count),
+    each once, in any order) as a format-5 .vis file: the file vantage.Visibility.from_matrix
+    builds from the same matrix (its save() writes it in the current format). `names`: distinct,
+    non-empty, printable (default c0, c1, ...); `costs`: one per candidate, finite and >= 0
+    (default 1); `hits`: optional, one list per row, each cell's point count for --min-points,
+    a whole number >= 1, stored at most 65535 (default 1 per cell seen). Raises ValueError (a bad
+    value) or TypeError (a value of the wrong type) naming what is wrong before writing
+    anything."""
     m = len(rows)
-    if cell_count < 1:
-        raise ValueError("cell_count must be >= 1 (R needs a cell)")
+    if m < 1:
+        raise ValueError("rows: no rows — give one row per candidate")
+    cell_count = _whole(cell_count, "cell_count")
+    if not 1 <= cell_count <= MAX_CELLS:
+        raise ValueError(f"cell_count: {cell_count} is out of range — give 1 to {MAX_CELLS}")
     names = list(names) if names is not None else [f"c{i}" for i in range(m)]
     costs = list(costs) if costs is not None else [1.0] * m
-    if len(names) != m or len(costs) != m:
-        raise ValueError(f"names and costs need one entry per row ({m})")
-    if len(set(names)) != m or any(not n or "\n" in n for n in names):
-        raise ValueError("names must be distinct, non-empty and on one line")
-    if any(not (isinstance(c, (int, float)) and math.isfinite(c) and c >= 0) for c in costs):
-        raise ValueError("costs must be finite and >= 0")
+    if len(names) != m:
+        raise ValueError(f"names: {len(names)} names for {m} rows — give one per row")
+    if len(costs) != m:
+        raise ValueError(f"costs: {len(costs)} costs for {m} rows — give one per row")
+    for i, name in enumerate(names):
+        if not isinstance(name, str):
+            raise TypeError(f"names[{i}]: give a str, not {type(name).__name__}")
+        if not name:
+            raise ValueError(f"names[{i}] is empty — name it")
+        if problem := name_problem(name):
+            raise ValueError(f"names[{i}] {name!r} {problem}")
+    if len(set(names)) != m:
+        raise ValueError("names must be distinct")
+    for i, c in enumerate(costs):
+        if isinstance(c, bool) or not isinstance(c, numbers.Real):
+            raise TypeError(f"costs[{i}]: give a number, not {type(c).__name__}")
+        if not (math.isfinite(c) and c >= 0):
+            raise ValueError(f"costs[{i}]: {c} is not a cost — give a finite number >= 0")
+    if hits is not None and len(hits) != m:
+        raise ValueError(f"hits: {len(hits)} lists for {m} rows — give one per row")
     sorted_rows, sorted_hits = [], []
     for i, row in enumerate(rows):
-        cells = [int(e) for e in row]
-        counts = [int(h) for h in hits[i]] if hits is not None else [1] * len(cells)
+        cells = [_whole(e, f"row {i}") for e in row]
+        counts = ([_whole(h, f"row {i}: hits") for h in hits[i]] if hits is not None
+                  else [1] * len(cells))
         if len(counts) != len(cells):
             raise ValueError(f"row {i}: hits must have one count per cell")
         pairs = sorted(zip(cells, counts))
@@ -112,10 +160,10 @@ def write_vis(path, rows, cell_count, names=None, costs=None, hits=None, scene="
                 raise ValueError(f"row {i}: cell {e} is outside [0, {cell_count})")
             if k and pairs[k - 1][0] == e:
                 raise ValueError(f"row {i}: cell {e} is listed twice")
-            if not 1 <= h <= 65535:
-                raise ValueError(f"row {i}: pixel count {h} is outside [1, 65535]")
+            if h < 1:
+                raise ValueError(f"row {i}: point count {h} of cell {e} is below 1")
         sorted_rows.append([e for e, _ in pairs])
-        sorted_hits.append([h for _, h in pairs])
+        sorted_hits.append([min(h, MAX_POINT_COUNT) for _, h in pairs])
     w = _Writer()
     w.parts.append(MAGIC)
     w.u32(VERSION)
@@ -202,7 +250,7 @@ def main():
         cells, costs = args.cells, None
     try:
         write_vis(args.out, rows, cells, costs=costs)
-    except ValueError as e:
+    except (TypeError, ValueError) as e:
         sys.exit(f"{args.out}: {e}")
 
 

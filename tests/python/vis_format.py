@@ -17,6 +17,7 @@ class VisCandidate:
     rays_traced: int
     reference_hits: list = dataclasses.field(default_factory=list)  # pixels per cell (version 4)
     interferes: object = None  # the type's `interferes:` (version 5), None when unset
+    cost: float = 1.0  # the sensor type's unit cost (the budget objective)
 
 
 @dataclasses.dataclass
@@ -116,7 +117,7 @@ def read_vis(path):
         name, type_id, population = r.string(), r.string(), r.string()
         r.string(), r.string(), r.string()  # sensor id, name, technology
         r.u32(), r.u32()  # width, height
-        r.take("<8d")  # fx, fy, cx, cy, near, far, fps, cost
+        cost = r.take("<8d")[7]  # fx, fy, cx, cy, near, far, fps, cost
         r.u32(), r.take("<3d"), r.string()  # depth noise: presence, a, b, c, source
         interferes = None
         if version >= 5:
@@ -138,7 +139,7 @@ def read_vis(path):
             ideal = r.u32s()
             assert differs <= 1 and (differs or not ideal), "ideal cells"
         candidates.append(VisCandidate(name, type_id, population, position, quaternion, indices,
-                                       rays, hits, interferes))
+                                       rays, hits, interferes, cost))
     vis = VisFile(version, scene, seed, cell_size, keys, candidates)
     vis.physical = physical
     if version >= 5:
