@@ -162,6 +162,21 @@ class Visibility:
         """Every result of `vantage select FILE` (report.json's results), in order."""
     def save(self, path: PathLike) -> None:
         """Writes the .vis file of `vantage observe --out`."""
+    @staticmethod
+    def from_matrix(
+        csr: Union[
+            scipy.sparse.csr_matrix,
+            tuple[npt.ArrayLike, npt.ArrayLike],
+            tuple[npt.ArrayLike, npt.ArrayLike, npt.ArrayLike],
+        ],
+        *,
+        cells: Optional[int] = None,
+        names: Optional[Sequence[str]] = None,
+        costs: Optional[Union[Sequence[float], npt.NDArray[np.floating]]] = None,
+        states: None = None,
+    ) -> "Visibility":
+        """A matrix computed elsewhere (candidates x cells; data: point counts) as a Visibility
+        that select(), select_all() and save() take like a loaded .vis; states: refused."""
 
 class Problem:
     """A loaded scene with its candidates deployed, before any ray is cast."""

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "vantage/error.hpp"
+#include "vantage/external_matrix.hpp"
 #include "vantage/interrupt.hpp"
 #include "vantage/pipeline.hpp"
 #include "vantage/select_states.hpp"
@@ -563,6 +564,154 @@ struct VisibilityHandle {
   py::object matrix;  // scipy.sparse.csr_matrix, built on first use
 };
 
+// ---- a matrix from elsewhere (Visibility.from_matrix, issue 42) ------------------------------
+
+// A 1-D array of integers of any width (the CSR's indptr, indices) as int64, C-contiguous.
+// `key` names it in the errors ("csr: indices").
+py::array_t<int64_t> IndexArrayOf(const py::handle& value, const std::string& key) {
+  const py::module_ np = py::module_::import("numpy");
+  py::array array;
+  try {
+    array = np.attr("asarray")(value);
+  } catch (const py::error_already_set& e) {  // a ragged list
+    throw py::type_error(fmt::format("{}: give a 1-D array of integers ({})", key, e.what()));
+  }
+  if (array.ndim() != 1)
+    throw InputError(fmt::format("{}: has {} dimensions — give a 1-D array", key, array.ndim()));
+  const char kind = array.dtype().kind();
+  if (kind != 'i' && kind != 'u' && array.size() > 0)
+    throw py::type_error(fmt::format("{}: give integers, not {}", key,
+                                     std::string(py::str(array.dtype()))));
+  if (kind == 'u' && array.size() > 0 &&
+      np.attr("max")(array).cast<uint64_t>() >
+          static_cast<uint64_t>(std::numeric_limits<int64_t>::max()))
+    throw InputError(fmt::format("{}: holds {} — out of range", key,
+                                 np.attr("max")(array).cast<uint64_t>()));
+  return np.attr("ascontiguousarray")(array, py::arg("dtype") = "int64").cast<py::array_t<int64_t>>();
+}
+
+// The CSR's data (point counts): numbers (bool, integers, floats) as float64, C-contiguous; the
+// library checks that they are whole and >= 1.
+py::array_t<double> CountArrayOf(const py::handle& value, const std::string& key) {
+  const py::module_ np = py::module_::import("numpy");
+  py::array array;
+  try {
+    array = np.attr("asarray")(value);
+  } catch (const py::error_already_set& e) {
+    throw py::type_error(fmt::format("{}: give a 1-D array of point counts ({})", key, e.what()));
+  }
+  if (array.ndim() != 1)
+    throw InputError(fmt::format("{}: has {} dimensions — give a 1-D array", key, array.ndim()));
+  const char kind = array.dtype().kind();
+  if (kind != 'b' && kind != 'i' && kind != 'u' && kind != 'f' && array.size() > 0)
+    throw py::type_error(fmt::format("{}: give point counts (numbers), not {}", key,
+                                     std::string(py::str(array.dtype()))));
+  return np.attr("ascontiguousarray")(array, py::arg("dtype") = "float64").cast<py::array_t<double>>();
+}
+
+// `names`: None (c0, c1, ...) or a sequence of str, one per row.
+Strings RowNamesOf(const py::object& value) {
+  if (value.is_none()) return {};
+  if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value) ||
+      !py::isinstance<py::iterable>(value))
+    WrongType("names", value, "a list of names (str), one per row");
+  Strings names;
+  size_t i = 0;
+  for (const py::handle item : value) {
+    const std::string key = fmt::format("names[{}]", i++);
+    if (!py::isinstance<py::str>(item)) WrongType(key, item, "a str");
+    Py_ssize_t size = 0;
+    const char* text = PyUnicode_AsUTF8AndSize(item.ptr(), &size);
+    if (text == nullptr) {  // a lone surrogate: no UTF-8 holds it
+      PyErr_Clear();
+      throw InputError(fmt::format("{}: is not valid Unicode (a lone surrogate) — give the name "
+                                   "as text",
+                                   key));
+    }
+    names.emplace_back(text, static_cast<size_t>(size));
+  }
+  return names;
+}
+
+// `costs`: None (1 each) or a sequence of numbers (a NumPy array too), one per row.
+std::vector<double> RowCostsOf(const py::object& value) {
+  if (value.is_none()) return {};
+  if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value) ||
+      !py::isinstance<py::iterable>(value))
+    WrongType("costs", value, "a list of numbers, one per row");
+  std::vector<double> costs;
+  for (const py::handle item : value) {
+    const std::string key = fmt::format("costs[{}]", costs.size());
+    if (item.is_none()) WrongType(key, item, "a number");  // RealOf reads None as unset
+    costs.push_back(*RealOf(item, key));
+  }
+  return costs;
+}
+
+// Visibility.from_matrix: the arrays held while the library reads them without the GIL.
+VisibilityHandle FromMatrix(const py::object& csr, const py::object& cells_value,
+                            const py::object& names_value, const py::object& costs_value,
+                            const py::object& states) {
+  if (!states.is_none())
+    throw InputError(
+        "states: a .vis file holds one state's matrix (selection over states runs in optimize, "
+        "on a scene with states), so a Visibility cannot group its cells by state — call "
+        "from_matrix once per state's matrix, or leave states out");
+  std::optional<uint64_t> cells;
+  if (const auto whole = WholeOf(cells_value, "cells", 1, static_cast<int64_t>(kMaxExternalCells)))
+    cells = static_cast<uint64_t>(*whole);
+  py::array_t<int64_t> indptr, indices;
+  std::optional<py::array_t<double>> counts;
+  if (py::hasattr(csr, "format") && py::hasattr(csr, "tocsr")) {  // scipy.sparse
+    const std::string format = py::str(csr.attr("format"));
+    if (format != "csr")
+      throw py::type_error(fmt::format("csr: give a CSR matrix, not SciPy's {} (convert it with "
+                                       ".tocsr())",
+                                       format));
+    const auto shape = csr.attr("shape").cast<std::pair<uint64_t, uint64_t>>();
+    if (cells && *cells != shape.second)
+      throw InputError(fmt::format("cells: {}, but the matrix has {} columns — leave cells out "
+                                   "with a SciPy matrix",
+                                   *cells, shape.second));
+    cells = shape.second;
+    indptr = IndexArrayOf(csr.attr("indptr"), "csr: indptr");
+    indices = IndexArrayOf(csr.attr("indices"), "csr: indices");
+    counts = CountArrayOf(csr.attr("data"), "csr: data");
+    if (static_cast<uint64_t>(indptr.size()) != shape.first + 1)
+      throw InputError(fmt::format("csr: indptr has {} entries for {} rows — a CSR matrix has "
+                                   "rows + 1",
+                                   indptr.size(), shape.first));
+  } else if (py::isinstance<py::tuple>(csr) || py::isinstance<py::list>(csr)) {
+    const py::sequence parts = py::reinterpret_borrow<py::sequence>(csr);
+    if (parts.size() != 2 && parts.size() != 3)
+      throw InputError(fmt::format("csr: holds {} arrays — give (indptr, indices) or (indptr, "
+                                   "indices, data)",
+                                   parts.size()));
+    if (!cells)
+      throw py::type_error("cells: give the number of cells (the matrix's columns) with "
+                           "(indptr, indices) arrays");
+    indptr = IndexArrayOf(parts[0], "csr: indptr");
+    indices = IndexArrayOf(parts[1], "csr: indices");
+    if (parts.size() == 3) counts = CountArrayOf(parts[2], "csr: data");
+  } else {
+    WrongType("csr", csr,
+              "a scipy.sparse CSR matrix or (indptr, indices[, data]) arrays (a dense array: "
+              "scipy.sparse.csr_matrix(dense))");
+  }
+  ExternalMatrix matrix;
+  matrix.cells = *cells;
+  matrix.indptr = {indptr.data(), static_cast<size_t>(indptr.size())};
+  matrix.indices = {indices.data(), static_cast<size_t>(indices.size())};
+  if (counts) matrix.counts = {counts->data(), static_cast<size_t>(counts->size())};
+  matrix.names = RowNamesOf(names_value);
+  matrix.costs = RowCostsOf(costs_value);
+  VisibilityHandle result;
+  result.data = WithoutGil(py::none(), [&] {
+    return std::make_shared<const VisibilityFile>(VisibilityOfMatrix(matrix));
+  });
+  return result;
+}
+
 SelectionRequest RequestOf(std::optional<int> n,
                            std::optional<Method> method,
                            std::optional<double> time_limit,
@@ -923,6 +1072,23 @@ void Bind(py::module_& m) {
           "Every result of `vantage select FILE` (report.json's `results`, in order): with\n"
           "method None or 'all', best for n = 1, then ransac, greedy, local and exact for each\n"
           "n from 1 to n. Arguments as select(). Returns a list of vantage.Selection.")
+      .def_static("from_matrix", &FromMatrix, py::arg("csr"), py::kw_only(),
+                  py::arg("cells") = py::none(), py::arg("names") = py::none(),
+                  py::arg("costs") = py::none(), py::arg("states") = py::none(),
+                  "A Visibility of a matrix computed elsewhere (another simulator, a real\n"
+                  "capture, a set-cover benchmark), which select(), select_all() and save() take\n"
+                  "as one loaded from a .vis file; save() writes the .vis that `vantage select\n"
+                  "FILE` reads (scripts/vis_writer.py writes the same file in plain Python).\n\n"
+                  "csr: candidates x cells, a scipy.sparse CSR matrix or (indptr, indices) or\n"
+                  "(indptr, indices, data) arrays; each row's indices sorted and unique; data, when\n"
+                  "given (a SciPy matrix's always is), are point counts per cell for min_points:\n"
+                  "whole numbers >= 1 (a 0/1 matrix: one point each; stored at most 65535).\n"
+                  "cells: the number of cells (columns), needed with arrays; names: one str per\n"
+                  "row, distinct (None: c0, c1, ...); costs: one number >= 0 per row, the budget\n"
+                  "objective's (None: 1 each); states: not supported (a .vis holds one state):\n"
+                  "InputError when given.\n"
+                  "Candidates get placeholder sensors and poses, cells placeholder 1 cm keys.\n"
+                  "Raises TypeError or InputError naming the argument for bad input.")
       .def(
           "save",
           [](const VisibilityHandle& v, const py::object& path) {

@@ -19,6 +19,15 @@ POINT = {"type": ["abc", 5, (0, "a", 0)], "value": [(1, 2), (0, 10**400, 0)]}
 PATH = {"type": [5, 2.0, object()], "value": ["a\0b"]}
 PATHS = {"type": [5, [5]], "value": [["a\0b"]]}
 CALLABLE = {"type": [5, "print"], "value": []}
+# Visibility.from_matrix (issue 42), called on a 2 x 3 matrix given as (indptr, indices), cells=3.
+CSR = {"type": [5, "m.npz", object(), ([0, 1, 3], [0.0, 1.0, 2.0])],
+       "value": [([0, 2, 3], [1, 0, 2]), ([0, 2, 3], [1, 1, 2]), ([0, 1, 3], [0, 1, 7]),
+                 ([0, 1, 3], [0, 1, 2], [1, 0, 1]), ([0, 1, 3, 2], [0, 1])]}
+NAMES = {"type": [5, "ab", ["a", 2], [b"a", b"b"]],
+         "value": [["a", "a"], ["a"], ["", "b"], ["a\n", "b"], ["a", "\udcff"]]}
+COSTS = {"type": ["ab", 1.0, ["a", 1], [None, 1]],
+         "value": [[float("nan"), 1], [-1, 1], [1], [10**400, 1], [1, float("inf")]]}
+STATES = {"type": [], "value": [["empty", "full", "full"], 5]}
 
 # keyword -> kind, for every keyword of every function (checked against the signatures below).
 KINDS = {
@@ -34,6 +43,7 @@ KINDS = {
     "out": PATH, "constellation": PATH,
     "model_path": PATHS, "resource_path": PATHS,
     "progress": CALLABLE,
+    "cells": UNSIGNED, "csr": CSR, "names": NAMES, "costs": COSTS, "states": STATES,
 }
 # Checked elsewhere with their own messages: the scene/file positional, targets and quality.
 OWN_TESTS = {"path", "scene", "targets", "quality", "level"}
@@ -53,10 +63,13 @@ def subjects(tmp_path_factory):
         "optimize": lambda **kw: vantage.optimize(CUBE_CELL, **{"n": 1, "method": "greedy", **kw}),
         "evaluate": lambda **kw: vantage.evaluate(
             CUBE_CELL, **{"constellation": folder / "run" / "report.json", **kw}),
+        "from_matrix": lambda **kw: vantage.Visibility.from_matrix(
+            **{"csr": ([0, 1, 3], [0, 1, 2]), "cells": 3, **kw}),
     }
     functions = {"load": vantage.load, "observe": vantage.Problem.observe,
                  "select": vantage.Visibility.select, "select_all": vantage.Visibility.select_all,
-                 "optimize": vantage.optimize, "evaluate": vantage.evaluate}
+                 "optimize": vantage.optimize, "evaluate": vantage.evaluate,
+                 "from_matrix": vantage.Visibility.from_matrix}
     return calls, functions
 
 
@@ -73,7 +86,8 @@ def keywords(function):
 
 
 def cases():
-    for function in ["load", "observe", "select", "select_all", "optimize", "evaluate"]:
+    for function in ["load", "observe", "select", "select_all", "optimize", "evaluate",
+                     "from_matrix"]:
         for kind_name, kind in KINDS.items():
             for wrong in kind["type"]:
                 yield function, kind_name, wrong, TypeError
