@@ -239,8 +239,12 @@ std::optional<std::array<double, 3>> PointOf(const py::handle& value, const std:
   if (items.size() != 3)
     throw InputError(fmt::format("{}: has {} values — give (x, y, z) [m]", key, items.size()));
   std::array<double, 3> point{};
-  for (size_t a = 0; a < 3; ++a)
-    point[a] = *RealOf(items[a], fmt::format("{}[{}]", key, a));
+  for (size_t a = 0; a < 3; ++a) {
+    const std::string item_key = fmt::format("{}[{}]", key, a);
+    const py::object item = items[a];
+    if (item.is_none()) WrongType(item_key, item, "a number");  // RealOf reads None as unset
+    point[a] = *RealOf(item, item_key);
+  }
   return point;
 }
 
