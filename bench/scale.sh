@@ -99,7 +99,7 @@ rays = sum(c["rays_traced"] for c in r["candidates"])
 print(f"candidates {len(r['candidates'])}, {pixels / 1e9:.2f} G pixels, {rays / 1e6:.1f} M rays traced, "
       f"reference {r['reference_voxels']} cells")
 print(f"| wall s | CPU s (user + sys) | peak MiB | load s | reference s | observe s | select s | "
-      f"outputs s (wall - total) |")
+      f"after select s (robustness, writing: wall - total) |")
 print("|---|---|---|---|---|---|---|---|")
 cpu = float(time["User time (seconds)"]) + float(time["System time (seconds)"])
 print(f"| {wall:.2f} | {cpu:.2f} | {peak_mib:.0f} | {t['load']:.2f} | {t['reference']:.2f} | "
