@@ -231,7 +231,8 @@ TEST(ObjectivesCli, BadObjectiveSettingsExitTwoWithFileAndLine) {
   }
   // Two objectives on the command line, or a method that does not apply: exit 2.
   EXPECT_EQ(
-      RunVantage("optimize " + Scene() + " --goal 0.5 --k 2 --out " + dir.File("o")).exit_code, 2);
+      RunVantage("optimize " + Scene() + " --goal 0.5 --budget 2 --out " + dir.File("o")).exit_code,
+      2);
   const auto method =
       RunVantage("optimize " + Scene() + " --goal 0.5 --method ransac --out " + dir.File("o"));
   EXPECT_EQ(method.exit_code, 2);

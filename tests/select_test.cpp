@@ -1330,9 +1330,22 @@ TEST(Objectives, ValidateRejectsBadObjectives) {
   }
   EXPECT_NO_THROW(GoalOptions(Method::kAll, 1.0).Validate(4));
   SelectOptions both = GoalOptions(Method::kAll, 0.5);
-  both.k = 2;
-  both.n = 2;
+  both.budget = 3;
+  both.costs = {1, 1, 1, 1};
   EXPECT_NE(message(both, 4).find("only one of"), std::string::npos);
+  // A goal counts k times, or in points — not both; k above the candidates counts nothing.
+  SelectOptions counted = GoalOptions(Method::kAll, 0.5);
+  counted.k = 2;
+  EXPECT_NO_THROW(counted.Validate(4));
+  counted.min_points = 3;
+  EXPECT_NE(message(counted, 4).find("give --k or --min-points, not both"), std::string::npos);
+  counted.min_points.reset();
+  counted.k = 5;
+  EXPECT_NE(message(counted, 4).find("k = 5 is above the 4 candidates"), std::string::npos);
+  SelectOptions cheapest;
+  cheapest.minimize_cost = true;
+  cheapest.costs = {1, 1, 1, 1};
+  EXPECT_NE(message(cheapest, 4).find("give --goal with --cheapest"), std::string::npos);
   EXPECT_NE(message(KOptions(Method::kAll, 1, 2), 4).find("raise -n to at least 2"),
             std::string::npos);
   EXPECT_NE(message(KOptions(Method::kAll, 2, 0), 4).find("k = 0"), std::string::npos);

@@ -307,8 +307,12 @@ void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {
   app->add_option("--goal", request->goal,
                   "objective: the fewest sensors whose coverage reaches this fraction 0..1 (set "
                   "cover)");
+  app->add_flag("--cheapest", request->cheapest,
+                "with --goal: the cheapest sensors (their types' cost) reaching it, not the "
+                "fewest");
   app->add_option("--k", request->k,
-                  "objective: k-coverage, a cell counts once k chosen sensors see it (k >= 2)");
+                  "objective: k-coverage, a cell counts once k chosen sensors see it (k >= 2); "
+                  "with --goal: the goal counts cells seen k times");
   app->add_option("--budget", request->budget,
                   "objective: the most coverage for a total sensor cost within this budget");
   AddPointDensityFlags(app, &request->min_points, &request->min_density);

@@ -331,8 +331,13 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
   if (!results.empty()) {
     const Selection& first = results.front();
     if (first.goal) {
-      fmt::print("objective        set cover: the fewest sensors reaching {:.2f} % coverage\n",
-                 100.0 * *first.goal);
+      const std::string counted =
+          first.min_points ? fmt::format(" (cells holding {} points)", *first.min_points)
+          : first.k >= 2   ? fmt::format(" (cells seen {} times)", first.k)
+                           : std::string();
+      fmt::print("objective        set cover: the {} reaching {:.2f} % coverage{}\n",
+                 first.cost ? "cheapest sensors" : "fewest sensors", 100.0 * *first.goal,
+                 counted);
     } else if (first.budget) {
       fmt::print("objective        budget: the most coverage for a total sensor cost <= {:g}\n",
                  *first.budget);
@@ -406,7 +411,12 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
       bound = s->proven_optimal ? "  (fewest: optimal)"
                                 : fmt::format("  (at least {} sensors)", *s->n_lower_bound);
     }
-    if (s->cost) bound += fmt::format("  cost {:g} of {:g}", *s->cost, s->budget.value_or(0.0));
+    if (s->cost_lower_bound) {
+      bound = s->proven_optimal ? "  (cheapest: optimal)"
+                                : fmt::format("  (cost at least {:g})", *s->cost_lower_bound);
+    }
+    if (s->cost && s->budget) bound += fmt::format("  cost {:g} of {:g}", *s->cost, *s->budget);
+    if (s->cost && !s->budget) bound += fmt::format("  cost {:g}", *s->cost);
     if (!report.result_plain_coverage.empty())
       bound += fmt::format("  (plain {:.2f} %)", 100.0 * report.result_plain_coverage[index]);
     if (!s->state_coverage.empty()) {

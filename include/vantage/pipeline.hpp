@@ -107,6 +107,7 @@ struct SelectionRequest {
   std::optional<double> ransac_stop_coverage;  ///< --stop, fraction
   std::optional<double> time_limit;            ///< --time-limit [s], default 60
   std::optional<double> goal;                  ///< --goal, fraction
+  bool cheapest = false;                       ///< --cheapest: the goal minimises cost
   std::optional<int> k;                        ///< --k
   std::optional<double> budget;                ///< --budget
   /// --min-points: a cell counts once the chosen sensors put this many pixels' hits in it

@@ -97,6 +97,7 @@ struct RunInputs {
   std::optional<double> goal;               ///< --goal
   std::optional<int> k;                     ///< --k
   std::optional<double> budget;             ///< --budget
+  bool cheapest = false;                    ///< --cheapest (with --goal: least cost)
   std::optional<int> min_points;            ///< --min-points
   std::optional<double> min_density;        ///< --min-density [points per cm²]
   std::optional<std::string> over_states;   ///< --over-states

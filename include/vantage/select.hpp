@@ -42,7 +42,13 @@ struct SelectOptions {
   double time_limit = 60;  ///< seconds, for exact, in [kMinTimeLimit, kMaxTimeLimit]
   /// Set cover: choose the fewest sensors whose coverage reaches this fraction, in (0, 1].
   /// Methods greedy, exact, all. Above what all candidates reach together: InputError from Select.
+  /// With k >= 2 (or min_points) the coverage counted is the k-coverage (the min-points one):
+  /// the fewest sensors such that that share of R is seen k times (holds the points).
   std::optional<double> goal;
+  /// With a goal: the cheapest answer (sum of `costs`) reaching it, instead of the fewest sensors
+  /// (`--minimize cost`); needs `costs`. A cycle-time or other per-candidate price enters here
+  /// the same way.
+  bool minimize_cost = false;
   /// Where the goal was given, for that InputError: "--goal", or the scene's "file:line".
   std::string goal_source = "--goal";
   /// k-coverage when >= 2: a cell counts only when at least k chosen sensors see it (stereo,
@@ -52,7 +58,7 @@ struct SelectOptions {
   /// n is ignored. Methods greedy, local, exact, all. Needs `costs`.
   std::optional<double> budget;
   /// Unit cost of every candidate (SensorType::cost), in candidate order, each >= 0; used only
-  /// with `budget`, which must afford the cheapest candidate.
+  /// with `budget`, which must afford the cheapest candidate, and with `minimize_cost`.
   std::vector<double> costs;
   /// Candidates every answer contains (`--keep-existing`: the sensors already in the cell), by
   /// index, distinct. Every method then chooses the best additions to them, exactly as it would
@@ -97,6 +103,8 @@ struct Selection {
   std::optional<double> budget;        ///< budget: the budget
   std::optional<double> cost;          ///< budget: total cost of the chosen sensors
   std::optional<int> n_lower_bound;    ///< set cover: proven least number of sensors
+  /// Set cover minimising cost: proven least cost of any answer reaching the goal.
+  std::optional<double> cost_lower_bound;
   /// A scene with states (select_states.hpp): the coverage of each state; `coverage` is then their
   /// mean or minimum. Empty otherwise.
   std::vector<double> state_coverage;

@@ -97,6 +97,7 @@ void AddSelectionInputs(const SelectionRequest& request, RunInputs* inputs) {
   inputs->goal = request.goal;
   inputs->k = request.k;
   inputs->budget = request.budget;
+  inputs->cheapest = request.cheapest;
   if (request.min_points) inputs->min_points = static_cast<int>(*request.min_points);
   inputs->min_density = request.min_density;
   if (request.over_states) inputs->over_states = OverStatesName(*request.over_states);

@@ -40,7 +40,8 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
   const char* min_points_flag = request.min_density ? "--min-density" : "--min-points";
   options.min_points =
       detail::ResolveMinPoints(request.min_points, request.min_density, cell_size);
-  if (options.budget) {
+  options.minimize_cost = request.cheapest;
+  if (options.budget || options.minimize_cost) {
     options.costs.reserve(candidates.size());
     for (const Candidate& c : candidates) options.costs.push_back(c.sensor.cost);
   }
@@ -57,7 +58,8 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
     options.Validate(candidates.size());
   } catch (const FieldError& e) {
     // The first field at fault that the request gave names its flag; else the scene's own.
-    const std::array<std::pair<const char*, bool>, 10> given = {{
+    const std::array<std::pair<const char*, bool>, 11> given = {{
+        {"minimize_cost", request.cheapest},
         {"min_points", has_min_points},
         {"n", request.n.has_value()},
         {"k", request.k.has_value()},
@@ -69,8 +71,8 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
         {"method", request.method.has_value()},
         {"fixed", request.keep_existing},
     }};
-    const std::array<const char*, 10> flags = {
-        min_points_flag, "-n",     "--k",          "--goal",   "--budget",
+    const std::array<const char*, 11> flags = {
+        "--cheapest", min_points_flag, "-n",     "--k",          "--goal",   "--budget",
         "--iterations",  "--stop", "--time-limit", "--method", "--keep-existing"};
     for (size_t i = 0; i < given.size(); ++i) {
       const bool is_at_fault = std::find(e.fields().begin(), e.fields().end(), given[i].first) !=

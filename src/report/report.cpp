@@ -128,6 +128,10 @@ ordered_json ResultJson(const Selection& s, const VisibilityFile& data,
     r["n_lower_bound"] = *s.n_lower_bound;
     r["optimal"] = s.proven_optimal;
   }
+  if (s.cost_lower_bound) {
+    r["cost_lower_bound"] = *s.cost_lower_bound;
+    r["optimal"] = s.proven_optimal;
+  }
   return r;
 }
 
@@ -242,9 +246,13 @@ const char* Version() { return VANTAGE_VERSION; }
 int PrimaryResult(const std::vector<Selection>& results) {
   int best = -1;
   for (size_t i = 0; i < results.size(); ++i) {
-    // Set cover: every answer reaches the goal, so the fewest sensors stand for the run.
-    const bool is_more = results[i].goal ? results[i].n < results[best < 0 ? 0 : best].n
-                                         : results[i].n > results[best < 0 ? 0 : best].n;
+    // Set cover: every answer reaches the goal, so the fewest sensors (the cheapest, when the
+    // goal minimises cost) stand for the run.
+    const Selection& held = results[best < 0 ? 0 : best];
+    const bool is_more = results[i].goal && results[i].cost && held.cost
+                             ? *results[i].cost < *held.cost
+                         : results[i].goal ? results[i].n < held.n
+                                           : results[i].n > held.n;
     if (best < 0 || is_more ||
         (results[i].n == results[best].n && results[i].coverage > results[best].coverage))
       best = static_cast<int>(i);

@@ -119,6 +119,7 @@ ordered_json RunInputsJson(const RunInputs& in) {
   Put(&j, "goal", in.goal);
   Put(&j, "k", in.k);
   Put(&j, "budget", in.budget);
+  if (in.cheapest) j["cheapest"] = true;
   Put(&j, "min_points", in.min_points);
   Put(&j, "min_density", in.min_density);
   Put(&j, "over_states", in.over_states);
@@ -181,6 +182,7 @@ RunInputs ParseRunInputs(const json& j, const std::string& where) {
   r.Number("goal", &in.goal);
   r.Integer("k", &in.k);
   r.Number("budget", &in.budget);
+  r.Boolean("cheapest", &in.cheapest);
   r.Integer("min_points", &in.min_points);
   r.Number("min_density", &in.min_density);
   r.String("over_states", &in.over_states);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <queue>
 
 #include "select/methods.hpp"
@@ -148,6 +149,62 @@ std::vector<uint32_t> GreedyToGoal(const CoverageMatrix& matrix, uint64_t goal_c
   std::vector<uint32_t> chosen = LazyGreedy(CellScorer(matrix), {}, matrix.candidate_count(),
                                             [&](uint64_t cells) { return cells >= goal_cells; });
   VANTAGE_CHECK(matrix.CoveredWeight(chosen) >= goal_cells);
+  return chosen;
+}
+
+std::vector<uint32_t> GreedyToGoal(const CoverageMatrix& matrix, uint64_t goal_cells, int k,
+                                   std::span<const double> costs) {
+  const size_t m = matrix.candidate_count();
+  VANTAGE_CHECK(k >= 1 && goal_cells >= 1 && (costs.empty() || costs.size() == m));
+  if (k == 1 && costs.empty() && !matrix.has_counts()) return GreedyToGoal(matrix, goal_cells);
+  CappedPoints points(matrix, k);
+  std::vector<bool> is_chosen(m, false);
+  std::vector<uint32_t> chosen;
+  uint64_t reached = 0;
+  const auto cost = [&](uint32_t i) { return costs.empty() ? 1.0 : costs[i]; };
+  // Each step: the most cells completed per cost, ties by the most points added where missing
+  // per cost, then the lower index (zero cost: before any priced candidate that adds as much).
+  const auto better = [&](std::pair<uint64_t, uint64_t> a, double cost_a,
+                          std::pair<uint64_t, uint64_t> b, double cost_b) {
+    const auto ratio = [](uint64_t gain, double c) {
+      return c > 0 ? static_cast<double>(gain) / c
+                   : (gain > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+    };
+    if (ratio(a.first, cost_a) != ratio(b.first, cost_b))
+      return ratio(a.first, cost_a) > ratio(b.first, cost_b);
+    return ratio(a.second, cost_a) > ratio(b.second, cost_b);
+  };
+  while (reached < goal_cells) {
+    ThrowIfInterrupted();
+    int64_t best = -1;
+    std::pair<uint64_t, uint64_t> best_gain{0, 0};
+    for (uint32_t i = 0; i < m; ++i) {
+      if (is_chosen[i]) continue;
+      const std::pair<uint64_t, uint64_t> gain = points.Gain(i);
+      if (gain.second == 0) continue;
+      if (best < 0 || better(gain, cost(i), best_gain, cost(static_cast<uint32_t>(best)))) {
+        best = i;
+        best_gain = gain;
+      }
+    }
+    VANTAGE_CHECK(best >= 0);  // the caller checked that all candidates reach the goal
+    is_chosen[best] = true;
+    chosen.push_back(static_cast<uint32_t>(best));
+    points.Add(static_cast<uint32_t>(best));
+    reached += best_gain.first;
+  }
+  // Drop what the goal no longer needs, the dearest (then the latest) first.
+  std::vector<uint32_t> order = chosen;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](uint32_t a, uint32_t b) { return cost(a) > cost(b); });
+  for (const uint32_t drop : order) {
+    std::vector<uint32_t> without;
+    for (const uint32_t c : chosen)
+      if (c != drop) without.push_back(c);
+    if (!without.empty() && KCoveredWeight(matrix, without, k) >= goal_cells)
+      chosen = std::move(without);
+  }
+  VANTAGE_CHECK(KCoveredWeight(matrix, chosen, k) >= goal_cells);
   return chosen;
 }
 
@@ -419,6 +476,25 @@ size_t SetCoverLowerBound(const CoverageMatrix& matrix, uint64_t goal_cells) {
     if (sum >= goal_cells) return t + 1;
   }
   return sizes.size();
+}
+
+size_t ThresholdGoalLowerBound(const CoverageMatrix& matrix, uint64_t goal_cells, int k) {
+  // Each cell the goal counts needs k points, and a sensor adds at most min(count, k) to each.
+  std::vector<uint64_t> points(matrix.candidate_count(), 0);
+  for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
+    const std::vector<uint32_t>& row = matrix.Row(i);
+    for (size_t j = 0; j < row.size(); ++j)
+      points[i] += uint64_t{matrix.Weight(row[j])} *
+                   std::min<uint64_t>(matrix.Count(i, j), static_cast<uint64_t>(k));
+  }
+  std::sort(points.begin(), points.end(), std::greater<>());
+  const uint64_t needed = goal_cells * static_cast<uint64_t>(k);
+  uint64_t sum = 0;
+  for (size_t t = 0; t < points.size(); ++t) {
+    sum += points[t];
+    if (sum >= needed) return t + 1;
+  }
+  return points.size();
 }
 
 }  // namespace vantage::detail

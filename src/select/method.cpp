@@ -15,8 +15,19 @@ namespace {
 
 // The objective's own fields, and whether the method applies to it.
 void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
-  const int objectives =
-      (o.goal ? 1 : 0) + (o.budget ? 1 : 0) + (o.k >= 2 ? 1 : 0) + (o.min_points ? 1 : 0);
+  // A goal takes one threshold (k, or min_points): the share of R seen k times (with the
+  // points) that the answer must reach.
+  if (o.goal && o.k >= 2 && o.min_points) {
+    throw FieldError({"min_points", "k"},
+                     "a goal counts cells seen by k sensors or cells with min_points points — "
+                     "give --k or --min-points, not both");
+  }
+  const int objectives = (o.goal ? 1 : 0) + (o.budget ? 1 : 0) + (o.k >= 2 && !o.goal ? 1 : 0) +
+                         (o.min_points && !o.goal ? 1 : 0);
+  if (o.minimize_cost && !o.goal)
+    throw FieldError({"minimize_cost"},
+                     "the cheapest layout is asked of a coverage goal — give --goal with "
+                     "--cheapest");
   if (objectives > 1) {
     if (o.min_points) {
       throw FieldError({"min_points"},
@@ -40,6 +51,22 @@ void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
   if (o.goal && !(*o.goal > 0.0 && *o.goal <= 1.0)) {
     throw FieldError({"goal"}, fmt::format(
         "goal = {} is a coverage fraction — give a value in (0, 1], e.g. 0.9 for 90 %", *o.goal));
+  }
+  if (o.goal && static_cast<size_t>(o.k) > candidate_count) {
+    throw FieldError({"k"}, fmt::format("k = {} is above the {} candidates: no cell can be seen "
+                                        "{} times — lower --k",
+                                        o.k, candidate_count, o.k));
+  }
+  if (o.minimize_cost) {
+    if (o.costs.size() != candidate_count) {
+      throw InputError(fmt::format("the cheapest layout needs one cost per candidate: {} costs "
+                                   "for {} candidates",
+                                   o.costs.size(), candidate_count));
+    }
+    for (const double c : o.costs) {
+      if (!(c >= 0.0) || !std::isfinite(c))
+        throw FieldError({"costs"}, fmt::format("sensor cost {} must be a number >= 0", c));
+    }
   }
   if (o.budget) {
     if (!(*o.budget >= 0.0) || !std::isfinite(*o.budget))
@@ -154,8 +181,13 @@ void SelectOptions::Validate(size_t candidate_count) const {
       (!sorted.empty() && sorted.back() >= candidate_count)) {
     throw FieldError({"fixed"}, "fixed: the kept candidates must be distinct candidate indices");
   }
+  if (goal && (k >= 2 || min_points || minimize_cost) && !constraints.empty()) {
+    throw FieldError({"goal", "k", "min_points"},
+                     "a goal with k, min_points or cost does not combine with installation "
+                     "constraints yet — drop one of them");
+  }
   if (fixed.empty()) return;
-  if (objective() == Objective::kKCoverage) {
+  if (objective() == Objective::kKCoverage || (goal && k >= 2)) {
     throw FieldError({"fixed", "k"},
                      "sensors to keep work with coverage, goal and budget, not k-coverage");
   }

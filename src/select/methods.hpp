@@ -100,6 +100,18 @@ std::vector<uint32_t> GreedyComplete(const Scorer& scorer, std::vector<uint32_t>
 /// until the covered cells reach `goal_cells`. Needs 1 <= goal_cells <= seen_weight().
 std::vector<uint32_t> GreedyToGoal(const CoverageMatrix& matrix, uint64_t goal_cells);
 
+/// The goal with a threshold k (cells seen k times; with a count matrix, cells holding k
+/// points) and optional `costs`: each step adds the candidate completing the most cells per
+/// cost (ties: the most points added where missing, per cost; then the lower index) until the
+/// k-covered cells reach `goal_cells`; then drops, dearest first, each sensor the goal does not
+/// need. k = 1 without costs or counts: GreedyToGoal above. Needs all candidates to reach it.
+std::vector<uint32_t> GreedyToGoal(const CoverageMatrix& matrix, uint64_t goal_cells, int k,
+                                   std::span<const double> costs);
+
+/// Cheap lower bound on the sensors that bring `goal_cells` cells to k points each: the fewest
+/// largest rows whose capped points (weight times min(count, k)) add up to k times the goal.
+size_t ThresholdGoalLowerBound(const CoverageMatrix& matrix, uint64_t goal_cells, int k);
+
 /// k-coverage greedy from `chosen` up to n sensors. Plain k-coverage gains are all zero until k
 /// sensors overlap, so each step compares gains level by level: first the cells the candidate
 /// brings to k seers, then (ties) those it brings to k - 1, ..., then to 1 seer: deepen what is

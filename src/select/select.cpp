@@ -79,8 +79,8 @@ class Pipeline {
     const Clock::time_point start = Clock::now();
     switch (objective_) {
       case Objective::kSetCover:
-        greedy_ =
-            detail::GreedyToGoal(matrix_, GoalCells(*options_.goal, matrix_.reference_size()));
+        greedy_ = detail::GreedyToGoal(matrix_, GoalCells(*options_.goal, matrix_.reference_size()),
+                                       k_, GoalCosts());
         break;
       case Objective::kBudget:
         greedy_ = detail::GreedyBudget(matrix_, options_.costs, *options_.budget);
@@ -118,6 +118,10 @@ class Pipeline {
   Selection Exact(double time_limit) const {
     const Clock::time_point start = Clock::now();
     const size_t n = local_.size();
+    if (objective_ == Objective::kSetCover && (k_ >= 2 || matrix_.has_counts() ||
+                                               options_.minimize_cost)) {
+      return ThresholdGoal(time_limit, start);
+    }
     if (objective_ == Objective::kSetCover) {
       const detail::SetCoverResult exact = detail::SolveSetCover(
           matrix_, GoalCells(*options_.goal, matrix_.reference_size()), local_, time_limit);
@@ -139,6 +143,40 @@ class Pipeline {
     s.upper_bound = std::max(Fraction(exact.upper_bound, matrix_.reference_size()), s.coverage);
     s.proven_optimal = exact.proven_optimal;
     return s;
+  }
+
+  /// Exact for a goal with a threshold (k >= 2, min_points) or minimising cost: the goal MILP
+  /// from greedy's answer, with the cheap bound where CBC gives none.
+  Selection ThresholdGoal(double time_limit, Clock::time_point start) const {
+    const uint64_t goal_cells = GoalCells(*options_.goal, matrix_.reference_size());
+    const detail::GoalResult milp =
+        detail::SolveGoalMilp(matrix_, k_, GoalCosts(), goal_cells, local_, time_limit);
+    const auto price = [&](const std::vector<uint32_t>& chosen) {
+      return options_.minimize_cost ? detail::TotalCost(options_.costs, chosen)
+                                    : static_cast<double>(chosen.size());
+    };
+    std::vector<uint32_t> chosen = local_;
+    if (!milp.chosen.empty() && price(milp.chosen) < price(chosen)) chosen = milp.chosen;
+    LogNote(milp.proven_optimal, milp.note);
+    Selection s = Scored(Method::kExact, chosen, local_seconds_ + SecondsSince(start));
+    if (options_.minimize_cost) {
+      s.cost_lower_bound = std::min(milp.lower_bound, *s.cost);
+      s.proven_optimal = milp.proven_optimal || *s.cost <= *s.cost_lower_bound;
+      if (s.proven_optimal) s.cost_lower_bound = *s.cost;
+    } else {
+      const size_t cheap = detail::ThresholdGoalLowerBound(matrix_, goal_cells, k_);
+      const size_t lower = std::max(cheap, static_cast<size_t>(milp.lower_bound));
+      s.n_lower_bound = static_cast<int>(std::min(lower, chosen.size()));
+      s.proven_optimal = milp.proven_optimal || *s.n_lower_bound == s.n;
+      if (s.proven_optimal) s.n_lower_bound = s.n;
+    }
+    return s;
+  }
+
+  /// The costs a goal minimises: the candidates' with minimize_cost, else none (unit).
+  std::span<const double> GoalCosts() const {
+    return options_.minimize_cost ? std::span<const double>(options_.costs)
+                                  : std::span<const double>();
   }
 
   Selection Scored(Method method, std::vector<uint32_t> chosen, double seconds) const {
@@ -184,6 +222,8 @@ int Threshold(const SelectOptions& options) {
       return options.k;
     case Objective::kMinPoints:
       return static_cast<int>(*options.min_points);
+    case Objective::kSetCover:  // a goal of k-covered cells, or of cells with the points
+      return options.min_points ? static_cast<int>(*options.min_points) : options.k;
     default:
       return 1;
   }
@@ -223,14 +263,15 @@ namespace detail {
 Selection ScoreSelection(const CoverageEvaluator& evaluator, std::vector<uint32_t> chosen,
                          const std::string& method, const SelectOptions& options) {
   const Objective objective = options.objective();
-  const int k = objective == Objective::kKCoverage ? options.k : 1;
+  const int k =
+      objective == Objective::kKCoverage || objective == Objective::kSetCover ? options.k : 1;
   Selection s;
   s.method = method;
   s.n = static_cast<int>(chosen.size());
   s.chosen = std::move(chosen);
   s.coverage = evaluator.Coverage(s.chosen, k);
   s.paper_coverage = evaluator.PaperCoverage(s.chosen, k);
-  if (objective == Objective::kMinPoints) {
+  if (options.min_points) {
     // Counts are kept for R's cells only: the keys outside R count as seen (docs/constraints.md).
     const double outside = s.paper_coverage - s.coverage;
     s.coverage = evaluator.PointCoverage(s.chosen, *options.min_points);
@@ -239,7 +280,10 @@ Selection ScoreSelection(const CoverageEvaluator& evaluator, std::vector<uint32_
   }
   s.objective = ObjectiveName(objective);
   s.k = k;
-  if (objective == Objective::kSetCover) s.goal = options.goal;
+  if (objective == Objective::kSetCover) {
+    s.goal = options.goal;
+    if (options.minimize_cost) s.cost = TotalCost(options.costs, s.chosen);
+  }
   if (objective == Objective::kBudget) {
     s.budget = options.budget;
     s.cost = TotalCost(options.costs, s.chosen);
@@ -349,11 +393,13 @@ std::vector<Selection> SelectKeeping(std::span<const Observation> observations,
   if (options.objective() != Objective::kCoverage)
     rest.n = std::clamp(rest.n, 1, static_cast<int>(std::max<size_t>(residual.size(), 1)));
   double kept_cost = 0;
+  if (options.budget || options.minimize_cost) {
+    rest.costs.clear();
+    for (const uint32_t i : original) rest.costs.push_back(options.costs[i]);
+  }
   if (options.budget) {
     kept_cost = detail::TotalCost(options.costs, fixed);  // within the budget (Validate)
     rest.budget = *options.budget - kept_cost;
-    rest.costs.clear();
-    for (const uint32_t i : original) rest.costs.push_back(options.costs[i]);
   }
   const bool kept_reach_goal = options.goal && kept_share + 1e-12 >= *options.goal;
   if (options.goal) rest.goal = *options.goal - kept_share;
@@ -374,6 +420,8 @@ std::vector<Selection> SelectKeeping(std::span<const Observation> observations,
     if (r.upper_bound) s.upper_bound = std::max(*r.upper_bound + kept_share, s.coverage);
     s.proven_optimal = r.proven_optimal;
     if (r.n_lower_bound) s.n_lower_bound = *r.n_lower_bound + static_cast<int>(fixed.size());
+    if (r.cost_lower_bound)
+      s.cost_lower_bound = *r.cost_lower_bound + detail::TotalCost(options.costs, fixed);
     r = std::move(s);
   }
   return results;
@@ -403,10 +451,21 @@ std::vector<Selection> Select(std::span<const Observation> observations,
   const Objective objective = options.objective();
   if (objective == Objective::kSetCover) {
     const uint64_t goal_cells = GoalCells(*options.goal, reference_size);
-    if (goal_cells > matrix.seen_weight()) {
+    // What all candidates reach together, counted as the goal counts (k seers, or the points).
+    const int threshold = detail::Threshold(options);
+    std::vector<uint32_t> everyone(matrix.candidate_count());
+    for (uint32_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
+    const uint64_t reachable = threshold == 1 && !matrix.has_counts()
+                                   ? matrix.seen_weight()
+                                   : detail::KCoveredWeight(matrix, everyone, threshold);
+    if (goal_cells > reachable) {
+      const std::string counted =
+          options.min_points ? fmt::format(" (cells holding {} points)", *options.min_points)
+          : options.k >= 2   ? fmt::format(" (cells seen {} times)", options.k)
+                             : std::string();
       const std::string reach =
-          fmt::format("goal {:g} is above the {:.4f} that all {} candidates reach together",
-                      *options.goal, Fraction(matrix.seen_weight(), reference_size),
+          fmt::format("goal {:g} is above the {:.4f}{} that all {} candidates reach together",
+                      *options.goal, Fraction(reachable, reference_size), counted,
                       observations.size());
       throw InputError(options.goal_source == "--goal"
                            ? reach + " — lower --goal"
