@@ -767,6 +767,45 @@ populations:
   refused(with_states, "--track --state-interval 0.001", "--state-interval: no sequence");
 }
 
+TEST(ArmRenderTest, RenderDrawsTheArmAtAViewAndReobservesAsTheRunDid) {
+  TempDir dir;
+  // The example's arm and part without its states: a tour of two views.
+  std::string scene = test::ReadText(TrackExample());
+  scene = scene.substr(0, scene.find("\nstates:"));
+  const std::string urdf = "../robots/ur5e_class_arm.urdf";
+  scene.replace(scene.find(urdf), urdf.size(),
+                std::string(VANTAGE_SOURCE_DIR) + "/examples/robots/ur5e_class_arm.urdf");
+  WriteText(dir.File("arm.yaml"), scene);
+  const auto run = test::RunVantage("optimize " + dir.File("arm.yaml") + " -n 2 --method greedy --out " +
+                                    dir.File("out"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  // The re-observed coverage equals the report's only when each chosen view carries the arm as
+  // it stood in it (the robot's static copy at home would hide other pixels).
+  const auto render = test::RunVantage("render " + dir.File("out") + " --arm-view 2 --width 160 " +
+                                       "--height 120 --png " + dir.File("arm.png"));
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  EXPECT_NE(render.err.find("drawn at view 2"), std::string::npos) << render.err;
+  EXPECT_EQ(render.err.find("has the scene changed"), std::string::npos) << render.err;
+  const auto beyond = test::RunVantage("render " + dir.File("out") + " --arm-view 9 --png " +
+                                       dir.File("bad.png"));
+  EXPECT_EQ(beyond.exit_code, 2) << beyond.err;
+  EXPECT_NE(beyond.err.find("--arm-view: 9 is not a view"), std::string::npos) << beyond.err;
+  // A run without an arm has no views.yaml.
+  WriteText(dir.File("plain.yaml"), R"(objects:
+  - {name: part, role: target, box: {size: [0.1, 0.1, 0.1]}}
+sensors:
+  - {name: cam, type: intel_realsense_d415, position: [-1, 0, 0]}
+)");
+  ASSERT_EQ(test::RunVantage("optimize " + dir.File("plain.yaml") + " --out " + dir.File("plain"))
+                .exit_code,
+            0);
+  const auto no_arm = test::RunVantage("render " + dir.File("plain") + " --arm-view 1 --png " +
+                                       dir.File("bad.png"));
+  EXPECT_EQ(no_arm.exit_code, 2) << no_arm.err;
+  EXPECT_NE(no_arm.err.find("--arm-view: the run has no views.yaml"), std::string::npos)
+      << no_arm.err;
+}
+
 // ----- the arm occludes its own camera -------------------------------------------------------
 
 TEST(ArmOcclusionTest, ALinkInFrontOfTheLensHidesExactlyItsSilhouette) {

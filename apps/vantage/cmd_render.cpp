@@ -49,6 +49,9 @@ void SetupRender(CLI::App* parent) {
       "frusta");
   app->add_option("dir", options.run, "output folder of optimize/select/evaluate (or its report.json)")
       ->required();
+  app->add_option("--arm-view", options.arm_view,
+                  "a run of a camera on an arm: draw the arm at this view of its views.yaml "
+                  "(1 = the first, the default)");
   app->add_option("--png", options.png, "PNG file to write (default: DIR/view.png)")
       ->check(OutPathValidator());
   AddPointFlag(app, "--eye", &options.render.eye,

@@ -351,6 +351,10 @@ struct RenderRunOptions {
   std::string png;    ///< file to write; empty: <run folder>/view.png
   SceneInput scene;   ///< empty fields take the run's report.json `inputs`
   RenderOptions render;
+  /// A run of a camera on an arm (its views.yaml): the view (1-based, views.yaml's order) at
+  /// which the arm is drawn; unset: the first. InputError naming --arm-view for a run without
+  /// views.yaml or a view it does not have.
+  std::optional<int> arm_view;
 };
 struct RenderRunResult {
   std::string png;

@@ -51,6 +51,8 @@ struct RenderOptions {
   bool from_below = false;
   /// A legend in the top left corner: the colours, the result shown (in its method's colour).
   bool draw_legend = false;
+  /// Points the default view also frames [m, world] (e.g. the links of an arm drawn at a view).
+  std::vector<Vec3> frame_also;
   /// Throws InputError naming the field.
   void Validate() const;
 };

@@ -208,6 +208,17 @@ struct TrackInfo {
   size_t solves = 0;         ///< dynamic programmes solved (again after a move got slower)
 };
 
+/// A camera on an arm as a run folder's views.yaml gives it (render draws the arm at a view).
+struct ArmViewsFile {
+  std::string robot;
+  std::vector<std::string> joint_names;
+  std::vector<std::string> views;                 ///< candidate names, in tour (or state) order
+  std::vector<std::vector<double>> positions;     ///< per view, one per joint name
+};
+/// Reads views.yaml (detail: src/report/arm_export.cpp). InputError at the file's line when it is
+/// not one vantage writes.
+ArmViewsFile ReadArmViews(const std::string& path);
+
 struct Report {
   std::string scene;
   uint64_t seed = 1;

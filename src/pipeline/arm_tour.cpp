@@ -2,6 +2,7 @@
 // times computed here from the arm), --cycle-time's greedy choice, and the checks of the tour's
 // options before any ray.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 
@@ -665,3 +666,86 @@ void TrackSelection(const ObservedScene& observed, const ArmTourOptions& options
 
 }  // namespace detail
 }  // namespace vantage
+
+namespace vantage::detail {
+
+ArmAtViews::ArmAtViews(ArmViewsFile views, std::string path, std::optional<int> view)
+    : views_(std::move(views)), path_(std::move(path)) {
+  if (views_.views.empty())
+    throw InputError(AtPlace(path_, 0, "no views — give the views.yaml a vantage run wrote"));
+  const int chosen = view.value_or(1);
+  if (chosen < 1 || static_cast<size_t>(chosen) > views_.views.size())
+    throw InputError(AtPlace("--arm-view", 0,
+                             fmt::format("{} is not a view of {} — give 1 to {}", chosen, path_,
+                                         views_.views.size())));
+  view_ = static_cast<size_t>(chosen - 1);
+}
+
+void ArmAtViews::Apply(Problem* problem, std::vector<Candidate>* sensors) {
+  const auto robot = std::find_if(problem->robots.begin(), problem->robots.end(),
+                                  [&](const PlacedRobot& r) { return r.name == views_.robot; });
+  if (robot == problem->robots.end())
+    throw InputError(AtPlace(path_, 0,
+                             fmt::format("robot '{}' is not in the scene {} — render the run with "
+                                         "its own scene",
+                                         views_.robot, problem->source)));
+  // The kinematics of the whole robot: any moving link's chain gives every link's pose.
+  std::string tip;
+  for (const RobotJoint& joint : robot->model.joints)
+    if (joint.type != RobotJoint::Type::kFixed) tip = joint.child_link;
+  if (tip.empty())
+    throw InputError(AtPlace(path_, 0, fmt::format("robot '{}' has no joint that moves",
+                                                   views_.robot)));
+  auto kinematics = std::make_shared<ArmKinematics>(*robot, tip, std::vector<std::string>{});
+  if (kinematics->joint_names() != views_.joint_names)
+    throw InputError(AtPlace(path_, 0,
+                             fmt::format("its joint_names are not robot '{}''s ({}) — render the "
+                                         "run with its own scene",
+                                         views_.robot, fmt::join(kinematics->joint_names(), ", "))));
+  auto body = std::make_shared<ArmBody>();
+  body->robot = robot->name;
+  for (const auto& [link, mesh] : robot->visual_meshes) {
+    body->links.push_back(link);
+    body->link_meshes.push_back(mesh);
+  }
+  body->joint_names = kinematics->joint_names();
+  // As optimize observed: the carried robot leaves the scene, each view carries its links.
+  const std::string own = robot->name + "::";
+  std::vector<SceneObject> kept;
+  for (SceneObject& object : problem->scene.objects)
+    if (object.name.rfind(own, 0) != 0) kept.push_back(std::move(object));
+  problem->scene.objects = std::move(kept);
+  for (Candidate& sensor : *sensors) {
+    const auto at = std::find(views_.views.begin(), views_.views.end(), sensor.name);
+    if (at == views_.views.end()) continue;
+    const std::vector<double>& q = views_.positions[static_cast<size_t>(at - views_.views.begin())];
+    const std::map<std::string, Pose> links = kinematics->LinkPosesAt(q);
+    auto pose = std::make_shared<ArmPose>();
+    pose->body = body;
+    pose->joints = q;
+    for (const std::string& link : body->links) pose->world_from_link.push_back(links.at(link));
+    sensor.arm = std::move(pose);
+  }
+  body_ = std::move(body);
+  kinematics_ = std::move(kinematics);
+}
+
+Scene ArmAtViews::SceneAtView(const Scene& scene, std::vector<Vec3>* frame) const {
+  VANTAGE_CHECK(kinematics_ && body_);
+  Scene shown = scene;
+  const std::map<std::string, Pose> links = kinematics_->LinkPosesAt(views_.positions[view_]);
+  for (size_t l = 0; l < body_->links.size(); ++l) {
+    SceneObject object;
+    object.name = body_->robot + "::" + body_->links[l];
+    object.role = Role::kOccluder;
+    object.mesh = body_->link_meshes[l];
+    object.mesh.Transform(links.at(body_->links[l]));
+    for (const Vec3& v : object.mesh.vertices) frame->push_back(v);
+    shown.objects.push_back(std::move(object));
+  }
+  spdlog::info("render: robot '{}' drawn at view {} ({}) of {}", body_->robot, view_ + 1,
+               views_.views[view_], path_);
+  return shown;
+}
+
+}  // namespace vantage::detail

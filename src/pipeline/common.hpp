@@ -184,6 +184,27 @@ void AddArmTours(const std::vector<Candidate>& candidates, const std::vector<Arm
 /// --cycle-time: the greedy most coverage whose checked tour fits (method "cycle-time").
 Selection CycleTimeSelection(const VisibilityFile& data, const std::vector<ArmSetup>& arms,
                              const ArmTourOptions& options, uint64_t seed);
+/// `render` of a run of a camera on an arm (src/pipeline/arm_tour.cpp): its views.yaml, checked
+/// before the scene is read (InputError naming --arm-view or the file's place).
+class ArmAtViews {
+ public:
+  ArmAtViews(ArmViewsFile views, std::string path, std::optional<int> view);
+  /// The scene without the robot's links (they move with each view), and each chosen sensor
+  /// named in views.yaml given the arm as it stands there (its links occlude it, as optimize
+  /// observed it). InputError at views.yaml when the scene lacks the robot or its joints.
+  void Apply(Problem* problem, std::vector<Candidate>* sensors);
+  /// `scene` (Apply's) with the robot's links at the chosen view, occluders named ROBOT::LINK;
+  /// `frame` gets their bounds' corners, for the picture's framing.
+  Scene SceneAtView(const Scene& scene, std::vector<Vec3>* frame) const;
+
+ private:
+  ArmViewsFile views_;
+  std::string path_;
+  size_t view_ = 0;
+  std::shared_ptr<const ArmBody> body_;
+  std::shared_ptr<const ArmKinematics> kinematics_;
+};
+
 /// --track (before any ray): InputError naming --track without states or without an arm, at a
 /// state's line when no view of the arm is collision-free in it, naming --state-interval when no
 /// sequence fits it even at the straight moves' times; sets the arms' per-state collisions.

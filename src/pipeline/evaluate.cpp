@@ -116,7 +116,8 @@ struct Reobserved {
 /// `file`: the report.json the constellation came from ("" for a scene's declared layout).
 Reobserved Reobserve(const SceneInput& scene, const Constellation& constellation,
                      const std::string& file, const ObserveOptions& observe,
-                     const RunLimits& limits) {
+                     const RunLimits& limits,
+                     const std::function<void(Problem*, std::vector<Candidate>*)>& adjust = {}) {
   const auto start = std::chrono::steady_clock::now();
   Reobserved result;
   result.problem = LoadScene(scene);
@@ -141,6 +142,8 @@ Reobserved Reobserve(const SceneInput& scene, const Constellation& constellation
     const SensorType* defined = problem.FindType(c.sensor.id);
     if (defined && !c.sensor.second_aperture) c.sensor.second_aperture = defined->second_aperture;
   }
+  // A camera on an arm (render): the arm at each chosen view, as optimize observed it.
+  if (adjust) adjust(&result.problem, &data.candidates);
   data.physical = observe.physical.value_or(true) && detail::AnyApertureIn(data.candidates);
   const ReferenceOptions reference{problem.cell_size, scene.exposed_only.value_or(false)};
   data.reference = detail::BuildRunReference(problem.scene, reference, problem.source);
@@ -405,7 +408,24 @@ RenderRunResult RenderRun(const RenderRunOptions& options) {
   // The run's model: report.json says physical when it was (issue 43).
   observe.physical = constellation.inputs && constellation.inputs->physical;
   // Re-observe the chosen sensors: the same voxels as the report counts.
-  const Reobserved reobserved = Reobserve(scene, constellation, report_path, observe, RunLimits{});
+  // A run of a camera on an arm: its views.yaml beside report.json gives each view's joints.
+  const fs::path views_path = fs::path(report_path).parent_path() / "views.yaml";
+  std::optional<detail::ArmAtViews> arm;
+  if (fs::is_regular_file(views_path, error))
+    arm = detail::ArmAtViews(ReadArmViews(views_path.string()), views_path.string(),
+                             options.arm_view);
+  else if (options.arm_view)
+    throw InputError(AtPlace("--arm-view", 0,
+                             fmt::format("the run has no views.yaml ({}) — only a run of a camera "
+                                         "on an arm draws the arm",
+                                         views_path.string())));
+  const Reobserved reobserved =
+      Reobserve(scene, constellation, report_path, observe, RunLimits{},
+                arm ? std::function<void(Problem*, std::vector<Candidate>*)>(
+                          [&](Problem* problem, std::vector<Candidate>* sensors) {
+                            arm->Apply(problem, sensors);
+                          })
+                    : std::function<void(Problem*, std::vector<Candidate>*)>());
   if (constellation.coverage && std::abs(*constellation.coverage - reobserved.given.coverage) > 1e-9)
     spdlog::warn("{}: coverage {:.4f} % now, {:.4f} % in the report — has the scene changed since?",
                  report_path, 100.0 * reobserved.given.coverage, 100.0 * *constellation.coverage);
@@ -418,8 +438,15 @@ RenderRunResult RenderRun(const RenderRunOptions& options) {
   DeriveReport(&report);
   RenderRunResult result;
   result.png = png;
-  WritePng(result.png,
-           RenderView(*reobserved.rays, reobserved.problem.scene, report, options.render));
+  if (arm) {
+    // The arm at the chosen view, its links in the picture and in its framing.
+    RenderOptions render = options.render;
+    const Scene shown = arm->SceneAtView(reobserved.problem.scene, &render.frame_also);
+    WritePng(result.png, RenderView(shown, report, render));
+  } else {
+    WritePng(result.png,
+             RenderView(*reobserved.rays, reobserved.problem.scene, report, options.render));
+  }
   result.sensors = reobserved.data->candidates.size();
   result.coverage = reobserved.given.coverage;
   return result;

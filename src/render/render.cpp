@@ -389,7 +389,8 @@ Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
   const std::unordered_map<uint64_t, int> counts = ObservationCounts(data, chosen);
 
   View view = DefaultView(scene, report, options.vertical_fov,
-                          static_cast<double>(options.width) / options.height);
+                          static_cast<double>(options.width) / options.height,
+                          options.frame_also);
   if (options.from_below) {
     // The same azimuth, as far under the horizon as the default is above it.
     // Framing the targets only: the underside is what this view is for.

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vantage/error.hpp"
 #include "vantage/types.hpp"
 
 namespace vantage::detail {
@@ -197,3 +198,41 @@ std::string TrajectoryJson(const ArmTour& tour) {
 }
 
 }  // namespace vantage::detail
+
+namespace vantage {
+
+ArmViewsFile ReadArmViews(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw InputError(AtPlace(path, e.mark.line + 1, fmt::format("not YAML: {}", e.msg)));
+  }
+  const auto bad = [&](const YAML::Node& at, const std::string& what) {
+    return InputError(AtPlace(path, at.Mark().line + 1,
+                              what + " — give the views.yaml a vantage run wrote"));
+  };
+  ArmViewsFile file;
+  try {
+    if (!root.IsMap() || !root["robot"] || !root["joint_names"] || !root["views"])
+      throw bad(root, "needs `robot`, `joint_names` and `views`");
+    file.robot = root["robot"].as<std::string>();
+    file.joint_names = root["joint_names"].as<std::vector<std::string>>();
+    for (const YAML::Node& view : root["views"]) {
+      if (!view["name"] || !view["positions"]) throw bad(view, "a view needs `name` and `positions`");
+      file.views.push_back(view["name"].as<std::string>());
+      file.positions.push_back(view["positions"].as<std::vector<double>>());
+      if (file.positions.back().size() != file.joint_names.size())
+        throw bad(view, fmt::format("view '{}' has {} positions for {} joint names",
+                                    file.views.back(), file.positions.back().size(),
+                                    file.joint_names.size()));
+      for (double q : file.positions.back())
+        if (!std::isfinite(q)) throw bad(view, fmt::format("view '{}': a position is not finite", file.views.back()));
+    }
+  } catch (const YAML::Exception& e) {
+    throw InputError(AtPlace(path, e.mark.line + 1, fmt::format("unexpected value: {}", e.msg)));
+  }
+  return file;
+}
+
+}  // namespace vantage

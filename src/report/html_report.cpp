@@ -631,6 +631,61 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
       boxes.push_back(detail::KeepOutBoxJson(box));
     page["keep_out"] = std::move(boxes);
   }
+  // A camera on an arm (issue 45): the primary result's tour — each stop's links (ghosted in the
+  // 3D view, each link's mesh once, posed per stop), the camera's path and the time line.
+  page["arm"] = nullptr;
+  if (primary >= 0 && static_cast<size_t>(primary) < report.tours.size() &&
+      report.tours[static_cast<size_t>(primary)]) {
+    const ArmTour& tour = *report.tours[static_cast<size_t>(primary)];
+    ordered_json arm;
+    arm["robot"] = tour.robot;
+    arm["method"] = tour.tour.method;
+    arm["exact"] = tour.tour.exact;
+    arm["seconds"] = tour.tour.connected() ? ordered_json(tour.tour.total_seconds) : ordered_json();
+    arm["return_seconds"] = std::isfinite(tour.return_seconds) ? ordered_json(tour.return_seconds)
+                                                                : ordered_json();
+    ordered_json links = ordered_json::array(), stops = ordered_json::array();
+    std::shared_ptr<const ArmBody> body;
+    for (size_t k = 0; k < tour.views.size(); ++k) {
+      const Candidate& c = data.candidates.at(tour.views[k]);
+      ordered_json stop;
+      stop["name"] = c.name;
+      if (k < tour.states.size()) stop["state"] = tour.states[k];
+      stop["move_seconds"] = std::isfinite(tour.move_seconds[k]) ? ordered_json(tour.move_seconds[k])
+                                                                 : ordered_json();
+      stop["acquisition_seconds"] = tour.acquisition_seconds[k];
+      stop["planned"] = k < tour.move_via.size() && !tour.move_via[k].empty();
+      stop["camera"] = Vec3Json(c.world_from_body.position);
+      ordered_json poses = ordered_json::array();
+      if (c.arm && c.arm->body) {
+        if (!body) body = c.arm->body;
+        if (c.arm->body == body) {
+          for (const Pose& pose : c.arm->world_from_link)
+            poses.push_back({pose.position.x(), pose.position.y(), pose.position.z(),
+                             pose.rotation.w(), pose.rotation.x(), pose.rotation.y(),
+                             pose.rotation.z()});
+        }
+      }
+      stop["links"] = std::move(poses);  // xyz, quaternion wxyz per link of `links`
+      stops.push_back(std::move(stop));
+    }
+    if (body) {
+      for (size_t l = 0; l < body->links.size(); ++l) {
+        const TriangleMesh& mesh = body->link_meshes[l];
+        std::vector<float> positions;
+        for (const Vec3& v : mesh.vertices)
+          for (int a = 0; a < 3; ++a) positions.push_back(static_cast<float>(v[a]));
+        std::vector<uint32_t> indices;
+        for (const auto& t : mesh.triangles) indices.insert(indices.end(), t.begin(), t.end());
+        links.push_back({{"name", body->links[l]},
+                         {"positions", Base64(positions)},
+                         {"indices", Base64(indices)}});
+      }
+    }
+    arm["links"] = std::move(links);
+    arm["stops"] = std::move(stops);
+    page["arm"] = std::move(arm);
+  }
   page["quality"] = data.quality.active();
   if (report.states) {
     ordered_json names = ordered_json::array();

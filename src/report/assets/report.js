@@ -4,6 +4,7 @@
   var problems = [];
   var C = D.colors;
   var KEEP_OUT = '#e65100';  // keep-out boxes, 3D view and legend
+  var ARM = '#5e35b1';       // a camera on an arm: its ghosts, path and time line
 
   function esc(s) {
     return String(s).replace(/[&<>"']/g, function (c) {
@@ -268,6 +269,70 @@
       {label: 'paper coverage', num: true, value: function (r) { return r.paper; }, show: pct},
       {label: 'chosen', num: true, value: function (r) { return r.chosen; }}
     ], candidateRows, function (r) { return r.chosen ? 'chosen' : ''; });
+  });
+
+  // ------------------------------------------------------------------ the arm's tour
+  // A camera on an arm (docs/arm.md): the primary result's tour as a time line — each move (grey;
+  // hatched when planned around a collision) and each view's acquisition (the arm's colour),
+  // home to home, on one axis of seconds.
+  guarded('tour', function () {
+    if (!D.arm || !D.arm.stops.length) return;
+    var SVG = 'http://www.w3.org/2000/svg';
+    function node(name, attrs, parent, text) {
+      var e = document.createElementNS(SVG, name);
+      for (var k in attrs) e.setAttribute(k, attrs[k]);
+      if (text !== undefined) e.textContent = text;
+      if (parent) parent.appendChild(e);
+      return e;
+    }
+    var stops = D.arm.stops, t = 0, spans = [];
+    stops.forEach(function (s, k) {
+      var move = s.move_seconds === null ? NaN : s.move_seconds;
+      spans.push({kind: 'move', from: t, to: t + move, planned: s.planned, label: s.name});
+      t += move;
+      spans.push({kind: 'view', from: t, to: t + s.acquisition_seconds, label: (k + 1) + ' ' + s.name + (s.state ? ' (' + s.state + ')' : '')});
+      t += s.acquisition_seconds;
+    });
+    var back = D.arm.return_seconds === null ? NaN : D.arm.return_seconds;
+    spans.push({kind: 'move', from: t, to: t + back, planned: false, label: 'home'});
+    t += back;
+    document.getElementById('tour-title').hidden = false;
+    var text = document.getElementById('tour-text');
+    text.hidden = false;
+    text.textContent = 'Robot ' + D.arm.robot + ': ' + stops.length + ' views, ' +
+      (isFinite(t) ? t.toFixed(2) + ' s of motion and acquisition from home back to home' : 'some move is not connected') +
+      ' (order: ' + D.arm.method + (D.arm.exact ? ', exact' : '') + ').' +
+      (D.arm.seconds !== null && isFinite(t) && Math.abs(D.arm.seconds - t) > 1e-6 ? ' With the states\' spacing: ' + D.arm.seconds.toFixed(2) + ' s.' : '');
+    if (!isFinite(t) || t <= 0) return;
+    var W = 760, L = 16, R = 16, rowH = 18, T = 8, H = T + stops.length * rowH + 40;
+    var svg = node('svg', {id: 'tour-line', viewBox: '0 0 ' + W + ' ' + H, width: W, height: H, role: 'img',
+                           'aria-label': 'the arm tour time line'}, document.getElementById('tour-box'));
+    var X = function (s) { return L + (W - L - R) * s / t; };
+    var axisY = T + stops.length * rowH + 6;
+    var row = 0;
+    spans.forEach(function (span) {
+      var y = span.kind === 'view' ? T + (row++) * rowH : axisY - 12;
+      var w = Math.max(1, X(span.to) - X(span.from));
+      var rect = node('rect', {x: X(span.from), y: y, width: w, height: span.kind === 'view' ? rowH - 4 : 10,
+                               fill: span.kind === 'view' ? ARM : (span.planned ? '#9e9e9e' : '#cfd3da'),
+                               stroke: span.planned ? '#424242' : 'none', 'stroke-dasharray': span.planned ? '3 2' : ''}, svg);
+      node('title', {}, rect, (span.kind === 'view' ? 'acquisition at ' : 'move to ') + span.label + ': ' +
+           span.from.toFixed(2) + '–' + span.to.toFixed(2) + ' s');
+      if (span.kind === 'view') {
+        var right = X(span.to) + 4 < W - 200;
+        node('text', {x: right ? X(span.to) + 4 : X(span.from) - 4, y: y + rowH - 8, 'font-size': 11,
+                      'text-anchor': right ? 'start' : 'end'}, svg, span.label + ' @ ' + span.from.toFixed(2) + ' s');
+        node('line', {x1: X(span.from), x2: X(span.from), y1: y + rowH - 4, y2: axisY - 2, stroke: ARM, 'stroke-width': 0.5}, svg);
+      }
+    });
+    node('line', {x1: L, x2: W - R, y1: axisY, y2: axisY, stroke: '#555'}, svg);
+    for (var k = 0; k <= 5; ++k) {
+      var s = t * k / 5;
+      node('text', {x: X(s), y: axisY + 14, 'font-size': 11, 'text-anchor': k === 0 ? 'start' : k === 5 ? 'end' : 'middle'},
+           svg, s.toFixed(1) + ' s');
+    }
+    node('text', {x: L, y: axisY + 30, 'font-size': 11}, svg,
+         'grey: moves (dashed: planned around a collision); coloured: acquisition at each view; home at 0 s and at the end');
   });
 
   // ------------------------------------------------------------------ chart
@@ -600,10 +665,15 @@
     var tb = D.view.targets, targetCorners = [];
     for (var corner = 0; corner < 8; ++corner)
       targetCorners.push(new THREE.Vector3(tb[corner & 1 ? 1 : 0][0], tb[corner & 2 ? 1 : 0][1], tb[corner & 4 ? 1 : 0][2]));
+    // A camera on an arm: the view frames its links at the views too (their frames' origins).
+    var armPoints = [];
+    if (D.arm) D.arm.stops.forEach(function (stop) {
+      stop.links.forEach(function (p) { armPoints.push(new THREE.Vector3(p[0], p[1], p[2])); });
+    });
     var aspect = view.clientWidth / view.clientHeight;
     var views = [{name: 'chosen sensors and targets', key: 'sensors',
                   make: function () {
-                    return fitView(targetCorners.concat(D.view.sensors.map(function (p) { return new THREE.Vector3().fromArray(p); })),
+                    return fitView(targetCorners.concat(armPoints, D.view.sensors.map(function (p) { return new THREE.Vector3().fromArray(p); })),
                                    D.view.fov_deg, camera.aspect);
                   }},
                  {name: 'targets only', key: 'targets',
@@ -643,7 +713,7 @@
                 fov: 2 * Math.atan(0.5 * c.h / c.fy) * 180 / Math.PI};
       }});
     });
-    var first = fitView(targetCorners.concat(D.view.sensors.map(function (p) { return new THREE.Vector3().fromArray(p); })),
+    var first = fitView(targetCorners.concat(armPoints, D.view.sensors.map(function (p) { return new THREE.Vector3().fromArray(p); })),
                         D.view.fov_deg, aspect);
     var eye = first.eye, target = first.target;
     var dist = eye.distanceTo(target);
@@ -861,6 +931,35 @@
       layer('keep-out boxes', boxes, true);
     }
 
+    // A camera on an arm: the arm ghosted at each view of the tour, the camera's path.
+    if (D.arm && D.arm.links.length && D.arm.stops.length) {
+      var ghosts = new THREE.Group();
+      var ghostMaterial = new THREE.MeshPhongMaterial({color: ARM, transparent: true, opacity: 0.14,
+                                                       depthWrite: false, side: THREE.DoubleSide});
+      var linkGeometry = D.arm.links.map(function (m) {
+        var g = new THREE.BufferGeometry();
+        g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(bytes(m.positions)), 3));
+        g.setIndex(new THREE.BufferAttribute(new Uint32Array(bytes(m.indices)), 1));
+        g.computeVertexNormals();
+        return g;
+      });
+      D.arm.stops.forEach(function (stop) {
+        stop.links.forEach(function (p, l) {
+          var mesh = new THREE.Mesh(linkGeometry[l], ghostMaterial);
+          mesh.position.set(p[0], p[1], p[2]);
+          mesh.quaternion.set(p[4], p[5], p[6], p[3]);
+          mesh.name = stop.name + ' ' + D.arm.links[l].name;
+          ghosts.add(mesh);
+        });
+      });
+      layer('arm at the views (ghosted)', ghosts, true);
+      var path = new THREE.BufferGeometry();
+      var along = new Float32Array(3 * D.arm.stops.length);
+      D.arm.stops.forEach(function (stop, k) { for (var a = 0; a < 3; ++a) along[3 * k + a] = stop.camera[a]; });
+      path.setAttribute('position', new THREE.BufferAttribute(along, 3));
+      layer('camera path (tour order)', new THREE.Line(path, new THREE.LineBasicMaterial({color: ARM})), true);
+    }
+
     // Layer toggles and legend.
     var panel = document.getElementById('layers');
     layers.forEach(function (l) {
@@ -994,6 +1093,9 @@
         ? 'overlap graph: chosen sensors sharing cells (' + cells.join(', ') + ' cells)'
         : 'overlap graph: ' + D.overlap.length + ' pairs of chosen sensors share cells (' +
           Math.min.apply(null, cells) + '–' + Math.max.apply(null, cells) + ' cells a pair)']);
+    }
+    if (D.arm && D.arm.stops.length) {
+      rows.push(['sw', ARM, 'robot ' + D.arm.robot + ' at each view (ghosted), the camera path in tour order']);
     }
     if (D.keep_out && D.keep_out.length) {
       var names = D.keep_out.map(function (b) { return b.name; });
