@@ -426,7 +426,20 @@ RenderRunResult RenderRun(const RenderRunOptions& options) {
                             arm->Apply(problem, sensors);
                           })
                     : std::function<void(Problem*, std::vector<Candidate>*)>());
-  if (constellation.coverage && std::abs(*constellation.coverage - reobserved.given.coverage) > 1e-9)
+  // An `optimize --track` run's coverage is the mean over its states of each state's one view:
+  // not the union this picture colours (in the base scene), so no mismatch to warn of.
+  bool tracked = false;
+  if (arm) {
+    std::ifstream in(report_path);
+    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    tracked = j.is_object() && j.contains("track");
+  }
+  if (tracked)
+    spdlog::info("{}: a --track run — the picture colours the union of its views in the base "
+                 "scene; report.json's coverage is the mean of each state's one view",
+                 report_path);
+  else if (constellation.coverage &&
+           std::abs(*constellation.coverage - reobserved.given.coverage) > 1e-9)
     spdlog::warn("{}: coverage {:.4f} % now, {:.4f} % in the report — has the scene changed since?",
                  report_path, 100.0 * reobserved.given.coverage, 100.0 * *constellation.coverage);
 
