@@ -234,9 +234,9 @@ TEST(ObjectivesCli, BadObjectiveSettingsExitTwoWithFileAndLine) {
       RunVantage("optimize " + Scene() + " --goal 0.5 --budget 2 --out " + dir.File("o")).exit_code,
       2);
   const auto method =
-      RunVantage("optimize " + Scene() + " --goal 0.5 --method ransac --out " + dir.File("o"));
+      RunVantage("optimize " + Scene() + " --goal 0.5 --method local --out " + dir.File("o"));
   EXPECT_EQ(method.exit_code, 2);
-  EXPECT_NE(method.err.find("method 'ransac' does not apply to the set-cover objective"),
+  EXPECT_NE(method.err.find("method 'local' does not apply to the set-cover objective"),
             std::string::npos)
       << method.err;
 }

@@ -1351,9 +1351,9 @@ TEST(Objectives, ValidateRejectsBadObjectives) {
   EXPECT_NE(message(KOptions(Method::kAll, 2, 0), 4).find("k = 0"), std::string::npos);
   EXPECT_NE(message(KOptions(Method::kBest, 2, 2), 4).find("method 'best' does not apply"),
             std::string::npos);
-  EXPECT_NE(message(GoalOptions(Method::kLocal, 0.5), 4).find("use one of greedy, exact, all"),
+  EXPECT_NE(message(GoalOptions(Method::kLocal, 0.5), 4).find("use one of ransac, greedy, exact, all"),
             std::string::npos);
-  EXPECT_NE(message(BudgetOptions(Method::kRansac, 5, {1, 1, 1, 1}), 4).find("ransac"),
+  EXPECT_NE(message(BudgetOptions(Method::kBest, 5, {1, 1, 1, 1}), 4).find("method 'best'"),
             std::string::npos);
   EXPECT_NE(message(BudgetOptions(Method::kAll, 5, {1, 1}), 4).find("2 costs for 4"),
             std::string::npos);
@@ -1663,9 +1663,12 @@ TEST(Objectives, MinPointsRefusesWhatItCannotCombineWith) {
   SelectOptions with_k = options;
   with_k.k = 2;
   EXPECT_EQ(field_of(with_k), "min_points");
+  // Kept sensors combine since issue 42 (selection_model_test); n must still hold them.
   SelectOptions kept = options;
   kept.fixed = {0};
-  EXPECT_EQ(field_of(kept), "min_points");
+  EXPECT_EQ(field_of(kept), "");
+  kept.fixed = {0, 1, 2};
+  EXPECT_EQ(field_of(kept), "n");
   SelectOptions best = options;
   best.method = Method::kBest;
   EXPECT_NE(field_of(best), "");

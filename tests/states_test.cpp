@@ -211,9 +211,11 @@ TEST_F(HandCase, RejectsWhatStatesCannotDo) {
   SelectOptions goal = Options(Method::kGreedy, 1);
   goal.goal = 0.5;
   EXPECT_THROW(SelectOverStates(views_, OverStates::kMean, goal), InputError);
-  SelectOptions k = Options(Method::kGreedy, 2);
-  k.k = 2;
-  EXPECT_THROW(SelectOverStates(views_, OverStates::kMean, k), InputError);
+  // k-coverage is available over states since issue 42 (selection_model_test); a budget is not.
+  SelectOptions budget = Options(Method::kGreedy, 2);
+  budget.budget = 2;
+  budget.costs.assign(views_.front().observations.size(), 1.0);
+  EXPECT_THROW(SelectOverStates(views_, OverStates::kMean, budget), InputError);
   EXPECT_THROW(SelectOverStates(views_, OverStates::kMean, Options(Method::kGreedy, 4)),
                InputError);
   EXPECT_THROW(SelectOverStates({}, OverStates::kMean, Options(Method::kGreedy, 1)), InputError);

@@ -507,6 +507,24 @@ template <MethodScorer Scorer>
 ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n) const {
   const Clock::time_point start = Clock::now();
   ConstrainedAnswer answer;
+  if constexpr (Scorer::kCells) {
+    if (options_.budget) {
+      FittedDraws fit;
+      fit.threshold = scorer_.k();
+      fit.costs = options_.costs;
+      fit.budget = *options_.budget;
+      fit.start = start_;
+      fit.may_add = [&](std::span<const uint32_t> set, uint32_t c) {
+        return feasible_.CanAdd(set, c);
+      };
+      answer.chosen = RansacFitted(scorer_.matrix(), fit, options_.ransac_iterations,
+                                   options_.ransac_stop_coverage, options_.seed);
+      if (answer.chosen.empty())
+        answer.chosen = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, start_);
+      answer.seconds = setup_seconds_ + SecondsSince(start);
+      return answer;
+    }
+  }
   answer.chosen = ConstrainedRansac(scorer_, feasible_, n, options_.ransac_iterations,
                                     options_.ransac_stop_coverage, options_.seed, options_.fixed);
   if (answer.chosen.empty()) {
@@ -771,6 +789,18 @@ std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
   };
   std::vector<Selection> results;
   const double greedy_seconds = SecondsSince(start);
+  if (options.method == Method::kRansac) {
+    FittedDraws fit;
+    fit.goal_cells = goal_cells;
+    fit.start = kept_start;
+    fit.may_add = [&](std::span<const uint32_t> set, uint32_t c) { return feasible.CanAdd(set, c); };
+    fit.is_feasible = [&](std::span<const uint32_t> set) { return feasible.IsFeasible(set); };
+    std::vector<uint32_t> drawn = RansacFitted(matrix, fit, options.ransac_iterations,
+                                               options.ransac_stop_coverage, options.seed);
+    // No order reached it under the rules: greedy's answer (which does, or the MILP's).
+    if (drawn.empty()) drawn = greedy;
+    return {scored(Method::kRansac, std::move(drawn), SecondsSince(start))};
+  }
   if (options.method != Method::kExact)
     results.push_back(scored(Method::kGreedy, greedy, greedy_seconds));
   if (options.method == Method::kGreedy) return results;

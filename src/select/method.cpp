@@ -41,11 +41,6 @@ void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
   if (o.min_points) {
     if (*o.min_points < 1)
       throw FieldError({"min_points"}, "min_points = 0 must be at least 1 point per cell");
-    if (!o.fixed.empty()) {
-      throw FieldError({"min_points"},
-                       "min_points does not combine with kept sensors yet — drop --min-points or "
-                       "--keep-existing");
-    }
   }
   if (o.k < 1) throw FieldError({"k"}, fmt::format("k = {} must be at least 1", o.k));
   if (o.goal && !(*o.goal > 0.0 && *o.goal <= 1.0)) {
@@ -101,14 +96,14 @@ void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
     case Objective::kCoverage:
       return;
     case Objective::kSetCover:
-      allowed = {Method::kGreedy, Method::kExact, Method::kAll};
+      allowed = {Method::kRansac, Method::kGreedy, Method::kExact, Method::kAll};
       break;
     case Objective::kKCoverage:
     case Objective::kMinPoints:
       allowed = {Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact, Method::kAll};
       break;
     case Objective::kBudget:
-      allowed = {Method::kGreedy, Method::kLocal, Method::kExact, Method::kAll};
+      allowed = {Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact, Method::kAll};
       break;
   }
   if (std::find(allowed.begin(), allowed.end(), o.method) != allowed.end()) return;
@@ -187,11 +182,15 @@ void SelectOptions::Validate(size_t candidate_count) const {
                      "constraints yet — drop one of them");
   }
   if (fixed.empty()) return;
-  if (objective() == Objective::kKCoverage || (goal && k >= 2)) {
-    throw FieldError({"fixed", "k"},
-                     "sensors to keep work with coverage, goal and budget, not k-coverage");
+  if (goal && (k >= 2 || min_points)) {
+    throw FieldError({"fixed", "k", "min_points"},
+                     "a goal counted k times or in points does not combine with kept sensors yet "
+                     "— drop --keep-existing, or count the goal once");
   }
-  if (objective() == Objective::kCoverage && static_cast<size_t>(n) < fixed.size()) {
+  const bool chooses_n = objective() == Objective::kCoverage ||
+                         objective() == Objective::kKCoverage ||
+                         objective() == Objective::kMinPoints;
+  if (chooses_n && static_cast<size_t>(n) < fixed.size()) {
     throw FieldError({"n"}, fmt::format("n = {} is below the {} sensors kept — give n >= {}", n,
                                         fixed.size(), fixed.size()));
   }

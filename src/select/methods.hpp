@@ -74,6 +74,29 @@ template <MethodScorer Scorer>
 std::vector<uint32_t> RansacChoice(
     const Scorer& scorer, size_t n, int iterations, double stop_coverage, uint64_t seed);
 
+/// What RansacFitted's draws must fit: a budget, or a goal.
+struct FittedDraws {
+  /// A cell counts once the set puts this many points (seers: k; pixels: min_points) in it.
+  int threshold = 1;
+  std::span<const double> costs;  ///< per candidate: a budget's, or the price a goal minimises
+  std::optional<double> budget;   ///< a budget, or none for a goal
+  uint64_t goal_cells = 0;        ///< a goal in cells, or 0 for a budget
+  std::span<const uint32_t> start;  ///< kept sensors: in every draw, never dropped
+  /// Installation rules (Feasibility::CanAdd / IsFeasible), or none.
+  std::function<bool(std::span<const uint32_t>, uint32_t)> may_add;
+  std::function<bool(std::span<const uint32_t>)> is_feasible;
+};
+
+/// Algorithm 2 for a budget or a goal, where no fixed n is drawn: draw i is a random order of
+/// every candidate (RansacDraw's stream i, shuffled to the end), taken in passes from `start`,
+/// each candidate added when it adds points the threshold counts, fits the budget and the rules;
+/// for a goal until it is reached, then latest first each sensor the goal no longer needs is
+/// dropped. Keeps the draw covering the most cells (budget; stops at `stop_coverage`) or reaching
+/// the goal at the least price (sum of costs, unit without; ties: the earlier draw). Empty when
+/// no draw reached the goal, or (budget) none added anything to an empty start. Deterministic.
+std::vector<uint32_t> RansacFitted(const CoverageMatrix& matrix, const FittedDraws& fit,
+                                   int iterations, double stop_coverage, uint64_t seed);
+
 /// Sum of `costs` over `chosen`.
 double TotalCost(std::span<const double> costs, std::span<const uint32_t> chosen);
 

@@ -173,7 +173,8 @@ StateSelection Scored(std::span<const StateObservations> states,
                       Method method,
                       std::vector<uint32_t> chosen,
                       double seconds,
-                      std::optional<uint32_t> min_points = std::nullopt) {
+                      std::optional<uint32_t> min_points = std::nullopt,
+                      int k = 1) {
   StateSelection result;
   for (const StateObservations& state : states) {
     const CoverageEvaluator evaluator(state.observations, state.reference_size);
@@ -185,8 +186,8 @@ StateSelection Scored(std::span<const StateObservations> states,
                                             evaluator.Coverage(chosen));
       continue;
     }
-    result.state_coverage.push_back(evaluator.Coverage(chosen));
-    result.state_paper_coverage.push_back(evaluator.PaperCoverage(chosen));
+    result.state_coverage.push_back(evaluator.Coverage(chosen, k));
+    result.state_paper_coverage.push_back(evaluator.PaperCoverage(chosen, k));
   }
   Selection& s = result.selection;
   s.method = MethodName(method);
@@ -195,15 +196,19 @@ StateSelection Scored(std::span<const StateObservations> states,
   s.coverage = Aggregate(result.state_coverage, over);
   s.paper_coverage = Aggregate(result.state_paper_coverage, over);
   s.seconds = seconds;
-  s.objective = ObjectiveName(min_points ? Objective::kMinPoints : Objective::kCoverage);
+  s.objective = ObjectiveName(min_points ? Objective::kMinPoints
+                              : k >= 2    ? Objective::kKCoverage
+                                          : Objective::kCoverage);
   s.min_points = min_points;
+  s.k = k;
   return result;
 }
 
 void Validate(std::span<const StateObservations> states, const SelectOptions& options) {
   const Objective objective = options.objective();
-  if (objective != Objective::kCoverage && objective != Objective::kMinPoints) {
-    throw InputError(fmt::format("the {} objective (--goal, --k, --budget) is not available with "
+  if (objective != Objective::kCoverage && objective != Objective::kMinPoints &&
+      objective != Objective::kKCoverage) {
+    throw InputError(fmt::format("the {} objective (--goal, --budget) is not available with "
                                  "--over-states — states maximise coverage; drop one of them",
                                  ObjectiveName(objective)));
   }
@@ -261,8 +266,9 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
   const detail::CoverageMatrix matrix = options.min_points
                                             ? detail::CoverageMatrix(blocks, *options.min_points)
                                             : detail::CoverageMatrix(blocks);
-  const detail::StatesScorer scorer(matrix, over,
-                                    options.min_points ? static_cast<int>(*options.min_points) : 1);
+  // What a cell needs to count: its points, or k seers (k-coverage; 1: plain coverage).
+  const int threshold = options.min_points ? static_cast<int>(*options.min_points) : options.k;
+  const detail::StatesScorer scorer(matrix, over, threshold);
   const double setup = SecondsSince(start);
   std::vector<StateSelection> results;
 
@@ -314,7 +320,7 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
     return s;
   };
   const auto n = static_cast<size_t>(options.n);
-  if (!options.constraints.empty() || options.min_points) {
+  if (!options.constraints.empty() || options.min_points || options.k >= 2) {
     // Installation constraints (docs/constraints.md, Over scene states): the same methods under
     // them; the calibration overlap graph is the first state's. Point density over states runs
     // the same methods (with no constraints, every set is feasible).
@@ -323,7 +329,7 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
     const auto scored = [&](Method method, detail::ConstrainedAnswer answer) {
       VANTAGE_CHECK(feasible.IsFeasible(answer.chosen));
       StateSelection s = Scored(states, over, method, std::move(answer.chosen), answer.seconds,
-                                options.min_points);
+                                options.min_points, options.min_points ? 1 : options.k);
       if (answer.upper_bound)
         s.selection.upper_bound = std::max(*answer.upper_bound, s.selection.coverage);
       s.selection.proven_optimal = answer.proven_optimal;
@@ -349,11 +355,11 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
         results.push_back(scored(Method::kRansac, methods.Ransac(n)));
         break;
       case Method::kAll: {
-        if (!options.min_points) results.push_back(best());  // as Select: min-points has none
-        // Exact per n in a share of the time, as Select's `all` (vantage help optimize).
+        // As Select: min-points and k-coverage have no best, and k-coverage starts at n = k.
+        if (threshold == 1) results.push_back(best());
         detail::AllExactTime exact_time(matrix.candidate_count(), options.time_limit,
                                         static_cast<int>(n));
-        for (size_t k = 1; k <= n; ++k) {
+        for (size_t k = static_cast<size_t>(options.k); k <= n; ++k) {
           one_n(k, true, true, true);
           if (!exact_time.runs()) continue;
           const Clock::time_point t = Clock::now();

@@ -248,3 +248,80 @@ template std::vector<uint32_t> RansacChoice(const CellScorer&, size_t, int, doub
 template std::vector<uint32_t> RansacChoice(const StatesScorer&, size_t, int, double, uint64_t);
 
 }  // namespace vantage::detail
+
+namespace vantage::detail {
+
+std::vector<uint32_t> RansacFitted(const CoverageMatrix& matrix, const FittedDraws& fit,
+                                   int iterations, double stop_coverage, uint64_t seed) {
+  const size_t m = matrix.candidate_count();
+  VANTAGE_CHECK(fit.threshold >= 1 && (fit.costs.empty() || fit.costs.size() == m));
+  VANTAGE_CHECK(fit.budget.has_value() != (fit.goal_cells > 0));
+  const auto cost = [&](uint32_t c) { return fit.costs.empty() ? 1.0 : fit.costs[c]; };
+  std::vector<bool> is_start(m, false);
+  for (const uint32_t c : fit.start) is_start[c] = true;
+  std::vector<uint32_t> order(m), shuffled(m);
+  std::iota(order.begin(), order.end(), 0U);
+  std::vector<size_t> swapped_with;
+  std::vector<uint32_t> best, set;
+  uint64_t best_cells = 0;
+  double best_price = 0;
+  for (int i = 0; i < iterations; ++i) {
+    if (i % 64 == 0) ThrowIfInterrupted();
+    // Draw i: a random order of every candidate (RansacDraw's shuffle, run to the end).
+    DrawInto(seed, static_cast<uint64_t>(i), m, &order, &swapped_with, &shuffled);
+    CappedPoints points(matrix, fit.threshold);
+    set.assign(fit.start.begin(), fit.start.end());
+    uint64_t cells = 0;
+    double spent = 0;
+    for (const uint32_t c : set) {
+      cells += points.Gain(c).first;
+      points.Add(c);
+      spent += cost(c);
+    }
+    // Passes over the order until nothing more is taken (a candidate the rule refused may join
+    // once another is in).
+    for (bool took = true; took && !(fit.goal_cells > 0 && cells >= fit.goal_cells);) {
+      took = false;
+      for (const uint32_t c : shuffled) {
+        if (is_start[c] || std::find(set.begin(), set.end(), c) != set.end()) continue;
+        if (fit.goal_cells > 0 && cells >= fit.goal_cells) break;
+        if (fit.budget && spent + cost(c) > *fit.budget) continue;
+        const std::pair<uint64_t, uint64_t> gain = points.Gain(c);
+        if (gain.second == 0) continue;  // adds nothing the objective counts
+        if (fit.may_add && !fit.may_add(set, c)) continue;
+        set.push_back(c);
+        points.Add(c);
+        cells += gain.first;
+        spent += cost(c);
+        took = true;
+      }
+    }
+    double price = 0;
+    if (fit.goal_cells > 0) {
+      if (cells < fit.goal_cells) continue;  // this order under the rules never reached it
+      // Latest first, drop what the goal no longer needs (and the rules allow to drop).
+      for (size_t p = set.size(); p-- > fit.start.size();) {
+        std::vector<uint32_t> without = set;
+        without.erase(without.begin() + static_cast<std::ptrdiff_t>(p));
+        if (KCoveredWeight(matrix, without, fit.threshold) < fit.goal_cells) continue;
+        if (fit.is_feasible && !fit.is_feasible(without)) continue;
+        set = std::move(without);
+      }
+      for (const uint32_t c : set) price += cost(c);
+      if (best.empty() || price < best_price) {
+        best = set;
+        best_price = price;
+      }
+      continue;
+    }
+    if (best.empty() || cells > best_cells) {
+      best = set;
+      best_cells = cells;
+    }
+    const size_t r = matrix.reference_size();
+    if (r > 0 && static_cast<double>(best_cells) / static_cast<double>(r) >= stop_coverage) break;
+  }
+  return best;
+}
+
+}  // namespace vantage::detail

@@ -69,9 +69,25 @@ class Pipeline {
 
   Selection Ransac(int n, int iterations) const {
     const Clock::time_point start = Clock::now();
-    std::vector<uint32_t> chosen = detail::RansacChoice(
-        detail::CellScorer(matrix_, k_), static_cast<size_t>(n), iterations,
-        options_.ransac_stop_coverage, options_.seed);
+    std::vector<uint32_t> chosen;
+    if (objective_ == Objective::kSetCover || objective_ == Objective::kBudget) {
+      // No n to draw: each draw is a random order taken until the goal or the budget stops it.
+      detail::FittedDraws fit;
+      fit.threshold = k_;
+      fit.costs = objective_ == Objective::kBudget ? std::span<const double>(options_.costs)
+                                                   : GoalCosts();
+      if (objective_ == Objective::kBudget) fit.budget = *options_.budget;
+      if (objective_ == Objective::kSetCover)
+        fit.goal_cells = GoalCells(*options_.goal, matrix_.reference_size());
+      chosen = detail::RansacFitted(matrix_, fit, iterations, options_.ransac_stop_coverage,
+                                    options_.seed);
+      // Every order reaches a goal that all candidates reach; a budget's draws add nothing only
+      // where nothing affordable sees anything: greedy's answer then.
+      if (chosen.empty()) chosen = detail::GreedyBudget(matrix_, options_.costs, *options_.budget);
+    } else {
+      chosen = detail::RansacChoice(detail::CellScorer(matrix_, k_), static_cast<size_t>(n),
+                                    iterations, options_.ransac_stop_coverage, options_.seed);
+    }
     return Scored(Method::kRansac, std::move(chosen), setup_seconds_ + SecondsSince(start));
   }
 
@@ -433,7 +449,11 @@ std::vector<Selection> Select(std::span<const Observation> observations,
                               size_t reference_size,
                               const SelectOptions& options) {
   options.Validate(observations.size());
-  if (!options.fixed.empty() && options.constraints.empty())
+  // Kept sensors are fixed variables of the one model (SelectConstrained, whose feasibility
+  // without constraints admits every set) where cells count k times or in points; the residual
+  // problem serves plain coverage, goals and budgets.
+  const bool counts_threshold = options.k >= 2 || options.min_points.has_value();
+  if (!options.fixed.empty() && options.constraints.empty() && !counts_threshold)
     return SelectKeeping(observations, reference_size, options);
   const CoverageEvaluator evaluator(observations, reference_size);
   // Kept sensors reach here only under constraints: SelectConstrained adds the best single one.
@@ -473,7 +493,8 @@ std::vector<Selection> Select(std::span<const Observation> observations,
                                          options.goal_source, reach));
     }
   }
-  if (is_constrained) return detail::SelectConstrained(observations, reference_size, options);
+  if (is_constrained || !options.fixed.empty())
+    return detail::SelectConstrained(observations, reference_size, options);
 
   switch (options.method) {
     case Method::kRansac:
@@ -542,7 +563,8 @@ std::vector<Selection> CoverageCurve(std::span<const Observation> observations,
   for (const Selection& s : results) last_n = std::max(last_n, s.n);
   last_n = std::min(last_n, static_cast<int>(observations.size()));
   const int first_n = objective == Objective::kKCoverage ? options.k : 1;
-  if (!options.constraints.empty()) {
+  if (!options.constraints.empty() ||
+      (!options.fixed.empty() && (options.k >= 2 || options.min_points))) {
     if (options.min_points) RequirePointCounts(observations);
     return detail::ConstrainedCurve(observations, reference_size, options, results, first_n,
                                     last_n);

@@ -1,0 +1,284 @@
+// Combinations that issue 42 turns from refusals into runs on the one selection path (kept
+// sensors as fixed variables, thresholds, states): every method's answer checked against
+// enumeration of every subset of small random instances, counted here independently of
+// src/select — feasible (holds the kept sensors, has n sensors), exact's the optimum with its
+// proof, and every bound at least the optimum.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "brute_force.hpp"
+#include "vantage/rng.hpp"
+#include "vantage/select.hpp"
+#include "vantage/select_states.hpp"
+
+namespace vantage {
+namespace {
+
+std::vector<Observation> RandomInstance(uint64_t seed, size_t candidates, size_t cells, double p,
+                                        bool with_hits) {
+  Rng rng(seed, Stream::kTest, 0);
+  std::vector<Observation> obs(candidates);
+  for (Observation& o : obs) {
+    for (uint32_t c = 0; c < cells; ++c) {
+      if (rng.Uniform01() >= p) continue;
+      o.reference_indices.push_back(c);
+      if (with_hits) o.reference_hits.push_back(static_cast<uint16_t>(1 + rng.Below(3)));
+    }
+  }
+  return obs;
+}
+
+// Cells of R that `mask` brings to `threshold` (seers, or with `points` the summed hits).
+size_t Counted(const std::vector<Observation>& obs, uint32_t mask, uint32_t threshold,
+               bool points) {
+  std::map<uint32_t, uint32_t> sum;
+  for (uint32_t i = 0; i < obs.size(); ++i) {
+    if (!(mask >> i & 1)) continue;
+    for (size_t j = 0; j < obs[i].reference_indices.size(); ++j)
+      sum[obs[i].reference_indices[j]] += points ? obs[i].reference_hits[j] : 1;
+  }
+  return static_cast<size_t>(std::count_if(sum.begin(), sum.end(),
+                                            [&](const auto& e) { return e.second >= threshold; }));
+}
+
+uint32_t MaskOf(const std::vector<uint32_t>& chosen) {
+  uint32_t mask = 0;
+  for (const uint32_t i : chosen) mask |= 1u << i;
+  return mask;
+}
+
+int Size(uint32_t mask) { return __builtin_popcount(mask); }
+
+// --k and --min-points with kept sensors (`--keep-existing`): the kept are fixed variables of
+// the same model, so every method adds the best it finds to them.
+TEST(SelectionModel, KeptSensorsWithKCoverageAndMinPointsMatchEnumeration) {
+  int checked = 0;
+  for (uint64_t trial = 0; trial < 24; ++trial) {
+    const size_t m = 7 + trial % 6;
+    const size_t cells = 30;
+    const bool points = trial % 3 == 2;
+    const std::vector<Observation> obs = RandomInstance(2100 + trial, m, cells, 0.3, points);
+    SelectOptions options;
+    options.time_limit = 20;
+    options.seed = 5 + trial;
+    options.ransac_iterations = 50;
+    const uint32_t threshold = points ? 3 : 2 + static_cast<uint32_t>(trial % 2);
+    if (points) {
+      options.min_points = threshold;
+    } else {
+      options.k = static_cast<int>(threshold);
+    }
+    options.fixed = trial % 2 == 0 ? std::vector<uint32_t>{1} : std::vector<uint32_t>{0, 3};
+    options.n = static_cast<int>(std::max<size_t>(options.fixed.size() + 2, threshold));
+    const uint32_t kept = MaskOf(options.fixed);
+    // The enumerated optimum of every n up to options.n.
+    std::map<int, size_t> best;
+    for (uint32_t mask = 0; mask < (1u << m); ++mask) {
+      if ((mask & kept) != kept || Size(mask) > options.n) continue;
+      size_t& b = best[Size(mask)];
+      b = std::max(b, Counted(obs, mask, threshold, points));
+    }
+    for (const Method method :
+         {Method::kAll, Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact}) {
+      options.method = method;
+      SCOPED_TRACE(testing::Message() << "trial " << trial << " threshold " << threshold
+                                      << " points " << points << " method "
+                                      << MethodName(method));
+      const std::vector<Selection> results = Select(obs, cells, options);
+      ASSERT_FALSE(results.empty());
+      for (const Selection& s : results) {
+        SCOPED_TRACE(testing::Message() << s.method << " n " << s.n);
+        const uint32_t mask = MaskOf(s.chosen);
+        ++checked;
+        EXPECT_EQ(Size(mask), s.n);  // distinct
+        EXPECT_EQ(mask & kept, kept);
+        EXPECT_LE(s.n, options.n);
+        if (method != Method::kAll) {
+          EXPECT_EQ(s.n, options.n);
+        }
+        const size_t covered = Counted(obs, mask, threshold, points);
+        EXPECT_NEAR(s.coverage, static_cast<double>(covered) / cells, 1e-12);
+        EXPECT_LE(covered, best[s.n]);
+        if (s.upper_bound) {
+          EXPECT_GE(*s.upper_bound + 1e-12, static_cast<double>(best[s.n]) / cells);
+        }
+        if (s.method == "exact") {
+          EXPECT_TRUE(s.proven_optimal);
+          EXPECT_EQ(covered, best[s.n]);
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 150);
+}
+
+
+// --over-states with --k: the states' aggregate (mean, or min) of each state's k-coverage.
+TEST(SelectionModel, KCoverageOverStatesMatchesEnumeration) {
+  int checked = 0;
+  for (uint64_t trial = 0; trial < 8; ++trial) {
+    const size_t m = 7 + trial % 3;
+    const OverStates over = trial % 2 == 0 ? OverStates::kMean : OverStates::kMin;
+    const size_t state_count = 2 + trial % 2;
+    std::vector<std::vector<Observation>> observed;
+    std::vector<size_t> sizes;
+    for (size_t s = 0; s < state_count; ++s) {
+      sizes.push_back(20 + 7 * s);
+      observed.push_back(RandomInstance(3100 + 10 * trial + s, m, sizes.back(), 0.35, false));
+    }
+    std::vector<StateObservations> states;
+    for (size_t s = 0; s < state_count; ++s)
+      states.push_back({"s" + std::to_string(s), sizes[s], observed[s]});
+    SelectOptions options;
+    options.time_limit = 20;
+    options.seed = 9 + trial;
+    options.ransac_iterations = 50;
+    options.k = 2;
+    options.n = 3 + static_cast<int>(trial % 2);
+    const auto aggregate = [&](uint32_t mask) {
+      double sum = 0, least = 1;
+      for (size_t s = 0; s < state_count; ++s) {
+        const double f = static_cast<double>(Counted(observed[s], mask, 2, false)) /
+                         static_cast<double>(sizes[s]);
+        sum += f;
+        least = std::min(least, f);
+      }
+      return over == OverStates::kMean ? sum / static_cast<double>(state_count) : least;
+    };
+    std::map<int, double> best;
+    for (uint32_t mask = 0; mask < (1u << m); ++mask)
+      if (Size(mask) <= options.n) best[Size(mask)] = std::max(best[Size(mask)], aggregate(mask));
+    for (const Method method : {Method::kAll, Method::kRansac, Method::kGreedy, Method::kExact}) {
+      if (method == Method::kAll && trial >= 2) continue;  // its table: once for mean, min
+      options.method = method;
+      SCOPED_TRACE(testing::Message() << "trial " << trial << " over " << OverStatesName(over)
+                                      << " method " << MethodName(method));
+      const std::vector<StateSelection> results = SelectOverStates(states, over, options);
+      ASSERT_FALSE(results.empty());
+      for (const StateSelection& r : results) {
+        const Selection& s = r.selection;
+        SCOPED_TRACE(testing::Message() << s.method << " n " << s.n);
+        ++checked;
+        const uint32_t mask = MaskOf(s.chosen);
+        EXPECT_EQ(Size(mask), s.n);
+        EXPECT_GE(s.n, 2);  // n = k ... N
+        if (method != Method::kAll) {
+          EXPECT_EQ(s.n, options.n);
+        }
+        EXPECT_EQ(s.k, 2);
+        EXPECT_EQ(s.objective, "k-coverage");
+        EXPECT_NEAR(s.coverage, aggregate(mask), 1e-12);
+        ASSERT_EQ(r.state_coverage.size(), state_count);
+        for (size_t st = 0; st < state_count; ++st)
+          EXPECT_NEAR(r.state_coverage[st],
+                      static_cast<double>(Counted(observed[st], mask, 2, false)) /
+                          static_cast<double>(sizes[st]),
+                      1e-12);
+        EXPECT_LE(s.coverage, best[s.n] + 1e-12);
+        if (s.upper_bound) {
+          EXPECT_GE(*s.upper_bound + 1e-12, best[s.n]);
+        }
+        // `--method exact` has the whole limit to prove it; `all` shares at most 6 s among its
+        // n's, so there only a proof is checked.
+        if (s.method == "exact" && method == Method::kExact) {
+          EXPECT_TRUE(s.proven_optimal);
+        }
+        if (s.method == "exact" && s.proven_optimal) {
+          EXPECT_NEAR(s.coverage, best[s.n], 1e-12);
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 40);
+}
+
+
+double CostOf(const std::vector<double>& costs, uint32_t mask) {
+  double total = 0;
+  for (uint32_t i = 0; i < costs.size(); ++i)
+    if (mask >> i & 1) total += costs[i];
+  return total;
+}
+
+// RANSAC for a budget and for a goal (fewest, or cheapest), with and without conflicting pairs:
+// every answer fits the budget (reaches the goal) and the pairs, is never better than the
+// enumerated optimum, and the same seed gives the same answer.
+TEST(SelectionModel, RansacForBudgetsAndGoalsIsFeasibleAndRepeatable) {
+  int checked = 0;
+  for (uint64_t trial = 0; trial < 24; ++trial) {
+    const size_t m = 7 + trial % 6;
+    const size_t cells = 30;
+    const std::vector<Observation> obs = RandomInstance(4100 + trial, m, cells, 0.3, false);
+    Rng rng(4200 + trial, Stream::kTest, 0);
+    SelectOptions options;
+    options.method = Method::kRansac;
+    options.seed = 3 + trial;
+    options.ransac_iterations = 40;
+    for (size_t i = 0; i < m; ++i) options.costs.push_back(1.0 + static_cast<double>(rng.Below(4)));
+    if (trial % 3 == 1) options.constraints.conflicts = {{0, 1}, {2, 3}};
+    const bool is_budget = trial % 2 == 0;
+    const uint32_t all = (1u << m) - 1;
+    const auto allowed = [&](uint32_t mask) {
+      std::vector<uint32_t> set;
+      for (uint32_t i = 0; i < m; ++i)
+        if (mask >> i & 1) set.push_back(i);
+      return test::SatisfiesConstraints(obs, set, options.constraints);
+    };
+    size_t goal = 0;
+    if (is_budget) {
+      options.budget = 2.0 + static_cast<double>(trial % 5);
+    } else {
+      size_t most = 0;  // what the allowed sets reach together
+      for (uint32_t mask = 1; mask <= all; ++mask)
+        if (allowed(mask)) most = std::max(most, Counted(obs, mask, 1, false));
+      goal = std::max<size_t>(1, most * 3 / 4);
+      options.goal = static_cast<double>(goal) / cells;
+      // (A goal's cost does not combine with installation constraints yet.)
+      options.minimize_cost = trial % 4 == 1 && options.constraints.empty();
+      if (!options.minimize_cost) options.costs.clear();
+    }
+    const auto price = [&](uint32_t mask) {
+      return options.minimize_cost ? CostOf(options.costs, mask) : static_cast<double>(Size(mask));
+    };
+    double best = is_budget ? 0.0 : 1e300;
+    for (uint32_t mask = 1; mask <= all; ++mask) {
+      if (!allowed(mask)) continue;
+      if (is_budget && CostOf(options.costs, mask) <= *options.budget + 1e-9)
+        best = std::max(best, static_cast<double>(Counted(obs, mask, 1, false)));
+      if (!is_budget && Counted(obs, mask, 1, false) >= goal) best = std::min(best, price(mask));
+    }
+    SCOPED_TRACE(testing::Message() << "trial " << trial << " budget " << is_budget << " cost "
+                                    << options.minimize_cost << " conflicts "
+                                    << options.constraints.conflicts.size());
+    const std::vector<Selection> first = Select(obs, cells, options);
+    const std::vector<Selection> again = Select(obs, cells, options);
+    ASSERT_EQ(first.size(), 1u);
+    ASSERT_EQ(again.size(), 1u);
+    const Selection& s = first[0];
+    EXPECT_EQ(s.method, "ransac");
+    EXPECT_EQ(s.chosen, again[0].chosen);
+    const uint32_t mask = MaskOf(s.chosen);
+    EXPECT_EQ(Size(mask), s.n);
+    EXPECT_TRUE(allowed(mask));
+    const size_t covered = Counted(obs, mask, 1, false);
+    EXPECT_NEAR(s.coverage, static_cast<double>(covered) / cells, 1e-12);
+    if (is_budget) {
+      EXPECT_LE(CostOf(options.costs, mask), *options.budget + 1e-9);
+      EXPECT_LE(static_cast<double>(covered), best);
+    } else {
+      EXPECT_GE(covered, goal);
+      EXPECT_GE(price(mask), best - 1e-9);
+    }
+    ++checked;
+  }
+  EXPECT_EQ(checked, 24);
+}
+
+}  // namespace
+}  // namespace vantage
