@@ -324,6 +324,85 @@ sensors:
   EXPECT_EQ(goal.err.find("observe:"), std::string::npos) << goal.err;
 }
 
+// A time-of-flight camera 1 m above a floor looking straight down, its image's right along +x,
+// over the edge x = 0 of a 0.2 m box (x >= 0): every pixel sees the box top at depth 0.8 m or
+// the floor at 1 m (the camera stands over the box, so no ray meets its side). The level of
+// column u follows from its ray alone; with a flying-pixel threshold below 0.2 m exactly the
+// pixels with a 4-neighbour on the other level (the two columns beside the edge) are dropped, and
+// none with a threshold above it.
+struct FlyingStep {
+  double H = 1.0, h = 0.2, camera_x = 0.0123;
+  int width = 101, height = 61;
+  double hfov = 0.6;
+
+  Scene MakeScene(Role box_role) const {
+    Scene scene;
+    scene.objects.push_back({"floor", Role::kTarget, MakePlane(4, 4), {}});
+    TriangleMesh box = MakeBox(Vec3(2, 4, h));
+    box.Transform(Pose{Vec3(1, 0, h / 2), Quat::Identity()});
+    scene.objects.push_back({"box", box_role, std::move(box), {}});
+    return scene;
+  }
+
+  Candidate Camera(std::optional<double> threshold) const {
+    Candidate c;
+    c.name = "tof";
+    c.type_id = "tof";
+    c.sensor = SensorType::FromFov("tof", width, height, hfov, std::nullopt, 0.1, 5.0);
+    c.sensor.technology = "time of flight";
+    c.sensor.flying_pixel_threshold = threshold;
+    Mat3 r;
+    r.col(0) = Vec3(0, 0, -1);
+    r.col(1) = Vec3(-1, 0, 0);
+    r.col(2) = Vec3(0, 1, 0);
+    c.world_from_body = Pose{Vec3(camera_x, 0, H), Quat(r)};
+    return c;
+  }
+
+  // Whether column u's rays meet the box top: x at the top's height is >= 0.
+  bool OnTop(const SensorType& s, int u) const {
+    const double slope = (u + 0.5 - s.cx) / s.fx;  // image right = +x per unit depth
+    return camera_x + slope * (H - h) >= 0;
+  }
+};
+
+TEST(Physical, FlyingPixelsAtAStepAreExactlyThoseBesideTheEdge) {
+  const FlyingStep step;
+  for (const Role box_role : {Role::kTarget, Role::kOccluder}) {
+    SCOPED_TRACE(box_role == Role::kTarget ? "box is a target" : "box occludes");
+    const Scene scene = step.MakeScene(box_role);
+    const Reference reference = BuildReference(scene, {0.02});
+    const Candidate cam = step.Camera(0.1);
+    // By hand: the pixels counted (targets) and those dropped (a horizontal neighbour on the
+    // other level; vertical neighbours share the column's level).
+    uint64_t targets = 0, dropped = 0;
+    for (int u = 0; u < step.width; ++u) {
+      const bool top = step.OnTop(cam.sensor, u);
+      const bool target = !top || box_role == Role::kTarget;
+      const bool edge = (u > 0 && step.OnTop(cam.sensor, u - 1) != top) ||
+                        (u + 1 < step.width && step.OnTop(cam.sensor, u + 1) != top);
+      targets += target ? static_cast<uint64_t>(step.height) : 0;
+      dropped += target && edge ? static_cast<uint64_t>(step.height) : 0;
+    }
+    ASSERT_GT(targets, 0u);
+    ASSERT_EQ(dropped, static_cast<uint64_t>(step.height) * (box_role == Role::kTarget ? 2 : 1));
+    const std::vector<Candidate> cams = {cam};
+    EXPECT_EQ(Observe(scene, reference, cams, Model(false))[0].target_pixels, targets);
+    ObserveOptions physical = Model(true);
+    const Observation o = Observe(scene, reference, cams, physical)[0];
+    EXPECT_EQ(o.target_pixels, targets - dropped);
+    physical.cull = false;  // the whole image traced: the same pixels judged the same
+    const Observation all = Observe(scene, reference, cams, physical)[0];
+    EXPECT_EQ(all.target_pixels, o.target_pixels);
+    EXPECT_EQ(all.reference_indices, o.reference_indices);
+    // A threshold above the step drops nothing.
+    const std::vector<Candidate> loose = {step.Camera(0.3)};
+    const Observation kept = Observe(scene, reference, loose, Model(true))[0];
+    EXPECT_EQ(kept.target_pixels, targets);
+    EXPECT_FALSE(kept.ideal_differs);
+  }
+}
+
 // The tiny CLI scene with the custom type given a second aperture.
 std::string CubeCellWithAperture(const std::string& aperture) {
   std::string text = test::ReadText(test::DataPath("cli/cube_cell.yaml"));
@@ -357,6 +436,7 @@ TEST(Physical, BadApertureIsRefusedAtItsLineBeforeAnyRay) {
       {"    second_aperture:\n      kind: laser\n", 16, "kind 'laser'"},
       {"    second_aperture:\n      kind: projector\n      disparity_range: 64\n", 15,
        "disparity_range belongs to a second imager"},
+      {"    flying_pixel_threshold: -0.1\n", 15, "flying_pixel_threshold = -0.1"},
   };
   for (size_t i = 0; i < cases.size(); ++i) {
     const BadCase& c = cases[i];

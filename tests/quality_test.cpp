@@ -163,6 +163,60 @@ TEST(Quality, CatalogNoiseModelsMatchTheirSources) {
   EXPECT_DOUBLE_EQ(NoiseModelOf(c)->c, d415->depth_noise->c);
 }
 
+// Nguyen, Izadi and Lovell 2012, evaluated by hand at chosen (z, theta): sigma_z = 0.0012 +
+// 0.0019 (z - 0.4)^2 + 0.0001 / sqrt(z) theta^2 / (pi/2 - theta)^2 [m].
+TEST(Quality, KinectNoiseGrowsWithIncidenceAsNguyenEtAlFit) {
+  const SensorType* kinect = FindCatalogType("kinect_xbox_360");
+  ASSERT_TRUE(kinect && kinect->depth_noise);
+  const DepthNoise& n = *kinect->depth_noise;
+  EXPECT_DOUBLE_EQ(n.incidence, 0.0001);
+  EXPECT_NE(n.source.find("Nguyen"), std::string::npos);
+  EXPECT_NEAR(n.Sigma(1.0, 0.0), 0.001884, 1e-12);           // no incidence term at 0
+  EXPECT_NEAR(n.Sigma(1.0, kPi / 4), 0.001884 + 0.0001, 1e-12);  // theta / (pi/2 - theta) = 1
+  // z = 0.64, theta = 60 deg: ratio 2, 0.0001 / 0.8 * 4 = 0.5 mm.
+  EXPECT_NEAR(n.Sigma(0.64, kPi / 3), 0.0012 + 0.0019 * 0.24 * 0.24 + 0.0005, 1e-12);
+  // z = 2.25, theta = 80 deg: ratio 8, 0.0001 / 1.5 * 64.
+  EXPECT_NEAR(n.Sigma(2.25, 80 * kPi / 180), 0.0012 + 0.0019 * 1.85 * 1.85 + 0.0064 / 1.5, 1e-12);
+  EXPECT_TRUE(std::isinf(n.Sigma(1.0, kPi / 2)));  // grazing: no depth
+  // A model without the term ignores the angle.
+  const DepthNoise flat{0.001, 0, 0.002, "test"};
+  EXPECT_DOUBLE_EQ(flat.Sigma(1.5, 1.5), flat.Sigma(1.5));
+}
+
+// A plane tilted by 60 deg seen by a Kinect: --max-depth-noise keeps exactly the pixels whose
+// analytic sigma(z, theta) is within the limit, and the incidence term drops grazing pixels the
+// depth alone would keep.
+TEST(Quality, DepthNoiseLimitDropsGrazingPixelsWhereSigmaOfZAndThetaExceedsIt) {
+  const TiltedPlane plane{60 * kPi / 180};
+  Candidate cam = Camera(100, 0.7);
+  cam.sensor.depth_noise = FindCatalogType("kinect_xbox_360")->depth_noise;
+  const DepthNoise& noise = *cam.sensor.depth_noise;
+  const Scene scene = plane.MakeScene();
+  const Reference reference = BuildReference(scene, {0.02});
+  const double limit = 0.0025;
+  uint64_t expected = 0, by_depth_alone = 0;
+  double margin = 1;
+  for (const PixelHit& h : AnalyticHits(cam, plane)) {
+    ASSERT_LT(h.point.cwiseAbs().maxCoeff(), 1.9);  // every pixel hits the 4 m plane
+    const double sigma = noise.Sigma(h.depth, std::acos(h.cos_incidence));
+    expected += sigma <= limit ? 1 : 0;
+    by_depth_alone += noise.Sigma(h.depth) <= limit ? 1 : 0;
+    margin = std::min(margin, std::abs(sigma - limit));
+  }
+  ASSERT_GT(margin, 1e-8);  // no pixel within float rounding of the limit
+  ASSERT_GT(expected, 1000u);
+  ASSERT_GT(by_depth_alone, expected + 500);  // the term matters on this plane
+
+  ObserveOptions options;
+  options.quality.max_depth_noise = limit;
+  const Observation o = Observe(scene, reference, {&cam, 1}, options).front();
+  EXPECT_EQ(o.target_pixels, 100u * 100);
+  EXPECT_EQ(o.quality_pixels, expected);
+  // Without the term, the depth alone decides.
+  cam.sensor.depth_noise->incidence = 0;
+  EXPECT_EQ(Observe(scene, reference, {&cam, 1}, options).front().quality_pixels, by_depth_alone);
+}
+
 TEST(Quality, RejectsLimitsOutOfRange) {
   for (double deg : {0.0, -5.0, 91.0, std::nan("")}) {
     QualityFilter q;
@@ -175,6 +229,10 @@ TEST(Quality, RejectsLimitsOutOfRange) {
   SensorType t = *FindCatalogType("intel_realsense_d415");
   t.depth_noise = DepthNoise{-0.01, 0, 0.001, ""};  // negative at the near end
   EXPECT_THROW(t.Validate(), InputError);
+  for (double incidence : {-0.0001, std::nan(""), HUGE_VAL}) {
+    t.depth_noise = DepthNoise{0.001, 0, 0.001, "", incidence};
+    EXPECT_THROW(t.Validate(), InputError) << incidence;
+  }
 }
 
 }  // namespace

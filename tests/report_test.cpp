@@ -172,6 +172,28 @@ uint64_t Fnv1a64(const std::string& bytes) {
   return h;
 }
 
+// The bytes of a format-7 file (docs/outputs.md) from a version-8 one whose sensors have no
+// incidence term and no flying-pixel threshold: less each candidate's last 20 bytes (f64 0, opt
+// absent: all zero), before the next one's name or, for the last, before the mounting (40 zero
+// bytes) and parts (36) sections, with version 7 and the checksum recomputed here (FNV-1a 64).
+std::string AsVersion7(const std::string& bytes, const std::vector<std::string>& names) {
+  std::string body = bytes.substr(0, bytes.size() - 8);
+  const std::string zero(20, '\0');
+  for (size_t i = names.size(); i >= 1; --i) {
+    size_t at = body.size() - 36 - 40 - 20;
+    if (i < names.size()) {
+      const uint64_t length = names[i].size();
+      at = body.find(zero + std::string(reinterpret_cast<const char*>(&length), 8) + names[i]);
+    }
+    EXPECT_NE(at, std::string::npos);
+    EXPECT_EQ(body.substr(at, 20), zero);
+    body.erase(at, 20);
+  }
+  body[8] = 7;
+  const uint64_t h = Fnv1a64(body);
+  return body + std::string(reinterpret_cast<const char*>(&h), 8);
+}
+
 // The bytes of a format-5 file (docs/outputs.md) from a version-7 one whose sensors have no
 // second aperture and whose reference has no parts: less the parts section at the end (36 zero
 // bytes: no names, empty part and exposure lists, not exposed-only, no left-out counts), each
@@ -209,6 +231,31 @@ std::string AsVersion5(const std::string& bytes, const std::vector<Vec3>& positi
   body[8] = 5;
   const uint64_t h = Fnv1a64(body);
   return body + std::string(reinterpret_cast<const char*>(&h), 8);
+}
+
+// A format-8 file keeps each sensor's noise incidence term and flying-pixel threshold; the same
+// file as format 7 reads without them.
+TEST(VisibilityFile, Version8KeepsIncidenceTermAndFlyingThreshold) {
+  test::TempDir dir;
+  VisibilityFile data = SmallData();
+  data.candidates[1].sensor.depth_noise = DepthNoise{0.001, 0, 0.002, "test", 0.0001};
+  data.candidates[2].sensor.flying_pixel_threshold = 0.05;
+  SaveVisibilityFile(dir.File("new.vis"), data);
+  const VisibilityFile back = LoadVisibilityFile(dir.File("new.vis"));
+  ASSERT_TRUE(back.candidates[1].sensor.depth_noise.has_value());
+  EXPECT_EQ(back.candidates[1].sensor.depth_noise->incidence, 0.0001);
+  EXPECT_EQ(back.candidates[2].sensor.flying_pixel_threshold, std::optional<double>(0.05));
+  EXPECT_FALSE(back.candidates[0].sensor.flying_pixel_threshold.has_value());
+  const std::vector<std::string> names = {"cam0", "cam1", "cam2"};
+  const VisibilityFile plain = SmallData();
+  SaveVisibilityFile(dir.File("plain.vis"), plain);
+  test::WriteText(dir.File("v7.vis"), AsVersion7(test::ReadText(dir.File("plain.vis")), names));
+  const VisibilityFile old = LoadVisibilityFile(dir.File("v7.vis"));
+  ASSERT_EQ(old.candidates.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_FALSE(old.candidates[i].sensor.flying_pixel_threshold.has_value());
+    EXPECT_EQ(old.observations[i].reference_indices, plain.observations[i].reference_indices);
+  }
 }
 
 // SmallData as older formats could hold it: no second apertures (format 7).
@@ -249,8 +296,8 @@ TEST(VisibilityFile, Version4LoadsWithoutMountingRulesAndSelectsAsBefore) {
   for (const Candidate& c : data.candidates) positions.push_back(c.world_from_body.position);
   const std::vector<std::string> names = {"cam0", "cam1", "cam2"};
   test::WriteText(dir.File("v4.vis"),
-                  AsVersion4(AsVersion5(test::ReadText(dir.File("new.vis")), positions, names,
-                                        data.reference.cell_size),
+                  AsVersion4(AsVersion5(AsVersion7(test::ReadText(dir.File("new.vis")), names),
+                                        positions, names, data.reference.cell_size),
                              positions));
   const VisibilityFile old = LoadVisibilityFile(dir.File("v4.vis"));
   EXPECT_TRUE(old.mounting.empty());
@@ -305,8 +352,8 @@ TEST(VisibilityFile, OldVersionLoadsWithoutCountsAndMinPointsRefusesIt) {
   const std::vector<std::string> names = {"cam0", "cam1", "cam2"};
   std::vector<Vec3> positions;
   for (const Candidate& c : data.candidates) positions.push_back(c.world_from_body.position);
-  const std::string v5 = AsVersion5(test::ReadText(dir.File("new.vis")), positions, names,
-                                    data.reference.cell_size);
+  const std::string v5 = AsVersion5(AsVersion7(test::ReadText(dir.File("new.vis")), names),
+                                    positions, names, data.reference.cell_size);
   test::WriteText(dir.File("old.vis"), AsVersion3(AsVersion4(v5, positions), names));
   const VisibilityFile old = LoadVisibilityFile(dir.File("old.vis"));
   ASSERT_EQ(old.observations.size(), 3u);

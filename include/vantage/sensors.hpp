@@ -11,13 +11,21 @@
 
 namespace vantage {
 
-/// Axial depth noise, one standard deviation: sigma(z) = a + b z + c z^2 [m] at depth z [m]
-/// (docs/sensor-models.md: structured light and stereo grow with z^2, time of flight is roughly
-/// constant).
+/// Axial depth noise, one standard deviation: sigma(z, theta) = a + b z + c z^2
+/// + incidence / sqrt(z) * theta^2 / (pi/2 - theta)^2 [m] at depth z [m] and incidence angle theta
+/// [rad] between the pixel's ray and the surface normal (docs/sensor-models.md: structured light
+/// and stereo grow with z^2, time of flight is roughly constant; the incidence term is Nguyen,
+/// Izadi and Lovell's for the Kinect, 2012, and 0 where no source gives one).
 struct DepthNoise {
   double a = 0, b = 0, c = 0;
   std::string source;  ///< where the coefficients come from
+  /// Coefficient of the incidence term [m^1.5]; 0: noise independent of the angle.
+  double incidence = 0;
+  /// The noise at normal incidence (theta = 0).
   double Sigma(double z) const { return a + (b + c * z) * z; }
+  /// The noise at incidence `theta` [rad]: infinite at grazing incidence (theta >= pi/2) when the
+  /// type has an incidence term.
+  double Sigma(double z, double theta) const;
 };
 
 /// The aperture besides the camera that a depth measurement needs (issue 43;
@@ -75,6 +83,10 @@ struct SensorType {
   /// The projector or second imager (physical model, issue 43); unset: the catalog entry's by
   /// type id, else none. Observe applies it unless the ideal pinhole is asked for.
   std::optional<SecondAperture> second_aperture;
+  /// Time of flight's mixed ("flying") pixels (physical model, issue 43): a pixel whose depth
+  /// differs from a 4-neighbour's by more than this [m] is dropped, as the sensors' own filters
+  /// do. Unset: the catalog entry's by type id, else no filter.
+  std::optional<double> flying_pixel_threshold;
 
   /// Horizontal / vertical field of view [rad] implied by the intrinsics.
   double HorizontalFov() const;
@@ -113,6 +125,13 @@ std::string SecondApertureProblem(const SensorType& camera, const SecondAperture
 /// catalog entry `catalog_id` names; nullptr when it has none (or kind none: a time-of-flight
 /// illuminator).
 const SecondAperture* SecondApertureOf(const SensorType& type, std::string_view catalog_id);
+
+/// The flying-pixel threshold a sensor's pixels are filtered by [m]: the type's own, else that of
+/// the catalog entry `catalog_id` names; nullopt when none.
+std::optional<double> FlyingPixelThresholdOf(const SensorType& type, std::string_view catalog_id);
+/// Whether the physical model changes what the type sees: it has a second aperture or a
+/// flying-pixel filter.
+bool HasPhysicalModel(const SensorType& type, std::string_view catalog_id);
 
 /// The nearest depth stereo matching can return, fx * baseline / disparity_range [m]; 0 when the
 /// aperture sets no disparity range (or is not an imager).

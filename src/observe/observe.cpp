@@ -3,11 +3,13 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <numbers>
+#include <optional>
 
 #include "observe/arm_occlusion.hpp"
 #include "observe/culling.hpp"
@@ -77,24 +79,274 @@ void SplitByReference(KeyRuns* runs, const Reference& reference, std::vector<uin
 // The physical model of one candidate (issue 43): where its second aperture is in the world, and
 // what a hit must satisfy besides the ideal pinhole's.
 struct PhysicalModel {
-  const SecondAperture* aperture = nullptr;  // null: ideal pinhole
-  Vec3 centre;              // the aperture's optical centre, world
-  double nearest = 0;       // stereo's nearest depth [m]
-  OcclusionBatch segments;  // per batch: from the aperture to the hits
+  const SecondAperture* aperture = nullptr;  // null: none
+  std::optional<double> flying;              // time of flight's flying-pixel threshold [m]
+  Vec3 centre;                               // the aperture's optical centre, world
+  double nearest = 0;                        // stereo's nearest depth [m]
+  bool active() const { return aperture != nullptr || flying.has_value(); }
 };
 
 PhysicalModel MakePhysicalModel(const Candidate& candidate, bool physical) {
   PhysicalModel model;
-  model.aperture = physical ? SecondApertureOf(candidate.sensor, candidate.type_id) : nullptr;
+  if (!physical) return model;
+  model.flying = FlyingPixelThresholdOf(candidate.sensor, candidate.type_id);
+  model.aperture = SecondApertureOf(candidate.sensor, candidate.type_id);
   if (!model.aperture) return model;
   const Pose& pose = candidate.world_from_body;
   model.centre = pose.position + pose.rotation * ApertureCentreInBody(*model.aperture);
   model.nearest = StereoNearestDepth(candidate.sensor, *model.aperture);
-  for (int a = 0; a < 3; ++a) model.segments.origin[a] = static_cast<float>(model.centre[a]);
-  // Stop 0.01 % short of the point: the surface it lies on must not occlude it, whatever float
-  // rounding does to the segment's end.
-  model.segments.tfar = 1.0f - 1e-4f;
   return model;
+}
+
+// Judges each pixel's first hit as the sensor model and the quality filter say and collects the
+// cells: the ideal pinhole's, and under the physical model those the second aperture also sees,
+// tested for occluders 16 segments at a time (one Embree packet).
+class PixelJudge {
+ public:
+  PixelJudge(const RayScene& rays, const Candidate& candidate, const Reference& reference,
+             const ObserveOptions& options, Observation* observation)
+      : rays_(rays),
+        sensor_(candidate.sensor),
+        world_from_body_(candidate.world_from_body.rotation.toRotationMatrix()),
+        origin_(candidate.world_from_body.position),
+        cell_(reference.cell_size),
+        quality_(options.quality),
+        min_cos_incidence_(quality_.max_incidence_deg
+                               ? std::cos(*quality_.max_incidence_deg * std::numbers::pi / 180.0)
+                               : -1.0),
+        noise_(quality_.max_depth_noise ? NoiseModelOf(candidate) : nullptr),
+        physical_(MakePhysicalModel(candidate, options.physical.value_or(true))),
+        count_(options.count_points),
+        observation_(observation) {
+    for (int a = 0; a < 3; ++a) segments_.origin[a] = static_cast<float>(physical_.centre[a]);
+    // Stop 0.01 % short of the point: the surface it lies on must not occlude it, whatever float
+    // rounding does to the segment's end.
+    segments_.tfar = 1.0f - 1e-4f;
+  }
+
+  const PhysicalModel& physical() const { return physical_; }
+
+  // One pixel's first hit at depth t (ray d, normal n, point p where it is a target); `flying`:
+  // the flying-pixel filter drops it.
+  void Take(float t, bool is_target, const Vec3& d, const Vec3& n, const Vec3& p, bool flying) {
+    if (!is_target || t < sensor_.near || t > sensor_.far) return;
+    const VoxelIndex index = VoxelKeyOf(p, cell_);
+    VANTAGE_CHECK(VoxelIndexFits(index));
+    const uint64_t key = PackVoxel(index);
+    bool passes = true;
+    if (quality_.max_incidence_deg) {
+      const double norms = d.norm() * n.norm();
+      passes = norms > 0 && std::abs(d.dot(n)) >= min_cos_incidence_ * norms;
+    }
+    if (passes && noise_) {
+      double sigma = noise_->Sigma(t);
+      if (noise_->incidence != 0) {  // Nguyen et al.'s term: grows toward grazing incidence
+        const double norms = d.norm() * n.norm();
+        const double cos_theta = norms > 0 ? std::min(1.0, std::abs(d.dot(n)) / norms) : 0.0;
+        sigma = noise_->Sigma(t, std::acos(cos_theta));
+      }
+      passes = sigma <= *quality_.max_depth_noise;
+    }
+    if (!physical_.active()) {
+      Count(key, passes);
+      return;
+    }
+    if (passes) ideal_keys_.Add(key, false);
+    if (flying) return;
+    if (!physical_.aperture) {
+      Count(key, passes);
+      return;
+    }
+    // Stereo cannot match nearer than its disparity search reaches; the aperture must have the
+    // point in its field and lie on the side of the surface the camera sees.
+    if (t < physical_.nearest) return;
+    const Vec3 p_body = world_from_body_.transpose() * (p - origin_);
+    if (!InApertureField(sensor_, *physical_.aperture, p_body)) return;
+    if (n.dot(physical_.centre - p) * n.dot(origin_ - p) <= 0) return;
+    const Vec3 segment = p - physical_.centre;
+    for (int a = 0; a < 3; ++a) segments_.dir[a][queued_] = static_cast<float>(segment[a]);
+    segments_.query[queued_] = true;
+    passes_[queued_] = passes;
+    queued_keys_[queued_] = key;
+    if (++queued_ == OcclusionBatch::kWidth) Flush();
+  }
+
+  // The cells collected, split by R, into the observation.
+  void Finish(const Reference& reference) {
+    Flush();
+    Observation& o = *observation_;
+    if (!quality_.active()) {
+      o.quality_pixels = o.target_pixels;
+      SplitByReference(&keys_, reference, &o.reference_indices,
+                       count_ ? &o.reference_hits : nullptr, &o.outside_keys);
+    } else {
+      SplitByReference(&quality_keys_, reference, &o.reference_indices,
+                       count_ ? &o.reference_hits : nullptr, &o.outside_keys);
+      SplitByReference(&keys_, reference, &o.plain_reference_indices, nullptr, nullptr);
+    }
+    if (physical_.active()) {
+      SplitByReference(&ideal_keys_, reference, &o.ideal_reference_indices, nullptr, nullptr);
+      o.ideal_differs = o.ideal_reference_indices != o.reference_indices;
+      if (!o.ideal_differs) o.ideal_reference_indices.clear();
+    }
+  }
+
+ private:
+  void Count(uint64_t key, bool passes) {
+    ++observation_->target_pixels;
+    keys_.Add(key, count_ && !quality_.active());
+    if (!quality_.active() || !passes) return;
+    ++observation_->quality_pixels;
+    quality_keys_.Add(key, count_);
+  }
+
+  // The queued segments as one occlusion packet; the unoccluded ones count.
+  void Flush() {
+    if (queued_ == 0) return;
+    for (int lane = queued_; lane < OcclusionBatch::kWidth; ++lane) segments_.query[lane] = false;
+    rays_.Occluded(&segments_);
+    for (int lane = 0; lane < queued_; ++lane)
+      if (!segments_.occluded[lane]) Count(queued_keys_[lane], passes_[lane]);
+    queued_ = 0;
+  }
+
+  const RayScene& rays_;
+  const SensorType& sensor_;
+  const Mat3 world_from_body_;
+  const Vec3 origin_;
+  const double cell_;
+  const QualityFilter& quality_;
+  const double min_cos_incidence_;
+  const DepthNoise* noise_;
+  const PhysicalModel physical_;
+  const bool count_;
+  Observation* observation_;
+  // keys: every measured pixel's cell; quality_keys: those passing the filter; ideal_keys: as
+  // the ideal pinhole counts (the filter's pixels when one is on), with the physical model only.
+  KeyRuns keys_, quality_keys_, ideal_keys_;
+  OcclusionBatch segments_;
+  int queued_ = 0;
+  bool passes_[OcclusionBatch::kWidth];
+  uint64_t queued_keys_[OcclusionBatch::kWidth];
+};
+
+// One packet of a camera's rays: pixels u_start .. u_start + active - 1 of row v.
+void TracePacket(const RayScene& rays, const Candidate& candidate, const Mat3& world_from_body,
+                 const detail::ArmOcclusion& arms, int v, int u_start, RayBatch* batch) {
+  for (int lane = 0; lane < batch->active; ++lane) {
+    const Vec3 d = world_from_body * PixelRayInBody(candidate.sensor, u_start + lane, v);
+    for (int a = 0; a < 3; ++a) batch->dir[a][lane] = static_cast<float>(d[a]);
+  }
+  rays.Intersect(batch);
+  if (candidate.arm) arms.Clip(*candidate.arm, batch);  // the arm carrying it (issue 45)
+}
+
+// One image row's first hits, for the pixels traced in it (the flying-pixel filter compares each
+// pixel with its 4-neighbours, so it holds three rows).
+struct RowHits {
+  int v = -1;
+  std::vector<float> t;  // NaN: not traced; inf: no surface within range
+  std::vector<uint8_t> is_target;
+  std::vector<std::array<float, 3>> dir, normal;
+  std::vector<std::array<double, 3>> point;
+};
+
+// Spans merged per row, sorted, overlapping or touching ones joined.
+std::vector<std::pair<int, int>> Merged(std::vector<std::pair<int, int>> spans) {
+  std::sort(spans.begin(), spans.end());
+  std::vector<std::pair<int, int>> out;
+  for (const auto& [u0, u1] : spans) {
+    if (!out.empty() && u0 <= out.back().second + 1) {
+      out.back().second = std::max(out.back().second, u1);
+    } else {
+      out.emplace_back(u0, u1);
+    }
+  }
+  return out;
+}
+
+// With a flying-pixel threshold (time of flight, issue 43): a pixel is dropped where a
+// 4-neighbour's surface lies more than the threshold nearer or farther, as the sensors' own
+// filters do. A neighbour whose ray meets no surface within range returns no light to mix and is
+// ignored; neighbours off the image do not exist. Rows are traced in order, each over the pixels
+// judged in it and beside them (one pixel wider) and those judged in the rows above and below:
+// the extra rays are the spans' borders only.
+void ObserveWithFlyingFilter(const RayScene& rays, const Candidate& candidate,
+                             const std::vector<RowSpan>& spans, const detail::ArmOcclusion& arms,
+                             double threshold, RayBatch* batch, Observation* observation,
+                             PixelJudge* judge) {
+  const SensorType& s = candidate.sensor;
+  if (spans.empty()) return;
+  const Mat3 world_from_body = candidate.world_from_body.rotation.toRotationMatrix();
+  const int first = spans.front().v, last = spans.back().v;
+  // Rows first - 1 .. last + 1: the judged spans and the spans to trace.
+  const auto slot = [&](int v) { return static_cast<size_t>(v - first + 1); };
+  std::vector<std::vector<std::pair<int, int>>> judged(static_cast<size_t>(last - first + 3));
+  for (const RowSpan& span : spans) judged[slot(span.v)].emplace_back(span.u0, span.u1);
+  const auto needed = [&](int v) {
+    std::vector<std::pair<int, int>> out;
+    for (const auto& [u0, u1] : judged[slot(v)]) out.emplace_back(std::max(u0 - 1, 0), std::min(u1 + 1, s.width - 1));
+    for (const int w : {v - 1, v + 1}) {
+      if (w < first || w > last) continue;
+      for (const auto& span : judged[slot(w)]) out.push_back(span);
+    }
+    return Merged(std::move(out));
+  };
+  std::array<RowHits, 3> ring;
+  const auto trace_row = [&](int v) -> const RowHits* {
+    if (v < 0 || v >= s.height) return nullptr;
+    RowHits& row = ring[static_cast<size_t>(v % 3)];
+    if (row.v == v) return &row;
+    row.v = v;
+    row.t.assign(static_cast<size_t>(s.width), std::numeric_limits<float>::quiet_NaN());
+    row.is_target.resize(static_cast<size_t>(s.width));
+    row.dir.resize(static_cast<size_t>(s.width));
+    row.normal.resize(static_cast<size_t>(s.width));
+    row.point.resize(static_cast<size_t>(s.width));
+    for (const auto& [u0, u1] : needed(v)) {
+      for (int u_start = u0; u_start <= u1; u_start += RayBatch::kWidth) {
+        batch->active = std::min(RayBatch::kWidth, u1 - u_start + 1);
+        TracePacket(rays, candidate, world_from_body, arms, v, u_start, batch);
+        observation->rays_traced += static_cast<uint64_t>(batch->active);
+        for (int lane = 0; lane < batch->active; ++lane) {
+          const size_t u = static_cast<size_t>(u_start + lane);
+          row.t[u] = batch->t[lane];
+          row.is_target[u] = batch->is_target[lane] ? 1 : 0;
+          for (int a = 0; a < 3; ++a) {
+            row.dir[u][a] = batch->dir[a][lane];
+            if (!std::isinf(batch->t[lane])) row.normal[u][a] = batch->normal[a][lane];
+            if (batch->is_target[lane]) row.point[u][a] = batch->point[a][lane];
+          }
+        }
+      }
+    }
+    return &row;
+  };
+  // A neighbour's depth differs by more than the threshold (a traced neighbour with a surface).
+  const auto steps = [&](const RowHits* row, int u, float t) {
+    if (!row || u < 0 || u >= s.width) return false;
+    const float other = row->t[static_cast<size_t>(u)];
+    return std::isfinite(other) && std::abs(static_cast<double>(other) - t) > threshold;
+  };
+  for (int v = first; v <= last; ++v) {
+    const RowHits* above = trace_row(v - 1);
+    const RowHits* row = trace_row(v);
+    const RowHits* below = trace_row(v + 1);
+    for (const auto& [u0, u1] : judged[slot(v)]) {
+      for (int u = u0; u <= u1; ++u) {
+        const size_t i = static_cast<size_t>(u);
+        const float t = row->t[i];
+        if (!row->is_target[i]) continue;
+        const bool flying = steps(row, u - 1, t) || steps(row, u + 1, t) || steps(above, u, t) ||
+                            steps(below, u, t);
+        const auto& d = row->dir[i];
+        const auto& n = row->normal[i];
+        const auto& p = row->point[i];
+        judge->Take(t, true, Vec3(d[0], d[1], d[2]), Vec3(n[0], n[1], n[2]), Vec3(p[0], p[1], p[2]),
+                    flying);
+      }
+    }
+  }
 }
 
 Observation ObserveOne(const RayScene& rays, const Reference& reference, const Candidate& candidate,
@@ -103,102 +355,35 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
   const SensorType& s = candidate.sensor;
   const Mat3 world_from_body = candidate.world_from_body.rotation.toRotationMatrix();
   const Vec3 origin = candidate.world_from_body.position;
-  const double cell = reference.cell_size;
-  const QualityFilter& quality = options.quality;
-  const double min_cos_incidence =
-      quality.max_incidence_deg ? std::cos(*quality.max_incidence_deg * std::numbers::pi / 180.0) : -1.0;
-  const DepthNoise* noise = quality.max_depth_noise ? NoiseModelOf(candidate) : nullptr;
-  PhysicalModel physical = MakePhysicalModel(candidate, options.physical.value_or(true));
-  const bool is_physical = physical.aperture != nullptr;
   Observation observation;
-  // keys: every measured pixel's cell; quality_keys: those passing the filter; ideal_keys: as
-  // the ideal pinhole counts (the filter's pixels when one is on), with the physical model only.
-  KeyRuns keys, quality_keys, ideal_keys;
-  const bool count = options.count_points;
+  PixelJudge judge(rays, candidate, reference, options, &observation);
 
   RayBatch batch;
   for (int a = 0; a < 3; ++a) batch.origin[a] = static_cast<float>(origin[a]);
   // The direction's body-x component is 1, so the hit parameter t is the depth itself.
   batch.tfar = std::nextafter(static_cast<float>(s.far), std::numeric_limits<float>::infinity());
-  bool passes_quality[RayBatch::kWidth];
-  uint64_t keys_of[RayBatch::kWidth];
 
-  for (const RowSpan& span : SpansToTrace(candidate, blocks, options.cull)) {
-    for (int u_start = span.u0; u_start <= span.u1; u_start += RayBatch::kWidth) {
-      batch.active = std::min(RayBatch::kWidth, span.u1 - u_start + 1);
-      for (int lane = 0; lane < batch.active; ++lane) {
-        const Vec3 d = world_from_body * PixelRayInBody(s, u_start + lane, span.v);
-        for (int a = 0; a < 3; ++a) batch.dir[a][lane] = static_cast<float>(d[a]);
-      }
-      rays.Intersect(&batch);
-      if (candidate.arm) arms.Clip(*candidate.arm, &batch);  // the arm carrying it (issue 45)
-      observation.rays_traced += static_cast<uint64_t>(batch.active);
-      for (int lane = 0; lane < RayBatch::kWidth; ++lane) physical.segments.query[lane] = false;
-      for (int lane = 0; lane < batch.active; ++lane) {
-        if (!batch.is_target[lane]) continue;
-        const double t = batch.t[lane];
-        if (t < s.near || t > s.far) continue;
-        const Vec3 d(batch.dir[0][lane], batch.dir[1][lane], batch.dir[2][lane]);
-        const Vec3 p(batch.point[0][lane], batch.point[1][lane], batch.point[2][lane]);
-        const VoxelIndex index = VoxelKeyOf(p, cell);
-        VANTAGE_CHECK(VoxelIndexFits(index));
-        const uint64_t key = PackVoxel(index);
-        bool passes = true;
-        if (quality.max_incidence_deg) {
-          const Vec3 n(batch.normal[0][lane], batch.normal[1][lane], batch.normal[2][lane]);
-          const double norms = d.norm() * n.norm();
-          passes = norms > 0 && std::abs(d.dot(n)) >= min_cos_incidence * norms;
+  const std::vector<RowSpan> spans = SpansToTrace(candidate, blocks, options.cull);
+  if (const std::optional<double> flying = judge.physical().flying) {
+    ObserveWithFlyingFilter(rays, candidate, spans, arms, *flying, &batch, &observation, &judge);
+  } else {
+    for (const RowSpan& span : spans) {
+      for (int u_start = span.u0; u_start <= span.u1; u_start += RayBatch::kWidth) {
+        batch.active = std::min(RayBatch::kWidth, span.u1 - u_start + 1);
+        TracePacket(rays, candidate, world_from_body, arms, span.v, u_start, &batch);
+        observation.rays_traced += static_cast<uint64_t>(batch.active);
+        for (int lane = 0; lane < batch.active; ++lane) {
+          if (!batch.is_target[lane]) continue;
+          judge.Take(batch.t[lane], true,
+                     Vec3(batch.dir[0][lane], batch.dir[1][lane], batch.dir[2][lane]),
+                     Vec3(batch.normal[0][lane], batch.normal[1][lane], batch.normal[2][lane]),
+                     Vec3(batch.point[0][lane], batch.point[1][lane], batch.point[2][lane]),
+                     false);
         }
-        if (passes && noise) passes = noise->Sigma(t) <= *quality.max_depth_noise;
-        if (!is_physical) {
-          ++observation.target_pixels;
-          keys.Add(key, count && !quality.active());
-          if (!quality.active() || !passes) continue;
-          ++observation.quality_pixels;
-          quality_keys.Add(key, count);
-          continue;
-        }
-        if (passes) ideal_keys.Add(key, false);
-        // Physical: stereo cannot match nearer than its disparity search reaches; the aperture
-        // must have the point in its field and lie on the side of the surface the camera sees.
-        if (t < physical.nearest) continue;
-        const Vec3 p_body = world_from_body.transpose() * (p - origin);
-        if (!InApertureField(s, *physical.aperture, p_body)) continue;
-        const Vec3 n(batch.normal[0][lane], batch.normal[1][lane], batch.normal[2][lane]);
-        if (n.dot(physical.centre - p) * n.dot(origin - p) <= 0) continue;
-        const Vec3 segment = p - physical.centre;
-        for (int a = 0; a < 3; ++a) physical.segments.dir[a][lane] = static_cast<float>(segment[a]);
-        physical.segments.query[lane] = true;
-        passes_quality[lane] = passes;
-        keys_of[lane] = key;
-      }
-      if (!is_physical) continue;
-      // One occlusion packet for the hits that reached it, in lane order as before.
-      rays.Occluded(&physical.segments);
-      for (int lane = 0; lane < batch.active; ++lane) {
-        if (!physical.segments.query[lane] || physical.segments.occluded[lane]) continue;
-        ++observation.target_pixels;
-        keys.Add(keys_of[lane], count && !quality.active());
-        if (!quality.active() || !passes_quality[lane]) continue;
-        ++observation.quality_pixels;
-        quality_keys.Add(keys_of[lane], count);
       }
     }
   }
-  if (!quality.active()) {
-    observation.quality_pixels = observation.target_pixels;
-    SplitByReference(&keys, reference, &observation.reference_indices,
-                     count ? &observation.reference_hits : nullptr, &observation.outside_keys);
-  } else {
-    SplitByReference(&quality_keys, reference, &observation.reference_indices,
-                     count ? &observation.reference_hits : nullptr, &observation.outside_keys);
-    SplitByReference(&keys, reference, &observation.plain_reference_indices, nullptr, nullptr);
-  }
-  if (is_physical) {
-    SplitByReference(&ideal_keys, reference, &observation.ideal_reference_indices, nullptr, nullptr);
-    observation.ideal_differs = observation.ideal_reference_indices != observation.reference_indices;
-    if (!observation.ideal_differs) observation.ideal_reference_indices.clear();
-  }
+  judge.Finish(reference);
   return observation;
 }
 

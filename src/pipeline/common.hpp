@@ -14,8 +14,8 @@ namespace vantage::detail {
 /// ideal for a Gazebo world of the original system and physical for any other scene.
 ObserveOptions WithSensorModel(ObserveOptions observe, const std::string& scene_path);
 
-/// Whether any of `candidates` has a second aperture (SecondApertureOf): without one the physical
-/// model sees what the ideal pinhole sees, and a run is recorded as ideal.
+/// Whether any of `candidates` has a second aperture or a flying-pixel filter (HasPhysicalModel):
+/// without one the physical model sees what the ideal pinhole sees, and a run is recorded as ideal.
 bool AnyApertureIn(std::span<const Candidate> candidates);
 
 /// `optimize --by-type` (by_type.cpp): per sensor type among data's candidates, the run's

@@ -244,7 +244,7 @@ void CheckReferenceMemory(const PreparedScene& prepared, double limit_mib) {
 
 bool AnyApertureIn(std::span<const Candidate> candidates) {
   return std::any_of(candidates.begin(), candidates.end(), [](const Candidate& c) {
-    return SecondApertureOf(c.sensor, c.type_id) != nullptr;
+    return HasPhysicalModel(c.sensor, c.type_id);
   });
 }
 

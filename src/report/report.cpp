@@ -68,6 +68,20 @@ ordered_json QualityJson(const VisibilityFile& data) {
         unknown.push_back(type);
     }
     j["types_without_noise_model"] = std::move(unknown);
+    // Per type, the model its pixels were judged by and where it comes from (issue 43).
+    ordered_json models = ordered_json::array();
+    std::vector<std::string> seen;
+    for (const Candidate& c : data.candidates) {
+      const std::string type = c.type_id.empty() ? c.sensor.id : c.type_id;
+      const DepthNoise* noise = NoiseModelOf(c);
+      if (!noise || std::find(seen.begin(), seen.end(), type) != seen.end()) continue;
+      seen.push_back(type);
+      ordered_json m = {{"type", type}, {"a", noise->a}, {"b", noise->b}, {"c", noise->c}};
+      if (noise->incidence != 0) m["incidence"] = noise->incidence;
+      m["source"] = noise->source;
+      models.push_back(std::move(m));
+    }
+    j["noise_models"] = std::move(models);
   }
   return j;
 }
@@ -93,6 +107,8 @@ ordered_json SensorModelJson(const VisibilityFile& data) {
       }
     }
     t["datasheet_near"] = c.sensor.near;
+    if (const auto flying = FlyingPixelThresholdOf(c.sensor, c.type_id))
+      t["flying_pixel_threshold"] = *flying;
     types.push_back(std::move(t));
   }
   return {{"model", "physical"}, {"types", std::move(types)}};

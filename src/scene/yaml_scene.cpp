@@ -897,10 +897,19 @@ void SceneReader::ReadRangeAndCost(const Fields& fields,
       type->cost = *cost;
     }
   }
-  // sigma(z) = a + b z + c z^2 [m] (docs/sensor-models.md); Validate checks it stays >= 0.
+  // sigma(z) = a + b z + c z^2 [m], optionally + k / sqrt(z) theta^2 / (pi/2 - theta)^2 with a
+  // fourth number k (docs/sensor-models.md); Validate checks it stays >= 0.
   if (const auto v = fields.Get("depth_noise")) {
-    if (const auto abc = Numbers(*v, 3, what + ".depth_noise"))
+    const size_t count = v->node.IsSequence() && v->node.size() == 4 ? 4 : 3;
+    if (const auto abc = Numbers(*v, count, what + ".depth_noise")) {
       type->depth_noise = DepthNoise{(*abc)[0], (*abc)[1], (*abc)[2], "scene file"};
+      if (count == 4) type->depth_noise->incidence = (*abc)[3];
+    }
+  }
+  // Time of flight's flying-pixel filter [m] (issue 43); Validate bounds it.
+  if (const auto v = fields.Get("flying_pixel_threshold")) {
+    if (const auto threshold = Positive(*v, what + ".flying_pixel_threshold"))
+      type->flying_pixel_threshold = *threshold;
   }
 }
 
@@ -1042,7 +1051,7 @@ std::optional<SensorType> SceneReader::ReadSensorType(const Value& input) {
   const Fields fields(input, "sensor type",
                       {"id", "base", "name", "technology", "resolution", "hfov", "hfov_deg", "vfov",
                        "vfov_deg", "intrinsics", "range", "fps", "cost", "depth_noise", "interferes",
-                       "second_aperture"},
+                       "second_aperture", "flying_pixel_threshold"},
                       &reporter_);
   const auto id_node = fields.Get("id");
   if (!id_node) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "vantage/error.hpp"
@@ -26,10 +27,14 @@ SensorType Entry(const char* id, const char* name, const char* technology, int w
 
 // PrimeSense PS1080 structured light (Kinect for Xbox 360, Xtion PRO LIVE): Nguyen, Izadi and
 // Lovell, "Modeling Kinect Sensor Noise for Improved 3D Reconstruction and Tracking", 3DIMPVT
-// 2012: sigma_z = 0.0012 + 0.0019 (z - 0.4)^2 m, expanded into a + b z + c z^2.
+// 2012: sigma_z(z, theta) = 0.0012 + 0.0019 (z - 0.4)^2 + 0.0001 / sqrt(z) * theta^2 /
+// (pi/2 - theta)^2 m, the quadratic expanded into a + b z + c z^2.
 DepthNoise PrimeSenseNoise(const char* which) {
   return {0.0012 + 0.0019 * 0.16, -0.0019 * 0.8, 0.0019,
-          fmt::format("{}Nguyen, Izadi, Lovell, 3DIMPVT 2012: 0.0012 + 0.0019 (z - 0.4)^2 m", which)};
+          fmt::format("{}Nguyen, Izadi, Lovell, 3DIMPVT 2012: 0.0012 + 0.0019 (z - 0.4)^2 + "
+                      "0.0001 / sqrt(z) theta^2 / (pi/2 - theta)^2 m",
+                      which),
+          0.0001};
 }
 
 // Intel RealSense D400 active stereo: RMS error = z^2 * subpixel / (fx * baseline), subpixel
@@ -95,6 +100,15 @@ bool Close(double a, double b) { return std::abs(a - b) <= 1e-6 * std::max(1.0, 
 
 }  // namespace
 
+double DepthNoise::Sigma(double z, double theta) const {
+  const double sigma = Sigma(z);
+  if (incidence == 0) return sigma;
+  const double grazing = kPi / 2 - theta;
+  if (!(grazing > 0)) return std::numeric_limits<double>::infinity();
+  const double ratio = theta / grazing;
+  return sigma + incidence / std::sqrt(z) * ratio * ratio;
+}
+
 const char* KindName(SecondAperture::Kind kind) {
   switch (kind) {
     case SecondAperture::Kind::kProjector: return "projector";
@@ -153,6 +167,18 @@ const SecondAperture* SecondApertureOf(const SensorType& type, std::string_view 
   const std::optional<SecondAperture>& aperture =
       type.second_aperture || !entry ? type.second_aperture : entry->second_aperture;
   return aperture && aperture->active() ? &*aperture : nullptr;
+}
+
+std::optional<double> FlyingPixelThresholdOf(const SensorType& type,
+                                             std::string_view catalog_id) {
+  if (type.flying_pixel_threshold) return type.flying_pixel_threshold;
+  const SensorType* entry = FindCatalogType(catalog_id);
+  return entry ? entry->flying_pixel_threshold : std::nullopt;
+}
+
+bool HasPhysicalModel(const SensorType& type, std::string_view catalog_id) {
+  return SecondApertureOf(type, catalog_id) != nullptr ||
+         FlyingPixelThresholdOf(type, catalog_id).has_value();
 }
 
 double StereoNearestDepth(const SensorType& camera, const SecondAperture& aperture) {
@@ -245,10 +271,20 @@ void SensorType::Validate(const std::string& where) const {
     const std::string problem = SecondApertureProblem(*this, *second_aperture);
     if (!problem.empty()) fail("second_aperture: " + problem);
   }
+  if (flying_pixel_threshold) {
+    const double threshold = *flying_pixel_threshold;
+    if (!std::isfinite(threshold) || threshold <= 0 || threshold > kMaxSensorRange)
+      fail(fmt::format("flying_pixel_threshold = {} m must be a depth step in (0, {:g}] m", threshold,
+                       kMaxSensorRange));
+  }
   if (depth_noise) {
     const DepthNoise& n = *depth_noise;
     if (!std::isfinite(n.a) || !std::isfinite(n.b) || !std::isfinite(n.c))
       fail("depth_noise coefficients must be finite");
+    if (!std::isfinite(n.incidence) || n.incidence < 0)
+      fail(fmt::format("depth_noise incidence coefficient = {} must be finite and >= 0 — noise "
+                       "grows toward grazing incidence",
+                       n.incidence));
     // sigma is a quadratic: checking both ends of the range and the vertex covers it.
     const double vertex = n.c != 0 ? -n.b / (2 * n.c) : near;
     for (double z : {near, far, std::clamp(vertex, near, far)}) {

@@ -35,8 +35,10 @@ namespace {
 // the physical model (after the quality filter), each sensor's second aperture (after its
 // `interferes` flag) and per observation the cells the ideal pinhole would have counted (after
 // its pixel counts): older files read as ideal, which they were.
+// Version 8 adds, last in each candidate, its depth-noise model's incidence term (0: none) and
+// its flying-pixel threshold (issue 43): older files read without either, as they were observed.
 constexpr char kMagic[8] = {'V', 'A', 'N', 'T', 'V', 'I', 'S', '\0'};
-constexpr uint32_t kFormatVersion = 7;
+constexpr uint32_t kFormatVersion = 8;
 constexpr uint32_t kOldestReadVersion = 1;
 
 void WriteOptional(detail::BinaryWriter* w, const std::optional<double>& value) {
@@ -284,6 +286,9 @@ std::string EncodeVisibilityFile(const VisibilityFile& file, bool observations) 
     w.U16Vector(o.reference_hits);
     w.U32(o.ideal_differs ? 1 : 0);
     w.U32Vector(o.ideal_reference_indices);
+    // Format 8: the noise model's incidence term, the flying-pixel threshold.
+    w.F64(noise ? noise->incidence : 0.0);
+    WriteOptional(&w, c.sensor.flying_pixel_threshold);
   }
   WriteMounting(&w, file.mounting, file.kept_out);
   WriteParts(&w, file.reference);
@@ -421,6 +426,15 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
       o.ideal_reference_indices = r.U32Vector();
       if (!o.ideal_differs && !o.ideal_reference_indices.empty())
         throw corrupt("an observation holds ideal cells without its ideal flag");
+    }
+    if (version >= 8) {
+      const double incidence = r.F64();
+      if (c.sensor.depth_noise) {
+        c.sensor.depth_noise->incidence = incidence;
+      } else if (incidence != 0) {
+        throw corrupt("an incidence term without a depth noise model");
+      }
+      c.sensor.flying_pixel_threshold = ReadOptional(&r, "flying-pixel threshold", corrupt);
     }
     const auto check_indices = [&](const std::vector<uint32_t>& indices) {
       for (size_t k = 0; k < indices.size(); ++k) {

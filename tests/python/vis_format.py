@@ -100,7 +100,7 @@ def read_vis(path):
     r = _Reader(data[:-8])
     r.at = 8
     version = r.u32()
-    assert version in (4, 5, 6, 7), f"format version {version}"
+    assert version in (4, 5, 6, 7, 8), f"format version {version}"
     scene, seed = r.string(), r.u64()
     r.u32(), r.u32(), r.f64()  # n, RANSAC iterations and stop coverage
     r.string(), r.optional(), r.u32(), r.optional()  # method, goal, k, budget
@@ -138,6 +138,8 @@ def read_vis(path):
             differs = r.u32()  # the ideal pinhole's cells, when the physical model changed them
             ideal = r.u32s()
             assert differs <= 1 and (differs or not ideal), "ideal cells"
+        if version >= 8:
+            r.f64(), r.optional()  # noise incidence coefficient, flying-pixel threshold
         candidates.append(VisCandidate(name, type_id, population, position, quaternion, indices,
                                        rays, hits, interferes, cost))
     vis = VisFile(version, scene, seed, cell_size, keys, candidates)
