@@ -148,3 +148,28 @@ TEST(VoxelKey, FloorToIntIsFloorAndSaturates) {
 }
 
 }  // namespace vantage
+
+namespace vantage {
+namespace {
+
+// The memory check's estimate of |R| (issue 47's scale bench: a 200 k-triangle cell was
+// estimated 28× its |R| and refused). A sphere of 0.1 m meshed to 10 µm chord error (triangles of
+// about 3 mm) in cells of 1 cm: the plain estimate counts every triangle at least once, the
+// second look counts the fine triangles' box cells, which hold the triangles and so bound |R|.
+TEST(ReferenceEstimate, FineMeshesAreCountedByTheirCells) {
+  const Scene scene = TargetScene(MakeSphere(0.1, 1e-5));
+  ASSERT_GT(scene.objects[0].mesh.triangles.size(), 20000u);
+  const double cells = static_cast<double>(BuildReference(scene, {0.01}).size());
+  const double plain = EstimateReferenceCells(scene, 0.01);
+  const double tight = EstimateReferenceCells(scene, 0.01, true);
+  EXPECT_GE(tight, cells);
+  EXPECT_LE(tight, 4 * cells);
+  EXPECT_GT(plain, 10 * cells);
+  // A box's faces are larger than a cell: nothing to count by cell, the two agree.
+  const Scene box = TargetScene(MakeBox(Vec3(0.3, 0.2, 0.1)));
+  EXPECT_EQ(EstimateReferenceCells(box, 0.01, true), EstimateReferenceCells(box, 0.01));
+  EXPECT_GE(EstimateReferenceCells(box, 0.01), static_cast<double>(BuildReference(box, {0.01}).size()));
+}
+
+}  // namespace
+}  // namespace vantage

@@ -54,7 +54,14 @@ void CheckTargetsFitGrid(const Scene& scene, double cell_size);
 /// for the cells its plane crosses, √3 · perimeter / F for its edges, plus one. Takes
 /// O(triangles) time and allocates nothing, so a cell size too fine for the memory can be
 /// refused before R is built. 0 when cell_size is not a positive finite number.
-double EstimateReferenceCells(const Scene& scene, double cell_size);
+///
+/// Triangles within a cell on every axis each count one cell or more although a fine mesh's
+/// neighbours share their cells (a 200 k-triangle cell was estimated 28× its |R|). With
+/// `fine_triangles_by_cell`, those triangles count instead the distinct cells of their bounding
+/// boxes (≤ 8 each; the triangle lies in its box, so this still bounds their cells), at the
+/// price of O(triangles) memory and a sort: for a second look when the plain estimate refuses.
+double EstimateReferenceCells(const Scene& scene, double cell_size,
+                              bool fine_triangles_by_cell = false);
 
 /// The largest grid (cells of the targets' box, two cells of margin around it) that
 /// ComputeExposure fills: one byte per cell.

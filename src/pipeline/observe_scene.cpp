@@ -209,21 +209,31 @@ void CheckObserveTime(const Reference& reference, std::span<const Candidate> can
 // on the example at 50 µm: 55 bytes per cell of R in all, so this errs on the safe side by 1.5.
 void CheckReferenceMemory(const PreparedScene& prepared, double limit_mib) {
   const Problem& problem = prepared.problem;
-  const double cells = EstimateReferenceCells(problem.scene, problem.cell_size);
-  // Plus the exposure grid (one byte per cell of the targets' box, ComputeExposure).
-  const double build =
-      32.0 * cells + static_cast<double>(ExposureGridCells(problem.scene, problem.cell_size));
-  const size_t capped = static_cast<size_t>(std::min(cells, 1e18));
-  const MemoryEstimate later =
-      EstimateMemory(problem.scene, capped, prepared.candidates, Threads());
-  // The stages that grow with |R|: building it; then R, the outputs, visibility lists, bitsets.
-  const double with_r = std::max(
-      build, (8.0 + 64.0) * cells + static_cast<double>(later.observations + later.selection));
-  const double others = static_cast<double>(later.scene + later.hit_buffers);
+  limit_mib = MemoryLimitMiB(limit_mib);
+  double cells = 0, with_r = 0, others = 0, total = 0;
+  MemoryEstimate later;
+  const auto estimate = [&](bool fine_triangles_by_cell) {
+    cells = EstimateReferenceCells(problem.scene, problem.cell_size, fine_triangles_by_cell);
+    // Plus the exposure grid (one byte per cell of the targets' box, ComputeExposure).
+    const double build =
+        32.0 * cells + static_cast<double>(ExposureGridCells(problem.scene, problem.cell_size));
+    const size_t capped = static_cast<size_t>(std::min(cells, 1e18));
+    later = EstimateMemory(problem.scene, capped, prepared.candidates, Threads());
+    // The stages that grow with |R|: building it; then R, the outputs, visibility lists, bitsets.
+    with_r = std::max(build, (8.0 + 64.0) * cells +
+                                 static_cast<double>(later.observations + later.selection));
+    others = static_cast<double>(later.scene + later.hit_buffers);
+    total = with_r + others;
+  };
+  estimate(false);
+  // Over the limit: a second, tighter look at meshes finer than the cells, when its own memory
+  // (≤ 8 box cells of 8 bytes per triangle) is a small part of the limit.
+  double target_triangles = 0;
+  for (const SceneObject& object : problem.scene.objects)
+    if (object.is_target()) target_triangles += static_cast<double>(object.mesh.triangles.size());
+  if (total / kMiB > limit_mib && 64.0 * target_triangles / kMiB < limit_mib / 8) estimate(true);
   spdlog::debug("reference estimate: about {:.3g} cells, {:.0f} MiB with them", cells,
                 with_r / kMiB);
-  limit_mib = MemoryLimitMiB(limit_mib);
-  const double total = with_r + others;
   if (total / kMiB <= limit_mib) return;
   if (with_r < others) {
     CheckMemory(later, limit_mib, problem.source);  // the images dominate: the general message

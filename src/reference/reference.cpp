@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <limits>
 #include <optional>
 #include <tuple>
 #include <cmath>
@@ -163,8 +164,26 @@ void CheckTargetsFitGrid(const Scene& scene, double cell_size) {
   }
 }
 
-double EstimateReferenceCells(const Scene& scene, double cell_size) {
+double EstimateReferenceCells(const Scene& scene, double cell_size, bool fine_triangles_by_cell) {
   if (!std::isfinite(cell_size) || cell_size <= 0) return 0.0;
+  // The fine triangles' box cells, packed relative to the targets' lowest cell (21 bits an axis;
+  // a wider box counts every triangle the plain way).
+  Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 high = -low;
+  if (fine_triangles_by_cell) {
+    for (const SceneObject& object : scene.objects) {
+      if (!object.is_target() || object.mesh.triangles.empty()) continue;
+      const Aabb box = object.mesh.Bounds();
+      low = low.cwiseMin(box.min);
+      high = high.cwiseMax(box.max);
+    }
+    constexpr double kAxisCells = double{1 << 21} - 2;
+    fine_triangles_by_cell = low.allFinite() && high.allFinite() &&
+                             ((high - low) / cell_size).maxCoeff() < kAxisCells;
+  }
+  const Vec3 origin = fine_triangles_by_cell ? Vec3((low / cell_size).array().floor() * cell_size)
+                                             : Vec3::Zero();
+  std::vector<uint64_t> fine_cells;
   double area_cells = 0, edge_cells = 0, triangles = 0;
   for (const SceneObject& object : scene.objects) {
     if (!object.is_target()) continue;
@@ -173,13 +192,29 @@ double EstimateReferenceCells(const Scene& scene, double cell_size) {
       const Vec3& a = mesh.vertices[t[0]];
       const Vec3& b = mesh.vertices[t[1]];
       const Vec3& c = mesh.vertices[t[2]];
+      if (fine_triangles_by_cell) {
+        const Vec3 lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
+        if ((hi - lo).maxCoeff() < cell_size) {
+          const Eigen::Array3d first = ((lo - origin) / cell_size).array().floor().max(0.0);
+          const Eigen::Array3d last = ((hi - origin) / cell_size).array().floor().max(0.0);
+          for (double x = first.x(); x <= last.x(); ++x)
+            for (double y = first.y(); y <= last.y(); ++y)
+              for (double z = first.z(); z <= last.z(); ++z)
+                fine_cells.push_back(static_cast<uint64_t>(x) << 42 |
+                                     static_cast<uint64_t>(y) << 21 | static_cast<uint64_t>(z));
+          continue;
+        }
+      }
       // |cross| = 2 · area; its 1-norm is 2 · area · (|nx| + |ny| + |nz|).
       area_cells += 0.5 * (b - a).cross(c - a).lpNorm<1>();
       edge_cells += (b - a).norm() + (c - b).norm() + (a - c).norm();
       triangles += 1;
     }
   }
-  return area_cells / (cell_size * cell_size) + std::sqrt(3.0) * edge_cells / cell_size + triangles;
+  std::sort(fine_cells.begin(), fine_cells.end());
+  const auto distinct = std::unique(fine_cells.begin(), fine_cells.end()) - fine_cells.begin();
+  return area_cells / (cell_size * cell_size) + std::sqrt(3.0) * edge_cells / cell_size +
+         triangles + static_cast<double>(distinct);
 }
 
 namespace {
