@@ -137,6 +137,8 @@ class Visibility:
         calibration_overlap_frac: Optional[float] = None,
         min_points: Optional[int] = None,
         min_density: Optional[float] = None,
+        cheapest: bool = False,
+        keep_existing: bool = False,
     ) -> Selection:
         """n sensors with one method, as `vantage select FILE -n N --method M`."""
     def select_all(
@@ -158,6 +160,8 @@ class Visibility:
         calibration_overlap_frac: Optional[float] = None,
         min_points: Optional[int] = None,
         min_density: Optional[float] = None,
+        cheapest: bool = False,
+        keep_existing: bool = False,
     ) -> list[Selection]:
         """Every result of `vantage select FILE` (report.json's results), in order."""
     def save(self, path: PathLike) -> None:
@@ -200,6 +204,8 @@ class Problem:
         *,
         cull: bool = True,
         max_memory: Optional[float] = None,
+        physical: Optional[bool] = None,
+        max_seconds: Optional[float] = None,
     ) -> Visibility:
         """R and every candidate's depth image ray cast (GIL released), as `vantage observe`."""
 
@@ -213,6 +219,8 @@ def load(
     seed: Optional[int] = None,
     observation_point: Optional[Sequence[float]] = None,
     random_roll: Optional[bool] = None,
+    package_path: Paths = None,
+    exposed_only: bool = False,
 ) -> Problem:
     """Loads a scene (.yaml) or Gazebo world (.world/.sdf) and deploys its candidates."""
 
@@ -254,13 +262,30 @@ def optimize(
     calibration_overlap_frac: Optional[float] = None,
     min_points: Optional[int] = None,
     min_density: Optional[float] = None,
+    package_path: Paths = None,
+    exposed_only: bool = False,
+    physical: Optional[bool] = None,
+    max_seconds: Optional[float] = None,
+    cheapest: bool = False,
+    keep_existing: bool = False,
+    pose_tolerance: Optional[tuple[float, float]] = None,
+    pose_samples: Optional[int] = None,
+    by_type: bool = False,
+    cycle_time: Optional[float] = None,
+    joint_speed: Optional[float] = None,
+    frames: Optional[int] = None,
+    motion_resolution: Optional[float] = None,
+    plan_time: Optional[float] = None,
+    track: bool = False,
+    move_penalty: Optional[float] = None,
+    state_interval: Optional[float] = None,
 ) -> dict[str, Any]:
     """`vantage optimize SCENE`: the same files into `out`; returns report.json as a dict."""
 
 def evaluate(
     scene: Optional[PathLike] = None,
     *,
-    constellation: PathLike,
+    constellation: Optional[PathLike] = None,
     out: Optional[PathLike] = None,
     model_path: Paths = None,
     resource_path: Paths = None,
@@ -278,6 +303,14 @@ def evaluate(
     calibration_overlap_frac: Optional[float] = None,
     min_points: Optional[int] = None,
     min_density: Optional[float] = None,
+    observation_point: Optional[Sequence[float]] = None,
+    random_roll: Optional[bool] = None,
+    package_path: Paths = None,
+    exposed_only: bool = False,
+    physical: Optional[bool] = None,
+    max_seconds: Optional[float] = None,
+    pose_tolerance: Optional[tuple[float, float]] = None,
+    pose_samples: Optional[int] = None,
 ) -> dict[str, Any]:
     """`vantage evaluate`: sensors, sensor_coverage, coverage, paper_coverage, report."""
 

@@ -293,19 +293,26 @@ std::function<void(size_t, size_t)> ProgressOf(const py::object& progress) {
   };
 }
 
-SceneInput SceneInputOf(const std::string& path_key,
-                        const py::object& path,
-                        const py::object& model_path,
-                        const py::object& resource_path,
-                        const py::object& targets,
-                        const py::object& cell_size,
-                        const py::object& seed,
-                        const py::object& observation_point,
-                        const py::object& random_roll) {
+// The scene keywords of load, optimize and evaluate (the CLI's scene flags).
+struct SceneArgs {
+  py::object model_path, resource_path, package_path, targets, cell_size, seed,
+      observation_point, random_roll, exposed_only;
+};
+
+SceneInput SceneInputOf(const std::string& path_key, const py::object& path,
+                        const SceneArgs& args) {
   SceneInput input;
   input.path = OptionalPathOf(path, path_key).value_or("");
-  input.load.model_paths = PathsOf(model_path, "model_path");
-  input.load.resource_paths = PathsOf(resource_path, "resource_path");
+  input.load.model_paths = PathsOf(args.model_path, "model_path");
+  input.load.resource_paths = PathsOf(args.resource_path, "resource_path");
+  input.load.package_paths = PathsOf(args.package_path, "package_path");
+  // --exposed-only is a flag: False is the default, the paper's metric (evaluate: the run's).
+  if (FlagOf(args.exposed_only, "exposed_only", false)) input.exposed_only = true;
+  const py::object& targets = args.targets;
+  const py::object& cell_size = args.cell_size;
+  const py::object& seed = args.seed;
+  const py::object& observation_point = args.observation_point;
+  const py::object& random_roll = args.random_roll;
   input.load.targets = NamesOf(targets);
   input.load.cell_size = RealOf(cell_size, "cell_size");
   input.seed = UnsignedOf(seed, "seed");
@@ -317,9 +324,12 @@ SceneInput SceneInputOf(const std::string& path_key,
   return input;
 }
 
+// `physical`: None (the pipeline's default: physical, ideal for a Gazebo world of the paper's
+// system), True (--physical) or False (--ideal).
 ObserveOptions ObserveOptionsOf(const py::object& quality, const py::object& cull,
-                                const py::object& progress) {
+                                const py::object& progress, const py::object& physical) {
   ObserveOptions options;
+  options.physical = FlagOf(physical, "physical");
   options.cull = FlagOf(cull, "cull", true);
   options.quality = QualityOf(quality);
   options.progress = ProgressOf(progress);
@@ -335,9 +345,11 @@ std::optional<std::string> OutDirOf(const py::object& out) {
   return folder;
 }
 
-RunLimits LimitsOf(const py::object& max_memory_value) {
+RunLimits LimitsOf(const py::object& max_memory_value, const py::object& max_seconds_value) {
   const std::optional<double> max_memory = RealOf(max_memory_value, "max_memory");
   RunLimits limits;
+  // 0 is the CLI's "no limit" for --max-seconds; Validate refuses < 0 and infinity.
+  limits.max_seconds = RealOf(max_seconds_value, "max_seconds").value_or(0.0);
   if (max_memory) {
     // The library reads 0 as "75 % of the RAM"; a caller's 0 (or less) is a mistake, as the
     // CLI's --max-memory 0 is (was: taken as no limit of its own).
@@ -359,6 +371,56 @@ RobustnessOptions RobustnessOf(const py::object& fov_tolerance_value,
   if (fov_tolerance) robustness.fov_tolerance_deg = *fov_tolerance;
   if (alternatives_within) robustness.within = *alternatives_within / 100.0;  // points
   return robustness;
+}
+
+// `pose_tolerance`: None or (metres, degrees), the CLI's --pose-tolerance P,A; `pose_samples` its
+// --pose-samples (only with a tolerance, as the CLI's needs --pose-tolerance). Ranges: Validate.
+std::optional<PoseToleranceOptions> PoseToleranceOf(const py::object& tolerance,
+                                                    const py::object& samples_value) {
+  const std::optional<int> samples = IntOf(samples_value, "pose_samples");
+  if (tolerance.is_none()) {
+    if (samples)
+      throw InputError("pose_samples: only pose_tolerance perturbs layouts — give "
+                       "pose_tolerance=(metres, degrees), or leave pose_samples out");
+    return std::nullopt;
+  }
+  if (py::isinstance<py::str>(tolerance) || py::isinstance<py::bytes>(tolerance) ||
+      !PySequence_Check(tolerance.ptr()))
+    WrongType("pose_tolerance", tolerance, "a pair (metres, degrees) such as (0.02, 2)");
+  const py::sequence items = py::reinterpret_borrow<py::sequence>(tolerance);
+  if (items.size() != 2)
+    throw InputError(fmt::format("pose_tolerance: has {} values — give (metres, degrees), e.g. "
+                                 "(0.02, 2) for 2 cm and 2 degrees",
+                                 items.size()));
+  std::array<double, 2> values{};
+  for (size_t i = 0; i < 2; ++i) {
+    const std::string key = fmt::format("pose_tolerance[{}]", i);
+    const py::object item = items[i];
+    if (item.is_none()) WrongType(key, item, "a number");  // RealOf reads None as unset
+    values[i] = *RealOf(item, key);
+  }
+  PoseToleranceOptions options;
+  options.position = values[0];
+  options.angle_deg = values[1];
+  if (samples) options.samples = *samples;
+  return options;
+}
+
+// The arm keywords of optimize (docs/arm.md), the CLI's flags of the same names.
+ArmTourOptions ArmTourOf(const py::object& cycle_time, const py::object& joint_speed,
+                         const py::object& frames, const py::object& motion_resolution,
+                         const py::object& plan_time, const py::object& track,
+                         const py::object& move_penalty, const py::object& state_interval) {
+  ArmTourOptions arm;
+  arm.cycle_time = RealOf(cycle_time, "cycle_time");
+  arm.joint_speed = RealOf(joint_speed, "joint_speed");
+  if (const auto count = IntOf(frames, "frames")) arm.frames = *count;
+  if (const auto step = RealOf(motion_resolution, "motion_resolution")) arm.resolution = *step;
+  if (const auto seconds = RealOf(plan_time, "plan_time")) arm.plan_seconds = *seconds;
+  arm.track = FlagOf(track, "track", false);
+  arm.move_penalty = RealOf(move_penalty, "move_penalty");
+  arm.state_interval = RealOf(state_interval, "state_interval");
+  return arm;
 }
 
 // ---- running without the GIL ------------------------------------------------------------------
@@ -769,6 +831,13 @@ SelectionRequest RequestOf(const py::object& n, std::optional<Method> method,
                    RealOf(stop, "stop"), over_states);
 }
 
+// --cheapest and --keep-existing (flags: False is the CLI's default).
+void SetChoiceFlags(SelectionRequest* request, const py::object& cheapest,
+                    const py::object& keep_existing) {
+  request->cheapest = FlagOf(cheapest, "cheapest", false);
+  request->keep_existing = FlagOf(keep_existing, "keep_existing", false);
+}
+
 // Selection as `vantage select FILE`: the same resolution, constraints included.
 std::vector<Selection> SelectOn(const VisibilityFile& data,
                                 const SelectionRequest& request,
@@ -1007,7 +1076,8 @@ void Bind(py::module_& m) {
              const py::object& seed, const py::object& threads, const py::object& interference,
              const py::object& interference_overlap, const py::object& calibration_overlap,
              const py::object& calibration_overlap_frac, const py::object& min_points,
-             const py::object& min_density) {
+             const py::object& min_density, const py::object& cheapest,
+             const py::object& keep_existing) {
             const std::optional<std::string> method_name = TextOf(method, "method");
             if (!method_name)
               throw py::type_error("method: give a str (best, ransac, greedy, local or exact), "
@@ -1021,6 +1091,7 @@ void Bind(py::module_& m) {
                 RequestOf(n, chosen, time_limit, k, goal, budget, iterations, stop);
             SetInstallRules(&request, interference, interference_overlap, calibration_overlap,
                             calibration_overlap_frac, min_points, min_density);
+            SetChoiceFlags(&request, cheapest, keep_existing);
             std::vector<Selection> results =
                 SelectOn(*v.data, request, UnsignedOf(seed, "seed"), Method::kExact, threads);
             return SelectionInfoOf(std::move(results.back()), *v.data);
@@ -1033,7 +1104,8 @@ void Bind(py::module_& m) {
           py::arg("interference") = py::none(), py::arg("interference_overlap") = py::none(),
           py::arg("calibration_overlap") = py::none(),
           py::arg("calibration_overlap_frac") = py::none(), py::arg("min_points") = py::none(),
-          py::arg("min_density") = py::none(),
+          py::arg("min_density") = py::none(), py::arg("cheapest") = false,
+          py::arg("keep_existing") = false,
           "Chooses n sensors with one method, as `vantage select FILE -n N --method M`.\n\n"
           "n: sensors (None: the scene's n); method: best, ransac, greedy, local or exact;\n"
           "time_limit: seconds for exact (None: 60); k: k-coverage when >= 2; goal: set cover,\n"
@@ -1043,7 +1115,9 @@ void Bind(py::module_& m) {
           "seed: None for the run's; threads: None for all cores (same result for any).\n"
           "interference, interference_overlap, calibration_overlap, calibration_overlap_frac:\n"
           "the installation constraints (docs/constraints.md), as the CLI's flags; min_points,\n"
-          "min_density: point density (docs/constraints.md, \"Point density\").\n"
+          "min_density: point density (docs/constraints.md, \"Point density\"); cheapest: with\n"
+          "goal, the cheapest sensors reaching it (--cheapest); keep_existing: every answer keeps\n"
+          "the sensors the scene declares (--keep-existing; n counts them).\n"
           "Returns a vantage.Selection; raises InputError for invalid options.")
       .def(
           "select_all",
@@ -1053,11 +1127,13 @@ void Bind(py::module_& m) {
              const py::object& seed, const py::object& threads, const py::object& interference,
              const py::object& interference_overlap, const py::object& calibration_overlap,
              const py::object& calibration_overlap_frac, const py::object& min_points,
-             const py::object& min_density) {
+             const py::object& min_density, const py::object& cheapest,
+             const py::object& keep_existing) {
             SelectionRequest request = RequestOf(n, OptionalMethodOf(TextOf(method, "method")),
                                                  time_limit, k, goal, budget, iterations, stop);
             SetInstallRules(&request, interference, interference_overlap, calibration_overlap,
                             calibration_overlap_frac, min_points, min_density);
+            SetChoiceFlags(&request, cheapest, keep_existing);
             std::vector<SelectionInfo> list;
             for (Selection& s :
                  SelectOn(*v.data, request, UnsignedOf(seed, "seed"), Method::kAll, threads))
@@ -1072,7 +1148,8 @@ void Bind(py::module_& m) {
           py::arg("interference") = py::none(), py::arg("interference_overlap") = py::none(),
           py::arg("calibration_overlap") = py::none(),
           py::arg("calibration_overlap_frac") = py::none(), py::arg("min_points") = py::none(),
-          py::arg("min_density") = py::none(),
+          py::arg("min_density") = py::none(), py::arg("cheapest") = false,
+          py::arg("keep_existing") = false,
           "Every result of `vantage select FILE` (report.json's `results`, in order): with\n"
           "method None or 'all', best for n = 1, then ransac, greedy, local and exact for each\n"
           "n from 1 to n. Arguments as select(). Returns a list of vantage.Selection.")
@@ -1141,9 +1218,10 @@ void Bind(py::module_& m) {
       .def(
           "observe",
           [](const ProblemHandle& p, const py::object& quality, const py::object& threads,
-             const py::object& progress, const py::object& cull, const py::object& max_memory) {
-            const ObserveOptions options = ObserveOptionsOf(quality, cull, progress);
-            const RunLimits limits = LimitsOf(max_memory);
+             const py::object& progress, const py::object& cull, const py::object& max_memory,
+             const py::object& physical, const py::object& max_seconds) {
+            const ObserveOptions options = ObserveOptionsOf(quality, cull, progress, physical);
+            const RunLimits limits = LimitsOf(max_memory, max_seconds);
             const std::shared_ptr<const PreparedScene> prepared = p.prepared;
             VisibilityHandle result;
             result.data = WithoutGil(threads, [&] {
@@ -1154,14 +1232,18 @@ void Bind(py::module_& m) {
           },
           py::arg("quality") = py::none(), py::arg("threads") = py::none(),
           py::arg("progress") = py::none(), py::kw_only(), py::arg("cull") = true,
-          py::arg("max_memory") = py::none(),
+          py::arg("max_memory") = py::none(), py::arg("physical") = py::none(),
+          py::arg("max_seconds") = py::none(),
           "Builds R and ray casts every candidate's depth image, as `vantage observe`; the GIL\n"
           "is released meanwhile.\n\n"
           "quality: None or {'max_incidence': deg, 'max_depth_noise': mm} (a pixel counts only\n"
           "when it meets that quality); threads: worker threads (None: all cores; the result is\n"
           "the same for any); progress: None or a callable progress(done, total), called from\n"
           "worker threads; cull: False traces every pixel (slower, same result); max_memory:\n"
-          "refuse runs estimated above this many MiB (None: 75 % of the RAM).\n"
+          "refuse runs estimated above this many MiB (None: 75 % of the RAM); physical: True\n"
+          "the physical sensor model (--physical), False the paper's ideal pinhole (--ideal),\n"
+          "None the default (physical, ideal for a Gazebo world of the paper's system);\n"
+          "max_seconds: refuse runs whose ray casting is estimated above this (None: no limit).\n"
           "A scene with states: the first state's matrix (optimize() selects over all).\n"
           "Returns a vantage.Visibility.")
       .def("__repr__", [](const ProblemHandle& p) {
@@ -1173,9 +1255,12 @@ void Bind(py::module_& m) {
       "load",
       [](const py::object& path, const py::object& model_path, const py::object& resource_path,
          const py::object& targets, const py::object& cell_size, const py::object& seed,
-         const py::object& observation_point, const py::object& random_roll) {
-        const SceneInput input = SceneInputOf("path", path, model_path, resource_path, targets, cell_size,
-                                              seed, observation_point, random_roll);
+         const py::object& observation_point, const py::object& random_roll,
+         const py::object& package_path, const py::object& exposed_only) {
+        const SceneInput input =
+            SceneInputOf("path", path,
+                         {model_path, resource_path, package_path, targets, cell_size, seed,
+                          observation_point, random_roll, exposed_only});
         ProblemHandle problem;
         problem.prepared = WithoutGil(
             py::none(), [&] { return std::make_shared<const PreparedScene>(Prepare(input)); });
@@ -1185,12 +1270,16 @@ void Bind(py::module_& m) {
       py::arg("resource_path") = py::none(), py::arg("targets") = py::none(),
       py::arg("cell_size") = py::none(), py::arg("seed") = py::none(),
       py::arg("observation_point") = py::none(), py::arg("random_roll") = py::none(),
+      py::arg("package_path") = py::none(), py::arg("exposed_only") = false,
       "Loads a scene (.yaml/.yml, docs/scene-format.md) or a Gazebo world (.world/.sdf) and\n"
       "deploys its candidate sensors, as the CLI's commands do before any ray is cast.\n\n"
       "model_path, resource_path: a folder or a list of folders (--model-path,\n"
       "--resource-path); targets: a name or a list overriding the scene's targets; cell_size:\n"
       "F [m] overriding the scene's; seed: None for the scene's (else 1); observation_point:\n"
       "(x, y, z) [m] every candidate looks at; random_roll: True/False. None keeps the scene's.\n"
+      "package_path: a folder or a list where a URDF's package:// paths are found\n"
+      "(--package-path); exposed_only: R holds only surface some viewpoint can see\n"
+      "(--exposed-only; default False, the paper's metric).\n"
       "Returns a vantage.Problem; raises InputError ('file:line: ...') for a broken scene.");
 
   m.def(
@@ -1223,20 +1312,34 @@ void Bind(py::module_& m) {
          const py::object& progress, const py::object& interference,
          const py::object& interference_overlap, const py::object& calibration_overlap,
          const py::object& calibration_overlap_frac, const py::object& min_points,
-         const py::object& min_density) {
+         const py::object& min_density, const py::object& package_path,
+         const py::object& exposed_only, const py::object& physical,
+         const py::object& max_seconds, const py::object& cheapest,
+         const py::object& keep_existing, const py::object& pose_tolerance,
+         const py::object& pose_samples, const py::object& by_type,
+         const py::object& cycle_time, const py::object& joint_speed, const py::object& frames,
+         const py::object& motion_resolution, const py::object& plan_time,
+         const py::object& track, const py::object& move_penalty,
+         const py::object& state_interval) {
         const bool refine = FlagOf(refine_value, "refine", false);
         const std::optional<int> refine_rounds = IntOf(refine_rounds_value, "refine_rounds");
         OptimizeOptions options;
-        options.scene = SceneInputOf("scene", scene, model_path, resource_path, targets, cell_size, seed,
-                                     observation_point, random_roll);
-        options.observe = ObserveOptionsOf(quality, cull, progress);
-        options.limits = LimitsOf(max_memory);
+        options.scene = SceneInputOf("scene", scene,
+                                     {model_path, resource_path, package_path, targets, cell_size,
+                                      seed, observation_point, random_roll, exposed_only});
+        options.observe = ObserveOptionsOf(quality, cull, progress, physical);
+        options.limits = LimitsOf(max_memory, max_seconds);
         options.selection =
             RequestOf(n, OptionalMethodOf(TextOf(method, "method")), time_limit, k, goal, budget,
                       iterations, stop, OverStatesOf(TextOf(over_states, "over_states")));
         SetInstallRules(&options.selection, interference, interference_overlap, calibration_overlap,
                         calibration_overlap_frac, min_points, min_density);
+        SetChoiceFlags(&options.selection, cheapest, keep_existing);
         options.robustness = RobustnessOf(fov_tolerance, alternatives_within);
+        options.pose_tolerance = PoseToleranceOf(pose_tolerance, pose_samples);
+        options.by_type = FlagOf(by_type, "by_type", false);
+        options.arm = ArmTourOf(cycle_time, joint_speed, frames, motion_resolution, plan_time,
+                                track, move_penalty, state_interval);
         if (refine_rounds && !refine)  // as the CLI's --refine-rounds without --refine
           throw InputError("refine_rounds: only refine=True runs rounds — pass refine=True, or "
                            "leave refine_rounds out");
@@ -1268,6 +1371,15 @@ void Bind(py::module_& m) {
       py::arg("interference") = py::none(), py::arg("interference_overlap") = py::none(),
       py::arg("calibration_overlap") = py::none(), py::arg("calibration_overlap_frac") = py::none(),
       py::arg("min_points") = py::none(), py::arg("min_density") = py::none(),
+      py::arg("package_path") = py::none(), py::arg("exposed_only") = false,
+      py::arg("physical") = py::none(), py::arg("max_seconds") = py::none(),
+      py::arg("cheapest") = false, py::arg("keep_existing") = false,
+      py::arg("pose_tolerance") = py::none(), py::arg("pose_samples") = py::none(),
+      py::arg("by_type") = false, py::arg("cycle_time") = py::none(),
+      py::arg("joint_speed") = py::none(), py::arg("frames") = py::none(),
+      py::arg("motion_resolution") = py::none(), py::arg("plan_time") = py::none(),
+      py::arg("track") = false, py::arg("move_penalty") = py::none(),
+      py::arg("state_interval") = py::none(),
       "The whole pipeline, as `vantage optimize SCENE`: the same outputs (report.json,\n"
       "report.html, candidates.csv, ...) written atomically into the folder `out` (None: none\n"
       "written). Returns report.json as a dict (docs/outputs.md).\n\n"
@@ -1277,8 +1389,12 @@ void Bind(py::module_& m) {
       "mm}), cull, max_memory [MiB], iterations, stop, time_limit [s], goal, k, budget,\n"
       "over_states ('mean'/'min'), fov_tolerance [deg], alternatives_within [points], refine,\n"
       "refine_rounds, threads, progress, interference, interference_overlap,\n"
-      "calibration_overlap, calibration_overlap_frac, min_points, min_density. None keeps the\n"
-      "scene's setting.");
+      "calibration_overlap, calibration_overlap_frac, min_points, min_density, package_path,\n"
+      "exposed_only, physical (True: --physical, False: --ideal, None: the default),\n"
+      "max_seconds, cheapest, keep_existing, pose_tolerance ((metres, degrees): --pose-tolerance\n"
+      "P,A), pose_samples, by_type, and a camera on an arm's cycle_time [s], joint_speed,\n"
+      "frames, motion_resolution, plan_time [s], track, move_penalty, state_interval [s].\n"
+      "None keeps the scene's setting (or the CLI's default).");
 
   m.def(
       "evaluate",
@@ -1289,15 +1405,22 @@ void Bind(py::module_& m) {
          const py::object& progress, const py::object& interference,
          const py::object& interference_overlap, const py::object& calibration_overlap,
          const py::object& calibration_overlap_frac, const py::object& min_points,
-         const py::object& min_density) {
+         const py::object& min_density, const py::object& observation_point,
+         const py::object& random_roll, const py::object& package_path,
+         const py::object& exposed_only, const py::object& physical,
+         const py::object& max_seconds, const py::object& pose_tolerance,
+         const py::object& pose_samples) {
         EvaluateOptions options;
-        options.scene = SceneInputOf("scene", scene, model_path, resource_path, targets, cell_size, seed,
-                                     py::none(), py::none());
-        options.constellation = PathOf(constellation, "constellation");
-        options.observe = ObserveOptionsOf(quality, cull, progress);
-        options.limits = LimitsOf(max_memory);
+        options.scene = SceneInputOf("scene", scene,
+                                     {model_path, resource_path, package_path, targets, cell_size,
+                                      seed, observation_point, random_roll, exposed_only});
+        // None: the layout the scene declares itself (the CLI's evaluate without --constellation).
+        options.constellation = OptionalPathOf(constellation, "constellation").value_or("");
+        options.observe = ObserveOptionsOf(quality, cull, progress, physical);
+        options.limits = LimitsOf(max_memory, max_seconds);
         SetInstallRules(&options, interference, interference_overlap, calibration_overlap,
                         calibration_overlap_frac, min_points, min_density);
+        options.pose_tolerance = PoseToleranceOf(pose_tolerance, pose_samples);
         const std::optional<std::string> out_dir = OutDirOf(out);
         struct Outcome {
           Strings sensors;
@@ -1325,7 +1448,7 @@ void Bind(py::module_& m) {
         result["report"] = JsonOf(outcome.report);
         return result;
       },
-      py::arg("scene") = py::none(), py::kw_only(), py::arg("constellation"),
+      py::arg("scene") = py::none(), py::kw_only(), py::arg("constellation") = py::none(),
       py::arg("out") = py::none(), py::arg("model_path") = py::none(),
       py::arg("resource_path") = py::none(), py::arg("targets") = py::none(),
       py::arg("cell_size") = py::none(), py::arg("seed") = py::none(),
@@ -1334,12 +1457,19 @@ void Bind(py::module_& m) {
       py::arg("interference") = py::none(), py::arg("interference_overlap") = py::none(),
       py::arg("calibration_overlap") = py::none(), py::arg("calibration_overlap_frac") = py::none(),
       py::arg("min_points") = py::none(), py::arg("min_density") = py::none(),
+      py::arg("observation_point") = py::none(), py::arg("random_roll") = py::none(),
+      py::arg("package_path") = py::none(), py::arg("exposed_only") = false,
+      py::arg("physical") = py::none(), py::arg("max_seconds") = py::none(),
+      py::arg("pose_tolerance") = py::none(), py::arg("pose_samples") = py::none(),
       "The coverage of given sensor poses, as `vantage evaluate [SCENE] --constellation\n"
       "FILE`: the primary result's sensors of a report.json (or all candidates of a\n"
       "constellation file). scene None, and options left None, take the constellation run's\n"
-      "own (its report.json `inputs`). out: also write a report folder there.\n"
+      "own (its report.json `inputs`). constellation None: the sensors the scene declares (a\n"
+      "gz-sim world's cameras, a YAML scene's `sensors:`). out: also write a report folder.\n"
       "interference, interference_overlap, calibration_overlap(_frac): the constraints the\n"
-      "layout is checked against (the CLI's flags).\n"
+      "layout is checked against (the CLI's flags); min_points, min_density, observation_point,\n"
+      "random_roll, package_path, exposed_only, physical (None: the run's model), max_seconds,\n"
+      "pose_tolerance ((metres, degrees)) and pose_samples as optimize() and the CLI's flags.\n"
       "Returns a dict: sensors (names), sensor_coverage (each alone, 0..1), coverage and\n"
       "paper_coverage of them together, report (report.json as a dict).");
 

@@ -28,20 +28,26 @@ NAMES = {"type": [5, "ab", ["a", 2], [b"a", b"b"]],
 COSTS = {"type": ["ab", 1.0, ["a", 1], [None, 1]],
          "value": [[float("nan"), 1], [-1, 1], [1], [10**400, 1], [1, float("inf")]]}
 STATES = {"type": [], "value": [["empty", "full", "full"], 5]}
+# (metres, degrees): pose_tolerance.
+PAIR = {"type": ["0.02,2", 5, (0.02, "a"), (None, 2)], "value": [(0.02,), (0.02, 10**400)]}
 
 # keyword -> kind, for every keyword of every function (checked against the signatures below).
 KINDS = {
     "cell_size": REAL, "time_limit": REAL, "goal": REAL, "budget": REAL, "stop": REAL,
     "max_memory": REAL, "fov_tolerance": REAL, "alternatives_within": REAL,
     "interference_overlap": REAL, "calibration_overlap_frac": REAL, "min_density": REAL,
+    "max_seconds": REAL, "cycle_time": REAL, "joint_speed": REAL, "motion_resolution": REAL,
+    "plan_time": REAL, "move_penalty": REAL, "state_interval": REAL,
     "n": INT, "k": INT, "iterations": INT, "threads": INT, "refine_rounds": INT,
-    "min_points": INT,
+    "min_points": INT, "pose_samples": INT, "frames": INT,
     "seed": UNSIGNED, "calibration_overlap": UNSIGNED,
     "random_roll": BOOL, "cull": BOOL, "refine": BOOL, "interference": BOOL,
+    "physical": BOOL, "exposed_only": BOOL, "cheapest": BOOL, "keep_existing": BOOL,
+    "by_type": BOOL, "track": BOOL,
     "method": TEXT, "over_states": TEXT,
-    "observation_point": POINT,
+    "observation_point": POINT, "pose_tolerance": PAIR,
     "out": PATH, "constellation": PATH,
-    "model_path": PATHS, "resource_path": PATHS,
+    "model_path": PATHS, "resource_path": PATHS, "package_path": PATHS,
     "progress": CALLABLE,
     "cells": UNSIGNED, "csr": CSR, "names": NAMES, "costs": COSTS, "states": STATES,
 }

@@ -54,6 +54,20 @@ def test_shared_world(tmp_path):
         (tmp_path / "cli" / "constellation.world").read_bytes()
 
 
+@needs_shared()
+def test_physical_on_a_gazebo_world_as_cli(tmp_path):
+    """A Gazebo world of the paper's system is ideal by default; physical=True is --physical."""
+    world = COSTA / "worlds" / "bin_picking.world"
+    paths = ["--model-path", COSTA / "media" / "models", "--resource-path", COSTA / "media"]
+    run_cli("optimize", world, *paths, "-n", 2, "--method", "greedy", "--physical",
+            "--out", tmp_path / "cli")
+    returned = vantage.optimize(world, n=2, method="greedy", physical=True,
+                                model_path=COSTA / "media" / "models",
+                                resource_path=COSTA / "media")
+    assert normalised(returned) == normalised(read_report(tmp_path / "cli"))
+    assert returned["sensor_model"]["model"] == "physical"
+
+
 def test_evaluate_matches_cli(cli_example, tmp_path):
     constellation = cli_example / "optimize" / "report.json"
     cli = run_cli("evaluate", EXAMPLE, "--constellation", constellation, "--out", tmp_path / "cli")

@@ -1,0 +1,214 @@
+"""The keywords that mirror the CLI's newer flags (sensor model, exposed-only, cheapest,
+keep-existing, point density, pose tolerance, by-type, package paths, arm tours): each gives the
+report.json that the `vantage` binary, run here, writes for the same flags (timings aside), and
+each refusal is the CLI's."""
+
+import pathlib
+
+import pytest
+
+import vantage
+from conftest import EXAMPLE, ROOT, normalised, read_report, run_cli
+from vis_format import read_vis
+
+ARM_WRIST = ROOT / "examples" / "scenes" / "arm_wrist_camera.yaml"
+ARM_TRACK = ROOT / "examples" / "scenes" / "arm_track_hand.yaml"
+QUICK = (["-n", 2, "--method", "greedy"], {"n": 2, "method": "greedy"})
+
+# (id, scene, CLI flags, keywords): each run once by the CLI and once by vantage.optimize.
+CASES = [
+    ("ideal", EXAMPLE, ["--ideal"], {"physical": False}),
+    ("physical", EXAMPLE, ["--physical"], {"physical": True}),
+    ("exposed_only", EXAMPLE, ["--exposed-only"], {"exposed_only": True}),
+    ("cheapest", EXAMPLE, ["--goal", 0.6, "--cheapest", "--method", "greedy"],
+     {"goal": 0.6, "cheapest": True, "method": "greedy"}),
+    ("keep_existing", EXAMPLE, ["--keep-existing", "-n", 3, "--method", "greedy"],
+     {"keep_existing": True, "n": 3, "method": "greedy"}),
+    ("min_points", EXAMPLE, ["--min-points", 4], {"min_points": 4}),
+    ("min_density", EXAMPLE, ["--min-density", 10], {"min_density": 10}),
+    ("pose_tolerance", EXAMPLE, ["--pose-tolerance", "0.02,2", "--pose-samples", 6],
+     {"pose_tolerance": (0.02, 2), "pose_samples": 6}),
+    ("by_type", EXAMPLE, ["--by-type"], {"by_type": True}),
+    ("max_seconds", EXAMPLE, ["--max-seconds", 3600], {"max_seconds": 3600}),
+    ("cycle_time", ARM_WRIST, ["--cycle-time", 6, "--joint-speed", 2, "--frames", 2,
+                               "--motion-resolution", 0.02, "--plan-time", 1],
+     {"cycle_time": 6, "joint_speed": 2, "frames": 2, "motion_resolution": 0.02,
+      "plan_time": 1}),
+    ("track", ARM_TRACK, ["--track", "--move-penalty", 0.01, "--state-interval", 5],
+     {"track": True, "move_penalty": 0.01, "state_interval": 5}),
+]
+
+
+def quick(flags, kwargs):
+    """n = 2 by greedy unless the case chooses otherwise (keeps each run under a second)."""
+    flags = list(flags)
+    kwargs = dict(kwargs)
+    if not {"n", "method", "goal", "cycle_time", "track"} & set(kwargs):
+        flags = QUICK[0] + flags
+        kwargs.update(QUICK[1])
+    return flags, kwargs
+
+
+@pytest.mark.parametrize("scene,flags,kwargs", [c[1:] for c in CASES], ids=[c[0] for c in CASES])
+def test_optimize_as_cli(scene, flags, kwargs, tmp_path):
+    flags, kwargs = quick(flags, kwargs)
+    run_cli("optimize", scene, *flags, "--out", tmp_path / "cli")
+    returned = vantage.optimize(scene, out=tmp_path / "py", **kwargs)
+    cli = normalised(read_report(tmp_path / "cli"))
+    assert normalised(read_report(tmp_path / "py")) == cli
+    assert normalised(returned) == cli
+    assert sorted(p.name for p in (tmp_path / "py").iterdir()) == \
+        sorted(p.name for p in (tmp_path / "cli").iterdir())
+
+
+def test_each_option_reached_the_run(tmp_path):
+    """Not only equal to the CLI: each keyword changed what the run reports (a keyword the
+    module dropped would give the default run, which the CLI with the flag does not)."""
+    plain = vantage.optimize(EXAMPLE, n=2, method="greedy")
+    assert "sensor_model" in plain  # the example is a YAML scene: physical by default
+    ideal = vantage.optimize(EXAMPLE, n=2, method="greedy", physical=False)
+    assert "sensor_model" not in ideal and "ideal_coverage" not in ideal["results"][0]
+    exposed = vantage.optimize(EXAMPLE, n=2, method="greedy", exposed_only=True)
+    assert exposed["ceiling"]["exposed_only"] is True
+    assert exposed["reference_voxels"] == \
+        plain["reference_voxels"] - plain["ceiling"]["unexposed_voxels"]
+    cheap = vantage.optimize(EXAMPLE, goal=0.6, cheapest=True, method="greedy")
+    assert cheap["inputs"]["cheapest"] is True and cheap["results"][0]["cost"] > 0
+    kept = vantage.optimize(EXAMPLE, n=3, method="greedy", keep_existing=True)
+    declared = [c["name"] for c in kept["candidates"] if c["population"] == ""]
+    assert declared and set(declared) <= set(kept["results"][0]["sensors"])
+    posed = vantage.optimize(EXAMPLE, n=2, method="greedy", pose_tolerance=(0.02, 2),
+                             pose_samples=6)
+    assert (posed["pose_tolerance"]["position_m"], posed["pose_tolerance"]["angle_deg"],
+            posed["pose_tolerance"]["samples"]) == (0.02, 2, 6)
+    typed = vantage.optimize(EXAMPLE, n=2, method="greedy", by_type=True)
+    assert {t["type"] for t in typed["by_type"]["types"]} == \
+        {c["type"] for c in typed["candidates"]}
+
+
+def test_ideal_matrix_is_the_cli_files(tmp_path):
+    """observe(physical=False) gives the sets of `vantage observe --ideal`, read from the file
+    by the independent reader; the default gives `vantage observe`'s physical ones."""
+    run_cli("observe", EXAMPLE, "--ideal", "--out", tmp_path / "ideal.vis")
+    run_cli("observe", EXAMPLE, "--out", tmp_path / "physical.vis")
+    problem = vantage.load(EXAMPLE)
+    for physical, name in ((False, "ideal.vis"), (None, "physical.vis")):
+        raw = read_vis(tmp_path / name)
+        assert raw.physical == (physical is None)
+        matrix = problem.observe(physical=physical).matrix
+        assert [list(matrix.indices[matrix.indptr[i]:matrix.indptr[i + 1]])
+                for i in range(matrix.shape[0])] == \
+            [list(c.reference_indices) for c in raw.candidates]
+
+
+def test_exposed_only_reference_is_the_cli_files(tmp_path):
+    run_cli("observe", EXAMPLE, "--exposed-only", "--out", tmp_path / "e.vis")
+    raw = read_vis(tmp_path / "e.vis")
+    vis = vantage.load(EXAMPLE, exposed_only=True).observe()
+    assert raw.exposed_only
+    assert list(vis.reference_keys) == list(raw.keys)
+    assert len(raw.keys) < len(vantage.load(EXAMPLE).observe().reference_keys)
+
+
+@pytest.mark.parametrize("flags,kwargs", [
+    (["--goal", 0.6, "--cheapest", "--method", "exact"],
+     {"goal": 0.6, "cheapest": True, "method": "exact"}),
+    (["--keep-existing", "-n", 3, "--method", "local"],
+     {"keep_existing": True, "n": 3, "method": "local"}),
+], ids=["cheapest", "keep_existing"])
+def test_select_as_cli(cli_example, example_vis, flags, kwargs, tmp_path):
+    run_cli("select", cli_example / "example.vis", *flags, "--out", tmp_path / "cli")
+    (expected,) = read_report(tmp_path / "cli")["results"]
+    got = example_vis.select(**kwargs)
+    assert got.sensors == expected["sensors"]
+    assert got.coverage == expected["coverage"]
+    assert got.cost == expected.get("cost")
+    (listed,) = example_vis.select_all(**kwargs)
+    assert listed.sensors == expected["sensors"]
+
+
+def test_cheapest_exact_is_the_least_cost(example_vis):
+    """The cheapest layout reaching the goal costs no more than the fewest-sensors one, and
+    exact proves its cost: nothing cheaper reaches the goal (cost_lower_bound == cost)."""
+    cheapest = example_vis.select(goal=0.6, cheapest=True, method="exact")
+    fewest = example_vis.select(goal=0.6, method="exact")
+    assert cheapest.coverage >= 0.6 and cheapest.optimal
+    costs = {c.name: c.cost for c in example_vis.candidates}
+    assert cheapest.cost == pytest.approx(sum(costs[s] for s in cheapest.sensors))
+    assert cheapest.cost <= sum(costs[s] for s in fewest.sensors) + 1e-9
+
+
+def test_evaluate_as_cli(cli_example, tmp_path):
+    constellation = cli_example / "optimize" / "report.json"
+    flags = ["--pose-tolerance", "0.01,1", "--pose-samples", 4, "--ideal"]
+    run_cli("evaluate", EXAMPLE, "--constellation", constellation, *flags,
+            "--out", tmp_path / "cli")
+    result = vantage.evaluate(EXAMPLE, constellation=constellation, pose_tolerance=(0.01, 1),
+                              pose_samples=4, physical=False, out=tmp_path / "py")
+    assert normalised(result["report"]) == normalised(read_report(tmp_path / "cli"))
+    assert result["report"]["pose_tolerance"]["samples"] == 4
+    # Without a constellation: the sensors the scene declares, as the CLI without one.
+    run_cli("evaluate", EXAMPLE, "--out", tmp_path / "cli_declared")
+    declared = vantage.evaluate(EXAMPLE, out=tmp_path / "py_declared")
+    assert normalised(declared["report"]) == normalised(read_report(tmp_path / "cli_declared"))
+    assert declared["sensors"] == read_report(tmp_path / "cli_declared")["results"][0]["sensors"]
+
+
+def test_package_path_as_cli(tmp_path, monkeypatch):
+    """A URDF whose mesh is a package:// path loads through package_path, as --package-path."""
+    monkeypatch.delenv("ROS_PACKAGE_PATH", raising=False)
+    monkeypatch.delenv("AMENT_PREFIX_PATH", raising=False)
+    urdf = ROOT / "tests" / "data" / "urdf" / "mesh_arm.urdf"
+    packages = ROOT / "tests" / "data" / "urdf" / "packages"
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(
+        "objects:\n  - {name: part, role: target, box: {size: [0.1, 0.1, 0.1]}}\n"
+        f"robots:\n  - name: arm\n    urdf: {urdf}\n    joints:\n      {{}}\n"
+        "sensors:\n  - {name: cam, type: intel_realsense_d415, position: [1, 0, 1]}\n",
+        encoding="utf-8")
+    with pytest.raises(vantage.InputError, match="package 'arm3_description'"):
+        vantage.load(scene)
+    run_cli("optimize", scene, "--package-path", packages, "--out", tmp_path / "cli")
+    returned = vantage.optimize(scene, package_path=packages, out=tmp_path / "py")
+    assert normalised(returned) == normalised(read_report(tmp_path / "cli"))
+    assert returned["inputs"]["package_paths"] == [str(packages)]
+    assert vantage.load(scene, package_path=[packages]).candidates[0].name == "cam"
+
+
+# Refusals: the CLI's message for the same flags, word for word after the option's name.
+REFUSALS = [
+    ({"by_type": True, "goal": 0.5}, ["--by-type", "--goal", 0.5], "--by-type: "),
+    ({"keep_existing": True, "n": 2}, ["--keep-existing", "-n", 2], "--keep-existing: "),
+    ({"cheapest": True, "n": 2}, ["--cheapest", "-n", 2], "--cheapest: "),
+    ({"move_penalty": 0.1}, ["--move-penalty", 0.1], "--move-penalty: "),
+    ({"cycle_time": 5}, ["--cycle-time", 5], "--cycle-time: "),
+    ({"pose_tolerance": (2, 1)}, ["--pose-tolerance", "2,1"], "--pose-tolerance"),
+    ({"max_seconds": -1}, ["--max-seconds", -1], "--max-seconds"),
+]
+
+
+@pytest.mark.parametrize("kwargs,flags,prefix", REFUSALS,
+                         ids=[r[2].strip(": ") for r in REFUSALS])
+def test_refusals_as_cli(kwargs, flags, prefix, tmp_path):
+    from conftest import CUBE_CELL  # 16 candidates and no declared sensors
+    with pytest.raises(vantage.InputError) as raised:
+        vantage.optimize(CUBE_CELL, out=tmp_path / "py", **kwargs)
+    assert str(raised.value).startswith(prefix), str(raised.value)
+    assert not (tmp_path / "py").exists()
+    cli = run_cli("optimize", CUBE_CELL, *flags, "--out", tmp_path / "cli", check=False)
+    assert cli.returncode == 2
+    if not prefix.endswith(": "):  # CLI11 checks these itself, with its own wording
+        return
+    assert str(raised.value) in cli.stderr, cli.stderr
+
+
+def test_python_only_refusals(tmp_path):
+    with pytest.raises(vantage.InputError, match="^pose_samples: only pose_tolerance"):
+        vantage.optimize(EXAMPLE, n=1, method="best", pose_samples=8)
+    with pytest.raises(vantage.InputError, match=r"^pose_tolerance: has 3 values"):
+        vantage.optimize(EXAMPLE, n=1, method="best", pose_tolerance=(0.01, 1, 1))
+    with pytest.raises(TypeError, match=r"^pose_tolerance: give a pair"):
+        vantage.optimize(EXAMPLE, n=1, method="best", pose_tolerance="0.02,2")
+    from conftest import CUBE_CELL  # no declared sensors to keep
+    with pytest.raises(vantage.InputError, match="^--keep-existing: .* declares no sensors"):
+        vantage.load(CUBE_CELL).observe().select(n=2, keep_existing=True)
