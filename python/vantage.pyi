@@ -64,6 +64,21 @@ class Candidate:
     @property
     def observed_voxels(self) -> Optional[int]:
         """Cells of R it sees alone (its row sum of Visibility.matrix); None before observe."""
+    @property
+    def paper_coverage(self) -> Optional[float]:
+        """|O_i| / |R|, cells outside R counted too; None before observe."""
+    @property
+    def rays_traced(self) -> Optional[int]: ...
+    @property
+    def ideal_coverage(self) -> Optional[float]:
+        """Physical sensor model: the ideal pinhole's coverage; else None."""
+    @property
+    def plain_coverage(self) -> Optional[float]:
+        """Quality filter: coverage counting every pixel; else None."""
+    @property
+    def target_pixels(self) -> Optional[int]: ...
+    @property
+    def quality_pixels(self) -> Optional[int]: ...
 
 class Selection:
     """A chosen constellation and how good it is."""
@@ -97,6 +112,28 @@ class Selection:
     def n_lower_bound(self) -> Optional[int]: ...
     @property
     def seconds(self) -> float: ...
+    @property
+    def gap(self) -> Optional[float]:
+        """upper_bound - coverage where a bound is proven."""
+    @property
+    def min_points(self) -> Optional[int]: ...
+    @property
+    def cost_lower_bound(self) -> Optional[float]: ...
+    @property
+    def ideal_coverage(self) -> Optional[float]:
+        """Physical sensor model: the same sensors under the ideal pinhole; else None."""
+    @property
+    def plain_coverage(self) -> Optional[float]:
+        """Quality filter: the same sensors counting every pixel; else None."""
+    @property
+    def ceiling(self) -> Optional[float]:
+        """All candidates together, counted as this result (report.json ceiling.coverage)."""
+    @property
+    def part_coverage(self) -> Optional[dict[str, float]]:
+        """Per target part, the share of its cells covered; None when R knows no parts."""
+    @property
+    def constraints(self) -> Optional[dict[str, Any]]:
+        """With installation constraints: report.json's result constraints."""
 
 class Visibility:
     """The visibility matrix of an observed scene, with R and the candidates."""
@@ -118,6 +155,11 @@ class Visibility:
     def seed(self) -> int: ...
     @property
     def quality(self) -> dict[str, Optional[float]]: ...
+    @property
+    def physical(self) -> bool:
+        """Observed with the physical sensor model (False: the ideal pinhole)."""
+    @property
+    def exposed_only(self) -> bool: ...
     def select(
         self,
         n: Optional[int] = None,

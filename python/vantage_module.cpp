@@ -12,6 +12,7 @@
 #include <spdlog/spdlog.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <condition_variable>
@@ -533,6 +534,15 @@ struct CandidateInfo {
   double fx = 0, fy = 0, cx = 0, cy = 0, near = 0, far = 0, cost = 0;
   std::optional<double> coverage;         // |O_i ∩ R| / |R|, once observed
   std::optional<size_t> observed_voxels;  // |O_i ∩ R|, once observed
+  // report.json's other candidate keys, once observed: the paper's score, the pixels traced,
+  // under the physical model the ideal pinhole's coverage, under a quality filter the plain one
+  // and the pixel counts (None where report.json has no such key).
+  std::optional<double> paper_coverage;
+  std::optional<uint64_t> rays_traced;
+  std::optional<double> ideal_coverage;
+  std::optional<double> plain_coverage;
+  std::optional<uint64_t> target_pixels;
+  std::optional<uint64_t> quality_pixels;
 };
 
 CandidateInfo InfoOf(const Candidate& c) {
@@ -560,11 +570,25 @@ std::vector<CandidateInfo> CandidatesOf(const VisibilityFile& data) {
   std::vector<CandidateInfo> list;
   list.reserve(data.candidates.size());
   const double cells = static_cast<double>(data.reference.size());
+  const auto share = [cells](size_t count) {
+    return cells > 0 ? static_cast<double>(count) / cells : 0.0;
+  };
   for (size_t i = 0; i < data.candidates.size(); ++i) {
     CandidateInfo info = InfoOf(data.candidates[i]);
-    const size_t seen = data.observations[i].reference_indices.size();
+    const Observation& o = data.observations[i];
+    const size_t seen = o.reference_indices.size();
     info.observed_voxels = seen;
-    info.coverage = cells > 0 ? static_cast<double>(seen) / cells : 0.0;
+    info.coverage = share(seen);
+    info.paper_coverage = share(seen + o.outside_keys.size());
+    info.rays_traced = o.rays_traced;
+    if (data.physical)
+      info.ideal_coverage =
+          share(o.ideal_differs ? o.ideal_reference_indices.size() : o.reference_indices.size());
+    if (data.quality.active()) {
+      info.plain_coverage = share(o.plain_reference_indices.size());
+      info.target_pixels = o.target_pixels;
+      info.quality_pixels = o.quality_pixels;
+    }
     list.push_back(std::move(info));
   }
   return list;
@@ -574,6 +598,12 @@ std::vector<CandidateInfo> CandidatesOf(const VisibilityFile& data) {
 struct SelectionInfo {
   Selection selection;
   Strings sensors;  // names of the chosen candidates, in the order chosen
+  // What report.json derives for the result (DeriveReport): None where it has no such key.
+  std::optional<double> ideal_coverage;  // the physical model: the ideal pinhole's coverage
+  std::optional<double> plain_coverage;  // a quality filter: coverage counting every pixel
+  std::optional<double> ceiling;         // all candidates together, counted as this result
+  std::vector<std::pair<std::string, double>> part_coverage;  // per target part, R's order
+  py::object constraints = py::none();   // results[i].constraints as a dict
 };
 
 SelectionInfo SelectionInfoOf(Selection selection, const VisibilityFile& data) {
@@ -838,16 +868,50 @@ void SetChoiceFlags(SelectionRequest* request, const py::object& cheapest,
   request->keep_existing = FlagOf(keep_existing, "keep_existing", false);
 }
 
-// Selection as `vantage select FILE`: the same resolution, constraints included.
-std::vector<Selection> SelectOn(const VisibilityFile& data,
-                                const SelectionRequest& request,
-                                std::optional<uint64_t> seed,
-                                Method default_method,
-                                const py::object& threads) {
+// Selection as `vantage select FILE`: the same resolution, constraints included; each result
+// with what report.json derives for it (the same DeriveReport and, for the constraints,
+// ReportJson as `vantage select` writes).
+std::vector<SelectionInfo> SelectOn(const VisibilityFile& data,
+                                    const SelectionRequest& request,
+                                    std::optional<uint64_t> seed,
+                                    Method default_method,
+                                    const py::object& threads) {
   const MatrixSelection resolved =
       ResolveMatrixSelection(data, request, seed.value_or(data.seed), default_method);
-  return WithoutGil(
-      threads, [&] { return Select(data.observations, data.reference.size(), resolved.options); });
+  struct Derived {
+    Report report;
+    std::string json;  // report.json, only when constraints are on
+  };
+  const std::shared_ptr<const Derived> derived = WithoutGil(threads, [&] {
+    auto d = std::make_shared<Derived>();
+    d->report.results = Select(data.observations, data.reference.size(), resolved.options);
+    d->report.scene = data.scene;
+    d->report.seed = resolved.options.seed;
+    d->report.data = &data;
+    d->report.constraints = resolved.constraints;
+    DeriveReport(&d->report);
+    if (d->report.constraints) d->json = ReportJson(d->report);
+    return d;
+  });
+  const Report& report = derived->report;
+  const py::object results_json =
+      derived->json.empty() ? py::object(py::none()) : JsonOf(derived->json)["results"];
+  std::vector<SelectionInfo> list;
+  for (size_t i = 0; i < report.results.size(); ++i) {
+    SelectionInfo info = SelectionInfoOf(report.results[i], data);
+    if (i < report.result_ideal_coverage.size()) info.ideal_coverage = report.result_ideal_coverage[i];
+    if (i < report.result_plain_coverage.size()) info.plain_coverage = report.result_plain_coverage[i];
+    info.ceiling = report.ceiling;
+    if (i < report.result_part_coverage.size())
+      for (size_t p = 0; p < report.parts.size(); ++p)
+        info.part_coverage.emplace_back(report.parts[p].name, report.result_part_coverage[i][p]);
+    if (!results_json.is_none()) {
+      const py::dict result = results_json[py::int_(i)];
+      if (result.contains("constraints")) info.constraints = result["constraints"];
+    }
+    list.push_back(std::move(info));
+  }
+  return list;
 }
 
 py::list SensorCatalog() {
@@ -957,6 +1021,20 @@ void Bind(py::module_& m) {
       .def_readonly("observed_voxels", &CandidateInfo::observed_voxels,
                     "reference cells it sees alone (its row sum of Visibility.matrix; None "
                     "before observe)")
+      .def_readonly("paper_coverage", &CandidateInfo::paper_coverage,
+                    "|O_i| / |R|: cells seen outside R counted too (the paper's score; None "
+                    "before observe)")
+      .def_readonly("rays_traced", &CandidateInfo::rays_traced,
+                    "pixels actually ray cast, after culling (None before observe)")
+      .def_readonly("ideal_coverage", &CandidateInfo::ideal_coverage,
+                    "observed with the physical sensor model: its coverage under the paper's "
+                    "ideal pinhole; else None")
+      .def_readonly("plain_coverage", &CandidateInfo::plain_coverage,
+                    "observed with a quality filter: its coverage counting every pixel; else None")
+      .def_readonly("target_pixels", &CandidateInfo::target_pixels,
+                    "with a quality filter: pixels whose first hit is a target in range; else None")
+      .def_readonly("quality_pixels", &CandidateInfo::quality_pixels,
+                    "with a quality filter: the target pixels that pass it; else None")
       .def("__repr__", [](const CandidateInfo& c) {
         return "<vantage.Candidate " + c.name + " (" + c.type + ")>";
       });
@@ -1005,6 +1083,43 @@ void Bind(py::module_& m) {
       .def_property_readonly(
           "seconds", [](const SelectionInfo& s) { return s.selection.seconds; },
           "time the method took [s]")
+      .def_property_readonly(
+          "gap",
+          [](const SelectionInfo& s) {
+            return s.selection.upper_bound
+                       ? OptionalDouble(std::max(0.0, *s.selection.upper_bound - s.selection.coverage))
+                       : OptionalDouble(std::nullopt);
+          },
+          "upper_bound - coverage (>= 0) where a bound is proven, else None")
+      .def_property_readonly(
+          "min_points", [](const SelectionInfo& s) { return s.selection.min_points; },
+          "point density: the points a cell needed (min_points, min_density), else None")
+      .def_property_readonly(
+          "cost_lower_bound",
+          [](const SelectionInfo& s) { return OptionalDouble(s.selection.cost_lower_bound); },
+          "cheapest with exact: proven least cost of any layout reaching the goal, else None")
+      .def_readonly("ideal_coverage", &SelectionInfo::ideal_coverage,
+                    "observed with the physical sensor model: the same sensors' coverage under "
+                    "the paper's ideal pinhole (its k); else None")
+      .def_readonly("plain_coverage", &SelectionInfo::plain_coverage,
+                    "observed with a quality filter: the same sensors' coverage counting every "
+                    "pixel; else None")
+      .def_readonly("ceiling", &SelectionInfo::ceiling,
+                    "the coverage of all candidates together, counted as this result counts (k, "
+                    "min_points): what no selection exceeds (report.json's ceiling.coverage)")
+      .def_property_readonly(
+          "part_coverage",
+          [](const SelectionInfo& s) -> py::object {
+            if (s.part_coverage.empty()) return py::none();
+            py::dict parts;
+            for (const auto& [name, share] : s.part_coverage) parts[py::str(name)] = share;
+            return parts;
+          },
+          "per target part (by name, in R's order) the share of its cells covered; None when "
+          "R does not know its parts (a matrix from elsewhere, an old .vis)")
+      .def_readonly("constraints", &SelectionInfo::constraints,
+                    "with installation constraints: report.json's result constraints (satisfied, "
+                    "conflicts, overlap_graph, ...) as a dict; else None")
       .def("__repr__", [](const SelectionInfo& s) {
         return "<vantage.Selection " + s.selection.method + " n=" + std::to_string(s.selection.n) +
                " coverage=" + std::to_string(s.selection.coverage) + ">";
@@ -1057,6 +1172,12 @@ void Bind(py::module_& m) {
           "seed", [](const VisibilityHandle& v) { return v.data->seed; },
           "the run's seed (selection's default)")
       .def_property_readonly(
+          "physical", [](const VisibilityHandle& v) { return v.data->physical; },
+          "True when observed with the physical sensor model, False for the ideal pinhole")
+      .def_property_readonly(
+          "exposed_only", [](const VisibilityHandle& v) { return v.data->reference.exposed_only; },
+          "True when R holds only exposed surface (exposed_only=True)")
+      .def_property_readonly(
           "quality",
           [](const VisibilityHandle& v) {
             py::dict quality;
@@ -1092,9 +1213,9 @@ void Bind(py::module_& m) {
             SetInstallRules(&request, interference, interference_overlap, calibration_overlap,
                             calibration_overlap_frac, min_points, min_density);
             SetChoiceFlags(&request, cheapest, keep_existing);
-            std::vector<Selection> results =
+            std::vector<SelectionInfo> results =
                 SelectOn(*v.data, request, UnsignedOf(seed, "seed"), Method::kExact, threads);
-            return SelectionInfoOf(std::move(results.back()), *v.data);
+            return std::move(results.back());
           },
           py::arg("n") = py::none(), py::arg("method") = "exact",
           py::arg("time_limit") = py::none(), py::arg("k") = py::none(),
@@ -1134,11 +1255,7 @@ void Bind(py::module_& m) {
             SetInstallRules(&request, interference, interference_overlap, calibration_overlap,
                             calibration_overlap_frac, min_points, min_density);
             SetChoiceFlags(&request, cheapest, keep_existing);
-            std::vector<SelectionInfo> list;
-            for (Selection& s :
-                 SelectOn(*v.data, request, UnsignedOf(seed, "seed"), Method::kAll, threads))
-              list.push_back(SelectionInfoOf(std::move(s), *v.data));
-            return list;
+            return SelectOn(*v.data, request, UnsignedOf(seed, "seed"), Method::kAll, threads);
           },
           py::arg("n") = py::none(), py::arg("method") = py::none(),
           py::arg("time_limit") = py::none(), py::arg("k") = py::none(),
