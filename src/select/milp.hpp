@@ -1,0 +1,90 @@
+#pragma once
+/// The selection MILP: one model for every objective exact solves, built in one place and solved
+/// by CBC in a child process (cbc_answer.hpp). With x_i = candidate i chosen and y_c = class c
+/// counted (a class: elements that the same candidates see, merged where that keeps the model
+/// exact):
+///
+///   threshold   T y_c <= sum_{i sees c} min(count_ic, T) x_i   (T = 1 coverage, k seers, or
+///                                                               min_points pixels' hits)
+///   value       v_c = w_c cells (one state), w_c / (S |R_s|) (mean over states), w_c / |R_s|
+///               (min over states: per state s, its share sum_{c in s} v_c y_c)
+///   maximise    sum_c v_c y_c           (min: max t, t <= each state's share)
+///     s.t.      sum_i r_i x_i <= capacity      (r = 1: n sensors; r = cost: a budget)
+///   or minimise sum_i cost_i x_i (unit: the fewest sensors)
+///     s.t.      sum_c v_c y_c >= goal          (min: each state's share >= goal)
+///   kept        x_i = 1
+///   conflicts   x_a + x_b <= 1
+///   connected   a single-commodity flow along the overlap edges (both directions), nd the most
+///               sensors an answer holds:
+///                 sum_i r_i = 1, r_i <= x_i              one root among the chosen
+///                 s_i <= nd r_i, sum_i s_i = sum_i x_i   it supplies one unit per chosen sensor
+///                 out_i - in_i = s_i - x_i               every chosen sensor keeps one
+///                 out_i, in_i <= (nd - 1) x_i            flow only through chosen sensors
+///               r binary, s and f >= 0: a flow exists exactly when every chosen sensor is reached
+///               from the root along edges between chosen sensors (the chosen graph is connected).
+///
+/// Reductions, each keeping an optimum: candidates that see nothing (or cost more than the budget)
+/// are left out unless kept; with T = 1 and no rules, dominated candidates too (a superset at no
+/// higher cost: Dominated); with T = 1 a class seen by one candidate folds into its x (a_i x_i);
+/// one state without point counts re-merges classes over the candidates left.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "select/coverage_matrix.hpp"
+
+namespace vantage::detail {
+
+class Feasibility;
+
+/// How an element's cells are valued: one state's cells, or the mean or min over states.
+enum class MilpValue { kCells, kMean, kMin };
+
+/// The model to build: an objective (capacity or goal) over `matrix` and its rules.
+struct SelectionMilp {
+  const CoverageMatrix* matrix = nullptr;
+  int threshold = 1;  ///< what a class needs to count: seers (k) or, with counts, points
+  MilpValue value = MilpValue::kCells;
+  /// Per candidate: the budget row's coefficients (maximise) or the prices a goal minimises;
+  /// empty: unit (n sensors, the fewest sensors).
+  std::span<const double> costs;
+  /// Maximise within sum_i r_i x_i <= capacity (n, or the budget with `costs`).
+  double capacity = 0;
+  /// Minimise cost reaching this value instead: cells (kCells), the mean (a fraction) or each
+  /// state's share (kMin).
+  std::optional<double> goal;
+  std::span<const uint32_t> fixed;  ///< kept sensors: x = 1
+  const Feasibility* rules = nullptr;  ///< conflicts and connectivity, or none
+};
+
+/// What CBC answered for a SelectionMilp.
+struct MilpAnswer {
+  std::vector<uint32_t> chosen;  ///< candidates at 1; empty when CBC gave no solution
+  /// CBC's bound on the objective in the model's units: cells, an aggregate (a fraction) or a
+  /// cost; NaN when none.
+  double bound = std::numeric_limits<double>::quiet_NaN();
+  bool proven_optimal = false;
+  std::string note;  ///< why CBC was not run, failed or stopped
+};
+
+/// Whether every value is a whole number (then a cost objective is too, and CBC may stop within 1
+/// of its bound).
+inline bool AllWhole(std::span<const double> values) {
+  for (const double v : values)
+    if (v != std::floor(v)) return false;
+  return true;
+}
+
+/// Builds `milp`, warm-starts it from `start` (dominated members replaced by a kept superset),
+/// and solves it with CBC within `time_limit` seconds (CBC's share and kill time:
+/// cbc_answer.hpp). A model too large for the limit is not run. When every candidate left fits
+/// the capacity (no rules), they are the answer, proven, without CBC. A failure of CBC's (not an
+/// interrupt) is a note. The callers check the answer against the objective in integers.
+MilpAnswer SolveSelectionMilp(const SelectionMilp& milp, const std::vector<uint32_t>& start,
+                              double time_limit);
+
+}  // namespace vantage::detail
