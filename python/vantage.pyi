@@ -248,6 +248,7 @@ class Problem:
         max_memory: Optional[float] = None,
         physical: Optional[bool] = None,
         max_seconds: Optional[float] = None,
+        n: Optional[int] = None,
     ) -> Visibility:
         """R and every candidate's depth image ray cast (GIL released), as `vantage observe`."""
 
@@ -323,6 +324,36 @@ def optimize(
     state_interval: Optional[float] = None,
 ) -> dict[str, Any]:
     """`vantage optimize SCENE`: the same files into `out`; returns report.json as a dict."""
+
+def select(
+    file: PathLike,
+    n: Optional[int] = None,
+    method: Optional[str] = None,
+    out: Optional[PathLike] = None,
+    *,
+    iterations: Optional[int] = None,
+    stop: Optional[float] = None,
+    time_limit: Optional[float] = None,
+    goal: Optional[float] = None,
+    k: Optional[int] = None,
+    budget: Optional[float] = None,
+    cheapest: bool = False,
+    keep_existing: bool = False,
+    over_states: Optional[str] = None,
+    seed: Optional[int] = None,
+    fov_tolerance: Optional[float] = None,
+    alternatives_within: Optional[float] = None,
+    pose_tolerance: Optional[tuple[float, float]] = None,
+    pose_samples: Optional[int] = None,
+    threads: Optional[int] = None,
+    interference: Optional[bool] = None,
+    interference_overlap: Optional[float] = None,
+    calibration_overlap: Optional[int] = None,
+    calibration_overlap_frac: Optional[float] = None,
+    min_points: Optional[int] = None,
+    min_density: Optional[float] = None,
+) -> dict[str, Any]:
+    """`vantage select FILE`: the same files into `out`; returns report.json as a dict."""
 
 def evaluate(
     scene: Optional[PathLike] = None,

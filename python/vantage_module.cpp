@@ -1336,13 +1336,23 @@ void Bind(py::module_& m) {
           "observe",
           [](const ProblemHandle& p, const py::object& quality, const py::object& threads,
              const py::object& progress, const py::object& cull, const py::object& max_memory,
-             const py::object& physical, const py::object& max_seconds) {
+             const py::object& physical, const py::object& max_seconds, const py::object& n) {
             const ObserveOptions options = ObserveOptionsOf(quality, cull, progress, physical);
             const RunLimits limits = LimitsOf(max_memory, max_seconds);
+            const std::optional<int> sensors = IntOf(n, "n");
             const std::shared_ptr<const PreparedScene> prepared = p.prepared;
             VisibilityHandle result;
             result.data = WithoutGil(threads, [&] {
-              ObservedScene observed = ObservePrepared(*prepared, options, limits);
+              PreparedScene scene = *prepared;
+              if (sensors) {
+                // As ObserveRun's -n: checked before any ray, then stored with the matrix.
+                SelectionRequest request;
+                request.n = sensors;
+                ResolveSelection(scene.problem.selection, request, scene.problem.seed,
+                                 scene.candidates, scene.problem.source, Method::kAll);
+                scene.problem.selection.n = *sensors;
+              }
+              ObservedScene observed = ObservePrepared(std::move(scene), options, limits);
               return std::make_shared<const VisibilityFile>(std::move(observed.data));
             });
             return result;
@@ -1350,7 +1360,7 @@ void Bind(py::module_& m) {
           py::arg("quality") = py::none(), py::arg("threads") = py::none(),
           py::arg("progress") = py::none(), py::kw_only(), py::arg("cull") = true,
           py::arg("max_memory") = py::none(), py::arg("physical") = py::none(),
-          py::arg("max_seconds") = py::none(),
+          py::arg("max_seconds") = py::none(), py::arg("n") = py::none(),
           "Builds R and ray casts every candidate's depth image, as `vantage observe`; the GIL\n"
           "is released meanwhile.\n\n"
           "quality: None or {'max_incidence': deg, 'max_depth_noise': mm} (a pixel counts only\n"
@@ -1360,7 +1370,8 @@ void Bind(py::module_& m) {
           "refuse runs estimated above this many MiB (None: 75 % of the RAM); physical: True\n"
           "the physical sensor model (--physical), False the paper's ideal pinhole (--ideal),\n"
           "None the default (physical, ideal for a Gazebo world of the paper's system);\n"
-          "max_seconds: refuse runs whose ray casting is estimated above this (None: no limit).\n"
+          "max_seconds: refuse runs whose ray casting is estimated above this (None: no limit);\n"
+          "n: the default number of sensors stored with the matrix (observe's -n).\n"
           "A scene with states: the first state's matrix (optimize() selects over all).\n"
           "Returns a vantage.Visibility.")
       .def("__repr__", [](const ProblemHandle& p) {
@@ -1512,6 +1523,56 @@ void Bind(py::module_& m) {
       "P,A), pose_samples, by_type, and a camera on an arm's cycle_time [s], joint_speed,\n"
       "frames, motion_resolution, plan_time [s], track, move_penalty, state_interval [s].\n"
       "None keeps the scene's setting (or the CLI's default).");
+
+  m.def(
+      "select",
+      [](const py::object& file, const py::object& n, const py::object& method,
+         const py::object& out, const py::object& iterations, const py::object& stop,
+         const py::object& time_limit, const py::object& goal, const py::object& k,
+         const py::object& budget, const py::object& cheapest, const py::object& keep_existing,
+         const py::object& over_states, const py::object& seed, const py::object& fov_tolerance,
+         const py::object& alternatives_within, const py::object& pose_tolerance,
+         const py::object& pose_samples, const py::object& threads,
+         const py::object& interference, const py::object& interference_overlap,
+         const py::object& calibration_overlap, const py::object& calibration_overlap_frac,
+         const py::object& min_points, const py::object& min_density) {
+        SelectFileOptions options;
+        options.visibility_file = PathOf(file, "file");
+        options.selection =
+            RequestOf(n, OptionalMethodOf(TextOf(method, "method")), time_limit, k, goal, budget,
+                      iterations, stop, OverStatesOf(TextOf(over_states, "over_states")));
+        SetInstallRules(&options.selection, interference, interference_overlap, calibration_overlap,
+                        calibration_overlap_frac, min_points, min_density);
+        SetChoiceFlags(&options.selection, cheapest, keep_existing);
+        options.seed = UnsignedOf(seed, "seed");
+        options.robustness = RobustnessOf(fov_tolerance, alternatives_within);
+        options.pose_tolerance = PoseToleranceOf(pose_tolerance, pose_samples);
+        const std::optional<std::string> out_dir = OutDirOf(out);
+        const std::string report = WithoutGil(threads, [&] {
+          const RunResult run = SelectFromFile(options);
+          if (out_dir) WriteRun(*out_dir, run);
+          return run.files.at("report.json");
+        });
+        return JsonOf(report);
+      },
+      py::arg("file"), py::arg("n") = py::none(), py::arg("method") = py::none(),
+      py::arg("out") = py::none(), py::kw_only(), py::arg("iterations") = py::none(),
+      py::arg("stop") = py::none(), py::arg("time_limit") = py::none(),
+      py::arg("goal") = py::none(), py::arg("k") = py::none(), py::arg("budget") = py::none(),
+      py::arg("cheapest") = false, py::arg("keep_existing") = false,
+      py::arg("over_states") = py::none(), py::arg("seed") = py::none(),
+      py::arg("fov_tolerance") = py::none(), py::arg("alternatives_within") = py::none(),
+      py::arg("pose_tolerance") = py::none(), py::arg("pose_samples") = py::none(),
+      py::arg("threads") = py::none(), py::arg("interference") = py::none(),
+      py::arg("interference_overlap") = py::none(), py::arg("calibration_overlap") = py::none(),
+      py::arg("calibration_overlap_frac") = py::none(), py::arg("min_points") = py::none(),
+      py::arg("min_density") = py::none(),
+      "`vantage select FILE`: selection from a .vis file (Visibility.save(), `vantage\n"
+      "observe --out`) with the assessment of the CLI's run, robustness and pose tolerance\n"
+      "included, its files written atomically into `out` (None: none). Returns report.json\n"
+      "as a dict. Keywords as optimize()'s selection keywords (method None: 'all'), plus\n"
+      "seed (None: the file's), fov_tolerance, alternatives_within, pose_tolerance,\n"
+      "pose_samples. For one result as an object, use Visibility.select().");
 
   m.def(
       "evaluate",

@@ -46,7 +46,7 @@ KINDS = {
     "by_type": BOOL, "track": BOOL,
     "method": TEXT, "over_states": TEXT,
     "observation_point": POINT, "pose_tolerance": PAIR,
-    "out": PATH, "constellation": PATH,
+    "out": PATH, "constellation": PATH, "file": PATH,
     "model_path": PATHS, "resource_path": PATHS, "package_path": PATHS,
     "progress": CALLABLE,
     "cells": UNSIGNED, "csr": CSR, "names": NAMES, "costs": COSTS, "states": STATES,
@@ -61,6 +61,7 @@ def subjects(tmp_path_factory):
     problem = vantage.load(CUBE_CELL)
     vis = problem.observe(threads=1)
     vantage.optimize(CUBE_CELL, n=1, method="greedy", out=folder / "run")
+    vis.save(folder / "cube.vis")
     calls = {
         "load": lambda **kw: vantage.load(CUBE_CELL, **kw),
         "observe": lambda **kw: problem.observe(**kw),
@@ -71,11 +72,13 @@ def subjects(tmp_path_factory):
             CUBE_CELL, **{"constellation": folder / "run" / "report.json", **kw}),
         "from_matrix": lambda **kw: vantage.Visibility.from_matrix(
             **{"csr": ([0, 1, 3], [0, 1, 2]), "cells": 3, **kw}),
+        "select_file": lambda **kw: vantage.select(
+            **{"file": folder / "cube.vis", "n": 1, "method": "greedy", **kw}),
     }
     functions = {"load": vantage.load, "observe": vantage.Problem.observe,
                  "select": vantage.Visibility.select, "select_all": vantage.Visibility.select_all,
                  "optimize": vantage.optimize, "evaluate": vantage.evaluate,
-                 "from_matrix": vantage.Visibility.from_matrix}
+                 "from_matrix": vantage.Visibility.from_matrix, "select_file": vantage.select}
     return calls, functions
 
 
@@ -93,7 +96,7 @@ def keywords(function):
 
 def cases():
     for function in ["load", "observe", "select", "select_all", "optimize", "evaluate",
-                     "from_matrix"]:
+                     "from_matrix", "select_file"]:
         for kind_name, kind in KINDS.items():
             for wrong in kind["type"]:
                 yield function, kind_name, wrong, TypeError

@@ -212,3 +212,51 @@ def test_python_only_refusals(tmp_path):
     from conftest import CUBE_CELL  # no declared sensors to keep
     with pytest.raises(vantage.InputError, match="^--keep-existing: .* declares no sensors"):
         vantage.load(CUBE_CELL).observe().select(n=2, keep_existing=True)
+
+
+@pytest.mark.parametrize("flags,kwargs", [
+    (["-n", 2, "--interference-overlap", 0.2], {"n": 2, "interference_overlap": 0.2}),
+    (["-n", 2, "--method", "local", "--fov-tolerance", 2, "--alternatives-within", 3,
+      "--pose-tolerance", "0.01,1", "--pose-samples", 4, "--seed", 5],
+     {"n": 2, "method": "local", "fov_tolerance": 2, "alternatives_within": 3,
+      "pose_tolerance": (0.01, 1), "pose_samples": 4, "seed": 5}),
+    (["--goal", 0.6, "--cheapest", "--method", "exact"],
+     {"goal": 0.6, "cheapest": True, "method": "exact"}),
+    (["--keep-existing", "-n", 3, "--method", "greedy", "--min-points", 2],
+     {"keep_existing": True, "n": 3, "method": "greedy", "min_points": 2}),
+], ids=["all", "assessed", "cheapest", "keep_existing"])
+def test_select_file_as_cli(cli_example, flags, kwargs, tmp_path):
+    """vantage.select(FILE) is `vantage select FILE`: the same report.json and files."""
+    vis = cli_example / "example.vis"
+    run_cli("select", vis, *flags, "--out", tmp_path / "cli")
+    returned = vantage.select(vis, out=tmp_path / "py", **kwargs)
+    cli = normalised(read_report(tmp_path / "cli"))
+    assert normalised(read_report(tmp_path / "py")) == cli
+    assert normalised(returned) == cli
+    assert sorted(p.name for p in (tmp_path / "py").iterdir()) == \
+        sorted(p.name for p in (tmp_path / "cli").iterdir())
+    if "pose_tolerance" in kwargs:
+        assert returned["pose_tolerance"]["samples"] == 4
+        assert returned["robustness"]["fov_tolerance_deg"] == 2
+
+
+def test_select_file_refusals(cli_example, tmp_path):
+    vis = cli_example / "example.vis"
+    with pytest.raises(vantage.InputError, match="^--over-states: a visibility file holds one"):
+        vantage.select(vis, over_states="min", out=tmp_path / "py")
+    with pytest.raises(TypeError, match="^file: give a path"):
+        vantage.select(None)
+    assert not (tmp_path / "py").exists()
+
+
+def test_observe_n_is_the_cli_files(tmp_path):
+    """observe(n=2) stores n = 2 with the matrix as `vantage observe -n 2`: the same bytes."""
+    run_cli("observe", EXAMPLE, "-n", 2, "--out", tmp_path / "cli.vis")
+    problem = vantage.load(EXAMPLE)
+    problem.observe(n=2).save(tmp_path / "py.vis")
+    assert (tmp_path / "py.vis").read_bytes() == (tmp_path / "cli.vis").read_bytes()
+    problem.observe().save(tmp_path / "plain.vis")
+    assert (tmp_path / "plain.vis").read_bytes() != (tmp_path / "cli.vis").read_bytes()
+    assert [s.n for s in vantage.load_visibility(tmp_path / "py.vis").select_all()][-1] == 2
+    with pytest.raises(vantage.InputError, match="^-n: "):
+        problem.observe(n=0)
