@@ -160,6 +160,15 @@ class Visibility:
         """Observed with the physical sensor model (False: the ideal pinhole)."""
     @property
     def exposed_only(self) -> bool: ...
+    @property
+    def parts(self) -> list[str]:
+        """R's target parts by name, in scene order."""
+    @property
+    def reference_parts(self) -> Optional[npt.NDArray[np.uint32]]:
+        """(R,) each cell's part (index into parts); None when R knows no parts."""
+    @property
+    def reference_exposed(self) -> Optional[npt.NDArray[np.bool_]]:
+        """(R,) True where some viewpoint could see the cell; None when not computed."""
     def select(
         self,
         n: Optional[int] = None,

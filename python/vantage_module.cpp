@@ -1178,6 +1178,33 @@ void Bind(py::module_& m) {
           "exposed_only", [](const VisibilityHandle& v) { return v.data->reference.exposed_only; },
           "True when R holds only exposed surface (exposed_only=True)")
       .def_property_readonly(
+          "parts", [](const VisibilityHandle& v) { return v.data->reference.part_names; },
+          "R's target parts by name, in scene order (report.json ceiling.parts); empty when R "
+          "does not know them (a matrix from elsewhere, an old .vis)")
+      .def_property_readonly(
+          "reference_parts",
+          [](const VisibilityHandle& v) -> py::object {
+            const Reference& r = v.data->reference;
+            if (r.part_names.empty() || r.part_of.size() != r.size()) return py::none();
+            return py::array_t<uint32_t>(static_cast<py::ssize_t>(r.part_of.size()),
+                                         r.part_of.data());
+          },
+          "numpy uint32 array (R,): each cell's part, an index into parts (column order); None "
+          "when R does not know its parts")
+      .def_property_readonly(
+          "reference_exposed",
+          [](const VisibilityHandle& v) -> py::object {
+            const Reference& r = v.data->reference;
+            if (r.exposed.size() != r.size()) return py::none();
+            py::array_t<bool> exposed(static_cast<py::ssize_t>(r.size()));
+            bool* out = exposed.mutable_data();
+            for (size_t i = 0; i < r.size(); ++i) out[i] = r.exposed[i] != 0;
+            return exposed;
+          },
+          "numpy bool array (R,): True where some viewpoint could see the cell, False for "
+          "surface resting on or enclosed by other geometry (report.json's unexposed cells); "
+          "None when exposure was not computed")
+      .def_property_readonly(
           "quality",
           [](const VisibilityHandle& v) {
             py::dict quality;

@@ -107,3 +107,20 @@ def test_a_matrix_from_elsewhere_has_no_parts():
         (None, None, None, None)
     assert got.ceiling == pytest.approx(2 / 3)
     assert got.gap == 0.0 and got.upper_bound == pytest.approx(1 / 3)
+
+
+def test_parts_and_exposure_per_cell_as_cli(cli_example, example_vis):
+    """Visibility.parts / reference_parts / reference_exposed count, per part, the voxels and
+    unexposed voxels that the binary's report.json ceiling.parts lists."""
+    report = read_report(cli_example / "optimize")
+    parts = report["ceiling"]["parts"]
+    assert example_vis.parts == [p["name"] for p in parts]
+    of, exposed = example_vis.reference_parts, example_vis.reference_exposed
+    assert len(of) == len(exposed) == report["reference_voxels"]
+    for index, part in enumerate(parts):
+        assert int((of == index).sum()) == part["voxels"]
+        assert int(((of == index) & ~exposed).sum()) == part["unexposed_voxels"]
+    assert int((~exposed).sum()) == report["ceiling"]["unexposed_voxels"]
+    external = vantage.Visibility.from_matrix(([0, 1], [0]), cells=2)
+    assert (external.parts, external.reference_parts, external.reference_exposed) == \
+        ([], None, None)
