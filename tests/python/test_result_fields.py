@@ -10,7 +10,8 @@ from conftest import EXAMPLE, read_report, run_cli
 # Result keys and the Selection attribute holding each (None in Python where the key is absent).
 RESULT_KEYS = ["method", "n", "sensors", "coverage", "paper_coverage", "upper_bound", "gap",
                "optimal", "plain_coverage", "min_points", "goal", "n_lower_bound", "cost",
-               "cost_lower_bound", "part_coverage", "ideal_coverage", "constraints"]
+               "cost_lower_bound", "part_coverage", "ideal_coverage", "constraints",
+               "objective", "budget"]
 CANDIDATE_KEYS = ["name", "type", "width", "height", "fx", "fy", "cx", "cy", "near", "far",
                   "coverage", "paper_coverage", "population", "observed_voxels", "rays_traced",
                   "ideal_coverage", "plain_coverage", "target_pixels", "quality_pixels"]
@@ -35,6 +36,7 @@ def check_results(report, selections):
                 assert value == "best"
             else:
                 assert value == expected.get(key), (expected["method"], key)
+        assert got.k == expected.get("k", 1)  # report.json writes k from 2 on
         assert got.ceiling == report["ceiling"]["coverage"]
         if got.part_coverage:  # per part, weighted by its voxels, they add up to coverage
             voxels = {p["name"]: p["voxels"] for p in report["ceiling"]["parts"]}
@@ -50,7 +52,9 @@ def check_results(report, selections):
                                                           "method": "exact"}),
     (["-n", 3, "--method", "local", "--interference-overlap", 0.2, "--calibration-overlap", 20],
      {"n": 3, "method": "local", "interference_overlap": 0.2, "calibration_overlap": 20}),
-], ids=["exact", "min_points", "cheapest", "constraints"])
+    (["--budget", 600, "--method", "exact"], {"budget": 600, "method": "exact"}),
+    (["-n", 3, "--k", 2, "--method", "greedy"], {"n": 3, "k": 2, "method": "greedy"}),
+], ids=["exact", "min_points", "cheapest", "constraints", "budget", "k"])
 def test_select_result_fields_as_cli(cli_example, example_vis, flags, kwargs, tmp_path):
     run_cli("select", cli_example / "example.vis", *flags, "--out", tmp_path / "cli")
     report = read_report(tmp_path / "cli")
