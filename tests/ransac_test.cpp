@@ -160,6 +160,40 @@ TEST(Ransac, AllSharesItsDrawnSensorsAmongTheSmallerN) {
   }
 }
 
+TEST(AllExactTime, LanesShareTheirWallTime) {
+  using detail::AllExactTime;
+  // At most kMaxLanes, never more than the threads allowed or the runs, at least one.
+  EXPECT_EQ(AllExactTime::Lanes(1, 10), 1u);
+  EXPECT_EQ(AllExactTime::Lanes(0, 10), 1u);
+  EXPECT_EQ(AllExactTime::Lanes(16, 10), AllExactTime::kMaxLanes);
+  EXPECT_EQ(AllExactTime::Lanes(16, 1), 1u);
+  // One lane is the rule of one n after another: n gets what is left / (last_n - n + 1).
+  AllExactTime by_n(450, 60.0, 10), one_lane(60.0);
+  for (int n = 1; n <= 10; ++n) {
+    EXPECT_DOUBLE_EQ(by_n.Share(n), one_lane.Share(static_cast<size_t>(10 - n + 1), 1)) << n;
+    const double took = 0.1 * n;
+    by_n.Spend(took);
+    one_lane.Spend(took);
+  }
+  // Two lanes, 10 runs not started: each lane expects 5, so the first run gets kSeconds / 5; a
+  // lane starting the 9th run (2 left in all) expects 1 and gets all it has left.
+  EXPECT_DOUBLE_EQ(AllExactTime(60.0).Share(10, 2), AllExactTime::kSeconds / 5);
+  EXPECT_DOUBLE_EQ(AllExactTime(60.0).Share(3, 2), AllExactTime::kSeconds / 2);
+  EXPECT_DOUBLE_EQ(AllExactTime(2.0).Share(2, 2), 2.0);  // the time limit below kSeconds
+  // Runs that each take their whole share: two lanes taking runs in turn never exceed kSeconds.
+  for (const size_t runs : {1, 2, 3, 7, 10, 25}) {
+    AllExactTime lanes[2] = {AllExactTime(60.0), AllExactTime(60.0)};
+    double spent[2] = {0, 0};
+    for (size_t j = 0; j < runs; ++j) {
+      const size_t lane = spent[0] <= spent[1] ? 0 : 1;  // the lane free first takes the next
+      const double share = lanes[lane].Share(runs - j, 2);
+      lanes[lane].Spend(share);
+      spent[lane] += share;
+    }
+    EXPECT_LE(std::max(spent[0], spent[1]), AllExactTime::kSeconds + 1e-9) << runs;
+  }
+}
+
 TEST(Ransac, MethodAllRunsTheSharedIterations) {
   // 5000 candidates each seeing its own cell; the two of RANSAC's draw 800 000 at n = 2 see 10
   // more cells each, so the best pair is that draw (or a rarer earlier one): found with I = 10^6,

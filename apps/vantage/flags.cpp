@@ -301,9 +301,9 @@ void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {
                   "RANSAC stops at this coverage, fraction 0..1 (default: the scene's)");
   app->add_option("--time-limit", request->time_limit,
                   "seconds for the exact method, the greedy and local search it starts from "
-                  "included (default: 60); --method all shares the smaller "
-                  "of it and 6 s among its N's, each N an equal part of what the N's before "
-                  "it left");
+                  "included (default: 60); --method all runs its N's on up to 2 threads at once, "
+                  "each thread's N's sharing the smaller of it and 6 s of wall time, each N an "
+                  "equal part of what that thread has left for the N's it still expects");
   app->add_option("--goal", request->goal,
                   "objective: the fewest sensors whose coverage reaches this fraction 0..1 (set "
                   "cover)");

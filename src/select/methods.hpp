@@ -26,28 +26,46 @@ template <class T>
 concept MethodScorer = std::same_as<T, CellScorer> || std::same_as<T, StatesScorer>;
 
 /// How `--method all` shares `exact`'s time among its n's: exact runs only on instances of at most
-/// kMaxCandidates candidates (so "all" stays interactive), all its runs together take at most the
-/// smaller of the time limit and kSeconds, and each n gets an equal share of what is left for the
-/// n's still to run (time a quick proof leaves goes to the larger, harder n). `--method exact`
-/// alone has no size cap and the full time limit.
+/// kMaxCandidates candidates (so "all" stays interactive). Plain selection runs its n's in
+/// Lanes() lanes at once (the threads allowed, at most kMaxLanes; over states and under
+/// constraints one lane); each lane takes the smallest n not yet started, its runs together take
+/// at most the smaller of the time limit and kSeconds of wall time, and each run gets an equal
+/// share of what its lane has left for the runs it still has to expect, ⌈(n's not yet started,
+/// its own included) / lanes⌉ (time a quick proof leaves goes to the larger, harder n). One lane
+/// is the rule of one n after another: an equal share of what is left for the n's still to run.
+/// `--method exact` alone has no size cap and the full time limit.
 class AllExactTime {
  public:
   static constexpr size_t kMaxCandidates = 2000;
   static constexpr double kSeconds = 6.0;
+  /// Two lanes: the second core of a 2-core machine, idle while exact proves on one (its passes
+  /// go parallel only on matrices far larger than `all`'s); each lane may hold branch and
+  /// bound's stored multipliers (up to 256 MB), so no more.
+  static constexpr size_t kMaxLanes = 2;
+  static size_t Lanes(size_t threads_allowed, size_t runs) {
+    return std::max<size_t>(1, std::min({threads_allowed, kMaxLanes, runs}));
+  }
+  explicit AllExactTime(double time_limit) : seconds_left_(std::min(time_limit, kSeconds)) {}
   AllExactTime(size_t candidates, double time_limit, int last_n)
       : runs_(candidates <= kMaxCandidates),
         seconds_left_(std::min(time_limit, kSeconds)),
         last_n_(last_n) {}
   bool runs() const { return runs_; }
-  /// The seconds exact may take for `n` (first_n <= n <= last_n).
-  double Share(int n) const { return std::max(1e-3, seconds_left_ / (last_n_ - n + 1)); }
+  /// The seconds exact may take for `n` (first_n <= n <= last_n), one lane.
+  double Share(int n) const { return Share(static_cast<size_t>(last_n_ - n + 1), 1); }
+  /// The seconds of the next run of a lane, `runs_left` runs (this one included) not yet started
+  /// in all `lanes`.
+  double Share(size_t runs_left, size_t lanes) const {
+    const size_t expected = (runs_left + lanes - 1) / std::max<size_t>(lanes, 1);
+    return std::max(1e-3, seconds_left_ / static_cast<double>(std::max<size_t>(expected, 1)));
+  }
   /// Records what one run took.
   void Spend(double seconds) { seconds_left_ = std::max(0.0, seconds_left_ - seconds); }
 
  private:
-  bool runs_;
+  bool runs_ = true;
   double seconds_left_;
-  int last_n_;
+  int last_n_ = 1;
 };
 
 /// How `--method all` shares RANSAC's iterations among its n's: the n asked (the world's N) runs

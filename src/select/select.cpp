@@ -14,10 +14,15 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <tbb/global_control.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <iterator>
+#include <thread>
 
 #include "select/constrained.hpp"
 #include "select/coverage_matrix.hpp"
@@ -141,24 +146,58 @@ class Pipeline {
     if (objective_ == Objective::kSetCover) {
       const detail::SetCoverResult exact = detail::SolveSetCover(
           matrix_, GoalCells(*options_.goal, matrix_.reference_size()), local_, time_limit);
-      LogNote(exact.proven_optimal, exact.note);
+      LogNote(local_.size(), exact.proven_optimal, exact.note);
       Selection s = Scored(Method::kExact, exact.chosen, local_seconds_ + SecondsSince(start));
       s.n_lower_bound = static_cast<int>(exact.lower_bound);
       s.proven_optimal = exact.proven_optimal;
       return s;
     }
+    ExactNote note;
+    Selection s = ExactFrom(local_, local_seconds_, time_limit, &note);
+    LogNote(n, note.proven_optimal, note.text);
+    return s;
+  }
+
+  /// What exact found to say, logged by the caller (in n order where lanes ran at once).
+  struct ExactNote {
+    bool proven_optimal = false;
+    std::string text;
+  };
+
+  /// Exact (coverage, k-coverage, min points or budget) warm-started from `start`, found in
+  /// `start_seconds`. Const and touching no member state: `all`'s lanes run it at once.
+  Selection ExactFrom(const std::vector<uint32_t>& start, double start_seconds, double time_limit,
+                      ExactNote* note) const {
+    const Clock::time_point begin = Clock::now();
     detail::ExactResult exact;
     if (objective_ == Objective::kBudget) {
       exact =
-          detail::SolveExactBudget(matrix_, options_.costs, *options_.budget, local_, time_limit);
+          detail::SolveExactBudget(matrix_, options_.costs, *options_.budget, start, time_limit);
     } else {
-      exact = detail::SolveExactK(matrix_, n, k_, local_, time_limit);
+      exact = detail::SolveExactK(matrix_, start.size(), k_, start, time_limit);
     }
-    LogNote(exact.proven_optimal, exact.note);
-    Selection s = Scored(Method::kExact, exact.chosen, local_seconds_ + SecondsSince(start));
+    note->proven_optimal = exact.proven_optimal;
+    note->text = std::move(exact.note);
+    Selection s = Scored(Method::kExact, exact.chosen, start_seconds + SecondsSince(begin));
     s.upper_bound = std::max(Fraction(exact.upper_bound, matrix_.reference_size()), s.coverage);
     s.proven_optimal = exact.proven_optimal;
     return s;
+  }
+
+  const std::vector<uint32_t>& local() const { return local_; }
+  double local_seconds() const { return local_seconds_; }
+
+  void LogNote(size_t n, bool proven_optimal, const std::string& note) const {
+    std::string what = fmt::format("exact, n = {}", n);
+    if (objective_ == Objective::kKCoverage) what += fmt::format(", k = {}", k_);
+    if (objective_ == Objective::kMinPoints) what += fmt::format(", min points = {}", k_);
+    if (objective_ == Objective::kSetCover || objective_ == Objective::kBudget)
+      what = fmt::format("exact ({})", ObjectiveName(objective_));
+    if (!proven_optimal && !note.empty()) {
+      Logger()->warn("{}: {}; reporting the best answer found and a bound", what, note);
+    } else if (!note.empty()) {
+      Logger()->debug("{}: {}", what, note);
+    }
   }
 
   /// Exact for a goal with a threshold (k >= 2, min_points) or minimising cost: the goal MILP
@@ -173,7 +212,7 @@ class Pipeline {
     };
     std::vector<uint32_t> chosen = local_;
     if (!milp.chosen.empty() && price(milp.chosen) < price(chosen)) chosen = milp.chosen;
-    LogNote(milp.proven_optimal, milp.note);
+    LogNote(local_.size(), milp.proven_optimal, milp.note);
     Selection s = Scored(Method::kExact, chosen, local_seconds_ + SecondsSince(start));
     if (options_.minimize_cost) {
       s.cost_lower_bound = std::min(milp.lower_bound, *s.cost);
@@ -203,19 +242,6 @@ class Pipeline {
   }
 
  private:
-  void LogNote(bool proven_optimal, const std::string& note) const {
-    std::string what = fmt::format("exact, n = {}", local_.size());
-    if (objective_ == Objective::kKCoverage) what += fmt::format(", k = {}", k_);
-    if (objective_ == Objective::kMinPoints) what += fmt::format(", min points = {}", k_);
-    if (objective_ == Objective::kSetCover || objective_ == Objective::kBudget)
-      what = fmt::format("exact ({})", ObjectiveName(objective_));
-    if (!proven_optimal && !note.empty()) {
-      Logger()->warn("{}: {}; reporting the best answer found and a bound", what, note);
-    } else if (!note.empty()) {
-      Logger()->debug("{}: {}", what, note);
-    }
-  }
-
   const CoverageEvaluator& evaluator_;
   const detail::CoverageMatrix& matrix_;
   const SelectOptions& options_;
@@ -227,6 +253,47 @@ class Pipeline {
   double greedy_seconds_ = 0;
   double local_seconds_ = 0;
 };
+
+// One exact run of `all`: its n's local answer, the seconds that took, its place in the results.
+struct ExactRun {
+  std::vector<uint32_t> start;
+  double start_seconds = 0;
+  size_t slot = 0;
+  Pipeline::ExactNote note;
+};
+
+// `all`'s exact runs in AllExactTime's lanes: each lane (the calling thread and lanes - 1 more)
+// takes the smallest n not yet started, with its share of the lane's time.
+void RunExactLanes(const Pipeline& pipeline, double time_limit, std::vector<ExactRun>* runs,
+                   std::vector<Selection>* results) {
+  if (runs->empty()) return;
+  const size_t threads = tbb::global_control::active_value(
+      tbb::global_control::max_allowed_parallelism);
+  const size_t lanes = detail::AllExactTime::Lanes(threads, runs->size());
+  std::atomic<size_t> next{0};
+  std::vector<std::exception_ptr> failures(lanes);
+  const auto lane = [&](size_t which) {
+    try {
+      detail::AllExactTime time(time_limit);
+      for (size_t j; (j = next.fetch_add(1)) < runs->size();) {
+        ExactRun& run = (*runs)[j];
+        const Clock::time_point start = Clock::now();
+        (*results)[run.slot] = pipeline.ExactFrom(
+            run.start, run.start_seconds, time.Share(runs->size() - j, lanes), &run.note);
+        time.Spend(SecondsSince(start));
+      }
+    } catch (...) {
+      failures[which] = std::current_exception();
+      next = runs->size();  // the other lanes start nothing more
+    }
+  };
+  std::vector<std::thread> others;
+  for (size_t which = 1; which < lanes; ++which) others.emplace_back(lane, which);
+  lane(0);
+  for (std::thread& t : others) t.join();
+  for (const std::exception_ptr& failure : failures)
+    if (failure) std::rethrow_exception(failure);
+}
 
 }  // namespace
 
@@ -541,16 +608,21 @@ std::vector<Selection> Select(std::span<const Observation> observations,
     Logger()->info("select: exact skipped in 'all' ({} candidates > {}); use --method exact",
                    observations.size(), detail::AllExactTime::kMaxCandidates);
   }
+  // RANSAC, greedy and local for every n first (deterministic), then exact from each n's local
+  // answer in AllExactTime's lanes, each result in its n's place.
+  std::vector<ExactRun> exact_runs;
   for (int n = first_n; n <= options.n; ++n) {
     results.push_back(pipeline.Ransac(
         n, detail::AllRansacShare::Iterations(options.ransac_iterations, n, options.n)));
     results.push_back(pipeline.Greedy(n));
     results.push_back(pipeline.Local());
     if (!exact_time.runs()) continue;
-    const Clock::time_point exact_start = Clock::now();
-    results.push_back(pipeline.Exact(exact_time.Share(n)));
-    exact_time.Spend(SecondsSince(exact_start));
+    exact_runs.push_back({pipeline.local(), pipeline.local_seconds(), results.size(), {}});
+    results.emplace_back();
   }
+  RunExactLanes(pipeline, options.time_limit, &exact_runs, &results);
+  for (const ExactRun& run : exact_runs)
+    pipeline.LogNote(run.start.size(), run.note.proven_optimal, run.note.text);
   return results;
 }
 
