@@ -10,6 +10,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstring>
+#include <mutex>
 
 #include "vantage/interrupt.hpp"
 
@@ -56,18 +57,23 @@ void KillAndReap(pid_t child) {
 std::optional<std::string> RunInChildProcess(const std::function<std::string()>& solve,
                                              double seconds, std::string* why) {
   int fds[2];
-  if (::pipe(fds) != 0) return solve();
-  const pid_t child = ::fork();
-  if (child < 0) {
-    ::close(fds[0]);
-    ::close(fds[1]);
-    return solve();
+  pid_t child = -1;
+  {
+    // `--method all` runs exact on two threads: a child forked by one must not inherit the
+    // other's write end, or that pipe's end of file waits for the wrong child.
+    static std::mutex forking;
+    const std::lock_guard<std::mutex> lock(forking);
+    if (::pipe(fds) == 0) {
+      child = ::fork();
+      if (child == 0) {
+        ::close(fds[0]);
+        ChildMain(fds[1], solve);
+      }
+      if (child < 0) ::close(fds[0]);
+      ::close(fds[1]);
+    }
   }
-  if (child == 0) {
-    ::close(fds[0]);
-    ChildMain(fds[1], solve);
-  }
-  ::close(fds[1]);
+  if (child < 0) return solve();
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
   std::string bytes;
   char buffer[1 << 16];
