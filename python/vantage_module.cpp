@@ -932,7 +932,7 @@ py::list SensorCatalog() {
     entry["near"] = s.near;
     entry["far"] = s.far;
     entry["fps"] = s.fps;
-    entry["cost"] = s.cost;
+    entry["cost"] = s.cost_given ? py::object(py::float_(s.cost)) : py::object(py::none());
     if (s.depth_noise) {
       py::dict noise;
       noise["a"] = s.depth_noise->a;

@@ -28,17 +28,21 @@ json WithoutTimings(json report) {
 TEST(Cli, SensorsListsTheCatalog) {
   const auto table = RunVantage("sensors");
   ASSERT_EQ(table.exit_code, 0) << table.err;
-  for (const char* id : {"kinect_xbox_360", "photoneo_phoxi_s", "azure_kinect_wfov", "zed"})
+  for (const char* id : {"kinect_xbox_360", "photoneo_phoxi_s", "azure_kinect_wfov", "zed",
+                         "femto_bolt_wfov_unbinned"})
     EXPECT_NE(table.out.find(id), std::string::npos) << id;
   const auto listed = RunVantage("sensors --json");
   ASSERT_EQ(listed.exit_code, 0);
   const json catalog = json::parse(listed.out);
-  ASSERT_EQ(catalog.size(), 19u);  // SENSORS.md's 14 and the modes of docs/sensor-models.md
+  // SENSORS.md's 14, the modes of docs/sensor-models.md and the Femto Bolt's four (issue 43).
+  ASSERT_EQ(catalog.size(), 23u);
   // SR300 (SENSORS.md): 640 px over 1.24791 rad -> fx = 320 / tan(0.623955).
   for (const json& t : catalog) {
     if (t["id"] == "intel_realsense_sr300") {
       EXPECT_NEAR(t["fx"].get<double>(), 320 / std::tan(0.623955), 1e-9);
     }
+    // A vendor that publishes no price has none (issue 43), every other entry its number.
+    EXPECT_EQ(t["cost"].is_null(), t["id"].get<std::string>().starts_with("femto_bolt")) << t["id"];
   }
 }
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <set>
 
@@ -255,6 +256,145 @@ TEST(Physical, CatalogEntriesValidateAndKeepThePapersTypes) {
   EXPECT_DOUBLE_EQ(kinect->second_aperture->baseline, 0.075);
   EXPECT_EQ(SecondApertureOf(*FindCatalogType("azure_kinect_wfov_unbinned"), "azure_kinect_wfov_unbinned"),
             nullptr);
+}
+
+// The Orbbec Femto Bolt's depth modes, as Orbbec's "Femto Bolt Hardware Specifications" lists
+// them (docs/sensor-models.md): the fields of view derived from the catalog's focal lengths are
+// the datasheet's, the ranges and rates are its own, and the camera is the Azure Kinect's
+// (Orbbec: the same ToF depth camera), so its intrinsics equal that entry's. Time of flight needs
+// no second aperture; no price is published, so none is carried.
+TEST(Physical, FemtoBoltModesAreOrbbecsDatasheet) {
+  struct Mode {
+    const char* id;
+    const char* azure;
+    int w, h;
+    double hfov_deg, vfov_deg, near, far, fps;
+  };
+  for (const Mode& m :
+       {Mode{"femto_bolt_nfov_unbinned", "azure_kinect_nfov", 640, 576, 75, 65, 0.5, 3.86, 30},
+        Mode{"femto_bolt_nfov_binned", "azure_kinect_nfov_binned", 320, 288, 75, 65, 0.5, 5.46, 30},
+        Mode{"femto_bolt_wfov_binned", "azure_kinect_wfov", 512, 512, 120, 120, 0.25, 2.88, 30},
+        Mode{"femto_bolt_wfov_unbinned", "azure_kinect_wfov_unbinned", 1024, 1024, 120, 120,
+             0.25, 2.21, 25}}) {
+    SCOPED_TRACE(m.id);
+    const SensorType* type = FindCatalogType(m.id);
+    ASSERT_NE(type, nullptr);
+    EXPECT_EQ(type->width, m.w);
+    EXPECT_EQ(type->height, m.h);
+    EXPECT_NEAR(type->HorizontalFov() * 180 / kPi, m.hfov_deg, 1e-9);
+    EXPECT_NEAR(type->VerticalFov() * 180 / kPi, m.vfov_deg, 1e-9);
+    EXPECT_EQ(type->near, m.near);
+    EXPECT_EQ(type->far, m.far);
+    EXPECT_EQ(type->fps, m.fps);
+    EXPECT_EQ(type->technology, "time of flight");
+    EXPECT_EQ(SecondApertureOf(*type, m.id), nullptr);
+    EXPECT_EQ(PhysicalModelGap(*type, m.id), "");  // ToF: nothing extra to model
+    EXPECT_FALSE(UnitCostGiven(*type, m.id));
+    // The Azure Kinect's depth camera: same pixels, same rays, same range.
+    const SensorType* azure = FindCatalogType(m.azure);
+    ASSERT_NE(azure, nullptr);
+    EXPECT_EQ(azure->width, type->width);
+    EXPECT_NEAR(azure->fx, type->fx, 1e-9);
+    EXPECT_NEAR(azure->fy, type->fy, 1e-9);
+    EXPECT_EQ(azure->near, type->near);
+    EXPECT_EQ(azure->far, type->far);
+    // Named after its entry it stays a Femto Bolt; a Gazebo model of the same camera under
+    // another name is read as the first entry with its values, the Azure Kinect's.
+    EXPECT_EQ(MatchCatalogId(*type), m.id);
+    SensorType renamed = *type;
+    renamed.id = "some_gazebo_model";
+    EXPECT_EQ(MatchCatalogId(renamed), m.azure);
+    // A price given in the scene is a price.
+    SensorType priced = *type;  // as the scene reader makes it from `cost: 450`
+    priced.cost = 450;
+    priced.cost_given = true;
+    EXPECT_TRUE(UnitCostGiven(priced, m.id));
+  }
+  for (const SensorType& type : Catalog())
+    if (!type.id.starts_with("femto_bolt")) EXPECT_TRUE(UnitCostGiven(type, type.id)) << type.id;
+}
+
+// Structured light and stereo need a second aperture: a type of that technology without one is
+// not modelled (and says so), time of flight needs none, and a type that gives its own aperture
+// (or `kind: none` on purpose) is modelled as given.
+TEST(Physical, TypesWithoutAKnownApertureAreStatedNotModelled) {
+  const auto gap = [](const char* id) {
+    const SensorType* type = FindCatalogType(id);
+    EXPECT_NE(type, nullptr) << id;
+    return type ? PhysicalModelGap(*type, id) : std::string("?");
+  };
+  EXPECT_NE(gap("asus_xtion_pro_live").find("projector"), std::string::npos);
+  EXPECT_NE(gap("photoneo_phoxi_s").find("projector"), std::string::npos);
+  EXPECT_NE(gap("ensenso_n35").find("projector"), std::string::npos);
+  EXPECT_EQ(gap("kinect_xbox_360"), "");
+  EXPECT_EQ(gap("intel_realsense_d435"), "");
+  EXPECT_EQ(gap("kinect_xbox_one"), "");
+  SensorType stereo = SensorType::FromFov("my_stereo", 640, 480, 1.0, std::nullopt, 0.2, 3);
+  stereo.technology = "passive stereo";
+  EXPECT_NE(PhysicalModelGap(stereo, "my_stereo").find("second imager"), std::string::npos);
+  stereo.second_aperture = SecondAperture{};  // kind: none, given on purpose
+  EXPECT_EQ(PhysicalModelGap(stereo, "my_stereo"), "");
+}
+
+// A type without a price refuses --budget (exit 2 naming the flag and the type, before any ray)
+// and reports no unit or total cost in --by-type, until the scene gives it one; under the
+// physical model (on: the Kinect has a projector) the Xtion's row says it is not modelled.
+TEST(Physical, UnpricedTypeRefusesABudgetUntilTheSceneGivesACost) {
+  test::TempDir dir;
+  const auto scene = [&](const std::string& name, const std::string& types,
+                         const std::string& type) {
+    const std::string path = dir.File(name);
+    test::WriteText(path, "settings:\n  cell_size: 0.02\n  n: 1\n  observation_point: [0, 0, 0.06]\n" +
+                              types + R"(objects:
+  - name: cube
+    role: target
+    box: {size: [0.1, 0.1, 0.1]}
+    pose: {xyz: [0, 0, 0.06]}
+sensors:
+  - {name: a, type: )" + type + R"(, position: [0, 0, 1.06], orientation: {rpy: [0, 1.5707963267948966, 0]}}
+  - {name: b, type: asus_xtion_pro_live, position: [1.0, 0, 0.06], orientation: {rpy: [0, 0, 3.141592653589793]}}
+  - {name: c, type: kinect_xbox_360, position: [-1.0, 0, 0.06], orientation: {rpy: [0, 0, 0]}}
+)");
+    return path;
+  };
+  const std::string bolt = scene("bolt.yaml", "", "femto_bolt_nfov_unbinned");
+  const auto refused = test::RunVantage("optimize " + bolt + " --budget 1000 --out " + dir.File("r"));
+  EXPECT_EQ(refused.exit_code, 2) << refused.err;
+  EXPECT_NE(refused.err.find("--budget"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("'femto_bolt_nfov_unbinned' has no unit cost"), std::string::npos)
+      << refused.err;
+  EXPECT_EQ(refused.err.find("observe:"), std::string::npos) << "no ray before the refusal";
+  EXPECT_FALSE(std::filesystem::exists(dir.File("r/report.json")));
+
+  const std::string out = dir.File("by_type");
+  const auto run = test::RunVantage("optimize " + bolt + " --by-type --physical --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("femto_bolt_nfov_unbinned: unit cost not given"), std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("asus_xtion_pro_live: physical model not modelled"), std::string::npos)
+      << run.out;
+  const nlohmann::json report = nlohmann::json::parse(test::ReadText(out + "/report.json"));
+  for (const nlohmann::json& t : report["by_type"]["types"]) {
+    SCOPED_TRACE(t["type"].get<std::string>());
+    const bool bolt_row = t["type"] == "femto_bolt_nfov_unbinned";
+    EXPECT_EQ(t["unit_cost"].is_null(), bolt_row);
+    for (const nlohmann::json& b : t["best"]) EXPECT_EQ(b["total_cost"].is_null(), bolt_row);
+    EXPECT_EQ(t.contains("physical_model"), t["type"] == "asus_xtion_pro_live");
+  }
+  for (const nlohmann::json& t : report["sensor_model"]["types"]) {
+    if (t["type"] == "femto_bolt_nfov_unbinned") EXPECT_EQ(t["second_aperture"], "none");
+    if (t["type"] == "asus_xtion_pro_live") {
+      EXPECT_EQ(t["second_aperture"], "not modelled");
+      EXPECT_NE(t["physical_model"].get<std::string>().find("projector"), std::string::npos);
+    }
+  }
+
+  const std::string priced = scene(
+      "priced.yaml",
+      "sensor_types:\n  - {id: my_bolt, base: femto_bolt_nfov_unbinned, cost: 400}\n", "my_bolt");
+  const auto budget = test::RunVantage("optimize " + priced + " --budget 1000 --out " +
+                                       dir.File("p"));
+  EXPECT_EQ(budget.exit_code, 0) << budget.err;
 }
 
 // --by-type on a scene whose answer is known by construction: a floating 0.1 m cube (faces in

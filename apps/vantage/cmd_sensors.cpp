@@ -17,7 +17,9 @@ void RunSensors(bool as_json) {
       list.push_back({{"id", s.id}, {"name", s.name}, {"technology", s.technology}, {"width", s.width},
                       {"height", s.height}, {"hfov", s.HorizontalFov()}, {"vfov", s.VerticalFov()},
                       {"fx", s.fx}, {"fy", s.fy}, {"cx", s.cx}, {"cy", s.cy}, {"near", s.near},
-                      {"far", s.far}, {"fps", s.fps}, {"cost", s.cost}});
+                      {"far", s.far}, {"fps", s.fps}});
+      // A vendor that publishes no price: null, not a made-up number (docs/sensor-models.md).
+      list.back()["cost"] = s.cost_given ? nlohmann::ordered_json(s.cost) : nlohmann::ordered_json();
     }
     fmt::print("{}\n", list.dump(2));
     return;
@@ -28,7 +30,8 @@ void RunSensors(bool as_json) {
     fmt::print("{:<29} {:<34} {:>10} {:>13} {:>12} {:>5} {:>7}\n", s.id, s.name,
                fmt::format("{}x{}", s.width, s.height),
                fmt::format("{:.1f}x{:.1f}", s.HorizontalFov() * kRadToDeg, s.VerticalFov() * kRadToDeg),
-               fmt::format("{:g}-{:g}", s.near, s.far), s.fps, s.cost);
+               fmt::format("{:g}-{:g}", s.near, s.far), s.fps,
+               s.cost_given ? fmt::format("{:g}", s.cost) : std::string("-"));
   }
 }
 

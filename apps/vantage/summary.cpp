@@ -278,8 +278,9 @@ void PrintByType(const TypeComparisonTable& table) {
     return row;
   };
   for (const TypeComparison& type : table.types)
-    fmt::print("  {:<{}} {:>4} × {:<8g}{}\n", type.type_id, width, type.candidates,
-               type.unit_cost, cells(type.best));
+    fmt::print("  {:<{}} {:>4} × {:<8}{}\n", type.type_id, width, type.candidates,
+               type.unit_cost_given ? fmt::format("{:g}", type.unit_cost) : std::string("-"),
+               cells(type.best));
   fmt::print("  {:<{}} {:>15}{}\n", "mix (the run's best)", width, "", cells(table.mix));
   std::string gains;
   for (const Selection& s : table.mix) {
@@ -291,6 +292,14 @@ void PrintByType(const TypeComparisonTable& table) {
                              : fmt::format(" {:>+7.2f} ", 100.0 * (s.coverage - best_single));
   }
   fmt::print("  {:<{}} {:>15}{}\n", "gain over the best type", width, "", gains);
+  // Types the physical model sees as the ideal pinhole (issue 43): their rows are not physical.
+  if (table.physical)
+    for (const TypeComparison& type : table.types)
+      if (!type.physical_gap.empty())
+        fmt::print("  {}: physical model {}\n", type.type_id, type.physical_gap);
+  for (const TypeComparison& type : table.types)
+    if (!type.unit_cost_given)
+      fmt::print("  {}: unit cost not given (its vendor publishes none)\n", type.type_id);
 }
 
 // optimize --track (docs/arm.md): each state's view, its coverage there and the move to it.

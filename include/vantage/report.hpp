@@ -29,6 +29,12 @@ struct TypeComparison {
   std::string name;      ///< display name (the type's, else its id)
   size_t candidates = 0;  ///< the run's candidates of this type
   double unit_cost = 0;   ///< SensorType::cost
+  /// False when its vendor publishes no price (UnitCostGiven): unit_cost and every total cost
+  /// with it are then not given.
+  bool unit_cost_given = true;
+  /// Why the physical model sees this type as the ideal pinhole ("" when it does not:
+  /// PhysicalModelGap), stated beside its row when the run was physical.
+  std::string physical_gap;
   /// Per n from 1 (k with k-coverage) to the run's n, at most the type's candidates: the best
   /// answer over this type's candidates alone, chosen by the run's selection (same method,
   /// objective and constraints). `chosen` indexes the run's candidates; `upper_bound` is the
@@ -43,6 +49,7 @@ struct TypeComparisonTable {
   /// Per n, the run's own best answer over all candidates (its results and curve), shaped as
   /// TypeComparison::best.
   std::vector<Selection> mix;
+  bool physical = false;  ///< observed with the physical sensor model
 };
 
 /// What `--refine` did (issue 9): the refined constellation is results[result], grown from

@@ -75,6 +75,10 @@ struct SensorType {
   double far = 0;          ///< farthest valid depth [m]
   double fps = 0;          ///< frame rate [Hz], informative
   double cost = 1.0;       ///< unit cost for budgeted selection
+  /// Whether `cost` is a price someone gave (issue 43): false for a catalog entry whose vendor
+  /// publishes none (its cost is 0 and stands for "not given"); --budget and --cheapest refuse
+  /// such a type until the scene gives it a cost (UnitCostGiven).
+  bool cost_given = true;
   /// Depth noise model; unset when no published model is known for the type.
   std::optional<DepthNoise> depth_noise;
   /// Whether its projector washes out another projecting sensor's pattern (projector
@@ -108,7 +112,8 @@ const std::vector<SensorType>& Catalog();
 /// Catalog entry by id, or nullptr.
 const SensorType* FindCatalogType(std::string_view id);
 /// The id of the catalog entry with the same resolution, intrinsics and range (relative
-/// tolerance 1e-6), or "" when none matches.
+/// tolerance 1e-6): the entry named type.id when it matches, else the first that does; "" when
+/// none matches.
 std::string MatchCatalogId(const SensorType& type);
 
 /// Whether sensors of `type` interfere: `type.interferes` when set, else whether its technology
@@ -132,6 +137,16 @@ std::optional<double> FlyingPixelThresholdOf(const SensorType& type, std::string
 /// Whether the physical model changes what the type sees: it has a second aperture or a
 /// flying-pixel filter.
 bool HasPhysicalModel(const SensorType& type, std::string_view catalog_id);
+
+/// Whether a sensor's unit cost is a given price: false when its type is (or, with the same
+/// cost, matches by id) a catalog entry that publishes none and the scene gave it no cost.
+bool UnitCostGiven(const SensorType& type, std::string_view catalog_id);
+
+/// Why the physical model cannot judge a type the way its technology needs ("" when it can):
+/// structured light and stereo need a second aperture, and a type of that technology (its own,
+/// else the catalog entry's) without one is seen as the ideal pinhole — no source gave the
+/// projector's or second imager's pose. Time of flight needs none.
+std::string PhysicalModelGap(const SensorType& type, std::string_view catalog_id);
 
 /// The nearest depth stereo matching can return, fx * baseline / disparity_range [m]; 0 when the
 /// aperture sets no disparity range (or is not an imager).

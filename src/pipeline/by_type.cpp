@@ -37,9 +37,13 @@ std::vector<Selection> BestPerN(const std::vector<Selection>& answers, int first
   return best;
 }
 
-double TotalCost(const Selection& s, std::span<const Candidate> candidates) {
+// The chosen sensors' summed unit cost; none when one of them has no price (issue 43).
+std::optional<double> TotalCost(const Selection& s, std::span<const Candidate> candidates) {
   double cost = 0;
-  for (uint32_t i : s.chosen) cost += candidates[i].sensor.cost;
+  for (uint32_t i : s.chosen) {
+    if (!UnitCostGiven(candidates[i].sensor, candidates[i].type_id)) return std::nullopt;
+    cost += candidates[i].sensor.cost;
+  }
   return cost;
 }
 
@@ -60,6 +64,7 @@ TypeComparisonTable CompareTypes(const VisibilityFile& data, const SelectOptions
     list.push_back(i);
   }
   TypeComparisonTable table;
+  table.physical = data.physical;
   for (const std::string& type_id : order) {
     const std::vector<uint32_t>& of_type = members[type_id];
     TypeComparison type;
@@ -68,6 +73,8 @@ TypeComparisonTable CompareTypes(const VisibilityFile& data, const SelectOptions
     type.name = sensor.name.empty() ? type_id : sensor.name;
     type.candidates = of_type.size();
     type.unit_cost = sensor.cost;
+    type.unit_cost_given = UnitCostGiven(sensor, type_id);
+    type.physical_gap = PhysicalModelGap(sensor, type_id);
     const int last_n = std::min(options.n, static_cast<int>(of_type.size()));
     if (last_n < first_n) {  // fewer candidates than k-coverage needs
       table.types.push_back(std::move(type));

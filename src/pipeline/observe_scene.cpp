@@ -277,6 +277,21 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& give
   bool any_aperture = detail::AnyApertureIn(prepared.candidates);
   for (const std::vector<Candidate>& state : prepared.state_candidates)
     any_aperture = any_aperture || detail::AnyApertureIn(state);
+  if (*observe.physical && !any_aperture) {
+    // Say which types the physical model cannot judge (issue 43) rather than stay silent: the
+    // run is the ideal pinhole's, and report.json records it so.
+    std::vector<std::string> gaps;
+    for (const Candidate& c : prepared.candidates) {
+      const std::string gap = PhysicalModelGap(c.sensor, c.type_id);
+      const std::string line = fmt::format("{} ({})", c.type_id, gap);
+      if (!gap.empty() && std::find(gaps.begin(), gaps.end(), line) == gaps.end())
+        gaps.push_back(line);
+    }
+    if (!gaps.empty())
+      spdlog::warn("sensor model: no candidate's type has a physical model, so the run is the "
+                   "ideal pinhole's; {}",
+                   fmt::join(gaps, "; "));
+  }
   observe.physical = *observe.physical && any_aperture;
   limits.Validate();
   Problem& problem = prepared.problem;

@@ -43,7 +43,17 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
   options.minimize_cost = request.cheapest;
   if (options.budget || options.minimize_cost) {
     options.costs.reserve(candidates.size());
-    for (const Candidate& c : candidates) options.costs.push_back(c.sensor.cost);
+    for (const Candidate& c : candidates) {
+      // A catalog entry whose vendor publishes no price carries none (issue 43): a budget
+      // cannot count it as free.
+      if (!UnitCostGiven(c.sensor, c.type_id))
+        throw InputError(AtPlace(
+            options.minimize_cost ? "--cheapest" : "--budget", 0,
+            fmt::format("sensor type '{}' has no unit cost (its vendor publishes none) — give "
+                        "one in the scene: sensor_types: [{{id: my_{}, base: {}, cost: ...}}]",
+                        c.type_id, c.type_id, c.type_id)));
+      options.costs.push_back(c.sensor.cost);
+    }
   }
   if (request.keep_existing) {
     for (uint32_t i = 0; i < candidates.size(); ++i)

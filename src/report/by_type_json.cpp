@@ -18,16 +18,22 @@ ordered_json ByTypeJson(const TypeComparisonTable& table, const VisibilityFile& 
     r["coverage"] = s.coverage;
     if (s.upper_bound) r["upper_bound"] = *s.upper_bound;
     r["optimal"] = s.proven_optimal;
-    r["total_cost"] = s.cost.value_or(0.0);
+    // null: a chosen sensor's vendor publishes no price (issue 43).
+    r["total_cost"] = s.cost ? ordered_json(*s.cost) : ordered_json();
     return r;
   };
   ordered_json types = ordered_json::array();
   for (const TypeComparison& type : table.types) {
     ordered_json best = ordered_json::array();
     for (const Selection& s : type.best) best.push_back(answer(s));
-    types.push_back({{"type", type.type_id}, {"name", type.name},
-                     {"candidates", type.candidates}, {"unit_cost", type.unit_cost},
-                     {"best", std::move(best)}});
+    ordered_json row = {{"type", type.type_id}, {"name", type.name},
+                        {"candidates", type.candidates},
+                        {"unit_cost", type.unit_cost_given ? ordered_json(type.unit_cost)
+                                                           : ordered_json()}};
+    // Under the physical model, a type it cannot judge says so (issue 43).
+    if (table.physical && !type.physical_gap.empty()) row["physical_model"] = type.physical_gap;
+    row["best"] = std::move(best);
+    types.push_back(std::move(row));
   }
   ordered_json mix = ordered_json::array();
   for (const Selection& s : table.mix) {

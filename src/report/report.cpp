@@ -97,7 +97,11 @@ ordered_json SensorModelJson(const VisibilityFile& data) {
     seen.push_back(c.type_id);
     ordered_json t = {{"type", c.type_id}};
     const SecondAperture* a = SecondApertureOf(c.sensor, c.type_id);
-    t["second_aperture"] = a ? KindName(a->kind) : "none";
+    // A structured-light or stereo type whose aperture no source gave is not "none": the
+    // physical model sees it as the ideal pinhole and says so.
+    const std::string gap = PhysicalModelGap(c.sensor, c.type_id);
+    t["second_aperture"] = a ? KindName(a->kind) : gap.empty() ? "none" : "not modelled";
+    if (!gap.empty()) t["physical_model"] = gap;
     if (a) {
       t["baseline"] = a->baseline;
       if (a->toe_in != 0) t["toe_in_deg"] = a->toe_in * 180.0 / std::numbers::pi;

@@ -895,6 +895,7 @@ void SceneReader::ReadRangeAndCost(const Fields& fields,
       Error(v->line, fmt::format("{}.cost = {} must be >= 0 — give the unit's price", what, *cost));
     } else if (cost) {
       type->cost = *cost;
+      type->cost_given = true;  // a price given here, also over a catalog entry that has none
     }
   }
   // sigma(z) = a + b z + c z^2 [m], optionally + k / sqrt(z) theta^2 / (pi/2 - theta)^2 with a

@@ -91,6 +91,20 @@ SensorType WithAperture(SensorType t, SecondAperture aperture) {
   return t;
 }
 
+// A catalog entry whose vendor publishes no price: its cost stands for "not given" (issue 43).
+SensorType Unpriced(SensorType t) {
+  t.cost = 0;
+  t.cost_given = false;
+  return t;
+}
+
+// The technology of a type: its own, else that of the catalog entry `catalog_id` names.
+std::string_view TechnologyOf(const SensorType& type, std::string_view catalog_id) {
+  if (!type.technology.empty() || catalog_id.empty()) return type.technology;
+  const SensorType* entry = FindCatalogType(catalog_id);
+  return entry ? std::string_view(entry->technology) : std::string_view(type.technology);
+}
+
 constexpr double kPi = std::numbers::pi;
 
 // A full field angle in (0, pi) [rad].
@@ -179,6 +193,24 @@ std::optional<double> FlyingPixelThresholdOf(const SensorType& type,
 bool HasPhysicalModel(const SensorType& type, std::string_view catalog_id) {
   return SecondApertureOf(type, catalog_id) != nullptr ||
          FlyingPixelThresholdOf(type, catalog_id).has_value();
+}
+
+bool UnitCostGiven(const SensorType& type, std::string_view catalog_id) {
+  if (!type.cost_given) return false;
+  const SensorType* entry = FindCatalogType(catalog_id);
+  return !(entry && !entry->cost_given && type.cost == entry->cost);
+}
+
+std::string PhysicalModelGap(const SensorType& type, std::string_view catalog_id) {
+  if (SecondApertureOf(type, catalog_id)) return "";
+  // A type whose own aperture is `kind: none` said so on purpose.
+  if (type.second_aperture) return "";
+  const std::string_view technology = TechnologyOf(type, catalog_id);
+  if (technology.find("structured light") != std::string_view::npos)
+    return "not modelled: no source found gives its projector's pose";
+  if (technology.find("stereo") != std::string_view::npos)
+    return "not modelled: no source found gives its second imager's pose";
+  return "";
 }
 
 double StereoNearestDepth(const SensorType& camera, const SecondAperture& aperture) {
@@ -387,6 +419,19 @@ const std::vector<SensorType>& Catalog() {
       WithNoise(Entry("azure_kinect_wfov_unbinned", "Azure Kinect DK, WFOV unbinned",
                       "time of flight", 1024, 1024, 120 * kDeg, 120 * kDeg, 0.25, 2.21, 15, 400),
                 {0.017, 0, 0, "Azure Kinect DK hardware specification: random error <= 17 mm"}),
+      // Orbbec Femto Bolt (issue 43): Orbbec, "Femto Bolt Hardware Specifications", depth camera
+      // supported operating modes (Microsoft's 1 MP ToF depth camera): NFOV unbinned 640x576,
+      // NFOV 2x2 binned 320x288, both 75x65 deg; WFOV 2x2 binned 512x512, WFOV unbinned
+      // 1024x1024, both 120x120 deg; ranges and frame rates below. No price and no noise figure
+      // are published there; time of flight needs no second aperture.
+      Unpriced(Entry("femto_bolt_nfov_unbinned", "Orbbec Femto Bolt, NFOV unbinned",
+                     "time of flight", 640, 576, 75 * kDeg, 65 * kDeg, 0.5, 3.86, 30, 0)),
+      Unpriced(Entry("femto_bolt_nfov_binned", "Orbbec Femto Bolt, NFOV 2x2 binned",
+                     "time of flight", 320, 288, 75 * kDeg, 65 * kDeg, 0.5, 5.46, 30, 0)),
+      Unpriced(Entry("femto_bolt_wfov_binned", "Orbbec Femto Bolt, WFOV 2x2 binned",
+                     "time of flight", 512, 512, 120 * kDeg, 120 * kDeg, 0.25, 2.88, 30, 0)),
+      Unpriced(Entry("femto_bolt_wfov_unbinned", "Orbbec Femto Bolt, WFOV unbinned",
+                     "time of flight", 1024, 1024, 120 * kDeg, 120 * kDeg, 0.25, 2.21, 25, 0)),
   };
   return catalog;
 }
@@ -399,12 +444,16 @@ const SensorType* FindCatalogType(std::string_view id) {
 }
 
 std::string MatchCatalogId(const SensorType& type) {
+  const auto same = [&](const SensorType& t) {
+    return t.width == type.width && t.height == type.height && Close(t.fx, type.fx) &&
+           Close(t.fy, type.fy) && Close(t.cx, type.cx) && Close(t.cy, type.cy) &&
+           Close(t.near, type.near) && Close(t.far, type.far);
+  };
+  // Two products may share a depth camera (the Femto Bolt carries the Azure Kinect's modes): a
+  // type named after an entry keeps that entry; any other takes the first that matches.
+  if (const SensorType* own = FindCatalogType(type.id); own && same(*own)) return own->id;
   for (const SensorType& t : Catalog()) {
-    if (t.width == type.width && t.height == type.height && Close(t.fx, type.fx) &&
-        Close(t.fy, type.fy) && Close(t.cx, type.cx) && Close(t.cy, type.cy) &&
-        Close(t.near, type.near) && Close(t.far, type.far)) {
-      return t.id;
-    }
+    if (same(t)) return t.id;
   }
   return "";
 }

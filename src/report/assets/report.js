@@ -146,7 +146,8 @@
       var typeRows = [];
       D.by_type.types.forEach(function (t) {
         t.best.forEach(function (b) {
-          typeRows.push({type: t.type, n: b.n, coverage: b.coverage, upper_bound: b.upper_bound,
+          // A type the physical model sees as the ideal pinhole says so (issue 43).
+          typeRows.push({type: t.type + (t.physical_model ? ' (physical model ' + t.physical_model + ')' : ''), n: b.n, coverage: b.coverage, upper_bound: b.upper_bound,
                          optimal: b.optimal, candidates: t.candidates, unit_cost: t.unit_cost,
                          total_cost: b.total_cost, gain: null, sensors: b.sensors.join(', ')});
         });
