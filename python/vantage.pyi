@@ -396,6 +396,28 @@ def evaluate(
 ) -> dict[str, Any]:
     """`vantage evaluate`: sensors, sensor_coverage, coverage, paper_coverage, report."""
 
+def render(
+    run: PathLike,
+    png: Optional[PathLike] = None,
+    *,
+    eye: Optional[Sequence[float]] = None,
+    look_at: Optional[Sequence[float]] = None,
+    width: Optional[int] = None,
+    height: Optional[int] = None,
+    fov: Optional[float] = None,
+    frusta: bool = True,
+    from_below: bool = False,
+    legend: bool = True,
+    scene: Optional[PathLike] = None,
+    model_path: Paths = None,
+    resource_path: Paths = None,
+    package_path: Paths = None,
+    targets: Names = None,
+    arm_view: Optional[int] = None,
+    threads: Optional[int] = None,
+) -> dict[str, Any]:
+    """`vantage render RUN`: the PNG; returns {'png', 'sensors', 'coverage'}."""
+
 def sensors() -> list[dict[str, Any]]:
     """The sensor catalog, the keys of `vantage sensors --json` plus depth_noise."""
 

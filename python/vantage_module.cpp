@@ -23,6 +23,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <thread>
@@ -1677,6 +1678,65 @@ void Bind(py::module_& m) {
       "pose_tolerance ((metres, degrees)) and pose_samples as optimize() and the CLI's flags.\n"
       "Returns a dict: sensors (names), sensor_coverage (each alone, 0..1), coverage and\n"
       "paper_coverage of them together, report (report.json as a dict).");
+
+  m.def(
+      "render",
+      [](const py::object& run, const py::object& png, const py::object& eye,
+         const py::object& look_at, const py::object& width, const py::object& height,
+         const py::object& fov, const py::object& frusta, const py::object& from_below,
+         const py::object& legend, const py::object& scene, const py::object& model_path,
+         const py::object& resource_path, const py::object& package_path,
+         const py::object& targets, const py::object& arm_view, const py::object& threads) {
+        RenderRunOptions options;
+        options.run = PathOf(run, "run");
+        options.png = OptionalPathOf(png, "png").value_or("");
+        if (!png.is_none() && options.png.empty())
+          throw InputError("png: the path is empty — give the PNG file to write, or None for "
+                           "view.png in the run's folder");
+        options.scene = SceneInputOf("scene", scene,
+                                     {model_path, resource_path, package_path, targets,
+                                      py::none(), py::none(), py::none(), py::none(),
+                                      py::none()});
+        RenderOptions& render = options.render;
+        if (const auto point = PointOf(eye, "eye")) render.eye = Vec3((*point)[0], (*point)[1], (*point)[2]);
+        if (const auto point = PointOf(look_at, "look_at"))
+          render.look_at = Vec3((*point)[0], (*point)[1], (*point)[2]);
+        // The CLI's ranges (--width, --height 16..8192; --fov 1..170 degrees), named here.
+        if (const auto pixels = WholeOf(width, "width", 16, 8192)) render.width = static_cast<int>(*pixels);
+        if (const auto pixels = WholeOf(height, "height", 16, 8192)) render.height = static_cast<int>(*pixels);
+        if (const auto degrees = RealOf(fov, "fov")) {
+          if (!(*degrees >= 1 && *degrees <= 170))
+            throw InputError(fmt::format("fov: {} is out of range — give 1 to 170 degrees",
+                                         *degrees));
+          render.vertical_fov = *degrees * std::numbers::pi / 180.0;
+        }
+        render.draw_frusta = FlagOf(frusta, "frusta", true);
+        render.from_below = FlagOf(from_below, "from_below", false);
+        render.draw_legend = FlagOf(legend, "legend", true);
+        options.arm_view = IntOf(arm_view, "arm_view");
+        const RenderRunResult result = WithoutGil(threads, [&] { return RenderRun(options); });
+        py::dict outcome;
+        outcome["png"] = PathText(result.png);
+        outcome["sensors"] = result.sensors;
+        outcome["coverage"] = result.coverage;
+        return outcome;
+      },
+      py::arg("run"), py::arg("png") = py::none(), py::kw_only(), py::arg("eye") = py::none(),
+      py::arg("look_at") = py::none(), py::arg("width") = py::none(),
+      py::arg("height") = py::none(), py::arg("fov") = py::none(), py::arg("frusta") = true,
+      py::arg("from_below") = false, py::arg("legend") = true, py::arg("scene") = py::none(),
+      py::arg("model_path") = py::none(), py::arg("resource_path") = py::none(),
+      py::arg("package_path") = py::none(), py::arg("targets") = py::none(),
+      py::arg("arm_view") = py::none(), py::arg("threads") = py::none(),
+      "`vantage render RUN`: a ray-traced PNG of a finished run (an output folder of\n"
+      "optimize/select/evaluate, or its report.json), targets coloured by how many chosen\n"
+      "sensors see them. png: the file (None: view.png in the run's folder); eye, look_at:\n"
+      "(x, y, z) [m] (None: framing targets and sensors); width, height [px] (16..8192,\n"
+      "default 1280 x 960); fov: vertical field of view [deg] (1..170, default 45); frusta,\n"
+      "legend: False leaves them out (--no-frusta, --no-legend); from_below: --from-below;\n"
+      "scene, model_path, resource_path, package_path, targets: None takes the run's;\n"
+      "arm_view: a camera on an arm, the view (1-based) at which the arm is drawn.\n"
+      "Returns {'png': path, 'sensors': count, 'coverage': of the re-observed layout}.");
 
   m.def("sensors", &SensorCatalog,
         "The sensor catalog (SENSORS.md) as a list of dicts: id, name, technology, width,\n"

@@ -37,16 +37,17 @@ KINDS = {
     "max_memory": REAL, "fov_tolerance": REAL, "alternatives_within": REAL,
     "interference_overlap": REAL, "calibration_overlap_frac": REAL, "min_density": REAL,
     "max_seconds": REAL, "cycle_time": REAL, "joint_speed": REAL, "motion_resolution": REAL,
-    "plan_time": REAL, "move_penalty": REAL, "state_interval": REAL,
+    "plan_time": REAL, "move_penalty": REAL, "state_interval": REAL, "fov": REAL,
     "n": INT, "k": INT, "iterations": INT, "threads": INT, "refine_rounds": INT,
-    "min_points": INT, "pose_samples": INT, "frames": INT,
+    "min_points": INT, "pose_samples": INT, "frames": INT, "width": INT, "height": INT,
+    "arm_view": INT,
     "seed": UNSIGNED, "calibration_overlap": UNSIGNED,
     "random_roll": BOOL, "cull": BOOL, "refine": BOOL, "interference": BOOL,
     "physical": BOOL, "exposed_only": BOOL, "cheapest": BOOL, "keep_existing": BOOL,
-    "by_type": BOOL, "track": BOOL,
+    "by_type": BOOL, "track": BOOL, "frusta": BOOL, "from_below": BOOL, "legend": BOOL,
     "method": TEXT, "over_states": TEXT,
-    "observation_point": POINT, "pose_tolerance": PAIR,
-    "out": PATH, "constellation": PATH, "file": PATH,
+    "observation_point": POINT, "eye": POINT, "look_at": POINT, "pose_tolerance": PAIR,
+    "out": PATH, "constellation": PATH, "file": PATH, "run": PATH, "png": PATH,
     "model_path": PATHS, "resource_path": PATHS, "package_path": PATHS,
     "progress": CALLABLE,
     "cells": UNSIGNED, "csr": CSR, "names": NAMES, "costs": COSTS, "states": STATES,
@@ -74,11 +75,15 @@ def subjects(tmp_path_factory):
             **{"csr": ([0, 1, 3], [0, 1, 2]), "cells": 3, **kw}),
         "select_file": lambda **kw: vantage.select(
             **{"file": folder / "cube.vis", "n": 1, "method": "greedy", **kw}),
+        "render": lambda **kw: vantage.render(
+            **{"run": folder / "run", "png": folder / "view.png", "width": 16, "height": 16,
+               **kw}),
     }
     functions = {"load": vantage.load, "observe": vantage.Problem.observe,
                  "select": vantage.Visibility.select, "select_all": vantage.Visibility.select_all,
                  "optimize": vantage.optimize, "evaluate": vantage.evaluate,
-                 "from_matrix": vantage.Visibility.from_matrix, "select_file": vantage.select}
+                 "from_matrix": vantage.Visibility.from_matrix, "select_file": vantage.select,
+                 "render": vantage.render}
     return calls, functions
 
 
@@ -96,7 +101,7 @@ def keywords(function):
 
 def cases():
     for function in ["load", "observe", "select", "select_all", "optimize", "evaluate",
-                     "from_matrix", "select_file"]:
+                     "from_matrix", "select_file", "render"]:
         for kind_name, kind in KINDS.items():
             for wrong in kind["type"]:
                 yield function, kind_name, wrong, TypeError

@@ -260,3 +260,40 @@ def test_observe_n_is_the_cli_files(tmp_path):
     assert [s.n for s in vantage.load_visibility(tmp_path / "py.vis").select_all()][-1] == 2
     with pytest.raises(vantage.InputError, match="^-n: "):
         problem.observe(n=0)
+
+
+@pytest.mark.parametrize("flags,kwargs", [
+    ([], {}),
+    (["--eye", 0.6, -0.5, 0.7, "--look-at", 0, 0, 0.05, "--fov", 50, "--no-frusta",
+      "--no-legend"],
+     {"eye": (0.6, -0.5, 0.7), "look_at": (0, 0, 0.05), "fov": 50, "frusta": False,
+      "legend": False}),
+    (["--from-below"], {"from_below": True}),
+], ids=["default", "viewpoint", "from_below"])
+def test_render_is_the_cli_png(flags, kwargs, tmp_path):
+    """render() writes the PNG `vantage render` writes for the same flags, byte for byte."""
+    from conftest import CUBE_CELL
+    run_cli("optimize", CUBE_CELL, "-n", 2, "--method", "greedy", "--out", tmp_path / "run")
+    size = ["--width", 96, "--height", 64]
+    run_cli("render", tmp_path / "run", *size, *flags, "--png", tmp_path / "cli.png")
+    result = vantage.render(tmp_path / "run", png=tmp_path / "py.png", width=96, height=64,
+                            **kwargs)
+    assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+    assert result["png"] == str(tmp_path / "py.png") and result["sensors"] == 2
+    primary = read_report(tmp_path / "run")
+    assert result["coverage"] == \
+        pytest.approx(primary["results"][primary["primary_result"]]["coverage"], abs=1e-12)
+
+
+def test_render_refusals(tmp_path):
+    from conftest import CUBE_CELL
+    vantage.optimize(CUBE_CELL, n=1, method="best", out=tmp_path / "run")
+    with pytest.raises(vantage.InputError, match="^width: 8 is out of range — give 16 to 8192"):
+        vantage.render(tmp_path / "run", width=8)
+    with pytest.raises(vantage.InputError, match="^fov: 0 is out of range — give 1 to 170"):
+        vantage.render(tmp_path / "run", fov=0)
+    with pytest.raises(vantage.InputError, match="^png: the path is empty"):
+        vantage.render(tmp_path / "run", png="")
+    with pytest.raises(vantage.InputError, match="--arm-view"):
+        vantage.render(tmp_path / "run", arm_view=2, width=16, height=16)
+    assert not (tmp_path / "run" / "view.png").exists()
