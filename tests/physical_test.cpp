@@ -397,6 +397,41 @@ sensors:
   EXPECT_EQ(budget.exit_code, 0) << budget.err;
 }
 
+// When no candidate's type has a physical model, the physical model asked for (the YAML default)
+// changes nothing and the run is recorded as ideal — and it says which types it could not judge.
+// A .vis keeps the unpriced type: `vantage select --budget` refuses it as optimize does.
+TEST(Physical, RunWithoutAnyPhysicalModelSaysWhichTypesAreNotModelled) {
+  test::TempDir dir;
+  const std::string scene = dir.File("no_model.yaml");
+  test::WriteText(scene, R"(settings:
+  cell_size: 0.02
+  n: 1
+  observation_point: [0, 0, 0.06]
+objects:
+  - name: cube
+    role: target
+    box: {size: [0.1, 0.1, 0.1]}
+    pose: {xyz: [0, 0, 0.06]}
+sensors:
+  - {name: a, type: femto_bolt_nfov_unbinned, position: [0, 0, 1.06], orientation: {rpy: [0, 1.5707963267948966, 0]}}
+  - {name: b, type: asus_xtion_pro_live, position: [1.0, 0, 0.06], orientation: {rpy: [0, 0, 3.141592653589793]}}
+)");
+  const auto run = test::RunVantage("optimize " + scene + " --out " + dir.File("out"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("no candidate's type has a physical model"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("asus_xtion_pro_live (not modelled"), std::string::npos) << run.err;
+  EXPECT_EQ(run.err.find("femto_bolt_nfov_unbinned (not modelled"), std::string::npos) << run.err;
+  const nlohmann::json report = nlohmann::json::parse(test::ReadText(dir.File("out/report.json")));
+  EXPECT_FALSE(report.contains("sensor_model"));  // the ideal pinhole's run, recorded as such
+
+  const std::string vis = dir.File("m.vis");
+  ASSERT_EQ(test::RunVantage("observe " + scene + " --out " + vis).exit_code, 0);
+  const auto refused = test::RunVantage("select " + vis + " --budget 1000 --out " + dir.File("s"));
+  EXPECT_EQ(refused.exit_code, 2) << refused.err;
+  EXPECT_NE(refused.err.find("'femto_bolt_nfov_unbinned' has no unit cost"), std::string::npos)
+      << refused.err;
+}
+
 // --by-type on a scene whose answer is known by construction: a floating 0.1 m cube (faces in
 // the middle of 2 cm cells: R is the 6 x 6 x 6 shell, 152 cells), two `top` cameras at the same
 // pose 0.5 m above its top face and one `side` camera 0.5 m from its +x face. Each sees one face
