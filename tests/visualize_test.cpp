@@ -779,6 +779,32 @@ TEST(HtmlReport, WhatIfSetsAndPartsDecodeToTheObservations) {
   EXPECT_NE(without["notes"].dump().find("what-if layout is not offered"), std::string::npos);
 }
 
+// The page's parts come from R's part_of (issue 47) exactly as from clipping every target triangle
+// again: two overlapping spheres, so that the cells both touch go to the first in scene order,
+// and the second's count is below what it alone would give R.
+TEST(HtmlReport, WhatIfPartsFromReferenceEqualClippingAgain) {
+  Scene scene = SphereScene(kRadius);
+  TriangleMesh second = MakeSphere(kRadius, kCell / 10);
+  second.Transform(Pose{Vec3(kRadius, 0, 0), Quat::Identity()});
+  scene.objects.push_back({"second", Role::kTarget, second, {}});
+  Scene second_only;
+  second_only.objects.push_back({"second", Role::kTarget, second, {}});
+  const size_t second_alone = BuildReference(second_only, ReferenceOptions{kCell}).size();
+  auto run = MakeRun(std::move(scene), {Camera("east", Vec3(1.2, 0, 0), Vec3::Zero(), 64, 0.6)}, 1);
+  const nlohmann::json from_r =
+      nlohmann::json::parse(DataJsonOf(HtmlReport(run->report, run->scene)))["whatif"];
+  run->data.reference.part_of.clear();  // R without its parts: the page clips the targets again
+  const nlohmann::json clipped =
+      nlohmann::json::parse(DataJsonOf(HtmlReport(run->report, run->scene)))["whatif"];
+  ASSERT_EQ(from_r["parts"].size(), 2u);
+  EXPECT_EQ(from_r["parts"], clipped["parts"]);
+  EXPECT_EQ(from_r["cell_part"], clipped["cell_part"]);
+  EXPECT_EQ(from_r["parts"][1]["name"], "second");
+  EXPECT_LT(from_r["parts"][1]["cells"].get<size_t>(), second_alone);
+  EXPECT_EQ(from_r["parts"][0]["cells"].get<size_t>() + from_r["parts"][1]["cells"].get<size_t>(),
+            run->data.reference.size());
+}
+
 TEST(HtmlReport, SimplifiedMeshesAreVertexClusteringAtTheSmallestCellThatFits) {
   Scene scene = SphereScene(kRadius);
   TriangleMesh box = MakeBox(Vec3(0.3, 0.05, 0.2));
