@@ -4,7 +4,8 @@
 //   collision   the FCL checks of a kind-`arm` population's joint-space views (ArmCollisions);
 //   observe     vantage's Observe of the collision-free views, the arm occluding its camera,
 //   limit       the ray-casting limit loop on the same views (the culled pixels, no voxels, no
-//               sets, no arm), as bench/ray_limit.cpp;
+//               sets, no arm), as bench/ray_limit.cpp; and the same loop with each view's arm
+//               placed in the scene (observe's PlacedRayScene: the rays a view must trace);
 //   tour        Held–Karp on 10 views (exact) and --cycle-time's greedy over all views.
 // Usage: arm_table SCENE [CYCLE_SECONDS]  -> one JSON line on stdout.
 #include <tbb/parallel_for.h>
@@ -12,8 +13,10 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <string>
 
+#include "observe/arm_occlusion.hpp"
 #include "observe/culling.hpp"
 #include "vantage/arm.hpp"
 #include "vantage/ray_scene.hpp"
@@ -130,6 +133,33 @@ int main(int argc, char** argv) {
       }
     });
     const double limit_seconds = Since(start);
+    // The same loop in each view's scene with its arm placed (a top-level BVH per view).
+    start = std::chrono::steady_clock::now();
+    const detail::ArmOcclusion arms(rays, views.candidates);
+    tbb::parallel_for(size_t{0}, views.candidates.size(), [&](size_t i) {
+      const Candidate& c = views.candidates[i];
+      std::optional<PlacedRayScene> placed;
+      if (c.arm) placed.emplace(arms.Place(*c.arm));
+      const Mat3 rotation = c.world_from_body.rotation.toRotationMatrix();
+      RayBatch batch;
+      for (int a = 0; a < 3; ++a) batch.origin[a] = static_cast<float>(c.world_from_body.position[a]);
+      batch.tfar = static_cast<float>(c.sensor.far);
+      for (const detail::RowSpan& span : spans[i]) {
+        for (int u0 = span.u0; u0 <= span.u1; u0 += RayBatch::kWidth) {
+          batch.active = std::min(RayBatch::kWidth, span.u1 - u0 + 1);
+          for (int lane = 0; lane < batch.active; ++lane) {
+            const Vec3 d = rotation * PixelRayInBody(c.sensor, u0 + lane, span.v);
+            for (int a = 0; a < 3; ++a) batch.dir[a][lane] = static_cast<float>(d[a]);
+          }
+          if (placed) {
+            placed->Intersect(&batch);
+          } else {
+            rays.Intersect(&batch);
+          }
+        }
+      }
+    });
+    const double limit_arm_seconds = Since(start);
 
     // Tours: straight-line times among the views and home (URDF speeds).
     const ArmSetup& arm = views.arms.front();
@@ -193,6 +223,8 @@ int main(int argc, char** argv) {
         "\"drawn\": %zu, \"collision_free\": %zu, \"collision_build_seconds\": %.3f, "
         "\"collision_seconds\": %.3f, \"apply_arms_seconds\": %.3f, \"views\": %zu, \"observe_seconds\": %.3f, \"observe_without_arm_seconds\": %.3f, "
         "\"limit_rays\": %llu, \"limit_seconds\": %.3f, \"observe_over_limit\": %.3f, "
+        "\"limit_with_arm_seconds\": %.3f, \"observe_over_limit_with_arm\": %.3f, "
+        "\"observe_without_arm_over_limit\": %.3f, "
         "\"motion_table_seconds\": %.3f, \"tour10_seconds\": %.6f, \"tour10_method\": \"%s\", "
         "\"tour10_total_s\": %.3f, \"tour10_check_seconds\": %.3f, \"tour10_colliding_moves\": %zu, "
         "\"tour10_planned\": %zu, \"tour10_plan_seconds\": %.3f, "
@@ -201,7 +233,8 @@ int main(int argc, char** argv) {
         cell.TriangleCount(), poses.size(), reached.load(), ik_seconds, drawn.size(),
         static_cast<size_t>(std::count(free.begin(), free.end(), 1)), collision_build_seconds,
         collision_seconds, apply_seconds, n, observe_seconds, observe_bare_seconds, static_cast<unsigned long long>(traced),
-        limit_seconds, observe_seconds / limit_seconds, times_seconds, tour_seconds,
+        limit_seconds, observe_seconds / limit_seconds, limit_arm_seconds,
+        observe_seconds / limit_arm_seconds, observe_bare_seconds / limit_seconds, times_seconds, tour_seconds,
         tour.method.c_str(), tour.total_seconds, tour_check_seconds, colliding_moves, planned,
         plan_seconds, cycle,
         cycle_result.chosen.size(), cycle_result.coverage, cycle_result.tour.total_seconds,

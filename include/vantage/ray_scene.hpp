@@ -4,6 +4,7 @@
 /// the rendered view). The only file that includes Embree is src/observe/ray_scene.cpp (STYLE.md).
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "vantage/scene.hpp"
@@ -82,6 +83,51 @@ class RayScene {
   /// in every process given the same scene content, whatever the files' paths; computed on each
   /// call (the distributed layer's check that its processes trace the same scene).
   uint64_t GeometryFingerprint() const;
+
+ private:
+  friend class RayBodies;
+  friend class PlacedRayScene;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Rigid bodies with BVHs of their own (a robot's links, issue 45), built once on a RayScene's
+/// Embree device; PlacedRayScene puts them at any view's poses without rebuilding them.
+class RayBodies {
+ public:
+  /// One BVH per mesh, in the mesh's own frame (an empty mesh has none and is never hit).
+  RayBodies(const RayScene& scene, std::span<const TriangleMesh> meshes);
+  ~RayBodies();
+  RayBodies(const RayBodies&) = delete;
+  RayBodies& operator=(const RayBodies&) = delete;
+  size_t size() const;
+
+ private:
+  friend class PlacedRayScene;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// A RayScene with RayBodies at one view's poses, as Embree instances: a top-level BVH over the
+/// scene (one instance, identity) and each body (an instance at its world_from_body), so a ray
+/// is one query that meets whichever is first. Building it commits a BVH over 1 + bodies boxes
+/// only; the scene's and the bodies' BVHs are shared. A body's hit is an occluder (is_target
+/// false), its normal turned into the world frame. The RayScene and the RayBodies must outlive it.
+class PlacedRayScene {
+ public:
+  /// InternalError on a non-finite pose (nothing non-finite reaches Embree).
+  PlacedRayScene(const RayScene& scene, const RayBodies& bodies,
+                 std::span<const Pose> world_from_body);
+  ~PlacedRayScene();
+  PlacedRayScene(PlacedRayScene&&) noexcept;
+  PlacedRayScene& operator=(PlacedRayScene&&) noexcept;
+  PlacedRayScene(const PlacedRayScene&) = delete;
+  PlacedRayScene& operator=(const PlacedRayScene&) = delete;
+
+  /// As RayScene::Intersect, the bodies included. Thread-safe.
+  void Intersect(RayBatch* batch) const;
+  /// As RayScene::Occluded, the bodies included. Thread-safe.
+  void Occluded(OcclusionBatch* batch) const;
 
  private:
   struct Impl;

@@ -1,8 +1,8 @@
 #pragma once
 /// The arm that carries a camera occludes it as it stands in each view (issue 45): each link's
-/// mesh has its own BVH, built once per Observe call, and a view's rays are tested against every
-/// link in the link's frame (the ray moved by the inverse of the view's world_from_link), so the
-/// BVHs are never rebuilt per view. Embree's instancing, done by hand per packet.
+/// mesh has its own BVH (RayBodies), built once per Observe call, and each view traces a
+/// PlacedRayScene: a top-level BVH over the cell and the links as Embree instances at that view's
+/// poses, so a ray is one query and no link BVH is rebuilt per view.
 #include <map>
 #include <memory>
 #include <span>
@@ -14,19 +14,19 @@ namespace vantage::detail {
 
 class ArmOcclusion {
  public:
-  /// The BVHs of every distinct ArmBody among `candidates` (none when no candidate is on an arm).
-  explicit ArmOcclusion(std::span<const Candidate> candidates);
-  ~ArmOcclusion();
+  /// The link BVHs of every distinct ArmBody among `candidates` (none when no candidate is on an
+  /// arm), on `rays`' device.
+  ArmOcclusion(const RayScene& rays, std::span<const Candidate> candidates);
   ArmOcclusion(const ArmOcclusion&) = delete;
   ArmOcclusion& operator=(const ArmOcclusion&) = delete;
 
-  /// Lanes of `batch` (already traced in the scene) whose ray meets a link of `arm` before its
-  /// hit become that link's hit: t the link's, not a target. Thread-safe.
-  void Clip(const ArmPose& arm, RayBatch* batch) const;
+  /// The scene as one view of the arm sees it: the cell and the arm's links where `arm` puts
+  /// them (a link's hit is an occluder). Thread-safe; each call commits a new top-level BVH.
+  PlacedRayScene Place(const ArmPose& arm) const;
 
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  const RayScene& rays_;
+  std::map<const ArmBody*, std::unique_ptr<RayBodies>> links_;
 };
 
 }  // namespace vantage::detail

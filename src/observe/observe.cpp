@@ -230,15 +230,19 @@ class PixelJudge {
   uint64_t queued_keys_[OcclusionBatch::kWidth];
 };
 
-// One packet of a camera's rays: pixels u_start .. u_start + active - 1 of row v.
-void TracePacket(const RayScene& rays, const Candidate& candidate, const Mat3& world_from_body,
-                 const detail::ArmOcclusion& arms, int v, int u_start, RayBatch* batch) {
+// One packet of a camera's rays: pixels u_start .. u_start + active - 1 of row v, traced in the
+// scene, or in `placed` (the scene with the arm carrying the camera as it stands, issue 45).
+void TracePacket(const RayScene& rays, const PlacedRayScene* placed, const Candidate& candidate,
+                 const Mat3& world_from_body, int v, int u_start, RayBatch* batch) {
   for (int lane = 0; lane < batch->active; ++lane) {
     const Vec3 d = world_from_body * PixelRayInBody(candidate.sensor, u_start + lane, v);
     for (int a = 0; a < 3; ++a) batch->dir[a][lane] = static_cast<float>(d[a]);
   }
-  rays.Intersect(batch);
-  if (candidate.arm) arms.Clip(*candidate.arm, batch);  // the arm carrying it (issue 45)
+  if (placed) {
+    placed->Intersect(batch);
+  } else {
+    rays.Intersect(batch);
+  }
 }
 
 // One image row's first hits, for the pixels traced in it (the flying-pixel filter compares each
@@ -272,7 +276,7 @@ std::vector<std::pair<int, int>> Merged(std::vector<std::pair<int, int>> spans) 
 // judged in it and beside them (one pixel wider) and those judged in the rows above and below:
 // the extra rays are the spans' borders only.
 void ObserveWithFlyingFilter(const RayScene& rays, const Candidate& candidate,
-                             const std::vector<RowSpan>& spans, const detail::ArmOcclusion& arms,
+                             const std::vector<RowSpan>& spans, const PlacedRayScene* placed,
                              double threshold, RayBatch* batch, Observation* observation,
                              PixelJudge* judge) {
   const SensorType& s = candidate.sensor;
@@ -306,7 +310,7 @@ void ObserveWithFlyingFilter(const RayScene& rays, const Candidate& candidate,
     for (const auto& [u0, u1] : needed(v)) {
       for (int u_start = u0; u_start <= u1; u_start += RayBatch::kWidth) {
         batch->active = std::min(RayBatch::kWidth, u1 - u_start + 1);
-        TracePacket(rays, candidate, world_from_body, arms, v, u_start, batch);
+        TracePacket(rays, placed, candidate, world_from_body, v, u_start, batch);
         observation->rays_traced += static_cast<uint64_t>(batch->active);
         for (int lane = 0; lane < batch->active; ++lane) {
           const size_t u = static_cast<size_t>(u_start + lane);
@@ -352,6 +356,11 @@ void ObserveWithFlyingFilter(const RayScene& rays, const Candidate& candidate,
 Observation ObserveOne(const RayScene& rays, const Reference& reference, const Candidate& candidate,
                        const std::vector<Aabb>& blocks, const ObserveOptions& options,
                        const detail::ArmOcclusion& arms) {
+  // A camera on an arm sees the cell with the arm as it stands in this view: one top-level BVH
+  // over the cell and the links' instances, built here (a handful of boxes) and dropped after.
+  std::optional<PlacedRayScene> placed;
+  if (candidate.arm) placed.emplace(arms.Place(*candidate.arm));
+  const PlacedRayScene* placed_rays = placed ? &*placed : nullptr;
   const SensorType& s = candidate.sensor;
   const Mat3 world_from_body = candidate.world_from_body.rotation.toRotationMatrix();
   const Vec3 origin = candidate.world_from_body.position;
@@ -365,12 +374,13 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
 
   const std::vector<RowSpan> spans = SpansToTrace(candidate, blocks, options.cull);
   if (const std::optional<double> flying = judge.physical().flying) {
-    ObserveWithFlyingFilter(rays, candidate, spans, arms, *flying, &batch, &observation, &judge);
+    ObserveWithFlyingFilter(rays, candidate, spans, placed_rays, *flying, &batch, &observation,
+                            &judge);
   } else {
     for (const RowSpan& span : spans) {
       for (int u_start = span.u0; u_start <= span.u1; u_start += RayBatch::kWidth) {
         batch.active = std::min(RayBatch::kWidth, span.u1 - u_start + 1);
-        TracePacket(rays, candidate, world_from_body, arms, span.v, u_start, &batch);
+        TracePacket(rays, placed_rays, candidate, world_from_body, span.v, u_start, &batch);
         observation.rays_traced += static_cast<uint64_t>(batch.active);
         for (int lane = 0; lane < batch.active; ++lane) {
           if (!batch.is_target[lane]) continue;
@@ -394,7 +404,7 @@ std::vector<Observation> Observe(const RayScene& rays, const Reference& referenc
   for (const Candidate& c : candidates) CheckCandidate(c, c.name);
   options.Validate();
   const std::vector<Aabb> blocks = ReferenceBlocks(reference);
-  const detail::ArmOcclusion arms(candidates);
+  const detail::ArmOcclusion arms(rays, candidates);
   std::vector<Observation> observations(candidates.size());
   std::atomic<size_t> done{0};
   // Candidates are independent; each fills its own slot, so the result does not depend on the

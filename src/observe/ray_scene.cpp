@@ -121,7 +121,18 @@ RayScene::~RayScene() = default;
 RayScene::RayScene(RayScene&&) noexcept = default;
 RayScene& RayScene::operator=(RayScene&&) noexcept = default;
 
-void RayScene::Intersect(RayBatch* batch) const {
+namespace {
+
+// The instance id of the static scene in a PlacedRayScene (attached first); the bodies follow.
+constexpr unsigned kSceneInstance = 0;
+
+// Traces the active lanes of `batch` in `scene` (a RayScene's own, or a PlacedRayScene's top
+// level) and decodes the hits: geometry ids index the RayScene's tables; a hit inside a body's
+// instance (instance id > kSceneInstance, only in a placed scene) is an occluder whose
+// object-space normal `body_to_world[instance]` turns into the world frame.
+void IntersectPacket(RTCScene scene, const std::vector<uint8_t>& is_target,
+                     const std::vector<const TriangleMesh*>& target_mesh,
+                     const std::vector<Mat3>* body_to_world, RayBatch* batch) {
   static_assert(RayBatch::kWidth == 16);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
@@ -150,20 +161,28 @@ void RayScene::Intersect(RayBatch* batch) const {
     rays.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
     rays.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
   }
-  rtcIntersect16(valid, impl_->scene, &context, &rays);
+  rtcIntersect16(valid, scene, &context, &rays);
   for (int lane = 0; lane < batch->active; ++lane) {
     const unsigned geom = rays.hit.geomID[lane];
+    const unsigned instance = rays.hit.instID[0][lane];
     if (geom == RTC_INVALID_GEOMETRY_ID) {
       batch->t[lane] = std::numeric_limits<float>::infinity();
       batch->is_target[lane] = false;
+    } else if (body_to_world && instance != kSceneInstance) {
+      VANTAGE_CHECK(instance < body_to_world->size());
+      batch->t[lane] = rays.ray.tfar[lane];
+      batch->is_target[lane] = false;  // a body (the carrying robot's link) occludes
+      const Vec3 n = (*body_to_world)[instance] *
+                     Vec3(rays.hit.Ng_x[lane], rays.hit.Ng_y[lane], rays.hit.Ng_z[lane]);
+      for (int a = 0; a < 3; ++a) batch->normal[a][lane] = static_cast<float>(n[a]);
     } else {
       batch->t[lane] = rays.ray.tfar[lane];
-      batch->is_target[lane] = impl_->is_target[geom] != 0;
+      batch->is_target[lane] = is_target[geom] != 0;
       batch->normal[0][lane] = rays.hit.Ng_x[lane];
       batch->normal[1][lane] = rays.hit.Ng_y[lane];
       batch->normal[2][lane] = rays.hit.Ng_z[lane];
       if (batch->is_target[lane]) {
-        const Vec3 point = TargetPoint(*impl_->target_mesh[geom], rays.hit.primID[lane],
+        const Vec3 point = TargetPoint(*target_mesh[geom], rays.hit.primID[lane],
                                        rays.hit.u[lane], rays.hit.v[lane]);
         for (int a = 0; a < 3; ++a) batch->point[a][lane] = point[a];
       }
@@ -171,7 +190,8 @@ void RayScene::Intersect(RayBatch* batch) const {
   }
 }
 
-void RayScene::Occluded(OcclusionBatch* batch) const {
+// Tests the queried lanes of `batch` for any hit in `scene`.
+void OccludedPacket(RTCScene scene, OcclusionBatch* batch) {
   static_assert(OcclusionBatch::kWidth == 16);
   int first = -1;
   for (int lane = 0; lane < 16 && first < 0; ++lane) first = batch->query[lane] ? lane : -1;
@@ -183,7 +203,7 @@ void RayScene::Occluded(OcclusionBatch* batch) const {
   for (int lane = 0; lane < 16; ++lane) {
     valid[lane] = batch->query[lane] ? -1 : 0;
     // Idle lanes repeat a queried lane's segment (Embree's AVX2 halves check every ray; see
-    // Intersect).
+    // IntersectPacket).
     const int source = batch->query[lane] ? lane : first;
     rays.org_x[lane] = batch->origin[0];
     rays.org_y[lane] = batch->origin[1];
@@ -198,11 +218,19 @@ void RayScene::Occluded(OcclusionBatch* batch) const {
     rays.id[lane] = static_cast<unsigned>(lane);
     rays.flags[lane] = 0;
   }
-  rtcOccluded16(valid, impl_->scene, &context, &rays);
+  rtcOccluded16(valid, scene, &context, &rays);
   // Embree sets tfar to -inf on the occluded rays.
   for (int lane = 0; lane < 16; ++lane)
     if (batch->query[lane]) batch->occluded[lane] = !(rays.tfar[lane] >= 0.0f);
 }
+
+}  // namespace
+
+void RayScene::Intersect(RayBatch* batch) const {
+  IntersectPacket(impl_->scene, impl_->is_target, impl_->target_mesh, nullptr, batch);
+}
+
+void RayScene::Occluded(OcclusionBatch* batch) const { OccludedPacket(impl_->scene, batch); }
 
 RayHit RayScene::IntersectHit(const float origin[3], const float dir[3], float tfar) const {
   RTCIntersectContext context;
@@ -239,5 +267,115 @@ RayHit RayScene::IntersectHit(const float origin[3], const float dir[3], float t
   }
   return hit;
 }
+
+// ----- bodies placed per view (issue 45) ------------------------------------------------------
+
+struct RayBodies::Impl {
+  RTCDevice device = nullptr;         // retained: the RayScene's
+  std::vector<RTCScene> scenes;       // one per mesh; null for an empty one
+  ~Impl() {
+    for (RTCScene scene : scenes)
+      if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+RayBodies::RayBodies(const RayScene& scene, std::span<const TriangleMesh> meshes)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->device = scene.impl_->device;
+  rtcRetainDevice(impl_->device);
+  for (const TriangleMesh& mesh : meshes) {
+    if (mesh.triangles.empty()) {
+      impl_->scenes.push_back(nullptr);
+      continue;
+    }
+    RTCScene body = rtcNewScene(impl_->device);
+    impl_->scenes.push_back(body);  // released by Impl whatever follows
+    rtcSetSceneFlags(body, RTC_SCENE_FLAG_ROBUST);
+    RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+        mesh.vertices.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+        mesh.triangles.size()));
+    VANTAGE_CHECK(vertices != nullptr && indices != nullptr);
+    for (size_t i = 0; i < mesh.vertices.size(); ++i)
+      for (int a = 0; a < 3; ++a) vertices[3 * i + a] = static_cast<float>(mesh.vertices[i][a]);
+    for (size_t i = 0; i < mesh.triangles.size(); ++i)
+      for (int a = 0; a < 3; ++a) indices[3 * i + a] = mesh.triangles[i][a];
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(body, geometry);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(body);
+  }
+}
+
+RayBodies::~RayBodies() = default;
+size_t RayBodies::size() const { return impl_->scenes.size(); }
+
+struct PlacedRayScene::Impl {
+  const RayScene::Impl* scene = nullptr;  // the static scene's tables
+  RTCScene top = nullptr;
+  std::vector<Mat3> body_to_world;        // by instance id; [kSceneInstance] unused
+  ~Impl() {
+    if (top) rtcReleaseScene(top);
+  }
+};
+
+namespace {
+
+// An instance of `scene` at `world_from_local`, attached to `top` with the next id.
+unsigned AttachInstance(RTCDevice device, RTCScene top, RTCScene scene, const Pose& world_from_local) {
+  const Mat3 rotation = world_from_local.rotation.toRotationMatrix();
+  float transform[12];  // RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR: the rotation's columns, then the offset
+  for (int column = 0; column < 3; ++column)
+    for (int row = 0; row < 3; ++row) transform[3 * column + row] = static_cast<float>(rotation(row, column));
+  for (int row = 0; row < 3; ++row) transform[9 + row] = static_cast<float>(world_from_local.position[row]);
+  for (const float value : transform)
+    if (!std::isfinite(value)) throw InternalError("a body's pose is not finite");
+  RTCGeometry instance = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+  rtcSetGeometryInstancedScene(instance, scene);
+  rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, transform);
+  rtcCommitGeometry(instance);
+  const unsigned id = rtcAttachGeometry(top, instance);
+  rtcReleaseGeometry(instance);
+  return id;
+}
+
+}  // namespace
+
+PlacedRayScene::PlacedRayScene(const RayScene& scene, const RayBodies& bodies,
+                               std::span<const Pose> world_from_body)
+    : impl_(std::make_unique<Impl>()) {
+  VANTAGE_CHECK(world_from_body.size() == bodies.size());
+  impl_->scene = scene.impl_.get();
+  RTCDevice device = scene.impl_->device;
+  VANTAGE_CHECK(bodies.impl_->device == device);
+  impl_->top = rtcNewScene(device);
+  rtcSetSceneFlags(impl_->top, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(impl_->top, RTC_BUILD_QUALITY_LOW);  // a handful of boxes
+  VANTAGE_CHECK(AttachInstance(device, impl_->top, scene.impl_->scene, Pose{}) == kSceneInstance);
+  impl_->body_to_world.resize(1);
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    RTCScene body = bodies.impl_->scenes[b];
+    if (!body) continue;
+    const unsigned id = AttachInstance(device, impl_->top, body, world_from_body[b]);
+    VANTAGE_CHECK(id == impl_->body_to_world.size());
+    impl_->body_to_world.push_back(world_from_body[b].rotation.toRotationMatrix());
+  }
+  rtcCommitScene(impl_->top);
+}
+
+PlacedRayScene::~PlacedRayScene() = default;
+PlacedRayScene::PlacedRayScene(PlacedRayScene&&) noexcept = default;
+PlacedRayScene& PlacedRayScene::operator=(PlacedRayScene&&) noexcept = default;
+
+void PlacedRayScene::Intersect(RayBatch* batch) const {
+  IntersectPacket(impl_->top, impl_->scene->is_target, impl_->scene->target_mesh,
+                  &impl_->body_to_world, batch);
+}
+
+void PlacedRayScene::Occluded(OcclusionBatch* batch) const { OccludedPacket(impl_->top, batch); }
 
 }  // namespace vantage
