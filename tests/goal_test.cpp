@@ -400,4 +400,42 @@ TEST(GoalCli, ThresholdAndCheapestGoalsMatchEnumerationOnASmallScene) {
 }
 
 }  // namespace
+// `optimize --keep-existing` over scene states (the installed PhoXi of the states example, and
+// one camera more): a run, not a refusal; every answer keeps the installed sensor first, and
+// exact's proven optimum for n = 2 is the best single addition (what `--method best` proves by
+// trying each) and at least every heuristic's aggregate. SelectionModel's enumeration tests check
+// the same model on random instances.
+TEST(StatesCli, KeptSensorOverStatesGetsTheBestAddition) {
+  test::TempDir dir;
+  const std::string scene = test::DataPath("../../examples/scenes/bin_picking_states.yaml");
+  const auto report_of = [&](const std::string& method) {
+    const std::string out = dir.File(method);
+    const auto run = test::RunVantage("optimize " + scene + " --keep-existing -n 2 --method " +
+                                      method + " --out " + out);
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    return nlohmann::json::parse(test::ReadText(out + "/report.json"));
+  };
+  const nlohmann::json all = report_of("all");
+  const nlohmann::json best = report_of("best");
+  ASSERT_EQ(best["results"].size(), 1u);
+  const nlohmann::json& single = best["results"][0];
+  EXPECT_TRUE(single["optimal"].get<bool>());
+  double exact_coverage = -1;
+  ASSERT_FALSE(all["results"].empty());
+  for (const nlohmann::json& r : all["results"]) {
+    SCOPED_TRACE(r["method"].get<std::string>());
+    ASSERT_FALSE(r["sensors"].empty());
+    EXPECT_EQ(r["sensors"][0], "phoxi_overhead");
+    EXPECT_EQ(r["state_coverage"].size(), 3u);
+    if (r["method"] == "exact") {
+      EXPECT_TRUE(r["optimal"].get<bool>());
+      exact_coverage = r["coverage"].get<double>();
+    }
+  }
+  ASSERT_GE(exact_coverage, 0);
+  EXPECT_NEAR(exact_coverage, single["coverage"].get<double>(), 1e-12);
+  for (const nlohmann::json& r : all["results"])
+    if (r["n"] == 2) EXPECT_LE(r["coverage"].get<double>(), exact_coverage + 1e-12) << r["method"];
+}
+
 }  // namespace vantage

@@ -280,5 +280,94 @@ TEST(SelectionModel, RansacForBudgetsAndGoalsIsFeasibleAndRepeatable) {
   EXPECT_EQ(checked, 24);
 }
 
+// --keep-existing over scene states ("two cameras are installed; the bin fills and empties; add
+// two"): the kept sensors are fixed variables of the states' model, for plain coverage, k = 2 and
+// point counts, mean and min, with and without a conflicting pair.
+TEST(SelectionModel, KeptSensorsOverStatesMatchEnumeration) {
+  int checked = 0;
+  for (uint64_t trial = 0; trial < 12; ++trial) {
+    const size_t m = 7 + trial % 3;
+    const OverStates over = trial % 2 == 0 ? OverStates::kMean : OverStates::kMin;
+    const size_t state_count = 2 + trial % 2;
+    const int mode = static_cast<int>(trial / 2 % 3);  // plain, k = 2, min_points = 3
+    const bool points = mode == 2;
+    const uint32_t threshold = mode == 0 ? 1 : mode == 1 ? 2 : 3;
+    std::vector<std::vector<Observation>> observed;
+    std::vector<size_t> sizes;
+    for (size_t s = 0; s < state_count; ++s) {
+      sizes.push_back(18 + 5 * s);
+      observed.push_back(RandomInstance(4100 + 10 * trial + s, m, sizes.back(), 0.3, points));
+    }
+    std::vector<StateObservations> states;
+    for (size_t s = 0; s < state_count; ++s)
+      states.push_back({"s" + std::to_string(s), sizes[s], observed[s]});
+    SelectOptions options;
+    options.time_limit = 20;
+    options.seed = 3 + trial;
+    options.ransac_iterations = 50;
+    if (mode == 1) options.k = 2;
+    if (points) options.min_points = threshold;
+    options.fixed = trial % 4 < 2 ? std::vector<uint32_t>{1} : std::vector<uint32_t>{0, 3};
+    options.n = static_cast<int>(options.fixed.size()) + 2;
+    const bool with_conflict = trial >= 6;
+    if (with_conflict) options.constraints.conflicts.push_back({2, 5});
+    const uint32_t kept = MaskOf(options.fixed);
+    const auto allowed = [&](uint32_t mask) {
+      return (mask & kept) == kept && !(with_conflict && (mask >> 2 & 1) && (mask >> 5 & 1));
+    };
+    const auto aggregate = [&](uint32_t mask) {
+      double sum = 0, least = 1;
+      for (size_t s = 0; s < state_count; ++s) {
+        const double f = static_cast<double>(Counted(observed[s], mask, threshold, points)) /
+                         static_cast<double>(sizes[s]);
+        sum += f;
+        least = std::min(least, f);
+      }
+      return over == OverStates::kMean ? sum / static_cast<double>(state_count) : least;
+    };
+    std::map<int, double> best;
+    for (uint32_t mask = 0; mask < (1u << m); ++mask)
+      if (allowed(mask) && Size(mask) <= options.n)
+        best[Size(mask)] = std::max(best[Size(mask)], aggregate(mask));
+    std::vector<Method> methods{Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact};
+    if (trial < 4) methods.push_back(Method::kAll);
+    if (threshold == 1) methods.push_back(Method::kBest);
+    for (const Method method : methods) {
+      options.method = method;
+      // Best is the single addition: n one above the kept.
+      options.n = static_cast<int>(options.fixed.size()) + (method == Method::kBest ? 1 : 2);
+      SCOPED_TRACE(testing::Message() << "trial " << trial << " over " << OverStatesName(over)
+                                      << " threshold " << threshold << " method "
+                                      << MethodName(method));
+      const std::vector<StateSelection> results = SelectOverStates(states, over, options);
+      ASSERT_FALSE(results.empty());
+      for (const StateSelection& r : results) {
+        const Selection& s = r.selection;
+        SCOPED_TRACE(testing::Message() << s.method << " n " << s.n);
+        ++checked;
+        const uint32_t mask = MaskOf(s.chosen);
+        EXPECT_EQ(Size(mask), s.n);
+        EXPECT_TRUE(allowed(mask));
+        EXPECT_LE(s.n, options.n);
+        if (method != Method::kAll) {
+          EXPECT_EQ(s.n, options.n);
+        }
+        EXPECT_NEAR(s.coverage, aggregate(mask), 1e-12);
+        EXPECT_LE(s.coverage, best[s.n] + 1e-12);
+        if (s.upper_bound) {
+          EXPECT_GE(*s.upper_bound + 1e-12, best[s.n]);
+        }
+        if (s.method == "exact" && method == Method::kExact) {
+          EXPECT_TRUE(s.proven_optimal);
+        }
+        if (s.proven_optimal) {
+          EXPECT_NEAR(s.coverage, best[s.n], 1e-12);
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 60);
+}
+
 }  // namespace
 }  // namespace vantage

@@ -63,7 +63,7 @@ struct SelectOptions {
   /// Candidates every answer contains (`--keep-existing`: the sensors already in the cell), by
   /// index, distinct. Every method then chooses the best additions to them, exactly as it would
   /// on the residual problem (the cells they see counted already): n counts them too (n >= their
-  /// number), a goal and a budget include them. Not with k-coverage.
+  /// number), a goal and a budget include them; with k, min_points and over scene states too.
   std::vector<uint32_t> fixed;
   /// Installation constraints (docs/constraints.md): conflicting pairs and calibration
   /// connectivity. Not empty: every method chooses only sets that satisfy them (the coverage

@@ -49,7 +49,10 @@ struct StateSelection {
 /// from 1 to options.n; exact is not part of it over states).
 /// Aggregates are compared exactly (whole numbers of cells per state, on a common denominator);
 /// deterministic, single-threaded.
-/// InputError (naming --over-states) for the goal, k and budget objectives;
+/// k-coverage, point density (min_points), installation constraints and kept sensors
+/// (options.fixed: in every answer, first; x fixed at 1 in the MILP) run the same methods on
+/// ConstrainedMethods over the states' scorer.
+/// InputError (naming --over-states) for the goal and budget objectives;
 /// for no state, states with different candidate counts, an empty R_s, or indices beyond R_s;
 /// and for what SelectOptions::Validate rejects.
 std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> states,

@@ -77,12 +77,10 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
     throw InputError(AtPlace("--over-states", 0,
                              "the scene has no states — add a `states:` list "
                              "(docs/scene-format.md) or drop --over-states"));
-  if (options.selection.keep_existing && (has_states || options.refine))
+  if (options.selection.keep_existing && options.refine)
     throw InputError(AtPlace("--keep-existing", 0,
-                             has_states ? "keeping sensors over scene states is not supported yet "
-                                          "— drop --keep-existing or the scene's states"
-                                        : "--refine may move the kept sensors — drop one of "
-                                          "--refine and --keep-existing"));
+                             "--refine may move the kept sensors — drop one of --refine and "
+                             "--keep-existing"));
   if (has_states && options.refine)
     throw InputError(AtPlace("--refine", 0,
                              "refinement over scene states is not supported yet — drop --refine "
@@ -92,7 +90,7 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
     const std::vector<KeepOutBox>& boxes = prepared.problem.mounting.keep_out;
     for (const Candidate& c : prepared.kept_out) {
       if (!c.population.empty()) continue;
-      // The box that holds it (kept sensors exclude states, so it is in the base scene's pose).
+      // The box that holds it (in the base scene).
       const auto holder = std::find_if(boxes.begin(), boxes.end(), [&](const KeepOutBox& box) {
         return box.Contains(c.world_from_body.position);
       });

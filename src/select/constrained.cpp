@@ -663,9 +663,9 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
       }
     }
     if (!solved) {
-      exact =
-          SolveExactStatesConstrained(matrix, over, feasible_, n_, local_,
-                                      std::max(0.1, time_limit - SecondsSince(start)), scorer_.k());
+      exact = SolveExactStatesConstrained(matrix, over, feasible_, n_, local_,
+                                          std::max(0.1, time_limit - SecondsSince(start)),
+                                          scorer_.k(), options_.fixed);
       const double aggregate = scorer_.Fraction(scorer_.Covered(exact.chosen));
       if (free_bound < exact.upper_bound) {
         exact.upper_bound = std::max(free_bound, aggregate);
@@ -837,6 +837,29 @@ std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
 
 }  // namespace
 
+std::vector<uint32_t> KeptStart(const Feasibility& feasible, const SelectOptions& options) {
+  const std::vector<uint32_t>& fixed = options.fixed;
+  // Kept sensors: conflict-free and (with a calibration rule) connected among themselves, so
+  // that every method only has to keep the others joined (docs/constraints.md).
+  for (size_t p = 0; p < fixed.size(); ++p) {
+    for (size_t q = p + 1; q < fixed.size(); ++q) {
+      if (feasible.InConflict(fixed[p], fixed[q]))
+        throw InputError(fmt::format("kept sensors {} and {} conflict — drop one of them from "
+                                     "the scene, or the constraint",
+                                     fixed[p], fixed[q]));
+    }
+  }
+  std::vector<uint32_t> start = BridgeKept(feasible, fixed);
+  if (!fixed.empty() && start.empty())
+    throw InputError("the kept sensors are not connected by the calibration rule, and no chain "
+                     "of candidates joins them");
+  if (!fixed.empty() && options.budget && TotalCost(options.costs, start) > *options.budget)
+    throw InputError(fmt::format("joining the kept sensors takes {} more sensors, over the "
+                                 "budget {:g}",
+                                 start.size() - fixed.size(), *options.budget));
+  return start;
+}
+
 std::vector<Selection> SelectConstrained(std::span<const Observation> observations,
                                          size_t reference_size,
                                          const SelectOptions& options) {
@@ -849,30 +872,10 @@ std::vector<Selection> SelectConstrained(std::span<const Observation> observatio
   const CoverageMatrix matrix = MatrixFor(observations, reference_size, options);
   const Feasibility feasible(observations, options.constraints);
   const double setup_seconds = SecondsSince(start);
-  if (!fixed.empty()) {
-    // Kept sensors: conflict-free and (with a calibration rule) connected among themselves, so
-    // that every method only has to keep the others joined (docs/constraints.md).
-    for (size_t p = 0; p < fixed.size(); ++p) {
-      for (size_t q = p + 1; q < fixed.size(); ++q) {
-        if (feasible.InConflict(fixed[p], fixed[q]))
-          throw InputError(
-              fmt::format("kept sensors {} and {} conflict — drop one of them from "
-                          "the scene, or the constraint",
-                          fixed[p], fixed[q]));
-      }
-    }
-  }
   // Kept sensors that the calibration rule leaves in parts grow from the chain that joins them.
-  const std::vector<uint32_t> kept_start = BridgeKept(feasible, fixed);
+  const std::vector<uint32_t> kept_start = KeptStart(feasible, options);
   const bool is_bridged = kept_start.size() > fixed.size();
   if (!fixed.empty()) {
-    if (kept_start.empty())
-      throw InputError("the kept sensors are not connected by the calibration rule, and no chain "
-                       "of candidates joins them");
-    if (options.budget && TotalCost(options.costs, kept_start) > *options.budget)
-      throw InputError(fmt::format("joining the kept sensors takes {} more sensors, over the "
-                                   "budget {:g}",
-                                   kept_start.size() - fixed.size(), *options.budget));
     const bool kept_reach_goal =
         options.goal && matrix.CoveredWeight(fixed) >= GoalCellsOf(*options.goal, reference_size);
     const bool no_room = objective != Objective::kSetCover && !options.budget &&

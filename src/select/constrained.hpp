@@ -126,15 +126,17 @@ ExactResult SolveExactConstrained(const CoverageMatrix& matrix,
 /// the flow, warm-started from the feasible `start` (at most n sensors). upper_bound (an
 /// aggregate) is the least of CBC's bound on the constrained MILP and StatesLagrangianBound (the
 /// unconstrained one). Never worse than `start`.
-/// With `threshold` >= 2 (point density over states: a matrix with counts) an element counts
-/// once the chosen put that many points in it.
+/// With `threshold` >= 2 (k-coverage, or point density: a matrix with counts) an element counts
+/// once the chosen put that many seers or points in it. `fixed` (kept sensors, in `start`) are
+/// x fixed at 1.
 StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix,
                                               OverStates over,
                                               const Feasibility& feasible,
                                               size_t n,
                                               const std::vector<uint32_t>& start,
                                               double time_limit,
-                                              int threshold = 1);
+                                              int threshold = 1,
+                                              std::span<const uint32_t> fixed = {});
 
 /// What one constrained method answered: `upper_bound` (exact only) as a share of R (cells
 /// scorer) or an aggregate over states.
@@ -193,6 +195,10 @@ class ConstrainedMethods {
 /// of its parts. A heuristic (joining parts with fewest sensors is a Steiner tree problem): the
 /// MILP, which keeps only `fixed` at 1, may join them with fewer.
 std::vector<uint32_t> BridgeKept(const Feasibility& feasible, std::span<const uint32_t> fixed);
+
+/// What every answer grows from with kept sensors (options.fixed): BridgeKept's chain. InputError
+/// when two kept sensors conflict, no chain joins them, or the chain breaks the budget.
+std::vector<uint32_t> KeptStart(const Feasibility& feasible, const SelectOptions& options);
 
 /// Select for options whose `constraints` are not empty (every objective; kept sensors are
 /// Select's residual problem): the same methods and order as Select, each under the constraints.

@@ -123,7 +123,8 @@ StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix,
                                               size_t n,
                                               const std::vector<uint32_t>& start,
                                               double time_limit,
-                                              int threshold) {
+                                              int threshold,
+                                              std::span<const uint32_t> fixed) {
   VANTAGE_CHECK(n >= 1 && feasible.IsFeasible(start) && start.size() <= n);
   constexpr double kProofTolerance = 1e-9;  // as exact_states.cpp
   constexpr double kFirstBoundShare = 0.1;
@@ -134,7 +135,7 @@ StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix,
   };
   StatesExactResult result;
   result.chosen = start;
-  if (n == 1) {  // one sensor breaks no constraint: the best single candidate is the optimum
+  if (n == 1 && fixed.empty()) {  // one sensor breaks no rule: the best single one is optimal
     uint32_t best = 0;
     StatesScorer::Score best_score = scorer.ScoreOf(scorer.Covered(std::vector<uint32_t>{0}));
     for (uint32_t i = 1; i < matrix.candidate_count(); ++i) {
@@ -167,6 +168,7 @@ StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix,
   milp.value = over == OverStates::kMin ? MilpValue::kMin : MilpValue::kMean;
   milp.capacity = static_cast<double>(n);
   milp.rules = &feasible;
+  milp.fixed = fixed;
   Capacity capacity;
   capacity.n = n;
   const MilpAnswer outcome = SolveSelectionMilp(milp, start, time_limit - SecondsSince(begin));
@@ -174,7 +176,7 @@ StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix,
   StatesScorer::Score score = scorer.ScoreOf(scorer.Covered(result.chosen));
   bool cbc_proved = false;
   const std::optional<std::vector<uint32_t>> found =
-      UsableAnswer(matrix, feasible, capacity, {}, outcome.chosen);
+      UsableAnswer(matrix, feasible, capacity, fixed, outcome.chosen);
   if (found) {
     const StatesScorer::Score found_score = scorer.ScoreOf(scorer.Covered(*found));
     if (score < found_score) {

@@ -320,12 +320,27 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
     return s;
   };
   const auto n = static_cast<size_t>(options.n);
-  if (!options.constraints.empty() || options.min_points || options.k >= 2) {
+  if (!options.constraints.empty() || options.min_points || options.k >= 2 ||
+      !options.fixed.empty()) {
     // Installation constraints (docs/constraints.md, Over scene states): the same methods under
-    // them; the calibration overlap graph is the first state's. Point density over states runs
-    // the same methods (with no constraints, every set is feasible).
+    // them; the calibration overlap graph is the first state's. Point density, k-coverage and
+    // kept sensors over states run the same methods (with no constraints, every set is
+    // feasible; kept sensors are where every answer starts, their x fixed at 1 in the MILP).
     const detail::Feasibility feasible(states.front().observations, options.constraints);
-    detail::ConstrainedMethods<detail::StatesScorer> methods(scorer, feasible, options, setup);
+    const std::vector<uint32_t> kept_start = detail::KeptStart(feasible, options);
+    const size_t kept = options.fixed.size();
+    const bool is_bridged = kept_start.size() > kept;
+    if (kept > 0 && !is_bridged && n <= kept) {  // no room: the kept sensors are the answer
+      results.push_back(Scored(states, over, Method::kBest, options.fixed, setup,
+                               options.min_points, options.min_points ? 1 : options.k));
+      results.back().selection.method = "kept";
+      return results;
+    }
+    if (n < kept_start.size())
+      throw InputError(fmt::format("n = {}: joining the {} kept sensors takes {} more sensors",
+                                   n, kept, kept_start.size() - kept));
+    detail::ConstrainedMethods<detail::StatesScorer> methods(scorer, feasible, options, setup,
+                                                             kept_start);
     const auto scored = [&](Method method, detail::ConstrainedAnswer answer) {
       VANTAGE_CHECK(feasible.IsFeasible(answer.chosen));
       StateSelection s = Scored(states, over, method, std::move(answer.chosen), answer.seconds,
@@ -341,9 +356,21 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
       if (greedy) results.push_back(scored(Method::kGreedy, std::move(g)));
       if (local) results.push_back(scored(Method::kLocal, methods.Local()));
     };
+    // With kept sensors, the best single addition: greedy's first step from them (optimal for
+    // that n; with a chain to join them, not one addition).
+    const auto best_addition = [&] {
+      StateSelection s = scored(Method::kBest, methods.Greedy(kept + 1));
+      s.selection.upper_bound = s.selection.coverage;
+      s.selection.proven_optimal = true;
+      return s;
+    };
+    if (options.method == Method::kBest && is_bridged)
+      throw InputError(fmt::format("--method best adds one sensor to the {} kept ones, and they "
+                                   "need a chain of {} to join them — use another method",
+                                   kept, kept_start.size() - kept));
     switch (options.method) {
       case Method::kBest:  // one sensor breaks no constraint
-        results.push_back(best());
+        results.push_back(kept > 0 ? best_addition() : best());
         break;
       case Method::kGreedy:
         one_n(n, false, true, false);
@@ -356,10 +383,14 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
         break;
       case Method::kAll: {
         // As Select: min-points and k-coverage have no best, and k-coverage starts at n = k.
-        if (threshold == 1) results.push_back(best());
+        if (threshold == 1 && kept == 0) results.push_back(best());
+        if (threshold == 1 && kept > 0 && !is_bridged) results.push_back(best_addition());
         detail::AllExactTime exact_time(matrix.candidate_count(), options.time_limit,
                                         static_cast<int>(n));
-        for (size_t k = static_cast<size_t>(options.k); k <= n; ++k) {
+        // Below the kept sensors and their chain no answer exists.
+        const size_t first_n =
+            std::max({static_cast<size_t>(options.k), kept + 1, kept_start.size()});
+        for (size_t k = first_n; k <= n; ++k) {
           one_n(k, true, true, true);
           if (!exact_time.runs()) continue;
           const Clock::time_point t = Clock::now();
