@@ -1,7 +1,7 @@
 #pragma once
 /// What a CBC run in the child process (child_process.hpp) reports back to the parent: its
-/// bound, status and the x columns at 1, as bytes. Every exact model (exact.cpp,
-/// exact_constrained.cpp, exact_states.cpp) solves in a child and reads the answer this way.
+/// bound, status and the x columns at 1, as bytes. The selection MILP (milp.hpp) solves in a child
+/// and reads the answer this way.
 #include <coin/Cbc_C_Interface.h>
 
 #include <algorithm>
