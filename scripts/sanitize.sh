@@ -27,6 +27,11 @@ if [ "$SCOPE" = hostile ]; then
   targets=(--target hostile_tests)
   labels=(-L hostile)
 fi
+# The build runs sanitized tools too (tests/cad's STEP fixtures are written by OpenCASCADE), so the
+# options hold from here on. The vantage binary run by the CLI tests inherits them.
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/scripts/lsan.supp:print_suppressions=0}
 echo "sanitize: building $SCOPE with ASan + UBSan into $BUILD/ (log: $BUILD/build.log) ..."
 if ! cmake --build "$BUILD" -j"$JOBS" "${targets[@]}" -- --no-print-directory >"$BUILD/build.log" 2>&1; then
   grep -E "error|Error" "$BUILD/build.log" | head -40 || true
@@ -36,9 +41,6 @@ fi
 grep -E "warning:" "$BUILD/build.log" | sort -u | head -20 || true
 built=$(date +%s)
 
-# The vantage binary run by the CLI tests inherits these too.
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
-export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 status=0
 (cd "$BUILD" && ctest --output-on-failure -j"$JOBS" "${labels[@]}" ${CTEST_ARGS:-}) || status=$?
 done_at=$(date +%s)
