@@ -862,6 +862,73 @@ TEST(ArmOcclusionTest, ALinkInFrontOfTheLensHidesExactlyItsSilhouette) {
   EXPECT_EQ(seen[0].target_pixels - seen[1].target_pixels, static_cast<uint64_t>(hidden));
 }
 
+// The physical model's second aperture (issue 43) sees past the arm no more than the primary ray
+// does: a link between the projector and the wall hides the points behind it from the projector.
+// Truth: the same cube as a fixed occluder of the cell, traced by the tested static path.
+TEST(ArmOcclusionTest, ALinkHidesTheWallFromTheSecondApertureAsAFixedOccluderDoes) {
+  const auto wall_scene = [] {
+    Scene scene;
+    SceneObject wall;
+    wall.name = "wall";
+    wall.role = Role::kTarget;
+    wall.mesh = MakeBox(Vec3(0.01, 4, 4));
+    wall.mesh.Transform(Pose{Vec3(2, 0, 0), Quat::Identity()});
+    scene.objects.push_back(wall);
+    return scene;
+  };
+  Scene scene = wall_scene();
+  ReferenceOptions reference_options;
+  reference_options.cell_size = 0.02;
+  const Reference reference = BuildReference(scene, reference_options);
+
+  Candidate camera;
+  camera.name = "wrist";
+  camera.type_id = "structured";
+  camera.sensor = SensorType::FromFov("structured", 64, 48, 1.0, std::nullopt, 0.1, 5.0);
+  SecondAperture projector;
+  projector.kind = SecondAperture::Kind::kProjector;
+  projector.baseline = 0.3;
+  projector.hfov = projector.vfov = 2.0;  // wide: the whole wall is in its field
+  camera.sensor.second_aperture = projector;
+  camera.world_from_body = Pose{};
+  // Two cubes 0.3 m to either side of the optical axis, 0.4 m ahead: whichever side the
+  // projector stands on, one lies across its segments to the wall's middle.
+  const double half = 0.06;
+  const std::vector<Vec3> centres = {Vec3(0.4, 0.22, 0.01), Vec3(0.4, -0.22, -0.01)};
+  auto body = std::make_shared<ArmBody>();
+  body->robot = "arm";
+  auto arm = std::make_shared<ArmPose>();
+  arm->body = body;
+  Scene fixed = wall_scene();
+  for (size_t i = 0; i < centres.size(); ++i) {
+    body->links.push_back("link_" + std::to_string(i));
+    body->link_meshes.push_back(MakeBox(Vec3::Constant(2 * half)));
+    arm->world_from_link.push_back(Pose{centres[i], Quat::Identity()});
+    SceneObject cube;
+    cube.name = "cube_" + std::to_string(i);
+    cube.role = Role::kOccluder;
+    cube.mesh = MakeBox(Vec3::Constant(2 * half));
+    cube.mesh.Transform(Pose{centres[i], Quat::Identity()});
+    fixed.objects.push_back(cube);
+  }
+  Candidate carried = camera;
+  carried.arm = arm;
+
+  ObserveOptions options;
+  options.cull = false;
+  options.physical = true;
+  const Observation by_arm = Observe(scene, reference, std::vector<Candidate>{carried}, options)[0];
+  const Observation by_cell = Observe(fixed, reference, std::vector<Candidate>{camera}, options)[0];
+  ObserveOptions ideal = options;
+  ideal.physical = false;
+  const Observation pinhole = Observe(fixed, reference, std::vector<Candidate>{camera}, ideal)[0];
+  // The projector's shadows of the cubes drop cells the pinhole keeps: the case is not vacuous.
+  ASSERT_LT(by_cell.reference_indices.size() + 20, pinhole.reference_indices.size());
+  EXPECT_EQ(by_arm.target_pixels, by_cell.target_pixels);
+  EXPECT_EQ(by_arm.reference_indices, by_cell.reference_indices);
+  EXPECT_EQ(by_arm.ideal_reference_indices, by_cell.ideal_reference_indices);
+}
+
 // ----- bad input: exit 2 naming the place, before any ray -------------------------------------
 
 class ArmBadInputTest : public ::testing::Test {

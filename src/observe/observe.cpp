@@ -103,9 +103,13 @@ PhysicalModel MakePhysicalModel(const Candidate& candidate, bool physical) {
 // tested for occluders 16 segments at a time (one Embree packet).
 class PixelJudge {
  public:
-  PixelJudge(const RayScene& rays, const Candidate& candidate, const Reference& reference,
-             const ObserveOptions& options, Observation* observation)
+  // `placed`: the cell with the carrying arm as it stands in this view (none: the cell alone). The
+  // second aperture's segments are tested against it too: a link between the projector or second
+  // imager and a point hides the point as it hides the primary ray.
+  PixelJudge(const RayScene& rays, const PlacedRayScene* placed, const Candidate& candidate,
+             const Reference& reference, const ObserveOptions& options, Observation* observation)
       : rays_(rays),
+        placed_(placed),
         sensor_(candidate.sensor),
         world_from_body_(candidate.world_from_body.rotation.toRotationMatrix()),
         origin_(candidate.world_from_body.position),
@@ -204,13 +208,17 @@ class PixelJudge {
   void Flush() {
     if (queued_ == 0) return;
     for (int lane = queued_; lane < OcclusionBatch::kWidth; ++lane) segments_.query[lane] = false;
-    rays_.Occluded(&segments_);
+    if (placed_ != nullptr)
+      placed_->Occluded(&segments_);
+    else
+      rays_.Occluded(&segments_);
     for (int lane = 0; lane < queued_; ++lane)
       if (!segments_.occluded[lane]) Count(queued_keys_[lane], passes_[lane]);
     queued_ = 0;
   }
 
   const RayScene& rays_;
+  const PlacedRayScene* placed_;
   const SensorType& sensor_;
   const Mat3 world_from_body_;
   const Vec3 origin_;
@@ -365,7 +373,7 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
   const Mat3 world_from_body = candidate.world_from_body.rotation.toRotationMatrix();
   const Vec3 origin = candidate.world_from_body.position;
   Observation observation;
-  PixelJudge judge(rays, candidate, reference, options, &observation);
+  PixelJudge judge(rays, placed_rays, candidate, reference, options, &observation);
 
   RayBatch batch;
   for (int a = 0; a < 3; ++a) batch.origin[a] = static_cast<float>(origin[a]);
