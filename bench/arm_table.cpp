@@ -114,8 +114,9 @@ int main(int argc, char** argv) {
       spans[i] = detail::SpansToTrace(views.candidates[i], blocks, true);
       for (const auto& s : spans[i]) traced += static_cast<uint64_t>(s.u1 - s.u0 + 1);
     }
-    start = std::chrono::steady_clock::now();
-    tbb::parallel_for(size_t{0}, views.candidates.size(), [&](size_t i) {
+    // The limit loop of one view: its spans' pixel rays, 16 at a time, into `intersect` (a
+    // generic lambda, so the call is inlined as in observe).
+    const auto trace_view = [&](size_t i, const auto& intersect) {
       const Candidate& c = views.candidates[i];
       const Mat3 rotation = c.world_from_body.rotation.toRotationMatrix();
       RayBatch batch;
@@ -128,9 +129,13 @@ int main(int argc, char** argv) {
             const Vec3 d = rotation * PixelRayInBody(c.sensor, u0 + lane, span.v);
             for (int a = 0; a < 3; ++a) batch.dir[a][lane] = static_cast<float>(d[a]);
           }
-          rays.Intersect(&batch);
+          intersect(&batch);
         }
       }
+    };
+    start = std::chrono::steady_clock::now();
+    tbb::parallel_for(size_t{0}, views.candidates.size(), [&](size_t i) {
+      trace_view(i, [&](RayBatch* batch) { rays.Intersect(batch); });
     });
     const double limit_seconds = Since(start);
     // The same loop in each view's scene with its arm placed (a top-level BVH per view).
@@ -140,24 +145,13 @@ int main(int argc, char** argv) {
       const Candidate& c = views.candidates[i];
       std::optional<PlacedRayScene> placed;
       if (c.arm) placed.emplace(arms.Place(*c.arm));
-      const Mat3 rotation = c.world_from_body.rotation.toRotationMatrix();
-      RayBatch batch;
-      for (int a = 0; a < 3; ++a) batch.origin[a] = static_cast<float>(c.world_from_body.position[a]);
-      batch.tfar = static_cast<float>(c.sensor.far);
-      for (const detail::RowSpan& span : spans[i]) {
-        for (int u0 = span.u0; u0 <= span.u1; u0 += RayBatch::kWidth) {
-          batch.active = std::min(RayBatch::kWidth, span.u1 - u0 + 1);
-          for (int lane = 0; lane < batch.active; ++lane) {
-            const Vec3 d = rotation * PixelRayInBody(c.sensor, u0 + lane, span.v);
-            for (int a = 0; a < 3; ++a) batch.dir[a][lane] = static_cast<float>(d[a]);
-          }
-          if (placed) {
-            placed->Intersect(&batch);
-          } else {
-            rays.Intersect(&batch);
-          }
+      trace_view(i, [&](RayBatch* batch) {
+        if (placed) {
+          placed->Intersect(batch);
+        } else {
+          rays.Intersect(batch);
         }
-      }
+      });
     });
     const double limit_arm_seconds = Since(start);
 

@@ -808,8 +808,8 @@ sensors:
 
 // ----- the arm occludes its own camera -------------------------------------------------------
 
-TEST(ArmOcclusionTest, ALinkInFrontOfTheLensHidesExactlyItsSilhouette) {
-  // A target wall 2 m ahead of the camera; a 0.1 m cube link 0.5 m ahead, off-centre.
+// A target wall 2 m ahead of a camera at the origin looking along +x.
+Scene TargetWallScene() {
   Scene scene;
   SceneObject wall;
   wall.name = "wall";
@@ -817,6 +817,12 @@ TEST(ArmOcclusionTest, ALinkInFrontOfTheLensHidesExactlyItsSilhouette) {
   wall.mesh = MakeBox(Vec3(0.01, 4, 4));
   wall.mesh.Transform(Pose{Vec3(2, 0, 0), Quat::Identity()});
   scene.objects.push_back(wall);
+  return scene;
+}
+
+TEST(ArmOcclusionTest, ALinkInFrontOfTheLensHidesExactlyItsSilhouette) {
+  // A target wall 2 m ahead of the camera; a 0.1 m cube link 0.5 m ahead, off-centre.
+  const Scene scene = TargetWallScene();
   ReferenceOptions reference_options;
   reference_options.cell_size = 0.02;
   const Reference reference = BuildReference(scene, reference_options);
@@ -866,17 +872,7 @@ TEST(ArmOcclusionTest, ALinkInFrontOfTheLensHidesExactlyItsSilhouette) {
 // does: a link between the projector and the wall hides the points behind it from the projector.
 // Truth: the same cube as a fixed occluder of the cell, traced by the tested static path.
 TEST(ArmOcclusionTest, ALinkHidesTheWallFromTheSecondApertureAsAFixedOccluderDoes) {
-  const auto wall_scene = [] {
-    Scene scene;
-    SceneObject wall;
-    wall.name = "wall";
-    wall.role = Role::kTarget;
-    wall.mesh = MakeBox(Vec3(0.01, 4, 4));
-    wall.mesh.Transform(Pose{Vec3(2, 0, 0), Quat::Identity()});
-    scene.objects.push_back(wall);
-    return scene;
-  };
-  Scene scene = wall_scene();
+  const Scene scene = TargetWallScene();
   ReferenceOptions reference_options;
   reference_options.cell_size = 0.02;
   const Reference reference = BuildReference(scene, reference_options);
@@ -899,7 +895,7 @@ TEST(ArmOcclusionTest, ALinkHidesTheWallFromTheSecondApertureAsAFixedOccluderDoe
   body->robot = "arm";
   auto arm = std::make_shared<ArmPose>();
   arm->body = body;
-  Scene fixed = wall_scene();
+  Scene fixed = TargetWallScene();
   for (size_t i = 0; i < centres.size(); ++i) {
     body->links.push_back("link_" + std::to_string(i));
     body->link_meshes.push_back(MakeBox(Vec3::Constant(2 * half)));
