@@ -34,6 +34,26 @@ std::vector<Observation> RandomInstance(uint64_t seed, size_t candidates, size_t
   return obs;
 }
 
+// Random scene states: state s has first_size + size_step·s cells and its candidates drawn by
+// RandomInstance(seed + s, ...); `states` views `observed` (moving the struct keeps the buffers).
+struct RandomStates {
+  std::vector<std::vector<Observation>> observed;
+  std::vector<size_t> sizes;
+  std::vector<StateObservations> states;
+};
+
+RandomStates MakeRandomStates(uint64_t seed, size_t state_count, size_t candidates,
+                              size_t first_size, size_t size_step, double p, bool with_hits) {
+  RandomStates random;
+  for (size_t s = 0; s < state_count; ++s) {
+    random.sizes.push_back(first_size + size_step * s);
+    random.observed.push_back(RandomInstance(seed + s, candidates, random.sizes.back(), p, with_hits));
+  }
+  for (size_t s = 0; s < state_count; ++s)
+    random.states.push_back({"s" + std::to_string(s), random.sizes[s], random.observed[s]});
+  return random;
+}
+
 // Cells of R that `mask` brings to `threshold` (seers, or with `points` the summed hits).
 size_t Counted(const std::vector<Observation>& obs, uint32_t mask, uint32_t threshold,
                bool points) {
@@ -126,15 +146,8 @@ TEST(SelectionModel, KCoverageOverStatesMatchesEnumeration) {
     const size_t m = 7 + trial % 3;
     const OverStates over = trial % 2 == 0 ? OverStates::kMean : OverStates::kMin;
     const size_t state_count = 2 + trial % 2;
-    std::vector<std::vector<Observation>> observed;
-    std::vector<size_t> sizes;
-    for (size_t s = 0; s < state_count; ++s) {
-      sizes.push_back(20 + 7 * s);
-      observed.push_back(RandomInstance(3100 + 10 * trial + s, m, sizes.back(), 0.35, false));
-    }
-    std::vector<StateObservations> states;
-    for (size_t s = 0; s < state_count; ++s)
-      states.push_back({"s" + std::to_string(s), sizes[s], observed[s]});
+    const RandomStates random = MakeRandomStates(3100 + 10 * trial, state_count, m, 20, 7, 0.35, false);
+    const auto& [observed, sizes, states] = random;
     SelectOptions options;
     options.time_limit = 20;
     options.seed = 9 + trial;
@@ -292,15 +305,8 @@ TEST(SelectionModel, KeptSensorsOverStatesMatchEnumeration) {
     const int mode = static_cast<int>(trial / 2 % 3);  // plain, k = 2, min_points = 3
     const bool points = mode == 2;
     const uint32_t threshold = mode == 0 ? 1 : mode == 1 ? 2 : 3;
-    std::vector<std::vector<Observation>> observed;
-    std::vector<size_t> sizes;
-    for (size_t s = 0; s < state_count; ++s) {
-      sizes.push_back(18 + 5 * s);
-      observed.push_back(RandomInstance(4100 + 10 * trial + s, m, sizes.back(), 0.3, points));
-    }
-    std::vector<StateObservations> states;
-    for (size_t s = 0; s < state_count; ++s)
-      states.push_back({"s" + std::to_string(s), sizes[s], observed[s]});
+    const RandomStates random = MakeRandomStates(4100 + 10 * trial, state_count, m, 18, 5, 0.3, points);
+    const auto& [observed, sizes, states] = random;
     SelectOptions options;
     options.time_limit = 20;
     options.seed = 3 + trial;
