@@ -250,6 +250,10 @@ TEST(Physical, CatalogEntriesValidateAndKeepThePapersTypes) {
         SensorType::FromFov(p.id, p.w, p.h, p.hfov, std::nullopt, p.near, p.far);
     EXPECT_EQ(MatchCatalogId(gazebo), p.id);
   }
+  // The paper's ZED is its Gazebo model (the side-by-side RGB pair), and its name says so.
+  const SensorType* zed = FindCatalogType("zed");
+  ASSERT_NE(zed, nullptr);
+  EXPECT_NE(zed->name.find("Gazebo model"), std::string::npos) << zed->name;
   const SensorType* kinect = FindCatalogType("kinect_xbox_360");
   ASSERT_TRUE(kinect && kinect->second_aperture);
   EXPECT_EQ(kinect->second_aperture->kind, SecondAperture::Kind::kProjector);
@@ -430,6 +434,57 @@ sensors:
   EXPECT_EQ(refused.exit_code, 2) << refused.err;
   EXPECT_NE(refused.err.find("'femto_bolt_nfov_unbinned' has no unit cost"), std::string::npos)
       << refused.err;
+}
+
+// A custom type based on an unpriced entry, without a `cost:`, has no price either; its .vis
+// (format 9) keeps that, so `vantage select --budget` and `--cheapest` refuse it naming the
+// type, as optimize does, and a price given in the scene is kept as one.
+TEST(Physical, VisKeepsACustomTypesMissingCostForSelect) {
+  test::TempDir dir;
+  const auto scene = [&](const std::string& name, const std::string& cost) {
+    const std::string path = dir.File(name);
+    test::WriteText(path, R"(settings:
+  cell_size: 0.02
+  n: 1
+  observation_point: [0, 0, 0.06]
+sensor_types:
+  - {id: my_bolt, base: femto_bolt_nfov_unbinned)" + cost + R"(}
+objects:
+  - name: cube
+    role: target
+    box: {size: [0.1, 0.1, 0.1]}
+    pose: {xyz: [0, 0, 0.06]}
+sensors:
+  - {name: a, type: my_bolt, position: [0, 0, 1.06], orientation: {rpy: [0, 1.5707963267948966, 0]}}
+  - {name: b, type: kinect_xbox_one, position: [1.0, 0, 0.06], orientation: {rpy: [0, 0, 3.141592653589793]}}
+)");
+    return path;
+  };
+  const std::string unpriced = scene("unpriced.yaml", "");
+  const auto optimize =
+      test::RunVantage("optimize " + unpriced + " --budget 1000 --out " + dir.File("o"));
+  EXPECT_EQ(optimize.exit_code, 2) << optimize.err;
+  EXPECT_NE(optimize.err.find("'my_bolt' has no unit cost"), std::string::npos) << optimize.err;
+
+  const std::string vis = dir.File("unpriced.vis");
+  ASSERT_EQ(test::RunVantage("observe " + unpriced + " --out " + vis).exit_code, 0);
+  for (const char* flag : {"--budget 1000", "--cheapest --goal 0.1"}) {
+    SCOPED_TRACE(flag);
+    const auto refused =
+        test::RunVantage("select " + vis + " " + flag + " --out " + dir.File("s"));
+    EXPECT_EQ(refused.exit_code, 2) << refused.err;
+    EXPECT_NE(refused.err.find("'my_bolt' has no unit cost"), std::string::npos) << refused.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.File("s/report.json")));
+  }
+  // Without a budget the same file selects as before.
+  EXPECT_EQ(test::RunVantage("select " + vis + " --out " + dir.File("plain")).exit_code, 0);
+
+  const std::string priced_vis = dir.File("priced.vis");
+  ASSERT_EQ(test::RunVantage("observe " + scene("priced.yaml", ", cost: 400") + " --out " +
+                             priced_vis).exit_code, 0);
+  const auto budget =
+      test::RunVantage("select " + priced_vis + " --budget 1000 --out " + dir.File("p"));
+  EXPECT_EQ(budget.exit_code, 0) << budget.err;
 }
 
 // --by-type on a scene whose answer is known by construction: a floating 0.1 m cube (faces in

@@ -172,6 +172,28 @@ uint64_t Fnv1a64(const std::string& bytes) {
   return h;
 }
 
+// The bytes of a format-8 file (docs/outputs.md) from a version-9 one whose sensors' costs are all
+// given: less each candidate's last 4 bytes (u32 0), before the next one's name or, for the last,
+// before the mounting (40 zero bytes) and parts (36) sections, with version 8 and the checksum
+// recomputed here (FNV-1a 64).
+std::string AsVersion8(const std::string& bytes, const std::vector<std::string>& names) {
+  std::string body = bytes.substr(0, bytes.size() - 8);
+  const std::string zero(4, '\0');
+  for (size_t i = names.size(); i >= 1; --i) {
+    size_t at = body.size() - 36 - 40 - 4;
+    if (i < names.size()) {
+      const uint64_t length = names[i].size();
+      at = body.find(zero + std::string(reinterpret_cast<const char*>(&length), 8) + names[i]);
+    }
+    EXPECT_NE(at, std::string::npos);
+    EXPECT_EQ(body.substr(at, 4), zero);
+    body.erase(at, 4);
+  }
+  body[8] = 8;
+  const uint64_t h = Fnv1a64(body);
+  return body + std::string(reinterpret_cast<const char*>(&h), 8);
+}
+
 // The bytes of a format-7 file (docs/outputs.md) from a version-8 one whose sensors have no
 // incidence term and no flying-pixel threshold: less each candidate's last 20 bytes (f64 0, opt
 // absent: all zero), before the next one's name or, for the last, before the mounting (40 zero
@@ -249,7 +271,7 @@ TEST(VisibilityFile, Version8KeepsIncidenceTermAndFlyingThreshold) {
   const std::vector<std::string> names = {"cam0", "cam1", "cam2"};
   const VisibilityFile plain = SmallData();
   SaveVisibilityFile(dir.File("plain.vis"), plain);
-  test::WriteText(dir.File("v7.vis"), AsVersion7(test::ReadText(dir.File("plain.vis")), names));
+  test::WriteText(dir.File("v7.vis"), AsVersion7(AsVersion8(test::ReadText(dir.File("plain.vis")), names), names));
   const VisibilityFile old = LoadVisibilityFile(dir.File("v7.vis"));
   ASSERT_EQ(old.candidates.size(), 3u);
   for (size_t i = 0; i < 3; ++i) {
@@ -259,6 +281,52 @@ TEST(VisibilityFile, Version8KeepsIncidenceTermAndFlyingThreshold) {
 }
 
 // SmallData as older formats could hold it: no second apertures (format 7).
+// A format-9 file keeps whether each sensor's unit cost was given (issue 43): a type without a
+// price stays without one. The same file as format 8 reads as it always did: every cost given.
+TEST(VisibilityFile, Version9KeepsWhetherTheCostIsGiven) {
+  test::TempDir dir;
+  VisibilityFile data = SmallData();
+  data.candidates[1].sensor.cost = 0;
+  data.candidates[1].sensor.cost_given = false;
+  SaveVisibilityFile(dir.File("new.vis"), data);
+  const VisibilityFile back = LoadVisibilityFile(dir.File("new.vis"));
+  ASSERT_EQ(back.candidates.size(), 3u);
+  EXPECT_TRUE(back.candidates[0].sensor.cost_given);
+  EXPECT_FALSE(back.candidates[1].sensor.cost_given);
+  EXPECT_TRUE(back.candidates[2].sensor.cost_given);
+  // A free type (cost 0 given) and one without a price differ only in the flag: the fingerprint
+  // tells them apart.
+  VisibilityFile free = data;
+  free.candidates[1].sensor.cost_given = true;
+  EXPECT_NE(VisibilityFingerprint(back), VisibilityFingerprint(free));
+  const std::vector<std::string> names = {"cam0", "cam1", "cam2"};
+  const VisibilityFile plain = SmallData();
+  SaveVisibilityFile(dir.File("plain.vis"), plain);
+  const std::string bytes = test::ReadText(dir.File("plain.vis"));
+  test::WriteText(dir.File("v8.vis"), AsVersion8(bytes, names));
+  EXPECT_EQ(test::ReadText(dir.File("v8.vis")).size(), bytes.size() - 3 * 4);
+  const VisibilityFile old = LoadVisibilityFile(dir.File("v8.vis"));
+  ASSERT_EQ(old.candidates.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_TRUE(old.candidates[i].sensor.cost_given);
+    EXPECT_EQ(old.candidates[i].sensor.cost, plain.candidates[i].sensor.cost);
+    EXPECT_EQ(old.observations[i].reference_indices, plain.observations[i].reference_indices);
+  }
+  // A flag other than 0 or 1 is a corrupt file, refused with its name.
+  std::string bad = bytes.substr(0, bytes.size() - 8);
+  const size_t flag = bad.size() - 36 - 40 - 4;  // the last candidate's flag
+  ASSERT_EQ(bad.substr(flag, 4), std::string(4, '\0'));
+  bad[flag] = 2;
+  const uint64_t h = Fnv1a64(bad);
+  test::WriteText(dir.File("bad_flag.vis"), bad + std::string(reinterpret_cast<const char*>(&h), 8));
+  try {
+    LoadVisibilityFile(dir.File("bad_flag.vis"));
+    ADD_FAILURE() << "a cost-given flag of 2 was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cost-given flag"), std::string::npos) << e.what();
+  }
+}
+
 VisibilityFile SmallOldData() {
   VisibilityFile data = SmallData();
   for (Candidate& c : data.candidates) c.sensor.second_aperture.reset();
@@ -296,7 +364,7 @@ TEST(VisibilityFile, Version4LoadsWithoutMountingRulesAndSelectsAsBefore) {
   for (const Candidate& c : data.candidates) positions.push_back(c.world_from_body.position);
   const std::vector<std::string> names = {"cam0", "cam1", "cam2"};
   test::WriteText(dir.File("v4.vis"),
-                  AsVersion4(AsVersion5(AsVersion7(test::ReadText(dir.File("new.vis")), names),
+                  AsVersion4(AsVersion5(AsVersion7(AsVersion8(test::ReadText(dir.File("new.vis")), names), names),
                                         positions, names, data.reference.cell_size),
                              positions));
   const VisibilityFile old = LoadVisibilityFile(dir.File("v4.vis"));
@@ -352,7 +420,7 @@ TEST(VisibilityFile, OldVersionLoadsWithoutCountsAndMinPointsRefusesIt) {
   const std::vector<std::string> names = {"cam0", "cam1", "cam2"};
   std::vector<Vec3> positions;
   for (const Candidate& c : data.candidates) positions.push_back(c.world_from_body.position);
-  const std::string v5 = AsVersion5(AsVersion7(test::ReadText(dir.File("new.vis")), names),
+  const std::string v5 = AsVersion5(AsVersion7(AsVersion8(test::ReadText(dir.File("new.vis")), names), names),
                                     positions, names, data.reference.cell_size);
   test::WriteText(dir.File("old.vis"), AsVersion3(AsVersion4(v5, positions), names));
   const VisibilityFile old = LoadVisibilityFile(dir.File("old.vis"));

@@ -362,9 +362,12 @@ const std::vector<SensorType>& Catalog() {
                           "disparities")),
       Entry("intel_realsense_sr300", "Intel RealSense SR300", "structured light (coded)", 640,
             480, 1.24791, std::nullopt, 0.2, 1.5, 60, 150),
-      // Stereolabs ZED datasheet: baseline 120 mm; its disparity search is not published.
-      WithAperture(Entry("zed", "Stereolabs ZED", "stereo", 4416, 1242, 1.91986, std::nullopt, 0.7,
-                         20.0, 15, 450),
+      // Not a depth datasheet: the original system's Gazebo model, whose 4416x1242 and 110 deg
+      // are the ZED's side-by-side RGB pair (two 2208x1242 images), kept so that the paper's
+      // worlds still match it; the name says so. Stereolabs ZED datasheet: baseline 120 mm; its
+      // disparity search is not published.
+      WithAperture(Entry("zed", "Stereolabs ZED, Gazebo model", "stereo", 4416, 1242, 1.91986,
+                         std::nullopt, 0.7, 20.0, 15, 450),
                    Imager(0.12, std::nullopt, "Stereolabs ZED datasheet: baseline 120 mm")),
       WithAperture(WithD400Noise(Entry("intel_realsense_d415", "Intel RealSense D415",
                                        "active stereo", 1280, 720, 1.106539, std::nullopt, 0.16,

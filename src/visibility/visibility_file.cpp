@@ -37,8 +37,12 @@ namespace {
 // its pixel counts): older files read as ideal, which they were.
 // Version 8 adds, last in each candidate, its depth-noise model's incidence term (0: none) and
 // its flying-pixel threshold (issue 43): older files read without either, as they were observed.
+// Version 9 adds, after them, whether the sensor's unit cost was given (0 given, 1 not given:
+// a catalog entry whose vendor publishes no price, or a type based on one without a `cost:`), so
+// that `select --budget/--cheapest` refuses such a type as optimize does (issue 43). Older files
+// read as before: the cost given unless the type id names an unpriced catalog entry.
 constexpr char kMagic[8] = {'V', 'A', 'N', 'T', 'V', 'I', 'S', '\0'};
-constexpr uint32_t kFormatVersion = 8;
+constexpr uint32_t kFormatVersion = 9;
 constexpr uint32_t kOldestReadVersion = 1;
 
 void WriteOptional(detail::BinaryWriter* w, const std::optional<double>& value) {
@@ -289,6 +293,8 @@ std::string EncodeVisibilityFile(const VisibilityFile& file, bool observations) 
     // Format 8: the noise model's incidence term, the flying-pixel threshold.
     w.F64(noise ? noise->incidence : 0.0);
     WriteOptional(&w, c.sensor.flying_pixel_threshold);
+    // Format 9: 1 when the unit cost is not given (0, the common case, keeps files compact).
+    w.U32(c.sensor.cost_given ? 0 : 1);
   }
   WriteMounting(&w, file.mounting, file.kept_out);
   WriteParts(&w, file.reference);
@@ -435,6 +441,11 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
         throw corrupt("an incidence term without a depth noise model");
       }
       c.sensor.flying_pixel_threshold = ReadOptional(&r, "flying-pixel threshold", corrupt);
+    }
+    if (version >= 9) {
+      const uint32_t cost_not_given = r.U32();
+      if (cost_not_given > 1) throw corrupt("a sensor's cost-given flag is not 0 or 1");
+      c.sensor.cost_given = cost_not_given == 0;
     }
     const auto check_indices = [&](const std::vector<uint32_t>& indices) {
       for (size_t k = 0; k < indices.size(); ++k) {

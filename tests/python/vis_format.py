@@ -18,6 +18,7 @@ class VisCandidate:
     reference_hits: list = dataclasses.field(default_factory=list)  # pixels per cell (version 4)
     interferes: object = None  # the type's `interferes:` (version 5), None when unset
     cost: float = 1.0  # the sensor type's unit cost (the budget objective)
+    cost_given: bool = True  # False: no price given, cost is a placeholder (version 9)
 
 
 @dataclasses.dataclass
@@ -100,7 +101,7 @@ def read_vis(path):
     r = _Reader(data[:-8])
     r.at = 8
     version = r.u32()
-    assert version in (4, 5, 6, 7, 8), f"format version {version}"
+    assert version in (4, 5, 6, 7, 8, 9), f"format version {version}"
     scene, seed = r.string(), r.u64()
     r.u32(), r.u32(), r.f64()  # n, RANSAC iterations and stop coverage
     r.string(), r.optional(), r.u32(), r.optional()  # method, goal, k, budget
@@ -140,8 +141,13 @@ def read_vis(path):
             assert differs <= 1 and (differs or not ideal), "ideal cells"
         if version >= 8:
             r.f64(), r.optional()  # noise incidence coefficient, flying-pixel threshold
+        cost_given = True
+        if version >= 9:
+            flag = r.u32()  # 0 the unit cost is given, 1 not given (no price published)
+            assert flag <= 1, f"cost-given flag {flag}"
+            cost_given = flag == 0
         candidates.append(VisCandidate(name, type_id, population, position, quaternion, indices,
-                                       rays, hits, interferes, cost))
+                                       rays, hits, interferes, cost, cost_given))
     vis = VisFile(version, scene, seed, cell_size, keys, candidates)
     vis.physical = physical
     if version >= 5:
