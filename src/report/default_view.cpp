@@ -3,6 +3,8 @@
 // frustum depth the two pictures share.
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "vantage/visualize.hpp"
 
@@ -32,6 +34,116 @@ Vec3 Corner(const Aabb& box, int k) {
   return Vec3(k & 1 ? box.max.x() : box.min.x(), k & 2 ? box.max.y() : box.min.y(),
               k & 4 ? box.max.z() : box.min.z());
 }
+
+// How much target surface a viewpoint sees (issue 43: a deep bin's parts hid behind its walls
+// from the fixed three-quarter view). Points spread over the targets' surface by area, each
+// counted when the segment from it to the eye meets no triangle of the scene; a brute-force
+// probe (the report layer casts no Embree rays) that a work limit keeps cheap on large meshes.
+class SurfaceProbe {
+ public:
+  explicit SurfaceProbe(const Scene& scene) {
+    double total_area = 0;
+    uint64_t triangle_count = 0;
+    for (size_t o = 0; o < scene.objects.size(); ++o) {
+      const TriangleMesh& mesh = scene.objects[o].mesh;
+      if (mesh.IsEmpty()) continue;
+      objects_.push_back({&mesh, mesh.Bounds()});
+      triangle_count += mesh.triangles.size();
+      if (scene.objects[o].is_target()) total_area += mesh.Area();
+    }
+    if (!(total_area > 0) || triangle_count == 0) return;
+    // The samples times the triangles each segment may be tested against, per viewpoint.
+    const uint64_t samples = std::min<uint64_t>(kMaxSamples, kWorkPerView / triangle_count);
+    if (samples < kMinSamples) return;  // too large to probe: the fixed look stays
+    // Systematic sampling over the targets' cumulative area; within a triangle, the R2
+    // low-discrepancy sequence mapped uniformly onto it.
+    const double step = total_area / static_cast<double>(samples);
+    double next = 0.5 * step, cumulative = 0;
+    uint64_t k = 0;
+    for (const SceneObject& object : scene.objects) {
+      if (!object.is_target()) continue;
+      const TriangleMesh& mesh = object.mesh;
+      for (const auto& tri : mesh.triangles) {
+        const Vec3& a = mesh.vertices[tri[0]];
+        const Vec3& b = mesh.vertices[tri[1]];
+        const Vec3& c = mesh.vertices[tri[2]];
+        cumulative += 0.5 * (b - a).cross(c - a).norm();
+        for (; next < cumulative && k < samples; next += step, ++k) {
+          const double r1 = std::fmod(0.5 + 0.7548776662466927 * static_cast<double>(k), 1.0);
+          const double r2 = std::fmod(0.5 + 0.5698402909980532 * static_cast<double>(k), 1.0);
+          const double s = std::sqrt(r1);
+          samples_.push_back((1 - s) * a + s * (1 - r2) * b + s * r2 * c);
+        }
+      }
+    }
+  }
+
+  bool usable() const { return !samples_.empty(); }
+
+  /// The fraction of the samples that `eye` sees.
+  double SeenFraction(const Vec3& eye) const {
+    size_t seen = 0;
+    for (const Vec3& p : samples_) seen += Blocked(p, eye) ? 0 : 1;
+    return static_cast<double>(seen) / static_cast<double>(samples_.size());
+  }
+
+ private:
+  static constexpr uint64_t kMaxSamples = 256, kMinSamples = 32;
+  static constexpr uint64_t kWorkPerView = uint64_t{2} << 20;
+
+  struct Object {
+    const TriangleMesh* mesh;
+    Aabb bounds;
+  };
+
+  // Whether a triangle lies on the open segment from `p` to `eye` (leaving p's own surface).
+  bool Blocked(const Vec3& p, const Vec3& eye) const {
+    const Vec3 d = eye - p;
+    const double length = d.norm();
+    if (!(length > 0)) return false;
+    const double t_min = 1e-6 / length + 1e-9;  // a micrometre off the surface the point lies on
+    for (const Object& object : objects_) {
+      if (!SegmentMeetsBox(p, d, object.bounds)) continue;
+      const TriangleMesh& mesh = *object.mesh;
+      for (const auto& tri : mesh.triangles) {
+        const Vec3& a = mesh.vertices[tri[0]];
+        const Vec3 e1 = mesh.vertices[tri[1]] - a, e2 = mesh.vertices[tri[2]] - a;
+        // Möller–Trumbore.
+        const Vec3 q = d.cross(e2);
+        const double det = e1.dot(q);
+        if (std::abs(det) < 1e-18) continue;
+        const Vec3 s = p - a;
+        const double u = s.dot(q) / det;
+        if (u < 0 || u > 1) continue;
+        const Vec3 r = s.cross(e1);
+        const double v = d.dot(r) / det;
+        if (v < 0 || u + v > 1) continue;
+        const double t = e2.dot(r) / det;
+        if (t > t_min && t < 1) return true;
+      }
+    }
+    return false;
+  }
+
+  static bool SegmentMeetsBox(const Vec3& p, const Vec3& d, const Aabb& box) {
+    double lo = 0, hi = 1;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (std::abs(d[axis]) < 1e-300) {
+        if (p[axis] < box.min[axis] || p[axis] > box.max[axis]) return false;
+        continue;
+      }
+      double t0 = (box.min[axis] - p[axis]) / d[axis], t1 = (box.max[axis] - p[axis]) / d[axis];
+      if (t0 > t1) std::swap(t0, t1);
+      lo = std::max(lo, t0);
+      hi = std::min(hi, t1);
+      if (lo > hi) return false;
+    }
+    return true;
+  }
+
+  std::vector<Object> objects_;
+  std::vector<Vec3> samples_;
+};
 
 }  // namespace
 
@@ -69,20 +181,49 @@ Framing DefaultFraming(const Scene& scene, const Report& report) {
     const double side = std::atan2(horizontal.y(), horizontal.x());
     azimuths = {side - 30.0 * kPi / 180.0, side + 30.0 * kPi / 180.0};
   }
-  const double elevation = 35.0 * kPi / 180.0;
+  const auto along = [](double azimuth, double elevation) {
+    return Vec3(std::cos(azimuth) * std::cos(elevation), std::sin(azimuth) * std::cos(elevation),
+                std::sin(elevation));
+  };
   // Of the two turns, the one that frames targets and sensors from closer (for 45° and a square
   // picture: the choice of side does not depend on the picture's size).
   std::vector<Vec3> points = framing.sensors;
   for (int corner = 0; corner < 8; ++corner) points.push_back(Corner(framing.targets, corner));
   double best_distance = 0;
   for (const double azimuth : azimuths) {
-    const Vec3 direction(std::cos(azimuth) * std::cos(elevation),
-                         std::sin(azimuth) * std::cos(elevation), std::sin(elevation));
+    const Vec3 direction = along(azimuth, 35.0 * kPi / 180.0);
     const View view = FitView(points, direction, kPi / 4, 1.0);
     const double distance = (view.eye - view.look_at).norm();
     if (best_distance == 0 || distance < best_distance) {
       framing.direction = direction;
       best_distance = distance;
+    }
+  }
+  // Targets deep in a bin hide behind its walls from 35°: when that look sees less than half of
+  // the target surface the best of the steeper looks (and the other sides) sees, the first look
+  // seeing nearly as much as the best replaces it, lowest elevation first (issue 43).
+  const SurfaceProbe probe(scene);
+  if (!probe.usable()) return framing;
+  const auto seen = [&](const Vec3& direction) {
+    return probe.SeenFraction(FitView(points, direction, kPi / 4, 1.0).eye);
+  };
+  const double current = seen(framing.direction);
+  std::vector<std::pair<Vec3, double>> looks;
+  double best = current;
+  for (const double degrees : {35.0, 50.0, 65.0, 80.0}) {
+    for (const double base : azimuths) {
+      for (const double turn : {0.0, 0.5 * kPi, kPi, 1.5 * kPi}) {
+        const Vec3 direction = along(base + turn, degrees * kPi / 180.0);
+        looks.emplace_back(direction, seen(direction));
+        best = std::max(best, looks.back().second);
+      }
+    }
+  }
+  if (current >= 0.5 * best) return framing;
+  for (const auto& [direction, fraction] : looks) {
+    if (fraction >= 0.95 * best) {
+      framing.direction = direction;
+      break;
     }
   }
   return framing;
