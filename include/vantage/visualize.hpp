@@ -113,8 +113,9 @@ struct View {
 /// What the default views frame (issue 16): the targets' bounds (R's voxels without meshes), the
 /// primary result's sensors (every one of them), and the direction from the point looked at
 /// towards the eye: 35° above the horizon, from the sensors' side turned by 30° to the side that
-/// frames them from closer (a fixed oblique azimuth when they surround the targets). Requires a
-/// derived report when report.data is set.
+/// frames them from closer (a fixed oblique azimuth when they surround the targets); steeper or
+/// from another side when that look sees under half the target surface the best such look sees
+/// (targets deep in a bin). Requires a derived report when report.data is set.
 struct Framing {
   Aabb targets;
   std::vector<Vec3> sensors;
