@@ -358,6 +358,38 @@ TEST(DefaultView, FitViewFramesEveryPointTightly) {
   EXPECT_NEAR(largest, 1.0 / 1.05, 1e-6);
 }
 
+// A target floor at the bottom of a deep bin (issue 43): a line of sight below
+// atan(0.4 / 0.28) = 55° cannot pass over a 0.4 m wall and reach a floor at most 0.28 m across
+// (its diagonal), so the 35° look sees none of it and the default look turns steeper than that.
+// (A 1 cm target 3 m above frames the view from far, as chosen sensors above a bin do; it is
+// 0.1 % of the target surface.) Without the walls the 35° look sees the floor's top, half the
+// target surface, as every other look does, and stays.
+TEST(DefaultView, LooksIntoADeepBinInsteadOfAtItsWalls) {
+  const auto scene_with = [](bool walls) {
+    Scene scene;
+    const auto add = [&](const char* name, Role role, const Vec3& size, const Vec3& centre) {
+      TriangleMesh box = MakeBox(size);
+      box.Transform(Pose{centre, Quat::Identity()});
+      scene.objects.push_back({name, role, std::move(box), {}});
+    };
+    add("floor", Role::kTarget, Vec3(0.2, 0.2, 0.01), Vec3(0, 0, 0.005));
+    add("marker", Role::kTarget, Vec3(0.01, 0.01, 0.01), Vec3(0, 0, 3.0));
+    if (walls) {
+      add("north", Role::kOccluder, Vec3(0.22, 0.01, 0.4), Vec3(0, 0.105, 0.2));
+      add("south", Role::kOccluder, Vec3(0.22, 0.01, 0.4), Vec3(0, -0.105, 0.2));
+      add("east", Role::kOccluder, Vec3(0.01, 0.2, 0.4), Vec3(0.105, 0, 0.2));
+      add("west", Role::kOccluder, Vec3(0.01, 0.2, 0.4), Vec3(-0.105, 0, 0.2));
+    }
+    return scene;
+  };
+  const Report none;  // no result: the fixed oblique azimuth
+  EXPECT_NEAR(DefaultFraming(scene_with(false), none).direction.z(), std::sin(35 * kPi / 180),
+              1e-12);
+  const Vec3 into = DefaultFraming(scene_with(true), none).direction;
+  EXPECT_NEAR(into.norm(), 1.0, 1e-12);
+  EXPECT_GT(std::atan2(into.z(), std::hypot(into.x(), into.y())), std::atan(0.4 / 0.28));
+}
+
 // Frusta end at the targets' far side: a sensor on +x at d looking at a cube of half-size r
 // around the origin reaches depth d + r, and never beyond `far`.
 TEST(DefaultView, FrustumDepthIsTheTargetsFarSideWithinFar) {
