@@ -157,7 +157,7 @@ def test_visibility_file_keeps_the_mounting_rules(cli_example, tmp_path):
     scene, kept_out = constrained_example(cli_example, tmp_path)
     run_cli("observe", scene, "--out", tmp_path / "c.vis")
     raw = read_vis(tmp_path / "c.vis")
-    assert raw.version == 8
+    assert raw.version == 9
     assert len(raw.part_of) == len(raw.keys) and len(raw.exposed) == len(raw.keys)
     assert set(raw.part_of) <= set(range(len(raw.part_names)))
     assert raw.min_separation == 0.3
