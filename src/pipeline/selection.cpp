@@ -46,12 +46,21 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
     for (const Candidate& c : candidates) {
       // A catalog entry whose vendor publishes no price carries none (issue 43): a budget
       // cannot count it as free.
-      if (!UnitCostGiven(c.sensor, c.type_id))
+      if (!UnitCostGiven(c.sensor, c.type_id)) {
+        // The type as the scene names it: a custom type keeps its own id (its candidates carry
+        // the catalog id its intrinsics match, e.g. the Azure Kinect's for a Femto Bolt).
+        const bool custom = !c.sensor.id.empty() && c.sensor.id != c.type_id;
+        const std::string& type = custom ? c.sensor.id : c.type_id;
         throw InputError(AtPlace(
             options.minimize_cost ? "--cheapest" : "--budget", 0,
-            fmt::format("sensor type '{}' has no unit cost (its vendor publishes none) — give "
-                        "one in the scene: sensor_types: [{{id: my_{}, base: {}, cost: ...}}]",
-                        c.type_id, c.type_id, c.type_id)));
+            custom ? fmt::format("sensor type '{}' has no unit cost (its base publishes none) — "
+                                 "give it one in the scene: `cost: ...` in its sensor_types entry",
+                                 type)
+                   : fmt::format("sensor type '{}' has no unit cost (its vendor publishes none) "
+                                 "— give one in the scene: sensor_types: [{{id: my_{}, base: {}, "
+                                 "cost: ...}}]",
+                                 type, type, type)));
+      }
       options.costs.push_back(c.sensor.cost);
     }
   }
