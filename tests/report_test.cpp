@@ -455,7 +455,7 @@ TEST(VisibilityFile, CorruptTruncatedOrForeignFilesAreInputErrors) {
   test::WriteText(dir.File("short.vis"), good.substr(0, good.size() / 3));
   test::WriteText(dir.File("text.vis"), "hello, not a matrix\n");
   std::string other_version = good;
-  other_version[8] = 9;
+  other_version[8] = 10;  // one past the current format (9)
   test::WriteText(dir.File("version.vis"), other_version);
   for (const char* name : {"flipped.vis", "short.vis", "text.vis", "version.vis", "missing.vis"}) {
     try {
