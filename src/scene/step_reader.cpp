@@ -1,45 +1,17 @@
-// STEP and IGES through OpenCASCADE's XCAF readers (names, colours, assemblies), each solid meshed
-// by BRepMesh. The only file that includes OpenCASCADE.
+// STEP and IGES files (issue 46). OpenCASCADE itself is in a shared module of its own
+// (src/scene/module/occt_reader.cpp, libvantage_cad.so), loaded only in the child process that
+// reads a CAD file (issue 47: a run reading none starts without OpenCASCADE's libraries).
 #include "scene/step_reader.hpp"
 
-#include <BRepMesh_IncrementalMesh.hxx>
-#include <BRep_Tool.hxx>
-#include <IFSelect_ReturnStatus.hxx>
-#include <IGESCAFControl_Reader.hxx>
-#include <Interface_Check.hxx>
-#include <Interface_CheckIterator.hxx>
-#include <Interface_InterfaceModel.hxx>
-#include <Message.hxx>
-#include <Message_Messenger.hxx>
-#include <Poly_Triangulation.hxx>
-#include <Quantity_Color.hxx>
-#include <STEPCAFControl_Reader.hxx>
-#include <Standard_Failure.hxx>
-#include <TCollection_AsciiString.hxx>
-#include <TCollection_ExtendedString.hxx>
-#include <TDF_Label.hxx>
-#include <TDF_LabelSequence.hxx>
-#include <TDataStd_Name.hxx>
-#include <TDocStd_Document.hxx>
-#include <TopExp_Explorer.hxx>
-#include <TopLoc_Location.hxx>
-#include <TopoDS.hxx>
-#include <TopoDS_Face.hxx>
-#include <TopoDS_Shape.hxx>
-#include <XCAFApp_Application.hxx>
-#include <XCAFDoc_ColorTool.hxx>
-#include <XCAFDoc_DocumentTool.hxx>
-#include <XCAFDoc_ShapeTool.hxx>
-#include <XSControl_WorkSession.hxx>
-#include <XSControl_Reader.hxx>
+#include <dlfcn.h>
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <map>
 
 #include "util/isolated.hpp"
 #include "util/run_files.hpp"
@@ -63,202 +35,52 @@ bool IsIges(const std::string& path) {
   throw InputError(fmt::format("{}: {}", path, what));
 }
 
-// The first failure OpenCASCADE's reader recorded, with the entity it is about ("#12" in STEP).
-std::string FirstFailure(XSControl_Reader& reader) {
-  const Handle(XSControl_WorkSession) session = reader.WS();
-  if (session.IsNull()) return {};
-  const Handle(Interface_InterfaceModel) model = session->Model();
-  Interface_CheckIterator checks = session->ModelCheckList();
-  for (checks.Start(); checks.More(); checks.Next()) {
-    const Handle(Interface_Check)& check = checks.Value();
-    if (check.IsNull() || !check->HasFailed()) continue;
-    std::string entity;
-    if (!model.IsNull() && check->HasEntity()) {
-      const Handle(TCollection_HAsciiString) label = model->StringLabel(check->Entity());
-      if (!label.IsNull()) entity = label->ToCString();
-    } else if (checks.Number() > 0) {
-      entity = fmt::format("#{}", checks.Number());
-    }
-    const std::string message = check->CFail(1) ? check->CFail(1) : "failed";
-    return entity.empty() ? message : fmt::format("entity {}: {}", entity, message);
+// The module's entry: vantage_read_cad in occt_reader.cpp.
+using CadModuleEntry = int (*)(const char* path, double deflection, std::string* parts,
+                               std::string* failure);
+
+// Where the module may be, in order: beside the code running (the binary, or the Python module's
+// shared object: build/ keeps both there), in the install's library folder relative to it (`cmake
+// --install`: bin/vantage and lib/vantage/libvantage_cad.so), and the build tree's own (the tests
+// and the Python module run from build/).
+std::vector<std::filesystem::path> CadModulePlaces() {
+  std::vector<std::filesystem::path> folders;
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&ReadCadFile), &info) != 0 && info.dli_fname != nullptr &&
+      std::strchr(info.dli_fname, '/') != nullptr) {
+    folders.push_back(std::filesystem::path(info.dli_fname).parent_path());
   }
-  return {};
+  std::error_code error;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (!error) folders.push_back(self.parent_path());
+  std::vector<std::filesystem::path> places;
+  for (const std::filesystem::path& folder : folders) {
+    places.push_back(folder / VANTAGE_CAD_MODULE_NAME);
+    places.push_back(folder / VANTAGE_CAD_MODULE_FROM_BIN / VANTAGE_CAD_MODULE_NAME);
+  }
+  places.emplace_back(VANTAGE_CAD_MODULE_BUILT);
+  return places;
 }
 
-std::string NameOf(const TDF_Label& label) {
-  Handle(TDataStd_Name) name;
-  if (!label.FindAttribute(TDataStd_Name::GetID(), name)) return {};
-  TCollection_AsciiString text(name->Get(), '?');  // non-ASCII letters become '?'
-  std::string result = text.ToCString();
-  // Names reach file:line messages and exports: no control characters.
-  result.erase(std::remove_if(result.begin(), result.end(),
-                              [](unsigned char c) { return c < 0x20 || c == 0x7f; }),
-               result.end());
-  return result;
-}
-
-std::optional<std::array<double, 3>> ColourOf(const Handle(XCAFDoc_ColorTool)& colours,
-                                              const TDF_Label& label, const TopoDS_Shape& shape) {
-  Quantity_Color colour;
-  for (const XCAFDoc_ColorType type : {XCAFDoc_ColorSurf, XCAFDoc_ColorGen}) {
-    if (colours->GetColor(label, type, colour) || colours->GetColor(shape, type, colour))
-      return std::array<double, 3>{colour.Red(), colour.Green(), colour.Blue()};
-  }
-  return std::nullopt;
-}
-
-// The triangles of `shape`'s faces (meshed already), in metres and in the frame of its location.
-TriangleMesh Triangles(const TopoDS_Shape& shape) {
-  TriangleMesh mesh;
-  for (TopExp_Explorer faces(shape, TopAbs_FACE); faces.More(); faces.Next()) {
-    const TopoDS_Face& face = TopoDS::Face(faces.Current());
-    TopLoc_Location location;
-    const Handle(Poly_Triangulation) triangulation = BRep_Tool::Triangulation(face, location);
-    if (triangulation.IsNull()) continue;
-    const gp_Trsf transform = location.Transformation();
-    const uint32_t first = static_cast<uint32_t>(mesh.vertices.size());
-    for (int i = 1; i <= triangulation->NbNodes(); ++i) {
-      const gp_Pnt p = triangulation->Node(i).Transformed(transform);
-      mesh.vertices.emplace_back(p.X(), p.Y(), p.Z());
+// Loads the module (in the child process: the parent never maps OpenCASCADE) and returns its entry.
+CadModuleEntry LoadCadModule() {
+  std::string tried;
+  for (const std::filesystem::path& place : CadModulePlaces()) {
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(place, error)) {
+      tried += (tried.empty() ? "" : ", ") + place.string();
+      continue;
     }
-    const bool reversed = face.Orientation() == TopAbs_REVERSED;
-    for (int i = 1; i <= triangulation->NbTriangles(); ++i) {
-      int a = 0, b = 0, c = 0;
-      triangulation->Triangle(i).Get(a, b, c);
-      if (reversed) std::swap(b, c);  // outward normals, as the other readers give
-      mesh.triangles.push_back({first + static_cast<uint32_t>(a - 1),
-                                first + static_cast<uint32_t>(b - 1),
-                                first + static_cast<uint32_t>(c - 1)});
+    void* module = dlopen(place.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (module == nullptr) {
+      throw InputError(fmt::format("cannot load the CAD reader {}: {}", place.string(), dlerror()));
     }
+    if (void* entry = dlsym(module, "vantage_read_cad")) return reinterpret_cast<CadModuleEntry>(entry);
+    throw InputError(fmt::format("{} is not vantage's CAD reader (no vantage_read_cad)", place.string()));
   }
-  return mesh;
-}
-
-struct Reader {
-  Handle(XCAFDoc_ShapeTool) shapes;
-  Handle(XCAFDoc_ColorTool) colours;
-  double deflection = 0;
-  std::vector<CadPart> parts;
-  std::map<std::string, int> uses;  // by name: parts so named so far
-
-  // A unique name: the product's, "#2"... after the first of that name.
-  std::string Unique(std::string name) {
-    if (name.empty()) name = fmt::format("solid_{}", parts.size() + 1);
-    const int count = ++uses[name];
-    return count == 1 ? name : fmt::format("{}#{}", name, count);
-  }
-
-  void AddShape(const TopoDS_Shape& shape, const std::string& name,
-                const std::optional<std::array<double, 3>>& colour) {
-    std::vector<TopoDS_Shape> solids;
-    for (TopExp_Explorer it(shape, TopAbs_SOLID); it.More(); it.Next()) solids.push_back(it.Current());
-    if (solids.empty()) solids.push_back(shape);  // a shell or faces: one part
-    for (const TopoDS_Shape& solid : solids) {
-      // Relative deflection off: the bound is absolute, in the document's unit (metres).
-      BRepMesh_IncrementalMesh mesher(solid, deflection, Standard_False, 0.5, Standard_False);
-      CadPart part;
-      part.mesh = Triangles(solid);
-      if (part.mesh.triangles.empty()) continue;
-      part.name = Unique(name);
-      part.colour = colour;
-      parts.push_back(std::move(part));
-    }
-  }
-
-  // A label of the document: an assembly's components in turn (their locations composed), or a
-  // shape. The instance's own name and colour win over the product's.
-  void Visit(const TDF_Label& label, const TopLoc_Location& location, std::string name,
-             std::optional<std::array<double, 3>> colour, int depth) {
-    if (depth > 64) return;  // a cycle of references in a broken file
-    TDF_Label product = label;
-    if (XCAFDoc_ShapeTool::IsReference(label)) XCAFDoc_ShapeTool::GetReferredShape(label, product);
-    if (name.empty()) name = NameOf(product);
-    if (!colour) colour = ColourOf(colours, label, XCAFDoc_ShapeTool::GetShape(label));
-    if (!colour) colour = ColourOf(colours, product, XCAFDoc_ShapeTool::GetShape(product));
-    if (XCAFDoc_ShapeTool::IsAssembly(product)) {
-      TDF_LabelSequence components;
-      XCAFDoc_ShapeTool::GetComponents(product, components);
-      for (int i = 1; i <= components.Length(); ++i) {
-        const TDF_Label& component = components.Value(i);
-        TDF_Label referred;
-        XCAFDoc_ShapeTool::GetReferredShape(component, referred);
-        // A component is named by its product (the part), not by its instance name.
-        Visit(component, location * XCAFDoc_ShapeTool::GetLocation(component), NameOf(referred),
-              colour, depth + 1);
-      }
-      return;
-    }
-    TopoDS_Shape shape = XCAFDoc_ShapeTool::GetShape(product);
-    if (shape.IsNull()) return;
-    AddShape(shape.Moved(location), name, colour);
-  }
-};
-
-std::vector<CadPart> ReadInProcess(const std::string& path, double deflection) {
-  // OpenCASCADE prints its own traces to stdout: silenced, its failures are read below.
-  Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_Printer));
-  Handle(TDocStd_Document) document;
-  XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", document);
-  // Lengths in metres: the readers convert from the file's own unit.
-  XCAFDoc_DocumentTool::SetLengthUnit(document, 1.0);
-  const bool iges = IsIges(path);
-  const char* kind = iges ? "IGES" : "STEP";
-  std::string failure;
-  bool transferred = false;
-  if (iges) {
-    IGESCAFControl_Reader reader;
-    reader.SetNameMode(true);
-    reader.SetColorMode(true);
-    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
-      Fail(path, fmt::format("not a {} file OpenCASCADE can read{}", kind,
-                             [&] { const std::string f = FirstFailure(reader);
-                                   return f.empty() ? std::string() : " (" + f + ")"; }()));
-    failure = FirstFailure(reader);
-    transferred = reader.Transfer(document);
-  } else {
-    STEPCAFControl_Reader reader;
-    reader.SetNameMode(true);
-    reader.SetColorMode(true);
-    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) {
-      const std::string f = FirstFailure(reader.ChangeReader());
-      Fail(path, fmt::format("not a {} file OpenCASCADE can read{}", kind,
-                             f.empty() ? std::string() : " (" + f + ")"));
-    }
-    failure = FirstFailure(reader.ChangeReader());
-    transferred = reader.Transfer(document);
-  }
-  if (!transferred)
-    Fail(path, fmt::format("OpenCASCADE read no shape from this {} file{}", kind,
-                           failure.empty() ? std::string() : " (" + failure + ")"));
-  Reader read;
-  read.shapes = XCAFDoc_DocumentTool::ShapeTool(document->Main());
-  read.colours = XCAFDoc_DocumentTool::ColorTool(document->Main());
-  read.deflection = deflection;
-  TDF_LabelSequence roots;
-  read.shapes->GetFreeShapes(roots);
-  for (int i = 1; i <= roots.Length(); ++i)
-    read.Visit(roots.Value(i), TopLoc_Location(), {}, std::nullopt, 0);
-  if (read.parts.empty())
-    Fail(path, fmt::format("holds no solid or face that could be meshed{}",
-                           failure.empty() ? std::string() : " (" + failure + ")"));
-  return read.parts;
-}
-
-// The parts as bytes, for the trip out of the child process, and back.
-std::string PartsBytes(const std::vector<CadPart>& parts) {
-  std::string bytes;
-  const auto put = [&](const void* p, size_t n) { bytes.append(static_cast<const char*>(p), n); };
-  for (const CadPart& part : parts) {
-    const uint64_t header[] = {part.name.size(), part.mesh.vertices.size(),
-                               part.mesh.triangles.size(), part.colour ? 1u : 0u};
-    put(header, sizeof(header));
-    put(part.name.data(), part.name.size());
-    const std::array<double, 3> colour = part.colour.value_or(std::array<double, 3>{});
-    put(colour.data(), sizeof(colour));
-    for (const Vec3& v : part.mesh.vertices) put(v.data(), 3 * sizeof(double));
-    put(part.mesh.triangles.data(), part.mesh.triangles.size() * sizeof(part.mesh.triangles[0]));
-  }
-  return bytes;
+  throw InputError(fmt::format(
+      "cannot read STEP or IGES files: the CAD reader {} is not installed (looked at {})",
+      VANTAGE_CAD_MODULE_NAME, tried));
 }
 
 std::vector<CadPart> PartsFromBytes(const std::string& bytes) {
@@ -307,11 +129,11 @@ std::vector<CadPart> ReadCadFile(const std::string& path, double deflection) {
   const double mib = static_cast<double>(std::filesystem::file_size(path, error)) / (1 << 20);
   std::vector<CadPart> parts = PartsFromBytes(RunIsolated(
       [&] {
-        try {
-          return PartsBytes(ReadInProcess(path, deflection));
-        } catch (const Standard_Failure& e) {
-          Fail(path, fmt::format("OpenCASCADE failed on it: {}", e.GetMessageString()));
-        }
+        const CadModuleEntry read = LoadCadModule();
+        std::string bytes;
+        std::string failure;
+        if (read(path.c_str(), deflection, &bytes, &failure) != 0) throw InputError(failure);
+        return bytes;
       },
       fmt::format("{}: cannot read CAD file: OpenCASCADE", path), 60.0 + 20.0 * mib));
   for (const CadPart& part : parts) {
