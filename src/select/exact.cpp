@@ -158,7 +158,8 @@ GoalResult SolveGoalMilp(const CoverageMatrix& matrix, int k, std::span<const do
 ExactResult SolveExact(const CoverageMatrix& matrix,
                        size_t n,
                        const std::vector<uint32_t>& start,
-                       double time_limit) {
+                       double time_limit,
+                       RootMultipliers* warm) {
   VANTAGE_CHECK(n >= 1 && n <= matrix.candidate_count() && start.size() == n);
   const auto start_time = std::chrono::steady_clock::now();
   ExactResult result;
@@ -194,6 +195,7 @@ ExactResult SolveExact(const CoverageMatrix& matrix,
   BranchAndBoundLimits limits;
   limits.seconds = kBranchAndBoundTimeShare * time_limit - SecondsSince(start_time);
   if (limits.seconds < kMinBranchAndBoundSeconds) return result;
+  limits.warm = warm;
   const BranchAndBoundResult search =
       BranchAndBound(matrix, n, result.chosen, result.upper_bound, limits);
   if (search.cells > matrix.CoveredWeight(result.chosen)) result.chosen = search.chosen;
@@ -225,9 +227,10 @@ ExactResult SolveExactK(const CoverageMatrix& matrix,
                         int k,
                         const std::vector<uint32_t>& start,
                         double time_limit,
-                        bool may_enumerate) {
+                        bool may_enumerate,
+                        RootMultipliers* warm) {
   VANTAGE_CHECK(k >= 1 && n >= 1 && n <= matrix.candidate_count() && start.size() == n);
-  if (k == 1) return SolveExact(matrix, n, start, time_limit);
+  if (k == 1) return SolveExact(matrix, n, start, time_limit, warm);
   const auto start_time = std::chrono::steady_clock::now();
   ExactResult result;
   result.chosen = start;
