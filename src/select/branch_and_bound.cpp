@@ -66,9 +66,6 @@ constexpr double kMinLpPasses = 50;
 constexpr size_t kRunsFactor = 2;
 // The root's steps run in rounds of this many, with Lagrangian fixing between them.
 constexpr int kRootChunk = 100;
-// The root's step scale from a smaller n's multipliers (issue 47): near the optimum already, so
-// the first steps must not throw them far.
-constexpr double kWarmStepScale = 2.0;
 
 struct Node {
   std::vector<uint32_t> fixed;    // candidates in
@@ -143,7 +140,6 @@ class Search {
       const bool is_root = nodes_ == 0;
       ++nodes_;
       const std::optional<Branch> branch = Bound(&node, open.bound, is_root);
-      if (is_root && warm_ != nullptr && !root_lambda_.empty()) warm_->Put(n_, root_lambda_);
       if (!branch) continue;
       const auto [bound, pick, out_bound] = *branch;
       const uint32_t candidate = node.free[pick];
@@ -171,10 +167,6 @@ class Search {
   }
 
   void set_max_nodes(long nodes) { max_nodes_ = nodes; }
-  void set_warm(RootMultipliers* warm) {
-    warm_ = warm;
-    if (warm_ != nullptr) warm_start_ = warm_->Before(n_);
-  }
   void set_root_budget(int steps, double seconds, bool lp) {
     root_steps_limit_ = steps;
     root_seconds_ = seconds;
@@ -306,13 +298,7 @@ class Search {
       const double left = std::chrono::duration<double>(end_ - Clock::now()).count();
       Lap(&lap, &profile_.rows_seconds);
       if (is_root && round == 0) {
-        // A smaller n's root multipliers (`all`), over this problem's elements.
-        std::vector<double> warm;
-        if (!warm_start_.empty()) {
-          warm.resize(elements.size());
-          for (size_t k = 0; k < elements.size(); ++k) warm[k] = warm_start_[elements[k]];
-        }
-        lambda = StartMultipliers(problem, warm);
+        lambda = StartMultipliers(problem);
       } else {
         lambda.resize(elements.size());
         for (size_t k = 0; k < elements.size(); ++k) lambda[k] = node->lambda[elements[k]];
@@ -461,7 +447,7 @@ class Search {
     if (first) {
       root_start_ = Clock::now();
       root_limit_seconds_ = std::min(left, root_seconds_);
-      root_scale_ = warm_start_.empty() ? kStartStepScale : kWarmStepScale;
+      root_scale_ = kStartStepScale;
     }
     const double elapsed = std::chrono::duration<double>(Clock::now() - root_start_).count();
     const int chunk = std::min(kRootChunk, root_steps_limit_ - root_steps_);
@@ -546,8 +532,6 @@ class Search {
   double root_sg_seconds_ = 0;
   uint64_t root_sg_bound_ = 0;
   std::vector<double> root_lambda_;
-  RootMultipliers* warm_ = nullptr;  // a smaller n's root multipliers in, this n's out
-  std::vector<double> warm_start_;   // per matrix element; empty: StartMultipliers' shares
   bool root_done_ = false;  // the root's steps (and CLP) are over
   Clock::time_point root_start_;
   double root_limit_seconds_ = 0;
@@ -582,7 +566,6 @@ BranchAndBoundResult BranchAndBound(const CoverageMatrix& matrix,
   Search search(matrix, n, start, end);
   search.set_root_budget(limits.root_steps, limits.root_share * limits.seconds, limits.root_lp);
   search.set_max_nodes(limits.max_nodes);
-  search.set_warm(limits.warm);
   const uint64_t bound = search.Run(upper_bound);
   BranchAndBoundResult result;
   result.chosen = search.best();

@@ -158,8 +158,7 @@ GoalResult SolveGoalMilp(const CoverageMatrix& matrix, int k, std::span<const do
 ExactResult SolveExact(const CoverageMatrix& matrix,
                        size_t n,
                        const std::vector<uint32_t>& start,
-                       double time_limit,
-                       RootMultipliers* warm) {
+                       double time_limit) {
   VANTAGE_CHECK(n >= 1 && n <= matrix.candidate_count() && start.size() == n);
   const auto start_time = std::chrono::steady_clock::now();
   ExactResult result;
@@ -195,7 +194,6 @@ ExactResult SolveExact(const CoverageMatrix& matrix,
   BranchAndBoundLimits limits;
   limits.seconds = kBranchAndBoundTimeShare * time_limit - SecondsSince(start_time);
   if (limits.seconds < kMinBranchAndBoundSeconds) return result;
-  limits.warm = warm;
   const BranchAndBoundResult search =
       BranchAndBound(matrix, n, result.chosen, result.upper_bound, limits);
   if (search.cells > matrix.CoveredWeight(result.chosen)) result.chosen = search.chosen;
@@ -227,10 +225,9 @@ ExactResult SolveExactK(const CoverageMatrix& matrix,
                         int k,
                         const std::vector<uint32_t>& start,
                         double time_limit,
-                        bool may_enumerate,
-                        RootMultipliers* warm) {
+                        bool may_enumerate) {
   VANTAGE_CHECK(k >= 1 && n >= 1 && n <= matrix.candidate_count() && start.size() == n);
-  if (k == 1) return SolveExact(matrix, n, start, time_limit, warm);
+  if (k == 1) return SolveExact(matrix, n, start, time_limit);
   const auto start_time = std::chrono::steady_clock::now();
   ExactResult result;
   result.chosen = start;

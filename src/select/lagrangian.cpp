@@ -87,15 +87,7 @@ void AppendRuns(std::span<const uint32_t> row, std::vector<uint32_t>* runs) {
   if (!row.empty()) runs->push_back(row.back() + 1);
 }
 
-std::vector<double> StartMultipliers(const LagrangianProblem& problem,
-                                     std::span<const double> warm) {
-  if (!warm.empty()) {
-    VANTAGE_CHECK(warm.size() == problem.weights.size());
-    std::vector<double> lambda(warm.size());
-    for (size_t e = 0; e < lambda.size(); ++e)
-      lambda[e] = std::clamp(warm[e], 0.0, static_cast<double>(problem.weights[e]));
-    return lambda;
-  }
+std::vector<double> StartMultipliers(const LagrangianProblem& problem) {
   std::vector<uint32_t> seers(problem.weights.size(), 0);
   for (const std::vector<uint32_t>& row : problem.rows) {
     for (const uint32_t e : row) ++seers[e];
@@ -107,18 +99,6 @@ std::vector<double> StartMultipliers(const LagrangianProblem& problem,
     lambda[e] = static_cast<double>(problem.weights[e]) / std::max<uint32_t>(seers[e], 1);
   }
   return lambda;
-}
-
-void RootMultipliers::Put(size_t n, std::vector<double> lambda) {
-  const std::lock_guard<std::mutex> lock(mutex_);
-  by_n_[n] = std::move(lambda);
-}
-
-std::vector<double> RootMultipliers::Before(size_t n) const {
-  const std::lock_guard<std::mutex> lock(mutex_);
-  const auto it = by_n_.lower_bound(n);
-  if (it == by_n_.begin()) return {};
-  return std::prev(it)->second;
 }
 
 SubgradientResult SubgradientSteps(const LagrangianProblem& problem,

@@ -8,8 +8,6 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
-#include <map>
-#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
@@ -314,28 +312,8 @@ void AppendRuns(std::span<const uint32_t> row, std::vector<uint32_t>* runs);
 void ForEachRow(size_t count, size_t nonzeros,
                 const std::function<void(size_t begin, size_t end)>& body);
 
-/// Where the multiplier search starts: `warm` (one per element of `problem`) where given,
-/// projected onto [0, w]; else each element's weight shared among the rows that see it. Every
-/// lambda in [0, w] gives a valid bound, so a warm start changes how soon the bound is low,
-/// never whether it holds.
-std::vector<double> StartMultipliers(const LagrangianProblem& problem,
-                                     std::span<const double> warm = {});
-
-/// The root multipliers of branch and bound over one matrix, by n (issue 47): `all` runs exact at
-/// n = 1, 2, ... and each n's root starts from the largest smaller n's (per matrix element), which
-/// sit much nearer its optimum than StartMultipliers' shares. Shared by `all`'s lanes (locked);
-/// which smaller n a lane finds depends on the lanes' timing, as the time-limited bounds do.
-class RootMultipliers {
- public:
-  /// n's root multipliers, one per matrix element.
-  void Put(size_t n, std::vector<double> lambda);
-  /// Those of the largest n' < n put so far; empty when none.
-  std::vector<double> Before(size_t n) const;
-
- private:
-  mutable std::mutex mutex_;
-  std::map<size_t, std::vector<double>> by_n_;
-};
+/// Where the multiplier search starts: each element's weight shared among the rows that see it.
+std::vector<double> StartMultipliers(const LagrangianProblem& problem);
 
 /// What SubgradientSteps did.
 struct SubgradientResult {
@@ -417,9 +395,6 @@ struct BranchAndBoundLimits {
   /// Nodes bounded at most (then the search stops as at the time limit): a stopping point that
   /// does not depend on the clock, for tests.
   long max_nodes = std::numeric_limits<long>::max();
-  /// Where the root's multipliers start from (those of a smaller n) and where this n's go; none:
-  /// from StartMultipliers' shares (`all`'s exact runs share one, issue 47).
-  RootMultipliers* warm = nullptr;
 };
 
 /// Where BranchAndBound's time went (wall seconds; for bench/bnb_probe, not reported).
@@ -483,8 +458,7 @@ struct ExactResult {
 ExactResult SolveExact(const CoverageMatrix& matrix,
                        size_t n,
                        const std::vector<uint32_t>& start,
-                       double time_limit,
-                       RootMultipliers* warm = nullptr);
+                       double time_limit);
 
 /// Maximum k-coverage (k >= 2) of n sensors: max sum_e w_e y_e s.t. k y_e <= sum_{i sees e} x_i,
 /// sum_i x_i <= n, x and y binary (the answer padded to n by KGreedyComplete). No dominance
@@ -496,8 +470,7 @@ ExactResult SolveExactK(const CoverageMatrix& matrix,
                         int k,
                         const std::vector<uint32_t>& start,
                         double time_limit,
-                        bool may_enumerate = true,
-                        RootMultipliers* warm = nullptr);
+                        bool may_enumerate = true);
 
 /// Budgeted maximum coverage: as SolveExact with sum_i cost_i x_i <= budget instead of the
 /// cardinality row; dominance needs a superset that costs no more. Falls back to `start` (which

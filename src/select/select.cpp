@@ -167,14 +167,14 @@ class Pipeline {
   /// Exact (coverage, k-coverage, min points or budget) warm-started from `start`, found in
   /// `start_seconds`. Const and touching no member state: `all`'s lanes run it at once.
   Selection ExactFrom(const std::vector<uint32_t>& start, double start_seconds, double time_limit,
-                      ExactNote* note, detail::RootMultipliers* warm = nullptr) const {
+                      ExactNote* note) const {
     const Clock::time_point begin = Clock::now();
     detail::ExactResult exact;
     if (objective_ == Objective::kBudget) {
       exact =
           detail::SolveExactBudget(matrix_, options_.costs, *options_.budget, start, time_limit);
     } else {
-      exact = detail::SolveExactK(matrix_, start.size(), k_, start, time_limit, true, warm);
+      exact = detail::SolveExactK(matrix_, start.size(), k_, start, time_limit);
     }
     note->proven_optimal = exact.proven_optimal;
     note->text = std::move(exact.note);
@@ -272,7 +272,6 @@ void RunExactLanes(const Pipeline& pipeline, double time_limit, std::vector<Exac
   const size_t lanes = detail::AllExactTime::Lanes(threads, runs->size());
   std::atomic<size_t> next{0};
   std::vector<std::exception_ptr> failures(lanes);
-  detail::RootMultipliers warm;  // each n's root starts from a smaller n's multipliers
   const auto lane = [&](size_t which) {
     try {
       detail::AllExactTime time(time_limit);
@@ -280,7 +279,7 @@ void RunExactLanes(const Pipeline& pipeline, double time_limit, std::vector<Exac
         ExactRun& run = (*runs)[j];
         const Clock::time_point start = Clock::now();
         (*results)[run.slot] = pipeline.ExactFrom(
-            run.start, run.start_seconds, time.Share(runs->size() - j, lanes), &run.note, &warm);
+            run.start, run.start_seconds, time.Share(runs->size() - j, lanes), &run.note);
         time.Spend(SecondsSince(start));
       }
     } catch (...) {
