@@ -1,6 +1,7 @@
 #pragma once
 // CAD in (issue 46): STEP (.step, .stp) and IGES (.iges, .igs) read with OpenCASCADE, each solid
-// meshed by BRepMesh. Only src/scene/step_reader.cpp includes OpenCASCADE.
+// meshed by BRepMesh. Only src/scene/module/occt_reader.cpp includes OpenCASCADE: it is the shared
+// module libvantage_cad.so, which ReadCadFile loads in its child process (issue 47).
 #include <array>
 #include <optional>
 #include <string>
