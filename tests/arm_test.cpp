@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <random>
 #include <map>
@@ -779,6 +780,20 @@ TEST(ArmRenderTest, RenderDrawsTheArmAtAViewAndReobservesAsTheRunDid) {
   const auto run = test::RunVantage("optimize " + dir.File("arm.yaml") + " -n 2 --method greedy --out " +
                                     dir.File("out"));
   ASSERT_EQ(run.exit_code, 0) << run.err;
+  // Every result's tour time: in report.json, on its summary line and in the page's data (the
+  // coverage-versus-seconds chart), the same number.
+  const nlohmann::json report = nlohmann::json::parse(test::ReadText(dir.File("out/report.json")));
+  const std::string html = test::ReadText(dir.File("out/report.html"));
+  ASSERT_FALSE(report["results"].empty());
+  for (const auto& result : report["results"]) {
+    ASSERT_TRUE(result.contains("tour")) << result.dump();
+    const double seconds = result["tour"]["seconds"].get<double>();
+    EXPECT_GT(seconds, 0);
+    EXPECT_NE(run.out.find(fmt::format("tour {:.2f} s", seconds)), std::string::npos) << run.out;
+    EXPECT_NE(html.find(fmt::format("\"tour_seconds\":{}", nlohmann::json(seconds).dump())),
+              std::string::npos);
+  }
+  for (const auto& answer : report["curve"]) EXPECT_TRUE(answer.contains("tour")) << answer.dump();
   // The re-observed coverage equals the report's only when each chosen view carries the arm as
   // it stood in it (the robot's static copy at home would hide other pixels).
   const auto render = test::RunVantage("render " + dir.File("out") + " --arm-view 2 --width 160 " +
@@ -969,6 +984,79 @@ populations:
   EXPECT_EQ(run.exit_code, 2) << run.err;
   EXPECT_NE(run.err.find("scene.yaml:7: population 'wrist': no view"), std::string::npos) << run.err;
   EXPECT_NE(run.err.find("object 'sleeve'"), std::string::npos) << run.err;
+}
+
+/// A slider whose base box (0.2 m) it cannot pass: |x| < 0.2 is a self collision (the two boxes
+/// overlap), so in one dimension nothing connects x < 0 with x > 0. Two targets, one below each
+/// side's view (the camera 0.2 m under the slider, looking down), so that -n 2 takes both.
+std::string SliderTourScene(const std::string& configurations, const std::string& home) {
+  return R"(objects:
+  - {name: left, role: target, pose: {xyz: [-1.5, 0, -1]}, box: {size: [0.2, 0.2, 0.2]}}
+  - {name: right, role: target, pose: {xyz: [1.5, 0, -1]}, box: {size: [0.2, 0.2, 0.2]}}
+robots:
+  - {name: arm, urdf: arm.urdf}
+populations:
+  - name: wrist
+    type: intel_realsense_d415
+    arm:
+      link: slider
+      mount: {xyz: [0, 0, -0.2], rpy: [0, 1.5707963, 0]}
+      configurations: )" + configurations + "\n" + home;
+}
+
+TEST_F(ArmBadInputTest, HomeInCollisionOrCutOffIsRefusedBeforeAnyRay) {
+  WriteText(dir_.File("arm.urdf"), SliderUrdf(R"(<box size="0.2 0.2 0.2"/>)"));
+  // The default home is the robot's rest, x = 0: inside the base.
+  WriteText(dir_.File("scene.yaml"), SliderTourScene("[{x: -1.5}, {x: 1.5}]", ""));
+  auto run = test::RunVantage("optimize " + dir_.File("scene.yaml") + " --out " + dir_.File("out"));
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  EXPECT_NE(run.err.find("scene.yaml:7: population 'wrist': the arm's home (x=0) on robot 'arm' "
+                         "collides (links 'slider' and 'base')"),
+            std::string::npos)
+      << run.err;
+  EXPECT_EQ(run.err.find("rays"), std::string::npos) << "refused after casting rays: " << run.err;
+  // Home on the left, every view on the right: no move leaves home, in any order.
+  WriteText(dir_.File("scene.yaml"),
+            SliderTourScene("[{x: 1.5}, {x: 1.2}]", "      home: {x: -1.5}\n"));
+  run = test::RunVantage("optimize " + dir_.File("scene.yaml") + " --out " + dir_.File("out"));
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  EXPECT_NE(run.err.find("scene.yaml:7: population 'wrist': the arm's home (x=-1.5) on robot "
+                         "'arm' is cut off from all 2 views"),
+            std::string::npos)
+      << run.err;
+  EXPECT_NE(run.err.find("links 'slider' and 'base'"), std::string::npos) << run.err;
+  EXPECT_EQ(run.err.find("rays"), std::string::npos) << "refused after casting rays: " << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("out")));
+}
+
+TEST_F(ArmBadInputTest, ATourThatCannotBeConnectedWritesNothing) {
+  WriteText(dir_.File("arm.urdf"), SliderUrdf(R"(<box size="0.2 0.2 0.2"/>)"));
+  // Home on the right with one view; the other view on the left, where only the left target is
+  // seen: two views chosen, one on each side of the base.
+  WriteText(dir_.File("scene.yaml"),
+            SliderTourScene("[{x: -1.5}, {x: 1.5}]", "      home: {x: 1.5}\n"));
+  // A previous run's outputs in --out stay as they were.
+  std::filesystem::create_directories(dir_.File("out"));
+  WriteText(dir_.File("out/report.json"), "previous\n");
+  const auto run = test::RunVantage("optimize " + dir_.File("scene.yaml") +
+                                    " -n 2 --method greedy --out " + dir_.File("out"));
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  EXPECT_NE(run.err.find("scene.yaml:7: population 'wrist': the tour of the result greedy n=2 on "
+                         "robot 'arm' cannot be connected: the move between"),
+            std::string::npos)
+      << run.err;
+  // The move that crosses the base, whichever direction the order takes it.
+  const bool named = run.err.find("between 'wrist_0' and 'wrist_1'") != std::string::npos ||
+                     run.err.find("between 'wrist_1' and 'wrist_0'") != std::string::npos ||
+                     run.err.find("between home and 'wrist_0'") != std::string::npos ||
+                     run.err.find("between 'wrist_0' and home") != std::string::npos;
+  EXPECT_TRUE(named) << run.err;
+  EXPECT_NE(run.err.find("(links 'slider' and 'base')"), std::string::npos) << run.err;
+  EXPECT_EQ(test::ReadText(dir_.File("out/report.json")), "previous\n");
+  std::vector<std::string> files;
+  for (const auto& entry : std::filesystem::directory_iterator(dir_.File("out")))
+    files.push_back(entry.path().filename().string());
+  EXPECT_EQ(files, std::vector<std::string>{"report.json"});
 }
 
 }  // namespace

@@ -433,6 +433,9 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
       for (double c : s->state_coverage) per_state.push_back(fmt::format("{:.2f}", 100.0 * c));
       bound += fmt::format("  (states {} %)", elided(per_state, " / "));
     }
+    // A camera on an arm (docs/arm.md): the result's tour, home to home with acquisition.
+    if (index < report.tours.size() && report.tours[index])
+      bound += fmt::format("  tour {:.2f} s", report.tours[index]->tour.total_seconds);
     fmt::print("{:<8} n={:<3}  {:6.2f} %{}  [{}]  {:.3f} s\n", s->method, s->n, 100.0 * s->coverage,
                bound, names, s->seconds);
   }

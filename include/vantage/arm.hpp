@@ -97,6 +97,8 @@ class ArmCollisions {
 struct ArmSetup {
   std::string population;
   std::string robot;
+  std::string file;  ///< where the population's arm is declared, for messages
+  int line = 0;
   std::shared_ptr<const ArmKinematics> kinematics;
   std::shared_ptr<const ArmCollisions> collisions;
   std::vector<double> home;  ///< the tour's start and end: `home:`, else the robot's joints
@@ -149,10 +151,11 @@ std::vector<std::vector<double>> DrawConfigurations(const Population& population
 ArmViews ApplyArms(const Problem& problem, std::vector<Candidate> deployed, uint64_t seed);
 
 /// Whether the arm moves straight in joint space from `from` to `to` without collision, checked
-/// at every joint step of at most `resolution` [rad or m] (both ends included).
+/// at every joint step of at most `resolution` [rad or m] (both ends included). `what` (may be
+/// null) gets the first colliding pair (ArmCollisions::Check's words) when it is not.
 bool StraightMotionIsFree(const ArmKinematics& kinematics, const ArmCollisions& collisions,
                           const std::vector<double>& from, const std::vector<double>& to,
-                          double resolution);
+                          double resolution, std::string* what = nullptr);
 
 /// The time of the straight joint-space move: the slowest joint at its speed,
 /// max_i |to_i - from_i| / speed_i [s].

@@ -251,6 +251,8 @@ struct Report {
   /// A camera on an arm: per result (the index of `results`), its tour; empty when no result's
   /// views are on an arm.
   std::vector<std::optional<ArmTour>> tours;
+  /// The same for `curve`'s answers (none where a tour cannot be connected).
+  std::vector<std::optional<ArmTour>> curve_tours;
   /// --cycle-time [s], when given: `results` holds the most coverage found within it.
   std::optional<double> cycle_time;
   /// --track: the view per state (report.json `track`); results[0] holds its distinct views.

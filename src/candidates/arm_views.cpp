@@ -188,6 +188,8 @@ ArmViews ApplyArms(const Problem& problem, std::vector<Candidate> deployed, uint
     ArmSetup setup;
     setup.population = population.name;
     setup.robot = robot.name;
+    setup.file = arm.file;
+    setup.line = population.line;
     auto kinematics = std::make_shared<ArmKinematics>(robot, arm.link, arm.joints);
     std::vector<std::string> moving;
     for (size_t i : kinematics->moved()) moving.push_back(kinematics->joint_names()[i]);
@@ -340,7 +342,7 @@ std::shared_ptr<const ArmCollisions> ArmCollisionsIn(const Problem& problem, con
 
 bool StraightMotionIsFree(const ArmKinematics& kinematics, const ArmCollisions& collisions,
                           const std::vector<double>& from, const std::vector<double>& to,
-                          double resolution) {
+                          double resolution, std::string* what) {
   VANTAGE_CHECK(resolution > 0 && from.size() == to.size());
   double largest = 0;
   for (size_t i = 0; i < from.size(); ++i) largest = std::max(largest, std::abs(to[i] - from[i]));
@@ -349,7 +351,7 @@ bool StraightMotionIsFree(const ArmKinematics& kinematics, const ArmCollisions& 
   for (size_t s = 0; s <= steps; ++s) {
     const double f = steps == 0 ? 0.0 : static_cast<double>(s) / static_cast<double>(steps);
     for (size_t i = 0; i < q.size(); ++i) q[i] = from[i] + f * (to[i] - from[i]);
-    if (collisions.Check(kinematics.LinkPosesAt(q)) != ArmCollision::kNone) return false;
+    if (collisions.Check(kinematics.LinkPosesAt(q), what) != ArmCollision::kNone) return false;
   }
   return true;
 }

@@ -118,7 +118,22 @@ struct MoveVerdict {
   double seconds = 0;
   bool planned = false;
   std::vector<std::vector<double>> via;
+  std::string collision;  ///< what the straight segment hits first (empty when it is free)
 };
+
+/// The refusal of a tour that needs a move the planner does not connect (exit 2): at the arm's
+/// population, naming the result, the robot, the two stops and what the straight move hits.
+[[noreturn]] void RefuseUnconnected(const ArmSetup& arm, const std::string& result,
+                                    const std::string& from, const std::string& to,
+                                    const std::string& collision) {
+  throw InputError(AtPlace(
+      arm.file, arm.line,
+      fmt::format("population '{}': the tour of {} on robot '{}' cannot be connected: the move "
+                  "between {} and {} collides ({}) and the planner found no way around it — "
+                  "nothing was written; move the cell's objects, allow the pair "
+                  "(allowed_collisions) or change the arm's views or home",
+                  arm.population, result, arm.robot, from, to, collision)));
+}
 using MoveVerdicts = std::map<std::pair<size_t, size_t>, MoveVerdict>;
 
 /// What the moves among `views` (candidate indices) and home are checked with.
@@ -157,7 +172,7 @@ struct MoveChecker {
         MoveVerdict verdict;
         verdict.seconds = times->motion[key.first][key.second];
         if (!StraightMotionIsFree(*arm.kinematics, *arm.collisions, from, to,
-                                  options.resolution)) {
+                                  options.resolution, &verdict.collision)) {
           MotionPlanOptions plan;
           plan.resolution = options.resolution;
           plan.time_limit = options.plan_seconds;
@@ -205,7 +220,24 @@ struct MoveChecker {
   }
 
   std::string Name(size_t k) const {
-    return k == home() ? std::string("home") : candidates[views[k]].name;
+    return k == home() ? std::string("home") : fmt::format("'{}'", candidates[views[k]].name);
+  }
+
+  /// InputError (RefuseUnconnected) at the first move of `order` (home first and last) that
+  /// has no time.
+  [[noreturn]] void RefuseFirstUnconnected(const std::vector<uint32_t>& order,
+                                           const std::string& result) const {
+    size_t at = home();
+    std::vector<size_t> stops(order.begin(), order.end());
+    stops.push_back(home());
+    for (size_t next : stops) {
+      const auto found = verdicts.find(std::minmax(at, next));
+      if (found != verdicts.end() && !std::isfinite(found->second.seconds))
+        RefuseUnconnected(arm, result, Name(at), Name(next), found->second.collision);
+      at = next;
+    }
+    VANTAGE_CHECK(false && "an unconnected tour without an unconnected checked move");
+    std::abort();
   }
 };
 
@@ -224,11 +256,19 @@ Tour LazyTour(MoveChecker* checker, TourTimes* times) {
   }
 }
 
-ArmTour TourOf(const std::vector<Candidate>& candidates, const std::vector<uint32_t>& views,
-               const ArmSetup& arm, const ArmTourOptions& options, uint64_t seed) {
+/// The checked tour of `views`. When it cannot be connected: InputError (exit 2) naming `result`
+/// and the move where `refuse`, else none.
+std::optional<ArmTour> TourOf(const std::vector<Candidate>& candidates,
+                              const std::vector<uint32_t>& views, const ArmSetup& arm,
+                              const ArmTourOptions& options, uint64_t seed,
+                              const std::string& result, bool refuse) {
   TourTimes times = StraightTimes(candidates, views, arm, options);
   MoveChecker checker{candidates, views, arm, options, seed, {}};
   const Tour tour = LazyTour(&checker, &times);
+  if (!tour.connected()) {
+    if (refuse) checker.RefuseFirstUnconnected(tour.order, result);
+    return std::nullopt;
+  }
   ArmTour out;
   out.robot = arm.robot;
   out.population = arm.population;
@@ -258,7 +298,81 @@ ArmTour TourOf(const std::vector<Candidate>& candidates, const std::vector<uint3
 
 }  // namespace
 
-void CheckArmTourInputs(const std::vector<ArmSetup>& arms, const ArmTourOptions& options) {
+namespace {
+
+/// How many of the nearest views CheckArmHome plans to from a home that no straight move leaves.
+constexpr size_t kHomePlanTries = 16;
+
+std::string ConfigurationWords(const ArmSetup& arm, const std::vector<double>& q) {
+  std::vector<std::string> words;
+  for (size_t i : arm.kinematics->moved())
+    words.push_back(fmt::format("{}={:.4g}", arm.kinematics->joint_names()[i], q[i]));
+  return fmt::format("{}", fmt::join(words, ", "));
+}
+
+/// Before any ray: the arm's home must be free, and some view must be reachable from it (a tour
+/// starts and ends there). A straight move to any view that is free settles it; else the
+/// planner tries the kHomePlanTries nearest views. Refused when none connects and every view was
+/// tried; with more views the tour's own check after selection decides (a warning says so).
+void CheckArmHome(const std::vector<Candidate>& candidates, const ArmSetup& arm,
+                  const ArmTourOptions& options, uint64_t seed) {
+  std::string pair;
+  const ArmCollision home = arm.collisions->Check(arm.kinematics->LinkPosesAt(arm.home), &pair);
+  if (home != ArmCollision::kNone)
+    throw InputError(AtPlace(arm.file, arm.line,
+                             fmt::format("population '{}': the arm's home ({}) on robot '{}' "
+                                         "collides ({}) — every tour starts and ends there; "
+                                         "give `home:` a collision-free configuration",
+                                         arm.population, ConfigurationWords(arm, arm.home),
+                                         arm.robot, pair)));
+  const std::vector<double> speeds = Speeds(arm, options);
+  std::vector<std::pair<double, uint32_t>> nearest;  // (straight time, candidate)
+  for (uint32_t i = 0; i < candidates.size(); ++i)
+    if (candidates[i].arm && candidates[i].population == arm.population)
+      nearest.emplace_back(MotionSeconds(arm.home, candidates[i].arm->joints, speeds), i);
+  std::sort(nearest.begin(), nearest.end());
+  std::string hit;
+  for (const auto& [seconds, i] : nearest) {
+    std::string what;
+    if (StraightMotionIsFree(*arm.kinematics, *arm.collisions, arm.home, candidates[i].arm->joints,
+                             options.resolution, &what))
+      return;
+    if (hit.empty()) hit = what;
+  }
+  const size_t tries = std::min(nearest.size(), kHomePlanTries);
+  for (size_t k = 0; k < tries; ++k) {
+    MotionPlanOptions plan;
+    plan.resolution = options.resolution;
+    plan.time_limit = options.plan_seconds;
+    plan.seed = seed;
+    plan.stream = (uint64_t{nearest[k].second} << 32) | 0xFFFFFFFFu;  // the tour's stream
+    if (PlanMotion(*arm.kinematics, *arm.collisions, arm.home,
+                   candidates[nearest[k].second].arm->joints, speeds, plan)
+            .found)
+      return;
+  }
+  if (tries < nearest.size()) {
+    spdlog::warn("population '{}': no straight move from the arm's home leaves it and the planner "
+                 "reached none of the {} nearest of {} views — the tour is checked after "
+                 "selection",
+                 arm.population, tries, nearest.size());
+    return;
+  }
+  throw InputError(AtPlace(arm.file, arm.line,
+                           fmt::format("population '{}': the arm's home ({}) on robot '{}' is "
+                                       "cut off from all {} views: every straight move from it "
+                                       "collides (the nearest: {}) and the planner found no way "
+                                       "around — no tour can start there; move `home:` or the "
+                                       "cell's objects",
+                                       arm.population, ConfigurationWords(arm, arm.home),
+                                       arm.robot, nearest.size(), hit)));
+}
+
+}  // namespace
+
+void CheckArmTourInputs(const std::vector<Candidate>& candidates,
+                        const std::vector<ArmSetup>& arms, const ArmTourOptions& options,
+                        uint64_t seed) {
   options.Validate();
   for (const ArmSetup& arm : arms) {
     if (options.joint_speed) break;
@@ -272,15 +386,14 @@ void CheckArmTourInputs(const std::vector<ArmSetup>& arms, const ArmTourOptions&
                                            names[i], arm.robot, arm.population)));
     }
   }
+  for (const ArmSetup& arm : arms) CheckArmHome(candidates, arm, options, seed);
 }
 
 void AddArmTours(const std::vector<Candidate>& candidates, const std::vector<ArmSetup>& arms,
                  const ArmTourOptions& options, Report* report) {
   if (arms.empty()) return;
-  report->tours.assign(report->results.size(), std::nullopt);
-  for (size_t r = 0; r < report->results.size(); ++r) {
-    const Selection& result = report->results[r];
-    // The views on the arm of the result's first arm view (one camera, one arm).
+  // The tour of a selection's views on one arm (that of its first arm view); none without one.
+  const auto tour_of = [&](const Selection& result, bool refuse) -> std::optional<ArmTour> {
     const ArmSetup* arm = nullptr;
     std::vector<uint32_t> views;
     for (uint32_t i : result.chosen) {
@@ -289,13 +402,30 @@ void AddArmTours(const std::vector<Candidate>& candidates, const std::vector<Arm
       if (!arm) arm = of;
       if (of->robot == arm->robot) views.push_back(i);
     }
-    if (!arm) continue;
-    report->tours[r] = TourOf(candidates, views, *arm, options, report->seed);
-    const ArmTour& tour = *report->tours[r];
-    spdlog::info("{} n={}: tour of {} views {:.2f} s ({:.2f} s moving, {:.2f} s acquiring; {}{})",
-                 result.method, result.n, views.size(), tour.tour.total_seconds,
-                 tour.tour.motion_seconds, tour.tour.acquisition_seconds, tour.tour.method,
-                 tour.tour.connected() ? "" : "; some move is unconnected");
+    if (!arm) return std::nullopt;
+    const std::string label = fmt::format("the result {} n={}", result.method, result.n);
+    std::optional<ArmTour> tour =
+        TourOf(candidates, views, *arm, options, report->seed, label, refuse);
+    if (tour)
+      spdlog::info("{} n={}{}: tour of {} views {:.2f} s ({:.2f} s moving, {:.2f} s acquiring; "
+                   "{})",
+                   result.method, result.n, refuse ? "" : " (curve)", views.size(),
+                   tour->tour.total_seconds, tour->tour.motion_seconds,
+                   tour->tour.acquisition_seconds, tour->tour.method);
+    return tour;
+  };
+  report->tours.assign(report->results.size(), std::nullopt);
+  for (size_t r = 0; r < report->results.size(); ++r)
+    report->tours[r] = tour_of(report->results[r], true);
+  // The curve's extra answers get their tours too (the report's coverage-versus-seconds view);
+  // one that cannot be connected is left without, not refused: the run's results are whole.
+  report->curve_tours.assign(report->curve.size(), std::nullopt);
+  for (size_t r = 0; r < report->curve.size(); ++r) {
+    report->curve_tours[r] = tour_of(report->curve[r], false);
+    if (!report->curve_tours[r] && !report->curve[r].chosen.empty())
+      report->notes.push_back(fmt::format("the curve's {} n={}: its tour cannot be connected "
+                                          "(left out of the coverage-versus-seconds view)",
+                                          report->curve[r].method, report->curve[r].n));
   }
 }
 
@@ -516,7 +646,7 @@ void TrackSelection(const ObservedScene& observed, const ArmTourOptions& options
     MoveVerdict verdict;
     verdict.seconds = times.motion[from][to];
     if (StraightMotionIsFree(*arm.kinematics, collisions, configuration(from), configuration(to),
-                             options.resolution))
+                             options.resolution, &verdict.collision))
       return verdict;
     MotionPlanOptions plan;
     plan.resolution = options.resolution;
@@ -630,6 +760,8 @@ void TrackSelection(const ObservedScene& observed, const ArmTourOptions& options
   const MoveVerdict back = check(last, n, *arm.state_collisions.back(),
                                  (id(last) << 32) ^ id(n) ^ (static_cast<uint64_t>(states) << 48),
                                  "back home");
+  if (!std::isfinite(back.seconds))
+    RefuseUnconnected(arm, "--track", fmt::format("'{}'", name(last)), "home", back.collision);
   tour.return_seconds = back.seconds;
   tour.return_via = ViaOf(back.via, configuration(last), speeds);
   tour.planned_pairs += back.planned ? 1 : 0;

@@ -175,10 +175,15 @@ std::map<std::string, std::string> ConstellationFiles(const std::string& scene_p
 void FinishRun(const Scene& scene, std::map<std::string, std::string> extra, RunResult* run);
 
 /// Cameras on arms (issue 45, src/pipeline/arm_tour.cpp): InputError naming --joint-speed when a
-/// moved joint has no <limit velocity> and no --joint-speed is given, or a tour option.
-void CheckArmTourInputs(const std::vector<ArmSetup>& arms, const ArmTourOptions& options);
+/// moved joint has no <limit velocity> and no --joint-speed is given, or a tour option; at the
+/// population when an arm's home collides or no view can be reached from it (the planner seeded
+/// by `seed`).
+void CheckArmTourInputs(const std::vector<Candidate>& candidates,
+                        const std::vector<ArmSetup>& arms, const ArmTourOptions& options,
+                        uint64_t seed);
 /// report->tours: per result, the tour of its views on one arm (the first arm it uses); moves
-/// whose straight segment collides are planned around with report->seed.
+/// whose straight segment collides are planned around with report->seed. InputError at the
+/// arm's population, naming the move, when a tour cannot be connected (before any output).
 void AddArmTours(const std::vector<Candidate>& candidates, const std::vector<ArmSetup>& arms,
                  const ArmTourOptions& options, Report* report);
 /// --cycle-time: the greedy most coverage whose checked tour fits (method "cycle-time").

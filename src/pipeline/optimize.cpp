@@ -107,7 +107,7 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
                              "--refine does not keep point counts yet — drop one of --refine and "
                              "the point density"));
   if (!prepared.arms.empty()) {
-    detail::CheckArmTourInputs(prepared.arms, options.arm);
+    detail::CheckArmTourInputs(prepared.candidates, prepared.arms, options.arm, select.seed);
   } else if (options.arm.cycle_time) {
     throw InputError(AtPlace("--cycle-time", 0,
                              "no candidate is on an arm — --cycle-time times an arm's tour; add "

@@ -495,14 +495,26 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
     if (!s.state_coverage.empty()) r["state_coverage"] = s.state_coverage;
     return r;
   };
+  // A camera on an arm (issue 45): each answer's tour time, home to home (the chart of coverage
+  // versus seconds); absent without a tour.
+  const auto add_tour_seconds = [](const std::vector<std::optional<ArmTour>>& tours, size_t index,
+                                   ordered_json* r) {
+    if (index < tours.size() && tours[index] && tours[index]->tour.connected())
+      (*r)["tour_seconds"] = tours[index]->tour.total_seconds;
+  };
   ordered_json results = ordered_json::array();
   for (size_t index = 0; index < report.results.size(); ++index) {
     results.push_back(result_json(report.results[index]));
     if (!report.result_plain_coverage.empty())
       results.back()["plain_coverage"] = report.result_plain_coverage[index];
+    add_tour_seconds(report.tours, index, &results.back());
   }
   ordered_json curve = ordered_json::array();
-  for (const Selection& s : report.curve) curve.push_back(result_json(s));
+  for (size_t index = 0; index < report.curve.size(); ++index) {
+    curve.push_back(result_json(report.curve[index]));
+    add_tour_seconds(report.curve_tours, index, &curve.back());
+  }
+  page["cycle_time"] = report.cycle_time ? ordered_json(*report.cycle_time) : ordered_json();
 
   // Chosen sensors in the order chosen, with their marginal gains (derived), and per reference
   // voxel how many of them observe it (the page's colours).

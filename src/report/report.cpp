@@ -471,7 +471,12 @@ std::string ReportJson(const Report& report) {
   j["results"] = std::move(results);
   // The coverage-versus-n curve's extra answers (docs/outputs.md), shaped as results entries.
   ordered_json curve = ordered_json::array();
-  for (const Selection& s : report.curve) curve.push_back(ResultJson(s, data, nullptr));
+  for (size_t index = 0; index < report.curve.size(); ++index) {
+    curve.push_back(ResultJson(report.curve[index], data, nullptr));
+    // A camera on an arm (issue 45): the tour of the answer's views.
+    if (index < report.curve_tours.size() && report.curve_tours[index])
+      curve.back()["tour"] = detail::ArmTourJson(*report.curve_tours[index], data);
+  }
   j["curve"] = std::move(curve);
   if (report.by_type) j["by_type"] = detail::ByTypeJson(*report.by_type, data);
   if (report.primary >= 0) j["primary_result"] = report.primary;

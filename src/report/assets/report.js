@@ -446,6 +446,115 @@
     document.getElementById('chart-box').appendChild(svg);
   });
 
+  // ------------------------------------------------------------------ coverage versus seconds
+  // A camera on an arm (docs/arm.md): each answer (results filled, the curve's hollow) at its
+  // tour's time, home to home with acquisition; a method's answers joined in order of N;
+  // --cycle-time as a dashed line.
+  guarded('seconds-chart', function () {
+    var points = D.results.concat(D.curve.map(function (r) {
+      var copy = {}; for (var key in r) copy[key] = r[key];
+      copy.curve = true;
+      return copy;
+    })).filter(function (r) { return r.tour_seconds !== undefined; });
+    if (!points.length) return;
+    var SVG = 'http://www.w3.org/2000/svg';
+    var W = 760, H = 300, L = 56, R = 200, T = 16, B = 44;
+    function el(name, attrs, parent, text) {
+      var e = document.createElementNS(SVG, name);
+      for (var k in attrs) e.setAttribute(k, attrs[k]);
+      if (text !== undefined) e.textContent = text;
+      if (parent) parent.appendChild(e);
+      return e;
+    }
+    var maxT = D.cycle_time === null ? 0 : D.cycle_time, maxY = 0, series = {}, order = [];
+    points.forEach(function (r) {
+      maxT = Math.max(maxT, r.tour_seconds);
+      maxY = Math.max(maxY, r.coverage);
+      if (!series[r.method]) { series[r.method] = []; order.push(r.method); }
+      series[r.method].push(r);
+    });
+    // Round steps: 1, 2 or 5 times a power of ten, about five of them.
+    function niceStep(span) {
+      var raw = Math.max(span, 1e-9) / 5, p = Math.pow(10, Math.floor(Math.log10(raw)));
+      return raw <= p ? p : raw <= 2 * p ? 2 * p : raw <= 5 * p ? 5 * p : 10 * p;
+    }
+    var tStep = niceStep(maxT), yStep = niceStep(maxY);
+    maxT = Math.max(tStep, Math.ceil(maxT / tStep - 1e-9) * tStep);
+    maxY = Math.min(1, Math.max(yStep, Math.ceil(maxY / yStep + 0.001) * yStep));
+    function X(t) { return L + t / maxT * (W - L - R); }
+    function Y(v) { return T + (1 - v / maxY) * (H - T - B); }
+    var svg = el('svg', {id: 'seconds-chart', viewBox: '0 0 ' + W + ' ' + H, width: W, height: H, role: 'img',
+                         'aria-label': 'coverage versus tour seconds'});
+    var grid = el('g', {'class': 'axes'}, svg);
+    for (var k = 0; k * yStep <= maxY + 1e-9; ++k) {
+      var v = k * yStep;
+      el('line', {x1: L, x2: W - R, y1: Y(v), y2: Y(v), stroke: '#e3e7ec'}, grid);
+      el('text', {x: L - 6, y: Y(v) + 4, 'text-anchor': 'end', fill: '#5d6875'}, grid, (100 * v).toFixed(0) + ' %');
+    }
+    for (var j = 0; j * tStep <= maxT + 1e-9; ++j) {
+      var t = j * tStep;
+      el('line', {x1: X(t), x2: X(t), y1: H - B, y2: H - B + 4, stroke: '#5d6875'}, grid);
+      el('text', {x: X(t), y: H - B + 17, 'text-anchor': 'middle', fill: '#5d6875'}, grid, +t.toFixed(6) + ' s');
+    }
+    el('line', {x1: L, x2: W - R, y1: H - B, y2: H - B, stroke: '#5d6875'}, grid);
+    el('line', {x1: L, x2: L, y1: T, y2: H - B, stroke: '#5d6875'}, grid);
+    el('text', {x: (L + W - R) / 2, y: H - 8, 'text-anchor': 'middle', fill: '#1d232b'}, grid,
+       'tour time, home to home with acquisition [s]');
+    el('text', {x: 14, y: (T + H - B) / 2, 'text-anchor': 'middle', fill: '#1d232b',
+                transform: 'rotate(-90 14 ' + (T + H - B) / 2 + ')'}, grid, 'coverage');
+    if (D.cycle_time !== null) {
+      el('line', {x1: X(D.cycle_time), x2: X(D.cycle_time), y1: T, y2: H - B, stroke: '#1d232b',
+                  'stroke-dasharray': '3 3', 'class': 'cycle-time'}, grid);
+      el('text', {x: X(D.cycle_time) - 4, y: T + 10, 'text-anchor': 'end', fill: '#1d232b'}, grid,
+         '--cycle-time ' + D.cycle_time + ' s');
+    }
+    // The most coverage within each time: a step up at each answer that beats every faster one.
+    var front = points.slice().sort(function (a, b) { return a.tour_seconds - b.tour_seconds || b.coverage - a.coverage; });
+    var steps = [], best = -1;
+    front.forEach(function (r) {
+      if (r.coverage <= best) return;
+      if (steps.length) steps.push(X(r.tour_seconds) + ',' + Y(best));
+      steps.push(X(r.tour_seconds) + ',' + Y(r.coverage));
+      best = r.coverage;
+    });
+    steps.push(X(maxT) + ',' + Y(best));
+    el('polyline', {points: steps.join(' '), fill: 'none', stroke: '#5d6875', 'stroke-width': 1,
+                    'stroke-dasharray': '2 3', 'class': 'front'}, svg);
+    var labels = [];  // N labels placed so far: one is skipped where it would overlap another
+    order.forEach(function (method, m) {
+      var color = methodColor(method);
+      var pts = series[method].slice().sort(function (a, b) { return a.n - b.n || a.tour_seconds - b.tour_seconds; });
+      var g = el('g', {'class': 'series', 'data-method': method}, svg);
+      if (pts.length > 1)
+        el('polyline', {points: pts.map(function (r) { return X(r.tour_seconds) + ',' + Y(r.coverage); }).join(' '),
+                        fill: 'none', stroke: color, 'stroke-width': 1.5}, g);
+      pts.forEach(function (r) {
+        var c = el('circle', {cx: X(r.tour_seconds), cy: Y(r.coverage), r: 4, fill: r.curve ? '#fff' : color,
+                              stroke: color, 'stroke-width': 1.5}, g);
+        el('title', {}, c, method + ', N = ' + r.n + ': ' + pct(r.coverage) + ' in ' + r.tour_seconds.toFixed(2) +
+           ' s' + (r.curve ? ' (computed for the curve)' : ''));
+        var lx = X(r.tour_seconds) + 6, ly = Y(r.coverage) - 6;
+        if (labels.some(function (p) { return Math.abs(p[0] - lx) < 30 && Math.abs(p[1] - ly) < 12; })) return;
+        labels.push([lx, ly]);
+        el('text', {x: lx, y: ly, fill: color, 'font-size': 10}, g, 'N=' + r.n);
+      });
+      var ly = T + 8 + m * 20;
+      el('line', {x1: W - R + 14, x2: W - R + 38, y1: ly, y2: ly, stroke: color, 'stroke-width': 1.5}, svg);
+      el('circle', {cx: W - R + 26, cy: ly, r: 4, fill: color}, svg);
+      el('text', {x: W - R + 44, y: ly + 4, fill: '#1d232b'}, svg, method);
+    });
+    var fy = T + 8 + order.length * 20;
+    el('line', {x1: W - R + 14, x2: W - R + 38, y1: fy, y2: fy, stroke: '#5d6875', 'stroke-width': 1,
+                'stroke-dasharray': '2 3'}, svg);
+    el('text', {x: W - R + 44, y: fy + 4, fill: '#1d232b'}, svg, 'best within the time');
+    if (points.some(function (r) { return r.curve; })) {
+      el('circle', {cx: W - R + 26, cy: fy + 20, r: 4, fill: '#fff', stroke: '#5d6875', 'stroke-width': 1.5}, svg);
+      el('text', {x: W - R + 44, y: fy + 24, fill: '#1d232b'}, svg, 'computed for the curve');
+    }
+    document.getElementById('seconds-title').hidden = false;
+    document.getElementById('seconds-box').appendChild(svg);
+  });
+
   // ------------------------------------------------------------------ what-if model
   // The candidates' observed cells (html_report.cpp, EncodeSets), decoded into one bitset of |R|
   // bits per candidate: the page scores any layout the reader clicks together, as `vantage
