@@ -6,10 +6,16 @@
 //   limit       the ray-casting limit loop on the same views (the culled pixels, no voxels, no
 //               sets, no arm), as bench/ray_limit.cpp; and the same loop with each view's arm
 //               placed in the scene (observe's PlacedRayScene: the rays a view must trace);
+//   same rays   the limit loop casting exactly the rays observe's model asks for: the culled
+//               pixels' primary rays and, from each target hit the second aperture sees (the
+//               D435's projector), its occlusion segment, 16 to a packet, against the same
+//               scene (the cell alone, or each view's arm placed); the segments are found in an
+//               untimed pass first, so the loop times the ray casting only;
 //   tour        Held–Karp on 10 views (exact) and --cycle-time's greedy over all views.
 // Usage: arm_table SCENE [CYCLE_SECONDS]  -> one JSON line on stdout.
 #include <tbb/parallel_for.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -155,6 +161,104 @@ int main(int argc, char** argv) {
     });
     const double limit_arm_seconds = Since(start);
 
+    // The same rays as observe's model: each view's occlusion segments, found in an untimed pass
+    // (the conditions of observe.cpp's PixelJudge::Take), then cast with the primary rays.
+    struct Segments {
+      float centre[3] = {};
+      std::vector<std::array<float, 3>> dir;  // the point minus the aperture's centre
+    };
+    const auto find_segments = [&](bool with_arm) {
+      std::vector<Segments> all(views.candidates.size());
+      tbb::parallel_for(size_t{0}, views.candidates.size(), [&](size_t i) {
+        const Candidate& c = views.candidates[i];
+        const SecondAperture* aperture = SecondApertureOf(c.sensor, c.type_id);
+        if (!aperture) return;
+        const Mat3 rotation = c.world_from_body.rotation.toRotationMatrix();
+        const Vec3 origin = c.world_from_body.position;
+        const Vec3 centre = origin + c.world_from_body.rotation * ApertureCentreInBody(*aperture);
+        const double nearest = StereoNearestDepth(c.sensor, *aperture);
+        for (int a = 0; a < 3; ++a) all[i].centre[a] = static_cast<float>(centre[a]);
+        std::optional<PlacedRayScene> placed;
+        if (with_arm && c.arm) placed.emplace(arms.Place(*c.arm));
+        trace_view(i, [&](RayBatch* batch) {
+          if (placed) {
+            placed->Intersect(batch);
+          } else {
+            rays.Intersect(batch);
+          }
+          for (int lane = 0; lane < batch->active; ++lane) {
+            const float t = batch->t[lane];
+            if (!batch->is_target[lane] || t < c.sensor.near || t > c.sensor.far || t < nearest)
+              continue;
+            const Vec3 p(batch->point[0][lane], batch->point[1][lane], batch->point[2][lane]);
+            const Vec3 n(batch->normal[0][lane], batch->normal[1][lane], batch->normal[2][lane]);
+            if (!InApertureField(c.sensor, *aperture, rotation.transpose() * (p - origin))) continue;
+            if (n.dot(centre - p) * n.dot(origin - p) <= 0) continue;
+            const Vec3 d = p - centre;
+            all[i].dir.push_back({static_cast<float>(d[0]), static_cast<float>(d[1]),
+                                  static_cast<float>(d[2])});
+          }
+        });
+      });
+      return all;
+    };
+    // Primary packets and segment packets of every view, into `scene_of(i)`'s Intersect and
+    // Occluded.
+    // `with_arm`: 0 the cell alone, 1 every link placed (Place), 2 the links the view's rays can
+    // meet (PlaceForView, as observe places them).
+    const auto same_rays = [&](const std::vector<Segments>& segments, int with_arm) {
+      tbb::parallel_for(size_t{0}, views.candidates.size(), [&](size_t i) {
+        const Candidate& c = views.candidates[i];
+        std::optional<PlacedRayScene> placed;
+        if (with_arm == 1 && c.arm) placed.emplace(arms.Place(*c.arm));
+        if (with_arm == 2 && c.arm) placed = arms.PlaceForView(c, spans[i]);
+        trace_view(i, [&](RayBatch* batch) {
+          if (placed) {
+            placed->Intersect(batch);
+          } else {
+            rays.Intersect(batch);
+          }
+        });
+        OcclusionBatch packet;
+        for (int a = 0; a < 3; ++a) packet.origin[a] = segments[i].centre[a];
+        packet.tfar = 1.0f - 1e-4f;
+        const auto& dirs = segments[i].dir;
+        for (size_t k0 = 0; k0 < dirs.size(); k0 += OcclusionBatch::kWidth) {
+          const size_t lanes = std::min<size_t>(OcclusionBatch::kWidth, dirs.size() - k0);
+          for (size_t lane = 0; lane < OcclusionBatch::kWidth; ++lane) {
+            packet.query[lane] = lane < lanes;
+            if (lane < lanes)
+              for (int a = 0; a < 3; ++a) packet.dir[a][lane] = dirs[k0 + lane][a];
+          }
+          if (placed) {
+            placed->Occluded(&packet);
+          } else {
+            rays.Occluded(&packet);
+          }
+        }
+      });
+    };
+    const std::vector<Segments> bare_segments = find_segments(false);
+    const std::vector<Segments> arm_segments = find_segments(true);
+    uint64_t bare_segment_count = 0, arm_segment_count = 0;
+    for (size_t i = 0; i < views.candidates.size(); ++i) {
+      bare_segment_count += bare_segments[i].dir.size();
+      arm_segment_count += arm_segments[i].dir.size();
+    }
+    start = std::chrono::steady_clock::now();
+    same_rays(bare_segments, 0);
+    const double same_rays_seconds = Since(start);
+    start = std::chrono::steady_clock::now();
+    same_rays(arm_segments, 1);
+    const double same_rays_arm_seconds = Since(start);
+    start = std::chrono::steady_clock::now();
+    same_rays(arm_segments, 2);
+    const double same_rays_culled_seconds = Since(start);
+    size_t views_with_links = 0;
+    for (size_t i = 0; i < views.candidates.size(); ++i)
+      if (views.candidates[i].arm && arms.PlaceForView(views.candidates[i], spans[i]))
+        ++views_with_links;
+
     // Tours: straight-line times among the views and home (URDF speeds).
     const ArmSetup& arm = views.arms.front();
     const size_t n = views.candidates.size();
@@ -219,6 +323,11 @@ int main(int argc, char** argv) {
         "\"limit_rays\": %llu, \"limit_seconds\": %.3f, \"observe_over_limit\": %.3f, "
         "\"limit_with_arm_seconds\": %.3f, \"observe_over_limit_with_arm\": %.3f, "
         "\"observe_without_arm_over_limit\": %.3f, "
+        "\"segments\": %llu, \"segments_with_arm\": %llu, \"limit_same_rays_seconds\": %.3f, "
+        "\"limit_same_rays_with_arm_seconds\": %.3f, \"observe_over_same_rays_with_arm\": %.3f, "
+        "\"limit_same_rays_links_culled_seconds\": %.3f, \"observe_over_same_rays_culled\": %.3f, "
+        "\"views_with_links_placed\": %zu, "
+        "\"observe_without_arm_over_same_rays\": %.3f, "
         "\"motion_table_seconds\": %.3f, \"tour10_seconds\": %.6f, \"tour10_method\": \"%s\", "
         "\"tour10_total_s\": %.3f, \"tour10_check_seconds\": %.3f, \"tour10_colliding_moves\": %zu, "
         "\"tour10_planned\": %zu, \"tour10_plan_seconds\": %.3f, "
@@ -228,7 +337,12 @@ int main(int argc, char** argv) {
         static_cast<size_t>(std::count(free.begin(), free.end(), 1)), collision_build_seconds,
         collision_seconds, apply_seconds, n, observe_seconds, observe_bare_seconds, static_cast<unsigned long long>(traced),
         limit_seconds, observe_seconds / limit_seconds, limit_arm_seconds,
-        observe_seconds / limit_arm_seconds, observe_bare_seconds / limit_seconds, times_seconds, tour_seconds,
+        observe_seconds / limit_arm_seconds, observe_bare_seconds / limit_seconds,
+        static_cast<unsigned long long>(bare_segment_count),
+        static_cast<unsigned long long>(arm_segment_count), same_rays_seconds,
+        same_rays_arm_seconds, observe_seconds / same_rays_arm_seconds, same_rays_culled_seconds,
+        observe_seconds / same_rays_culled_seconds, views_with_links,
+        observe_bare_seconds / same_rays_seconds, times_seconds, tour_seconds,
         tour.method.c_str(), tour.total_seconds, tour_check_seconds, colliding_moves, planned,
         plan_seconds, cycle,
         cycle_result.chosen.size(), cycle_result.coverage, cycle_result.tour.total_seconds,

@@ -115,9 +115,10 @@ class RayBodies {
 /// false), its normal turned into the world frame. The RayScene and the RayBodies must outlive it.
 class PlacedRayScene {
  public:
-  /// InternalError on a non-finite pose (nothing non-finite reaches Embree).
+  /// InternalError on a non-finite pose (nothing non-finite reaches Embree). `placed` (one per
+  /// body; empty: all) leaves out the bodies it marks 0, e.g. those no ray of a view can reach.
   PlacedRayScene(const RayScene& scene, const RayBodies& bodies,
-                 std::span<const Pose> world_from_body);
+                 std::span<const Pose> world_from_body, std::span<const uint8_t> placed = {});
   ~PlacedRayScene();
   PlacedRayScene(PlacedRayScene&&) noexcept;
   PlacedRayScene& operator=(PlacedRayScene&&) noexcept;

@@ -364,10 +364,12 @@ void ObserveWithFlyingFilter(const RayScene& rays, const Candidate& candidate,
 Observation ObserveOne(const RayScene& rays, const Reference& reference, const Candidate& candidate,
                        const std::vector<Aabb>& blocks, const ObserveOptions& options,
                        const detail::ArmOcclusion& arms) {
+  const std::vector<RowSpan> spans = SpansToTrace(candidate, blocks, options.cull);
   // A camera on an arm sees the cell with the arm as it stands in this view: one top-level BVH
-  // over the cell and the links' instances, built here (a handful of boxes) and dropped after.
+  // over the cell and the instances of the links its rays can meet, built here (a handful of
+  // boxes) and dropped after; the cell alone where they can meet none.
   std::optional<PlacedRayScene> placed;
-  if (candidate.arm) placed.emplace(arms.Place(*candidate.arm));
+  if (candidate.arm) placed = arms.PlaceForView(candidate, spans);
   const PlacedRayScene* placed_rays = placed ? &*placed : nullptr;
   const SensorType& s = candidate.sensor;
   const Mat3 world_from_body = candidate.world_from_body.rotation.toRotationMatrix();
@@ -380,7 +382,6 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
   // The direction's body-x component is 1, so the hit parameter t is the depth itself.
   batch.tfar = std::nextafter(static_cast<float>(s.far), std::numeric_limits<float>::infinity());
 
-  const std::vector<RowSpan> spans = SpansToTrace(candidate, blocks, options.cull);
   if (const std::optional<double> flying = judge.physical().flying) {
     ObserveWithFlyingFilter(rays, candidate, spans, placed_rays, *flying, &batch, &observation,
                             &judge);

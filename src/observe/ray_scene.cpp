@@ -346,9 +346,11 @@ unsigned AttachInstance(RTCDevice device, RTCScene top, RTCScene scene, const Po
 }  // namespace
 
 PlacedRayScene::PlacedRayScene(const RayScene& scene, const RayBodies& bodies,
-                               std::span<const Pose> world_from_body)
+                               std::span<const Pose> world_from_body,
+                               std::span<const uint8_t> placed)
     : impl_(std::make_unique<Impl>()) {
   VANTAGE_CHECK(world_from_body.size() == bodies.size());
+  VANTAGE_CHECK(placed.empty() || placed.size() == bodies.size());
   impl_->scene = scene.impl_.get();
   RTCDevice device = scene.impl_->device;
   VANTAGE_CHECK(bodies.impl_->device == device);
@@ -359,7 +361,7 @@ PlacedRayScene::PlacedRayScene(const RayScene& scene, const RayBodies& bodies,
   impl_->body_to_world.resize(1);
   for (size_t b = 0; b < bodies.size(); ++b) {
     RTCScene body = bodies.impl_->scenes[b];
-    if (!body) continue;
+    if (!body || (!placed.empty() && placed[b] == 0)) continue;
     const unsigned id = AttachInstance(device, impl_->top, body, world_from_body[b]);
     VANTAGE_CHECK(id == impl_->body_to_world.size());
     impl_->body_to_world.push_back(world_from_body[b].rotation.toRotationMatrix());
