@@ -52,8 +52,12 @@ struct StateSelection {
 /// k-coverage, point density (min_points), installation constraints and kept sensors
 /// (options.fixed: in every answer, first; x fixed at 1 in the MILP) run the same methods on
 /// ConstrainedMethods over the states' scorer.
-/// InputError (naming --over-states) for the goal and budget objectives;
-/// for no state, states with different candidate counts, an empty R_s, or indices beyond R_s;
+/// A goal (options.goal: the fewest sensors, or with minimize_cost the cheapest, whose aggregate
+/// reaches it; for min every state's coverage) and a budget (options.budget with costs) run the
+/// cost-aware states greedy (StatesCostGreedy), RANSAC fitted to the goal or budget, local search
+/// (budget) and exact (one MILP), with kept sensors and constraints too.
+/// InputError for a goal above what all candidates (or, under constraints, any feasible set)
+/// reach; for no state, states with different candidate counts, an empty R_s, or indices beyond R_s;
 /// and for what SelectOptions::Validate rejects.
 std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> states,
                                              OverStates over,

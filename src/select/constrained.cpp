@@ -289,6 +289,137 @@ std::vector<uint32_t> StatesThresholdGreedy(const StatesScorer& scorer,
 
 }  // namespace
 
+std::vector<uint32_t> StatesCostGreedy(const StatesScorer& scorer,
+                                       const Feasibility& feasible,
+                                       const Capacity& capacity,
+                                       std::span<const double> costs,
+                                       std::optional<double> goal,
+                                       std::vector<uint32_t> chosen) {
+  using Score = StatesScorer::Score;
+  using Real = long double;  // a rise per cost: compared, never summed
+  const CoverageMatrix& matrix = scorer.matrix();
+  const bool has_kept = !chosen.empty();
+  CappedPoints points(matrix, scorer.k());
+  for (const uint32_t c : chosen) points.Add(c);
+  StateTally covered = scorer.Covered(chosen);
+  const auto cost_of = [&](uint32_t c) { return costs.empty() ? 1.0 : costs[c]; };
+  // A candidate's step: the rise of the score, its ratio to the cost, the points it adds.
+  struct Step {
+    Score rise;
+    Real primary_rate = 0, secondary_rate = 0;
+    bool free_rise = false;
+    Score added;
+    StateTally completed;
+  };
+  const auto before = [](const Step& a, uint32_t ia, const Step& b, uint32_t ib) {
+    if (a.free_rise != b.free_rise) return a.free_rise;
+    if (!a.free_rise) {
+      if (a.primary_rate != b.primary_rate) return a.primary_rate > b.primary_rate;
+      if (a.secondary_rate != b.secondary_rate) return a.secondary_rate > b.secondary_rate;
+    }
+    if (!(a.rise == b.rise)) return b.rise < a.rise;
+    if (!(a.added == b.added)) return b.added < a.added;
+    return ia < ib;
+  };
+  while (chosen.size() < capacity.n) {
+    if (goal && GoalReached(scorer.Fraction(covered), *goal)) break;
+    ThrowIfInterrupted();
+    const Score now = scorer.ScoreOf(covered);
+    int64_t best = -1;
+    Step best_step;
+    for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
+      if (std::find(chosen.begin(), chosen.end(), i) != chosen.end()) continue;
+      if (!feasible.CanAdd(chosen, i) || !capacity.Fits(chosen, i)) continue;
+      Step step;
+      step.completed = scorer.Zero();
+      StateTally added = scorer.Zero();
+      points.ForEachMissing(i, [&](uint32_t element, uint32_t more, bool completes) {
+        if (completes) scorer.AddElement(element, &step.completed);
+        for (uint32_t p = 0; p < more; ++p) scorer.AddElement(element, &added);
+      });
+      const Score after = scorer.ScoreOf(covered + step.completed);
+      step.rise = {after.primary - now.primary, after.secondary - now.secondary};
+      step.added = scorer.ScoreOf(added);
+      const bool rises = Score{} < step.rise;
+      const double cost = cost_of(i);
+      step.free_rise = cost == 0 && rises;
+      if (cost > 0) {
+        step.primary_rate = static_cast<Real>(step.rise.primary) / static_cast<Real>(cost);
+        step.secondary_rate = static_cast<Real>(step.rise.secondary) / static_cast<Real>(cost);
+      }
+      if (best < 0 || before(step, i, best_step, static_cast<uint32_t>(best))) {
+        best = i;
+        best_step = std::move(step);
+      }
+    }
+    // Nothing fits, or nothing adds anything (not even points towards a threshold).
+    if (best < 0 || (!(Score{} < best_step.rise) && !(Score{} < best_step.added))) break;
+    chosen.push_back(static_cast<uint32_t>(best));
+    covered += best_step.completed;
+    points.Add(static_cast<uint32_t>(best));
+  }
+  if (capacity.has_budget() && !goal && !has_kept) {
+    // The best affordable single candidate, when it beats the greedy set.
+    int64_t single = -1;
+    Score single_score{};
+    for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
+      if (capacity.costs[i] > capacity.budget) continue;
+      const Score score = scorer.ScoreOf(scorer.Covered(std::vector<uint32_t>{i}));
+      if (single < 0 || single_score < score) {
+        single = i;
+        single_score = score;
+      }
+    }
+    if (single >= 0 && (chosen.empty() || scorer.ScoreOf(covered) < single_score))
+      return {static_cast<uint32_t>(single)};
+  }
+  return chosen;
+}
+
+std::vector<uint32_t> StatesRansacFitted(const StatesScorer& scorer,
+                                         const Feasibility& feasible,
+                                         const Capacity& capacity,
+                                         std::span<const double> costs,
+                                         std::optional<double> goal,
+                                         int iterations,
+                                         double stop_coverage,
+                                         uint64_t seed,
+                                         const std::vector<uint32_t>& start) {
+  using Score = StatesScorer::Score;
+  const size_t m = scorer.matrix().candidate_count();
+  std::vector<uint32_t> order(m), drawn(m), best;
+  std::iota(order.begin(), order.end(), 0U);
+  Score best_score{};
+  double best_cost = 0;
+  for (int i = 0; i < iterations; ++i) {
+    if (!goal && !best.empty() &&
+        scorer.Fraction(scorer.Covered(best)) >= stop_coverage)
+      break;
+    if (i % 64 == 0) ThrowIfInterrupted();
+    RansacDraw(seed, static_cast<uint64_t>(i), m, &order, &drawn);
+    std::vector<uint32_t> set = start;
+    for (const uint32_t c : drawn) {
+      if (goal && GoalReached(scorer.Fraction(scorer.Covered(set)), *goal)) break;
+      if (std::find(set.begin(), set.end(), c) != set.end()) continue;
+      if (feasible.CanAdd(set, c) && capacity.Fits(set, c)) set.push_back(c);
+    }
+    if (!feasible.IsFeasible(set)) continue;  // a calibration rule's order may leave parts
+    const StateTally tally = scorer.Covered(set);
+    if (goal && !GoalReached(scorer.Fraction(tally), *goal)) continue;
+    const Score score = scorer.ScoreOf(tally);
+    const double cost = costs.empty() ? static_cast<double>(set.size()) : TotalCost(costs, set);
+    const bool better = best.empty() || (goal ? cost < best_cost ||
+                                                    (cost == best_cost && best_score < score)
+                                              : best_score < score);
+    if (better) {
+      best = std::move(set);
+      best_score = score;
+      best_cost = cost;
+    }
+  }
+  return best;
+}
+
 template <MethodScorer Scorer>
 std::vector<uint32_t> ConstrainedGreedy(const Scorer& scorer,
                                         const Feasibility& feasible,
@@ -303,6 +434,9 @@ std::vector<uint32_t> ConstrainedGreedy(const Scorer& scorer,
       return ThresholdGreedy(matrix, scorer.k(), feasible, capacity, std::move(start));
     if (capacity.has_budget()) return BudgetGreedy(matrix, feasible, capacity, std::move(start));
   } else {
+    if (capacity.has_budget())
+      return StatesCostGreedy(scorer, feasible, capacity, capacity.costs, std::nullopt,
+                              std::move(start));
     if (scorer.k() > 1) return StatesThresholdGreedy(scorer, feasible, capacity, std::move(start));
   }
   std::vector<uint32_t> chosen = std::move(start);
@@ -525,6 +659,15 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n) const {
       return answer;
     }
   }
+  if constexpr (!Scorer::kCells) {
+    if (options_.budget) {
+      answer.chosen = StatesRansacFitted(scorer_, feasible_, CapacityFor(n), options_.costs,
+                                         std::nullopt, options_.ransac_iterations,
+                                         options_.ransac_stop_coverage, options_.seed, start_);
+      answer.seconds = setup_seconds_ + SecondsSince(start);
+      return answer;
+    }
+  }
   answer.chosen = ConstrainedRansac(scorer_, feasible_, n, options_.ransac_iterations,
                                     options_.ransac_stop_coverage, options_.seed, options_.fixed);
   if (answer.chosen.empty()) {
@@ -567,11 +710,13 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Local() {
   if (!options_.fixed.empty()) {
     // The unconstrained answers need not hold the kept sensors: none.
   } else if (options_.budget) {
-    LocalOptions local;
-    local.costs = options_.costs;
-    local.budget = *options_.budget;
-    free_local_ =
-        LocalSearch(CellScorer(matrix), GreedyBudget(matrix, options_.costs, local.budget), local);
+    if constexpr (Scorer::kCells) {  // over states the constrained search is the only one
+      LocalOptions local;
+      local.costs = options_.costs;
+      local.budget = *options_.budget;
+      free_local_ = LocalSearch(CellScorer(matrix), GreedyBudget(matrix, options_.costs, local.budget),
+                                local);
+    }
   } else if (n_ <= matrix.candidate_count()) {
     if constexpr (Scorer::kCells) {
       const int k = scorer_.k();
@@ -663,7 +808,7 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
       }
     }
     if (!solved) {
-      exact = SolveExactStatesConstrained(matrix, over, feasible_, n_, local_,
+      exact = SolveExactStatesConstrained(matrix, over, feasible_, CapacityFor(n_), local_,
                                           std::max(0.1, time_limit - SecondsSince(start)),
                                           scorer_.k(), options_.fixed);
       const double aggregate = scorer_.Fraction(scorer_.Covered(exact.chosen));

@@ -121,18 +121,72 @@ ExactResult SolveExactConstrained(const CoverageMatrix& matrix,
                                   uint64_t free_bound,
                                   double time_limit);
 
+/// Greedy over states towards a budget or a goal (the cost-aware greedy): each step adds the
+/// feasible candidate that fits `capacity` with the largest rise of the aggregate per cost
+/// (`costs`; empty: per sensor), the rise compared as the scorer's Score (primary, then secondary)
+/// of the cells it completes (the threshold's rule: seers or points), ties to the larger rise, then
+/// the more points added where missing, then the lower index; a free candidate with a rise first.
+/// Stops when nothing fits or adds anything, or once the aggregate reaches `goal` (GoalReached).
+/// Without kept sensors and with a budget, the best affordable single candidate replaces the
+/// answer when it scores better (the classic budgeted greedy's guard).
+std::vector<uint32_t> StatesCostGreedy(const StatesScorer& scorer,
+                                       const Feasibility& feasible,
+                                       const Capacity& capacity,
+                                       std::span<const double> costs,
+                                       std::optional<double> goal,
+                                       std::vector<uint32_t> start);
+
+/// Whether an aggregate over states (a fraction) reaches a goal: within 1e-9, as GoalCells rounds.
+inline bool GoalReached(double aggregate, double goal) { return aggregate >= goal - 1e-9; }
+
+/// RANSAC fitted to a budget or a goal over states (no n to draw): each iteration takes a random
+/// order of all candidates (RansacDraw) and adds, from `start`, each that keeps the set feasible
+/// and within `capacity`, until the goal is reached (goal) or the order ends. Budget: the best
+/// score wins; goal: the cheapest set (`costs`, empty: the fewest) that reaches it, ties to the
+/// better score. Empty when no order reached the goal.
+std::vector<uint32_t> StatesRansacFitted(const StatesScorer& scorer,
+                                         const Feasibility& feasible,
+                                         const Capacity& capacity,
+                                         std::span<const double> costs,
+                                         std::optional<double> goal,
+                                         int iterations,
+                                         double stop_coverage,
+                                         uint64_t seed,
+                                         const std::vector<uint32_t>& start);
+
+/// A goal over states as one selection MILP (milp.hpp: minimise the count, or the cost with
+/// `costs`, such that the aggregate reaches `goal`; kMin: every state's share), with the
+/// threshold rows, the kept sensors fixed and the rules, warm-started from `start` (which reaches
+/// the goal). chosen: CBC's answer when it is feasible, holds `fixed` and reaches the goal in
+/// integers, else `start`. lower_bound: the largest of CBC's bound and RowSumGoalBound.
+GoalResult SolveStatesGoal(const StatesScorer& scorer,
+                           const Feasibility& feasible,
+                           std::span<const double> costs,
+                           double goal,
+                           std::span<const uint32_t> fixed,
+                           const std::vector<uint32_t>& start,
+                           double time_limit);
+
+/// A proven lower bound on the cost (`costs`; empty: the count) of any set that holds `fixed`
+/// and whose aggregate over states reaches `goal`: coverage is subadditive, so the others must
+/// together bring, per state (min) or in sum (mean), what the kept sensors lack; a fractional
+/// knapsack over each candidate's whole row is the cheapest way to bring it.
+double RowSumGoalBound(const StatesScorer& scorer, std::span<const double> costs, double goal,
+                       std::span<const uint32_t> fixed);
+
 /// Exact selection over states under the constraints: the states' MILP (exact_states.cpp, without
 /// its dominance reduction, which could drop the only feasible candidate) plus the pair rows and
-/// the flow, warm-started from the feasible `start` (at most n sensors). upper_bound (an
-/// aggregate) is the least of CBC's bound on the constrained MILP and StatesLagrangianBound (the
-/// unconstrained one). Never worse than `start`.
+/// the flow, warm-started from the feasible `start` (within `capacity`: n sensors, or a budget).
+/// upper_bound (an aggregate) is the least of CBC's bound on the constrained MILP and
+/// StatesLagrangianBound (the unconstrained one; with a budget, for the most sensors it affords
+/// with the kept ones: coverage never drops by adding one). Never worse than `start`.
 /// With `threshold` >= 2 (k-coverage, or point density: a matrix with counts) an element counts
 /// once the chosen put that many seers or points in it. `fixed` (kept sensors, in `start`) are
 /// x fixed at 1.
 StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix,
                                               OverStates over,
                                               const Feasibility& feasible,
-                                              size_t n,
+                                              const Capacity& capacity,
                                               const std::vector<uint32_t>& start,
                                               double time_limit,
                                               int threshold = 1,

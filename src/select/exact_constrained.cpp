@@ -120,11 +120,31 @@ ExactResult SolveExactConstrained(const CoverageMatrix& matrix,
 StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix,
                                               OverStates over,
                                               const Feasibility& feasible,
-                                              size_t n,
+                                              const Capacity& capacity,
                                               const std::vector<uint32_t>& start,
                                               double time_limit,
                                               int threshold,
                                               std::span<const uint32_t> fixed) {
+  // The most sensors any answer holds: n, or with a budget the kept ones and the cheapest others
+  // that fit beside them (what the cardinality bound may assume).
+  size_t n = capacity.n;
+  if (capacity.has_budget()) {
+    std::vector<double> others;
+    double left = capacity.budget;
+    for (uint32_t c = 0; c < matrix.candidate_count(); ++c) {
+      if (std::find(fixed.begin(), fixed.end(), c) != fixed.end())
+        left -= capacity.costs[c];
+      else
+        others.push_back(capacity.costs[c]);
+    }
+    std::sort(others.begin(), others.end());
+    n = fixed.size();
+    for (const double cost : others) {
+      if (cost > left) break;
+      left -= cost;
+      ++n;
+    }
+  }
   VANTAGE_CHECK(n >= 1 && feasible.IsFeasible(start) && start.size() <= n);
   constexpr double kProofTolerance = 1e-9;  // as exact_states.cpp
   constexpr double kFirstBoundShare = 0.1;
@@ -135,7 +155,8 @@ StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix,
   };
   StatesExactResult result;
   result.chosen = start;
-  if (n == 1 && fixed.empty()) {  // one sensor breaks no rule: the best single one is optimal
+  if (n == 1 && fixed.empty() && !capacity.has_budget()) {
+    // One sensor breaks no rule: the best single one is optimal.
     uint32_t best = 0;
     StatesScorer::Score best_score = scorer.ScoreOf(scorer.Covered(std::vector<uint32_t>{0}));
     for (uint32_t i = 1; i < matrix.candidate_count(); ++i) {
@@ -166,11 +187,10 @@ StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix,
   milp.matrix = &matrix;
   milp.threshold = threshold;
   milp.value = over == OverStates::kMin ? MilpValue::kMin : MilpValue::kMean;
-  milp.capacity = static_cast<double>(n);
+  milp.capacity = capacity.has_budget() ? capacity.budget : static_cast<double>(n);
+  milp.costs = capacity.costs;
   milp.rules = &feasible;
   milp.fixed = fixed;
-  Capacity capacity;
-  capacity.n = n;
   const MilpAnswer outcome = SolveSelectionMilp(milp, start, time_limit - SecondsSince(begin));
   result.note = outcome.note;
   StatesScorer::Score score = scorer.ScoreOf(scorer.Covered(result.chosen));
@@ -207,6 +227,121 @@ StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix,
     result.upper_bound = aggregate;
     result.note.clear();
   }
+  return result;
+}
+
+double RowSumGoalBound(const StatesScorer& scorer, std::span<const double> costs, double goal,
+                       std::span<const uint32_t> fixed) {
+  const CoverageMatrix& matrix = scorer.matrix();
+  const size_t states = matrix.state_count();
+  const StateTally kept = scorer.Covered(fixed);
+  const auto cost_of = [&](uint32_t c) { return costs.empty() ? 1.0 : costs[c]; };
+  double kept_cost = 0;
+  for (const uint32_t f : fixed) kept_cost += cost_of(f);
+  // The cheapest fractional choice of others whose values (value(c)) sum to `need`.
+  const auto knapsack = [&](double need, const auto& value) {
+    if (need <= 0) return 0.0;
+    struct Item {
+      double value, cost;
+    };
+    std::vector<Item> items;
+    for (uint32_t c = 0; c < matrix.candidate_count(); ++c) {
+      if (std::find(fixed.begin(), fixed.end(), c) != fixed.end()) continue;
+      const double v = value(c);
+      if (v > 0) items.push_back({v, cost_of(c)});
+    }
+    std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) {
+      return a.value * b.cost > b.value * a.cost;  // value per cost, free ones first
+    });
+    double total = 0;
+    for (const Item& item : items) {
+      if (item.value >= need) return total + item.cost * need / item.value;
+      need -= item.value;
+      total += item.cost;
+    }
+    return std::numeric_limits<double>::infinity();  // unreachable
+  };
+  // Slack below the goal: GoalReached's 1e-9 and some round-off, so the bound stays proven.
+  const double target = goal - 1e-9 - 1e-12;
+  double others = 0;
+  if (scorer.over() == OverStates::kMean) {
+    const auto share = [&](const StateTally& t) {
+      double sum = 0;
+      for (size_t st = 0; st < states; ++st)
+        sum += static_cast<double>(t[st]) / static_cast<double>(matrix.StateReferenceSize(st));
+      return sum / static_cast<double>(states);
+    };
+    others = knapsack(target - share(kept) - 1e-12,
+                      [&](uint32_t c) { return share(scorer.RowWeight(c)); });
+  } else {
+    for (size_t st = 0; st < states; ++st) {
+      const double r = static_cast<double>(matrix.StateReferenceSize(st));
+      others = std::max(others, knapsack(target * r - static_cast<double>(kept[st]) - 1e-9,
+                                         [&](uint32_t c) {
+                                           return static_cast<double>(scorer.RowWeight(c)[st]);
+                                         }));
+    }
+  }
+  if (!std::isfinite(others)) others = 0;  // only round-off: a start reaches the goal
+  if (costs.empty()) others = std::ceil(others - 1e-9);
+  return kept_cost + std::max(0.0, others);
+}
+
+GoalResult SolveStatesGoal(const StatesScorer& scorer,
+                           const Feasibility& feasible,
+                           std::span<const double> costs,
+                           double goal,
+                           std::span<const uint32_t> fixed,
+                           const std::vector<uint32_t>& start,
+                           double time_limit) {
+  const CoverageMatrix& matrix = scorer.matrix();
+  const auto cost_of = [&](const std::vector<uint32_t>& set) {
+    return costs.empty() ? static_cast<double>(set.size()) : TotalCost(costs, set);
+  };
+  GoalResult result;
+  result.chosen = start;
+  result.lower_bound = RowSumGoalBound(scorer, costs, goal, fixed);
+  if (cost_of(start) <= result.lower_bound) {  // the start meets the simple bound
+    result.lower_bound = cost_of(start);
+    result.proven_optimal = true;
+    return result;
+  }
+  SelectionMilp milp;
+  milp.matrix = &matrix;
+  milp.threshold = scorer.k();
+  milp.value = scorer.over() == OverStates::kMin ? MilpValue::kMin : MilpValue::kMean;
+  milp.costs = costs;
+  milp.goal = goal - 1e-9;  // GoalReached's tolerance: the model is the goal exactly
+  milp.fixed = fixed;
+  milp.rules = &feasible;
+  const MilpAnswer answer = SolveSelectionMilp(milp, start, time_limit);
+  result.note = answer.note;
+  const bool whole = costs.empty() || AllWhole(costs);
+  if (std::isfinite(answer.bound)) {
+    result.lower_bound = std::max(
+        result.lower_bound, whole ? std::ceil(answer.bound - 1e-6) : answer.bound - 1e-9);
+  }
+  bool cbc_answer = false;
+  if (!answer.chosen.empty() && feasible.IsFeasible(answer.chosen) &&
+      std::all_of(fixed.begin(), fixed.end(), [&](uint32_t f) {
+        return std::find(answer.chosen.begin(), answer.chosen.end(), f) != answer.chosen.end();
+      })) {
+    // The kept sensors first, in their order, as every other method answers.
+    std::vector<uint32_t> found(fixed.begin(), fixed.end());
+    for (const uint32_t c : answer.chosen)
+      if (std::find(fixed.begin(), fixed.end(), c) == fixed.end()) found.push_back(c);
+    if (!GoalReached(scorer.Fraction(scorer.Covered(found)), goal)) {
+      result.note = "CBC's answer misses the goal by round-off";
+    } else if (cost_of(found) <= cost_of(result.chosen)) {
+      cbc_answer = cost_of(found) < cost_of(result.chosen) || answer.proven_optimal;
+      if (cost_of(found) < cost_of(result.chosen)) result.chosen = std::move(found);
+    }
+  }
+  const double cost = cost_of(result.chosen);
+  if (cbc_answer && answer.proven_optimal) result.lower_bound = cost;
+  result.lower_bound = std::min(result.lower_bound, cost);
+  result.proven_optimal = cost <= result.lower_bound;
+  if (result.proven_optimal) result.note.clear();
   return result;
 }
 

@@ -176,11 +176,6 @@ void SelectOptions::Validate(size_t candidate_count) const {
       (!sorted.empty() && sorted.back() >= candidate_count)) {
     throw FieldError({"fixed"}, "fixed: the kept candidates must be distinct candidate indices");
   }
-  if (goal && (k >= 2 || min_points || minimize_cost) && !constraints.empty()) {
-    throw FieldError({"goal", "k", "min_points"},
-                     "a goal with k, min_points or cost does not combine with installation "
-                     "constraints yet — drop one of them");
-  }
   if (fixed.empty()) return;
   if (goal && (k >= 2 || min_points)) {
     throw FieldError({"fixed", "k", "min_points"},

@@ -11,6 +11,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <numeric>
 #include <optional>
 
 #include "select/constrained.hpp"
@@ -204,14 +206,129 @@ StateSelection Scored(std::span<const StateObservations> states,
   return result;
 }
 
-void Validate(std::span<const StateObservations> states, const SelectOptions& options) {
-  const Objective objective = options.objective();
-  if (objective != Objective::kCoverage && objective != Objective::kMinPoints &&
-      objective != Objective::kKCoverage) {
-    throw InputError(fmt::format("the {} objective (--goal, --budget) is not available with "
-                                 "--over-states — states maximise coverage; drop one of them",
-                                 ObjectiveName(objective)));
+// A goal's or a budget's fields on a result scored by Scored (objective, goal, budget, cost).
+void MarkObjective(const SelectOptions& options, StateSelection* result) {
+  Selection& s = result->selection;
+  if (options.goal) {
+    s.objective = ObjectiveName(Objective::kSetCover);
+    s.goal = options.goal;
+    if (options.minimize_cost) s.cost = detail::TotalCost(options.costs, s.chosen);
+  } else if (options.budget) {
+    s.objective = ObjectiveName(Objective::kBudget);
+    s.budget = options.budget;
+    s.cost = detail::TotalCost(options.costs, s.chosen);
   }
+}
+
+// A goal over states: the fewest sensors (or, minimising cost, the cheapest set) whose aggregate
+// reaches it, under the rules and with the kept sensors. Greedy: StatesCostGreedy to the goal;
+// RANSAC: random orders taken until it is reached; exact: one MILP (SolveStatesGoal) from
+// greedy's answer; all: greedy and exact.
+std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> states,
+                                           OverStates over,
+                                           const SelectOptions& options,
+                                           const detail::StatesScorer& scorer,
+                                           const detail::Feasibility& feasible,
+                                           const std::vector<uint32_t>& kept_start,
+                                           Clock::time_point start) {
+  const double goal = *options.goal;
+  const detail::CoverageMatrix& matrix = scorer.matrix();
+  const std::span<const double> costs =
+      options.minimize_cost ? std::span<const double>(options.costs) : std::span<const double>();
+  const int k = options.min_points ? 1 : options.k;
+  const auto scored = [&](Method method, std::vector<uint32_t> chosen, double seconds) {
+    VANTAGE_CHECK(feasible.IsFeasible(chosen));
+    StateSelection s = Scored(states, over, method, std::move(chosen), seconds,
+                              options.min_points, k);
+    MarkObjective(options, &s);
+    return s;
+  };
+  const auto unreachable = [&](const std::string& reach, const std::string& relax) {
+    const std::string what = fmt::format("goal {:g} over the states ({}) {}", goal,
+                                         OverStatesName(over), reach);
+    return InputError(options.goal_source == "--goal"
+                          ? fmt::format("{} — lower --goal{}", what, relax)
+                          : fmt::format("{}: {} — lower the scene's goal, or give a lower "
+                                        "--goal{}",
+                                        options.goal_source, what, relax));
+  };
+  std::vector<uint32_t> everyone(matrix.candidate_count());
+  std::iota(everyone.begin(), everyone.end(), 0U);
+  const double reach = scorer.Fraction(scorer.Covered(everyone));
+  if (!detail::GoalReached(reach, goal)) {
+    const std::string counted =
+        options.min_points ? fmt::format(" (cells holding {} points)", *options.min_points)
+        : options.k >= 2   ? fmt::format(" (cells seen {} times)", options.k)
+                           : std::string();
+    throw unreachable(fmt::format("is above the {:.4f}{} that all {} candidates reach together",
+                                  reach, counted, matrix.candidate_count()),
+                      "");
+  }
+  if (kept_start.size() == options.fixed.size() && !options.fixed.empty() &&
+      detail::GoalReached(scorer.Fraction(scorer.Covered(options.fixed)), goal)) {
+    StateSelection s = scored(Method::kBest, options.fixed, SecondsSince(start));
+    s.selection.method = "kept";
+    return {s};
+  }
+  detail::Capacity everyone_fits;
+  everyone_fits.n = matrix.candidate_count();
+  std::vector<uint32_t> greedy =
+      detail::StatesCostGreedy(scorer, feasible, everyone_fits, costs, goal, kept_start);
+  if (!detail::GoalReached(scorer.Fraction(scorer.Covered(greedy)), goal)) {
+    // Greedy could not reach it under the rules: the most any feasible set reaches decides.
+    const detail::StatesExactResult most = detail::SolveExactStatesConstrained(
+        matrix, over, feasible, everyone_fits, greedy, options.time_limit, scorer.k(),
+        options.fixed);
+    const double best = scorer.Fraction(scorer.Covered(most.chosen));
+    if (!detail::GoalReached(best, goal)) {
+      throw unreachable(
+          most.proven_optimal || most.upper_bound < goal - 1e-9
+              ? fmt::format("cannot be reached: the installation constraints allow at most {:.4f}",
+                            std::min(most.upper_bound, reach))
+              : fmt::format("cannot be reached: no set of sensors that satisfies the "
+                            "installation constraints was found to reach it (the best reaches "
+                            "{:.4f})",
+                            best),
+          " or relax the constraints");
+    }
+    greedy = most.chosen;
+  }
+  const double greedy_seconds = SecondsSince(start);
+  std::vector<StateSelection> results;
+  if (options.method == Method::kRansac) {
+    std::vector<uint32_t> drawn = detail::StatesRansacFitted(
+        scorer, feasible, everyone_fits, costs, goal, options.ransac_iterations,
+        options.ransac_stop_coverage, options.seed, kept_start);
+    if (drawn.empty()) drawn = greedy;  // no order reached it under the rules
+    results.push_back(scored(Method::kRansac, std::move(drawn), SecondsSince(start)));
+    return results;
+  }
+  if (options.method != Method::kExact)
+    results.push_back(scored(Method::kGreedy, greedy, greedy_seconds));
+  if (options.method == Method::kGreedy) return results;
+  const Clock::time_point exact_start = Clock::now();
+  const detail::GoalResult exact = detail::SolveStatesGoal(
+      scorer, feasible, costs, goal, options.fixed, greedy,
+      std::max(0.1 * options.time_limit, options.time_limit - greedy_seconds));
+  if (!exact.proven_optimal && !exact.note.empty()) {
+    const std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
+    (logger ? logger : spdlog::default_logger())
+        ->warn("exact over states, goal {:g}: {}; reporting the best answer found and a bound",
+               goal, exact.note);
+  }
+  StateSelection s =
+      scored(Method::kExact, exact.chosen, greedy_seconds + SecondsSince(exact_start));
+  if (options.minimize_cost) {
+    s.selection.cost_lower_bound = exact.lower_bound;
+  } else {
+    s.selection.n_lower_bound = static_cast<int>(std::llround(exact.lower_bound));
+  }
+  s.selection.proven_optimal = exact.proven_optimal;
+  results.push_back(std::move(s));
+  return results;
+}
+
+void Validate(std::span<const StateObservations> states, const SelectOptions& options) {
   if (states.empty()) throw InputError("--over-states: there are no states to select over");
   const size_t candidates = states.front().observations.size();
   for (const StateObservations& state : states) {
@@ -321,15 +438,49 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
   };
   const auto n = static_cast<size_t>(options.n);
   if (!options.constraints.empty() || options.min_points || options.k >= 2 ||
-      !options.fixed.empty()) {
+      !options.fixed.empty() || options.goal || options.budget) {
     // Installation constraints (docs/constraints.md, Over scene states): the same methods under
     // them; the calibration overlap graph is the first state's. Point density, k-coverage and
     // kept sensors over states run the same methods (with no constraints, every set is
     // feasible; kept sensors are where every answer starts, their x fixed at 1 in the MILP).
     const detail::Feasibility feasible(states.front().observations, options.constraints);
     const std::vector<uint32_t> kept_start = detail::KeptStart(feasible, options);
+    if (options.goal)
+      return GoalOverStates(states, over, options, scorer, feasible, kept_start, start);
     const size_t kept = options.fixed.size();
     const bool is_bridged = kept_start.size() > kept;
+    if (options.budget) {  // no n: every method grows within the budget
+      detail::ConstrainedMethods<detail::StatesScorer> methods(scorer, feasible, options, setup,
+                                                               kept_start);
+      const size_t everyone = matrix.candidate_count();
+      const auto scored = [&](Method method, detail::ConstrainedAnswer answer) {
+        VANTAGE_CHECK(feasible.IsFeasible(answer.chosen) &&
+                      detail::TotalCost(options.costs, answer.chosen) <= *options.budget);
+        StateSelection s = Scored(states, over, method, std::move(answer.chosen), answer.seconds,
+                                  options.min_points, options.min_points ? 1 : options.k);
+        MarkObjective(options, &s);
+        if (answer.upper_bound)
+          s.selection.upper_bound = std::max(*answer.upper_bound, s.selection.coverage);
+        s.selection.proven_optimal = answer.proven_optimal;
+        return s;
+      };
+      if (options.method == Method::kRansac) {
+        results.push_back(scored(Method::kRansac, methods.Ransac(everyone)));
+        return results;
+      }
+      detail::ConstrainedAnswer greedy = methods.Greedy(everyone);
+      if (options.method == Method::kGreedy || options.method == Method::kAll)
+        results.push_back(scored(Method::kGreedy, std::move(greedy)));
+      if (options.method == Method::kGreedy) return results;
+      detail::ConstrainedAnswer local = methods.Local();
+      if (options.method == Method::kLocal || options.method == Method::kAll)
+        results.push_back(scored(Method::kLocal, std::move(local)));
+      if (options.method == Method::kLocal) return results;
+      results.push_back(scored(
+          Method::kExact, methods.Exact(std::max(0.1 * options.time_limit,
+                                                 options.time_limit - SecondsSince(start)))));
+      return results;
+    }
     if (kept > 0 && !is_bridged && n <= kept) {  // no room: the kept sensors are the answer
       results.push_back(Scored(states, over, Method::kBest, options.fixed, setup,
                                options.min_points, options.min_points ? 1 : options.k));

@@ -516,6 +516,14 @@ std::vector<Selection> Select(std::span<const Observation> observations,
                               size_t reference_size,
                               const SelectOptions& options) {
   options.Validate(observations.size());
+  // One state's constrained goal counts cells once, by the sensor (over states the one MILP
+  // takes every goal under the rules: over_states.cpp).
+  if (options.goal && (options.k >= 2 || options.min_points || options.minimize_cost) &&
+      !options.constraints.empty()) {
+    throw FieldError({"goal", "k", "min_points"},
+                     "a goal with k, min_points or cost does not combine with installation "
+                     "constraints yet — drop one of them");
+  }
   // Kept sensors are fixed variables of the one model (SelectConstrained, whose feasibility
   // without constraints admits every set) where cells count k times or in points; the residual
   // problem serves plain coverage, goals and budgets.
