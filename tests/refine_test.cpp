@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <set>
 
@@ -308,6 +309,73 @@ TEST(Refine, ObeysTheConstraintsOverOldAndNewPoses) {
   // One whole face is still reachable: the other sensor keeps its part.
   EXPECT_GT(r.selection.coverage, kFace / kShell);
   EXPECT_DOUBLE_EQ(r.selection.coverage, UnionCoverage(r, s.reference.size()));
+}
+
+// Kept sensors (--keep-existing, issue 42): the kept camera stays where it is — no pose is
+// searched around it and every answer holds it — while the other one is refined. Two faces, one
+// population each: the kept +x camera sees its strip of 12 cells; the -x one can be turned to see
+// its whole face (36), so the refined layout sees 12 + 36 cells (the faces are disjoint).
+TEST(Refine, KeptSensorsStayWhereTheyAre) {
+  Fixture s;
+  s.reference = BuildReference(s.scene, {kCell});
+  Population plus = FacePopulation();
+  Population minus = FacePopulation();
+  minus.name = "minus";
+  minus.pose = Pose{Vec3(-1.1, 0, 0), Quat::Identity()};  // region x in [-1.2, -1.0]
+  s.populations = {plus, minus};
+  s.observation_point = kPastTheCube;
+  DeployOptions deploy;
+  deploy.observation_point = s.observation_point;
+  s.candidates = DeployCandidates(s.populations, {}, {FineCamera()}, deploy);
+  ASSERT_EQ(s.candidates.size(), 2u);
+  ASSERT_EQ(s.candidates[0].population, "pop");
+  s.observations = Observe(s.scene, s.reference, s.candidates);
+  ASSERT_EQ(s.observations[0].reference_indices.size(), kStripCells);
+  s.select.n = 2;
+  s.select.method = Method::kLocal;
+  s.select.fixed = {0};
+  s.start = Select(s.observations, s.reference.size(), s.select).at(0);
+  RefineOptions options;
+  options.per_sensor = 1000;
+  const RefineResult r = RunRefine(s, options);
+  ASSERT_EQ(r.selection.chosen.size(), 2u);
+  EXPECT_EQ(r.selection.chosen[0], 0u);  // the kept camera, first, at its own pose
+  EXPECT_TRUE(r.candidates[0].world_from_body.position.isApprox(
+      s.candidates[0].world_from_body.position));
+  for (size_t i = s.candidates.size(); i < r.candidates.size(); ++i)
+    EXPECT_EQ(r.candidates[i].population, "minus") << r.candidates[i].name;  // none around +x
+  EXPECT_DOUBLE_EQ(r.selection.coverage, (kStripCells + kFace) / kShell);
+  EXPECT_DOUBLE_EQ(r.selection.coverage, UnionCoverage(r, s.reference.size()));
+  // A start that lacks the kept camera is refused.
+  Fixture lacking = s;
+  lacking.start.chosen = {1};
+  EXPECT_THROW(RunRefine(lacking, options), InputError);
+}
+
+// Point density (--min-points, issue 42): the new poses keep their pixel counts, and the refined
+// layout is scored by the cells holding the points, recomputed here from the hits.
+TEST(Refine, MinPointsScoresTheRefinedLayoutInPoints) {
+  Fixture s = FaceSetup();
+  s.select.min_points = 50;
+  s.start = Select(s.observations, s.reference.size(), s.select).at(0);
+  const RefineResult r = RunRefine(s);
+  EXPECT_EQ(r.selection.objective, "min-points");
+  ASSERT_TRUE(r.selection.min_points.has_value());
+  EXPECT_EQ(*r.selection.min_points, 50u);
+  for (const Observation& o : r.observations) EXPECT_TRUE(o.has_point_counts());
+  // The cells in which the chosen put at least 50 hits, counted here.
+  std::map<uint32_t, uint64_t> hits;
+  for (const uint32_t c : r.selection.chosen) {
+    const Observation& o = r.observations[c];
+    for (size_t j = 0; j < o.reference_indices.size(); ++j)
+      hits[o.reference_indices[j]] += o.reference_hits[j];
+  }
+  size_t cells = 0;
+  for (const auto& [cell, h] : hits) cells += h >= 50 ? 1 : 0;
+  EXPECT_DOUBLE_EQ(r.selection.coverage, static_cast<double>(cells) / kShell);
+  EXPECT_GE(r.selection.coverage, s.start.coverage);
+  // A 0.25 mm pixel puts about 1600 rays in a 1 cm cell face on: the whole face holds 50.
+  EXPECT_DOUBLE_EQ(r.selection.coverage, kFace / kShell);
 }
 
 // A set cover goal (the fewest sensors that reach it) re-selects with greedy: set cover has no

@@ -48,7 +48,8 @@ void SetupOptimize(CLI::App* parent) {
   app->add_flag("--refine", flags->refine,
                 "after selection, search new poses around the chosen sensors (inside their "
                 "regions, outside keep-out boxes), trace only those and re-select while coverage "
-                "improves, under the run's constraints over old and new poses");
+                "improves, under the run's constraints over old and new poses; kept sensors "
+                "(--keep-existing) stay where they are");
   CLI::Option* rounds =
       app->add_option("--refine-rounds", flags->refine_options.max_rounds, "rounds of --refine")
           ->check(NumberFrom(1, kMaxRefineRounds, ValueKind::kWholeNumber))

@@ -168,7 +168,8 @@ Selection ScoreChosen(const CoverageEvaluator& evaluator, std::vector<uint32_t> 
 /// Swap local search (as method local runs it) from `start`, under the objective of `options`:
 /// k-coverage for k >= 2, the budget with options.costs; never worse than `start`. For the
 /// refinement of a constellation over grown candidate sets; with options.constraints, only swaps
-/// that keep them (`start` must obey them). InternalError for set cover.
+/// that keep them (`start` must obey them); with options.fixed (in `start`), the kept sensors
+/// first and never swapped out. InternalError for set cover.
 std::vector<uint32_t> ImproveBySwaps(std::span<const Observation> observations,
                                      size_t reference_size, std::vector<uint32_t> start,
                                      const SelectOptions& options);

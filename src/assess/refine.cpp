@@ -83,18 +83,23 @@ std::optional<Vec3> Centroid(const Reference& reference, const std::vector<uint3
   return Vec3(sum / static_cast<double>(cells.size()));
 }
 
-/// Cells seen by fewer than k of `chosen` (k = 1: not seen at all), ascending.
+/// Cells that `chosen` leave short of the objective, ascending: seen by fewer than k of them
+/// (k = 1: not seen at all), or with `min_points`, holding fewer of their pixels' hits.
 std::vector<uint32_t> Unobserved(const std::vector<Observation>& observations,
                                  const std::vector<uint32_t>& chosen,
                                  size_t reference_size,
-                                 int k) {
-  std::vector<uint32_t> seen(reference_size, 0);
+                                 int k,
+                                 std::optional<uint32_t> min_points) {
+  std::vector<uint64_t> seen(reference_size, 0);
   for (const uint32_t c : chosen) {
-    for (const uint32_t cell : observations[c].reference_indices) ++seen[cell];
+    const Observation& o = observations[c];
+    for (size_t j = 0; j < o.reference_indices.size(); ++j)
+      seen[o.reference_indices[j]] += min_points ? o.reference_hits[j] : 1;
   }
+  const uint64_t needed = min_points ? *min_points : static_cast<uint64_t>(k);
   std::vector<uint32_t> cells;
   for (uint32_t i = 0; i < reference_size; ++i) {
-    if (seen[i] < static_cast<uint32_t>(k)) cells.push_back(i);
+    if (seen[i] < needed) cells.push_back(i);
   }
   return cells;
 }
@@ -270,8 +275,19 @@ RefineResult Refine(const RayScene& rays,
   if (reselect.method == Method::kAll || reselect.method == Method::kBest)
     reselect.method = objective == Objective::kSetCover ? Method::kGreedy : Method::kLocal;
   // The refined constellation has as many sensors as the one it refines.
-  if (objective == Objective::kCoverage || objective == Objective::kKCoverage)
+  if (objective == Objective::kCoverage || objective == Objective::kKCoverage ||
+      objective == Objective::kMinPoints)
     reselect.n = static_cast<int>(start.chosen.size());
+  // Kept sensors (--keep-existing) stay where they are: no poses around them, and every
+  // re-selection holds them (Select's and ImproveBySwaps' fixed variables).
+  const std::vector<uint32_t>& kept = select.fixed;
+  const auto is_kept = [&](uint32_t c) {
+    return std::find(kept.begin(), kept.end(), c) != kept.end();
+  };
+  for (const uint32_t f : kept) {
+    if (std::find(start.chosen.begin(), start.chosen.end(), f) == start.chosen.end())
+      throw InputError(fmt::format("refine: the start selection lacks kept candidate {}", f));
+  }
   const int k = objective == Objective::kKCoverage ? select.k : 1;
 
   // Scores a set of chosen candidates the way Select does, from the observations themselves.
@@ -297,7 +313,7 @@ RefineResult Refine(const RayScene& rays,
     ThrowIfInterrupted();
     // Where the constellation is still blind: all of it, and per sensor what lies within range.
     const std::vector<uint32_t> unobserved =
-        Unobserved(observations, current.chosen, reference.size(), k);
+        Unobserved(observations, current.chosen, reference.size(), k, select.min_points);
     const std::optional<Vec3> blind_centroid = Centroid(reference, unobserved);
 
     std::vector<Candidate> fresh;
@@ -305,6 +321,7 @@ RefineResult Refine(const RayScene& rays,
     std::map<uint32_t, int> made;  // per root: poses made this round (name suffix)
     for (size_t p = 0; p < current.chosen.size(); ++p) {
       const uint32_t c = current.chosen[p];
+      if (is_kept(c)) continue;
       const uint32_t r = root[c];
       const Mount& mount = mounts[r];
       const Pose world_from_model =

@@ -77,10 +77,6 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
     throw InputError(AtPlace("--over-states", 0,
                              "the scene has no states — add a `states:` list "
                              "(docs/scene-format.md) or drop --over-states"));
-  if (options.selection.keep_existing && options.refine)
-    throw InputError(AtPlace("--keep-existing", 0,
-                             "--refine may move the kept sensors — drop one of --refine and "
-                             "--keep-existing"));
   if (has_states && options.refine)
     throw InputError(AtPlace("--refine", 0,
                              "refinement over scene states is not supported yet — drop --refine "
@@ -102,10 +98,6 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
                                            c.name, box.name)));
     }
   }
-  if (select.min_points && options.refine)
-    throw InputError(AtPlace(options.selection.min_density ? "--min-density" : "--min-points", 0,
-                             "--refine does not keep point counts yet — drop one of --refine and "
-                             "the point density"));
   if (!prepared.arms.empty()) {
     detail::CheckArmTourInputs(prepared.candidates, prepared.arms, options.arm, select.seed);
   } else if (options.arm.cycle_time) {

@@ -1,5 +1,7 @@
 // Selection's entry points for the assess stage: scoring a given constellation and improving it
 // by swaps, so that refinement re-selects through selection's own code instead of its internals.
+#include <algorithm>
+
 #include "select/constrained.hpp"
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
@@ -20,9 +22,15 @@ std::vector<uint32_t> ImproveBySwaps(std::span<const Observation> observations,
   const Objective objective = options.objective();
   VANTAGE_CHECK(objective != Objective::kSetCover);
   const detail::CoverageMatrix matrix = detail::MatrixFor(observations, reference_size, options);
-  if (!options.constraints.empty()) {
-    // Swaps that keep the installation constraints, as method local under them.
+  if (!options.constraints.empty() || !options.fixed.empty()) {
+    // Swaps that keep the installation constraints and the kept sensors (first, never swapped
+    // out), as method local under them.
     const detail::Feasibility feasible(observations, options.constraints);
+    const std::vector<uint32_t>& fixed = options.fixed;
+    std::erase_if(start, [&](uint32_t c) {
+      return std::find(fixed.begin(), fixed.end(), c) != fixed.end();
+    });
+    start.insert(start.begin(), fixed.begin(), fixed.end());
     detail::Capacity capacity;
     capacity.n = static_cast<size_t>(options.n);
     if (objective == Objective::kBudget) {
@@ -31,7 +39,7 @@ std::vector<uint32_t> ImproveBySwaps(std::span<const Observation> observations,
       capacity.budget = *options.budget;
     }
     return detail::ConstrainedLocal(detail::CellScorer(matrix, detail::Threshold(options)),
-                                    feasible, std::move(start), capacity);
+                                    feasible, std::move(start), capacity, fixed.size());
   }
   if (objective == Objective::kMinPoints)
     return detail::PointsLocalSearch(matrix, std::move(start), detail::Threshold(options));
