@@ -81,9 +81,12 @@ bool RegionContains(const Population& population, const Vec3& world_position);
 /// Re-selection uses `select` (kAll and kBest run as kLocal; for set cover, which has no local
 /// search, as kGreedy) and, for every objective but set cover, also
 /// swap local search from the current constellation; the better answer is kept, so
-/// coverage never drops. Deterministic for a seed whatever the thread count.
+/// coverage never drops. Deterministic for a seed whatever the thread count. Kept sensors
+/// (select.fixed, in `start`) stay where they are: no poses around them, every re-selection holds
+/// them. With select.min_points the search aims at the cells short of the points and the layout
+/// is scored by point coverage (the observations must carry their counts).
 /// Throws InputError for invalid options, sizes that do not match, an unknown population name,
-/// or `start` naming a candidate out of range.
+/// `start` naming a candidate out of range or lacking a kept one, or point counts missing.
 RefineResult Refine(const RayScene& rays,
                     const Reference& reference,
                     std::vector<Candidate> candidates,

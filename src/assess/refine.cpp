@@ -250,6 +250,13 @@ RefineResult Refine(const RayScene& rays,
   }
   if (!observation_point.allFinite()) throw InputError("refine: observation point is not finite");
   select.Validate(candidates.size());
+  if (select.min_points) {
+    for (const Observation& o : observations) {
+      if (!o.has_point_counts())
+        throw InputError("refine: min_points needs the pixel counts per cell, which the given "
+                         "observations do not carry");
+    }
+  }
 
   std::map<std::string, const Population*> by_name;
   for (const Population& p : populations) by_name[p.name] = &p;
