@@ -1188,7 +1188,9 @@ TEST(SelectOverStates, GoalAgainstEnumeration) {
               ASSERT_TRUE(last.n_lower_bound.has_value());
               EXPECT_LE(*last.n_lower_bound, *optimum + 1e-9);
             }
-            if (last.proven_optimal) EXPECT_NEAR(price(last.chosen), *optimum, 1e-9);
+            if (last.proven_optimal) {
+              EXPECT_NEAR(price(last.chosen), *optimum, 1e-9);
+            }
           } else {  // the kept sensors reach the goal alone
             EXPECT_EQ(last.method, "kept");
           }
