@@ -13,6 +13,7 @@
 
 #include "vantage/constraints.hpp"
 #include "vantage/error.hpp"
+#include "vantage/select_states.hpp"
 
 namespace vantage {
 namespace {
@@ -376,6 +377,63 @@ TEST(Refine, MinPointsScoresTheRefinedLayoutInPoints) {
   EXPECT_GE(r.selection.coverage, s.start.coverage);
   // A 0.25 mm pixel puts about 1600 rays in a 1 cm cell face on: the whole face holds 50.
   EXPECT_DOUBLE_EQ(r.selection.coverage, kFace / kShell);
+}
+
+// Scene states (issue 42): a second state puts a hand between the region and the +y half of
+// the face. Every new pose is traced in both states (in the hand state it sees a subset of what it
+// sees without, and the hand hides something from some pose), and the refined layout is scored by
+// the states' mean, recomputed here from the two matrices.
+TEST(Refine, OverStatesTracesEveryStateAndScoresTheMean) {
+  Fixture s = FaceSetup();
+  Scene hand_scene = CubeScene();
+  TriangleMesh hand = MakeBox(Vec3(0.01, 0.04, 0.08));
+  hand.Transform(Pose{Vec3(0.5, 0.02, 0), Quat::Identity()});
+  hand_scene.objects.push_back({"hand", Role::kOccluder, std::move(hand), {}});
+  const Reference hand_reference = BuildReference(hand_scene, {kCell});
+  ASSERT_EQ(hand_reference.size(), kShell);
+  const std::vector<Observation> hand_observations =
+      Observe(hand_scene, hand_reference, s.candidates);
+  const std::vector<StateObservations> views{
+      {"empty", s.reference.size(), s.observations},
+      {"hand", hand_reference.size(), hand_observations}};
+  s.start = SelectOverStates(views, OverStates::kMean, s.select).at(0).selection;
+  const RayScene hand_rays(hand_scene);
+  RefineOptions options;
+  options.states = {{"hand", &hand_rays, &hand_reference, hand_observations}};
+  options.over = OverStates::kMean;
+  const RefineResult r = RunRefine(s, options);
+  ASSERT_GT(r.new_candidates, 0u);
+  ASSERT_EQ(r.state_observations.size(), 1u);
+  const std::vector<Observation>& in_hand = r.state_observations[0];
+  ASSERT_EQ(in_hand.size(), r.candidates.size());
+  bool hidden = false;
+  for (size_t i = s.candidates.size(); i < r.candidates.size(); ++i) {
+    const std::set<uint32_t> free(r.observations[i].reference_indices.begin(),
+                                  r.observations[i].reference_indices.end());
+    for (const uint32_t cell : in_hand[i].reference_indices)
+      EXPECT_TRUE(free.count(cell)) << r.candidates[i].name;
+    hidden = hidden || in_hand[i].reference_indices.size() < free.size();
+  }
+  EXPECT_TRUE(hidden);
+  // The mean of the two states' union coverages, counted here.
+  const auto union_of = [&](const std::vector<Observation>& observations) {
+    std::set<uint32_t> cells;
+    for (const uint32_t c : r.selection.chosen)
+      cells.insert(observations[c].reference_indices.begin(),
+                   observations[c].reference_indices.end());
+    return static_cast<double>(cells.size()) / kShell;
+  };
+  const double empty = union_of(r.observations), with_hand = union_of(in_hand);
+  ASSERT_EQ(r.selection.state_coverage.size(), 2u);
+  EXPECT_DOUBLE_EQ(r.selection.state_coverage[0], empty);
+  EXPECT_DOUBLE_EQ(r.selection.state_coverage[1], with_hand);
+  EXPECT_DOUBLE_EQ(r.selection.coverage, (empty + with_hand) / 2);
+  EXPECT_DOUBLE_EQ(r.coverage_before, s.start.coverage);
+  EXPECT_GT(r.selection.coverage, s.start.coverage);
+  for (size_t i = 1; i < r.history.size(); ++i) EXPECT_GE(r.history[i], r.history[i - 1]);
+  // A state without one observation per candidate is refused.
+  options.states[0].observations.pop_back();
+  EXPECT_THROW(RunRefine(s, options), InputError);
 }
 
 // A set cover goal (the fewest sensors that reach it) re-selects with greedy: set cover has no

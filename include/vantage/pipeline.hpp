@@ -187,6 +187,9 @@ struct ObservedScene {
   /// A scene with states: each state's reference and observations, in state order (`data` holds
   /// the first state's too); empty otherwise.
   std::vector<ObservedState> states;
+  /// Each state's geometry, in state order (empty without states): --refine traces new poses in
+  /// every state.
+  std::vector<Scene> state_scenes;
   Timings timings;                     ///< load, reference, observe
   std::vector<std::string> notes;
   std::vector<ArmSetup> arms;          ///< PreparedScene::arms, for the tour

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "vantage/candidates.hpp"
@@ -14,12 +15,22 @@
 #include "vantage/population.hpp"
 #include "vantage/reference.hpp"
 #include "vantage/select.hpp"
+#include "vantage/select_states.hpp"
 
 namespace vantage {
 
 /// The rounds a run may ask for (--refine-rounds, optimize's refine): each traces the new poses
 /// and selects again, so more would run for hours; a run asking for refinement asks for one.
 inline constexpr int kMaxRefineRounds = 100;
+
+/// One more state of the scene for Refine (RefineOptions::states); `rays` and `reference` must
+/// outlive the call. States that share them (the same geometry) are traced once.
+struct RefineState {
+  std::string name;
+  const RayScene* rays = nullptr;
+  const Reference* reference = nullptr;
+  std::vector<Observation> observations;
+};
 
 struct RefineOptions {
   int max_rounds = 4;   ///< rounds of search + trace + re-selection, >= 0 (0: no refinement)
@@ -43,6 +54,12 @@ struct RefineOptions {
   std::function<bool(const Pose& world_from_body)> may_mount;
   std::function<InstallConstraints(std::span<const Candidate>, std::span<const Observation>)>
       constraints;
+  /// Scene states (docs/scene-format.md, States): the states after the first, in state order —
+  /// each one's geometry, reference and matrix (one observation per given candidate); the first
+  /// state's are Refine's `rays`, `reference` and `observations`. Empty: one scene. New poses are
+  /// then traced in every state, and re-selection and scoring use the aggregate `over`.
+  std::vector<RefineState> states;
+  OverStates over = OverStates::kMean;
 
   /// Throws InputError naming the field when a value is out of range or not finite.
   void Validate() const;
@@ -54,6 +71,8 @@ struct RefineResult {
   /// original's sensor type and population.
   std::vector<Candidate> candidates;
   std::vector<Observation> observations;
+  /// With RefineOptions::states: each of those states' observations, grown the same way.
+  std::vector<std::vector<Observation>> state_observations;
   /// The refined constellation (indices into `candidates`); never worse than `start` under the
   /// objective of the SelectOptions. Its `seconds` are the refinement's (tracing included); no
   /// upper_bound (the bound of the original candidates does not hold for the new ones).
@@ -84,7 +103,9 @@ bool RegionContains(const Population& population, const Vec3& world_position);
 /// coverage never drops. Deterministic for a seed whatever the thread count. Kept sensors
 /// (select.fixed, in `start`) stay where they are: no poses around them, every re-selection holds
 /// them. With select.min_points the search aims at the cells short of the points and the layout
-/// is scored by point coverage (the observations must carry their counts).
+/// is scored by point coverage (the observations must carry their counts). Over scene states
+/// (options.states) each new pose is traced in every state, the search aims at the first state's
+/// blind cells, and the layout is scored by the states' aggregate (state_coverage filled).
 /// Throws InputError for invalid options, sizes that do not match, an unknown population name,
 /// `start` naming a candidate out of range or lacking a kept one, or point counts missing.
 RefineResult Refine(const RayScene& rays,

@@ -63,4 +63,19 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
                                              OverStates over,
                                              const SelectOptions& options);
 
+/// `chosen` named `method`, scored over the states as SelectOverStates scores its answers (the
+/// aggregate, each state's coverage in state_coverage, the objective's fields); seconds 0, no
+/// bound. For refinement over states.
+Selection ScoreChosenOverStates(std::span<const StateObservations> states, OverStates over,
+                                std::vector<uint32_t> chosen, const std::string& method,
+                                const SelectOptions& options);
+
+/// Swap local search over the states from the feasible `start` (ConstrainedLocal with the states'
+/// scorer: adds while n or the budget allows, and 1-swaps that raise the aggregate), under
+/// options' constraints, with the kept sensors (options.fixed) first and never swapped out; never
+/// worse than `start`. Not for a goal.
+std::vector<uint32_t> ImproveOverStatesBySwaps(std::span<const StateObservations> states,
+                                               OverStates over, std::vector<uint32_t> start,
+                                               const SelectOptions& options);
+
 }  // namespace vantage

@@ -250,6 +250,15 @@ RefineResult Refine(const RayScene& rays,
   }
   if (!observation_point.allFinite()) throw InputError("refine: observation point is not finite");
   select.Validate(candidates.size());
+  for (const RefineState& state : options.states) {
+    if (state.rays == nullptr || state.reference == nullptr ||
+        state.observations.size() != candidates.size())
+      throw InputError(fmt::format("refine: state '{}' needs its geometry, its reference and one "
+                                   "observation per candidate ({} given for {})",
+                                   state.name, state.observations.size(), candidates.size()));
+  }
+  std::vector<RefineState> states = options.states;
+  const bool over_states = !states.empty();
   if (select.min_points) {
     for (const Observation& o : observations) {
       if (!o.has_point_counts())
@@ -297,10 +306,20 @@ RefineResult Refine(const RayScene& rays,
   }
   const int k = objective == Objective::kKCoverage ? select.k : 1;
 
-  // Scores a set of chosen candidates the way Select does, from the observations themselves.
+  // Every state's matrix as selection reads it (the first state's is `observations`).
+  const auto views = [&] {
+    std::vector<StateObservations> all{{"first", reference.size(), observations}};
+    for (const RefineState& state : states)
+      all.push_back({state.name, state.reference->size(), state.observations});
+    return all;
+  };
+  // Scores a set of chosen candidates the way Select (over states: SelectOverStates) does, from
+  // the observations themselves.
   const auto score = [&](std::vector<uint32_t> chosen, const std::string& method) {
+    if (over_states)
+      return ScoreChosenOverStates(views(), options.over, std::move(chosen), method, select);
     return ScoreChosen(CoverageEvaluator(observations, reference.size()), std::move(chosen),
-                                  method, select);
+                       method, select);
   };
 
   // The constraints over the candidates so far: the start obeys them (selection did).
@@ -383,6 +402,28 @@ RefineResult Refine(const RayScene& rays,
       std::vector<Observation> seen = options.trace
                                           ? options.trace(rays, reference, fresh, options.observe)
                                           : Observe(rays, reference, fresh, options.observe);
+      // And in every other state, once per geometry (states that share one share its poses).
+      for (size_t st = 0; st < states.size(); ++st) {
+        size_t same = st;
+        for (size_t e = 0; e < st && same == st; ++e) {
+          if (states[e].rays == states[st].rays && states[e].reference == states[st].reference)
+            same = e;
+        }
+        if (same != st) {
+          const std::vector<Observation>& earlier = states[same].observations;
+          states[st].observations.insert(states[st].observations.end(),
+                                         earlier.end() - static_cast<std::ptrdiff_t>(fresh.size()),
+                                         earlier.end());
+          continue;
+        }
+        // In this process: an MPI job's trace function traces its own ranks' scene (the first).
+        std::vector<Observation> in_state =
+            Observe(*states[st].rays, *states[st].reference, fresh, options.observe);
+        for (Observation& o : in_state) {
+          result.extra_rays += o.rays_traced;
+          states[st].observations.push_back(std::move(o));
+        }
+      }
       for (size_t i = 0; i < fresh.size(); ++i) {
         result.extra_rays += seen[i].rays_traced;
         candidates.push_back(std::move(fresh[i]));
@@ -398,12 +439,18 @@ RefineResult Refine(const RayScene& rays,
       // Re-selection from scratch, and (but for set cover) swaps from the current answer, which
       // can only improve on it; the best of the current and both is kept.
       Selection best = current;
-      const std::vector<Selection> selected =
-          Select(std::span<const Observation>(observations), reference.size(), reselect);
-      Selection from_scratch = score(selected.at(0).chosen, selected.at(0).method);
+      const Selection selected =
+          over_states
+              ? SelectOverStates(views(), options.over, reselect).at(0).selection
+              : Select(std::span<const Observation>(observations), reference.size(), reselect)
+                    .at(0);
+      Selection from_scratch = score(selected.chosen, selected.method);
       if (objective != Objective::kSetCover) {
-        Selection swapped = score(ImproveBySwaps(observations, reference.size(), current.chosen, reselect),
-                                  MethodName(reselect.method));
+        std::vector<uint32_t> improved =
+            over_states
+                ? ImproveOverStatesBySwaps(views(), options.over, current.chosen, reselect)
+                : ImproveBySwaps(observations, reference.size(), current.chosen, reselect);
+        Selection swapped = score(std::move(improved), MethodName(reselect.method));
         if (IsBetter(swapped, best, objective)) best = std::move(swapped);
       }
       if (IsBetter(from_scratch, best, objective)) best = std::move(from_scratch);
@@ -426,6 +473,7 @@ RefineResult Refine(const RayScene& rays,
   result.new_candidates = candidates.size() - given;
   result.candidates = std::move(candidates);
   result.observations = std::move(observations);
+  for (RefineState& state : states) result.state_observations.push_back(std::move(state.observations));
   result.selection = std::move(current);
   result.seconds = std::chrono::duration<double>(Clock::now() - clock_start).count();
   result.selection.seconds = result.seconds;

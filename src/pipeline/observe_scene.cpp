@@ -394,6 +394,7 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& give
   result.notes = std::move(prepared.notes);
   result.notes.insert(result.notes.end(), problem.notes.begin(), problem.notes.end());
   result.scene = std::move(problem.scene);
+  result.state_scenes = std::move(prepared.state_scenes);
   result.populations = std::move(problem.populations);
   result.arms = std::move(prepared.arms);
   result.observation_point = problem.observation_point;

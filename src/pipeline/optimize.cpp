@@ -16,17 +16,44 @@ namespace {
 // --refine: new poses around the primary result's sensors, traced and re-selected; the refined
 // constellation is appended to the results (method "refined") with its candidates.
 std::optional<RefinementInfo> RefinePrimary(const RefineOptions& options,
-                                            const SelectOptions& select, ObservedScene* observed,
+                                            const SelectOptions& select, OverStates over,
+                                            ObservedScene* observed,
                                             std::vector<Selection>* results) {
   const int from = PrimaryResult(*results);
   if (from < 0) return std::nullopt;
   VisibilityFile& data = observed->data;
+  // Over scene states: every state after the first, traced in its own geometry (a state with the
+  // geometry of an earlier one shares that one's).
+  RefineOptions with_states = options;
+  std::vector<std::unique_ptr<RayScene>> state_rays;
+  for (size_t s = 1; s < observed->states.size(); ++s) {
+    const ObservedState& state = observed->states[s];
+    const RayScene* rays = nullptr;
+    const Reference* reference = &state.reference;
+    if (state.same_as == 0) {
+      rays = observed->rays.get();
+      reference = &data.reference;
+    } else if (state.same_as > 0) {
+      rays = with_states.states[static_cast<size_t>(state.same_as) - 1].rays;
+      reference = with_states.states[static_cast<size_t>(state.same_as) - 1].reference;
+    } else {
+      state_rays.push_back(std::make_unique<RayScene>(observed->state_scenes.at(s)));
+      rays = state_rays.back().get();
+    }
+    with_states.states.push_back({state.name, rays, reference, state.observations});
+  }
+  if (!observed->states.empty()) with_states.over = over;
   RefineResult refined = Refine(*observed->rays, data.reference, data.candidates,
                                 data.observations, observed->populations,
                                 observed->observation_point, (*results)[static_cast<size_t>(from)],
-                                select, options);
+                                select, with_states);
   data.candidates = std::move(refined.candidates);
   data.observations = std::move(refined.observations);
+  if (!observed->states.empty()) {
+    observed->states[0].observations = data.observations;
+    for (size_t s = 1; s < observed->states.size(); ++s)
+      observed->states[s].observations = std::move(refined.state_observations[s - 1]);
+  }
   Selection selection = refined.selection;  // scored, seconds included, by Refine
   selection.method = "refined";
   results->push_back(selection);
@@ -77,10 +104,10 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
     throw InputError(AtPlace("--over-states", 0,
                              "the scene has no states — add a `states:` list "
                              "(docs/scene-format.md) or drop --over-states"));
-  if (has_states && options.refine)
+  if (has_states && options.refine && !prepared.state_candidates.empty())
     throw InputError(AtPlace("--refine", 0,
-                             "refinement over scene states is not supported yet — drop --refine "
-                             "or the scene's states"));
+                             "refinement over scene states whose sensors move with a robot is not "
+                             "supported yet — drop --refine or the robot's joints in the states"));
   options.selection.constraints.Validate();
   if (options.selection.keep_existing) {
     const std::vector<KeepOutBox>& boxes = prepared.problem.mounting.keep_out;
@@ -193,7 +220,9 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
         return detail::ConstraintsOverGrown(info, candidates, observations);
       };
     }
-    report.refinement = RefinePrimary(refine, select, &observed, &report.results);
+    report.refinement =
+        RefinePrimary(refine, select, options.selection.over_states.value_or(OverStates::kMean),
+                      &observed, &report.results);
     if (report.constraints) {
       ConstraintsInfo& info = *report.constraints;
       info.constraints = detail::ConstraintsOverGrown(info, observed.data.candidates,

@@ -328,6 +328,26 @@ std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> st
   return results;
 }
 
+// The states' stacked matrix for the objective of `options`: with min_points, with the counts
+// (which every observation must then carry).
+detail::CoverageMatrix StatesMatrix(std::span<const StateObservations> states,
+                                    const SelectOptions& options) {
+  std::vector<detail::StateBlock> blocks;
+  for (const StateObservations& state : states)
+    blocks.push_back({state.observations, state.reference_size});
+  if (!options.min_points) return detail::CoverageMatrix(blocks);
+  for (const StateObservations& state : states) {
+    for (const Observation& o : state.observations) {
+      if (!o.has_point_counts())
+        throw FieldError({"min_points"},
+                         fmt::format("min_points needs the pixel counts per cell, which state "
+                                     "'{}' does not carry",
+                                     state.name));
+    }
+  }
+  return detail::CoverageMatrix(blocks, *options.min_points);
+}
+
 void Validate(std::span<const StateObservations> states, const SelectOptions& options) {
   if (states.empty()) throw InputError("--over-states: there are no states to select over");
   const size_t candidates = states.front().observations.size();
@@ -366,23 +386,7 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
                                              const SelectOptions& options) {
   Validate(states, options);
   const Clock::time_point start = Clock::now();
-  std::vector<detail::StateBlock> blocks;
-  for (const StateObservations& state : states)
-    blocks.push_back({state.observations, state.reference_size});
-  if (options.min_points) {
-    for (const StateObservations& state : states) {
-      for (const Observation& o : state.observations) {
-        if (!o.has_point_counts())
-          throw FieldError({"min_points"},
-                           fmt::format("min_points needs the pixel counts per cell, which state "
-                                       "'{}' does not carry",
-                                       state.name));
-      }
-    }
-  }
-  const detail::CoverageMatrix matrix = options.min_points
-                                            ? detail::CoverageMatrix(blocks, *options.min_points)
-                                            : detail::CoverageMatrix(blocks);
+  const detail::CoverageMatrix matrix = StatesMatrix(states, options);
   // What a cell needs to count: its points, or k seers (k-coverage; 1: plain coverage).
   const int threshold = options.min_points ? static_cast<int>(*options.min_points) : options.k;
   const detail::StatesScorer scorer(matrix, over, threshold);
@@ -597,6 +601,43 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
       break;
   }
   return results;
+}
+
+Selection ScoreChosenOverStates(std::span<const StateObservations> states, OverStates over,
+                                std::vector<uint32_t> chosen, const std::string& method,
+                                const SelectOptions& options) {
+  const int k = options.min_points ? 1 : options.k;
+  StateSelection scored =
+      Scored(states, over, Method::kLocal, std::move(chosen), 0, options.min_points, k);
+  MarkObjective(options, &scored);
+  scored.selection.method = method;
+  scored.selection.seconds = 0;
+  scored.selection.state_coverage = std::move(scored.state_coverage);
+  return std::move(scored.selection);
+}
+
+std::vector<uint32_t> ImproveOverStatesBySwaps(std::span<const StateObservations> states,
+                                               OverStates over, std::vector<uint32_t> start,
+                                               const SelectOptions& options) {
+  VANTAGE_CHECK(!options.goal && !states.empty());
+  const detail::CoverageMatrix matrix = StatesMatrix(states, options);
+  const int threshold = options.min_points ? static_cast<int>(*options.min_points) : options.k;
+  const detail::StatesScorer scorer(matrix, over, threshold);
+  const detail::Feasibility feasible(states.front().observations, options.constraints);
+  detail::Capacity capacity;
+  capacity.n = static_cast<size_t>(options.n);
+  if (options.budget) {
+    capacity.n = matrix.candidate_count();
+    capacity.costs = options.costs;
+    capacity.budget = *options.budget;
+  }
+  // The kept sensors first, never swapped out (ConstrainedLocal's frozen positions).
+  const std::vector<uint32_t>& fixed = options.fixed;
+  std::erase_if(start, [&](uint32_t c) {
+    return std::find(fixed.begin(), fixed.end(), c) != fixed.end();
+  });
+  start.insert(start.begin(), fixed.begin(), fixed.end());
+  return detail::ConstrainedLocal(scorer, feasible, std::move(start), capacity, fixed.size());
 }
 
 }  // namespace vantage
