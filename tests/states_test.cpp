@@ -1048,7 +1048,7 @@ void ForEachFeasible(const CostCase& c, const Visit& visit) {
 std::vector<CostCase> CostCases() {
   std::vector<CostCase> cases;
   for (uint64_t seed = 1; seed <= 3; ++seed) {
-    const size_t candidates = 9 + seed;  // 10, 11, 12
+    const size_t candidates = 8 + seed;  // 9, 10, 11
     for (int variant = 0; variant < 4; ++variant) {
       CostCase c;
       c.states = RandomStates(700 + seed, candidates, {30, 20, 25}, 0.22, 0.05);
