@@ -159,6 +159,22 @@ Mat3 BodyFromAperture(const SecondAperture& aperture);
 /// image; the camera's own field where the aperture gives none).
 bool InApertureField(const SensorType& camera, const SecondAperture& aperture, const Vec3& p_body);
 
+/// InApertureField's test set up once per sensor: the toe-in rotation and the field's tangents are
+/// computed here, not for every point (observe judges millions of hits per candidate).
+class ApertureField {
+ public:
+  ApertureField(const SensorType& camera, const SecondAperture& aperture);
+  bool Contains(const Vec3& p_body) const;
+
+ private:
+  Mat3 aperture_from_body_;
+  Vec3 centre_;
+  double half_cone_ = 0;                  // > 0: a cone of this half angle
+  double tan_half_h_ = 0, tan_half_v_ = 0;  // > 0: a frustum
+  double fx_, fy_, cx_, cy_;              // else an image: the aperture's or the camera's
+  int width_, height_;
+};
+
 /// Body-frame direction of the ray through the centre of pixel (u, v), scaled so that its x
 /// (depth) component is 1: a hit at ray parameter t has depth t.
 Vec3 PixelRayInBody(const SensorType& type, int u, int v);

@@ -120,6 +120,9 @@ class PixelJudge {
                                : -1.0),
         noise_(quality_.max_depth_noise ? NoiseModelOf(candidate) : nullptr),
         physical_(MakePhysicalModel(candidate, options.physical.value_or(true))),
+        aperture_field_(physical_.aperture
+                            ? std::optional<ApertureField>(std::in_place, sensor_, *physical_.aperture)
+                            : std::nullopt),
         count_(options.count_points),
         observation_(observation) {
     for (int a = 0; a < 3; ++a) segments_.origin[a] = static_cast<float>(physical_.centre[a]);
@@ -165,7 +168,7 @@ class PixelJudge {
     // point in its field and lie on the side of the surface the camera sees.
     if (t < physical_.nearest) return;
     const Vec3 p_body = world_from_body_.transpose() * (p - origin_);
-    if (!InApertureField(sensor_, *physical_.aperture, p_body)) return;
+    if (!aperture_field_->Contains(p_body)) return;
     if (n.dot(physical_.centre - p) * n.dot(origin_ - p) <= 0) return;
     const Vec3 segment = p - physical_.centre;
     for (int a = 0; a < 3; ++a) segments_.dir[a][queued_] = static_cast<float>(segment[a]);
@@ -227,6 +230,7 @@ class PixelJudge {
   const double min_cos_incidence_;
   const DepthNoise* noise_;
   const PhysicalModel physical_;
+  const std::optional<ApertureField> aperture_field_;  // set when physical_.aperture is
   const bool count_;
   Observation* observation_;
   // keys: every measured pixel's cell; quality_keys: those passing the filter; ideal_keys: as

@@ -229,21 +229,36 @@ Mat3 BodyFromAperture(const SecondAperture& aperture) {
 
 bool InApertureField(const SensorType& camera, const SecondAperture& aperture,
                      const Vec3& p_body) {
-  const Vec3 p = BodyFromAperture(aperture).transpose() * (p_body - ApertureCentreInBody(aperture));
-  if (!(p.x() > 0)) return false;
-  const double right = -p.y() / p.x(), down = -p.z() / p.x();  // image-plane slopes
-  if (aperture.cone > 0) return std::atan(std::hypot(right, down)) <= aperture.cone / 2;
-  if (aperture.hfov > 0) {
-    const double vfov = aperture.vfov > 0 ? aperture.vfov : aperture.hfov;
-    return std::abs(right) <= std::tan(aperture.hfov / 2) &&
-           std::abs(down) <= std::tan(vfov / 2);
+  return ApertureField(camera, aperture).Contains(p_body);
+}
+
+ApertureField::ApertureField(const SensorType& camera, const SecondAperture& aperture)
+    : aperture_from_body_(BodyFromAperture(aperture).transpose()),
+      centre_(ApertureCentreInBody(aperture)) {
+  if (aperture.cone > 0) {
+    half_cone_ = aperture.cone / 2;
+  } else if (aperture.hfov > 0) {
+    tan_half_h_ = std::tan(aperture.hfov / 2);
+    tan_half_v_ = std::tan((aperture.vfov > 0 ? aperture.vfov : aperture.hfov) / 2);
   }
   // An image: its intrinsics, or the camera's own (rectified pair, projector of the same field).
   const bool own = aperture.width > 0;
-  const double u = (own ? aperture.cx : camera.cx) + (own ? aperture.fx : camera.fx) * right;
-  const double v = (own ? aperture.cy : camera.cy) + (own ? aperture.fy : camera.fy) * down;
-  return u >= 0 && v >= 0 && u < (own ? aperture.width : camera.width) &&
-         v < (own ? aperture.height : camera.height);
+  fx_ = own ? aperture.fx : camera.fx;
+  fy_ = own ? aperture.fy : camera.fy;
+  cx_ = own ? aperture.cx : camera.cx;
+  cy_ = own ? aperture.cy : camera.cy;
+  width_ = own ? aperture.width : camera.width;
+  height_ = own ? aperture.height : camera.height;
+}
+
+bool ApertureField::Contains(const Vec3& p_body) const {
+  const Vec3 p = aperture_from_body_ * (p_body - centre_);
+  if (!(p.x() > 0)) return false;
+  const double right = -p.y() / p.x(), down = -p.z() / p.x();  // image-plane slopes
+  if (half_cone_ > 0) return std::atan(std::hypot(right, down)) <= half_cone_;
+  if (tan_half_h_ > 0) return std::abs(right) <= tan_half_h_ && std::abs(down) <= tan_half_v_;
+  const double u = cx_ + fx_ * right, v = cy_ + fy_ * down;
+  return u >= 0 && v >= 0 && u < width_ && v < height_;
 }
 
 double SensorType::HorizontalFov() const { return 2.0 * std::atan(width / (2.0 * fx)); }
