@@ -407,9 +407,10 @@ void AddArmTours(const std::vector<Candidate>& candidates, const std::vector<Arm
     std::optional<ArmTour> tour =
         TourOf(candidates, views, *arm, options, report->seed, label, refuse);
     if (tour)
-      spdlog::info("{} n={}{}: tour of {} views {:.2f} s ({:.2f} s moving, {:.2f} s acquiring; "
+      spdlog::info("{} n={}{}: tour of {} view{} {:.2f} s ({:.2f} s moving, {:.2f} s acquiring; "
                    "{})",
                    result.method, result.n, refuse ? "" : " (curve)", views.size(),
+                   views.size() == 1 ? "" : "s",
                    tour->tour.total_seconds, tour->tour.motion_seconds,
                    tour->tour.acquisition_seconds, tour->tour.method);
     return tour;
