@@ -20,17 +20,6 @@
 namespace vantage::detail {
 namespace {
 
-std::string Lower(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return text;
-}
-
-bool IsIges(const std::string& path) {
-  const std::string extension = Lower(std::filesystem::path(path).extension().string());
-  return extension == ".iges" || extension == ".igs";
-}
-
 [[noreturn]] void Fail(const std::string& path, const std::string& what) {
   throw InputError(fmt::format("{}: {}", path, what));
 }
@@ -112,8 +101,8 @@ std::vector<CadPart> PartsFromBytes(const std::string& bytes) {
 }  // namespace
 
 bool IsCadFile(const std::string& path) {
-  const std::string extension = Lower(std::filesystem::path(path).extension().string());
-  return extension == ".step" || extension == ".stp" || IsIges(path);
+  const std::string extension = LowerExtension(path);
+  return extension == ".step" || extension == ".stp" || IsIgesFile(path);
 }
 
 std::vector<CadPart> ReadCadFile(const std::string& path, double deflection) {

@@ -2,7 +2,10 @@
 // CAD in (issue 46): STEP (.step, .stp) and IGES (.iges, .igs) read with OpenCASCADE, each solid
 // meshed by BRepMesh. Only src/scene/module/occt_reader.cpp includes OpenCASCADE: it is the shared
 // module libvantage_cad.so, which ReadCadFile loads in its child process (issue 47).
+#include <algorithm>
 #include <array>
+#include <cctype>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,6 +31,20 @@ inline constexpr double kDefaultCadDeflection = 1e-3;
 
 /// Whether `path` names a CAD file by its extension (.step, .stp, .iges, .igs; any case).
 bool IsCadFile(const std::string& path);
+
+/// The file's extension in lower case (".STEP" -> ".step"). Inline: the CAD module, a separate
+/// shared library, needs it as well as the scene stage.
+inline std::string LowerExtension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+/// Whether the file is IGES by its extension (.iges, .igs; any case); else it is read as STEP.
+inline bool IsIgesFile(const std::string& path) {
+  const std::string extension = LowerExtension(path);
+  return extension == ".iges" || extension == ".igs";
+}
 
 /// Every solid of the file (a shape without solids: its faces as one part), meshed with a chord
 /// deflection of `deflection` metres (every mesh vertex lies on the surface, no point of the

@@ -52,17 +52,6 @@ struct CadFailure : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-std::string Lower(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return text;
-}
-
-bool IsIges(const std::string& path) {
-  const std::string extension = Lower(std::filesystem::path(path).extension().string());
-  return extension == ".iges" || extension == ".igs";
-}
-
 [[noreturn]] void Fail(const std::string& path, const std::string& what) {
   throw CadFailure(fmt::format("{}: {}", path, what));
 }
@@ -205,7 +194,7 @@ std::vector<CadPart> ReadInProcess(const std::string& path, double deflection) {
   XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", document);
   // Lengths in metres: the readers convert from the file's own unit.
   XCAFDoc_DocumentTool::SetLengthUnit(document, 1.0);
-  const bool iges = IsIges(path);
+  const bool iges = IsIgesFile(path);
   const char* kind = iges ? "IGES" : "STEP";
   std::string failure;
   bool transferred = false;
