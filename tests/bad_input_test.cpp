@@ -988,7 +988,7 @@ TEST_F(BadInput, CommandLineOptions) {
       {"min_points_and_density", "optimize " + scene + " --min-points 5 --min-density 3",
        "--min-density:", "not both"},
       {"min_points_with_k", "optimize " + scene + " --min-points 5 --k 2", "--min-points:",
-       "its own objective"},
+       "give --k or --min-points, not both"},
       // A bool option given a word that is not one said CLI11's "Could not convert".
       {"interference_not_a_bool", "optimize " + scene + " --interference maybe",
        "--interference:", "'maybe' is not true or false", "Could not convert"},

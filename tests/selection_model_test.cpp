@@ -14,6 +14,7 @@
 
 #include "brute_force.hpp"
 #include "test_util.hpp"
+#include "vantage/error.hpp"
 #include "vantage/rng.hpp"
 #include "vantage/select.hpp"
 #include "vantage/select_states.hpp"
@@ -253,8 +254,8 @@ TEST(SelectionModel, RansacForBudgetsAndGoalsIsFeasibleAndRepeatable) {
         if (allowed(mask)) most = std::max(most, Counted(obs, mask, 1, false));
       goal = std::max<size_t>(1, most * 3 / 4);
       options.goal = static_cast<double>(goal) / cells;
-      // (A goal's cost does not combine with installation constraints yet.)
-      options.minimize_cost = trial % 4 == 1 && options.constraints.empty();
+      // A goal's cost under installation constraints too (trials 1 and 13).
+      options.minimize_cost = trial % 4 == 1;
       if (!options.minimize_cost) options.costs.clear();
     }
     const auto price = [&](uint32_t mask) {
@@ -374,6 +375,273 @@ TEST(SelectionModel, KeptSensorsOverStatesMatchEnumeration) {
     }
   }
   EXPECT_GT(checked, 60);
+}
+
+
+// The rules of one random instance: none, conflicting pairs, a calibration rule, kept sensors,
+// or conflicts with a kept sensor (`variant` 0..4).
+struct Rules {
+  InstallConstraints constraints;
+  std::vector<uint32_t> fixed;
+};
+
+Rules RandomRules(int variant, size_t m, Rng* rng) {
+  Rules rules;
+  if (variant == 1 || variant == 4) {
+    for (uint32_t a = 0; a < m; ++a)
+      for (uint32_t b = a + 1; b < m; ++b)
+        if (rng->Uniform01() < 0.25)
+          rules.constraints.conflicts.push_back({a, b, ConflictKind::kSeparation, 0});
+  }
+  if (variant == 2) rules.constraints.calibration = CalibrationRule{2, std::nullopt};
+  if (variant == 3) rules.fixed = {0, 3};
+  if (variant == 4) {
+    rules.fixed = {1};
+    std::erase_if(rules.constraints.conflicts, [](const Conflict& c) { return c.a == 1 || c.b == 1; });
+  }
+  return rules;
+}
+
+std::vector<uint32_t> Members(uint32_t mask, size_t m) {
+  std::vector<uint32_t> set;
+  for (uint32_t i = 0; i < m; ++i)
+    if (mask >> i & 1) set.push_back(i);
+  return set;
+}
+
+// `--budget` with `--k 2` or `--min-points 3` (refused before: "goal, k >= 2 and budget are
+// separate objectives"): the most cells seen twice (holding 3 points) for a total cost within the
+// budget, with conflicts, a calibration rule or kept sensors. Every method's answer fits the
+// budget and the rules and holds the kept sensors; exact's is the enumerated optimum, proven; every
+// upper bound is at least the optimum.
+TEST(SelectionModel, BudgetCountedKTimesOrInPointsMatchesEnumeration) {
+  int checked = 0;
+  for (uint64_t trial = 0; trial < 20; ++trial) {
+    const size_t m = 8 + trial % 5;  // 8 .. 12 candidates
+    const size_t cells = 30;
+    const bool points = trial % 2 == 1;
+    const uint32_t threshold = points ? 3 : 2;
+    const std::vector<Observation> obs = RandomInstance(5100 + trial, m, cells, 0.35, points);
+    Rng rng(5200 + trial, Stream::kTest, 0);
+    const int variant = static_cast<int>(trial / 2 % 5);
+    const Rules rules = RandomRules(variant, m, &rng);
+    SelectOptions options;
+    options.time_limit = test::kSanitized ? 5 : 20;  // see test::kSanitized
+    options.seed = 7 + trial;
+    options.ransac_iterations = 60;
+    if (points) {
+      options.min_points = threshold;
+    } else {
+      options.k = static_cast<int>(threshold);
+    }
+    for (size_t i = 0; i < m; ++i) {
+      options.costs.push_back(trial % 3 == 2 ? 0.5 + 0.25 * static_cast<double>(rng.Below(9))
+                                             : 1.0 + static_cast<double>(rng.Below(4)));
+    }
+    options.budget = 5.0 + static_cast<double>(trial % 3);
+    options.constraints = rules.constraints;
+    options.fixed = rules.fixed;
+    const uint32_t kept = MaskOf(rules.fixed);
+    const auto allowed = [&](uint32_t mask) {
+      return (mask & kept) == kept && CostOf(options.costs, mask) <= *options.budget + 1e-9 &&
+             test::SatisfiesConstraints(obs, Members(mask, m), rules.constraints);
+    };
+    size_t optimum = 0;
+    for (uint32_t mask = 0; mask < (1u << m); ++mask)
+      if (allowed(mask)) optimum = std::max(optimum, Counted(obs, mask, threshold, points));
+    for (const Method method :
+         {Method::kAll, Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact}) {
+      options.method = method;
+      SCOPED_TRACE(testing::Message() << "trial " << trial << " variant " << variant
+                                      << " threshold " << threshold << " points " << points
+                                      << " method " << MethodName(method));
+      const std::vector<Selection> results = Select(obs, cells, options);
+      ASSERT_EQ(results.size(), method == Method::kAll ? 3u : 1u);
+      if (method == Method::kAll) {
+        EXPECT_EQ(results[0].method, "greedy");
+        EXPECT_EQ(results[1].method, "local");
+        EXPECT_EQ(results[2].method, "exact");
+      } else {
+        EXPECT_EQ(results[0].method, MethodName(method));
+      }
+      for (const Selection& s : results) {
+        SCOPED_TRACE(testing::Message() << s.method);
+        ++checked;
+        const uint32_t mask = MaskOf(s.chosen);
+        EXPECT_EQ(Size(mask), s.n);
+        EXPECT_TRUE(allowed(mask));
+        EXPECT_EQ(s.objective, "budget");
+        EXPECT_EQ(s.k, points ? 1 : 2);
+        EXPECT_EQ(s.min_points, options.min_points);
+        ASSERT_TRUE(s.cost.has_value());
+        EXPECT_NEAR(*s.cost, CostOf(options.costs, mask), 1e-12);
+        const size_t covered = Counted(obs, mask, threshold, points);
+        EXPECT_NEAR(s.coverage, static_cast<double>(covered) / cells, 1e-12);
+        EXPECT_LE(covered, optimum);
+        if (s.upper_bound) {
+          EXPECT_GE(*s.upper_bound + 1e-12, static_cast<double>(optimum) / cells);
+        }
+        if (s.method == "exact") {
+          ASSERT_TRUE(s.upper_bound.has_value());
+          if (!test::kSanitized) {
+            EXPECT_TRUE(s.proven_optimal);
+          }
+          if (s.proven_optimal) {
+            EXPECT_EQ(covered, optimum);
+          }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(checked, 20 * 7);
+}
+
+// A goal counted twice (`--k 2`) or in points (`--min-points 3`) with kept sensors, and a goal
+// counted so or by cost (`--cheapest`) under installation constraints — each refused before ("does
+// not combine with kept sensors yet", "does not combine with installation constraints yet"): the
+// fewest (cheapest) sensors that hold the kept ones, keep the rules and reach the goal. Every
+// answer reaches it and keeps the rules; exact's is the enumerated optimum, proven; every lower
+// bound is at most the optimum. A goal that all candidates reach but no set under the rules does is
+// refused, naming what the rules allow.
+TEST(SelectionModel, GoalCountedKTimesOrInPointsWithKeptAndRulesMatchesEnumeration) {
+  int checked = 0, refused = 0;
+  for (uint64_t trial = 0; trial < 24; ++trial) {
+    const size_t m = 8 + trial % 5;  // 8 .. 12 candidates
+    const size_t cells = 30;
+    const int mode = static_cast<int>(trial % 3);  // k = 2, min_points = 3, k = 1 (cheapest)
+    const bool points = mode == 1;
+    const uint32_t threshold = mode == 0 ? 2 : mode == 1 ? 3 : 1;
+    const std::vector<Observation> obs = RandomInstance(6100 + trial, m, cells, 0.35, points);
+    Rng rng(6200 + trial, Stream::kTest, 0);
+    const int variant = 1 + static_cast<int>(trial / 3 % 4);  // conflicts, calibration, kept, both
+    const Rules rules = RandomRules(variant, m, &rng);
+    const bool cheapest = mode == 2 || trial % 2 == 1;
+    SelectOptions options;
+    options.time_limit = test::kSanitized ? 5 : 20;  // see test::kSanitized
+    options.seed = 11 + trial;
+    options.ransac_iterations = 60;
+    if (points) options.min_points = threshold;
+    if (mode == 0) options.k = 2;
+    options.minimize_cost = cheapest;
+    if (cheapest) {
+      for (size_t i = 0; i < m; ++i)
+        options.costs.push_back(0.5 + 0.5 * static_cast<double>(rng.Below(6)));
+    }
+    options.constraints = rules.constraints;
+    options.fixed = rules.fixed;
+    const uint32_t kept = MaskOf(rules.fixed);
+    const auto allowed = [&](uint32_t mask) {
+      return (mask & kept) == kept &&
+             test::SatisfiesConstraints(obs, Members(mask, m), rules.constraints);
+    };
+    const auto price = [&](uint32_t mask) {
+      return cheapest ? CostOf(options.costs, mask) : static_cast<double>(Size(mask));
+    };
+    size_t most = 0;  // what the sets the rules allow reach
+    for (uint32_t mask = 0; mask < (1u << m); ++mask)
+      if (allowed(mask)) most = std::max(most, Counted(obs, mask, threshold, points));
+    const size_t everyone = Counted(obs, (1u << m) - 1, threshold, points);
+    ASSERT_GT(most, 2u);
+    SCOPED_TRACE(testing::Message() << "trial " << trial << " variant " << variant
+                                    << " threshold " << threshold << " points " << points
+                                    << " cheapest " << cheapest);
+    if (most < everyone) {  // the rules make the rest unreachable: refused, naming that
+      options.goal = static_cast<double>(most + 1) / cells;
+      options.method = Method::kGreedy;
+      try {
+        Select(obs, cells, options);
+        ADD_FAILURE() << "a goal above what the rules allow ran";
+      } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("cannot be reached"), std::string::npos) << e.what();
+        ++refused;
+      }
+    }
+    const size_t goal_cells = std::max<size_t>(1, most * 3 / 5);
+    options.goal = static_cast<double>(goal_cells) / cells;
+    double optimum = 1e300;
+    for (uint32_t mask = 0; mask < (1u << m); ++mask)
+      if (allowed(mask) && Counted(obs, mask, threshold, points) >= goal_cells)
+        optimum = std::min(optimum, price(mask));
+    for (const Method method : {Method::kAll, Method::kRansac, Method::kGreedy, Method::kExact}) {
+      options.method = method;
+      SCOPED_TRACE(testing::Message() << "method " << MethodName(method));
+      const std::vector<Selection> results = Select(obs, cells, options);
+      ASSERT_FALSE(results.empty());
+      for (const Selection& s : results) {
+        SCOPED_TRACE(testing::Message() << s.method);
+        ++checked;
+        const uint32_t mask = MaskOf(s.chosen);
+        EXPECT_EQ(Size(mask), s.n);
+        EXPECT_TRUE(allowed(mask));
+        EXPECT_EQ(s.objective, "set-cover");
+        EXPECT_EQ(s.k, mode == 0 ? 2 : 1);
+        EXPECT_EQ(s.cost.has_value(), cheapest);
+        const size_t covered = Counted(obs, mask, threshold, points);
+        EXPECT_NEAR(s.coverage, static_cast<double>(covered) / cells, 1e-12);
+        EXPECT_GE(covered, goal_cells);
+        EXPECT_GE(price(mask), optimum - 1e-9);
+        if (s.n_lower_bound) {
+          EXPECT_LE(*s.n_lower_bound, optimum + 1e-9);
+        }
+        if (s.cost_lower_bound) {
+          EXPECT_LE(*s.cost_lower_bound, optimum + 1e-9);
+        }
+        if (s.method == "kept") {  // the kept sensors reach the goal alone: the optimum
+          EXPECT_EQ(mask, kept);
+          EXPECT_NEAR(price(mask), optimum, 1e-9);
+        }
+        if (s.method == "exact") {
+          EXPECT_TRUE(cheapest ? s.cost_lower_bound.has_value() : s.n_lower_bound.has_value());
+          if (!test::kSanitized) {
+            EXPECT_TRUE(s.proven_optimal);
+          }
+          if (s.proven_optimal) {
+            EXPECT_NEAR(price(mask), optimum, 1e-9);
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GE(checked, 24 * 4);
+  EXPECT_GT(refused, 0);
+}
+
+// What stays refused is what has no answer: k above the candidates, a goal above what all of them
+// reach (counted as the goal counts), and two thresholds at once.
+TEST(SelectionModel, OnlyMeaninglessCombinationsAreRefused) {
+  const std::vector<Observation> obs = RandomInstance(7100, 6, 20, 0.4, true);
+  const auto message = [&](const SelectOptions& o) {
+    try {
+      Select(obs, 20, o);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("ran");
+  };
+  SelectOptions budget;
+  budget.budget = 3;
+  budget.costs = std::vector<double>(6, 1.0);
+  budget.k = 7;
+  EXPECT_NE(message(budget).find("k = 7 is above the 6 candidates"), std::string::npos);
+  budget.k = 2;
+  EXPECT_EQ(message(budget), "ran");
+  budget.min_points = 2;
+  EXPECT_NE(message(budget).find("give --k or --min-points, not both"), std::string::npos);
+  budget.k = 1;
+  EXPECT_EQ(message(budget), "ran");
+  SelectOptions goal;
+  goal.goal = 1.0;
+  goal.k = 2;
+  goal.fixed = {0};
+  EXPECT_NE(message(goal).find("that all 6 candidates reach together"), std::string::npos);
+  goal.constraints.conflicts = {{0, 1, ConflictKind::kSeparation, 0}};
+  EXPECT_NE(message(goal).find("(cells seen 2 times) that all 6 candidates reach together"),
+            std::string::npos)
+      << message(goal);
+  SelectOptions both = goal;
+  both.budget = 3;
+  both.costs = budget.costs;
+  EXPECT_NE(message(both).find("goal and budget are separate objectives"), std::string::npos);
 }
 
 }  // namespace

@@ -1138,8 +1138,8 @@ TEST(SelectOverStates, GoalAgainstEnumeration) {
     std::vector<uint32_t> everyone(c.costs.size());
     std::iota(everyone.begin(), everyone.end(), 0U);
     for (const OverStates over : {OverStates::kMean, OverStates::kMin}) {
-      // k = 2 (a goal seen twice) does not combine with kept sensors.
-      for (const int k : c.kept.empty() ? std::vector<int>{1, 2} : std::vector<int>{1}) {
+      // k = 2: a goal seen twice, with the kept sensor too (refused before issue 42's model).
+      for (const int k : {1, 2}) {
         for (const bool cheapest : {false, true}) {
           SCOPED_TRACE(testing::Message() << c.name << " " << OverStatesName(over) << " k " << k
                                           << (cheapest ? " cheapest" : " fewest"));
@@ -1209,7 +1209,7 @@ TEST(SelectOverStates, GoalAgainstEnumeration) {
     }
   }
   EXPECT_GE(instances, 60);
-  EXPECT_EQ(instances + refused, 2 * (3 * 3 * 2 * 2 + 3 * 1 * 2));  // k = 2 only without kept
+  EXPECT_EQ(instances + refused, 2 * (3 * 4 * 2 * 2));
 }
 
 }  // namespace

@@ -312,9 +312,11 @@ void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {
                 "fewest");
   app->add_option("--k", request->k,
                   "objective: k-coverage, a cell counts once k chosen sensors see it (k >= 2); "
-                  "with --goal: the goal counts cells seen k times");
+                  "with --goal or --budget: the goal or the budget's coverage counts cells seen "
+                  "k times");
   app->add_option("--budget", request->budget,
-                  "objective: the most coverage for a total sensor cost within this budget");
+                  "objective: the most coverage for a total sensor cost within this budget "
+                  "(counted k times with --k, in points with --min-points)");
   AddPointDensityFlags(app, &request->min_points, &request->min_density);
   AddEnumOption<OverStates>(app, "--over-states", &request->over_states,
                             {OverStates::kMean, OverStates::kMin}, OverStatesName,

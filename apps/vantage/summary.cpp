@@ -339,17 +339,17 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
   // The objective, when it is not plain coverage (all results share it).
   if (!results.empty()) {
     const Selection& first = results.front();
+    const std::string counted =
+        first.min_points ? fmt::format(" (cells holding {} points)", *first.min_points)
+        : first.k >= 2   ? fmt::format(" (cells seen {} times)", first.k)
+                         : std::string();
     if (first.goal) {
-      const std::string counted =
-          first.min_points ? fmt::format(" (cells holding {} points)", *first.min_points)
-          : first.k >= 2   ? fmt::format(" (cells seen {} times)", first.k)
-                           : std::string();
       fmt::print("objective        set cover: the {} reaching {:.2f} % coverage{}\n",
                  first.cost ? "cheapest sensors" : "fewest sensors", 100.0 * *first.goal,
                  counted);
     } else if (first.budget) {
-      fmt::print("objective        budget: the most coverage for a total sensor cost <= {:g}\n",
-                 *first.budget);
+      fmt::print("objective        budget: the most coverage{} for a total sensor cost <= {:g}\n",
+                 counted, *first.budget);
     } else if (first.k >= 2) {
       fmt::print(
           "objective        {0}-coverage: a cell counts once {0} chosen sensors see it "

@@ -822,11 +822,14 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
     answer.upper_bound = exact.upper_bound;
     answer.proven_optimal = exact.proven_optimal;
   }
+  // A budget has no n (n_ is then the candidate count): name the budget.
+  const std::string which = options_.budget ? fmt::format("budget {:g}", *options_.budget)
+                                            : fmt::format("n = {}", n_);
   if (!answer.proven_optimal && !note.empty()) {
-    Logger()->warn("exact, n = {} (constrained): {}; reporting the best answer found and a bound",
-                   n_, note);
+    Logger()->warn("exact, {} (constrained): {}; reporting the best answer found and a bound",
+                   which, note);
   } else if (!note.empty()) {
-    Logger()->debug("exact, n = {} (constrained): {}", n_, note);
+    Logger()->debug("exact, {} (constrained): {}", which, note);
   }
   answer.seconds = local_seconds_ + SecondsSince(start);
   return answer;

@@ -22,7 +22,10 @@ std::vector<uint32_t> ImproveBySwaps(std::span<const Observation> observations,
   const Objective objective = options.objective();
   VANTAGE_CHECK(objective != Objective::kSetCover);
   const detail::CoverageMatrix matrix = detail::MatrixFor(observations, reference_size, options);
-  if (!options.constraints.empty() || !options.fixed.empty()) {
+  // A budget counted k times or in points has no swap search of its own: ConstrainedLocal's,
+  // which scores every trial by the threshold (no constraints: every set is feasible).
+  const bool budget_threshold = objective == Objective::kBudget && detail::Threshold(options) > 1;
+  if (!options.constraints.empty() || !options.fixed.empty() || budget_threshold) {
     // Swaps that keep the installation constraints and the kept sensors (first, never swapped
     // out), as method local under them.
     const detail::Feasibility feasible(observations, options.constraints);

@@ -15,28 +15,26 @@ namespace {
 
 // The objective's own fields, and whether the method applies to it.
 void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
-  // A goal takes one threshold (k, or min_points): the share of R seen k times (with the
-  // points) that the answer must reach.
-  if (o.goal && o.k >= 2 && o.min_points) {
+  // A cell counts by one threshold (k seers, or min_points points), whatever the objective: the
+  // goal's share, the budget's coverage or n sensors' coverage counts such cells.
+  if (o.k >= 2 && o.min_points) {
+    const char* what = o.goal     ? "a goal counts"
+                       : o.budget ? "a budget's coverage counts"
+                                  : "coverage counts";
     throw FieldError({"min_points", "k"},
-                     "a goal counts cells seen by k sensors or cells with min_points points — "
-                     "give --k or --min-points, not both");
+                     fmt::format("{} cells seen by k sensors or cells with min_points points — "
+                                 "give --k or --min-points, not both",
+                                 what));
   }
-  const int objectives = (o.goal ? 1 : 0) + (o.budget ? 1 : 0) + (o.k >= 2 && !o.goal ? 1 : 0) +
-                         (o.min_points && !o.goal ? 1 : 0);
   if (o.minimize_cost && !o.goal)
     throw FieldError({"minimize_cost"},
                      "the cheapest layout is asked of a coverage goal — give --goal with "
                      "--cheapest");
-  if (objectives > 1) {
-    if (o.min_points) {
-      throw FieldError({"min_points"},
-                       "min_points is its own objective (n sensors, cells with enough points) — "
-                       "give --min-points without --goal, --k or --budget");
-    }
-    throw FieldError(
-        {"goal", "k", "budget"},
-        "goal, k >= 2 and budget are separate objectives — give only one of --goal, --k, --budget");
+  if (o.goal && o.budget) {
+    throw FieldError({"goal", "budget"},
+                     "goal and budget are separate objectives — give only one of --goal, "
+                     "--budget (--goal with --cheapest asks for the cheapest layout that "
+                     "reaches it)");
   }
   if (o.min_points) {
     if (*o.min_points < 1)
@@ -47,7 +45,7 @@ void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
     throw FieldError({"goal"}, fmt::format(
         "goal = {} is a coverage fraction — give a value in (0, 1], e.g. 0.9 for 90 %", *o.goal));
   }
-  if (o.goal && static_cast<size_t>(o.k) > candidate_count) {
+  if ((o.goal || o.budget) && static_cast<size_t>(o.k) > candidate_count) {
     throw FieldError({"k"}, fmt::format("k = {} is above the {} candidates: no cell can be seen "
                                         "{} times — lower --k",
                                         o.k, candidate_count, o.k));
@@ -177,11 +175,6 @@ void SelectOptions::Validate(size_t candidate_count) const {
     throw FieldError({"fixed"}, "fixed: the kept candidates must be distinct candidate indices");
   }
   if (fixed.empty()) return;
-  if (goal && (k >= 2 || min_points)) {
-    throw FieldError({"fixed", "k", "min_points"},
-                     "a goal counted k times or in points does not combine with kept sensors yet "
-                     "— drop --keep-existing, or count the goal once");
-  }
   const bool chooses_n = objective() == Objective::kCoverage ||
                          objective() == Objective::kKCoverage ||
                          objective() == Objective::kMinPoints;

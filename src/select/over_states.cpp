@@ -244,8 +244,11 @@ std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> st
     return s;
   };
   const auto unreachable = [&](const std::string& reach, const std::string& relax) {
-    const std::string what = fmt::format("goal {:g} over the states ({}) {}", goal,
-                                         OverStatesName(over), reach);
+    // One state is a scene without states (Select's combinations on the one model).
+    const std::string what =
+        states.size() == 1
+            ? fmt::format("goal {:g} {}", goal, reach)
+            : fmt::format("goal {:g} over the states ({}) {}", goal, OverStatesName(over), reach);
     return InputError(options.goal_source == "--goal"
                           ? fmt::format("{} — lower --goal{}", what, relax)
                           : fmt::format("{}: {} — lower the scene's goal, or give a lower "
@@ -313,8 +316,8 @@ std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> st
   if (!exact.proven_optimal && !exact.note.empty()) {
     const std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
     (logger ? logger : spdlog::default_logger())
-        ->warn("exact over states, goal {:g}: {}; reporting the best answer found and a bound",
-               goal, exact.note);
+        ->warn("exact{}, goal {:g}: {}; reporting the best answer found and a bound",
+               states.size() == 1 ? "" : " over states", goal, exact.note);
   }
   StateSelection s =
       scored(Method::kExact, exact.chosen, greedy_seconds + SecondsSince(exact_start));

@@ -28,6 +28,7 @@
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
 #include "vantage/error.hpp"
+#include "vantage/select_states.hpp"
 
 namespace vantage {
 namespace {
@@ -305,7 +306,8 @@ int Threshold(const SelectOptions& options) {
       return options.k;
     case Objective::kMinPoints:
       return static_cast<int>(*options.min_points);
-    case Objective::kSetCover:  // a goal of k-covered cells, or of cells with the points
+    case Objective::kSetCover:  // a goal or a budget of k-covered cells, or of cells with the
+    case Objective::kBudget:    // points
       return options.min_points ? static_cast<int>(*options.min_points) : options.k;
     default:
       return 1;
@@ -346,8 +348,11 @@ namespace detail {
 Selection ScoreSelection(const CoverageEvaluator& evaluator, std::vector<uint32_t> chosen,
                          const std::string& method, const SelectOptions& options) {
   const Objective objective = options.objective();
-  const int k =
-      objective == Objective::kKCoverage || objective == Objective::kSetCover ? options.k : 1;
+  // A goal and a budget count cells seen k times too (--k with --goal or --budget).
+  const int k = objective == Objective::kKCoverage || objective == Objective::kSetCover ||
+                        objective == Objective::kBudget
+                    ? options.k
+                    : 1;
   Selection s;
   s.method = method;
   s.n = static_cast<int>(chosen.size());
@@ -510,20 +515,58 @@ std::vector<Selection> SelectKeeping(std::span<const Observation> observations,
   return results;
 }
 
+// Whether `options` is one of the combinations that select.cpp's pipeline and the residual
+// problem of kept sensors do not model, and the one model of over_states.cpp does (kept sensors
+// as fixed variables, a threshold per cell, costs, the rules, one selection MILP): a budget
+// counted k times or in points; a goal counted k times or in points with kept sensors; a goal
+// counted k times, in points or by cost under installation constraints.
+bool OnOneStateOfTheModel(const SelectOptions& o) {
+  const bool threshold = o.k >= 2 || o.min_points.has_value();
+  if (o.budget && threshold) return true;
+  if (o.goal && threshold && !o.fixed.empty()) return true;
+  return o.goal && (threshold || o.minimize_cost) && !o.constraints.empty();
+}
+
+// Those combinations on the scene as one state: with one state the states' mean is the state's
+// coverage (in units of 1 / |R|, exact), so the answers, bounds and proofs of SelectOverStates
+// are those of the one state's problem. Each answer is scored again here, as every Select
+// answer is (ScoreSelection: coverage, k, cost, goal or budget), its bounds and proof kept.
+std::vector<Selection> SelectOnOneState(std::span<const Observation> observations,
+                                        size_t reference_size, const SelectOptions& options) {
+  if (options.min_points) RequirePointCounts(observations);
+  const CoverageEvaluator evaluator(observations, reference_size);
+  if (reference_size == 0) {
+    throw InputError(options.goal ? fmt::format("goal {:g} is above the 0.0000 that all {} "
+                                                "candidates reach together: R is empty — lower "
+                                                "--goal, or give the scene a target",
+                                                *options.goal, observations.size())
+                                  : "R is empty: a budget counted k times or in points has no "
+                                    "cell to count — give the scene a target");
+  }
+  const StateObservations state{"", reference_size, observations};
+  std::vector<StateSelection> answers =
+      SelectOverStates(std::span<const StateObservations>(&state, 1), OverStates::kMean, options);
+  std::vector<Selection> results;
+  for (StateSelection& answer : answers) {
+    const Selection& from = answer.selection;
+    Selection s = detail::ScoreSelection(evaluator, from.chosen, from.method, options);
+    s.seconds = from.seconds;
+    if (from.upper_bound) s.upper_bound = std::max(*from.upper_bound, s.coverage);
+    s.n_lower_bound = from.n_lower_bound;
+    s.cost_lower_bound = from.cost_lower_bound;
+    s.proven_optimal = from.proven_optimal;
+    results.push_back(std::move(s));
+  }
+  return results;
+}
+
 }  // namespace
 
 std::vector<Selection> Select(std::span<const Observation> observations,
                               size_t reference_size,
                               const SelectOptions& options) {
   options.Validate(observations.size());
-  // One state's constrained goal counts cells once, by the sensor (over states the one MILP
-  // takes every goal under the rules: over_states.cpp).
-  if (options.goal && (options.k >= 2 || options.min_points || options.minimize_cost) &&
-      !options.constraints.empty()) {
-    throw FieldError({"goal", "k", "min_points"},
-                     "a goal with k, min_points or cost does not combine with installation "
-                     "constraints yet — drop one of them");
-  }
+  if (OnOneStateOfTheModel(options)) return SelectOnOneState(observations, reference_size, options);
   // Kept sensors are fixed variables of the one model (SelectConstrained, whose feasibility
   // without constraints admits every set) where cells count k times or in points; the residual
   // problem serves plain coverage, goals and budgets.
