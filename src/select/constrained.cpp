@@ -171,86 +171,10 @@ std::vector<uint32_t> BridgeKept(const Feasibility& feasible, std::span<const ui
 namespace {
 
 // k-coverage and point counts (k >= 2; with the matrix's counts, min-points) under the
-// constraints: PointsGreedyComplete's rule (cells completed, then the seers or points added where
-// still missing, each cell's share up to k) among the feasible candidates.
-std::vector<uint32_t> ThresholdGreedy(const CoverageMatrix& matrix,
-                                      int k,
-                                      const Feasibility& feasible,
-                                      const Capacity& capacity,
-                                      std::vector<uint32_t> chosen) {
-  CappedPoints points(matrix, k);
-  for (const uint32_t c : chosen) points.Add(c);
-  while (chosen.size() < capacity.n) {
-    ThrowIfInterrupted();
-    int64_t best = -1;
-    std::pair<uint64_t, uint64_t> best_gain{0, 0};  // (cells completed, points added)
-    for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
-      if (!feasible.CanAdd(chosen, i) || !capacity.Fits(chosen, i)) continue;
-      const std::pair<uint64_t, uint64_t> gain = points.Gain(i);
-      if (best < 0 || best_gain < gain) {  // strict: ties keep the lower index
-        best = i;
-        best_gain = gain;
-      }
-    }
-    if (best < 0) break;  // nothing fits any more
-    chosen.push_back(static_cast<uint32_t>(best));
-    points.Add(static_cast<uint32_t>(best));
-  }
-  return chosen;
-}
-
-// A budget under the constraints: GreedyBudget's order (gain per cost, a free candidate with a
-// gain first, then the larger gain, then the lower index) among the feasible candidates that fit,
-// until nothing adds anything; then the best affordable single candidate when it covers more.
-std::vector<uint32_t> BudgetGreedy(const CoverageMatrix& matrix,
-                                   const Feasibility& feasible,
-                                   const Capacity& capacity,
-                                   std::vector<uint32_t> chosen) {
-  const std::span<const double> costs = capacity.costs;
-  const auto before = [&](uint32_t a, uint64_t gain_a, uint32_t b, uint64_t gain_b) {
-    const double ca = costs[a], cb = costs[b];
-    const bool a_free = ca == 0 && gain_a > 0, b_free = cb == 0 && gain_b > 0;
-    if (a_free != b_free) return a_free;
-    const double ra = static_cast<double>(gain_a) * cb, rb = static_cast<double>(gain_b) * ca;
-    if (!a_free && ra != rb) return ra > rb;
-    if (gain_a != gain_b) return gain_a > gain_b;
-    return a < b;
-  };
-  int64_t single = -1;
-  for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
-    if (costs[i] <= capacity.budget &&
-        (single < 0 || matrix.RowWeight(i) > matrix.RowWeight(single)))
-      single = i;
-  }
-  VANTAGE_CHECK(single >= 0);
-  const bool has_kept = !chosen.empty();  // kept sensors: no single candidate replaces them
-  Bitset covered = matrix.EmptySet();
-  for (const uint32_t c : chosen) matrix.AddTo(c, &covered);
-  for (;;) {
-    ThrowIfInterrupted();
-    int64_t best = -1;
-    uint64_t best_gain = 0;
-    for (uint32_t i = 0; i < matrix.candidate_count(); ++i) {
-      if (!feasible.CanAdd(chosen, i) || !capacity.Fits(chosen, i)) continue;
-      const uint64_t gain = matrix.Gain(i, covered);
-      if (best < 0 || before(i, gain, static_cast<uint32_t>(best), best_gain)) {
-        best = i;
-        best_gain = gain;
-      }
-    }
-    if (best < 0 || best_gain == 0) break;
-    chosen.push_back(static_cast<uint32_t>(best));
-    matrix.AddTo(static_cast<uint32_t>(best), &covered);
-  }
-  if (!has_kept && (chosen.empty() ||
-                    matrix.RowWeight(static_cast<uint32_t>(single)) > matrix.SetWeight(covered)))
-    return {static_cast<uint32_t>(single)};
-  return chosen;
-}
-
-// Point density over states (a matrix with counts, threshold k): ThresholdGreedy's rule with the
-// scorer's aggregate — the score with the cells each candidate completes, ties broken by the
-// score of the points it adds where they are still missing.
+// constraints, one state or several: PointsGreedyComplete's rule (cells completed, then the seers
+// or points added where still missing, each cell's share up to k) with the scorer's aggregate —
+// the score with the cells each candidate completes, ties broken by the score of the points it
+// adds where they are still missing, then the lower index.
 std::vector<uint32_t> StatesThresholdGreedy(const StatesScorer& scorer,
                                             const Feasibility& feasible,
                                             const Capacity& capacity,
@@ -430,9 +354,12 @@ std::vector<uint32_t> ConstrainedGreedy(const Scorer& scorer,
   using Score = typename Scorer::Score;
   const CoverageMatrix& matrix = scorer.matrix();
   if constexpr (Scorer::kCells) {
-    if (scorer.k() > 1)
-      return ThresholdGreedy(matrix, scorer.k(), feasible, capacity, std::move(start));
-    if (capacity.has_budget()) return BudgetGreedy(matrix, feasible, capacity, std::move(start));
+    // The threshold and the cost greedies are the model's (the states' scorer): with the matrix
+    // as its one state a unit is one cell, so they rank exactly as cells do.
+    if (scorer.k() > 1 || capacity.has_budget()) {
+      const StatesScorer one_state(matrix, OverStates::kMean, scorer.k());
+      return ConstrainedGreedy(one_state, feasible, capacity, goal_cells, std::move(start));
+    }
   } else {
     if (capacity.has_budget())
       return StatesCostGreedy(scorer, feasible, capacity, capacity.costs, std::nullopt,

@@ -65,7 +65,7 @@ StatesScorer::StatesScorer(const CoverageMatrix& matrix, OverStates over, int th
   Int lcm = 1;
   for (size_t s = 0; s < states; ++s) {
     const auto r = static_cast<Int>(matrix.StateReferenceSize(s));
-    VANTAGE_CHECK(r > 0);
+    if (r == 0) continue;  // an empty R_s: every set covers 0 of it (unit 0)
     const Int next = lcm / Gcd(lcm, r) * r;
     if (next > kLimit) {
       lcm = 0;
@@ -75,7 +75,8 @@ StatesScorer::StatesScorer(const CoverageMatrix& matrix, OverStates over, int th
   }
   exact_ = lcm != 0;
   for (size_t s = 0; s < states; ++s) {
-    unit_.push_back(exact_ ? lcm / static_cast<Int>(matrix.StateReferenceSize(s)) : 0);
+    const size_t r = matrix.StateReferenceSize(s);
+    unit_.push_back(exact_ && r > 0 ? lcm / static_cast<Int>(r) : 0);
   }
   state_of_.resize(matrix.element_count());
   for (size_t s = 0; s < states; ++s) {
@@ -132,6 +133,7 @@ StateTally StatesScorer::Covered(std::span<const uint32_t> chosen) const {
 
 Int StatesScorer::Units(size_t state, uint64_t cells) const {
   if (exact_) return static_cast<Int>(cells) * unit_[state];
+  if (matrix_->StateReferenceSize(state) == 0) return 0;
   return (static_cast<Int>(cells) << 62) / static_cast<Int>(matrix_->StateReferenceSize(state));
 }
 
@@ -149,8 +151,9 @@ StatesScorer::Score StatesScorer::ScoreOf(const Tally& cells) const {
 double StatesScorer::Fraction(const Tally& cells) const {
   double sum = 0, least = 1;
   for (size_t s = 0; s < cells.size(); ++s) {
+    const size_t r = matrix_->StateReferenceSize(s);
     const double fraction =
-        static_cast<double>(cells[s]) / static_cast<double>(matrix_->StateReferenceSize(s));
+        r ? static_cast<double>(cells[s]) / static_cast<double>(r) : 0.0;
     sum += fraction;
     least = std::min(least, fraction);
   }

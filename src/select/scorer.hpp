@@ -115,7 +115,8 @@ class StatesScorer {
   };
   static constexpr bool kCells = false;
 
-  /// Needs every |R_s| >= 1. With `threshold` >= 2 (point density: a matrix with counts) an
+  /// A state with an empty R_s counts 0 (SelectOverStates refuses one; a plain matrix's one
+  /// state may be empty). With `threshold` >= 2 (point density: a matrix with counts) an
   /// element counts in Covered once the chosen put that many points in it; Gain, WeightIn and
   /// Rank then describe plain coverage and only the constrained methods use the scorer.
   StatesScorer(const CoverageMatrix& matrix, OverStates over, int threshold = 1);
