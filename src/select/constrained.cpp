@@ -749,14 +749,17 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
     answer.upper_bound = exact.upper_bound;
     answer.proven_optimal = exact.proven_optimal;
   }
-  // A budget has no n (n_ is then the candidate count): name the budget.
-  const std::string which = options_.budget ? fmt::format("budget {:g}", *options_.budget)
-                                            : fmt::format("n = {}", n_);
+  // A budget has no n (n_ is then the candidate count): name the budget. "constrained" only
+  // where there are constraints (kept sensors and thresholds run here without any).
+  const std::string which =
+      fmt::format("{}{}",
+                  options_.budget ? fmt::format("budget {:g}", *options_.budget)
+                                  : fmt::format("n = {}", n_),
+                  options_.constraints.empty() ? "" : " (constrained)");
   if (!answer.proven_optimal && !note.empty()) {
-    Logger()->warn("exact, {} (constrained): {}; reporting the best answer found and a bound",
-                   which, note);
+    Logger()->warn("exact, {}: {}; reporting the best answer found and a bound", which, note);
   } else if (!note.empty()) {
-    Logger()->debug("exact, {} (constrained): {}", which, note);
+    Logger()->debug("exact, {}: {}", which, note);
   }
   answer.seconds = local_seconds_ + SecondsSince(start);
   return answer;
