@@ -379,6 +379,25 @@ TEST(Refine, MinPointsScoresTheRefinedLayoutInPoints) {
   EXPECT_DOUBLE_EQ(r.selection.coverage, kFace / kShell);
 }
 
+// A budget (issue 42): a new pose costs what the candidate it descends from costs, so the refined
+// layout's cost is the root's price (3.5), within the budget, and its coverage is the union
+// counted here. (Scoring once read prices past the given candidates' costs.)
+TEST(Refine, BudgetPricesNewPosesLikeTheirCandidate) {
+  Fixture s = FaceSetup();
+  ASSERT_EQ(s.candidates.size(), 1u);
+  s.select.budget = 4.0;
+  s.select.costs = {3.5};
+  s.start = Select(s.observations, s.reference.size(), s.select).at(0);
+  ASSERT_EQ(s.start.chosen.size(), 1u);
+  const RefineResult r = RunRefine(s);
+  ASSERT_GT(r.candidates.size(), s.candidates.size());  // new poses were made
+  ASSERT_EQ(r.selection.chosen.size(), 1u);
+  ASSERT_TRUE(r.selection.cost.has_value());
+  EXPECT_DOUBLE_EQ(*r.selection.cost, 3.5);
+  EXPECT_DOUBLE_EQ(r.selection.coverage, UnionCoverage(r, s.reference.size()));
+  EXPECT_GT(r.selection.coverage, s.start.coverage);
+}
+
 // Scene states (issue 42): a second state puts a hand between the region and the +y half of
 // the face. Every new pose is traced in both states (in the hand state it sees a subset of what it
 // sees without, and the hand hides something from some pose), and the refined layout is scored by

@@ -304,7 +304,9 @@ RefineResult Refine(const RayScene& rays,
     if (std::find(start.chosen.begin(), start.chosen.end(), f) == start.chosen.end())
       throw InputError(fmt::format("refine: the start selection lacks kept candidate {}", f));
   }
-  const int k = objective == Objective::kKCoverage ? select.k : 1;
+  // A cell counts once k sensors see it, whatever the objective (a goal or a budget counts k
+  // times too), so the blind cells new poses aim at are those seen fewer than k times.
+  const int k = select.k;
 
   // Every state's matrix as selection reads it (the first state's is `observations`).
   const auto views = [&] {
@@ -314,12 +316,15 @@ RefineResult Refine(const RayScene& rays,
     return all;
   };
   // Scores a set of chosen candidates the way Select (over states: SelectOverStates) does, from
-  // the observations themselves.
+  // the observations themselves. Prices come from the re-selection's costs: a new pose costs what
+  // its root does (select.costs covers only the given candidates).
   const auto score = [&](std::vector<uint32_t> chosen, const std::string& method) {
+    SelectOptions scoring = select;
+    scoring.costs = reselect.costs;
     if (over_states)
-      return ScoreChosenOverStates(views(), options.over, std::move(chosen), method, select);
+      return ScoreChosenOverStates(views(), options.over, std::move(chosen), method, scoring);
     return ScoreChosen(CoverageEvaluator(observations, reference.size()), std::move(chosen),
-                       method, select);
+                       method, scoring);
   };
 
   // The constraints over the candidates so far: the start obeys them (selection did).

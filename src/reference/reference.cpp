@@ -4,6 +4,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <atomic>
@@ -276,7 +277,7 @@ bool IsClosed(const TriangleMesh& mesh) {
     const Vec3& q = mesh.vertices[b];
     return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
   };
-  std::sort(order.begin(), order.end(), less);
+  tbb::parallel_sort(order.begin(), order.end(), less);  // ties are equal points: any order welds
   std::vector<uint32_t> welded(mesh.vertices.size());
   uint32_t id = 0;
   for (size_t i = 0; i < order.size(); ++i) {
@@ -292,8 +293,8 @@ bool IsClosed(const TriangleMesh& mesh) {
       backward.emplace_back(b, a);
     }
   }
-  std::sort(forward.begin(), forward.end());
-  std::sort(backward.begin(), backward.end());
+  tbb::parallel_sort(forward.begin(), forward.end());
+  tbb::parallel_sort(backward.begin(), backward.end());
   return forward == backward;
 }
 
@@ -390,6 +391,13 @@ class ExposureGrid {
       for (uint32_t t = 0; t < scene.objects[o].mesh.triangles.size(); ++t)
         if (NearBox(Tri({o, t}))) tris_.push_back({o, t});
     }
+    // In cell units once: the column and cell walks read each triangle many times.
+    cell_tris_.resize(tris_.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, tris_.size(), 4096),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        for (size_t i = range.begin(); i != range.end(); ++i)
+                          cell_tris_[i] = Tri(tris_[i]);
+                      });
     ListAndWall();
     FillSolids();
     Flood();
@@ -427,7 +435,7 @@ class ExposureGrid {
       Listing& columns = per_thread.local().second;
       std::vector<Vec3> poly;
       for (size_t i = range.begin(); i != range.end(); ++i) {
-        const CellTri t = Tri(tris_[i]);
+        const CellTri& t = cell_tris_[i];
         Cell lo, hi;
         bool inside = true;
         for (int a = 0; a < 3; ++a) {
@@ -448,23 +456,37 @@ class ExposureGrid {
             columns.emplace_back(box_.Column(x, y), static_cast<uint32_t>(i));
       }
     });
-    for (const auto& [cells, columns] : per_thread) {
+    for (const auto& [cells, columns] : per_thread)
       cells_.insert(cells_.end(), cells.begin(), cells.end());
-      columns_.insert(columns_.end(), columns.begin(), columns.end());
-    }
-    // Sorted: the same listing whatever the threads did.
-    std::sort(cells_.begin(), cells_.end());
-    std::sort(columns_.begin(), columns_.end());
+    // Sorted: the same listing whatever the threads did (the pairs are distinct).
+    tbb::parallel_sort(cells_.begin(), cells_.end());
+    // Columns as offsets into one array (each column's triangles by index), read without a
+    // search: every free cell's column is asked for its crossings.
+    column_start_.assign(static_cast<size_t>(box_.n[0] * box_.n[1]) + 1, 0);
+    for (const auto& listed : per_thread)
+      for (const auto& [column, i] : listed.second) ++column_start_[column + 1];
+    for (size_t c = 1; c < column_start_.size(); ++c) column_start_[c] += column_start_[c - 1];
+    column_tris_.resize(column_start_.back());
+    std::vector<uint32_t> filled(column_start_.begin(), column_start_.end() - 1);
+    for (const auto& listed : per_thread)
+      for (const auto& [column, i] : listed.second) column_tris_[filled[column]++] = i;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, column_start_.size() - 1, 1024),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        for (size_t c = range.begin(); c != range.end(); ++c)
+                          std::sort(column_tris_.begin() + column_start_[c],
+                                    column_tris_.begin() + column_start_[c + 1]);
+                      });
   }
 
   // The crossings of the vertical line through (px, py) with the closed objects over `column`.
   void CrossingsAt(double px, double py, uint64_t column, std::vector<Crossing>* out) const {
     out->clear();
-    ForEachListed(columns_, column, [&](uint32_t i) {
+    for (uint32_t k = column_start_[column]; k < column_start_[column + 1]; ++k) {
+      const CellTri& t = cell_tris_[column_tris_[k]];
       double z = 0;
-      if (const int sign = VerticalCrossing(Tri(tris_[i]), px, py, &z); sign != 0)
-        out->push_back({tris_[i].object, sign, z});
-    });
+      if (const int sign = VerticalCrossing(t, px, py, &z); sign != 0)
+        out->push_back({t.object, sign, z});
+    }
     std::sort(out->begin(), out->end());
   }
 
@@ -490,7 +512,7 @@ class ExposureGrid {
         for (int64_t z = lo[2]; z <= hi[2] && !blocked; ++z) {
           ForEachListed(cells_, box_.Index({x, y, z}), [&](uint32_t i) {
             if (!blocked && tris_[i].object != object)
-              blocked = SegmentMeetsTriangle(p, q, Tri(tris_[i]));
+              blocked = SegmentMeetsTriangle(p, q, cell_tris_[i]);
           });
         }
     return blocked;
@@ -582,8 +604,10 @@ class ExposureGrid {
   ExposureBox box_;
   std::vector<uint8_t> grid_;
   std::vector<TriRef> tris_;
-  Listing cells_;    // grid index -> triangles touching the cell
-  Listing columns_;  // column -> closed triangles over it
+  std::vector<CellTri> cell_tris_;     // tris_ in cell units
+  Listing cells_;                      // grid index -> triangles touching the cell
+  std::vector<uint32_t> column_start_;  // column -> its first entry in column_tris_
+  std::vector<uint32_t> column_tris_;   // closed triangles over each column, by index
 };
 
 }  // namespace

@@ -6,6 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include <tbb/parallel_for.h>
+
 #include "vantage/visualize.hpp"
 
 namespace vantage {
@@ -208,17 +210,20 @@ Framing DefaultFraming(const Scene& scene, const Report& report) {
     return probe.SeenFraction(FitView(points, direction, kPi / 4, 1.0).eye);
   };
   const double current = seen(framing.direction);
+  // No look sees more than all of it: a first look seeing half stays without probing the others.
+  if (current >= 0.5) return framing;
   std::vector<std::pair<Vec3, double>> looks;
-  double best = current;
   for (const double degrees : {35.0, 50.0, 65.0, 80.0}) {
     for (const double base : azimuths) {
-      for (const double turn : {0.0, 0.5 * kPi, kPi, 1.5 * kPi}) {
-        const Vec3 direction = along(base + turn, degrees * kPi / 180.0);
-        looks.emplace_back(direction, seen(direction));
-        best = std::max(best, looks.back().second);
-      }
+      for (const double turn : {0.0, 0.5 * kPi, kPi, 1.5 * kPi})
+        looks.emplace_back(along(base + turn, degrees * kPi / 180.0), 0.0);
     }
   }
+  // Each look is probed on its own (the probe only reads the scene), in a fixed order of results.
+  tbb::parallel_for(size_t{0}, looks.size(),
+                    [&](size_t i) { looks[i].second = seen(looks[i].first); });
+  double best = current;
+  for (const auto& look : looks) best = std::max(best, look.second);
   if (current >= 0.5 * best) return framing;
   for (const auto& [direction, fraction] : looks) {
     if (fraction >= 0.95 * best) {
