@@ -93,17 +93,18 @@ bool TriangleTouchesHalfOpenCell(const Vec3 (&tri)[3], const Cell& k, std::vecto
 }
 
 // Calls sink(cell, polygon) for each cell of [lo, hi] that the triangle touches (half-open
-// cells), with the part of the triangle inside the closed cell.
-template <typename Sink>
-void VisitBlock(const Vec3 (&tri)[3], const Cell& lo, const Cell& hi, std::vector<Vec3>* poly,
-                const Sink& sink) {
+// cells) and `wanted` accepts, with the part of the triangle inside the closed cell; a cell not
+// wanted is not clipped.
+template <typename Wanted, typename Sink>
+void VisitWantedBlock(const Vec3 (&tri)[3], const Cell& lo, const Cell& hi,
+                      std::vector<Vec3>* poly, const Wanted& wanted, const Sink& sink) {
   const int64_t count = (hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
   if (count <= 8) {
     for (int64_t x = lo[0]; x <= hi[0]; ++x)
       for (int64_t y = lo[1]; y <= hi[1]; ++y)
         for (int64_t z = lo[2]; z <= hi[2]; ++z) {
           const Cell c{x, y, z};
-          if (TriangleTouchesHalfOpenCell(tri, c, poly)) sink(c, *poly);
+          if (wanted(c) && TriangleTouchesHalfOpenCell(tri, c, poly)) sink(c, *poly);
         }
     return;
   }
@@ -117,8 +118,14 @@ void VisitBlock(const Vec3 (&tri)[3], const Cell& lo, const Cell& hi, std::vecto
   Cell first_hi = hi, second_lo = lo;
   first_hi[axis] = mid;
   second_lo[axis] = mid + 1;
-  VisitBlock(tri, lo, first_hi, poly, sink);
-  VisitBlock(tri, second_lo, hi, poly, sink);
+  VisitWantedBlock(tri, lo, first_hi, poly, wanted, sink);
+  VisitWantedBlock(tri, second_lo, hi, poly, wanted, sink);
+}
+
+template <typename Sink>
+void VisitBlock(const Vec3 (&tri)[3], const Cell& lo, const Cell& hi, std::vector<Vec3>* poly,
+                const Sink& sink) {
+  VisitWantedBlock(tri, lo, hi, poly, [](const Cell&) { return true; }, sink);
 }
 
 }  // namespace
@@ -650,11 +657,18 @@ std::vector<uint8_t> ComputeExposure(const Scene& scene, const Reference& refere
         lo[a] = FloorToInt(std::min({tri[0][a], tri[1][a], tri[2][a]}));
         hi[a] = FloorToInt(std::max({tri[0][a], tri[1][a], tri[2][a]}));
       }
-      VisitBlock(tri, lo, hi, &poly, [&](const Cell& c, const std::vector<Vec3>& part) {
+      // A cell another triangle found exposed already is not clipped again (most cells of a
+      // fine mesh are shared by several triangles).
+      const auto not_yet_exposed = [&](const Cell& c) {
         const int64_t index = reference.IndexOf(PackVoxel(c));
-        if (index < 0) return;  // left out already (never: R holds every touched cell)
+        // Negative: left out already (never: R holds every touched cell).
+        return index >= 0 && !std::atomic_ref<uint8_t>(exposed[static_cast<size_t>(index)])
+                                  .load(std::memory_order_relaxed);
+      };
+      VisitWantedBlock(tri, lo, hi, &poly, not_yet_exposed, [&](const Cell& c,
+                                                                const std::vector<Vec3>& part) {
+        const int64_t index = reference.IndexOf(PackVoxel(c));
         std::atomic_ref<uint8_t> flag(exposed[static_cast<size_t>(index)]);
-        if (flag.load(std::memory_order_relaxed)) return;
         Vec3 centroid = Vec3::Zero();
         for (const Vec3& v : part) centroid += v;
         centroid /= static_cast<double>(part.size());
