@@ -87,6 +87,14 @@ class CoverageMatrix {
   uint64_t Gain(uint32_t candidate, const Bitset& covered) const;
   /// Weight of the elements of `candidate` that are in `set`.
   uint64_t WeightIn(uint32_t candidate, const Bitset& set) const;
+  /// WeightIn for a `set` that is empty outside the listed words (sorted, unique): only those
+  /// words are read, so a small set costs its words, not the row's.
+  uint64_t WeightInWords(uint32_t candidate, const Bitset& set,
+                         std::span<const uint32_t> words) const;
+  /// The row of `candidate` as word_count() words (dense matrices only, else nullptr).
+  const uint64_t* RowBits(uint32_t candidate) const {
+    return is_dense() ? Bits(candidate) : nullptr;
+  }
   /// covered |= row(candidate).
   void AddTo(uint32_t candidate, Bitset* covered) const;
   /// Total weight of the elements in `set`.
@@ -103,6 +111,9 @@ class CoverageMatrix {
   uint64_t RowWeightWhere(uint32_t candidate, const Bitset& set) const;
   /// Weight of the elements of word w set in `bits`.
   uint64_t WordWeight(size_t w, uint64_t bits) const;
+  /// Weight of the elements of `row` & (`set` ^ flip) over all words (flip 0: in `set`; ~0: not
+  /// in it): popcounts of unit weights, or of the weights' bit planes.
+  uint64_t DenseWeight(const uint64_t* row, const uint64_t* set, uint64_t flip) const;
   /// Word count, unit weights and the dense bitsets, once rows_ and weights_ are set.
   void Finish();
 
@@ -117,6 +128,10 @@ class CoverageMatrix {
   std::vector<std::vector<uint32_t>> counts_;  ///< parallel to rows_ (min-points), or empty
   std::vector<uint64_t> row_weights_;
   std::vector<uint64_t> bits_;  ///< candidate_count × word_count, or empty (sparse mode)
+  /// The element weights by bit planes: word w of plane b (elements whose weight has bit b) at
+  /// planes_[w * plane_count_ + b], so a weighted sum is sum_b 2^b popcount(bits & plane b).
+  std::vector<uint64_t> planes_;
+  uint32_t plane_count_ = 0;
 };
 
 }  // namespace vantage::detail

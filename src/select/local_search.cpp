@@ -2,6 +2,8 @@
 // cost budget and the states of a scene (whatever the scorer scores); 2-swaps where they stay
 // cheap.
 #include <algorithm>
+#include <bit>
+#include <optional>
 #include <utility>
 
 #include "select/methods.hpp"
@@ -19,6 +21,141 @@ constexpr uint64_t kMaxTwoSwapWords = uint64_t{600} << 20;
 void SetBit(Bitset* set, uint32_t e) { (*set)[e >> 6] |= uint64_t{1} << (e & 63); }
 void ClearBit(Bitset* set, uint32_t e) { (*set)[e >> 6] &= ~(uint64_t{1} << (e & 63)); }
 
+// A set of elements that is empty outside a few words: the bits (a full Bitset, zero outside
+// `words`) and those words, increasing, so that a weight over it reads only them. Elements are
+// added in increasing order (a row's order).
+struct FewWords {
+  Bitset bits;
+  std::vector<uint32_t> words;
+  explicit FewWords(size_t word_count) : bits(word_count, 0) {}
+  bool empty() const { return words.empty(); }
+  void Add(uint32_t e) {
+    const uint32_t w = e >> 6;
+    if (words.empty() || words.back() != w) words.push_back(w);
+    bits[w] |= uint64_t{1} << (e & 63);
+  }
+  void Clear() {
+    for (const uint32_t w : words) bits[w] = 0;
+    words.clear();
+  }
+  // Word w (above every word so far) set to `word`.
+  void AddWord(uint32_t w, uint64_t word) {
+    if (word == 0) return;
+    words.push_back(w);
+    bits[w] = word;
+  }
+};
+
+// The scorer's WeightIn(candidate, set.bits), reading only the set's words.
+uint64_t TallyIn(const CellScorer& scorer, uint32_t candidate, const FewWords& set) {
+  return scorer.matrix().WeightInWords(candidate, set.bits, set.words);
+}
+StateTally TallyIn(const StatesScorer& scorer, uint32_t candidate, const FewWords& set) {
+  const uint64_t* row = scorer.matrix().RowBits(candidate);
+  if (row == nullptr) return scorer.WeightIn(candidate, set.bits);
+  StateTally tally = scorer.Zero();
+  for (const uint32_t w : set.words) {
+    for (uint64_t bits = row[w] & set.bits[w]; bits != 0; bits &= bits - 1) {
+      scorer.AddElement(w * 64 + static_cast<uint32_t>(std::countr_zero(bits)), &tally);
+    }
+  }
+  return tally;
+}
+
+// Whether `e` is in the row of `candidate`.
+bool InRow(const CoverageMatrix& matrix, uint32_t candidate, uint32_t e) {
+  const uint64_t* row = matrix.RowBits(candidate);
+  if (row != nullptr) return (row[e >> 6] >> (e & 63)) & 1;
+  const std::vector<uint32_t>& sorted = matrix.Row(candidate);
+  return std::binary_search(sorted.begin(), sorted.end(), e);
+}
+
+// The tallies of 1-swaps, incrementally. With the cover counts of the chosen, `base` is the
+// elements one more seer brings to k; removing `out` adds the elements of its row at k (lost:
+// they drop to k - 1) and takes away those at k - 1 (blocked: they drop to k - 2), so an unused j
+// brings WeightIn(j, base) (once per pass) + its weight in `lost` - its weight in `blocked`: the
+// few words of one row per position instead of j's whole row.
+template <class Scorer>
+class OneSwaps {
+ public:
+  using Tally = typename Scorer::Tally;
+
+  OneSwaps(const Scorer& scorer, const std::vector<uint32_t>& cover_count)
+      : scorer_(scorer),
+        matrix_(scorer.matrix()),
+        cover_count_(cover_count),
+        k_(static_cast<uint32_t>(scorer.k())),
+        base_(matrix_.word_count()),
+        base_weight_(matrix_.candidate_count(), scorer.Zero()),
+        loss_(scorer.Zero()),
+        lost_(matrix_.word_count()),
+        blocked_(matrix_.word_count()) {}
+
+  // A pass over the current counts: `base` and each unused candidate's weight in it.
+  void StartPass(const std::vector<uint32_t>& chosen, const std::vector<bool>& is_chosen) {
+    // Elements one more seer would bring to k (bits past the last element never meet a row).
+    std::fill(base_.begin(), base_.end(), k_ == 1 ? ~uint64_t{0} : 0);
+    if (k_ > 1) {
+      for (uint32_t e = 0; e < matrix_.element_count(); ++e) {
+        if (cover_count_[e] == k_ - 1) SetBit(&base_, e);
+      }
+    } else {
+      for (const uint32_t c : chosen) {
+        for (const uint32_t e : matrix_.Row(c)) ClearBit(&base_, e);
+      }
+    }
+    for (uint32_t j = 0; j < matrix_.candidate_count(); ++j) {
+      if (!is_chosen[j]) base_weight_[j] = scorer_.WeightIn(j, base_);
+    }
+  }
+
+  // The chosen `out` leaves (nobody when `out` is empty: an addition); returns the tally lost.
+  const Tally& Remove(std::optional<uint32_t> out) {
+    lost_.Clear();
+    blocked_.Clear();
+    loss_ = scorer_.Zero();
+    if (out) {
+      for (const uint32_t e : matrix_.Row(*out)) {
+        if (cover_count_[e] == k_) {
+          lost_.Add(e);
+          scorer_.AddElement(e, &loss_);
+        } else if (cover_count_[e] == k_ - 1) {
+          blocked_.Add(e);
+        }
+      }
+    }
+    if (!matrix_.is_dense()) {  // rows as lists: the target set itself
+      target_ = base_;
+      for (const uint32_t w : lost_.words) target_[w] |= lost_.bits[w];
+      for (const uint32_t w : blocked_.words) target_[w] &= ~blocked_.bits[w];
+    }
+    return loss_;
+  }
+
+  // What unused j brings at most after Remove: its weight in `base` plus the tally lost.
+  const Tally& BaseWeight(uint32_t j) const { return base_weight_[j]; }
+
+  // `kept` (the tally without the removed) plus what unused j brings.
+  Tally After(const Tally& kept, uint32_t j) const {
+    if (!matrix_.is_dense()) return kept + scorer_.WeightIn(j, target_);
+    Tally after = kept + base_weight_[j];
+    if (!lost_.empty()) after += TallyIn(scorer_, j, lost_);
+    if (!blocked_.empty()) after -= TallyIn(scorer_, j, blocked_);
+    return after;
+  }
+
+ private:
+  const Scorer& scorer_;
+  const CoverageMatrix& matrix_;
+  const std::vector<uint32_t>& cover_count_;
+  uint32_t k_;
+  Bitset base_;
+  std::vector<Tally> base_weight_;
+  Tally loss_;
+  FewWords lost_, blocked_;
+  Bitset target_;
+};
+
 struct TwoSwap {
   int64_t delta = 0;
   size_t p = 0, q = 0;    // positions out
@@ -29,21 +166,43 @@ struct TwoSwap {
 // the freed cells F are those nobody else chosen sees; a newcomer j brings a_j = |row j ∩ F| and a
 // pair brings a_x + |row y ∩ F \ row x| <= a_x + a_y, so pairs are tried in decreasing a and cut
 // off once a_x + a_y cannot beat the best. Ties: earlier positions, then larger a, lower index.
+// F is the uncovered cells, those only p sees, those only q sees and those only both see, so
+// a_j is summed from the pass's BaseWeight (row j ∩ uncovered) and the few words of the other three.
+// The work cap counts what a recomputation of every a_j would read, so that where it stops (and
+// the answer) does not depend on how a_j is found.
 TwoSwap BestTwoSwap(const CoverageMatrix& matrix,
                     const std::vector<uint32_t>& chosen,
                     const std::vector<bool>& is_chosen,
                     const std::vector<uint32_t>& cover_count,
+                    const OneSwaps<CellScorer>& swaps,
                     uint64_t* words_left) {
   TwoSwap best;
   const size_t m = matrix.candidate_count();
   const size_t n = chosen.size();
   const uint64_t words = std::max<size_t>(matrix.word_count(), 1);
+  if (*words_left < words * (m + 2)) return best;  // as the first pair would
   Bitset uncovered(matrix.word_count(), ~uint64_t{0});
   for (const uint32_t c : chosen) {
     for (const uint32_t e : matrix.Row(c)) ClearBit(&uncovered, e);
   }
-  Bitset freed, rest;
-  std::vector<uint32_t> removed(matrix.element_count(), 0);
+  // Per position: the cells only it sees, their weight, and what each unused candidate sees of
+  // them (sees_alone[p * m + j]).
+  std::vector<FewWords> alone(n, FewWords(matrix.word_count()));
+  std::vector<uint64_t> alone_weight(n, 0);
+  std::vector<uint64_t> sees_alone(n * m, 0);
+  for (size_t p = 0; p < n; ++p) {
+    for (const uint32_t e : matrix.Row(chosen[p])) {
+      if (cover_count[e] != 1) continue;
+      alone[p].Add(e);
+      alone_weight[p] += matrix.Weight(e);
+    }
+    if (alone[p].empty()) continue;
+    for (uint32_t j = 0; j < m; ++j) {
+      if (!is_chosen[j]) sees_alone[p * m + j] = TallyIn(CellScorer(matrix), j, alone[p]);
+    }
+  }
+  FewWords both(matrix.word_count()), with_x(matrix.word_count());
+  Bitset freed;
   std::vector<uint64_t> bring(m, 0);
   std::vector<uint32_t> order;
   for (size_t p = 0; p < n; ++p) {
@@ -51,43 +210,66 @@ TwoSwap BestTwoSwap(const CoverageMatrix& matrix,
       if (*words_left < words * (m + 2)) return best;
       *words_left -= words * (m + 2);
       const uint32_t a = chosen[p], b = chosen[q];
-      freed = uncovered;
-      int64_t loss = 0;
       // Cells whose every chosen seer is a or b become uncovered.
-      for (const uint32_t c : {a, b}) {
-        for (const uint32_t e : matrix.Row(c)) ++removed[e];
-      }
-      for (const uint32_t c : {a, b}) {
-        for (const uint32_t e : matrix.Row(c)) {
-          if (removed[e] == 0) continue;  // done at its first occurrence
-          if (cover_count[e] == removed[e]) {
-            SetBit(&freed, e);
-            loss += matrix.Weight(e);
-          }
-          removed[e] = 0;
+      both.Clear();
+      uint64_t freed_weight = alone_weight[p] + alone_weight[q];
+      for (const uint32_t e : matrix.Row(a)) {
+        if (cover_count[e] == 2 && InRow(matrix, b, e)) {
+          both.Add(e);
+          freed_weight += matrix.Weight(e);
         }
       }
+      const auto loss = static_cast<int64_t>(freed_weight);
       order.clear();
+      uint64_t most = 0;
       for (uint32_t j = 0; j < m; ++j) {
         if (is_chosen[j]) continue;
-        bring[j] = matrix.WeightIn(j, freed);
-        if (bring[j] > 0) order.push_back(j);
+        bring[j] = swaps.BaseWeight(j) + sees_alone[p * m + j] + sees_alone[q * m + j];
+        if (!both.empty()) bring[j] += TallyIn(CellScorer(matrix), j, both);
+        if (bring[j] > 0) {
+          order.push_back(j);
+          most = std::max(most, bring[j]);
+        }
       }
+      // Only a prefix of the decreasing order can be reached: a newcomer with a_j <= loss +
+      // best.delta - max a ends both loops below wherever it comes (best.delta only grows), so
+      // it need not be sorted.
+      const int64_t cut = loss + best.delta - static_cast<int64_t>(most);
+      const auto reached = std::partition(order.begin(), order.end(), [&](uint32_t j) {
+        return static_cast<int64_t>(bring[j]) > cut;
+      });
+      order.erase(reached, order.end());
       std::sort(order.begin(), order.end(), [&](uint32_t u, uint32_t v) {
         return bring[u] != bring[v] ? bring[u] > bring[v] : u < v;
       });
+      bool freed_made = false;
       for (size_t s = 0; s + 1 < order.size(); ++s) {
         const uint32_t x = order[s];
         const auto need = loss + best.delta;  // a pair must bring more than this
         if (static_cast<int64_t>(bring[x] + bring[order[s + 1]]) <= need) break;
-        rest = freed;
-        for (const uint32_t e : matrix.Row(x)) ClearBit(&rest, e);
+        if (!freed_made) {
+          freed = uncovered;
+          for (const FewWords* set : {&alone[p], &alone[q], &both}) {
+            for (const uint32_t w : set->words) freed[w] |= set->bits[w];
+          }
+          freed_made = true;
+        }
+        // A pair's a_x + |row y ∩ F \ row x| = a_x + a_y - |row y ∩ (row x ∩ F)|.
+        with_x.Clear();
+        if (const uint64_t* row = matrix.RowBits(x)) {
+          for (uint32_t w = 0; w < matrix.word_count(); ++w) with_x.AddWord(w, row[w] & freed[w]);
+        } else {
+          for (const uint32_t e : matrix.Row(x)) {
+            if (Contains(freed, e)) with_x.Add(e);
+          }
+        }
         for (size_t t = s + 1; t < order.size(); ++t) {
           const uint32_t y = order[t];
           if (static_cast<int64_t>(bring[x] + bring[y]) <= loss + best.delta) break;
           if (*words_left < words) return best;
           *words_left -= words;
-          const int64_t delta = static_cast<int64_t>(bring[x] + matrix.WeightIn(y, rest)) - loss;
+          const uint64_t shared = with_x.empty() ? 0 : TallyIn(CellScorer(matrix), y, with_x);
+          const int64_t delta = static_cast<int64_t>(bring[x] + bring[y] - shared) - loss;
           if (delta > best.delta) best = {delta, p, q, x, y};
         }
       }
@@ -140,21 +322,10 @@ std::vector<uint32_t> LocalSearch(const Scorer& scorer,
       Scorer::kCells && options.two_swap && k == 1 && !has_budget && n >= 2 && m - n >= 2;
   uint64_t two_swap_words = kMaxTwoSwapWords;
   Tally current = tally_of_chosen();
-  Bitset base(matrix.word_count());
-  Bitset target;
+  OneSwaps<Scorer> swaps(scorer, cover_count);
   while (true) {
     ThrowIfInterrupted();
-    // Elements one more seer would bring to k (bits past the last element never meet a row).
-    std::fill(base.begin(), base.end(), k == 1 ? ~uint64_t{0} : 0);
-    if (k > 1) {
-      for (uint32_t e = 0; e < matrix.element_count(); ++e) {
-        if (cover_count[e] == k - 1) SetBit(&base, e);
-      }
-    } else {
-      for (const uint32_t c : chosen) {
-        for (const uint32_t e : matrix.Row(c)) ClearBit(&base, e);
-      }
-    }
+    swaps.StartPass(chosen, is_chosen);
     Score best = scorer.ScoreOf(current);
     bool improves = false;
     Tally best_tally = current;
@@ -164,26 +335,14 @@ std::vector<uint32_t> LocalSearch(const Scorer& scorer,
     const size_t positions = has_budget ? n + 1 : n;
     for (size_t p = 0; p < positions; ++p) {
       const bool is_add = p == chosen.size();
-      target = base;
-      Tally loss = scorer.Zero();
-      if (!is_add) {
-        // Removing chosen[p]: its cells at k drop to k - 1 (lost, and one seer brings them
-        // back); those at k - 1 drop to k - 2 (one newcomer no longer completes them).
-        for (const uint32_t e : matrix.Row(chosen[p])) {
-          if (cover_count[e] == k) {
-            SetBit(&target, e);
-            scorer.AddElement(e, &loss);
-          } else if (cover_count[e] == k - 1) {
-            ClearBit(&target, e);
-          }
-        }
-      }
-      const Tally kept = current - loss;
+      const Tally kept =
+          current - swaps.Remove(is_add ? std::nullopt : std::optional<uint32_t>(chosen[p]));
       for (uint32_t j = 0; j < m; ++j) {
         if (is_chosen[j]) continue;
-        // A candidate cannot add more than it sees: skip those that cannot beat the best move.
-        if (!(best < scorer.ScoreOf(kept + scorer.RowWeight(j)))) continue;
-        Tally after = kept + scorer.WeightIn(j, target);
+        // j brings at most its weight in `base` plus the loss (current + that in all): skip
+        // those that cannot beat the best move.
+        if (!(best < scorer.ScoreOf(current + swaps.BaseWeight(j)))) continue;
+        Tally after = swaps.After(kept, j);
         const Score score = scorer.ScoreOf(after);
         if (best < score && fits(p, j)) {
           best = score;
@@ -209,7 +368,10 @@ std::vector<uint32_t> LocalSearch(const Scorer& scorer,
       continue;
     }
     if (!try_two_swap || two_swap_words == 0) break;
-    const TwoSwap swap = BestTwoSwap(matrix, chosen, is_chosen, cover_count, &two_swap_words);
+    TwoSwap swap;
+    if constexpr (Scorer::kCells) {
+      swap = BestTwoSwap(matrix, chosen, is_chosen, cover_count, swaps, &two_swap_words);
+    }
     if (swap.delta <= 0) break;
     for (const auto& [position, in] : {std::pair{swap.p, swap.x}, std::pair{swap.q, swap.y}}) {
       const uint32_t out = chosen[position];
@@ -291,6 +453,40 @@ std::vector<uint32_t> PointsLocalSearch(const CoverageMatrix& matrix, std::vecto
   }
   return chosen;
 }
+
+template <class Scorer>
+std::vector<typename Scorer::Tally> OneSwapTallies(const Scorer& scorer,
+                                                   std::span<const uint32_t> chosen) {
+  const CoverageMatrix& matrix = scorer.matrix();
+  const size_t m = matrix.candidate_count();
+  const auto k = static_cast<uint32_t>(scorer.k());
+  std::vector<bool> is_chosen(m, false);
+  std::vector<uint32_t> cover_count(matrix.element_count(), 0);
+  for (const uint32_t c : chosen) {
+    VANTAGE_CHECK(c < m && !is_chosen[c]);
+    is_chosen[c] = true;
+    for (const uint32_t e : matrix.Row(c)) ++cover_count[e];
+  }
+  typename Scorer::Tally current = scorer.Zero();
+  for (uint32_t e = 0; e < matrix.element_count(); ++e) {
+    if (cover_count[e] >= k) scorer.AddElement(e, &current);
+  }
+  const std::vector<uint32_t> list(chosen.begin(), chosen.end());
+  OneSwaps<Scorer> swaps(scorer, cover_count);
+  swaps.StartPass(list, is_chosen);
+  std::vector<typename Scorer::Tally> tallies((chosen.size() + 1) * m, scorer.Zero());
+  for (size_t p = 0; p <= chosen.size(); ++p) {
+    const auto out = p < chosen.size() ? std::optional<uint32_t>(chosen[p]) : std::nullopt;
+    const typename Scorer::Tally kept = current - swaps.Remove(out);
+    for (uint32_t j = 0; j < m; ++j) {
+      if (!is_chosen[j]) tallies[p * m + j] = swaps.After(kept, j);
+    }
+  }
+  return tallies;
+}
+
+template std::vector<uint64_t> OneSwapTallies(const CellScorer&, std::span<const uint32_t>);
+template std::vector<StateTally> OneSwapTallies(const StatesScorer&, std::span<const uint32_t>);
 
 template std::vector<uint32_t> LocalSearch(const CellScorer&,
                                            std::vector<uint32_t>,

@@ -69,6 +69,13 @@ class CellScorer {
   int k_;
 };
 
+/// Every 1-swap's tally as LocalSearch computes it (incrementally, from the cover counts of
+/// `chosen`): [p * candidate_count + j] for chosen[p] out and an unused j in, p = chosen.size()
+/// for j added; Zero() for a chosen j. For tests (local_search.cpp, CellScorer, StatesScorer).
+template <class Scorer>
+std::vector<typename Scorer::Tally> OneSwapTallies(const Scorer& scorer,
+                                                   std::span<const uint32_t> chosen);
+
 /// Covered cells per state, in state order.
 class StateTally {
  public:
