@@ -2,6 +2,7 @@
 /// Depth sensor types (SENSORS.md) and the pinhole camera model.
 /// Body frame: x forward, y left, z up (Gazebo, ROS). Image: u right = -y, v down = -z,
 /// depth along +x. Pixel (u, v) covers [u, u+1) x [v, v+1); its ray passes its centre (u+0.5, v+0.5).
+#include <cmath>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -161,18 +162,67 @@ bool InApertureField(const SensorType& camera, const SecondAperture& aperture, c
 
 /// InApertureField's test set up once per sensor: the toe-in rotation and the field's tangents are
 /// computed here, not for every point (observe judges millions of hits per candidate).
+///
+/// Contains decides without a division or atan where the point is clearly inside or outside: it
+/// compares y, z (cross-multiplied by the depth x) against the field's bounds with a relative
+/// margin of 2^-30 that dwarfs the few roundings either form makes. A point within that margin
+/// of the field's edge, or where a product would leave the comfortable range of doubles, goes to
+/// Exactly, the division formula itself; so the verdict is always Exactly's.
 class ApertureField {
  public:
   ApertureField(const SensorType& camera, const SecondAperture& aperture);
-  bool Contains(const Vec3& p_body) const;
+  bool Contains(const Vec3& p_body) const {
+    const Vec3 p = aperture_from_body_ * (p_body - centre_);
+    if (!(p.x() > 0)) return false;
+    const int verdict = Quickly(p);
+    return verdict < 0 ? Exactly(p) : verdict != 0;
+  }
+  /// The division formula, for a point already in the aperture's frame with x > 0.
+  bool Exactly(const Vec3& p) const;
 
  private:
+  // 1 inside, 0 outside, -1 too close to the edge (or out of range) to tell without Exactly.
+  int Quickly(const Vec3& p) const {
+    constexpr double kMargin = 0x1p-30, kLow = 1e-140, kHigh = 1e140;
+    const double x = p.x(), ay = std::abs(p.y()), az = std::abs(p.z());
+    if (!(x > kLow && x < kHigh && ay < kHigh && az < kHigh)) return -1;
+    // Whether a >= 0 (1), a < 0 (0), or unsure (-1), given a's scale.
+    const auto sign = [](double a, double scale) {
+      const double m = scale * kMargin;
+      return a > m ? 1 : a < -m ? 0 : -1;
+    };
+    const auto both = [](int a, int b) { return a == 0 || b == 0 ? 0 : a < 0 || b < 0 ? -1 : 1; };
+    if (half_cone_ > 0) {
+      if (!quick_cone_) return -1;
+      // Squares in (1e-180, 1e180): normal, or too small to matter beside the margin.
+      const double limit = x * tan_half_cone_;
+      if (!(limit > 1e-90 && limit < 1e90 && ay < 1e90 && az < 1e90)) return -1;
+      return sign(limit * limit - (p.y() * p.y() + p.z() * p.z()),
+                  limit * limit + p.y() * p.y() + p.z() * p.z());
+    }
+    if (tan_half_h_ > 0) {
+      if (!quick_frustum_) return -1;
+      const double h = x * tan_half_h_, v = x * tan_half_v_;
+      return both(sign(h - ay, h + ay), sign(v - az, v + az));
+    }
+    if (!quick_image_) return -1;
+    // u = cx - fx y / x, v = cy - fy z / x; times x: u x = cx x - fx y.
+    const double ux = cx_ * x - fx_ * p.y(), vx = cy_ * x - fy_ * p.z();
+    const double su = std::abs(cx_ * x) + std::abs(fx_ * p.y()) + width_ * x;
+    const double sv = std::abs(cy_ * x) + std::abs(fy_ * p.z()) + height_ * x;
+    return both(both(sign(ux, su), sign(width_ * x - ux, su)),
+                both(sign(vx, sv), sign(height_ * x - vx, sv)));
+  }
+
   Mat3 aperture_from_body_;
   Vec3 centre_;
   double half_cone_ = 0;                  // > 0: a cone of this half angle
   double tan_half_h_ = 0, tan_half_v_ = 0;  // > 0: a frustum
   double fx_, fy_, cx_, cy_;              // else an image: the aperture's or the camera's
   int width_, height_;
+  // Quickly's own: tan(half_cone_), and whether its products stay in range for this field.
+  double tan_half_cone_ = 0;
+  bool quick_cone_ = false, quick_frustum_ = false, quick_image_ = false;
 };
 
 /// Body-frame direction of the ray through the centre of pixel (u, v), scaled so that its x

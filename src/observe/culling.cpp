@@ -1,6 +1,8 @@
 #include "observe/culling.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -92,18 +94,49 @@ std::vector<RowSpan> SpansToTrace(const Candidate& candidate, const std::vector<
     return spans;
   }
   const Pose body_from_world = candidate.world_from_body.Inverse();
-  std::vector<std::vector<std::pair<int, int>>> rows(static_cast<size_t>(s.height));
+  // The rectangles' union as a bitmap of the image, a row of 64-pixel words per image row, set
+  // word by word over the rows each rectangle covers (was: a list of intervals per row, sorted
+  // and merged); only rows a rectangle reached are read back. The maximal runs of set bits are
+  // the merged spans: overlapping or touching intervals join, as before.
+  const size_t words = (static_cast<size_t>(s.width) + 63) / 64;
+  std::vector<uint64_t> bits(words * static_cast<size_t>(s.height), 0);
+  int first_row = s.height, last_row = -1;
   for (const Aabb& bounds : blocks) {
     const PixelRect r = RectOfBounds(s, body_from_world, bounds);
-    for (int v = r.v0; v <= r.v1 && !r.IsEmpty(); ++v) rows[static_cast<size_t>(v)].emplace_back(r.u0, r.u1);
+    if (r.IsEmpty()) continue;
+    first_row = std::min(first_row, r.v0);
+    last_row = std::max(last_row, r.v1);
+    const size_t w0 = static_cast<size_t>(r.u0) / 64, w1 = static_cast<size_t>(r.u1) / 64;
+    const uint64_t head = ~uint64_t{0} << (r.u0 % 64);
+    const uint64_t tail = ~uint64_t{0} >> (63 - r.u1 % 64);
+    for (int v = r.v0; v <= r.v1; ++v) {
+      uint64_t* row = bits.data() + static_cast<size_t>(v) * words;
+      if (w0 == w1) {
+        row[w0] |= head & tail;
+        continue;
+      }
+      row[w0] |= head;
+      for (size_t w = w0 + 1; w < w1; ++w) row[w] = ~uint64_t{0};
+      row[w1] |= tail;
+    }
   }
-  for (int v = 0; v < s.height; ++v) {
-    auto& row = rows[static_cast<size_t>(v)];
-    std::sort(row.begin(), row.end());
-    for (size_t i = 0; i < row.size();) {
-      int u0 = row[i].first, u1 = row[i].second;
-      for (++i; i < row.size() && row[i].first <= u1 + 1; ++i) u1 = std::max(u1, row[i].second);
-      spans.push_back({v, u0, u1});
+  // The first pixel at or after u whose bit is `set`, or the width.
+  const auto next = [&](const uint64_t* row, int u, bool set) {
+    if (u >= s.width) return s.width;
+    size_t w = static_cast<size_t>(u) / 64;
+    uint64_t word = (set ? row[w] : ~row[w]) & (~uint64_t{0} << (u % 64));
+    while (!word) {
+      if (++w >= words) return s.width;
+      word = set ? row[w] : ~row[w];
+    }
+    return std::min(s.width, static_cast<int>(w * 64) + std::countr_zero(word));
+  };
+  for (int v = first_row; v <= last_row; ++v) {
+    const uint64_t* row = bits.data() + static_cast<size_t>(v) * words;
+    for (int u = next(row, 0, true); u < s.width;) {
+      const int end = next(row, u, false);
+      spans.push_back({v, u, end - 1});
+      u = next(row, end, true);
     }
   }
   return spans;

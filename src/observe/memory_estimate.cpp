@@ -1,5 +1,6 @@
 #include <algorithm>
 
+#include "observe/cell_sets.hpp"
 #include "vantage/observe.hpp"
 
 namespace vantage {
@@ -21,9 +22,15 @@ MemoryEstimate EstimateMemory(const Scene& scene, size_t reference_size,
     // count, plus outside keys.
     estimate.observations += std::min<uint64_t>(pixels, reference_size) * 6 + 64;
   }
-  // Each worker holds one image's 8-byte voxel keys with their 4-byte pixel runs, and while
-  // sorting them 16-byte (key, pixels) pairs (all pixels in the worst case).
-  estimate.hit_buffers = largest_image * 28 * std::max<size_t>(threads, 1);
+  // Each worker holds its cell sets (cell_sets.hpp): marks over R for every measured pixel, those
+  // passing the quality filter and those the ideal pinhole counts, the pixel counts of one of
+  // them, the touched lists and outside keys at their worst (every pixel outside R); and a
+  // spare set for a worker that picks up a second candidate while it waits in Embree. R's hash
+  // of keys is shared.
+  const uint64_t per_worker = detail::CellSet::Bytes(reference_size, largest_image, true) +
+                              2 * detail::CellSet::Bytes(reference_size, largest_image, false);
+  estimate.hit_buffers = per_worker * (std::max<size_t>(threads, 1) + 1) +
+                         detail::CellIndex::Bytes(reference_size);
   estimate.selection = candidates.size() * ((reference_size + 63) / 64) * 8;
   return estimate;
 }

@@ -7,11 +7,11 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <numbers>
 #include <optional>
 
 #include "observe/arm_occlusion.hpp"
+#include "observe/cell_sets.hpp"
 #include "observe/culling.hpp"
 #include "vantage/ray_scene.hpp"
 #include "vantage/error.hpp"
@@ -23,58 +23,6 @@ namespace {
 using detail::ReferenceBlocks;
 using detail::RowSpan;
 using detail::SpansToTrace;
-
-// The cells of one image's hits, in hit order: consecutive repeats merged into one run, since
-// neighbouring pixels mostly hit the same cell (which keeps the sort short), each with its pixels.
-struct KeyRuns {
-  std::vector<uint64_t> keys;
-  std::vector<uint32_t> pixels;  ///< per run; filled only when counting points
-  void Add(uint64_t key, bool count) {
-    if (!keys.empty() && keys.back() == key) {
-      if (count) ++pixels.back();
-      return;
-    }
-    keys.push_back(key);
-    if (count) pixels.push_back(1);
-  }
-};
-
-// R's indices of the cells of `runs` go to `indices` (with their pixels, saturated, to `hits` when
-// counted), the other keys to `outside` (may be null). Both lists are sorted: one merge splits them.
-void SplitByReference(KeyRuns* runs, const Reference& reference, std::vector<uint32_t>* indices,
-                      std::vector<uint16_t>* hits, std::vector<uint64_t>* outside) {
-  std::vector<uint64_t>& keys = runs->keys;
-  std::vector<uint32_t> pixels;
-  if (hits) {
-    // Sort the runs by key, summing the pixels of equal keys.
-    std::vector<std::pair<uint64_t, uint32_t>> pairs(keys.size());
-    for (size_t i = 0; i < keys.size(); ++i) pairs[i] = {keys[i], runs->pixels[i]};
-    std::sort(pairs.begin(), pairs.end());
-    keys.clear();
-    for (const auto& [key, count] : pairs) {
-      if (!keys.empty() && keys.back() == key) {
-        pixels.back() += count;
-      } else {
-        keys.push_back(key);
-        pixels.push_back(count);
-      }
-    }
-  } else {
-    std::sort(keys.begin(), keys.end());
-    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-  }
-  size_t r = 0;
-  for (size_t i = 0; i < keys.size(); ++i) {
-    const uint64_t key = keys[i];
-    while (r < reference.keys.size() && reference.keys[r] < key) ++r;
-    if (r < reference.keys.size() && reference.keys[r] == key) {
-      indices->push_back(static_cast<uint32_t>(r));
-      if (hits) hits->push_back(static_cast<uint16_t>(std::min<uint32_t>(pixels[i], kMaxPointCount)));
-    } else if (outside) {
-      outside->push_back(key);
-    }
-  }
-}
 
 // The physical model of one candidate (issue 43): where its second aperture is in the world, and
 // what a hit must satisfy besides the ideal pinhole's.
@@ -106,14 +54,16 @@ class PixelJudge {
   // `placed`: the cell with the carrying arm as it stands in this view (none: the cell alone). The
   // second aperture's segments are tested against it too: a link between the projector or second
   // imager and a point hides the point as it hides the primary ray.
+  // `sets`: the worker's cell sets (reset here), `index`: R's keys.
   PixelJudge(const RayScene& rays, const PlacedRayScene* placed, const Candidate& candidate,
-             const Reference& reference, const ObserveOptions& options, Observation* observation)
+             const Reference& reference, const detail::CellIndex& index,
+             const ObserveOptions& options, detail::CellSets* sets, Observation* observation)
       : rays_(rays),
         placed_(placed),
         sensor_(candidate.sensor),
         world_from_body_(candidate.world_from_body.rotation.toRotationMatrix()),
         origin_(candidate.world_from_body.position),
-        cell_(reference.cell_size),
+        cell_of_(reference.cell_size),
         quality_(options.quality),
         min_cos_incidence_(quality_.max_incidence_deg
                                ? std::cos(*quality_.max_incidence_deg * std::numbers::pi / 180.0)
@@ -124,7 +74,13 @@ class PixelJudge {
                             ? std::optional<ApertureField>(std::in_place, sensor_, *physical_.aperture)
                             : std::nullopt),
         count_(options.count_points),
-        observation_(observation) {
+        observation_(observation),
+        keys_(sets->all),
+        quality_keys_(sets->quality),
+        ideal_keys_(sets->ideal) {
+    keys_.Reset(index, count_ && !quality_.active());
+    if (quality_.active()) quality_keys_.Reset(index, count_);
+    if (physical_.active()) ideal_keys_.Reset(index, false);
     for (int a = 0; a < 3; ++a) segments_.origin[a] = static_cast<float>(physical_.centre[a]);
     // Stop 0.01 % short of the point: the surface it lies on must not occlude it, whatever float
     // rounding does to the segment's end.
@@ -137,9 +93,9 @@ class PixelJudge {
   // the flying-pixel filter drops it.
   void Take(float t, bool is_target, const Vec3& d, const Vec3& n, const Vec3& p, bool flying) {
     if (!is_target || t < sensor_.near || t > sensor_.far) return;
-    const VoxelIndex index = VoxelKeyOf(p, cell_);
+    const VoxelIndex index = cell_of_(p);
     VANTAGE_CHECK(VoxelIndexFits(index));
-    const uint64_t key = PackVoxel(index);
+    const uint64_t key = detail::PackFittingVoxel(index);
     bool passes = true;
     if (quality_.max_incidence_deg) {
       const double norms = d.norm() * n.norm();
@@ -158,7 +114,7 @@ class PixelJudge {
       Count(key, passes);
       return;
     }
-    if (passes) ideal_keys_.Add(key, false);
+    if (passes) ideal_keys_.Add(key);
     if (flying) return;
     if (!physical_.aperture) {
       Count(key, passes);
@@ -179,20 +135,19 @@ class PixelJudge {
   }
 
   // The cells collected, split by R, into the observation.
-  void Finish(const Reference& reference) {
+  void Finish() {
     Flush();
     Observation& o = *observation_;
     if (!quality_.active()) {
       o.quality_pixels = o.target_pixels;
-      SplitByReference(&keys_, reference, &o.reference_indices,
-                       count_ ? &o.reference_hits : nullptr, &o.outside_keys);
+      keys_.Take(&o.reference_indices, count_ ? &o.reference_hits : nullptr, &o.outside_keys);
     } else {
-      SplitByReference(&quality_keys_, reference, &o.reference_indices,
-                       count_ ? &o.reference_hits : nullptr, &o.outside_keys);
-      SplitByReference(&keys_, reference, &o.plain_reference_indices, nullptr, nullptr);
+      quality_keys_.Take(&o.reference_indices, count_ ? &o.reference_hits : nullptr,
+                         &o.outside_keys);
+      keys_.Take(&o.plain_reference_indices, nullptr, nullptr);
     }
     if (physical_.active()) {
-      SplitByReference(&ideal_keys_, reference, &o.ideal_reference_indices, nullptr, nullptr);
+      ideal_keys_.Take(&o.ideal_reference_indices, nullptr, nullptr);
       o.ideal_differs = o.ideal_reference_indices != o.reference_indices;
       if (!o.ideal_differs) o.ideal_reference_indices.clear();
     }
@@ -201,10 +156,10 @@ class PixelJudge {
  private:
   void Count(uint64_t key, bool passes) {
     ++observation_->target_pixels;
-    keys_.Add(key, count_ && !quality_.active());
+    keys_.Add(key);
     if (!quality_.active() || !passes) return;
     ++observation_->quality_pixels;
-    quality_keys_.Add(key, count_);
+    quality_keys_.Add(key);
   }
 
   // The queued segments as one occlusion packet; the unoccluded ones count.
@@ -225,7 +180,7 @@ class PixelJudge {
   const SensorType& sensor_;
   const Mat3 world_from_body_;
   const Vec3 origin_;
-  const double cell_;
+  const detail::CellOfPoint cell_of_;
   const QualityFilter& quality_;
   const double min_cos_incidence_;
   const DepthNoise* noise_;
@@ -235,7 +190,7 @@ class PixelJudge {
   Observation* observation_;
   // keys: every measured pixel's cell; quality_keys: those passing the filter; ideal_keys: as
   // the ideal pinhole counts (the filter's pixels when one is on), with the physical model only.
-  KeyRuns keys_, quality_keys_, ideal_keys_;
+  detail::CellSet &keys_, &quality_keys_, &ideal_keys_;
   OcclusionBatch segments_;
   int queued_ = 0;
   bool passes_[OcclusionBatch::kWidth];
@@ -365,9 +320,10 @@ void ObserveWithFlyingFilter(const RayScene& rays, const Candidate& candidate,
   }
 }
 
-Observation ObserveOne(const RayScene& rays, const Reference& reference, const Candidate& candidate,
+Observation ObserveOne(const RayScene& rays, const Reference& reference,
+                       const detail::CellIndex& index, const Candidate& candidate,
                        const std::vector<Aabb>& blocks, const ObserveOptions& options,
-                       const detail::ArmOcclusion& arms) {
+                       const detail::ArmOcclusion& arms, detail::CellSetsPool* pool) {
   const std::vector<RowSpan> spans = SpansToTrace(candidate, blocks, options.cull);
   // A camera on an arm sees the cell with the arm as it stands in this view: one top-level BVH
   // over the cell and the instances of the links its rays can meet, built here (a handful of
@@ -379,7 +335,8 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
   const Mat3 world_from_body = candidate.world_from_body.rotation.toRotationMatrix();
   const Vec3 origin = candidate.world_from_body.position;
   Observation observation;
-  PixelJudge judge(rays, placed_rays, candidate, reference, options, &observation);
+  const detail::CellSetsPool::Lease sets(pool);
+  PixelJudge judge(rays, placed_rays, candidate, reference, index, options, &*sets, &observation);
 
   RayBatch batch;
   for (int a = 0; a < 3; ++a) batch.origin[a] = static_cast<float>(origin[a]);
@@ -406,7 +363,7 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference, const C
       }
     }
   }
-  judge.Finish(reference);
+  judge.Finish();
   return observation;
 }
 
@@ -418,13 +375,15 @@ std::vector<Observation> Observe(const RayScene& rays, const Reference& referenc
   options.Validate();
   const std::vector<Aabb> blocks = ReferenceBlocks(reference);
   const detail::ArmOcclusion arms(rays, candidates);
+  const detail::CellIndex index(reference.keys);
+  detail::CellSetsPool pool;
   std::vector<Observation> observations(candidates.size());
   std::atomic<size_t> done{0};
   // Candidates are independent; each fills its own slot, so the result does not depend on the
   // thread count or the order of completion.
   tbb::parallel_for(size_t{0}, candidates.size(), [&](size_t i) {
     if (InterruptRequested()) return;  // the rest is skipped; thrown once the loop is left
-    observations[i] = ObserveOne(rays, reference, candidates[i], blocks, options, arms);
+    observations[i] = ObserveOne(rays, reference, index, candidates[i], blocks, options, arms, &pool);
     const size_t finished = ++done;
     if (options.progress) options.progress(finished, candidates.size());
   });

@@ -249,10 +249,20 @@ ApertureField::ApertureField(const SensorType& camera, const SecondAperture& ape
   cy_ = own ? aperture.cy : camera.cy;
   width_ = own ? aperture.width : camera.width;
   height_ = own ? aperture.height : camera.height;
+  // Quickly's products (x, |y|, |z| in (1e-140, 1e140)) stay normal and finite, and its margin
+  // covers the roundings of tan and atan, while the field's constants lie in these ranges. A cone
+  // wider than 3 rad has atan's flat end at its edge: always Exactly.
+  const auto moderate = [](double a) { return a > 1e-100 && a < 1e100; };
+  if (half_cone_ > 0 && half_cone_ <= 1.5) {
+    tan_half_cone_ = std::tan(half_cone_);
+    quick_cone_ = moderate(tan_half_cone_);
+  }
+  quick_frustum_ = tan_half_h_ > 0 && moderate(tan_half_h_) && moderate(tan_half_v_);
+  quick_image_ = moderate(fx_) && moderate(fy_) && std::abs(cx_) < 1e100 &&
+                 std::abs(cy_) < 1e100 && width_ > 0 && height_ > 0;
 }
 
-bool ApertureField::Contains(const Vec3& p_body) const {
-  const Vec3 p = aperture_from_body_ * (p_body - centre_);
+bool ApertureField::Exactly(const Vec3& p) const {
   if (!(p.x() > 0)) return false;
   const double right = -p.y() / p.x(), down = -p.z() / p.x();  // image-plane slopes
   if (half_cone_ > 0) return std::atan(std::hypot(right, down)) <= half_cone_;
