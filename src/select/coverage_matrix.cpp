@@ -27,22 +27,7 @@ VANTAGE_KERNEL uint64_t PopcountAnd(const uint64_t* row, const uint64_t* set, ui
   return count;
 }
 
-// sum_b 2^b popcount(row & (set ^ flip) & plane b) over `words` words; planes as planes_.
-VANTAGE_KERNEL uint64_t PlanesAnd(const uint64_t* row, const uint64_t* set, uint64_t flip,
-                                  const uint64_t* planes, uint32_t plane_count, size_t words) {
-  uint64_t weight = 0;
-  for (size_t w = 0; w < words; ++w) {
-    const uint64_t bits = row[w] & (set[w] ^ flip);
-    if (bits == 0) continue;
-    const uint64_t* plane = planes + w * plane_count;
-    for (uint32_t b = 0; b < plane_count; ++b) {
-      weight += static_cast<uint64_t>(std::popcount(bits & plane[b])) << b;
-    }
-  }
-  return weight;
-}
-
-// popcount(row & set) over the listed words only.
+// popcount(row & set) over the listed words.
 VANTAGE_KERNEL uint64_t PopcountAndWords(const uint64_t* row, const uint64_t* set,
                                          const uint32_t* words, size_t word_count) {
   uint64_t count = 0;
@@ -50,19 +35,12 @@ VANTAGE_KERNEL uint64_t PopcountAndWords(const uint64_t* row, const uint64_t* se
   return count;
 }
 
-// PlanesAnd over the listed words only (flip 0).
-VANTAGE_KERNEL uint64_t PlanesAndWords(const uint64_t* row, const uint64_t* set,
-                                       const uint64_t* planes, uint32_t plane_count,
-                                       const uint32_t* words, size_t word_count) {
+// sum_b 2^b popcount(bits & plane b) over `plane_count` planes.
+VANTAGE_KERNEL uint64_t PlanesWeight(uint64_t bits, const uint64_t* planes,
+                                     uint32_t plane_count) {
   uint64_t weight = 0;
-  for (size_t i = 0; i < word_count; ++i) {
-    const uint32_t w = words[i];
-    const uint64_t bits = row[w] & set[w];
-    if (bits == 0) continue;
-    const uint64_t* plane = planes + size_t{w} * plane_count;
-    for (uint32_t b = 0; b < plane_count; ++b) {
-      weight += static_cast<uint64_t>(std::popcount(bits & plane[b])) << b;
-    }
+  for (uint32_t b = 0; b < plane_count; ++b) {
+    weight += static_cast<uint64_t>(std::popcount(bits & planes[b])) << b;
   }
   return weight;
 }
@@ -273,21 +251,41 @@ void CoverageMatrix::Finish() {
       for (const uint32_t e : rows_[i]) words[e >> 6] |= uint64_t{1} << (e & 63);
     }
   }
+  // Every element weighs at least one cell: a weight is the popcount plus, in the words that
+  // hold a heavier element, the bit planes of weight - 1.
   const uint32_t max_weight =
-      weights_.empty() ? 0 : *std::max_element(weights_.begin(), weights_.end());
-  plane_count_ = static_cast<uint32_t>(std::bit_width(max_weight));
-  planes_.assign(word_count_ * plane_count_, 0);
+      weights_.empty() ? 1 : *std::max_element(weights_.begin(), weights_.end());
+  extra_plane_count_ = static_cast<uint32_t>(std::bit_width(max_weight - 1));
+  extra_slot_.assign(word_count_, kNoSlot);
+  extra_words_.clear();
+  extra_planes_.clear();
   for (size_t e = 0; e < weights_.size(); ++e) {
-    for (uint32_t b = 0; b < plane_count_; ++b) {
-      if ((weights_[e] >> b) & 1) planes_[(e >> 6) * plane_count_ + b] |= uint64_t{1} << (e & 63);
+    VANTAGE_CHECK(weights_[e] >= 1);
+    if (weights_[e] == 1) continue;
+    const auto w = static_cast<uint32_t>(e >> 6);
+    if (extra_slot_[w] == kNoSlot) {
+      extra_slot_[w] = static_cast<uint32_t>(extra_words_.size());
+      extra_words_.push_back(w);
+      extra_planes_.resize(extra_planes_.size() + extra_plane_count_, 0);
+    }
+    uint64_t* planes = extra_planes_.data() + size_t{extra_slot_[w]} * extra_plane_count_;
+    for (uint32_t b = 0; b < extra_plane_count_; ++b) {
+      if (((weights_[e] - 1) >> b) & 1) planes[b] |= uint64_t{1} << (e & 63);
     }
   }
 }
 
 uint64_t CoverageMatrix::DenseWeight(const uint64_t* row, const uint64_t* set,
                                      uint64_t flip) const {
-  if (unit_weights_) return PopcountAnd(row, set, flip, word_count_);
-  return PlanesAnd(row, set, flip, planes_.data(), plane_count_, word_count_);
+  uint64_t weight = PopcountAnd(row, set, flip, word_count_);
+  for (size_t i = 0; i < extra_words_.size(); ++i) {
+    const uint32_t w = extra_words_[i];
+    const uint64_t bits = row[w] & (set[w] ^ flip);
+    if (bits != 0)
+      weight += PlanesWeight(bits, extra_planes_.data() + i * extra_plane_count_,
+                             extra_plane_count_);
+  }
+  return weight;
 }
 
 uint64_t CoverageMatrix::WordWeight(size_t w, uint64_t bits) const {
@@ -323,9 +321,25 @@ uint64_t CoverageMatrix::WeightIn(uint32_t candidate, const Bitset& set) const {
 uint64_t CoverageMatrix::WeightInWords(uint32_t candidate, const Bitset& set,
                                        std::span<const uint32_t> words) const {
   if (!is_dense()) return WeightIn(candidate, set);
-  if (unit_weights_) return PopcountAndWords(Bits(candidate), set.data(), words.data(), words.size());
-  return PlanesAndWords(Bits(candidate), set.data(), planes_.data(), plane_count_, words.data(),
-                        words.size());
+  const uint64_t* row = Bits(candidate);
+  uint64_t weight = PopcountAndWords(row, set.data(), words.data(), words.size());
+  // The heavier elements: over the fewer of the listed words and the words holding one (`set`
+  // is empty outside the listed words).
+  const auto add_extra = [&](uint32_t w, uint32_t slot) {
+    const uint64_t bits = row[w] & set[w];
+    if (bits != 0)
+      weight += PlanesWeight(bits, extra_planes_.data() + size_t{slot} * extra_plane_count_,
+                             extra_plane_count_);
+  };
+  if (extra_words_.size() <= words.size()) {
+    for (size_t i = 0; i < extra_words_.size(); ++i)
+      add_extra(extra_words_[i], static_cast<uint32_t>(i));
+  } else {
+    for (const uint32_t w : words) {
+      if (extra_slot_[w] != kNoSlot) add_extra(w, extra_slot_[w]);
+    }
+  }
+  return weight;
 }
 
 void CoverageMatrix::AddTo(uint32_t candidate, Bitset* covered) const {

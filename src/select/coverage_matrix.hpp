@@ -112,7 +112,7 @@ class CoverageMatrix {
   /// Weight of the elements of word w set in `bits`.
   uint64_t WordWeight(size_t w, uint64_t bits) const;
   /// Weight of the elements of `row` & (`set` ^ flip) over all words (flip 0: in `set`; ~0: not
-  /// in it): popcounts of unit weights, or of the weights' bit planes.
+  /// in it): popcounts, and those of the weights' bit planes where an element weighs more.
   uint64_t DenseWeight(const uint64_t* row, const uint64_t* set, uint64_t flip) const;
   /// Word count, unit weights and the dense bitsets, once rows_ and weights_ are set.
   void Finish();
@@ -128,10 +128,15 @@ class CoverageMatrix {
   std::vector<std::vector<uint32_t>> counts_;  ///< parallel to rows_ (min-points), or empty
   std::vector<uint64_t> row_weights_;
   std::vector<uint64_t> bits_;  ///< candidate_count × word_count, or empty (sparse mode)
-  /// The element weights by bit planes: word w of plane b (elements whose weight has bit b) at
-  /// planes_[w * plane_count_ + b], so a weighted sum is sum_b 2^b popcount(bits & plane b).
-  std::vector<uint64_t> planes_;
-  uint32_t plane_count_ = 0;
+  /// The weights above one cell by bit planes, so that a weighted sum over a word is
+  /// popcount(bits) + sum_b 2^b popcount(bits & plane b): the words holding an element heavier
+  /// than one (extra_words_, increasing), word w's slot among them (extra_slot_, kNoSlot for
+  /// none) and each slot's planes of weight - 1 (extra_planes_[slot * extra_plane_count_ + b]).
+  static constexpr uint32_t kNoSlot = UINT32_MAX;
+  uint32_t extra_plane_count_ = 0;
+  std::vector<uint32_t> extra_words_;
+  std::vector<uint32_t> extra_slot_;
+  std::vector<uint64_t> extra_planes_;
 };
 
 }  // namespace vantage::detail
