@@ -671,6 +671,26 @@ TEST(YamlScene, MeshIsScaledThenPosed) {
   EXPECT_EQ(ObjectNamed(p, "flipped").role, Role::kOccluder);  // the default role
 }
 
+// One mesh file placed three times (scale 1, 2, then 1 again): each instance keeps its own scale
+// and pose although the scaled mesh is made once per file and scale (ScaledMeshCache).
+TEST(YamlScene, OneMeshAtTwoScalesKeepsEachInstancesScale) {
+  TempDir dir;
+  WriteText(dir.File("meshes/tri.obj"), kTriangleObj);
+  WriteText(dir.File("three.yaml"),
+            "objects:\n"
+            "  - {name: a, role: target, mesh: {file: meshes/tri.obj}}\n"
+            "  - {name: b, mesh: {file: meshes/tri.obj, scale: 2}, pose: {xyz: [5, 0, 0]}}\n"
+            "  - {name: c, mesh: {file: meshes/tri.obj}, pose: {xyz: [0, 5, 0]}}\n");
+  const Problem p = LoadYamlScene(dir.File("three.yaml"));
+  // The triangle (0,0,0), (1,0,0), (0,1,0): doubled and shifted by 5 in x; as it is, by 5 in y.
+  for (const Vec3& v : {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}) {
+    EXPECT_TRUE(HasVertexNear(ObjectNamed(p, "a").mesh, v, 1e-12)) << v.transpose();
+    EXPECT_TRUE(HasVertexNear(ObjectNamed(p, "b").mesh, 2 * v + Vec3(5, 0, 0), 1e-12));
+    EXPECT_TRUE(HasVertexNear(ObjectNamed(p, "c").mesh, v + Vec3(0, 5, 0), 1e-12));
+  }
+  for (const char* name : {"a", "b", "c"}) EXPECT_EQ(ObjectNamed(p, name).mesh.triangles.size(), 1u);
+}
+
 TEST(YamlScene, PrimitivesUseTenthOfTheCellAsChordError) {
   TempDir dir;
   const Problem p = LoadYamlScene(WriteCompleteScene(dir));

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <filesystem>
 #include <assimp/Importer.hpp>
 #include <cmath>
@@ -24,6 +25,7 @@
 #include "util/isolated.hpp"
 #include "util/run_files.hpp"
 #include "vantage/error.hpp"
+#include "scene/scaled_mesh_cache.hpp"
 #include "vantage/scene.hpp"
 
 namespace vantage {
@@ -588,6 +590,17 @@ TriangleMesh ScaledMesh(TriangleMesh raw, const Vec3& scale, const std::string& 
 
 TriangleMesh LoadMeshFile(const std::string& path, const Vec3& scale) {
   return ScaledMesh(ReadMeshFile(path), scale, path);
+}
+
+const TriangleMesh& detail::ScaledMeshCache::Get(const TriangleMesh& raw, const Vec3& scale,
+                                         const std::string& path) {
+  std::pair<std::string, std::array<uint64_t, 3>> key{
+      path,
+      {std::bit_cast<uint64_t>(scale.x()), std::bit_cast<uint64_t>(scale.y()),
+       std::bit_cast<uint64_t>(scale.z())}};
+  auto it = meshes_.find(key);
+  if (it == meshes_.end()) it = meshes_.emplace(std::move(key), ScaledMesh(raw, scale, path)).first;
+  return it->second;
 }
 
 namespace {

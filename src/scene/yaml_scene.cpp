@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "scene/scaled_mesh_cache.hpp"
 #include "scene/step_reader.hpp"
 #include "util/cell_size.hpp"
 #include "util/words.hpp"
@@ -346,6 +347,7 @@ class SceneReader {
   Problem* problem_;
   int objects_line_ = 0;
   std::map<std::string, TriangleMesh> mesh_cache_;  ///< by resolved path, unscaled (ReadMeshFile)
+  detail::ScaledMeshCache scaled_meshes_;  ///< by resolved path and scale
   /// A CAD file's parts (issue 46), by absolute path, unscaled: an assembly's objects.
   std::map<std::string, std::vector<detail::CadPart>> cad_parts_;
   std::set<int> by_colour_lines_;  ///< objects given `role: by_colour`, by line
@@ -1391,7 +1393,7 @@ std::optional<TriangleMesh> SceneReader::CachedMesh(const fs::path& resolved,
   }
   // Scaled before the vertices are checked and degenerate triangles dropped (issue 15).
   try {
-    return ScaledMesh(cached->second, scale, key);
+    return scaled_meshes_.Get(cached->second, scale, key);
   } catch (const InputError& e) {
     Error(line, e.what());
     return std::nullopt;

@@ -157,7 +157,7 @@ std::optional<TriangleMesh> Loader::GeometryOf(const VisualRecord& visual, bool 
     if (!mesh) return std::nullopt;
     // Scaled before the vertices are checked and degenerate triangles dropped (issue 15).
     try {
-      return ScaledMesh(*mesh, scale, *path);
+      return scaled_meshes_.Get(*mesh, scale, *path);
     } catch (const InputError& e) {
       Error(doc, uri->line, fmt::format("<mesh> of {}: {}", what, e.what()));
       return std::nullopt;

@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "scene/scaled_mesh_cache.hpp"
 #include "scene/sdf/materials.hpp"
 #include "scene/sdf/world.hpp"
 #include "util/xml.hpp"
@@ -290,6 +291,7 @@ class Loader {
   /// reported with the error when no visual has the target colour (the likely cause).
   std::vector<std::string> missing_materials_;
   std::map<std::string, std::unique_ptr<TriangleMesh>> meshes_;  ///< unscaled; null: failed
+  ScaledMeshCache scaled_meshes_;  ///< by path and scale
 };
 
 }  // namespace vantage::detail::gazebo
