@@ -25,7 +25,9 @@ __extension__ typedef __int128 Int;
 // Candidates seeing contiguous patches (cells merge into elements of many cells: weights with
 // several bits) with a share of ragged cells (elements of one cell); with `hits`, each seen cell
 // gets 1 to 5 points.
-std::vector<Observation> PatchInstance(uint64_t seed, size_t candidates, size_t cells,
+std::vector<Observation> PatchInstance(uint64_t seed,
+                                       size_t candidates,
+                                       size_t cells,
                                        bool hits = false) {
   std::vector<Observation> obs(candidates);
   for (size_t i = 0; i < candidates; ++i) {
@@ -50,7 +52,8 @@ struct State {
 };
 
 // Per state, the cells that at least k of `set` see.
-std::vector<uint64_t> CellsSeen(const std::vector<State>& states, const std::vector<uint32_t>& set,
+std::vector<uint64_t> CellsSeen(const std::vector<State>& states,
+                                const std::vector<uint32_t>& set,
                                 int k) {
   std::vector<uint64_t> cells(states.size(), 0);
   for (size_t s = 0; s < states.size(); ++s) {
@@ -78,8 +81,10 @@ uint64_t CellsWithPoints(const State& state, const std::vector<uint32_t>& set, i
 
 // a < b for the aggregate of the fractions cells[s] / |R_s|: plain (one state), the mean, or the
 // minimum then the mean. Exact: every fraction in units of 1 / prod |R_s|.
-bool Less(const std::vector<uint64_t>& a, const std::vector<uint64_t>& b,
-          const std::vector<State>& states, bool by_min) {
+bool Less(const std::vector<uint64_t>& a,
+          const std::vector<uint64_t>& b,
+          const std::vector<State>& states,
+          bool by_min) {
   Int denominator = 1;
   for (const State& s : states) denominator *= static_cast<Int>(s.cells);
   const auto units = [&](const std::vector<uint64_t>& cells, size_t s) {
@@ -150,8 +155,7 @@ std::vector<uint32_t> ReferenceLocalSearch(const Reference& ref, std::vector<uin
       continue;
     }
     // 2-swaps: plain cells, k = 1, no budget only.
-    if (!ref.two_swap || ref.states.size() != 1 || ref.k != 1 || has_budget || n < 2 ||
-        m - n < 2)
+    if (!ref.two_swap || ref.states.size() != 1 || ref.k != 1 || has_budget || n < 2 || m - n < 2)
       break;
     const State& state = ref.states.front();
     const int64_t now = static_cast<int64_t>(CellsSeen(ref.states, chosen, 1)[0]);
@@ -182,8 +186,7 @@ std::vector<uint32_t> ReferenceLocalSearch(const Reference& ref, std::vector<uin
             std::vector<uint32_t> swapped = chosen;
             swapped[p] = order[s];
             swapped[q] = order[t];
-            const int64_t delta =
-                static_cast<int64_t>(CellsSeen(ref.states, swapped, 1)[0]) - now;
+            const int64_t delta = static_cast<int64_t>(CellsSeen(ref.states, swapped, 1)[0]) - now;
             if (delta > best_delta) {
               best_delta = delta;
               best_p = p;
@@ -203,7 +206,8 @@ std::vector<uint32_t> ReferenceLocalSearch(const Reference& ref, std::vector<uin
 }
 
 // Min-points 1-swaps by their definition (one state).
-std::vector<uint32_t> ReferencePointsLocalSearch(const State& state, std::vector<uint32_t> chosen,
+std::vector<uint32_t> ReferencePointsLocalSearch(const State& state,
+                                                 std::vector<uint32_t> chosen,
                                                  int k) {
   const size_t m = state.obs.size();
   const size_t n = chosen.size();
@@ -310,8 +314,8 @@ TEST(LocalSearch, OneSwapTalliesAreTheCoverageRecounted) {
             detail::OneSwapTallies(detail::CellScorer(plain, k), chosen);
         std::vector<detail::StateTally> tallies;
         if (k <= 2)
-          tallies = detail::OneSwapTallies(detail::StatesScorer(stacked, OverStates::kMean, k),
-                                           chosen);
+          tallies =
+              detail::OneSwapTallies(detail::StatesScorer(stacked, OverStates::kMean, k), chosen);
         for (size_t p = 0; p <= n; ++p) {
           for (uint32_t j = 0; j < 20; ++j) {
             if (std::find(chosen.begin(), chosen.end(), j) != chosen.end()) continue;
@@ -320,8 +324,7 @@ TEST(LocalSearch, OneSwapTalliesAreTheCoverageRecounted) {
             EXPECT_EQ(cells[p * 20 + j], recount(first, p, j)[0]);
             if (k <= 2) {
               const std::vector<uint64_t> want = recount(states, p, j);
-              for (size_t s = 0; s < sizes.size(); ++s)
-                EXPECT_EQ(tallies[p * 20 + j][s], want[s]);
+              for (size_t s = 0; s < sizes.size(); ++s) EXPECT_EQ(tallies[p * 20 + j][s], want[s]);
             }
             ++checked;
           }
@@ -440,19 +443,33 @@ TEST(LocalSearch, OverStatesAsTheirDefinition) {
 }
 
 TEST(LocalSearch, PointThresholdsAsTheirDefinition) {
-  for (const uint64_t seed : {41, 42, 43}) {
+  // Points of 1 to 5 per seen cell, thresholds 2 to 7 (elements of several counts and weights).
+  int moved = 0;
+  for (const uint64_t seed : {41, 42, 43, 44, 45, 46}) {
     const size_t m = 16;
     const State state{PatchInstance(seed, m, 180, true), 180};
-    for (const int k : {2, 4, 7}) {
+    for (const int k : {2, 3, 4, 7}) {
       const detail::CoverageMatrix matrix(state.obs, 180, static_cast<uint32_t>(k));
-      for (const size_t n : {2, 3, 5}) {
+      for (const size_t n : {2, 3, 5, 8}) {
         SCOPED_TRACE(testing::Message() << "seed " << seed << " k " << k << " n " << n);
         const std::vector<uint32_t> start = RandomStart(seed + n, m, n);
-        EXPECT_EQ(detail::PointsLocalSearch(matrix, start, k),
-                  ReferencePointsLocalSearch(state, start, k));
+        const std::vector<uint32_t> got = detail::PointsLocalSearch(matrix, start, k);
+        EXPECT_EQ(got, ReferencePointsLocalSearch(state, start, k));
+        moved += got != start;
       }
     }
+    // A matrix without counts: every sensor brings one point (k seers).
+    State ones = state;
+    for (Observation& o : ones.obs) std::fill(o.reference_hits.begin(), o.reference_hits.end(), 1);
+    const detail::CoverageMatrix plain(ones.obs, 180);
+    for (const int k : {1, 2, 3}) {
+      const std::vector<uint32_t> start = RandomStart(seed + 7, m, 4);
+      SCOPED_TRACE(testing::Message() << "seed " << seed << " k " << k << " (no counts)");
+      EXPECT_EQ(detail::PointsLocalSearch(plain, start, k),
+                ReferencePointsLocalSearch(ones, start, k));
+    }
   }
+  EXPECT_GT(moved, 40);
 }
 
 }  // namespace

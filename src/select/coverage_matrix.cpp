@@ -20,7 +20,9 @@ constexpr size_t kMaxDenseBytes = size_t{512} << 20;
 #define VANTAGE_KERNEL __attribute__((target_clones("avx2", "sse4.2", "default")))
 
 // popcount(row & (set ^ flip)) over `words` words.
-VANTAGE_KERNEL uint64_t PopcountAnd(const uint64_t* row, const uint64_t* set, uint64_t flip,
+VANTAGE_KERNEL uint64_t PopcountAnd(const uint64_t* row,
+                                    const uint64_t* set,
+                                    uint64_t flip,
                                     size_t words) {
   uint64_t count = 0;
   for (size_t w = 0; w < words; ++w) count += std::popcount(row[w] & (set[w] ^ flip));
@@ -28,16 +30,17 @@ VANTAGE_KERNEL uint64_t PopcountAnd(const uint64_t* row, const uint64_t* set, ui
 }
 
 // popcount(row & set) over the listed words.
-VANTAGE_KERNEL uint64_t PopcountAndWords(const uint64_t* row, const uint64_t* set,
-                                         const uint32_t* words, size_t word_count) {
+VANTAGE_KERNEL uint64_t PopcountAndWords(const uint64_t* row,
+                                         const uint64_t* set,
+                                         const uint32_t* words,
+                                         size_t word_count) {
   uint64_t count = 0;
   for (size_t i = 0; i < word_count; ++i) count += std::popcount(row[words[i]] & set[words[i]]);
   return count;
 }
 
 // sum_b 2^b popcount(bits & plane b) over `plane_count` planes.
-VANTAGE_KERNEL uint64_t PlanesWeight(uint64_t bits, const uint64_t* planes,
-                                     uint32_t plane_count) {
+VANTAGE_KERNEL uint64_t PlanesWeight(uint64_t bits, const uint64_t* planes, uint32_t plane_count) {
   uint64_t weight = 0;
   for (uint32_t b = 0; b < plane_count; ++b) {
     weight += static_cast<uint64_t>(std::popcount(bits & planes[b])) << b;
@@ -152,7 +155,8 @@ CoverageMatrix::CoverageMatrix(std::span<const StateBlock> states) {
   Finish();
 }
 
-CoverageMatrix::CoverageMatrix(std::span<const Observation> observations, size_t reference_size,
+CoverageMatrix::CoverageMatrix(std::span<const Observation> observations,
+                               size_t reference_size,
                                uint32_t min_points) {
   VANTAGE_CHECK(min_points >= 1);
   const size_t candidates = observations.size();
@@ -275,15 +279,16 @@ void CoverageMatrix::Finish() {
   }
 }
 
-uint64_t CoverageMatrix::DenseWeight(const uint64_t* row, const uint64_t* set,
+uint64_t CoverageMatrix::DenseWeight(const uint64_t* row,
+                                     const uint64_t* set,
                                      uint64_t flip) const {
   uint64_t weight = PopcountAnd(row, set, flip, word_count_);
   for (size_t i = 0; i < extra_words_.size(); ++i) {
     const uint32_t w = extra_words_[i];
     const uint64_t bits = row[w] & (set[w] ^ flip);
     if (bits != 0)
-      weight += PlanesWeight(bits, extra_planes_.data() + i * extra_plane_count_,
-                             extra_plane_count_);
+      weight +=
+          PlanesWeight(bits, extra_planes_.data() + i * extra_plane_count_, extra_plane_count_);
   }
   return weight;
 }
@@ -318,7 +323,8 @@ uint64_t CoverageMatrix::WeightIn(uint32_t candidate, const Bitset& set) const {
   return RowWeightWhere<true>(candidate, set);
 }
 
-uint64_t CoverageMatrix::WeightInWords(uint32_t candidate, const Bitset& set,
+uint64_t CoverageMatrix::WeightInWords(uint32_t candidate,
+                                       const Bitset& set,
                                        std::span<const uint32_t> words) const {
   if (!is_dense()) return WeightIn(candidate, set);
   const uint64_t* row = Bits(candidate);

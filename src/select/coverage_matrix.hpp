@@ -48,7 +48,8 @@ class CoverageMatrix {
   /// once the chosen sensors' counts add up to min_points. Elements are the cells with the same
   /// capped count from every candidate; cells that all candidates together cannot bring to
   /// min_points are dropped. Needs every observation's reference_hits (has_point_counts).
-  CoverageMatrix(std::span<const Observation> observations, size_t reference_size,
+  CoverageMatrix(std::span<const Observation> observations,
+                 size_t reference_size,
                  uint32_t min_points);
   /// The point-density matrices of several states (each as the one above), stacked.
   CoverageMatrix(std::span<const StateBlock> states, uint32_t min_points);
@@ -74,7 +75,13 @@ class CoverageMatrix {
   uint32_t Count(uint32_t candidate, size_t j) const {
     return counts_.empty() ? 1 : counts_[candidate][j];
   }
+  /// Count(candidate, j) for every j (empty when !has_counts()).
+  std::span<const uint32_t> Counts(uint32_t candidate) const {
+    return counts_.empty() ? std::span<const uint32_t>() : std::span(counts_[candidate]);
+  }
   std::span<const std::vector<uint32_t>> rows() const { return rows_; }
+  /// Every element's Weight.
+  std::span<const uint32_t> weights() const { return weights_; }
   /// Cells in an element.
   uint32_t Weight(uint32_t element) const { return weights_[element]; }
   /// Cells seen by a candidate alone (= |O_i|).
@@ -89,7 +96,8 @@ class CoverageMatrix {
   uint64_t WeightIn(uint32_t candidate, const Bitset& set) const;
   /// WeightIn for a `set` that is empty outside the listed words (sorted, unique): only those
   /// words are read, so a small set costs its words, not the row's.
-  uint64_t WeightInWords(uint32_t candidate, const Bitset& set,
+  uint64_t WeightInWords(uint32_t candidate,
+                         const Bitset& set,
                          std::span<const uint32_t> words) const;
   /// The row of `candidate` as word_count() words (dense matrices only, else nullptr).
   const uint64_t* RowBits(uint32_t candidate) const {

@@ -156,6 +156,39 @@ class OneSwaps {
   Bitset target_;
 };
 
+// What an unused candidate completes on the `open` cells with points (those of the chosen
+// without `out`) minus what it completes there with `out_points` added: for each cell of its
+// row (`row` bits) in `open`, its count found by the cell's rank in the row (`before`: the row's
+// popcount before each word; counts null: every count 1). Built for AVX2, SSE4.2 and the
+// baseline (the popcount of the rank), the loader picking the best the machine has.
+__attribute__((target_clones("avx2", "sse4.2", "default"))) int64_t OpenGain(
+    const uint64_t* row,
+    const uint32_t* before,
+    const uint32_t* counts,
+    const FewWords& open,
+    const uint32_t* points,
+    const uint32_t* out_points,
+    const uint32_t* weights,
+    uint32_t k) {
+  int64_t gain = 0;
+  for (const uint32_t w : open.words) {
+    for (uint64_t bits = row[w] & open.bits[w]; bits != 0; bits &= bits - 1) {
+      const auto bit = static_cast<uint32_t>(std::countr_zero(bits));
+      const uint32_t e = w * 64 + bit;
+      const uint32_t count =
+          counts == nullptr
+              ? 1
+              : counts[before[w] +
+                       static_cast<uint32_t>(std::popcount(row[w] & ((uint64_t{1} << bit) - 1)))];
+      const uint32_t have = points[e];
+      const bool now = have < k && have + count >= k;
+      const bool with_out = have + out_points[e] < k && have + out_points[e] + count >= k;
+      gain += (static_cast<int64_t>(now) - static_cast<int64_t>(with_out)) * weights[e];
+    }
+  }
+  return gain;
+}
+
 struct TwoSwap {
   int64_t delta = 0;
   size_t p = 0, q = 0;    // positions out
@@ -167,9 +200,9 @@ struct TwoSwap {
 // pair brings a_x + |row y ∩ F \ row x| <= a_x + a_y, so pairs are tried in decreasing a and cut
 // off once a_x + a_y cannot beat the best. Ties: earlier positions, then larger a, lower index.
 // F is the uncovered cells, those only p sees, those only q sees and those only both see, so
-// a_j is summed from the pass's BaseWeight (row j ∩ uncovered) and the few words of the other three.
-// The work cap counts what a recomputation of every a_j would read, so that where it stops (and
-// the answer) does not depend on how a_j is found.
+// a_j is summed from the pass's BaseWeight (row j ∩ uncovered) and the few words of the other
+// three. The work cap counts what a recomputation of every a_j would read, so that where it stops
+// (and the answer) does not depend on how a_j is found.
 TwoSwap BestTwoSwap(const CoverageMatrix& matrix,
                     const std::vector<uint32_t>& chosen,
                     const std::vector<bool>& is_chosen,
@@ -386,7 +419,8 @@ std::vector<uint32_t> LocalSearch(const Scorer& scorer,
   return chosen;
 }
 
-std::vector<uint32_t> PointsLocalSearch(const CoverageMatrix& matrix, std::vector<uint32_t> chosen,
+std::vector<uint32_t> PointsLocalSearch(const CoverageMatrix& matrix,
+                                        std::vector<uint32_t> chosen,
                                         int k) {
   const size_t m = matrix.candidate_count();
   const size_t n = chosen.size();
@@ -410,30 +444,81 @@ std::vector<uint32_t> PointsLocalSearch(const CoverageMatrix& matrix, std::vecto
     is_chosen[c] = true;
     change(c, true);
   }
+  // Incrementally (dense rows): with points' the counts without `out`, an unused candidate
+  // completes sum over its row of w(e) [points' < k <= points' + its count], which differs
+  // from `complete` (the same with every chosen, once per pass) only on the cells of out's row
+  // that points' leaves below k (`open`); there its count is found by its rank in the row (the
+  // row's popcounts before each word, `before`).
+  const bool dense = matrix.is_dense();
+  const size_t words = matrix.word_count();
+  std::vector<uint32_t> before;
+  std::vector<int64_t> complete;
+  std::vector<uint32_t> out_points(dense ? matrix.element_count() : 0, 0);
+  FewWords open(dense ? words : 0);
+  if (dense) {
+    before.resize(m * words);
+    complete.resize(m);
+    for (uint32_t c = 0; c < m; ++c) {
+      const uint64_t* row = matrix.RowBits(c);
+      uint32_t count = 0;
+      for (size_t w = 0; w < words; ++w) {
+        before[c * words + w] = count;
+        count += static_cast<uint32_t>(std::popcount(row[w]));
+      }
+    }
+  }
+  const auto completes = [&](uint32_t have, uint32_t count) {
+    return have < kk && have + count >= kk;
+  };
   while (true) {
     ThrowIfInterrupted();
     int64_t best_delta = 0;
     size_t best_position = 0;
     uint32_t best_in = 0;
+    if (dense) {
+      for (uint32_t in = 0; in < m; ++in) {
+        if (is_chosen[in]) continue;
+        int64_t gain = 0;
+        const std::vector<uint32_t>& row = matrix.Row(in);
+        for (size_t j = 0; j < row.size(); ++j) {
+          if (completes(points[row[j]], matrix.Count(in, j))) gain += matrix.Weight(row[j]);
+        }
+        complete[in] = gain;
+      }
+    }
     for (size_t p = 0; p < n; ++p) {
       const uint32_t out = chosen[p];
       // Cells that lose their k points with `out` gone, then what each unused one completes.
       int64_t loss = 0;
+      int64_t open_weight = 0;
       const std::vector<uint32_t>& out_row = matrix.Row(out);
+      open.Clear();
       for (size_t j = 0; j < out_row.size(); ++j) {
         const uint32_t have = points[out_row[j]];
         if (have >= kk && have - matrix.Count(out, j) < kk) loss += matrix.Weight(out_row[j]);
+        if (dense && have - matrix.Count(out, j) < kk) {
+          open.Add(out_row[j]);
+          open_weight += matrix.Weight(out_row[j]);
+          out_points[out_row[j]] = matrix.Count(out, j);
+        }
       }
       change(out, false);
       for (uint32_t in = 0; in < m; ++in) {
         if (is_chosen[in]) continue;
-        // A candidate cannot complete more than it sees: skip those that cannot beat the best.
+        // A candidate cannot complete more than it sees, nor more than `complete` and the open
+        // cells: skip those that cannot beat the best.
         if (static_cast<int64_t>(matrix.RowWeight(in)) - loss <= best_delta) continue;
         int64_t gain = 0;
-        const std::vector<uint32_t>& row = matrix.Row(in);
-        for (size_t j = 0; j < row.size(); ++j) {
-          const uint32_t have = points[row[j]];
-          if (have < kk && have + matrix.Count(in, j) >= kk) gain += matrix.Weight(row[j]);
+        if (dense) {
+          if (complete[in] + open_weight - loss <= best_delta) continue;
+          gain = complete[in] + OpenGain(matrix.RowBits(in), before.data() + in * words,
+                                         matrix.Counts(in).data(), open, points.data(),
+                                         out_points.data(), matrix.weights().data(), kk);
+        } else {
+          const std::vector<uint32_t>& row = matrix.Row(in);
+          for (size_t j = 0; j < row.size(); ++j) {
+            if (completes(points[row[j]], matrix.Count(in, j))) gain += matrix.Weight(row[j]);
+          }
         }
         if (gain - loss > best_delta) {
           best_delta = gain - loss;
