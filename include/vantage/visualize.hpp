@@ -132,6 +132,9 @@ View FitView(const std::vector<Vec3>& points, const Vec3& direction, double vert
 /// script, of the page's 3D view): FitView of DefaultFraming's targets' corners and sensors.
 View DefaultView(const Scene& scene, const Report& report, double vertical_fov,
                  double aspect = 1.0, const std::vector<Vec3>& frame_also = {});
+/// DefaultView for a framing already made (its surface probe is the costly part of a page).
+View FramedView(const Framing& framing, double vertical_fov, double aspect = 1.0,
+                const std::vector<Vec3>& frame_also = {});
 
 /// The depth along a sensor's optical axis where its drawn frustum ends, so that frusta stop at
 /// the scene instead of running to `far`: the far side of the targets' bounds, within

@@ -388,20 +388,20 @@ Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
   const std::vector<uint32_t>& chosen = report.PrimaryChosen();
   const std::unordered_map<uint64_t, int> counts = ObservationCounts(data, chosen);
 
-  View view = DefaultView(scene, report, options.vertical_fov,
-                          static_cast<double>(options.width) / options.height,
-                          options.frame_also);
+  const Framing framing = DefaultFraming(scene, report);  // once: its surface probe costs
+  View view = FramedView(framing, options.vertical_fov,
+                         static_cast<double>(options.width) / options.height, options.frame_also);
   if (options.from_below) {
     // The same azimuth, as far under the horizon as the default is above it.
     // Framing the targets only: the underside is what this view is for.
-    Framing framing = DefaultFraming(scene, report);
-    framing.direction.z() = -framing.direction.z();
+    Framing below = framing;
+    below.direction.z() = -below.direction.z();
     std::vector<Vec3> points;
     for (int corner = 0; corner < 8; ++corner)
-      points.push_back(Vec3(corner & 1 ? framing.targets.max.x() : framing.targets.min.x(),
-                            corner & 2 ? framing.targets.max.y() : framing.targets.min.y(),
-                            corner & 4 ? framing.targets.max.z() : framing.targets.min.z()));
-    view = FitView(points, framing.direction, options.vertical_fov,
+      points.push_back(Vec3(corner & 1 ? below.targets.max.x() : below.targets.min.x(),
+                            corner & 2 ? below.targets.max.y() : below.targets.min.y(),
+                            corner & 4 ? below.targets.max.z() : below.targets.min.z()));
+    view = FitView(points, below.direction, options.vertical_fov,
                    static_cast<double>(options.width) / options.height);
   }
   if (options.look_at) view.look_at = *options.look_at;
@@ -493,7 +493,7 @@ Image RenderView(const RayScene& rays, const Scene& scene, const Report& report,
   if (options.draw_frusta) {
     // Faint over the targets: with several sensors their lines all converge there.
     Overlay overlay(camera, depth, over_target, 0.35f);
-    const Aabb targets = DefaultFraming(scene, report).targets;
+    const Aabb& targets = framing.targets;
     for (uint32_t index : chosen) {
       const Candidate& c = data.candidates.at(index);
       const Vec3 apex = c.world_from_body.position;

@@ -287,7 +287,11 @@ View FitView(const std::vector<Vec3>& points, const Vec3& direction, double vert
 
 View DefaultView(const Scene& scene, const Report& report, double vertical_fov, double aspect,
                  const std::vector<Vec3>& frame_also) {
-  const Framing framing = DefaultFraming(scene, report);
+  return FramedView(DefaultFraming(scene, report), vertical_fov, aspect, frame_also);
+}
+
+View FramedView(const Framing& framing, double vertical_fov, double aspect,
+                const std::vector<Vec3>& frame_also) {
   std::vector<Vec3> points = framing.sensors;
   points.insert(points.end(), frame_also.begin(), frame_also.end());
   for (int corner = 0; corner < 8; ++corner) points.push_back(Corner(framing.targets, corner));

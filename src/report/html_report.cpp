@@ -608,7 +608,7 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   // The page fits the default view again for its canvas' aspect (report.js, fitView); the eye
   // given here is FitView's for the view's usual 2.5 : 1.
   const double fov = 0.7853981633974483;
-  const View view = DefaultView(scene, report, fov, 2.5);
+  const View view = FramedView(framing, fov, 2.5);
   for (size_t k = 0; k < chosen_json.size(); ++k) {
     const Candidate& c = data.candidates.at(report.primary_sensors[k].index);
     chosen_json[k]["frustum_depth"] = FrustumDepth(c, framing.targets);
