@@ -13,9 +13,11 @@
 namespace vantage::detail {
 namespace {
 
-// Work cap of the 2-swap passes of one LocalSearch call, in bitset words touched (about 0.1-0.3 s
-// at a few words per ns): beyond it the current pass stops with the best swap found so far and no
-// further pass starts. Counted, not timed, so the answer does not depend on the machine.
+// Work cap of the 2-swap passes of one LocalSearch call, in the bitset words that recomputing
+// every a_j and every pair's value over whole rows would touch (what the search read before it
+// was incremental, issue 47: about 0.1-0.3 s then, a fraction of that now): beyond it the current
+// pass stops with the best swap found so far and no further pass starts. Counted, not timed, so
+// the answer depends neither on the machine nor on how the values are found.
 constexpr uint64_t kMaxTwoSwapWords = uint64_t{600} << 20;
 
 void SetBit(Bitset* set, uint32_t e) { (*set)[e >> 6] |= uint64_t{1} << (e & 63); }
