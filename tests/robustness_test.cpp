@@ -1,8 +1,12 @@
 // Robustness read-outs (issue 9) on hand-made visibility sets whose answers are counted by hand.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
+#include <optional>
+#include <random>
 
 #include "vantage/error.hpp"
 #include "vantage/robustness.hpp"
@@ -38,6 +42,56 @@ TEST(Robustness, EachFailureLeavesTheOthersCoverage) {
   const std::vector<uint32_t> pair = {0, 2};
   EXPECT_DOUBLE_EQ(evaluator.Coverage(pair, 2), 0.2);
   for (const SensorFailure& f : SensorFailures(evaluator, pair, 2)) EXPECT_DOUBLE_EQ(f.coverage, 0.0);
+}
+
+// Cells a set of candidates covers, counted here from the lists: seen k times, or holding
+// min_points hits when given.
+double CountedCoverage(const std::vector<Observation>& sets, const std::vector<uint32_t>& chosen,
+                       size_t cells, int k, std::optional<uint32_t> min_points) {
+  std::map<uint32_t, uint64_t> tally;
+  for (const uint32_t c : chosen)
+    for (size_t i = 0; i < sets[c].reference_indices.size(); ++i)
+      tally[sets[c].reference_indices[i]] += min_points ? sets[c].reference_hits[i] : 1;
+  size_t covered = 0;
+  for (const auto& [cell, t] : tally) covered += t >= (min_points ? *min_points : k) ? 1 : 0;
+  return static_cast<double>(covered) / static_cast<double>(cells);
+}
+
+// Random instances, k = 1..3 and point counts: every slot's best replacement (within any
+// tolerance: 1) has the coverage counted here, and no other candidate does better in that slot.
+TEST(Robustness, AlternativesMatchCountingEverySwap) {
+  std::mt19937 rng(7);
+  for (int instance = 0; instance < 60; ++instance) {
+    const size_t cells = 5 + rng() % 30;
+    const uint32_t candidates = 4 + rng() % 8;
+    std::vector<Observation> sets(candidates);
+    for (Observation& o : sets) {
+      for (uint32_t cell = 0; cell < cells; ++cell) {
+        if (rng() % 3 != 0) continue;
+        o.reference_indices.push_back(cell);
+        o.reference_hits.push_back(1 + rng() % 5);
+      }
+    }
+    const CoverageEvaluator evaluator(sets, cells);
+    const int k = 1 + instance % 3;
+    const std::optional<uint32_t> min_points =
+        instance % 4 == 3 ? std::optional<uint32_t>(4) : std::nullopt;
+    const std::vector<uint32_t> chosen = {0, 1, 2};
+    const auto alternatives = NearOptimalAlternatives(evaluator, chosen, k, 1.0, std::nullopt,
+                                                      min_points);
+    ASSERT_EQ(alternatives.size(), chosen.size()) << instance;
+    for (const Alternative& a : alternatives) {
+      EXPECT_DOUBLE_EQ(a.coverage, CountedCoverage(sets, a.chosen, cells, k, min_points))
+          << instance;
+      const size_t slot = static_cast<size_t>(
+          std::find(chosen.begin(), chosen.end(), a.replaced) - chosen.begin());
+      for (uint32_t j = 3; j < candidates; ++j) {
+        std::vector<uint32_t> swapped = chosen;
+        swapped[slot] = j;
+        EXPECT_LE(CountedCoverage(sets, swapped, cells, k, min_points), a.coverage) << instance;
+      }
+    }
+  }
 }
 
 TEST(Robustness, AlternativesAreTheBestReplacementPerSensorWithinTheTolerance) {
