@@ -94,23 +94,29 @@ std::vector<RowSpan> SpansToTrace(const Candidate& candidate, const std::vector<
     return spans;
   }
   const Pose body_from_world = candidate.world_from_body.Inverse();
-  // The rectangles' union as a bitmap of the image, a row of 64-pixel words per image row, set
-  // word by word over the rows each rectangle covers (was: a list of intervals per row, sorted
-  // and merged); only rows a rectangle reached are read back. The maximal runs of set bits are
-  // the merged spans: overlapping or touching intervals join, as before.
-  const size_t words = (static_cast<size_t>(s.width) + 63) / 64;
-  std::vector<uint64_t> bits(words * static_cast<size_t>(s.height), 0);
+  // The rectangles' union as a bitmap of the rows they reach, a row of 64-pixel words per image
+  // row, set word by word over the rows each rectangle covers (was: a list of intervals per row,
+  // sorted and merged). The maximal runs of set bits are the merged spans: overlapping or
+  // touching intervals join, as before.
+  std::vector<PixelRect> rects;
   int first_row = s.height, last_row = -1;
   for (const Aabb& bounds : blocks) {
     const PixelRect r = RectOfBounds(s, body_from_world, bounds);
     if (r.IsEmpty()) continue;
+    rects.push_back(r);
     first_row = std::min(first_row, r.v0);
     last_row = std::max(last_row, r.v1);
+  }
+  if (rects.empty()) return spans;
+  const size_t words = (static_cast<size_t>(s.width) + 63) / 64;
+  std::vector<uint64_t> bits(words * static_cast<size_t>(last_row - first_row + 1), 0);
+  const auto row_bits = [&](int v) { return bits.data() + static_cast<size_t>(v - first_row) * words; };
+  for (const PixelRect& r : rects) {
     const size_t w0 = static_cast<size_t>(r.u0) / 64, w1 = static_cast<size_t>(r.u1) / 64;
     const uint64_t head = ~uint64_t{0} << (r.u0 % 64);
     const uint64_t tail = ~uint64_t{0} >> (63 - r.u1 % 64);
     for (int v = r.v0; v <= r.v1; ++v) {
-      uint64_t* row = bits.data() + static_cast<size_t>(v) * words;
+      uint64_t* row = row_bits(v);
       if (w0 == w1) {
         row[w0] |= head & tail;
         continue;
@@ -132,7 +138,7 @@ std::vector<RowSpan> SpansToTrace(const Candidate& candidate, const std::vector<
     return std::min(s.width, static_cast<int>(w * 64) + std::countr_zero(word));
   };
   for (int v = first_row; v <= last_row; ++v) {
-    const uint64_t* row = bits.data() + static_cast<size_t>(v) * words;
+    const uint64_t* row = row_bits(v);
     for (int u = next(row, 0, true); u < s.width;) {
       const int end = next(row, u, false);
       spans.push_back({v, u, end - 1});
