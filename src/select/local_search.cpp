@@ -20,6 +20,9 @@ namespace {
 // the answer depends neither on the machine nor on how the values are found.
 constexpr uint64_t kMaxTwoSwapWords = uint64_t{600} << 20;
 
+// The most memory PointsLocalSearch takes for the ranks of its incremental evaluation.
+constexpr size_t kMaxRankBytes = size_t{64} << 20;
+
 void SetBit(Bitset* set, uint32_t e) { (*set)[e >> 6] |= uint64_t{1} << (e & 63); }
 void ClearBit(Bitset* set, uint32_t e) { (*set)[e >> 6] &= ~(uint64_t{1} << (e & 63)); }
 
@@ -450,9 +453,10 @@ std::vector<uint32_t> PointsLocalSearch(const CoverageMatrix& matrix,
   // completes sum over its row of w(e) [points' < k <= points' + its count], which differs
   // from `complete` (the same with every chosen, once per pass) only on the cells of out's row
   // that points' leaves below k (`open`); there its count is found by its rank in the row (the
-  // row's popcounts before each word, `before`).
-  const bool dense = matrix.is_dense();
+  // row's popcounts before each word, `before`: half the dense rows' memory, so only up to
+  // kMaxRankBytes; beyond it each row is read whole, as before).
   const size_t words = matrix.word_count();
+  const bool dense = matrix.is_dense() && m * words * sizeof(uint32_t) <= kMaxRankBytes;
   std::vector<uint32_t> before;
   std::vector<int64_t> complete;
   std::vector<uint32_t> out_points(dense ? matrix.element_count() : 0, 0);
