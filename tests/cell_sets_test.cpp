@@ -2,6 +2,8 @@
 // formula it replaces, written out here — the cell of a point by floor(p / F), the split of a
 // candidate's hits by counting them in a std::map and merging with R, the aperture's field by
 // the slopes y / x and z / x — on random input and on points placed exactly on the boundaries.
+#include "observe/cell_sets.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,10 +11,11 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <random>
 #include <vector>
 
-#include "observe/cell_sets.hpp"
+#include "observe/culling.hpp"
 #include "vantage/sensors.hpp"
 #include "vantage/types.hpp"
 
@@ -81,8 +84,9 @@ TEST(CellOfPoint, EqualsTheDivisionOnBoundaryPoints) {
   }
   // Non-finite coordinates saturate as the division's do (VoxelIndexFits then rejects them).
   const CellOfPoint cell_of(0.005);
-  for (const double x : {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
-                         std::numeric_limits<double>::quiet_NaN(), 1e300, -1e300})
+  for (const double x :
+       {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+        std::numeric_limits<double>::quiet_NaN(), 1e300, -1e300})
     EXPECT_EQ(cell_of.Axis(x), FloorToInt(x / 0.005)) << x;
 }
 
@@ -114,7 +118,8 @@ TEST(CellIndex, FindsEveryKeyOfRAndNoOther) {
   for (const size_t size : {size_t{0}, size_t{1}, size_t{7}, size_t{1000}, size_t{50000}}) {
     const std::vector<uint64_t> keys = RandomReference(size, &rng);
     const CellIndex index(keys);
-    for (size_t i = 0; i < keys.size(); ++i) ASSERT_EQ(index.Find(keys[i]), static_cast<int64_t>(i));
+    for (size_t i = 0; i < keys.size(); ++i)
+      ASSERT_EQ(index.Find(keys[i]), static_cast<int64_t>(i));
     std::uniform_int_distribution<int64_t> axis(-80, 80);
     for (int i = 0; i < 20000; ++i) {
       const uint64_t key = PackVoxel({axis(rng), axis(rng), axis(rng)});
@@ -161,7 +166,8 @@ TEST(CellSets, SplitEqualsCountingTheHitsInAMap) {
       const auto at = std::lower_bound(keys.begin(), keys.end(), k);
       if (at != keys.end() && *at == k) {
         expected_indices.push_back(static_cast<uint32_t>(at - keys.begin()));
-        expected_counts.push_back(static_cast<uint16_t>(std::min<uint64_t>(pixels, kMaxPointCount)));
+        expected_counts.push_back(
+            static_cast<uint16_t>(std::min<uint64_t>(pixels, kMaxPointCount)));
       } else {
         expected_outside.push_back(k);
       }
@@ -181,7 +187,9 @@ TEST(CellSets, SplitEqualsCountingTheHitsInAMap) {
 
 // ApertureField::Contains as the division formula states it: the point in the aperture's frame,
 // then its slopes right = -y/x, down = -z/x against the cone, the frustum or the image.
-bool ContainsByDivision(const SensorType& camera, const SecondAperture& aperture, const Vec3& p_body) {
+bool ContainsByDivision(const SensorType& camera,
+                        const SecondAperture& aperture,
+                        const Vec3& p_body) {
   const Mat3 aperture_from_body = BodyFromAperture(aperture).transpose();
   const Vec3 p = aperture_from_body * (p_body - ApertureCentreInBody(aperture));
   if (!(p.x() > 0)) return false;
@@ -195,7 +203,8 @@ bool ContainsByDivision(const SensorType& camera, const SecondAperture& aperture
   const bool own = aperture.width > 0;
   const double fx = own ? aperture.fx : camera.fx, fy = own ? aperture.fy : camera.fy;
   const double cx = own ? aperture.cx : camera.cx, cy = own ? aperture.cy : camera.cy;
-  const int width = own ? aperture.width : camera.width, height = own ? aperture.height : camera.height;
+  const int width = own ? aperture.width : camera.width,
+            height = own ? aperture.height : camera.height;
   const double u = cx + fx * right, v = cy + fy * down;
   return u >= 0 && v >= 0 && u < width && v < height;
 }
@@ -243,7 +252,8 @@ TEST(ApertureField, ContainsEqualsTheDivisions) {
     std::vector<std::pair<double, double>> edges;  // (right, down) on the edge
     if (aperture.cone > 0) {
       const double t = std::tan(aperture.cone / 2);
-      for (int i = 0; i < 16; ++i) edges.emplace_back(t * std::cos(i * 0.39), t * std::sin(i * 0.39));
+      for (int i = 0; i < 16; ++i)
+        edges.emplace_back(t * std::cos(i * 0.39), t * std::sin(i * 0.39));
     } else if (aperture.hfov > 0) {
       const double h = std::tan(aperture.hfov / 2);
       const double v = std::tan((aperture.vfov > 0 ? aperture.vfov : aperture.hfov) / 2);
@@ -257,7 +267,8 @@ TEST(ApertureField, ContainsEqualsTheDivisions) {
       const bool own = aperture.width > 0;
       const double fx = own ? aperture.fx : camera.fx, fy = own ? aperture.fy : camera.fy;
       const double cx = own ? aperture.cx : camera.cx, cy = own ? aperture.cy : camera.cy;
-      const double w = own ? aperture.width : camera.width, ht = own ? aperture.height : camera.height;
+      const double w = own ? aperture.width : camera.width,
+                   ht = own ? aperture.height : camera.height;
       // u = cx + fx right = 0 or w; v likewise.
       for (const double f : {0.0, 0.3, 1.0}) {
         edges.emplace_back((0 - cx) / fx, (f * ht - cy) / fy);
@@ -295,6 +306,75 @@ TEST(ApertureField, ContainsEqualsTheDivisions) {
   }
   EXPECT_GT(inside, 100000u);
   EXPECT_GT(outside, 100000u);
+}
+
+// Culling's spans (a bitmap of the projected rectangles): in row order, each row's spans apart
+// (not even touching), inside the image, and covering every pixel whose centre ray meets a block
+// within [near, far] (a slab test written here).
+TEST(Culling, SpansAreOrderedApartAndCoverEveryRayThatMeetsABlock) {
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int round = 0; round < 12; ++round) {
+    Candidate c;
+    c.sensor =
+        SensorType::FromFov("cam", 150 + 7 * round, 100 + 3 * round, 1.0, std::nullopt, 0.2, 3.0);
+    // Looking along -z from 1.5 m above, tilted a little each round.
+    const Quat down(Eigen::AngleAxisd(0.05 * round, Vec3::UnitX()) *
+                    Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitY()));
+    c.world_from_body = Pose{Vec3(0.1 * unit(rng), 0.1 * unit(rng), 1.5), down};
+    std::vector<Aabb> blocks;
+    for (int b = 0; b < 40; ++b) {
+      Aabb box;
+      const Vec3 lo(0.6 * unit(rng), 0.6 * unit(rng), 0.3 * unit(rng));
+      box.Extend(lo);
+      box.Extend(lo +
+                 Vec3(0.02 + 0.1 * std::abs(unit(rng)), 0.02, 0.02 + 0.05 * std::abs(unit(rng))));
+      blocks.push_back(box);
+    }
+    const std::vector<detail::RowSpan> spans = detail::SpansToTrace(c, blocks, true);
+    std::vector<std::vector<uint8_t>> in(
+        static_cast<size_t>(c.sensor.height),
+        std::vector<uint8_t>(static_cast<size_t>(c.sensor.width), 0));
+    for (size_t i = 0; i < spans.size(); ++i) {
+      const detail::RowSpan& s = spans[i];
+      ASSERT_TRUE(s.v >= 0 && s.v < c.sensor.height && s.u0 >= 0 && s.u0 <= s.u1 &&
+                  s.u1 < c.sensor.width);
+      if (i > 0) {
+        const detail::RowSpan& p = spans[i - 1];
+        ASSERT_TRUE(p.v < s.v || (p.v == s.v && p.u1 + 1 < s.u0))
+            << "spans out of order or touching";
+      }
+      for (int u = s.u0; u <= s.u1; ++u) in[static_cast<size_t>(s.v)][static_cast<size_t>(u)] = 1;
+    }
+    const Mat3 rotation = c.world_from_body.rotation.toRotationMatrix();
+    size_t meeting = 0;
+    for (int v = 0; v < c.sensor.height; ++v) {
+      for (int u = 0; u < c.sensor.width; ++u) {
+        const Vec3 d = rotation * PixelRayInBody(c.sensor, u, v);  // depth t along it
+        for (const Aabb& box : blocks) {
+          double t0 = c.sensor.near, t1 = c.sensor.far;
+          for (int a = 0; a < 3 && t0 <= t1; ++a) {
+            const double o = c.world_from_body.position[a];
+            if (d[a] == 0) {
+              if (o < box.min[a] || o > box.max[a]) t0 = t1 + 1;
+              continue;
+            }
+            double ta = (box.min[a] - o) / d[a], tb = (box.max[a] - o) / d[a];
+            if (ta > tb) std::swap(ta, tb);
+            t0 = std::max(t0, ta);
+            t1 = std::min(t1, tb);
+          }
+          if (t0 <= t1) {
+            ++meeting;
+            ASSERT_TRUE(in[static_cast<size_t>(v)][static_cast<size_t>(u)])
+                << "pixel " << u << ", " << v;
+            break;
+          }
+        }
+      }
+    }
+    EXPECT_GT(meeting, 100u) << "round " << round;
+  }
 }
 
 }  // namespace

@@ -16,7 +16,9 @@ constexpr uint64_t kEstimateCap = uint64_t{1} << 40;
 }  // namespace
 
 // At most two thirds full.
-size_t CellIndex::Capacity(size_t size) { return std::bit_ceil(std::max<size_t>(size + size / 2, 16)); }
+size_t CellIndex::Capacity(size_t size) {
+  return std::bit_ceil(std::max<size_t>(size + size / 2, 16));
+}
 
 uint64_t CellIndex::Bytes(size_t reference_size) {
   return Capacity(std::min<uint64_t>(reference_size, kEstimateCap)) *
@@ -59,7 +61,8 @@ void CellSet::Reset(const CellIndex& index, bool count) {
   outside_.clear();
 }
 
-void CellSet::Take(std::vector<uint32_t>* indices, std::vector<uint16_t>* hits,
+void CellSet::Take(std::vector<uint32_t>* indices,
+                   std::vector<uint16_t>* hits,
                    std::vector<uint64_t>* outside) {
   const bool with_hits = count_ && hits != nullptr;
   const size_t n = touched_.size();

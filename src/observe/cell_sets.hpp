@@ -26,7 +26,8 @@ namespace vantage::detail {
 class CellOfPoint {
  public:
   explicit CellOfPoint(double cell_size)
-      : cell_(cell_size), inverse_(1.0 / cell_size),
+      : cell_(cell_size),
+        inverse_(1.0 / cell_size),
         divide_(!std::isnormal(cell_size) || !std::isnormal(1.0 / cell_size)) {}
 
   int64_t Axis(double x) const {
@@ -52,8 +53,8 @@ inline uint64_t PackFittingVoxel(const VoxelIndex& index) {
   return (axis(index[0]) << 42) | (axis(index[1]) << 21) | axis(index[2]);
 }
 
-/// R's keys in a flat open-addressing table (linear probing, at most two thirds full): a packed key's
-/// index in Reference::keys, or -1. Built once per Observe call and read by every worker.
+/// R's keys in a flat open-addressing table (linear probing, at most two thirds full): a packed
+/// key's index in Reference::keys, or -1. Built once per Observe call and read by every worker.
 class CellIndex {
  public:
   explicit CellIndex(const std::vector<uint64_t>& keys);
@@ -119,7 +120,8 @@ class CellSet {
   /// kMaxPointCount) to `hits` when counting and `hits` is not null; the keys not in R, ascending
   /// and unique, to `outside` (may be null). Clears the marks for the next candidate. The same
   /// lists as sorting the keys and merging them with R's.
-  void Take(std::vector<uint32_t>* indices, std::vector<uint16_t>* hits,
+  void Take(std::vector<uint32_t>* indices,
+            std::vector<uint16_t>* hits,
             std::vector<uint64_t>* outside);
 
   /// Bytes a worker's set holds for R of `reference_size` cells and an image of `pixels`
