@@ -151,7 +151,8 @@ void CheckObserveMemory(const Scene& scene, size_t reference_size,
 // costs about 20 µs per candidate, so under a limit the candidates are counted in chunks that
 // double in size, and the run is refused as soon as the ones counted already cost more: 10⁶
 // candidates were refused after 20 s of counting, now at once.
-// Candidates the logged estimate counts when no --max-seconds asks for a refusal.
+// Candidates the logged estimate counts when no --max-seconds asks for a refusal, where there are
+// more than four times as many (fewer are all counted: it costs little).
 constexpr size_t kEstimateSample = 64;
 
 void CheckObserveTime(const Reference& reference, std::span<const Candidate> candidates,
@@ -171,14 +172,15 @@ void CheckObserveTime(const Reference& reference, std::span<const Candidate> can
   double seconds = 0;
   // Without a limit the estimate is only logged: counting every candidate cost 8 % of the
   // occlusion world's run, so it is counted on evenly spaced ones and scaled to all of them.
-  if (limit_seconds <= 0 && candidates.size() > kEstimateSample) {
+  const bool sampled = limit_seconds <= 0 && candidates.size() > 4 * kEstimateSample;
+  if (sampled) {
     std::vector<Candidate> sample;
     sample.reserve(kEstimateSample);
     for (size_t i = 0; i < kEstimateSample; ++i)
       sample.push_back(candidates[i * candidates.size() / kEstimateSample]);
-    uint64_t sampled = 0;
-    for (const uint64_t r : CountRaysToTrace(reference, sample, observe)) sampled += r;
-    rays = static_cast<uint64_t>(static_cast<double>(sampled) *
+    uint64_t sample_rays = 0;
+    for (const uint64_t r : CountRaysToTrace(reference, sample, observe)) sample_rays += r;
+    rays = static_cast<uint64_t>(static_cast<double>(sample_rays) *
                                  static_cast<double>(candidates.size()) / kEstimateSample);
     counted = candidates.size();
     seconds = per_state * EstimateObserveSeconds(rays, counted, Threads()) + scene_seconds;
@@ -198,7 +200,6 @@ void CheckObserveTime(const Reference& reference, std::span<const Candidate> can
   const std::string triangles = states > 1
                                     ? fmt::format("{} triangles to build in all", count)
                                     : fmt::format("a scene of {} triangles to build", count);
-  const bool sampled = limit_seconds <= 0 && candidates.size() > kEstimateSample;
   const std::string estimate =
       sampled ? fmt::format("ray casting about {:.3g} M rays of {} candidates{} (counted on {} "
                             "of them; {}) and selecting",
