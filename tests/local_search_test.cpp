@@ -15,12 +15,12 @@
 #include "select/methods.hpp"
 #include "select/scorer.hpp"
 #include "vantage/rng.hpp"
+#include "test_util.hpp"
 #include "vantage/select_states.hpp"
 
 namespace vantage {
 namespace {
 
-__extension__ typedef __int128 Int;
 
 // Candidates seeing contiguous patches (cells merge into elements of many cells: weights with
 // several bits) with a share of ragged cells (elements of one cell); with `hits`, each seen cell
@@ -79,26 +79,14 @@ uint64_t CellsWithPoints(const State& state, const std::vector<uint32_t>& set, i
       std::count_if(points.begin(), points.end(), [&](int x) { return x >= k; }));
 }
 
-// a < b for the aggregate of the fractions cells[s] / |R_s|: plain (one state), the mean, or the
-// minimum then the mean. Exact: every fraction in units of 1 / prod |R_s|.
+// a < b for the aggregate of the fractions cells[s] / |R_s| (test::AggregateLess).
 bool Less(const std::vector<uint64_t>& a,
           const std::vector<uint64_t>& b,
           const std::vector<State>& states,
           bool by_min) {
-  Int denominator = 1;
-  for (const State& s : states) denominator *= static_cast<Int>(s.cells);
-  const auto units = [&](const std::vector<uint64_t>& cells, size_t s) {
-    return static_cast<Int>(cells[s]) * (denominator / static_cast<Int>(states[s].cells));
-  };
-  Int sum_a = 0, sum_b = 0, min_a = denominator, min_b = denominator;
-  for (size_t s = 0; s < states.size(); ++s) {
-    sum_a += units(a, s);
-    sum_b += units(b, s);
-    min_a = std::min(min_a, units(a, s));
-    min_b = std::min(min_b, units(b, s));
-  }
-  if (by_min && min_a != min_b) return min_a < min_b;
-  return sum_a < sum_b;
+  std::vector<size_t> sizes;
+  for (const State& s : states) sizes.push_back(s.cells);
+  return test::AggregateLess(a, b, sizes, by_min);
 }
 
 struct Reference {

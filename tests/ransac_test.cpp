@@ -14,12 +14,12 @@
 #include "select/methods.hpp"
 #include "vantage/rng.hpp"
 #include "vantage/select.hpp"
+#include "test_util.hpp"
 #include "vantage/select_states.hpp"
 
 namespace vantage {
 namespace {
 
-__extension__ typedef __int128 Int;
 
 // Candidates seeing contiguous patches (cells merge into elements of many cells: weights with
 // several bits) with a share of ragged cells (elements of one cell).
@@ -54,26 +54,6 @@ std::vector<uint64_t> CellsSeen(const std::vector<std::vector<Observation>>& sta
   return cells;
 }
 
-// a < b for the aggregate of the fractions cells[s] / sizes[s]: plain (one state), the mean, or
-// the minimum then the mean. Exact: every fraction in units of 1 / prod(sizes).
-bool Less(const std::vector<uint64_t>& a, const std::vector<uint64_t>& b,
-          const std::vector<size_t>& sizes, bool by_min) {
-  Int denominator = 1;
-  for (const size_t r : sizes) denominator *= static_cast<Int>(r);
-  const auto units = [&](const std::vector<uint64_t>& cells, size_t s) {
-    return static_cast<Int>(cells[s]) * (denominator / static_cast<Int>(sizes[s]));
-  };
-  Int sum_a = 0, sum_b = 0, min_a = denominator, min_b = denominator;
-  for (size_t s = 0; s < sizes.size(); ++s) {
-    sum_a += units(a, s);
-    sum_b += units(b, s);
-    min_a = std::min(min_a, units(a, s));
-    min_b = std::min(min_b, units(b, s));
-  }
-  if (by_min && min_a != min_b) return min_a < min_b;
-  return sum_a < sum_b;
-}
-
 std::vector<uint32_t> DefinitionRansac(const std::vector<std::vector<Observation>>& states,
                                        const std::vector<size_t>& sizes, size_t n, int k,
                                        int iterations, double stop, uint64_t seed, bool by_min) {
@@ -84,7 +64,7 @@ std::vector<uint32_t> DefinitionRansac(const std::vector<std::vector<Observation
   for (int i = 0; i < iterations; ++i) {
     detail::RansacDraw(seed, static_cast<uint64_t>(i), n, &order, &drawn);
     const std::vector<uint64_t> cells = CellsSeen(states, sizes, drawn, k);
-    if (best.empty() || Less(best_cells, cells, sizes, by_min)) {
+    if (best.empty() || test::AggregateLess(best_cells, cells, sizes, by_min)) {
       best = drawn;
       best_cells = cells;
     }

@@ -165,4 +165,23 @@ double CoverageLpOptimum(const CoverageLpSpec& spec) {
   return optimum;
 }
 
+bool AggregateLess(const std::vector<uint64_t>& a, const std::vector<uint64_t>& b,
+                   const std::vector<size_t>& sizes, bool by_min) {
+  __extension__ typedef __int128 Int;
+  Int denominator = 1;
+  for (const size_t r : sizes) denominator *= static_cast<Int>(r);
+  const auto units = [&](const std::vector<uint64_t>& cells, size_t s) {
+    return static_cast<Int>(cells[s]) * (denominator / static_cast<Int>(sizes[s]));
+  };
+  Int sum_a = 0, sum_b = 0, min_a = denominator, min_b = denominator;
+  for (size_t s = 0; s < sizes.size(); ++s) {
+    sum_a += units(a, s);
+    sum_b += units(b, s);
+    min_a = std::min(min_a, units(a, s));
+    min_b = std::min(min_b, units(b, s));
+  }
+  if (by_min && min_a != min_b) return min_a < min_b;
+  return sum_a < sum_b;
+}
+
 }  // namespace vantage::test

@@ -71,4 +71,9 @@ struct CoverageLpSpec {
 /// The LP optimum of `spec`, solved by CLP (coin-or-clp) on the explicit model.
 double CoverageLpOptimum(const CoverageLpSpec& spec);
 
+/// a < b for the aggregate of the fractions cells[s] / sizes[s]: plain (one state), the mean, or
+/// the minimum then the mean. Exact: every fraction in units of 1 / prod(sizes).
+bool AggregateLess(const std::vector<uint64_t>& a, const std::vector<uint64_t>& b,
+                   const std::vector<size_t>& sizes, bool by_min);
+
 }  // namespace vantage::test

@@ -316,6 +316,19 @@ TwoSwap BestTwoSwap(const CoverageMatrix& matrix,
   return best;
 }
 
+// Marks the chosen candidates (each once) and counts, per element, the chosen that see it.
+std::vector<uint32_t> CoverCounts(const CoverageMatrix& matrix, std::span<const uint32_t> chosen,
+                                  std::vector<bool>* is_chosen) {
+  is_chosen->assign(matrix.candidate_count(), false);
+  std::vector<uint32_t> cover_count(matrix.element_count(), 0);
+  for (const uint32_t c : chosen) {
+    VANTAGE_CHECK(c < matrix.candidate_count() && !(*is_chosen)[c]);
+    (*is_chosen)[c] = true;
+    for (const uint32_t e : matrix.Row(c)) ++cover_count[e];
+  }
+  return cover_count;
+}
+
 }  // namespace
 
 template <MethodScorer Scorer>
@@ -331,14 +344,9 @@ std::vector<uint32_t> LocalSearch(const Scorer& scorer,
   VANTAGE_CHECK(scorer.k() >= 1 && (!has_budget || options.costs.size() == m));
   if (n == 0 || n >= m) return chosen;
   const auto k = static_cast<uint32_t>(scorer.k());
-  std::vector<bool> is_chosen(m, false);
+  std::vector<bool> is_chosen;
   // How many chosen candidates see each element: removing one lowers the counts of its row.
-  std::vector<uint32_t> cover_count(matrix.element_count(), 0);
-  for (const uint32_t c : chosen) {
-    VANTAGE_CHECK(c < m && !is_chosen[c]);
-    is_chosen[c] = true;
-    for (const uint32_t e : matrix.Row(c)) ++cover_count[e];
-  }
+  std::vector<uint32_t> cover_count = CoverCounts(matrix, chosen, &is_chosen);
   // The tally of the elements that at least k chosen see.
   const auto tally_of_chosen = [&] {
     Tally tally = scorer.Zero();
@@ -551,13 +559,8 @@ std::vector<typename Scorer::Tally> OneSwapTallies(const Scorer& scorer,
   const CoverageMatrix& matrix = scorer.matrix();
   const size_t m = matrix.candidate_count();
   const auto k = static_cast<uint32_t>(scorer.k());
-  std::vector<bool> is_chosen(m, false);
-  std::vector<uint32_t> cover_count(matrix.element_count(), 0);
-  for (const uint32_t c : chosen) {
-    VANTAGE_CHECK(c < m && !is_chosen[c]);
-    is_chosen[c] = true;
-    for (const uint32_t e : matrix.Row(c)) ++cover_count[e];
-  }
+  std::vector<bool> is_chosen;
+  const std::vector<uint32_t> cover_count = CoverCounts(matrix, chosen, &is_chosen);
   typename Scorer::Tally current = scorer.Zero();
   for (uint32_t e = 0; e < matrix.element_count(); ++e) {
     if (cover_count[e] >= k) scorer.AddElement(e, &current);
