@@ -22,29 +22,6 @@ namespace vantage {
 namespace {
 
 
-// Candidates seeing contiguous patches (cells merge into elements of many cells: weights with
-// several bits) with a share of ragged cells (elements of one cell); with `hits`, each seen cell
-// gets 1 to 5 points.
-std::vector<Observation> PatchInstance(uint64_t seed,
-                                       size_t candidates,
-                                       size_t cells,
-                                       bool hits = false) {
-  std::vector<Observation> obs(candidates);
-  for (size_t i = 0; i < candidates; ++i) {
-    Rng rng(seed, Stream::kTest, i);
-    const auto length = static_cast<size_t>(rng.Uniform(0.05, 0.4) * static_cast<double>(cells));
-    const size_t first = rng.Below(cells - length);
-    for (size_t c = 0; c < cells; ++c) {
-      const bool in_patch = c >= first && c < first + length;
-      if ((in_patch && rng.Uniform01() > 0.05) || rng.Uniform01() < 0.02) {
-        obs[i].reference_indices.push_back(static_cast<uint32_t>(c));
-        if (hits) obs[i].reference_hits.push_back(static_cast<uint16_t>(1 + rng.Below(5)));
-      }
-    }
-  }
-  return obs;
-}
-
 // One state's cells and its observations.
 struct State {
   std::vector<Observation> obs;
@@ -238,7 +215,7 @@ TEST(LocalSearchKernels, WeightedCountsMatchSumsOverTheRows) {
   // Elements of 1 to ~100 cells (weights of up to 7 bit planes) over several words; sets dense,
   // sparse, and empty outside a few words.
   for (const uint64_t seed : {1, 2, 3}) {
-    const std::vector<Observation> obs = PatchInstance(seed, 30, 700);
+    const std::vector<Observation> obs = test::PatchInstance(seed, 30, 700);
     const detail::CoverageMatrix matrix(obs, 700);
     ASSERT_TRUE(matrix.is_dense());
     ASSERT_GT(matrix.word_count(), 2U);
@@ -281,7 +258,7 @@ TEST(LocalSearch, OneSwapTalliesAreTheCoverageRecounted) {
     std::vector<State> states;
     std::vector<detail::StateBlock> blocks;
     for (size_t s = 0; s < sizes.size(); ++s)
-      states.push_back({PatchInstance(seed * 5 + s, 20, sizes[s]), sizes[s]});
+      states.push_back({test::PatchInstance(seed * 5 + s, 20, sizes[s]), sizes[s]});
     for (const State& s : states) blocks.push_back({s.obs, s.cells});
     const detail::CoverageMatrix stacked(blocks);
     const std::vector<State> first{states[0]};
@@ -329,7 +306,7 @@ TEST(LocalSearch, SwapsAsTheirDefinitionOnPlainCells) {
   for (const uint64_t seed : {1, 2, 3, 4, 5, 6}) {
     const size_t m = 14 + seed;
     Reference ref;
-    ref.states.push_back({PatchInstance(seed, m, 150), 150});
+    ref.states.push_back({test::PatchInstance(seed, m, 150), 150});
     const detail::CoverageMatrix matrix(ref.states[0].obs, 150);
     for (const int k : {1, 2, 3}) {
       ref.k = k;
@@ -358,7 +335,7 @@ TEST(LocalSearch, TwoSwapsAsTheirDefinition) {
   for (const uint64_t seed : {11, 12, 13, 14, 15, 16, 17, 18}) {
     const size_t m = 16;
     Reference ref;
-    ref.states.push_back({PatchInstance(seed, m, 200), 200});
+    ref.states.push_back({test::PatchInstance(seed, m, 200), 200});
     const detail::CoverageMatrix matrix(ref.states[0].obs, 200);
     const detail::CellScorer scorer(matrix);
     for (const size_t n : {2, 4, 6}) {
@@ -375,7 +352,7 @@ TEST(LocalSearch, SwapsAndAdditionsUnderABudgetAsTheirDefinition) {
   for (const uint64_t seed : {21, 22, 23, 24}) {
     const size_t m = 15;
     Reference ref;
-    ref.states.push_back({PatchInstance(seed, m, 160), 160});
+    ref.states.push_back({test::PatchInstance(seed, m, 160), 160});
     const detail::CoverageMatrix matrix(ref.states[0].obs, 160);
     Rng rng(seed, Stream::kTest, 5);
     ref.costs.resize(m);
@@ -411,7 +388,7 @@ TEST(LocalSearch, OverStatesAsTheirDefinition) {
     Reference ref;
     std::vector<detail::StateBlock> blocks;
     for (size_t s = 0; s < sizes.size(); ++s)
-      ref.states.push_back({PatchInstance(seed * 7 + s, 18, sizes[s]), sizes[s]});
+      ref.states.push_back({test::PatchInstance(seed * 7 + s, 18, sizes[s]), sizes[s]});
     for (const State& s : ref.states) blocks.push_back({s.obs, s.cells});
     const detail::CoverageMatrix matrix(blocks);
     for (const OverStates over : {OverStates::kMean, OverStates::kMin}) {
@@ -435,7 +412,7 @@ TEST(LocalSearch, PointThresholdsAsTheirDefinition) {
   int moved = 0;
   for (const uint64_t seed : {41, 42, 43, 44, 45, 46}) {
     const size_t m = 16;
-    const State state{PatchInstance(seed, m, 180, true), 180};
+    const State state{test::PatchInstance(seed, m, 180, true), 180};
     for (const int k : {2, 3, 4, 7}) {
       const detail::CoverageMatrix matrix(state.obs, 180, static_cast<uint32_t>(k));
       for (const size_t n : {2, 3, 5, 8}) {

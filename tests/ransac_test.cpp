@@ -20,24 +20,6 @@
 namespace vantage {
 namespace {
 
-
-// Candidates seeing contiguous patches (cells merge into elements of many cells: weights with
-// several bits) with a share of ragged cells (elements of one cell).
-std::vector<Observation> PatchInstance(uint64_t seed, size_t candidates, size_t cells) {
-  std::vector<Observation> obs(candidates);
-  for (size_t i = 0; i < candidates; ++i) {
-    Rng rng(seed, Stream::kTest, i);
-    const auto length = static_cast<size_t>(rng.Uniform(0.05, 0.4) * static_cast<double>(cells));
-    const size_t first = rng.Below(cells - length);
-    for (size_t c = 0; c < cells; ++c) {
-      const bool in_patch = c >= first && c < first + length;
-      if ((in_patch && rng.Uniform01() > 0.05) || rng.Uniform01() < 0.02)
-        obs[i].reference_indices.push_back(static_cast<uint32_t>(c));
-    }
-  }
-  return obs;
-}
-
 // Per state, the cells at least k of `drawn` see.
 std::vector<uint64_t> CellsSeen(const std::vector<std::vector<Observation>>& states,
                                 const std::vector<size_t>& sizes,
@@ -81,7 +63,7 @@ std::vector<uint32_t> DefinitionRansac(const std::vector<std::vector<Observation
 TEST(Ransac, KeepsTheFirstStrictlyBestDrawOfItsDefinition) {
   // 300 cells over 40 candidates: elements of 1 to ~100 cells, across several 64-bit words.
   for (const uint64_t seed : {1, 2, 3}) {
-    const std::vector<Observation> obs = PatchInstance(seed, 40, 300);
+    const std::vector<Observation> obs = test::PatchInstance(seed, 40, 300);
     const detail::CoverageMatrix matrix(obs, 300);
     ASSERT_LT(matrix.element_count(), 300U);  // merged: weighted elements
     for (const int k : {1, 2, 3}) {
@@ -105,7 +87,8 @@ TEST(Ransac, OverStatesKeepsTheFirstStrictlyBestDrawOfItsDefinition) {
   const std::vector<size_t> sizes{130, 70, 257};
   std::vector<std::vector<Observation>> states;
   std::vector<detail::StateBlock> blocks;
-  for (size_t s = 0; s < sizes.size(); ++s) states.push_back(PatchInstance(20 + s, 30, sizes[s]));
+  for (size_t s = 0; s < sizes.size(); ++s)
+    states.push_back(test::PatchInstance(20 + s, 30, sizes[s]));
   for (size_t s = 0; s < sizes.size(); ++s) blocks.push_back({states[s], sizes[s]});
   const detail::CoverageMatrix matrix(blocks);
   for (const OverStates over : {OverStates::kMean, OverStates::kMin}) {

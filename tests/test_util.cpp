@@ -15,6 +15,8 @@
 #include <stdexcept>
 #include <unistd.h>
 
+#include "vantage/rng.hpp"
+
 namespace vantage::test {
 namespace fs = std::filesystem;
 
@@ -182,6 +184,24 @@ bool AggregateLess(const std::vector<uint64_t>& a, const std::vector<uint64_t>& 
   }
   if (by_min && min_a != min_b) return min_a < min_b;
   return sum_a < sum_b;
+}
+
+std::vector<Observation> PatchInstance(uint64_t seed, size_t candidates, size_t cells,
+                                       bool hits) {
+  std::vector<Observation> obs(candidates);
+  for (size_t i = 0; i < candidates; ++i) {
+    Rng rng(seed, Stream::kTest, i);
+    const auto length = static_cast<size_t>(rng.Uniform(0.05, 0.4) * static_cast<double>(cells));
+    const size_t first = rng.Below(cells - length);
+    for (size_t c = 0; c < cells; ++c) {
+      const bool in_patch = c >= first && c < first + length;
+      if ((in_patch && rng.Uniform01() > 0.05) || rng.Uniform01() < 0.02) {
+        obs[i].reference_indices.push_back(static_cast<uint32_t>(c));
+        if (hits) obs[i].reference_hits.push_back(static_cast<uint16_t>(1 + rng.Below(5)));
+      }
+    }
+  }
+  return obs;
 }
 
 }  // namespace vantage::test

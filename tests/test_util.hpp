@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "vantage/scene.hpp"
+#include "vantage/visibility.hpp"
 
 namespace vantage::test {
 
@@ -70,6 +71,12 @@ struct CoverageLpSpec {
 
 /// The LP optimum of `spec`, solved by CLP (coin-or-clp) on the explicit model.
 double CoverageLpOptimum(const CoverageLpSpec& spec);
+
+/// Candidates seeing contiguous patches (cells merge into elements of many cells: weights with
+/// several bits) with a share of ragged cells (elements of one cell); with `hits`, each seen cell
+/// gets 1 to 5 points. Deterministic for a seed.
+std::vector<Observation> PatchInstance(uint64_t seed, size_t candidates, size_t cells,
+                                       bool hits = false);
 
 /// a < b for the aggregate of the fractions cells[s] / sizes[s]: plain (one state), the mean, or
 /// the minimum then the mean. Exact: every fraction in units of 1 / prod(sizes).
