@@ -3,6 +3,7 @@
 // frustum depth the two pictures share.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -49,7 +50,7 @@ class SurfaceProbe {
     for (size_t o = 0; o < scene.objects.size(); ++o) {
       const TriangleMesh& mesh = scene.objects[o].mesh;
       if (mesh.IsEmpty()) continue;
-      objects_.push_back({&mesh, mesh.Bounds()});
+      objects_.push_back({&mesh, mesh.Bounds(), Chunks(mesh)});
       triangle_count += mesh.triangles.size();
       if (scene.objects[o].is_target()) total_area += mesh.Area();
     }
@@ -93,10 +94,33 @@ class SurfaceProbe {
   static constexpr uint64_t kMaxSamples = 256, kMinSamples = 32;
   static constexpr uint64_t kWorkPerView = uint64_t{2} << 20;
 
+  // Consecutive triangles (a mesh file's order is spatially coherent) under one box, widened a
+  // little so that rounding in the box test never skips a triangle the segment meets.
+  struct Chunk {
+    Aabb bounds;
+    uint32_t begin, end;
+  };
   struct Object {
     const TriangleMesh* mesh;
     Aabb bounds;
+    std::vector<Chunk> chunks;
   };
+  static constexpr uint32_t kChunkTriangles = 32;
+
+  static std::vector<Chunk> Chunks(const TriangleMesh& mesh) {
+    std::vector<Chunk> chunks;
+    const auto count = static_cast<uint32_t>(mesh.triangles.size());
+    for (uint32_t begin = 0; begin < count; begin += kChunkTriangles) {
+      Chunk chunk{Aabb{}, begin, std::min(count, begin + kChunkTriangles)};
+      for (uint32_t t = chunk.begin; t < chunk.end; ++t)
+        for (const uint32_t v : mesh.triangles[t]) chunk.bounds.Extend(mesh.vertices[v]);
+      const Vec3 slack = Vec3::Constant(1e-9 * (chunk.bounds.max - chunk.bounds.min).norm() + 1e-12);
+      chunk.bounds.min -= slack;
+      chunk.bounds.max += slack;
+      chunks.push_back(chunk);
+    }
+    return chunks;
+  }
 
   // Whether a triangle lies on the open segment from `p` to `eye` (leaving p's own surface).
   bool Blocked(const Vec3& p, const Vec3& eye) const {
@@ -107,21 +131,25 @@ class SurfaceProbe {
     for (const Object& object : objects_) {
       if (!SegmentMeetsBox(p, d, object.bounds)) continue;
       const TriangleMesh& mesh = *object.mesh;
-      for (const auto& tri : mesh.triangles) {
-        const Vec3& a = mesh.vertices[tri[0]];
-        const Vec3 e1 = mesh.vertices[tri[1]] - a, e2 = mesh.vertices[tri[2]] - a;
-        // Möller–Trumbore.
-        const Vec3 q = d.cross(e2);
-        const double det = e1.dot(q);
-        if (std::abs(det) < 1e-18) continue;
-        const Vec3 s = p - a;
-        const double u = s.dot(q) / det;
-        if (u < 0 || u > 1) continue;
-        const Vec3 r = s.cross(e1);
-        const double v = d.dot(r) / det;
-        if (v < 0 || u + v > 1) continue;
-        const double t = e2.dot(r) / det;
-        if (t > t_min && t < 1) return true;
+      for (const Chunk& chunk : object.chunks) {
+        if (!SegmentMeetsBox(p, d, chunk.bounds)) continue;
+        for (uint32_t index = chunk.begin; index < chunk.end; ++index) {
+          const auto& tri = mesh.triangles[index];
+          const Vec3& a = mesh.vertices[tri[0]];
+          const Vec3 e1 = mesh.vertices[tri[1]] - a, e2 = mesh.vertices[tri[2]] - a;
+          // Möller–Trumbore.
+          const Vec3 q = d.cross(e2);
+          const double det = e1.dot(q);
+          if (std::abs(det) < 1e-18) continue;
+          const Vec3 s = p - a;
+          const double u = s.dot(q) / det;
+          if (u < 0 || u > 1) continue;
+          const Vec3 r = s.cross(e1);
+          const double v = d.dot(r) / det;
+          if (v < 0 || u + v > 1) continue;
+          const double t = e2.dot(r) / det;
+          if (t > t_min && t < 1) return true;
+        }
       }
     }
     return false;
