@@ -434,8 +434,8 @@ class ExposureGrid {
   bool IsExposed(const Vec3& p, const Vec3& n, uint32_t object) const {
     for (const double side : {1.0, -1.0}) {
       const Vec3 q = p + side * kContactDistance * n;
-      if (IsSolid(q) || IsBlocked(p, q, object)) continue;
-      if (ReachesOutside(q)) return true;
+      // The three tests are independent: the cheapest (27 grid cells) first.
+      if (ReachesOutside(q) && !IsSolid(q) && !IsBlocked(p, q, object)) return true;
     }
     return false;
   }
