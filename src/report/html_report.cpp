@@ -10,6 +10,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <sstream>
 #include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -100,10 +101,12 @@ std::string Base64(const std::vector<T>& values) {
 // string and regular-expression literals, where such text can appear.
 std::string ScriptSafe(std::string_view text) {
   std::string out;
-  out.reserve(text.size());
-  for (size_t i = 0; i < text.size(); ++i) {
-    out += text[i];
-    if (text[i] != '<') continue;
+  out.reserve(text.size() + 16);
+  // Copied in runs up to each '<' (three.js alone is 850 kB: a character at a time was slow).
+  size_t from = 0;
+  for (size_t i = text.find('<'); i != std::string_view::npos; i = text.find('<', i + 1)) {
+    out.append(text.substr(from, i + 1 - from));
+    from = i + 1;
     const std::string_view rest = text.substr(i + 1);
     const bool is_close =
         rest.size() >= 7 && rest[0] == '/' &&
@@ -111,6 +114,7 @@ std::string ScriptSafe(std::string_view text) {
                    [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
     if (is_close || rest.substr(0, 3) == "!--") out += '\\';
   }
+  out.append(text.substr(from));
   return out;
 }
 
@@ -119,21 +123,23 @@ std::string ScriptSafe(std::string_view text) {
 std::string JsonScriptSafe(const std::string& json) {
   std::string out;
   out.reserve(json.size());
-  for (const char ch : json) {
-    if (ch == '<') {
-      out += "\\u003c";
-    } else {
-      out += ch;
-    }
+  size_t from = 0;
+  for (size_t i = json.find('<'); i != std::string::npos; i = json.find('<', i + 1)) {
+    out.append(json, from, i - from);
+    out += "\\u003c";
+    from = i + 1;
   }
+  out.append(json, from);
   return out;
 }
 
 bool ReadFile(const std::string& path, std::string* text) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return false;
-  text->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  return in.good() || in.eof();
+  std::ostringstream bytes;
+  bytes << in.rdbuf();  // in blocks, not a character at a time
+  *text = std::move(bytes).str();
+  return !in.bad();
 }
 
 // Vertex clustering: vertices in one cell of size `cell` merge into their mean; triangles that
