@@ -9,8 +9,6 @@
 #include <array>
 #include <cctype>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -131,15 +129,6 @@ std::string JsonScriptSafe(const std::string& json) {
   }
   out.append(json, from);
   return out;
-}
-
-bool ReadFile(const std::string& path, std::string* text) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::ostringstream bytes;
-  bytes << in.rdbuf();  // in blocks, not a character at a time
-  *text = std::move(bytes).str();
-  return !in.bad();
 }
 
 // Vertex clustering: vertices in one cell of size `cell` merge into their mean; triangles that
@@ -603,7 +592,8 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   const std::string three_path = options.three_js_dir + "/three.min.js";
   const std::string orbit_path = options.three_js_dir + "/examples/js/controls/OrbitControls.js";
   const bool has_three =
-      ReadFile(three_path, &three) && ReadFile(orbit_path, &orbit) && !three.empty();
+      detail::ReadWholeFile(three_path, &three) && detail::ReadWholeFile(orbit_path, &orbit) &&
+      !three.empty();
   std::string three_note;
   if (!has_three)
     three_note = fmt::format(

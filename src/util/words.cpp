@@ -192,6 +192,22 @@ void CheckUtf8File(std::string_view text, const std::string& path) {
   }
 }
 
+bool ReadWholeFile(const std::string& path, std::string* bytes) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in.is_open()) return false;
+  // In one piece at the size the file has (an ostringstream grew and copied a 137 MB .vis four
+  // times; a character at a time was slower still).
+  std::error_code ec;
+  bytes->assign(static_cast<size_t>(std::filesystem::file_size(path, ec)), '\0');
+  if (ec) bytes->clear();
+  in.read(bytes->data(), static_cast<std::streamsize>(bytes->size()));
+  bytes->resize(static_cast<size_t>(in.gcount()));
+  char more[1 << 16];
+  while (in.read(more, sizeof more) || in.gcount() > 0)
+    bytes->append(more, static_cast<size_t>(in.gcount()));
+  return !in.bad();
+}
+
 std::string ReadInputFile(const std::string& path, std::string_view kind) {
   NoteInputFile(path, kind);
   std::error_code ec;
@@ -205,19 +221,8 @@ std::string ReadInputFile(const std::string& path, std::string_view kind) {
                             kind)
               : fmt::format("cannot open the {} — check the path", kind)));
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in.is_open())
-    throw InputError(AtPlace(path, 0, fmt::format("cannot read the {} — check permissions", kind)));
-  // In one piece at the size the file has (an ostringstream grew and copied a 137 MB .vis four
-  // times); a file that grows meanwhile is still read to its end.
-  std::string bytes(static_cast<size_t>(std::filesystem::file_size(path, ec)), '\0');
-  if (ec) bytes.clear();
-  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  bytes.resize(static_cast<size_t>(in.gcount()));
-  char more[1 << 16];
-  while (in.read(more, sizeof more) || in.gcount() > 0)
-    bytes.append(more, static_cast<size_t>(in.gcount()));
-  if (in.bad())
+  std::string bytes;
+  if (!ReadWholeFile(path, &bytes))
     throw InputError(AtPlace(path, 0, fmt::format("cannot read the {} — check permissions", kind)));
   return bytes;
 }

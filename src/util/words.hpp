@@ -47,6 +47,11 @@ std::string NameProblem(std::string_view name);
 /// Every scene reader (YAML, SDF, URDF) checks its files with it before parsing.
 void CheckUtf8File(std::string_view text, const std::string& path);
 
+/// The whole contents of the file at `path` into `bytes`, read in one piece at the file's size (a
+/// file that grows meanwhile is still read to its end); false when it cannot be opened or a read
+/// fails.
+bool ReadWholeFile(const std::string& path, std::string* bytes);
+
 /// The whole contents of an input file; InputError "PATH: cannot open the KIND — check the path"
 /// (not a regular file) or "PATH: cannot read the KIND — check permissions". `kind` names it:
 /// "scene file", "URDF file".

@@ -9,10 +9,9 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "util/run_files.hpp"
+#include "util/words.hpp"
 
 namespace vantage::detail {
 namespace {
@@ -250,11 +249,9 @@ bool MaterialLibrary::LoadFile(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return false;
   detail::NoteInputFile(path, "material script");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  ParseScript(buffer.str(), path);
+  std::string text;
+  if (!ReadWholeFile(path, &text)) return false;
+  ParseScript(text, path);
   return true;
 }
 
