@@ -105,7 +105,8 @@ bool InsideCell(const Vec3 (&tri)[3], const Cell& k) {
 
 // Calls sink(cell, polygon) for each cell of [lo, hi] that the triangle touches (half-open
 // cells) and `wanted` accepts, with the part of the triangle inside the closed cell; a cell not
-// wanted is not clipped.
+// wanted is not clipped. sink(c, ...) always follows wanted(c) for the same c, with no other call
+// between them.
 template <typename Wanted, typename Sink>
 void VisitWantedBlock(const Vec3 (&tri)[3], const Cell& lo, const Cell& hi,
                       std::vector<Vec3>* poly, const Wanted& wanted, const Sink& sink) {
@@ -678,16 +679,17 @@ std::vector<uint8_t> ComputeExposure(const Scene& scene, const Reference& refere
         hi[a] = FloorToInt(std::max({tri[0][a], tri[1][a], tri[2][a]}));
       }
       // A cell another triangle found exposed already is not clipped again (most cells of a
-      // fine mesh are shared by several triangles).
+      // fine mesh are shared by several triangles). The sink is only ever called for the cell
+      // just wanted, so it takes that cell's index from there instead of searching R again.
+      int64_t index = -1;
       const auto not_yet_exposed = [&](const Cell& c) {
-        const int64_t index = reference.IndexOf(PackVoxel(c));
+        index = reference.IndexOf(PackVoxel(c));
         // Negative: left out already (never: R holds every touched cell).
         return index >= 0 && !std::atomic_ref<uint8_t>(exposed[static_cast<size_t>(index)])
                                   .load(std::memory_order_relaxed);
       };
-      VisitWantedBlock(tri, lo, hi, &poly, not_yet_exposed, [&](const Cell& c,
+      VisitWantedBlock(tri, lo, hi, &poly, not_yet_exposed, [&](const Cell&,
                                                                 const std::vector<Vec3>& part) {
-        const int64_t index = reference.IndexOf(PackVoxel(c));
         std::atomic_ref<uint8_t> flag(exposed[static_cast<size_t>(index)]);
         Vec3 centroid = Vec3::Zero();
         for (const Vec3& v : part) centroid += v;

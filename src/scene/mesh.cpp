@@ -21,11 +21,11 @@
 #include <vector>
 
 #include "scene/ply_body.hpp"
+#include "scene/scaled_mesh_cache.hpp"
 #include "scene/step_reader.hpp"
 #include "util/isolated.hpp"
 #include "util/run_files.hpp"
 #include "vantage/error.hpp"
-#include "scene/scaled_mesh_cache.hpp"
 #include "vantage/scene.hpp"
 
 namespace vantage {
