@@ -890,6 +890,45 @@ TEST(HtmlReport, SimplifiedMeshesAreVertexClusteringAtTheSmallestCellThatFits) {
   }
 }
 
+// The page's bulk arrays are written into its JSON after the rest is serialised (issue 47), each
+// where a token stands: names that look like those tokens stay names, and every array is the
+// scene's own (positions as floats, triangles as indices), whatever the names hold.
+TEST(HtmlReport, BulkArraysAreTheSceneWhateverTheNamesHold) {
+  const std::vector<std::string> names = {
+      std::string("\x01vantage-blob-0\x02"), std::string("\x01vantage-blob-99999\x02"),
+      std::string("a\x01vantage-blob-1\x02<b"), "plain"};
+  for (const std::string& name : names) {
+    SCOPED_TRACE(name);
+    auto run = MakeRun(SphereScene(kRadius), {Camera(name, Vec3(1, 0, 0), Vec3::Zero(), 64, 0.5)},
+                       1);
+    const std::string html = HtmlReport(run->report, run->scene);
+    const nlohmann::json page = nlohmann::json::parse(DataJsonOf(html));
+    EXPECT_EQ(page["candidates"][0]["name"], name);
+    ASSERT_EQ(page["meshes"].size(), run->scene.objects.size());
+    for (size_t m = 0; m < run->scene.objects.size(); ++m) {
+      const TriangleMesh& mesh = run->scene.objects[m].mesh;
+      const auto positions = Base64Values<float>(page["meshes"][m]["positions"]);
+      const auto indices = Base64Values<uint32_t>(page["meshes"][m]["indices"]);
+      ASSERT_EQ(positions.size(), 3 * mesh.vertices.size());
+      ASSERT_EQ(indices.size(), 3 * mesh.triangles.size());
+      for (size_t i = 0; i < mesh.vertices.size(); ++i)
+        for (int a = 0; a < 3; ++a)
+          ASSERT_EQ(positions[3 * i + a], static_cast<float>(mesh.vertices[i][a]));
+      for (size_t t = 0; t < mesh.triangles.size(); ++t)
+        for (int a = 0; a < 3; ++a) ASSERT_EQ(indices[3 * t + a], mesh.triangles[t][a]);
+    }
+    // Each reference cell once in the voxel index, each seen by the one chosen camera or not.
+    const auto seen = Base64Decoded(page["voxels"]["seen"]);
+    ASSERT_EQ(seen.size(), run->data.reference.size());
+    std::vector<uint8_t> expected(run->data.reference.size(), 0);
+    for (const uint32_t r : run->data.observations[0].reference_indices) expected[r] = 1;
+    EXPECT_EQ(seen, expected);
+    EXPECT_EQ(Base64Values<uint16_t>(page["voxels"]["index"]).size(),
+              3 * run->data.reference.size());
+    EXPECT_EQ(CountOf(html, "<script"), CountOf(html, "</script>"));
+  }
+}
+
 // The page is src/report/assets/report.html with its @NAME@ placeholders filled in, and holds
 // report.css and report.js byte for byte: what the build embeds is the files in the repository.
 TEST(HtmlReport, PageIsTheAssetFilesFilledIn) {

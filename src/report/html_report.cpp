@@ -9,9 +9,11 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <functional>
 #include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string_view>
 
 #include "embedded/report_assets.hpp"
@@ -31,14 +33,17 @@ using nlohmann::ordered_json;
 // ---------------------------------------------------------------------------------------------
 // The page: src/report/assets/report.html, with report.css and report.js, embedded at build time.
 
-// Replaces each @NAME@ of the template by its value in one pass (values are not searched again,
-// so inlined scripts may hold any text). Every placeholder must have a value.
-std::string FillTemplate(std::string_view page,
-                         const std::vector<std::pair<std::string_view, std::string_view>>& values) {
-  size_t size = page.size();
-  for (const auto& value : values) size += value.second.size();
-  std::string out;
-  out.reserve(size);
+// One placeholder's value: appended to the page where @NAME@ stands.
+struct TemplateValue {
+  std::string_view name;
+  std::function<void(std::string*)> append;
+};
+
+// Appends the page with each @NAME@ of the template replaced by its value in one pass (values
+// are not searched again, so inlined scripts may hold any text). Every placeholder must have a
+// value.
+void FillTemplate(std::string_view page, const std::vector<TemplateValue>& values,
+                  std::string* out) {
   size_t at = 0;
   while (true) {
     const size_t open = page.find('@', at);
@@ -47,14 +52,13 @@ std::string FillTemplate(std::string_view page,
     VANTAGE_CHECK(close != std::string_view::npos);
     const std::string_view name = page.substr(open + 1, close - open - 1);
     const auto it = std::find_if(values.begin(), values.end(),
-                                 [&](const auto& value) { return value.first == name; });
+                                 [&](const TemplateValue& value) { return value.name == name; });
     VANTAGE_CHECK(it != values.end());
-    out.append(page.substr(at, open - at));
-    out.append(it->second);
+    out->append(page.substr(at, open - at));
+    it->append(out);
     at = close + 1;
   }
-  out.append(page.substr(at));
-  return out;
+  out->append(page.substr(at));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -63,27 +67,27 @@ std::string Base64(const void* bytes, size_t size) {
   static constexpr std::string_view kAlphabet =
       "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   const auto* in = static_cast<const uint8_t*>(bytes);
-  std::string out;
-  out.reserve((size + 2) / 3 * 4);
+  // Written into the string's own buffer (appending a character at a time was a tenth of the
+  // page's time on the occlusion world).
+  std::string out((size + 2) / 3 * 4, '=');
+  char* o = out.data();
   size_t i = 0;
-  for (; i + 2 < size; i += 3) {
+  for (; i + 2 < size; i += 3, o += 4) {
     const uint32_t v = (uint32_t{in[i]} << 16) | (uint32_t{in[i + 1]} << 8) | in[i + 2];
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += kAlphabet[(v >> 6) & 63];
-    out += kAlphabet[v & 63];
+    o[0] = kAlphabet[(v >> 18) & 63];
+    o[1] = kAlphabet[(v >> 12) & 63];
+    o[2] = kAlphabet[(v >> 6) & 63];
+    o[3] = kAlphabet[v & 63];
   }
-  if (i + 1 == size) {
+  if (i + 1 == size) {  // "xx=="
     const uint32_t v = uint32_t{in[i]} << 16;
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += "==";
-  } else if (i + 2 == size) {
+    o[0] = kAlphabet[(v >> 18) & 63];
+    o[1] = kAlphabet[(v >> 12) & 63];
+  } else if (i + 2 == size) {  // "xxx="
     const uint32_t v = (uint32_t{in[i]} << 16) | (uint32_t{in[i + 1]} << 8);
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += kAlphabet[(v >> 6) & 63];
-    out += '=';
+    o[0] = kAlphabet[(v >> 18) & 63];
+    o[1] = kAlphabet[(v >> 12) & 63];
+    o[2] = kAlphabet[(v >> 6) & 63];
   }
   return out;
 }
@@ -97,39 +101,100 @@ std::string Base64(const std::vector<T>& values) {
 // Inlined script text must neither close its <script> element early nor open an HTML comment
 // (HTML, script data state): "</script" and "<!--" get a backslash that JavaScript ignores inside
 // string and regular-expression literals, where such text can appear.
-std::string ScriptSafe(std::string_view text) {
-  std::string out;
-  out.reserve(text.size() + 16);
+void AppendScriptSafe(std::string_view text, std::string* out) {
   // Copied in runs up to each '<' (three.js alone is 850 kB: a character at a time was slow).
   size_t from = 0;
   for (size_t i = text.find('<'); i != std::string_view::npos; i = text.find('<', i + 1)) {
-    out.append(text.substr(from, i + 1 - from));
+    out->append(text.substr(from, i + 1 - from));
     from = i + 1;
     const std::string_view rest = text.substr(i + 1);
     const bool is_close =
         rest.size() >= 7 && rest[0] == '/' &&
         std::equal(rest.begin() + 1, rest.begin() + 7, "script",
                    [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
-    if (is_close || rest.substr(0, 3) == "!--") out += '\\';
+    if (is_close || rest.substr(0, 3) == "!--") *out += '\\';
   }
-  out.append(text.substr(from));
-  return out;
+  out->append(text.substr(from));
 }
 
 // JSON for a <script type="application/json"> element: '<' only occurs inside strings, where
 // \u003c means the same and can never start a tag.
-std::string JsonScriptSafe(const std::string& json) {
-  std::string out;
-  out.reserve(json.size());
+void AppendJsonScriptSafe(std::string_view json, std::string* out) {
   size_t from = 0;
-  for (size_t i = json.find('<'); i != std::string::npos; i = json.find('<', i + 1)) {
-    out.append(json, from, i - from);
-    out += "\\u003c";
+  for (size_t i = json.find('<'); i != std::string_view::npos; i = json.find('<', i + 1)) {
+    out->append(json.substr(from, i - from));
+    *out += "\\u003c";
     from = i + 1;
   }
-  out.append(json, from);
-  return out;
+  out->append(json.substr(from));
 }
+
+// The page's bulk arrays (base64: meshes, voxels, what-if sets) are kept out of the JSON tree
+// while it is built: each stands there as a token naming it, and the serialised text gets the
+// blob where its token is (nlohmann's dump escapes a string a character at a time: 1.3 MB of
+// meshes on the occlusion world). A token is a JSON string that dump writes as
+// "\u0001vantage-blob-N\u0002"; where the text holds any other such token (a name with those
+// control characters), the page is built again with the blobs inline.
+class Blobs {
+ public:
+  explicit Blobs(bool inline_blobs) : inline_(inline_blobs) {}
+
+  ordered_json Add(std::string base64) {
+    if (inline_) return base64;
+    blobs_.push_back(std::move(base64));
+    return fmt::format("\x01vantage-blob-{}\x02", blobs_.size() - 1);
+  }
+
+  size_t bytes() const {
+    size_t size = 0;
+    for (const std::string& blob : blobs_) size += blob.size();
+    return size;
+  }
+
+  // Appends `json` (dumped) made script-safe with each token replaced by its blob; false,
+  // appending nothing, when the tokens found are not each blob exactly once.
+  bool AppendJson(std::string_view json, std::string* out) const {
+    if (inline_) {
+      AppendJsonScriptSafe(json, out);
+      return true;
+    }
+    static constexpr std::string_view kOpen = "\"\\u0001vantage-blob-";
+    static constexpr std::string_view kClose = "\\u0002\"";
+    struct Found {
+      size_t at, end, blob;
+    };
+    std::vector<Found> found;
+    std::vector<char> used(blobs_.size(), 0);
+    for (size_t at = json.find(kOpen); at != std::string_view::npos;
+         at = json.find(kOpen, at + 1)) {
+      size_t digits = at + kOpen.size();
+      size_t blob = 0;
+      size_t end = digits;
+      while (end < json.size() && json[end] >= '0' && json[end] <= '9' && end - digits < 18)
+        blob = blob * 10 + static_cast<size_t>(json[end++] - '0');
+      if (end == digits || json.substr(end, kClose.size()) != kClose || blob >= blobs_.size() ||
+          used[blob])
+        return false;
+      used[blob] = 1;
+      found.push_back({at, end + kClose.size(), blob});
+    }
+    if (found.size() != blobs_.size()) return false;
+    size_t from = 0;
+    for (const Found& f : found) {
+      AppendJsonScriptSafe(json.substr(from, f.at - from), out);
+      *out += '"';
+      out->append(blobs_[f.blob]);  // base64: nothing to escape, no '<'
+      *out += '"';
+      from = f.end;
+    }
+    AppendJsonScriptSafe(json.substr(from), out);
+    return true;
+  }
+
+ private:
+  bool inline_;
+  std::vector<std::string> blobs_;
+};
 
 // Vertex clustering: vertices in one cell of size `cell` merge into their mean; triangles that
 // collapse or repeat are dropped. Keeps the silhouette of huge meshes at a bounded size.
@@ -215,13 +280,10 @@ TriangleMesh ClusterVertices(const TriangleMesh& mesh, double cell) {
 // that fits, found by bisection over the 40 rounds since each round clusters every vertex of the
 // scene. Larger cells leave fewer triangles all but always; where the grid cuts a shape so that
 // they do not, the bisection still ends on a round that fits, one or two rounds coarser.
+// Empty when the scene's own meshes fit (they are not copied).
 std::vector<TriangleMesh> PageMeshes(const Scene& scene, size_t max_triangles, std::string* note) {
   const size_t total = scene.TriangleCount();
-  if (total <= max_triangles) {
-    std::vector<TriangleMesh> meshes;
-    for (const SceneObject& object : scene.objects) meshes.push_back(object.mesh);
-    return meshes;
-  }
+  if (total <= max_triangles) return {};
   Aabb bounds;
   for (const SceneObject& object : scene.objects) {
     if (!object.mesh.IsEmpty()) bounds.Extend(object.mesh.Bounds());
@@ -379,7 +441,7 @@ ordered_json RgbJson(const Rgb& c) { return ordered_json::array({c[0], c[1], c[2
 
 // The page's what-if data, or null with a note saying why there is none.
 ordered_json WhatIfJson(const Report& report, const Scene& scene, const HtmlReportOptions& options,
-                        std::vector<std::string>* notes) {
+                        Blobs* blobs, std::vector<std::string>* notes) {
   const VisibilityFile& data = *report.data;
   const size_t cells = data.reference.size();
   if (report.states) {
@@ -408,7 +470,7 @@ ordered_json WhatIfJson(const Report& report, const Scene& scene, const HtmlRepo
         static_cast<double>(options.max_whatif_bytes) / 1e6));
     return nullptr;
   }
-  ordered_json whatif = {{"cells", cells}, {"sets", Base64(sets.data(), sets.size())}};
+  ordered_json whatif = {{"cells", cells}, {"sets", blobs->Add(Base64(sets.data(), sets.size()))}};
   std::vector<std::string> names;
   const std::vector<int32_t> part = CellParts(scene, data.reference, &names);
   if (!part.empty()) {
@@ -422,7 +484,7 @@ ordered_json WhatIfJson(const Report& report, const Scene& scene, const HtmlRepo
     for (size_t k = 0; k < names.size(); ++k)
       parts.push_back({{"name", names[k]}, {"cells", part_cells[k]}});
     whatif["parts"] = std::move(parts);
-    whatif["cell_part"] = Base64(part16);
+    whatif["cell_part"] = blobs->Add(Base64(part16));
   }
   const int primary = report.primary;
   if (primary >= 0 && report.results[static_cast<size_t>(primary)].min_points)
@@ -432,9 +494,9 @@ ordered_json WhatIfJson(const Report& report, const Scene& scene, const HtmlRepo
   return whatif;
 }
 
-}  // namespace
-
-std::string HtmlReport(const Report& report, const Scene& scene, const HtmlReportOptions& options) {
+// The page, its bulk arrays as `blobs` says; nullopt when a token of theirs is ambiguous.
+std::optional<std::string> BuildPage(const Report& report, const Scene& scene,
+                                     const HtmlReportOptions& options, Blobs* blobs) {
   VANTAGE_CHECK(report.data != nullptr);
   VANTAGE_CHECK(options.max_mesh_triangles >= 1);
   const VisibilityFile& data = *report.data;
@@ -557,14 +619,17 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
               {"cell_size", data.reference.cell_size},
               {"origin", ordered_json::array({lo[0], lo[1], lo[2]})},
               {"index_type", is_small ? "u16" : "i32"},
-              {"index", std::move(index_b64)},
-              {"seen", Base64(seen)}};
+              {"index", blobs->Add(std::move(index_b64))},
+              {"seen", blobs->Add(Base64(seen))}};
   }
 
   // Meshes.
   std::string mesh_note;
-  const std::vector<TriangleMesh> meshes =
+  const std::vector<TriangleMesh> simplified =
       PageMeshes(scene, options.max_mesh_triangles, &mesh_note);
+  std::vector<const TriangleMesh*> meshes;
+  for (size_t i = 0; i < scene.objects.size(); ++i)
+    meshes.push_back(simplified.empty() ? &scene.objects[i].mesh : &simplified[i]);
   if (!mesh_note.empty()) notes.push_back(mesh_note);
   if (scene.objects.empty())
     notes.emplace_back(
@@ -572,7 +637,7 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
         "voxels and sensors only.");
   ordered_json meshes_json = ordered_json::array();
   for (size_t i = 0; i < meshes.size() && i < scene.objects.size(); ++i) {
-    const TriangleMesh& mesh = meshes[i];
+    const TriangleMesh& mesh = *meshes[i];
     if (mesh.IsEmpty()) continue;
     std::vector<float> positions;
     positions.reserve(3 * mesh.vertices.size());
@@ -583,8 +648,8 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
     for (const auto& t : mesh.triangles) indices.insert(indices.end(), t.begin(), t.end());
     meshes_json.push_back({{"name", scene.objects[i].name},
                            {"target", scene.objects[i].is_target()},
-                           {"positions", Base64(positions)},
-                           {"indices", Base64(indices)}});
+                           {"positions", blobs->Add(Base64(positions))},
+                           {"indices", blobs->Add(Base64(indices))}});
   }
 
   // three.js, read now and inlined; without it the page says why there is no 3D view.
@@ -642,7 +707,7 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
       {"frustum", RgbJson(kFrustumColor)},
       {"methods", std::move(method_colors)},
       {"other_method", RgbJson(kOtherMethodColor)}};
-  ordered_json whatif = WhatIfJson(report, scene, options, &notes);
+  ordered_json whatif = WhatIfJson(report, scene, options, blobs, &notes);
   page["notes"] = notes;
   page["three_note"] = three_note;
   page["candidates"] = std::move(candidates);
@@ -715,8 +780,8 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
         std::vector<uint32_t> indices;
         for (const auto& t : mesh.triangles) indices.insert(indices.end(), t.begin(), t.end());
         links.push_back({{"name", body->links[l]},
-                         {"positions", Base64(positions)},
-                         {"indices", Base64(indices)}});
+                         {"positions", blobs->Add(Base64(positions))},
+                         {"indices", blobs->Add(Base64(indices))}});
       }
     }
     arm["links"] = std::move(links);
@@ -764,22 +829,46 @@ std::string HtmlReport(const Report& report, const Scene& scene, const HtmlRepor
   }
   const std::string title = "vantage report";
 
-  std::string three_scripts;
-  if (has_three) {
-    three_scripts += "<script>\n" + ScriptSafe(three) + "\n</script>\n";
-    three_scripts += "<script>\n" + ScriptSafe(orbit) + "\n</script>\n";
-  }
   const std::string escaped_title = detail::MarkupEscape(title);
   const std::string escaped_subtitle = detail::MarkupEscape(subtitle);
-  const std::string data_json =
-      JsonScriptSafe(page.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
-  const std::string script = ScriptSafe(embedded::kReportJs);
-  return FillTemplate(embedded::kReportHtml, {{"TITLE", escaped_title},
-                                              {"SUBTITLE", escaped_subtitle},
-                                              {"STYLE", embedded::kReportCss},
-                                              {"THREE", three_scripts},
-                                              {"DATA", data_json},
-                                              {"SCRIPT", script}});
+  const std::string json = page.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  // Written once into a string of about the page's size (issue 47: each copy of its megabytes
+  // was page faults).
+  std::string out;
+  out.reserve(embedded::kReportHtml.size() + embedded::kReportCss.size() +
+              embedded::kReportJs.size() + three.size() + orbit.size() + json.size() +
+              blobs->bytes() + escaped_title.size() * 2 + escaped_subtitle.size() + 4096);
+  bool fits = true;
+  FillTemplate(embedded::kReportHtml,
+               {{"TITLE", [&](std::string* o) { o->append(escaped_title); }},
+                {"SUBTITLE", [&](std::string* o) { o->append(escaped_subtitle); }},
+                {"STYLE", [&](std::string* o) { o->append(embedded::kReportCss); }},
+                {"THREE",
+                 [&](std::string* o) {
+                   if (!has_three) return;
+                   for (const std::string* text : {&three, &orbit}) {
+                     o->append("<script>\n");
+                     AppendScriptSafe(*text, o);
+                     o->append("\n</script>\n");
+                   }
+                 }},
+                {"DATA", [&](std::string* o) { fits = fits && blobs->AppendJson(json, o); }},
+                {"SCRIPT", [&](std::string* o) { AppendScriptSafe(embedded::kReportJs, o); }}},
+               &out);
+  if (!fits) return std::nullopt;
+  return out;
+}
+
+}  // namespace
+
+std::string HtmlReport(const Report& report, const Scene& scene, const HtmlReportOptions& options) {
+  Blobs blobs(false);
+  if (std::optional<std::string> page = BuildPage(report, scene, options, &blobs))
+    return std::move(*page);
+  Blobs inline_blobs(true);
+  std::optional<std::string> page = BuildPage(report, scene, options, &inline_blobs);
+  VANTAGE_CHECK(page.has_value());
+  return std::move(*page);
 }
 
 }  // namespace vantage
