@@ -39,6 +39,8 @@ set(VANTAGE_USES_distribute ${VANTAGE_USES_pipeline} distribute)
 # Third-party headers (the first path component of <...>) that only these stages may include.
 set(VANTAGE_ONLY_embree3 observe)
 set(VANTAGE_ONLY_coin select)
+set(VANTAGE_ONLY_nauty.h select)
+set(VANTAGE_ONLY_nausparse.h select)
 set(VANTAGE_ONLY_assimp scene)
 set(VANTAGE_ONLY_urdf_parser scene)
 set(VANTAGE_ONLY_console_bridge scene)

@@ -11,7 +11,7 @@ PACKAGES=(
   build-essential cmake pkg-config git
   libembree-dev libassimp-dev libeigen3-dev libtbb-dev libyaml-cpp-dev nlohmann-json3-dev
   libcli11-dev libfmt-dev libspdlog-dev libsdformat-dev liburdfdom-dev coinor-libcbc-dev
-  coinor-libclp-dev liborocos-kdl-dev libfcl-dev libompl-dev
+  coinor-libclp-dev libnauty2-dev liborocos-kdl-dev libfcl-dev libompl-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpng-dev libstb-dev libjs-three chromium
   clang libclang-rt-14-dev python3
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib

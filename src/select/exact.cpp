@@ -39,6 +39,9 @@ constexpr double kMinBranchAndBoundSeconds = 0.02;
 constexpr double kRelaxedBoundShare = 0.25;
 // Set cover: the share of the time left that the goal MILP gets before the search t by t.
 constexpr double kGoalMilpTimeShare = 0.5;
+// Set cover of every cell on a symmetric instance: the share of the time left for orbital
+// branching (OrbitalSetCover) before the goal MILP.
+constexpr double kOrbitalTimeShare = 0.9;
 
 // The MILP for at most n sensors (k-coverage when k >= 2); an answer with more than n sensors,
 // which CBC should never return, is dropped rather than trusted.
@@ -360,6 +363,17 @@ SetCoverResult SolveSetCover(const CoverageMatrix& matrix,
     return result;
   };
   if (settle_cheaply()) return finish();
+  if (goal_cells == matrix.seen_weight() && !matrix.has_counts()) {
+    // Every cell: where the instance is symmetric (covering designs), orbital branching.
+    const OrbitalSetCoverResult orbital =
+        OrbitalSetCover(matrix, result.chosen, lower, kOrbitalTimeShare * seconds_left());
+    if (orbital.applied) {
+      if (orbital.chosen.size() < result.chosen.size()) result.chosen = orbital.chosen;
+      lower = std::max(lower, orbital.lower_bound);
+      result.note = orbital.note;
+      if (lower >= result.chosen.size()) return finish();
+    }
+  }
   const GoalResult milp =
       SolveGoalMilp(matrix, 1, {}, goal_cells, result.chosen, kGoalMilpTimeShare * seconds_left());
   if (milp.chosen.size() >= 1 && milp.chosen.size() < result.chosen.size())

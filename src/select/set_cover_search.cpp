@@ -1,0 +1,342 @@
+// The fewest sensors that see every cell, by branch and bound with orbital branching (see
+// methods.hpp, OrbitalSetCover).
+//
+// A node fixes some columns in and some out; what is left is a set-cover problem of its own, the
+// free columns over the rows no fixed-in column covers. Its bound is the fixed-in count plus the
+// LP relaxation's value, made a proof whatever CLP's round-off: CLP's duals y >= 0 are scaled so
+// that no column's sum exceeds 1, and any such y bounds the LP (weak duality) and so every cover.
+// Branching follows Ostrowski, Linderoth, Rossi, Smriglio (Math. Prog. 2011, "Orbital
+// branching"): nauty finds the symmetry group of the node's own problem; for an orbit O of free
+// columns and a representative j in O, the children are x_j = 1 and x_k = 0 for every k in O. A
+// cover that uses some k in O maps, by the automorphism taking k to j, to a cover as small that
+// uses j, so the two children hold an optimum between them. Nodes are taken best bound first
+// (deepest first among equal bounds), so the smallest open bound is a proven lower bound when
+// the time runs out.
+#include <coin/ClpSimplex.hpp>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <queue>
+#include <string>
+#include <vector>
+
+#include "select/coverage_matrix.hpp"
+#include "select/methods.hpp"
+#include "select/symmetry.hpp"
+#include "vantage/error.hpp"
+#include "vantage/interrupt.hpp"
+
+namespace vantage::detail {
+namespace {
+
+// Above these sizes the search is not tried (dominance is quadratic in the candidates, and each
+// node solves an LP and a graph automorphism problem over the whole residual).
+constexpr size_t kMaxCandidates = 3000;
+constexpr size_t kMaxNonzeros = 200000;
+// Open nodes are kept while they take less than this many bytes of column states.
+constexpr size_t kMaxOpenBytes = size_t{1} << 29;
+// Round-off allowed when the certified LP value is rounded up to whole sensors.
+constexpr double kRoundOff = 1e-6;
+
+enum : int8_t { kOut = -1, kFree = 0, kIn = 1 };
+
+struct Node {
+  std::vector<int8_t> state;  // per column
+  size_t bound = 0;           // proven: no cover in this node has fewer columns
+  size_t depth = 0;
+  uint64_t sequence = 0;  // creation order: later first among equals (depth first)
+};
+
+struct LaterFirst {
+  bool operator()(const Node& a, const Node& b) const {
+    if (a.bound != b.bound) return a.bound > b.bound;
+    if (a.depth != b.depth) return a.depth < b.depth;
+    return a.sequence < b.sequence;
+  }
+};
+
+// The set-cover instance the search works on: the candidates left after dominance, as columns
+// over the matrix's elements (every element must be covered).
+struct Instance {
+  std::vector<uint32_t> candidate;             // column -> candidate
+  std::vector<std::vector<uint32_t>> columns;  // column -> sorted elements
+  std::vector<std::vector<uint32_t>> rows;     // element -> columns
+};
+
+Instance Reduce(const CoverageMatrix& matrix) {
+  // A candidate whose elements another candidate also sees (a strict subset, or the same set
+  // and a later index) is never needed: swapping it for the other keeps a cover and its size.
+  std::vector<uint32_t> seeing;
+  for (uint32_t i = 0; i < matrix.candidate_count(); ++i)
+    if (!matrix.Row(i).empty()) seeing.push_back(i);
+  Instance instance;
+  for (const uint32_t a : seeing) {
+    bool dominated = false;
+    for (const uint32_t b : seeing) {
+      if (b == a || matrix.Row(b).size() < matrix.Row(a).size()) continue;
+      if (matrix.Row(b).size() == matrix.Row(a).size() && b > a) continue;
+      if (matrix.IsSubset(a, b)) {
+        dominated = true;
+        break;
+      }
+    }
+    if (dominated) continue;
+    instance.candidate.push_back(a);
+    instance.columns.push_back(matrix.Row(a));
+  }
+  instance.rows.resize(matrix.element_count());
+  for (size_t j = 0; j < instance.columns.size(); ++j)
+    for (const uint32_t e : instance.columns[j]) instance.rows[e].push_back(static_cast<uint32_t>(j));
+  return instance;
+}
+
+// A node's problem after propagation: which rows are uncovered and which free columns touch
+// them. Empty `feasible` when some row cannot be covered any more.
+struct Residual {
+  bool feasible = true;
+  size_t fixed_in = 0;
+  std::vector<uint32_t> rows;     // uncovered rows
+  std::vector<uint32_t> columns;  // free columns that cover one of them
+};
+
+// Fixes in the only free column of a row that has one, until none is left; columns that cover
+// nothing uncovered are fixed out (with unit costs they are never needed).
+Residual Propagate(const Instance& instance, std::vector<int8_t>* state) {
+  const size_t m = instance.columns.size();
+  const size_t rows = instance.rows.size();
+  Residual residual;
+  std::vector<uint8_t> covered(rows, 0);
+  for (size_t j = 0; j < m; ++j) {
+    if ((*state)[j] != kIn) continue;
+    for (const uint32_t r : instance.columns[j]) covered[r] = 1;
+  }
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    for (size_t r = 0; r < rows; ++r) {
+      if (covered[r]) continue;
+      uint32_t only = 0;
+      size_t free = 0;
+      for (const uint32_t j : instance.rows[r]) {
+        if ((*state)[j] == kFree) {
+          only = j;
+          if (++free > 1) break;
+        }
+      }
+      if (free == 0) {
+        residual.feasible = false;
+        return residual;
+      }
+      if (free == 1) {
+        (*state)[only] = kIn;
+        for (const uint32_t q : instance.columns[only]) covered[q] = 1;
+        changed = true;
+      }
+    }
+  }
+  for (size_t r = 0; r < rows; ++r)
+    if (!covered[r]) residual.rows.push_back(static_cast<uint32_t>(r));
+  for (size_t j = 0; j < m; ++j) {
+    if ((*state)[j] == kIn) ++residual.fixed_in;
+    if ((*state)[j] != kFree) continue;
+    const bool useful = std::any_of(instance.columns[j].begin(), instance.columns[j].end(),
+                                    [&](uint32_t r) { return !covered[r]; });
+    if (useful) {
+      residual.columns.push_back(static_cast<uint32_t>(j));
+    } else {
+      (*state)[j] = kOut;
+    }
+  }
+  return residual;
+}
+
+// The residual's columns as lists of positions in residual.rows.
+std::vector<std::vector<uint32_t>> ResidualColumns(const Instance& instance,
+                                                   const Residual& residual) {
+  std::vector<int64_t> position(instance.rows.size(), -1);
+  for (size_t p = 0; p < residual.rows.size(); ++p) position[residual.rows[p]] = static_cast<int64_t>(p);
+  std::vector<std::vector<uint32_t>> columns(residual.columns.size());
+  for (size_t c = 0; c < residual.columns.size(); ++c) {
+    for (const uint32_t r : instance.columns[residual.columns[c]])
+      if (position[r] >= 0) columns[c].push_back(static_cast<uint32_t>(position[r]));
+  }
+  return columns;
+}
+
+// The LP relaxation of the residual (min sum x, each row covered at least once, x >= 0): the
+// certified value (see the file's comment) and CLP's x.
+struct LpOutcome {
+  double value = 0;
+  std::vector<double> x;
+};
+
+LpOutcome SolveLp(const std::vector<std::vector<uint32_t>>& columns, size_t row_count) {
+  LpOutcome outcome;
+  outcome.x.assign(columns.size(), 0.0);
+  if (row_count == 0) return outcome;
+  std::vector<CoinBigIndex> starts{0};
+  std::vector<int> indices;
+  for (const std::vector<uint32_t>& column : columns) {
+    indices.insert(indices.end(), column.begin(), column.end());
+    starts.push_back(static_cast<CoinBigIndex>(indices.size()));
+  }
+  const std::vector<double> values(indices.size(), 1.0);
+  const std::vector<double> lower(columns.size(), 0.0), upper(columns.size(), COIN_DBL_MAX);
+  const std::vector<double> objective(columns.size(), 1.0);
+  const std::vector<double> row_lower(row_count, 1.0), row_upper(row_count, COIN_DBL_MAX);
+  ClpSimplex model;
+  model.setLogLevel(0);
+  model.loadProblem(static_cast<int>(columns.size()), static_cast<int>(row_count), starts.data(),
+                    indices.data(), values.data(), lower.data(), upper.data(), objective.data(),
+                    row_lower.data(), row_upper.data());
+  model.dual();
+  const double* duals = model.dualRowSolution();
+  const double* primal = model.primalColumnSolution();
+  std::vector<double> y(row_count);
+  for (size_t r = 0; r < row_count; ++r) y[r] = duals[r] > 0 ? duals[r] : 0.0;  // NaN -> 0
+  double largest = 1.0, total = 0.0;
+  for (const std::vector<uint32_t>& column : columns) {
+    double sum = 0;
+    for (const uint32_t r : column) sum += y[r];
+    largest = std::max(largest, sum);
+  }
+  for (const double value : y) total += value;
+  outcome.value = total / largest;
+  for (size_t c = 0; c < columns.size(); ++c)
+    outcome.x[c] = std::isfinite(primal[c]) ? primal[c] : 0.0;
+  return outcome;
+}
+
+// A cover of the residual by greedy (most uncovered rows, then the larger LP value), without the
+// columns that turn out redundant: positions in the residual's columns.
+std::vector<uint32_t> GreedyCover(const std::vector<std::vector<uint32_t>>& columns,
+                                  size_t row_count, const std::vector<double>& x) {
+  std::vector<uint32_t> times(row_count, 0);
+  std::vector<uint32_t> chosen;
+  size_t left = row_count;
+  std::vector<uint8_t> taken(columns.size(), 0);
+  while (left > 0) {
+    size_t best = columns.size(), best_gain = 0;
+    for (size_t c = 0; c < columns.size(); ++c) {
+      if (taken[c]) continue;
+      size_t gain = 0;
+      for (const uint32_t r : columns[c]) gain += times[r] == 0;
+      if (gain > best_gain || (gain == best_gain && gain > 0 && x[c] > x[best])) {
+        best = c;
+        best_gain = gain;
+      }
+    }
+    if (best == columns.size()) return {};  // cannot happen on a feasible residual
+    taken[best] = 1;
+    chosen.push_back(static_cast<uint32_t>(best));
+    for (const uint32_t r : columns[best]) left -= times[r]++ == 0;
+  }
+  // Drop redundant columns, the last chosen first.
+  for (size_t p = chosen.size(); p-- > 0;) {
+    const std::vector<uint32_t>& column = columns[chosen[p]];
+    if (std::all_of(column.begin(), column.end(), [&](uint32_t r) { return times[r] >= 2; })) {
+      for (const uint32_t r : column) --times[r];
+      chosen.erase(chosen.begin() + static_cast<std::ptrdiff_t>(p));
+    }
+  }
+  return chosen;
+}
+
+}  // namespace
+
+OrbitalSetCoverResult OrbitalSetCover(const CoverageMatrix& matrix,
+                                      const std::vector<uint32_t>& start,
+                                      size_t lower,
+                                      double time_limit) {
+  VANTAGE_CHECK(!matrix.has_counts() && matrix.CoveredWeight(start) == matrix.seen_weight());
+  const auto start_time = std::chrono::steady_clock::now();
+  OrbitalSetCoverResult result;
+  result.chosen = start;
+  result.lower_bound = std::min(lower, start.size());
+  size_t nonzeros = 0;
+  for (const std::vector<uint32_t>& row : matrix.rows()) nonzeros += row.size();
+  if (matrix.candidate_count() > kMaxCandidates || nonzeros > kMaxNonzeros) return result;
+  const Instance instance = Reduce(matrix);
+  const ColumnOrbits root = FindColumnOrbits(instance.columns, instance.rows.size());
+  if (root.moved_columns == 0) return result;  // no symmetry: the other methods are as good
+  result.applied = true;
+  const size_t m = instance.columns.size();
+
+  std::priority_queue<Node, std::vector<Node>, LaterFirst> open;
+  uint64_t sequence = 0;
+  open.push(Node{std::vector<int8_t>(m, kFree), result.lower_bound, 0, sequence++});
+  size_t best = start.size();
+  bool stopped = false;
+  while (!open.empty()) {
+    if (open.top().bound >= best) break;  // every open node is bounded: proven
+    ThrowIfInterrupted();
+    if (SecondsSince(start_time) >= time_limit || open.size() * m > kMaxOpenBytes) {
+      stopped = true;
+      break;
+    }
+    Node node = open.top();
+    open.pop();
+    ++result.nodes;
+    const Residual residual = Propagate(instance, &node.state);
+    if (!residual.feasible) continue;
+    if (residual.rows.empty()) {
+      if (residual.fixed_in < best) {
+        best = residual.fixed_in;
+        result.chosen.clear();
+        for (size_t j = 0; j < m; ++j)
+          if (node.state[j] == kIn) result.chosen.push_back(instance.candidate[j]);
+      }
+      continue;
+    }
+    const std::vector<std::vector<uint32_t>> columns = ResidualColumns(instance, residual);
+    const LpOutcome lp = SolveLp(columns, residual.rows.size());
+    const auto bound = std::max(
+        node.bound, residual.fixed_in + static_cast<size_t>(std::ceil(lp.value - kRoundOff)));
+    // A cover from the LP's guidance may improve the best.
+    const std::vector<uint32_t> cover = GreedyCover(columns, residual.rows.size(), lp.x);
+    if (!cover.empty() && residual.fixed_in + cover.size() < best) {
+      best = residual.fixed_in + cover.size();
+      result.chosen.clear();
+      for (size_t j = 0; j < m; ++j)
+        if (node.state[j] == kIn) result.chosen.push_back(instance.candidate[j]);
+      for (const uint32_t c : cover) result.chosen.push_back(instance.candidate[residual.columns[c]]);
+    }
+    if (bound >= best) continue;
+    // Branch on the orbit with the largest LP mass (the largest orbit where the LP is uniform).
+    const ColumnOrbits orbits = FindColumnOrbits(columns, residual.rows.size());
+    std::vector<double> mass(columns.size(), 0.0);
+    std::vector<size_t> size(columns.size(), 0);
+    for (size_t c = 0; c < columns.size(); ++c) {
+      mass[orbits.orbit[c]] += lp.x[c];
+      ++size[orbits.orbit[c]];
+    }
+    size_t chosen_orbit = columns.size();
+    for (size_t c = 0; c < columns.size(); ++c) {
+      if (orbits.orbit[c] != c) continue;
+      if (chosen_orbit == columns.size() || mass[c] > mass[chosen_orbit] + 1e-9 ||
+          (mass[c] > mass[chosen_orbit] - 1e-9 && size[c] > size[chosen_orbit])) {
+        chosen_orbit = c;
+      }
+    }
+    Node out{node.state, bound, node.depth + 1, sequence++};
+    for (size_t c = 0; c < columns.size(); ++c)
+      if (orbits.orbit[c] == chosen_orbit) out.state[residual.columns[c]] = kOut;
+    Node in{std::move(node.state), bound, node.depth + 1, sequence++};
+    in.state[residual.columns[chosen_orbit]] = kIn;
+    open.push(std::move(out));
+    open.push(std::move(in));
+  }
+  result.lower_bound = open.empty() ? best : std::min(best, open.top().bound);
+  result.lower_bound = std::max(result.lower_bound, std::min(lower, best));
+  result.proven_optimal = result.lower_bound >= result.chosen.size();
+  result.note = fmt::format(
+      "orbital branching: {} nodes, {} of {} candidates in symmetric orbits (group 10^{:.1f}){}",
+      result.nodes, root.moved_columns, m, root.log10_group_size,
+      stopped ? " — reached the time limit" : "");
+  return result;
+}
+
+}  // namespace vantage::detail
