@@ -26,6 +26,7 @@
 #include "select/coverage_matrix.hpp"
 #include "select/lp_bound.hpp"
 #include "select/methods.hpp"
+#include "select/model.hpp"
 #include "select/objective_bounds.hpp"
 #include "test_util.hpp"
 #include "vantage/error.hpp"
@@ -34,6 +35,34 @@
 
 namespace vantage {
 namespace {
+
+// The selection model's exact answer for k-coverage and for a budget, in cells.
+detail::ExactResult InCells(detail::ExactAnswer answer) {
+  return {std::move(answer.chosen), static_cast<uint64_t>(answer.bound), answer.proven_optimal,
+          std::move(answer.note)};
+}
+
+detail::ExactResult ExactK(const detail::CoverageMatrix& matrix, size_t n, int k,
+                           const std::vector<uint32_t>& start, double time_limit,
+                           bool may_enumerate) {
+  detail::SelectionModel model;
+  model.matrix = &matrix;
+  model.threshold = k;
+  model.capacity = static_cast<double>(n);
+  detail::ExactHints hints;
+  hints.may_enumerate = may_enumerate;
+  return InCells(detail::SolveExactModel(model, start, time_limit, hints));
+}
+
+detail::ExactResult ExactBudget(const detail::CoverageMatrix& matrix,
+                                std::span<const double> costs, double budget,
+                                const std::vector<uint32_t>& start, double time_limit) {
+  detail::SelectionModel model;
+  model.matrix = &matrix;
+  model.costs = costs;
+  model.capacity = budget;
+  return InCells(detail::SolveExactModel(model, start, time_limit));
+}
 
 Observation Obs(std::vector<uint32_t> cells, std::vector<uint64_t> outside = {}) {
   Observation o;
@@ -1621,7 +1650,7 @@ TEST(Objectives, MinPointsAgainstBruteForce) {
         std::vector<uint32_t> start(n);
         std::iota(start.begin(), start.end(), 0u);
         const detail::ExactResult milp =
-            detail::SolveExactK(matrix, n, static_cast<int>(points), start, 60, false);
+            ExactK(matrix, n, static_cast<int>(points), start, 60, false);
         SCOPED_TRACE(testing::Message() << "MILP n=" << n << " " << milp.note);
         ASSERT_EQ(milp.chosen.size(), n);
         EXPECT_EQ(PointUnionSize(obs, milp.chosen, points), optimum[static_cast<int>(n)]);
@@ -1732,7 +1761,7 @@ TEST(Objectives, AgainstBruteForce) {
             if (s.size() == n) best = std::max(best, KUnionSize(obs, s, k));
           }
           const std::vector<uint32_t> start = detail::KGreedyComplete(matrix, {}, n, k);
-          const detail::ExactResult milp = detail::SolveExactK(matrix, n, k, start, 60, false);
+          const detail::ExactResult milp = ExactK(matrix, n, k, start, 60, false);
           SCOPED_TRACE(testing::Message() << "MILP k=" << k << " n=" << n << " " << milp.note);
           ASSERT_EQ(milp.chosen.size(), n);
           EXPECT_EQ(KUnionSize(obs, milp.chosen, k), best);
@@ -1844,7 +1873,7 @@ TEST(Objectives, FallBackToTheStartWhenTheModelIsTooLarge) {
   const std::vector<Observation> obs = RandomInstance(17, 60, 2000, 0.3);
   const detail::CoverageMatrix matrix(obs, 2000);
   const std::vector<uint32_t> k_start = detail::KGreedyComplete(matrix, {}, 3, 2);
-  const detail::ExactResult k_result = detail::SolveExactK(matrix, 3, 2, k_start, 0.001, false);
+  const detail::ExactResult k_result = ExactK(matrix, 3, 2, k_start, 0.001, false);
   EXPECT_EQ(k_result.chosen, k_start);
   EXPECT_FALSE(k_result.note.empty());
   EXPECT_GE(k_result.upper_bound, detail::KCoveredWeight(matrix, k_start, 2));
@@ -1852,7 +1881,7 @@ TEST(Objectives, FallBackToTheStartWhenTheModelIsTooLarge) {
   const std::vector<double> costs(60, 2.0);
   const std::vector<uint32_t> b_start = detail::GreedyBudget(matrix, costs, 7);
   EXPECT_EQ(b_start.size(), 3u);
-  const detail::ExactResult b_result = detail::SolveExactBudget(matrix, costs, 7, b_start, 0.001);
+  const detail::ExactResult b_result = ExactBudget(matrix, costs, 7, b_start, 0.001);
   EXPECT_EQ(b_result.chosen, b_start);
   EXPECT_GE(b_result.upper_bound, matrix.CoveredWeight(b_start));
 
@@ -1937,14 +1966,12 @@ TEST(ObjectiveBounds, KCoverageLpBoundHoldsAndMeetsClp) {
         EXPECT_LE(static_cast<double>(bound.upper_bound), lp * 1.02 + 1);
         // exact: the optimum, and its bound no looser than the LP's when CBC does not prove it.
         const std::vector<uint32_t> start = detail::KGreedyComplete(matrix, {}, n, k);
-        detail::ExactResult result;
-        result.chosen = start;
-        result.upper_bound = matrix.seen_weight();
+        auto upper_bound = static_cast<double>(matrix.seen_weight());
         const uint64_t cells = KCoveredWeight(matrix, start, k);
         detail::TightenByLpBound(detail::CardinalityLp(matrix, n, k), cells,
-                                 std::chrono::steady_clock::now(), 1e9, &result);
-        EXPECT_GE(result.upper_bound, best);
-        EXPECT_LE(result.upper_bound, std::max<uint64_t>(cells, bound.upper_bound));
+                                 std::chrono::steady_clock::now(), 1e9, &upper_bound);
+        EXPECT_GE(upper_bound, static_cast<double>(best));
+        EXPECT_LE(upper_bound, static_cast<double>(std::max<uint64_t>(cells, bound.upper_bound)));
         ++trials;
       }
     }
@@ -1977,7 +2004,7 @@ TEST(ObjectiveBounds, BudgetLpBoundHoldsAndMeetsClp) {
       // exact finds the optimum and its bound holds.
       if (*std::min_element(costs.begin(), costs.end()) > budget) continue;
       const std::vector<uint32_t> start = detail::GreedyBudget(matrix, costs, budget);
-      const detail::ExactResult exact = detail::SolveExactBudget(matrix, costs, budget, start, 60);
+      const detail::ExactResult exact = ExactBudget(matrix, costs, budget, start, 60);
       EXPECT_EQ(UnionSize(obs, exact.chosen), best) << exact.note;
       EXPECT_LE(detail::TotalCost(costs, exact.chosen), budget);
       EXPECT_GE(exact.upper_bound, best);

@@ -16,6 +16,7 @@
 
 #include "brute_force.hpp"
 #include "select/coverage_matrix.hpp"
+#include "select/model.hpp"
 #include "select/objective_bounds.hpp"
 #include "test_util.hpp"
 #include "vantage/candidates.hpp"
@@ -789,11 +790,14 @@ TEST(SelectOverStates, MinBoundOfAHandWorkedInstance) {
   EXPECT_GE(bound, 0.5);
   EXPECT_LE(bound, 0.5 + 1e-6);
   // n = 2: {0, 1} covers both states fully.
-  const detail::StatesExactResult two =
-      detail::SolveExactStates(matrix, OverStates::kMin, 2, {2, 0}, 10);
+  detail::SelectionModel model;
+  model.matrix = &matrix;
+  model.value = detail::ModelValue::kMin;
+  model.capacity = 2;
+  const detail::ExactAnswer two = detail::SolveExactModel(model, {2, 0}, 10);
   EXPECT_EQ(std::set<uint32_t>(two.chosen.begin(), two.chosen.end()), (std::set<uint32_t>{0, 1}));
   EXPECT_TRUE(two.proven_optimal);
-  EXPECT_DOUBLE_EQ(two.upper_bound, 1.0);
+  EXPECT_DOUBLE_EQ(two.bound, 1.0);
 }
 
 // ----- installation constraints over states (issue 20, docs/constraints.md) -------------------

@@ -1,7 +1,7 @@
 // Selection under installation constraints (docs/constraints.md): feasibility of a set, and
 // greedy, local search and RANSAC restricted to feasible sets, each a template over the scorer
 // (scorer.hpp), so that one implementation serves plain coverage, k-coverage, point counts, a
-// budget and the states of a scene; the MILPs are exact_constrained.cpp.
+// budget and the states of a scene; exact asks the selection model (model.hpp, exact.cpp).
 #include "select/constrained.hpp"
 
 #include <fmt/format.h>
@@ -13,6 +13,7 @@
 #include <limits>
 #include <numeric>
 
+#include "select/model.hpp"
 #include "vantage/error.hpp"
 #include "vantage/interrupt.hpp"
 
@@ -678,77 +679,48 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
   // is feasible it is the constrained one, proof included; else its bound still bounds the
   // constrained optimum.
   const bool has_free = options_.budget ? !free_local_.empty() : free_local_.size() == n_;
-  if constexpr (Scorer::kCells) {
-    const int k = scorer_.k();
-    const size_t n = n_;
-    uint64_t free_bound = 0;
-    ExactResult free;
-    bool has_free_answer = false;
-    if (options_.budget) {
-      free_bound = BudgetUpperBound(matrix, local_, options_.costs, *options_.budget);
-      if (has_free) {
-        free = SolveExactBudget(matrix, options_.costs, *options_.budget, free_local_,
-                                0.5 * time_limit);
-        has_free_answer = true;
-      }
-    } else if (k == 1) {
-      free_bound = GreedyUpperBound(matrix, local_, n);
-      if (has_free) {
-        free = SolveExact(matrix, n, free_local_, 0.5 * time_limit);
-        has_free_answer = true;
-      }
-    } else {
-      free_bound = KUpperBound(matrix, local_, n, k);
-      if (has_free) {
-        free = SolveExactK(matrix, n, k, free_local_, 0.5 * time_limit);
-        has_free_answer = true;
-      }
-    }
-    ExactResult exact;
-    if (has_free_answer && feasible_.IsFeasible(free.chosen) &&
-        better_or_equal(free.chosen, local_)) {
-      exact = std::move(free);
-    } else {
-      if (has_free_answer) free_bound = std::min(free_bound, free.upper_bound);
-      ConstrainedObjective objective;
-      objective.threshold = k;
-      objective.fixed = options_.fixed;
-      exact = SolveExactConstrained(matrix, feasible_, CapacityFor(n), objective, local_,
-                                    free_bound, std::max(0.1, time_limit - SecondsSince(start)));
-    }
-    note = exact.note;
-    answer.chosen = std::move(exact.chosen);
-    answer.upper_bound = Share(exact.upper_bound);
-    answer.proven_optimal = exact.proven_optimal;
-  } else {
-    const OverStates over = scorer_.over();
-    StatesExactResult exact;
-    bool solved = false;
-    double free_bound = std::numeric_limits<double>::infinity();
-    if (has_free && n_ >= 1) {
-      StatesExactResult free = SolveExactStates(matrix, over, n_, free_local_, 0.5 * time_limit);
-      if (feasible_.IsFeasible(free.chosen) && better_or_equal(free.chosen, local_)) {
-        exact = std::move(free);
-        solved = true;
-      } else {
-        free_bound = free.upper_bound;
-      }
-    }
-    if (!solved) {
-      exact = SolveExactStatesConstrained(matrix, over, feasible_, CapacityFor(n_), local_,
-                                          std::max(0.1, time_limit - SecondsSince(start)),
-                                          scorer_.k(), options_.fixed);
-      const double aggregate = scorer_.Fraction(scorer_.Covered(exact.chosen));
-      if (free_bound < exact.upper_bound) {
-        exact.upper_bound = std::max(free_bound, aggregate);
-        exact.proven_optimal = exact.proven_optimal || exact.upper_bound - aggregate <= 1e-9;
-      }
-    }
-    note = exact.note;
-    answer.chosen = std::move(exact.chosen);
-    answer.upper_bound = exact.upper_bound;
-    answer.proven_optimal = exact.proven_optimal;
+  const int k = scorer_.k();
+  SelectionModel model;
+  model.matrix = &matrix;
+  model.threshold = k;
+  if constexpr (!Scorer::kCells)
+    model.value = scorer_.over() == OverStates::kMin ? ModelValue::kMin : ModelValue::kMean;
+  model.capacity = static_cast<double>(n_);
+  if (options_.budget) {
+    model.costs = options_.costs;
+    model.capacity = *options_.budget;
   }
+  SelectionModel free_model = model;
+  if (options_.budget) free_model.threshold = 1;  // a budget counts cells seen once
+  model.fixed = options_.fixed;
+  model.rules = &feasible_;
+  ExactHints hints;  // cells: the cheap bound of the unconstrained problem
+  if constexpr (Scorer::kCells) {
+    hints.known_bound = static_cast<double>(
+        options_.budget ? BudgetUpperBound(matrix, local_, options_.costs, *options_.budget)
+        : k == 1        ? GreedyUpperBound(matrix, local_, n_)
+                        : KUpperBound(matrix, local_, n_, k));
+  }
+  ExactAnswer exact;
+  bool solved = false;
+  if (has_free && n_ >= 1) {
+    ExactAnswer free = SolveExactModel(free_model, free_local_, 0.5 * time_limit);
+    if (feasible_.IsFeasible(free.chosen) && better_or_equal(free.chosen, local_)) {
+      exact = std::move(free);
+      solved = true;
+    } else {
+      hints.known_bound = std::min(hints.known_bound.value_or(free.bound), free.bound);
+    }
+  }
+  if (!solved)
+    exact = SolveExactModel(model, local_, std::max(0.1, time_limit - SecondsSince(start)), hints);
+  note = exact.note;
+  answer.chosen = std::move(exact.chosen);
+  if constexpr (Scorer::kCells)
+    answer.upper_bound = Share(static_cast<uint64_t>(exact.bound));
+  else
+    answer.upper_bound = exact.bound;
+  answer.proven_optimal = exact.proven_optimal;
   // A budget has no n (n_ is then the candidate count): name the budget. "constrained" only
   // where there are constraints (kept sensors and thresholds run here without any).
   const std::string which =
@@ -831,19 +803,31 @@ std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
   const CellScorer scorer(matrix);
   Capacity everyone;
   everyone.n = matrix.candidate_count();
-  ConstrainedObjective with_kept;
-  with_kept.fixed = options.fixed;
+  // The most any feasible set of n sensors covers, with the kept ones, from `seed`; `known`: a
+  // bound of the unconstrained problem.
+  const auto most_within = [&](size_t n, const std::vector<uint32_t>& seed, uint64_t known,
+                               double seconds) {
+    SelectionModel model;
+    model.matrix = &matrix;
+    model.capacity = static_cast<double>(n);
+    model.fixed = options.fixed;
+    model.rules = &feasible;
+    ExactHints hints;
+    hints.known_bound = static_cast<double>(known);
+    return SolveExactModel(model, seed, seconds, hints);
+  };
   std::vector<uint32_t> greedy =
       ConstrainedGreedy(scorer, feasible, everyone, goal_cells, kept_start);
   if (matrix.CoveredWeight(greedy) < goal_cells) {
     // Greedy could not reach it: the most any feasible set covers decides.
-    const ExactResult most = SolveExactConstrained(matrix, feasible, everyone, with_kept, greedy,
-                                                   matrix.seen_weight(), options.time_limit);
+    const ExactAnswer most =
+        most_within(everyone.n, greedy, matrix.seen_weight(), options.time_limit);
+    const auto most_cells = static_cast<uint64_t>(most.bound);
     if (matrix.CoveredWeight(most.chosen) < goal_cells) {
       const std::string reach =
-          most.proven_optimal || most.upper_bound < goal_cells
+          most.proven_optimal || most_cells < goal_cells
               ? fmt::format("the installation constraints allow at most {:.4f}",
-                            static_cast<double>(std::min(most.upper_bound, matrix.seen_weight())) /
+                            static_cast<double>(std::min(most_cells, matrix.seen_weight())) /
                                 static_cast<double>(matrix.reference_size()))
               : fmt::format(
                     "no set of sensors that satisfies the installation constraints was "
@@ -896,14 +880,14 @@ std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
     t.n = lower;
     std::vector<uint32_t> seed = ConstrainedGreedy(scorer, feasible, t, 0, kept_start);
     seed = ConstrainedLocal(scorer, feasible, std::move(seed), t, options.fixed.size());
-    const ExactResult most = SolveExactConstrained(matrix, feasible, t, with_kept, seed,
-                                                   GreedyUpperBound(matrix, seed, lower),
-                                                   left / static_cast<double>(best.size() - lower));
+    const ExactAnswer most = most_within(lower, seed, GreedyUpperBound(matrix, seed, lower),
+                                         left / static_cast<double>(best.size() - lower));
     if (matrix.CoveredWeight(most.chosen) >= goal_cells) {
       best = most.chosen;
       break;
     }
-    if (most.upper_bound >= goal_cells) break;  // t not settled: stop at this lower bound
+    // t not settled: stop at this lower bound
+    if (static_cast<uint64_t>(most.bound) >= goal_cells) break;
     ++lower;
   }
   Selection s = scored(Method::kExact, best, greedy_seconds + SecondsSince(exact_start));

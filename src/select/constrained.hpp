@@ -100,27 +100,6 @@ std::vector<uint32_t> ConstrainedRansac(const Scorer& scorer,
                                         uint64_t seed,
                                         std::span<const uint32_t> fixed = {});
 
-/// The MILP's objective for SolveExactConstrained: a cell counts once the chosen put `threshold`
-/// (k, or min_points with the matrix's counts) into it; 1 is plain coverage.
-struct ConstrainedObjective {
-  int threshold = 1;
-  std::span<const uint32_t> fixed;  ///< kept sensors: their x fixed at 1
-};
-
-/// Maximum coverage (k-coverage, point coverage: `objective`) within `capacity` under the
-/// constraints as a MILP solved by CBC (the coverage MILP of exact.cpp with threshold rows
-/// T y_e <= sum_i c_ie x_i, plus x_a + x_b <= 1 per conflict and, with a calibration rule, a
-/// single-commodity flow over the overlap edges), warm-started from the feasible `start`.
-/// upper_bound is the least of CBC's bound and `free_bound` (a bound of the unconstrained problem,
-/// valid because constraints only lower the optimum). Never worse than `start`.
-ExactResult SolveExactConstrained(const CoverageMatrix& matrix,
-                                  const Feasibility& feasible,
-                                  const Capacity& capacity,
-                                  const ConstrainedObjective& objective,
-                                  const std::vector<uint32_t>& start,
-                                  uint64_t free_bound,
-                                  double time_limit);
-
 /// Greedy over states towards a budget or a goal (the cost-aware greedy): each step adds the
 /// feasible candidate that fits `capacity` with the largest rise of the aggregate per cost
 /// (`costs`; empty: per sensor), the rise compared as the scorer's Score (primary, then secondary)
@@ -153,44 +132,6 @@ std::vector<uint32_t> StatesRansacFitted(const StatesScorer& scorer,
                                          double stop_coverage,
                                          uint64_t seed,
                                          const std::vector<uint32_t>& start);
-
-/// A goal over states as one selection MILP (milp.hpp: minimise the count, or the cost with
-/// `costs`, such that the aggregate reaches `goal`; kMin: every state's share), with the
-/// threshold rows, the kept sensors fixed and the rules, warm-started from `start` (which reaches
-/// the goal). chosen: CBC's answer when it is feasible, holds `fixed` and reaches the goal in
-/// integers, else `start`. lower_bound: the largest of CBC's bound and RowSumGoalBound.
-GoalResult SolveStatesGoal(const StatesScorer& scorer,
-                           const Feasibility& feasible,
-                           std::span<const double> costs,
-                           double goal,
-                           std::span<const uint32_t> fixed,
-                           const std::vector<uint32_t>& start,
-                           double time_limit);
-
-/// A proven lower bound on the cost (`costs`; empty: the count) of any set that holds `fixed`
-/// and whose aggregate over states reaches `goal`: coverage is subadditive, so the others must
-/// together bring, per state (min) or in sum (mean), what the kept sensors lack; a fractional
-/// knapsack over each candidate's whole row is the cheapest way to bring it.
-double RowSumGoalBound(const StatesScorer& scorer, std::span<const double> costs, double goal,
-                       std::span<const uint32_t> fixed);
-
-/// Exact selection over states under the constraints: the states' MILP (exact_states.cpp, without
-/// its dominance reduction, which could drop the only feasible candidate) plus the pair rows and
-/// the flow, warm-started from the feasible `start` (within `capacity`: n sensors, or a budget).
-/// upper_bound (an aggregate) is the least of CBC's bound on the constrained MILP and
-/// StatesLagrangianBound (the unconstrained one; with a budget, for the most sensors it affords
-/// with the kept ones: coverage never drops by adding one). Never worse than `start`.
-/// With `threshold` >= 2 (k-coverage, or point density: a matrix with counts) an element counts
-/// once the chosen put that many seers or points in it. `fixed` (kept sensors, in `start`) are
-/// x fixed at 1.
-StatesExactResult SolveExactStatesConstrained(const CoverageMatrix& matrix,
-                                              OverStates over,
-                                              const Feasibility& feasible,
-                                              const Capacity& capacity,
-                                              const std::vector<uint32_t>& start,
-                                              double time_limit,
-                                              int threshold = 1,
-                                              std::span<const uint32_t> fixed = {});
 
 /// What one constrained method answered: `upper_bound` (exact only) as a share of R (cells
 /// scorer) or an aggregate over states.

@@ -447,7 +447,8 @@ struct ExactResult {
   std::string note;  ///< why the solver was not used or failed; empty when it ran normally
 };
 
-/// Maximum coverage with n sensors from `start` (n sensors) within `time_limit` seconds. Matrices
+/// Maximum coverage with n sensors from `start` (n sensors) within `time_limit` seconds: the
+/// selection model (model.hpp) with capacity n, through SolveExactModel, in cells. Matrices
 /// of up to 100 k row nonzeros go to CBC first, as a MILP warm-started from `start` and shrunk
 /// first: dominated candidates are dropped (with "at most n" sensors that loses nothing; the
 /// answer is padded back to n), elements are re-merged over the remaining candidates, and
@@ -460,27 +461,6 @@ ExactResult SolveExact(const CoverageMatrix& matrix,
                        const std::vector<uint32_t>& start,
                        double time_limit);
 
-/// Maximum k-coverage (k >= 2) of n sensors: max sum_e w_e y_e s.t. k y_e <= sum_{i sees e} x_i,
-/// sum_i x_i <= n, x and y binary (the answer padded to n by KGreedyComplete). No dominance
-/// reduction (a subset can still be the k-th seer). Falls back to `start` with KUpperBound.
-/// When the n-subsets of the candidates that see anything are few (and `may_enumerate`), they are
-/// searched exhaustively instead: the MILP's LP relaxation is weak, so that is much faster.
-ExactResult SolveExactK(const CoverageMatrix& matrix,
-                        size_t n,
-                        int k,
-                        const std::vector<uint32_t>& start,
-                        double time_limit,
-                        bool may_enumerate = true);
-
-/// Budgeted maximum coverage: as SolveExact with sum_i cost_i x_i <= budget instead of the
-/// cardinality row; dominance needs a superset that costs no more. Falls back to `start` (which
-/// must fit the budget) with BudgetUpperBound. The answer never exceeds the budget.
-ExactResult SolveExactBudget(const CoverageMatrix& matrix,
-                             std::span<const double> costs,
-                             double budget,
-                             const std::vector<uint32_t>& start,
-                             double time_limit);
-
 struct SetCoverResult {
   std::vector<uint32_t> chosen;
   size_t lower_bound = 0;  ///< sensors; <= chosen.size()
@@ -490,13 +470,14 @@ struct SetCoverResult {
 
 /// What SolveGoalMilp found.
 struct GoalResult {
-  std::vector<uint32_t> chosen;  ///< reaches the goal; empty when CBC found nothing usable
+  std::vector<uint32_t> chosen;  ///< reaches the goal: `start`, or CBC's answer when cheaper
   double lower_bound = 0;        ///< proven: no answer reaching the goal costs less
   bool proven_optimal = false;   ///< chosen's cost meets lower_bound (CBC's proof)
   std::string note;              ///< why CBC was not run, or stopped
 };
 
-/// The goal as one MILP (the cheapest answer that reaches the goal):
+/// The goal as one MILP (the cheapest answer that reaches the goal), the selection model with a
+/// goal in cells through SolveExactModel (chosen: the better of `start` and CBC's answer):
 ///   min sum_i cost_i x_i  s.t.  k y_e <= sum_{i sees e} count_ie x_i,  sum_e w_e y_e >= goal,
 /// x binary, y in [0, 1] (binary for k >= 2 or point counts). A goal of everything the
 /// candidates can reach becomes covering rows sum_{i sees e} count_ie x_i >= k, without y. With

@@ -150,7 +150,7 @@ class Model {
   size_t nonzeros_ = 0;
 };
 
-MilpAnswer BuildAndSolve(const SelectionMilp& milp, const std::vector<uint32_t>& start,
+MilpAnswer BuildAndSolve(const SelectionModel& milp, const std::vector<uint32_t>& start,
                          double time_limit) {
   MilpAnswer answer;
   const CoverageMatrix& matrix = *milp.matrix;
@@ -227,12 +227,12 @@ MilpAnswer BuildAndSolve(const SelectionMilp& milp, const std::vector<uint32_t>&
   // CBC's objective (about cells of the largest state: its tolerances suit magnitudes >= 1).
   size_t largest = 1;
   for (size_t st = 0; st < states; ++st) largest = std::max(largest, matrix.StateReferenceSize(st));
-  const bool by_min = milp.value == MilpValue::kMin;
-  const double scale = milp.value == MilpValue::kCells ? 1.0
+  const bool by_min = milp.value == ModelValue::kMin;
+  const double scale = milp.value == ModelValue::kCells ? 1.0
                        : by_min ? static_cast<double>(largest)
                                 : static_cast<double>(largest) * static_cast<double>(states);
   const auto value_of = [&](int64_t c) {
-    if (milp.value == MilpValue::kCells) return class_weight[c];
+    if (milp.value == ModelValue::kCells) return class_weight[c];
     const size_t st = class_state[c];
     const double unit = 1.0 / static_cast<double>(matrix.StateReferenceSize(st)) /
                         (by_min ? 1.0 : static_cast<double>(states));
@@ -240,7 +240,7 @@ MilpAnswer BuildAndSolve(const SelectionMilp& milp, const std::vector<uint32_t>&
   };
   // Goal rows: cells (one state, or each state's for min) or the mean times `scale`.
   const auto goal_value_of = [&](int64_t c) {
-    if (milp.value != MilpValue::kMean) return class_weight[c];
+    if (milp.value != ModelValue::kMean) return class_weight[c];
     return class_weight[c] * static_cast<double>(largest) /
            static_cast<double>(matrix.StateReferenceSize(class_state[c]));
   };
@@ -270,7 +270,7 @@ MilpAnswer BuildAndSolve(const SelectionMilp& milp, const std::vector<uint32_t>&
   bool cover_all = false;
   if (!maximise) {
     for (size_t g = 0; g < groups; ++g) {
-      if (milp.value == MilpValue::kCells) goal_rhs[g] = *milp.goal;
+      if (milp.value == ModelValue::kCells) goal_rhs[g] = *milp.goal;
       else if (by_min)
         goal_rhs[g] = std::ceil(*milp.goal * static_cast<double>(matrix.StateReferenceSize(g)) -
                                 1e-9);
@@ -283,7 +283,7 @@ MilpAnswer BuildAndSolve(const SelectionMilp& milp, const std::vector<uint32_t>&
     }
     // A goal of everything that can be seen (one state): covering rows sum points x >= T,
     // without y — pure set covering, whose structure CBC's cuts know.
-    cover_all = milp.value == MilpValue::kCells && goal_rhs[0] == coverable[0];
+    cover_all = milp.value == ModelValue::kCells && goal_rhs[0] == coverable[0];
   }
 
   Model model;
@@ -430,7 +430,7 @@ MilpAnswer BuildAndSolve(const SelectionMilp& milp, const std::vector<uint32_t>&
   // CBC notices its limit only between steps and overran it by up to 5 s in 60 (the 450-candidate
   // bench world): it gets kCbcTimeShare of the time, so that the whole method stays within it.
   Cbc_setMaximumSeconds(cbc, kCbcTimeShare * time_limit);
-  if (maximise && milp.value != MilpValue::kCells) {
+  if (maximise && milp.value != ModelValue::kCells) {
     // Aggregates are fractions with no common grain worth relying on: prove to round-off only.
     Cbc_setAllowableGap(cbc, 1e-10 * scale);
     Cbc_setAllowableFractionGap(cbc, 0.0);
@@ -486,7 +486,7 @@ MilpAnswer BuildAndSolve(const SelectionMilp& milp, const std::vector<uint32_t>&
 
 }  // namespace
 
-MilpAnswer SolveSelectionMilp(const SelectionMilp& milp, const std::vector<uint32_t>& start,
+MilpAnswer SolveSelectionMilp(const SelectionModel& milp, const std::vector<uint32_t>& start,
                               double time_limit) {
   VANTAGE_CHECK(milp.matrix != nullptr && milp.threshold >= 1 &&
                 (milp.costs.empty() || milp.costs.size() == milp.matrix->candidate_count()));

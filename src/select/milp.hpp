@@ -35,33 +35,11 @@
 #include <string>
 #include <vector>
 
-#include "select/coverage_matrix.hpp"
+#include "select/model.hpp"
 
 namespace vantage::detail {
 
-class Feasibility;
-
-/// How an element's cells are valued: one state's cells, or the mean or min over states.
-enum class MilpValue { kCells, kMean, kMin };
-
-/// The model to build: an objective (capacity or goal) over `matrix` and its rules.
-struct SelectionMilp {
-  const CoverageMatrix* matrix = nullptr;
-  int threshold = 1;  ///< what a class needs to count: seers (k) or, with counts, points
-  MilpValue value = MilpValue::kCells;
-  /// Per candidate: the budget row's coefficients (maximise) or the prices a goal minimises;
-  /// empty: unit (n sensors, the fewest sensors).
-  std::span<const double> costs;
-  /// Maximise within sum_i r_i x_i <= capacity (n, or the budget with `costs`).
-  double capacity = 0;
-  /// Minimise cost reaching this value instead: cells (kCells), the mean (a fraction) or each
-  /// state's share (kMin).
-  std::optional<double> goal;
-  std::span<const uint32_t> fixed;  ///< kept sensors: x = 1
-  const Feasibility* rules = nullptr;  ///< conflicts and connectivity, or none
-};
-
-/// What CBC answered for a SelectionMilp.
+/// What CBC answered for a SelectionModel.
 struct MilpAnswer {
   std::vector<uint32_t> chosen;  ///< candidates at 1; empty when CBC gave no solution
   /// CBC's bound on the objective in the model's units: cells, an aggregate (a fraction) or a
@@ -79,12 +57,12 @@ inline bool AllWhole(std::span<const double> values) {
   return true;
 }
 
-/// Builds `milp`, warm-starts it from `start` (dominated members replaced by a kept superset),
+/// Builds `model` as the MILP above, warm-starts it from `start` (dominated members replaced by a kept superset),
 /// and solves it with CBC within `time_limit` seconds (CBC's share and kill time:
 /// cbc_answer.hpp). A model too large for the limit is not run. When every candidate left fits
 /// the capacity (no rules), they are the answer, proven, without CBC. A failure of CBC's (not an
 /// interrupt) is a note. The callers check the answer against the objective in integers.
-MilpAnswer SolveSelectionMilp(const SelectionMilp& milp, const std::vector<uint32_t>& start,
+MilpAnswer SolveSelectionMilp(const SelectionModel& milp, const std::vector<uint32_t>& start,
                               double time_limit);
 
 }  // namespace vantage::detail

@@ -11,6 +11,12 @@
 // theta B + sum_i max(0, r_i - theta c_i) >= it. Only L evaluated exactly is a proof: mu is
 // truncated to fixed point and summed in 128-bit integers, the knapsack dual in long double with
 // its worst-case round-off added.
+//
+// Over states (StatesLagrangianBound), on the stacked matrix (an element belongs to one state s,
+// weight w_e cells of R_s): the same LP with integer weights rounded up from G a_s w_e / |R_s|.
+// For any a >= 0 with sum_s a_s >= 1, min_s f_s <= sum_s a_s f_s (and the mean is a = 1/S), so
+// the bound over G is a bound on the aggregate whatever a is; for min, several a are tried
+// (exponentiated-gradient steps away from the states the relaxation favours).
 #include "select/objective_bounds.hpp"
 
 #include <algorithm>
@@ -20,6 +26,7 @@
 #include <numeric>
 
 #include "select/methods.hpp"
+#include "select/scorer.hpp"
 #include "vantage/error.hpp"
 #include "vantage/interrupt.hpp"
 
@@ -151,6 +158,57 @@ uint64_t ExactValue(const CoverageLp& lp, const Prepared& p, std::span<const dou
   }
   const Wide total = rest * lp.k + chosen;
   return static_cast<uint64_t>(total / (static_cast<Wide>(lp.k) << kFixedBits));
+}
+
+// States (StatesLagrangianBound): the bound's scale and the min's multipliers.
+// The bound's scale: aggregates (<= 1) in units of 2^-40; rounding each weight up costs at most
+// one unit per element.
+constexpr double kScale = 1099511627776.0;  // 2^40
+// Min: state multipliers tried, and the first exponentiated-gradient rate (then decaying).
+constexpr int kMinRounds = 8;
+constexpr double kStartRate = 4.0;
+constexpr double kRateDecay = 0.7;
+
+// The Lagrangian bound on the aggregate (a fraction) for state multipliers a (sum >= 1 after
+// normalising; see the top of this file), and the subproblem's chosen candidates.
+struct StatesBound {
+  double bound = std::numeric_limits<double>::infinity();
+  std::vector<uint32_t> chosen;
+};
+
+StatesBound BoundForMultipliers(const CoverageMatrix& matrix,
+                                const std::vector<double>& multipliers,
+                                size_t n,
+                                const std::vector<uint32_t>& start,
+                                double seconds) {
+  double total = 0;
+  for (const double a : multipliers) total += a;
+  CoverageLp lp = CardinalityLp(matrix, n);
+  // Normalised, then nudged up so that round-off cannot leave the sum below 1.
+  std::vector<long double> factor(multipliers.size());
+  for (size_t s = 0; s < multipliers.size(); ++s) {
+    factor[s] = static_cast<long double>(multipliers[s]) / total * (1 + 1e-15L) *
+                static_cast<long double>(kScale) /
+                static_cast<long double>(matrix.StateReferenceSize(s));
+  }
+  Bitset covered = matrix.EmptySet();
+  for (const uint32_t c : start) matrix.AddTo(c, &covered);
+  uint64_t target = 0;
+  for (size_t s = 0; s < multipliers.size(); ++s) {
+    for (uint32_t e = matrix.StateBegin(s); e < matrix.StateBegin(s + 1); ++e) {
+      // Each long double step errs by at most 2^-64 relative: 2^-60 more rounds up for sure.
+      const long double w = factor[s] * matrix.Weight(e) * (1 + std::ldexp(1.0L, -60));
+      lp.weights[e] = static_cast<uint64_t>(std::ceil(w));
+      if (Contains(covered, e)) target += lp.weights[e];
+    }
+  }
+  StatesBound result;
+  const int steps = LpBoundSteps(matrix, seconds);
+  if (steps == 0) return result;
+  const CoverageLpBound bound = BoundCoverageLp(lp, target, steps, seconds);
+  result.bound = static_cast<double>(bound.upper_bound) / kScale;
+  result.chosen = bound.chosen;
+  return result;
 }
 
 }  // namespace
@@ -309,15 +367,112 @@ void TightenByLpBound(const CoverageLp& lp,
                       uint64_t cells,
                       std::chrono::steady_clock::time_point start,
                       double time_limit,
-                      ExactResult* result) {
-  if (result->proven_optimal) return;
+                      double* upper_bound) {
+  if (static_cast<double>(cells) == *upper_bound) return;
   const double seconds = kTightenTimeShare * (time_limit - SecondsSince(start));
   const int steps = LpBoundSteps(*lp.matrix, seconds);
   if (steps == 0) return;
   const CoverageLpBound bound = BoundCoverageLp(lp, cells, steps, seconds);
-  if (bound.upper_bound < result->upper_bound)
-    result->upper_bound = std::max(bound.upper_bound, cells);
-  result->proven_optimal = cells == result->upper_bound;
+  if (static_cast<double>(bound.upper_bound) < *upper_bound)
+    *upper_bound = static_cast<double>(std::max(bound.upper_bound, cells));
+}
+
+double StatesLagrangianBound(const CoverageMatrix& matrix,
+                             OverStates over,
+                             size_t n,
+                             const std::vector<uint32_t>& start,
+                             double seconds) {
+  const auto begin = std::chrono::steady_clock::now();
+  const size_t states = matrix.state_count();
+  std::vector<double> multipliers(states, 1.0);
+  const int rounds = over == OverStates::kMin && states > 1 ? kMinRounds : 1;
+  double best = std::numeric_limits<double>::infinity();
+  double rate = kStartRate;
+  for (int round = 0; round < rounds; ++round) {
+    const double left = (seconds - SecondsSince(begin)) / (rounds - round);
+    const StatesBound bound = BoundForMultipliers(matrix, multipliers, n, start, left);
+    best = std::min(best, bound.bound);
+    if (bound.chosen.empty()) break;
+    // Exponentiated gradient on a: d bound / d a_s is (about) the share of state s the
+    // subproblem's answer covers; weight moves towards the states it covers least.
+    Bitset covered = matrix.EmptySet();
+    for (const uint32_t c : bound.chosen) matrix.AddTo(c, &covered);
+    std::vector<double> share(states, 0.0);
+    for (size_t s = 0; s < states; ++s) {
+      uint64_t cells = 0;
+      for (uint32_t e = matrix.StateBegin(s); e < matrix.StateBegin(s + 1); ++e)
+        if (Contains(covered, e)) cells += matrix.Weight(e);
+      share[s] = static_cast<double>(cells) / static_cast<double>(matrix.StateReferenceSize(s));
+    }
+    const double spread = *std::max_element(share.begin(), share.end()) -
+                          *std::min_element(share.begin(), share.end());
+    if (!(spread > 0)) break;
+    double total = 0;
+    for (size_t s = 0; s < states; ++s) {
+      multipliers[s] *= std::exp(-rate * (share[s] - share.front()) / spread);
+      total += multipliers[s];
+    }
+    for (double& a : multipliers) a /= total;
+    rate *= kRateDecay;
+  }
+  return best;
+}
+
+double RowSumGoalBound(const StatesScorer& scorer, std::span<const double> costs, double goal,
+                       std::span<const uint32_t> fixed) {
+  const CoverageMatrix& matrix = scorer.matrix();
+  const size_t states = matrix.state_count();
+  const StateTally kept = scorer.Covered(fixed);
+  const auto cost_of = [&](uint32_t c) { return costs.empty() ? 1.0 : costs[c]; };
+  double kept_cost = 0;
+  for (const uint32_t f : fixed) kept_cost += cost_of(f);
+  // The cheapest fractional choice of others whose values (value(c)) sum to `need`.
+  const auto knapsack = [&](double need, const auto& value) {
+    if (need <= 0) return 0.0;
+    struct Item {
+      double value, cost;
+    };
+    std::vector<Item> items;
+    for (uint32_t c = 0; c < matrix.candidate_count(); ++c) {
+      if (std::find(fixed.begin(), fixed.end(), c) != fixed.end()) continue;
+      const double v = value(c);
+      if (v > 0) items.push_back({v, cost_of(c)});
+    }
+    std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) {
+      return a.value * b.cost > b.value * a.cost;  // value per cost, free ones first
+    });
+    double total = 0;
+    for (const Item& item : items) {
+      if (item.value >= need) return total + item.cost * need / item.value;
+      need -= item.value;
+      total += item.cost;
+    }
+    return std::numeric_limits<double>::infinity();  // unreachable
+  };
+  // Slack below the goal: GoalReached's 1e-9 and some round-off, so the bound stays proven.
+  const double target = goal - 1e-9 - 1e-12;
+  double others = 0;
+  if (scorer.over() == OverStates::kMean) {
+    const auto share = [&](const StateTally& t) {
+      double sum = 0;
+      for (size_t st = 0; st < states; ++st)
+        sum += static_cast<double>(t[st]) / static_cast<double>(matrix.StateReferenceSize(st));
+      return sum / static_cast<double>(states);
+    };
+    others = knapsack(target - share(kept) - 1e-12,
+                      [&](uint32_t c) { return share(scorer.RowWeight(c)); });
+  } else {
+    for (size_t st = 0; st < states; ++st) {
+      const double r = static_cast<double>(matrix.StateReferenceSize(st));
+      others = std::max(others, knapsack(target * r - static_cast<double>(kept[st]) - 1e-9,
+                                         [&](uint32_t c) {
+                                           return static_cast<double>(scorer.RowWeight(c)[st]);
+                                         }));
+    }
+  }
+  if (!std::isfinite(others)) others = 0;  // only round-off: a start reaches the goal
+  if (costs.empty()) others = std::ceil(others - 1e-9);
+  return kept_cost + std::max(0.0, others);
 }
 
 }  // namespace vantage::detail

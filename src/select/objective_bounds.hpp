@@ -16,6 +16,8 @@
 
 namespace vantage::detail {
 
+class StatesScorer;
+
 /// A weighted maximum coverage LP over `matrix`:
 ///   max sum_e weights_e y_e  s.t.  k y_e <= sum_{i sees e} x_i,  x, y in [0, 1],
 ///   and sum_i x_i <= n (costs empty) or sum_i costs_i x_i <= budget.
@@ -64,15 +66,15 @@ CoverageLpBound BoundCoverageLp(const CoverageLp& lp,
                                 int max_iterations,
                                 double time_limit);
 
-/// Lowers result->upper_bound (cells of maximum coverage or k-coverage, with or without a budget)
-/// to the bound of `lp` when that is smaller, in 90 % of what is left of `time_limit` seconds since
-/// `start` when that allows enough steps (LpBoundSteps); `cells` is what result->chosen scores.
-/// Sets proven_optimal when the bound meets it.
+/// Lowers *upper_bound (cells of maximum coverage or k-coverage, with or without a budget) to the
+/// bound of `lp` when that is smaller (never below `cells`, what the answer held scores), in 90 %
+/// of what is left of `time_limit` seconds since `start` when that allows enough steps
+/// (LpBoundSteps); nothing when `cells` already meets it.
 void TightenByLpBound(const CoverageLp& lp,
                       uint64_t cells,
                       std::chrono::steady_clock::time_point start,
                       double time_limit,
-                      ExactResult* result);
+                      double* upper_bound);
 
 /// Subgradient steps that fit in `seconds` on `matrix` (by its nonzeros), within the limits the
 /// bounds use; 0 when too few would fit to be worth it.
@@ -89,14 +91,6 @@ size_t SetCoverLpLowerBound(const CoverageMatrix& matrix,
                             size_t upper,
                             double time_limit);
 
-/// The result of exact selection over states: coverages as the aggregate (a fraction).
-struct StatesExactResult {
-  std::vector<uint32_t> chosen;
-  double upper_bound = 0;  ///< >= the best aggregate of any n sensors, >= that of chosen
-  bool proven_optimal = false;
-  std::string note;  ///< why CBC was not used or did not finish; empty when it proved
-};
-
 /// A proven upper bound on the aggregate `over` (a fraction) of any n sensors over the states of
 /// the stacked `matrix`: the least CoverageLp bound, over G = 2^40, of the weights
 /// ceil(G a_s w_e / |R_s|) for the state multipliers a tried (mean: a = 1/S; min: a on the simplex,
@@ -108,18 +102,11 @@ double StatesLagrangianBound(const CoverageMatrix& matrix,
                              const std::vector<uint32_t>& start,
                              double seconds);
 
-/// Exact selection over states on their stacked matrix (n sensors, the aggregate `over`):
-/// mean: max sum_e v_e y_e, v_e = w_e / (S |R_s(e)|); min: max t s.t. t <= sum_{e in s} w_e y_e /
-/// |R_s| for every state s; both with y_e <= sum_{i sees e} x_i, sum x <= n, x binary. Solved by
-/// CBC in a child process within the time limit, warm-started from `start` (n sensors), when the
-/// model is small enough for the limit; bounded by the Lagrangian of CoverageLp (mean: the
-/// weights v_e rounded up; min: for state multipliers pi >= 0 summing to at least 1, min_s f_s <=
-/// sum_s pi_s f_s, a weighted mean, tried for several pi). Never worse than `start`; the answer
-/// is padded to n by greedy. Proven optimal when the bound is within 1e-9 of the aggregate.
-StatesExactResult SolveExactStates(const CoverageMatrix& matrix,
-                                   OverStates over,
-                                   size_t n,
-                                   const std::vector<uint32_t>& start,
-                                   double time_limit);
+/// A proven lower bound on the cost (`costs`; empty: the count) of any set that holds `fixed`
+/// and whose aggregate over states reaches `goal`: coverage is subadditive, so the others must
+/// together bring, per state (min) or in sum (mean), what the kept sensors lack; a fractional
+/// knapsack over each candidate's whole row is the cheapest way to bring it.
+double RowSumGoalBound(const StatesScorer& scorer, std::span<const double> costs, double goal,
+                       std::span<const uint32_t> fixed);
 
 }  // namespace vantage::detail

@@ -18,6 +18,7 @@
 #include "select/constrained.hpp"
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
+#include "select/model.hpp"
 #include "select/objective_bounds.hpp"
 #include "select/scorer.hpp"
 #include "vantage/error.hpp"
@@ -223,9 +224,24 @@ void MarkObjective(const SelectOptions& options, StateSelection* result) {
   }
 }
 
+// The selection model over the states `scorer` scores (its threshold and aggregate), with the
+// rules and kept sensors; the caller sets the capacity or the goal.
+detail::SelectionModel StatesModel(const detail::StatesScorer& scorer,
+                                   const detail::Feasibility* rules,
+                                   std::span<const uint32_t> fixed) {
+  detail::SelectionModel model;
+  model.matrix = &scorer.matrix();
+  model.threshold = scorer.k();
+  model.value = scorer.over() == OverStates::kMin ? detail::ModelValue::kMin
+                                                  : detail::ModelValue::kMean;
+  model.rules = rules;
+  model.fixed = fixed;
+  return model;
+}
+
 // A goal over states: the fewest sensors (or, minimising cost, the cheapest set) whose aggregate
 // reaches it, under the rules and with the kept sensors. Greedy: StatesCostGreedy to the goal;
-// RANSAC: random orders taken until it is reached; exact: one MILP (SolveStatesGoal) from
+// RANSAC: random orders taken until it is reached; exact: the model with the goal (SolveExactModel) from
 // greedy's answer; all: greedy and exact.
 std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> states,
                                            OverStates over,
@@ -282,15 +298,16 @@ std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> st
       detail::StatesCostGreedy(scorer, feasible, everyone_fits, costs, goal, kept_start);
   if (!detail::GoalReached(scorer.Fraction(scorer.Covered(greedy)), goal)) {
     // Greedy could not reach it under the rules: the most any feasible set reaches decides.
-    const detail::StatesExactResult most = detail::SolveExactStatesConstrained(
-        matrix, over, feasible, everyone_fits, greedy, options.time_limit, scorer.k(),
-        options.fixed);
+    detail::SelectionModel most_model = StatesModel(scorer, &feasible, options.fixed);
+    most_model.capacity = static_cast<double>(matrix.candidate_count());
+    const detail::ExactAnswer most =
+        detail::SolveExactModel(most_model, greedy, options.time_limit);
     const double best = scorer.Fraction(scorer.Covered(most.chosen));
     if (!detail::GoalReached(best, goal)) {
       throw unreachable(
-          most.proven_optimal || most.upper_bound < goal - 1e-9
+          most.proven_optimal || most.bound < goal - 1e-9
               ? fmt::format("cannot be reached: the installation constraints allow at most {:.4f}",
-                            std::min(most.upper_bound, reach))
+                            std::min(most.bound, reach))
               : fmt::format("cannot be reached: no set of sensors that satisfies the "
                             "installation constraints was found to reach it (the best reaches "
                             "{:.4f})",
@@ -313,9 +330,11 @@ std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> st
     results.push_back(scored(Method::kGreedy, greedy, greedy_seconds));
   if (options.method == Method::kGreedy) return results;
   const Clock::time_point exact_start = Clock::now();
-  const detail::GoalResult exact = detail::SolveStatesGoal(
-      scorer, feasible, costs, goal, options.fixed, greedy,
-      std::max(0.1 * options.time_limit, options.time_limit - greedy_seconds));
+  detail::SelectionModel goal_model = StatesModel(scorer, &feasible, options.fixed);
+  goal_model.costs = costs;
+  goal_model.goal = goal;
+  const detail::ExactAnswer exact = detail::SolveExactModel(
+      goal_model, greedy, std::max(0.1 * options.time_limit, options.time_limit - greedy_seconds));
   if (!exact.proven_optimal && !exact.note.empty()) {
     const std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
     (logger ? logger : spdlog::default_logger())
@@ -325,9 +344,9 @@ std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> st
   StateSelection s =
       scored(Method::kExact, exact.chosen, greedy_seconds + SecondsSince(exact_start));
   if (options.minimize_cost) {
-    s.selection.cost_lower_bound = exact.lower_bound;
+    s.selection.cost_lower_bound = exact.bound;
   } else {
-    s.selection.n_lower_bound = static_cast<int>(std::llround(exact.lower_bound));
+    s.selection.n_lower_bound = static_cast<int>(std::llround(exact.bound));
   }
   s.selection.proven_optimal = exact.proven_optimal;
   results.push_back(std::move(s));
@@ -427,14 +446,16 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
                                                         options.ransac_stop_coverage, options.seed);
     return Scored(states, over, Method::kRansac, std::move(chosen), setup + SecondsSince(t));
   };
-  // Exact: CBC on the states' MILP, warm-started from local search, with a Lagrangian bound when
-  // CBC cannot finish (objective_bounds.hpp, SolveExactStates).
+  // Exact: the states' model (SolveExactModel: CBC warm-started from local search, with the
+  // states' Lagrangian bound when CBC cannot finish).
   const auto exact = [&](size_t k, double time_limit) {
     const Clock::time_point t = Clock::now();
     const std::vector<uint32_t> local =
         detail::LocalSearch(scorer, detail::GreedyComplete(scorer, {}, k));
-    const detail::StatesExactResult solved = detail::SolveExactStates(
-        matrix, over, k, local, std::max(0.0, time_limit - SecondsSince(t)));
+    detail::SelectionModel model = StatesModel(scorer, nullptr, {});
+    model.capacity = static_cast<double>(k);
+    const detail::ExactAnswer solved =
+        detail::SolveExactModel(model, local, std::max(0.0, time_limit - SecondsSince(t)));
     if (!solved.proven_optimal && !solved.note.empty()) {
       const std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
       (logger ? logger : spdlog::default_logger())
@@ -442,7 +463,7 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
                  solved.note);
     }
     StateSelection s = Scored(states, over, Method::kExact, solved.chosen, setup + SecondsSince(t));
-    s.selection.upper_bound = std::max(solved.upper_bound, s.selection.coverage);
+    s.selection.upper_bound = std::max(solved.bound, s.selection.coverage);
     s.selection.proven_optimal = solved.proven_optimal;
     return s;
   };

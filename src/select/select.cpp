@@ -27,6 +27,7 @@
 #include "select/constrained.hpp"
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
+#include "select/model.hpp"
 #include "vantage/error.hpp"
 #include "vantage/select_states.hpp"
 
@@ -170,17 +171,21 @@ class Pipeline {
   Selection ExactFrom(const std::vector<uint32_t>& start, double start_seconds, double time_limit,
                       ExactNote* note) const {
     const Clock::time_point begin = Clock::now();
-    detail::ExactResult exact;
+    detail::SelectionModel model;
+    model.matrix = &matrix_;
     if (objective_ == Objective::kBudget) {
-      exact =
-          detail::SolveExactBudget(matrix_, options_.costs, *options_.budget, start, time_limit);
+      model.costs = options_.costs;
+      model.capacity = *options_.budget;
     } else {
-      exact = detail::SolveExactK(matrix_, start.size(), k_, start, time_limit);
+      model.threshold = k_;
+      model.capacity = static_cast<double>(start.size());
     }
+    detail::ExactAnswer exact = detail::SolveExactModel(model, start, time_limit);
     note->proven_optimal = exact.proven_optimal;
     note->text = std::move(exact.note);
     Selection s = Scored(Method::kExact, exact.chosen, start_seconds + SecondsSince(begin));
-    s.upper_bound = std::max(Fraction(exact.upper_bound, matrix_.reference_size()), s.coverage);
+    s.upper_bound = std::max(
+        Fraction(static_cast<uint64_t>(exact.bound), matrix_.reference_size()), s.coverage);
     s.proven_optimal = exact.proven_optimal;
     return s;
   }

@@ -1,0 +1,73 @@
+#pragma once
+/// The selection model: what every exact solve is asked (SYSTEM.md, Select). Cells carry weights
+/// and a threshold (seen by k sensors, or min_points pixels' hits), grouped by state and valued as
+/// one state's cells or the mean or minimum over states; candidates carry costs. The objective is
+/// the most value within a capacity (n sensors, or a budget with costs), or the least cost that
+/// reaches a goal; kept candidates are fixed, and the rules (conflicting pairs, calibration
+/// connectivity) restrict the sets. milp.hpp builds it as one MILP; exact.cpp's SolveExactModel
+/// is the one exact driver over it.
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "select/coverage_matrix.hpp"
+
+namespace vantage::detail {
+
+class Feasibility;
+
+/// How an element's cells are valued: one state's cells, or the mean or min over states.
+enum class ModelValue { kCells, kMean, kMin };
+
+/// One selection question over `matrix` and its rules.
+struct SelectionModel {
+  const CoverageMatrix* matrix = nullptr;
+  int threshold = 1;  ///< what a class needs to count: seers (k) or, with counts, points
+  ModelValue value = ModelValue::kCells;
+  /// Per candidate: the budget row's coefficients (maximise) or the prices a goal minimises;
+  /// empty: unit (n sensors, the fewest sensors).
+  std::span<const double> costs;
+  /// Maximise within sum_i r_i x_i <= capacity (n, or the budget with `costs`).
+  double capacity = 0;
+  /// Minimise cost reaching this value instead: cells (kCells), the mean (a fraction) or each
+  /// state's share (kMin).
+  std::optional<double> goal;
+  std::span<const uint32_t> fixed;     ///< kept sensors: x = 1
+  const Feasibility* rules = nullptr;  ///< conflicts and connectivity, or none
+};
+
+/// What exact found for a SelectionModel.
+struct ExactAnswer {
+  std::vector<uint32_t> chosen;  ///< never worse than the start
+  /// Maximise: >= the optimum's value (cells, or an aggregate over states, a fraction), and >=
+  /// chosen's. Goal: <= the least cost (the count with unit costs) of any set that reaches it.
+  double bound = 0;
+  bool proven_optimal = false;
+  std::string note;  ///< why a solver was not used, failed or stopped
+};
+
+/// What the caller knows beyond the model.
+struct ExactHints {
+  /// A bound on the optimum from elsewhere (maximise): the unconstrained problem's, valid under
+  /// rules and kept sensors because they only remove sets. In cells it is the cheap bound (the
+  /// start meeting it is the answer); over states it joins the bound at the end.
+  std::optional<double> known_bound;
+  /// k-coverage: search small instances exhaustively (tests turn it off to reach the MILP).
+  bool may_enumerate = true;
+};
+
+/// Exact selection on `model` from `start` (feasible, within the capacity or reaching the goal)
+/// within `time_limit` seconds (exact.cpp): the bound the model's kind has before CBC, the model
+/// as one MILP in CBC's child process (milp.hpp), CBC's answer checked in integers and against
+/// the rules, and the bound the kind adds after CBC (branch and bound on the Lagrangian for
+/// maximum coverage, the LP bound for k-coverage and budgets, the states' Lagrangian). Never
+/// returns an answer worse than `start`.
+ExactAnswer SolveExactModel(const SelectionModel& model,
+                            const std::vector<uint32_t>& start,
+                            double time_limit,
+                            const ExactHints& hints = {});
+
+}  // namespace vantage::detail
