@@ -58,9 +58,6 @@ constexpr double kMinBranchAndBoundSeconds = 0.02;
 constexpr double kRelaxedBoundShare = 0.25;
 // Set cover: the share of the time left that the goal MILP gets before the search t by t.
 constexpr double kGoalMilpTimeShare = 0.5;
-// Set cover of every cell on a symmetric instance: the share of the time left for orbital
-// branching (OrbitalSetCover) before the goal MILP.
-constexpr double kOrbitalTimeShare = 0.9;
 // Rules with n sensors: the Lagrangian steps of the bound when CBC cannot finish.
 constexpr int kLagrangianSteps = 300;
 // States: the share of the time limit for the Lagrangian bound tried before CBC; an answer
@@ -635,11 +632,11 @@ SetCoverResult SolveSetCover(const CoverageMatrix& matrix,
   if (settle_cheaply()) return finish();
   if (goal_cells == matrix.seen_weight() && !matrix.has_counts()) {
     // Every cell: where the instance is symmetric (covering designs), orbital branching.
-    const OrbitalSetCoverResult orbital =
-        OrbitalSetCover(matrix, result.chosen, lower, kOrbitalTimeShare * seconds_left());
+    const OrbitalSetCoverResult orbital = OrbitalSetCover(
+        matrix, {}, result.chosen, static_cast<double>(lower), kOrbitalTimeShare * seconds_left());
     if (orbital.applied) {
       if (orbital.chosen.size() < result.chosen.size()) result.chosen = orbital.chosen;
-      lower = std::max(lower, orbital.lower_bound);
+      lower = std::max(lower, static_cast<size_t>(orbital.lower_bound));
       result.note = orbital.note;
       if (lower >= result.chosen.size()) return finish();
     }

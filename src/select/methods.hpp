@@ -489,26 +489,32 @@ GoalResult SolveGoalMilp(const CoverageMatrix& matrix, int k, std::span<const do
                          uint64_t goal_cells, const std::vector<uint32_t>& start,
                          double time_limit);
 
+/// A cover of every cell on a symmetric instance: the share of the time left that
+/// OrbitalSetCover gets before the goal MILP (which gets the rest unless it proved).
+inline constexpr double kOrbitalTimeShare = 0.9;
+
 /// What OrbitalSetCover found.
 struct OrbitalSetCoverResult {
-  bool applied = false;  ///< false: too large, or no symmetry moves a candidate (nothing done)
-  std::vector<uint32_t> chosen;  ///< sees every cell; `start` unless a smaller cover was found
-  size_t lower_bound = 0;        ///< proven: every cover has at least this many sensors
+  bool applied = false;  ///< false: too large, costs not whole and positive, or no symmetry
+  std::vector<uint32_t> chosen;  ///< sees every cell; `start` unless a cheaper cover was found
+  double lower_bound = 0;        ///< proven, whole: every cover costs at least this
   bool proven_optimal = false;
   size_t nodes = 0;
   std::string note;
 };
 
-/// The fewest sensors that see every cell any candidate sees (unit costs, no point counts), by
-/// branch and bound with orbital branching (set_cover_search.cpp): dominated candidates dropped,
-/// each node bounded by its LP relaxation (a certified dual), branching on an orbit of the node's
-/// own symmetry group (nauty, symmetry.hpp). Applied only where the group moves some candidate
+/// The fewest sensors (`costs` empty) or the cheapest (whole, positive costs) that see every cell
+/// any candidate sees (no point counts), by branch and bound with orbital branching
+/// (set_cover_search.cpp): dominated candidates dropped, each node bounded by its LP relaxation
+/// (a certified dual), branching on an orbit of the node's own symmetry group (nauty,
+/// symmetry.hpp, candidates coloured by cost). Applied only where that group moves some candidate
 /// (covering designs, Steiner triple systems) and the matrix has at most 3,000 candidates and
 /// 200 k nonzeros; otherwise returns `start` and `applied` false at once. `start` must see every
-/// cell; `lower` is a proven lower bound. Within `time_limit` seconds; deterministic.
+/// cell; `lower` is a proven lower bound on the cost. Within `time_limit` seconds; deterministic.
 OrbitalSetCoverResult OrbitalSetCover(const CoverageMatrix& matrix,
+                                      std::span<const double> costs,
                                       const std::vector<uint32_t>& start,
-                                      size_t lower,
+                                      double lower,
                                       double time_limit);
 
 /// Fewest sensors reaching `goal_cells` (a lower bound on the sensors any answer needs is part of

@@ -207,22 +207,38 @@ class Pipeline {
   }
 
   /// Exact for a goal with a threshold (k >= 2, min_points) or minimising cost: the goal MILP
-  /// from greedy's answer, with the cheap bound where CBC gives none.
+  /// from greedy's answer, with the cheap bound where CBC gives none. The cheapest cover of every
+  /// cell goes to OrbitalSetCover first (where it applies), then to the MILP unless proven.
   Selection ThresholdGoal(double time_limit, Clock::time_point start) const {
     const uint64_t goal_cells = GoalCells(*options_.goal, matrix_.reference_size());
-    const detail::GoalResult milp =
-        detail::SolveGoalMilp(matrix_, k_, GoalCosts(), goal_cells, local_, time_limit);
     const auto price = [&](const std::vector<uint32_t>& chosen) {
       return options_.minimize_cost ? detail::TotalCost(options_.costs, chosen)
                                     : static_cast<double>(chosen.size());
     };
     std::vector<uint32_t> chosen = local_;
+    detail::OrbitalSetCoverResult orbital;
+    double milp_seconds = time_limit;
+    if (options_.minimize_cost && k_ == 1 && !matrix_.has_counts() &&
+        goal_cells == matrix_.seen_weight()) {
+      // Every cell at the least cost: orbital branching first where the instance is symmetric.
+      orbital = detail::OrbitalSetCover(matrix_, options_.costs, local_, 0,
+                                        detail::kOrbitalTimeShare * time_limit);
+      if (price(orbital.chosen) < price(chosen)) chosen = orbital.chosen;
+      milp_seconds = time_limit - SecondsSince(start);
+    }
+    detail::GoalResult milp;
+    if (!orbital.proven_optimal) {
+      milp = detail::SolveGoalMilp(matrix_, k_, GoalCosts(), goal_cells, chosen, milp_seconds);
+    }
     if (!milp.chosen.empty() && price(milp.chosen) < price(chosen)) chosen = milp.chosen;
-    LogNote(local_.size(), milp.proven_optimal, milp.note);
+    const bool proven = milp.proven_optimal || orbital.proven_optimal;
+    LogNote(local_.size(), proven,
+            orbital.applied ? orbital.note + (milp.note.empty() ? "" : "; " + milp.note)
+                            : milp.note);
     Selection s = Scored(Method::kExact, chosen, local_seconds_ + SecondsSince(start));
     if (options_.minimize_cost) {
-      s.cost_lower_bound = std::min(milp.lower_bound, *s.cost);
-      s.proven_optimal = milp.proven_optimal || *s.cost <= *s.cost_lower_bound;
+      s.cost_lower_bound = std::min(std::max(milp.lower_bound, orbital.lower_bound), *s.cost);
+      s.proven_optimal = proven || *s.cost <= *s.cost_lower_bound;
       if (s.proven_optimal) s.cost_lower_bound = *s.cost;
     } else {
       const size_t cheap = detail::ThresholdGoalLowerBound(matrix_, goal_cells, k_);
