@@ -1,6 +1,6 @@
 #pragma once
-/// The selection MILP: one model for every objective exact solves, built in one place and solved
-/// by CBC in a child process (cbc_answer.hpp). With x_i = candidate i chosen and y_c = class c
+/// The selection model (model.hpp) as one MILP, built in one place for every objective exact
+/// solves and solved by CBC in a child process (cbc_answer.hpp). With x_i = candidate i chosen and y_c = class c
 /// counted (a class: elements that the same candidates see, merged where that keeps the model
 /// exact):
 ///
@@ -57,11 +57,11 @@ inline bool AllWhole(std::span<const double> values) {
   return true;
 }
 
-/// Builds `model` as the MILP above, warm-starts it from `start` (dominated members replaced by a kept superset),
-/// and solves it with CBC within `time_limit` seconds (CBC's share and kill time:
+/// Builds `milp` as the MILP above, warm-starts it from `start` (dominated members replaced by a
+/// kept superset), and solves it with CBC within `time_limit` seconds (CBC's share and kill time:
 /// cbc_answer.hpp). A model too large for the limit is not run. When every candidate left fits
 /// the capacity (no rules), they are the answer, proven, without CBC. A failure of CBC's (not an
-/// interrupt) is a note. The callers check the answer against the objective in integers.
+/// interrupt) is a note. SolveExactModel (model.hpp) checks the answer in integers.
 MilpAnswer SolveSelectionMilp(const SelectionModel& milp, const std::vector<uint32_t>& start,
                               double time_limit);
 
