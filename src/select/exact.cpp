@@ -623,9 +623,12 @@ SetCoverResult SolveSetCover(const CoverageMatrix& matrix,
     }
     return true;
   };
+  std::string searched;  // what OrbitalSetCover did, where it ran
   const auto finish = [&] {
     result.lower_bound = std::min(lower, result.chosen.size());
     result.proven_optimal = result.lower_bound == result.chosen.size();
+    if (!searched.empty())  // orbital branching's nodes first
+      result.note = result.note.empty() ? searched : searched + "; " + result.note;
     if (result.proven_optimal) result.note.clear();
     return result;
   };
@@ -637,7 +640,7 @@ SetCoverResult SolveSetCover(const CoverageMatrix& matrix,
     if (orbital.applied) {
       if (orbital.chosen.size() < result.chosen.size()) result.chosen = orbital.chosen;
       lower = std::max(lower, static_cast<size_t>(orbital.lower_bound));
-      result.note = orbital.note;
+      searched = orbital.note;
       if (lower >= result.chosen.size()) return finish();
     }
   }
