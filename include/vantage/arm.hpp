@@ -59,7 +59,9 @@ class ArmKinematics {
 
  private:
   struct Impl;
-  std::unique_ptr<Impl> impl_;
+  // Made and deleted in the arm module (issue 47: KDL, FCL and OMPL are loaded only by a run with
+  // an arm), hence its deleter with it.
+  std::unique_ptr<Impl, void (*)(Impl*)> impl_{nullptr, nullptr};
   std::vector<std::string> joint_names_;
   std::vector<size_t> moved_;
   std::vector<std::pair<double, double>> limits_;
@@ -90,7 +92,7 @@ class ArmCollisions {
 
  private:
   struct Impl;
-  std::unique_ptr<Impl> impl_;
+  std::unique_ptr<Impl, void (*)(Impl*)> impl_{nullptr, nullptr};  // as ArmKinematics'
 };
 
 /// One population's arm, kept for the tour (motion times, collision of the moves).

@@ -356,4 +356,34 @@ bool StraightMotionIsFree(const ArmKinematics& kinematics, const ArmCollisions& 
   return true;
 }
 
+// Neither needs KDL: here rather than in the arm module (module/arm_kinematics.cpp).
+std::vector<double> HaltonPoint(uint64_t index, size_t dimensions) {
+  static constexpr uint64_t kPrimes[] = {2,  3,  5,  7,  11, 13, 17, 19, 23, 29, 31, 37,
+                                         41, 43, 47, 53, 59, 61, 67, 71, 73, 79, 83, 89};
+  std::vector<double> point(dimensions, 0.0);
+  for (size_t d = 0; d < dimensions; ++d) {
+    const uint64_t base = kPrimes[d % std::size(kPrimes)];
+    double fraction = 1.0, value = 0.0;
+    for (uint64_t i = index; i > 0; i /= base) {
+      fraction /= static_cast<double>(base);
+      value += fraction * static_cast<double>(i % base);
+    }
+    point[d] = value;
+  }
+  return point;
+}
+
+double MotionSeconds(const std::vector<double>& from, const std::vector<double>& to,
+                     const std::vector<double>& speeds) {
+  VANTAGE_CHECK(from.size() == to.size() && to.size() == speeds.size());
+  double seconds = 0;
+  for (size_t i = 0; i < from.size(); ++i) {
+    const double delta = std::abs(to[i] - from[i]);
+    if (delta == 0) continue;
+    VANTAGE_CHECK(speeds[i] > 0);
+    seconds = std::max(seconds, delta / speeds[i]);
+  }
+  return seconds;
+}
+
 }  // namespace vantage

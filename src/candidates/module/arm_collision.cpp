@@ -121,7 +121,7 @@ ArmCollisions::ArmCollisions(const PlacedRobot& robot, const Scene& scene,
                              const std::vector<KeepOutBox>& keep_out,
                              const std::vector<std::string>& moving_joints,
                              const std::vector<std::pair<std::string, std::string>>& allowed_pairs)
-    : impl_(std::make_unique<Impl>()) {
+    : impl_(new Impl(), [](Impl* impl) { delete impl; }) {
   const RobotModel& model = robot.model;
   for (const auto& [a, b] : allowed_pairs) {
     impl_->allowed.insert({a, b});
