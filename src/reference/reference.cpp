@@ -312,18 +312,29 @@ bool IsClosed(const TriangleMesh& mesh) {
     if (i > 0 && less(order[i - 1], order[i])) ++id;
     welded[order[i]] = id;
   }
-  std::vector<std::pair<uint32_t, uint32_t>> forward, backward;
+  // Each edge as its unordered pair, +1 one way and -1 the other: a->b is matched by as many b->a
+  // exactly when every pair's signs sum to 0 (one sort of the edges, not of them both ways).
+  VANTAGE_CHECK(mesh.vertices.size() < (size_t{1} << 31));  // a pair and its direction: 63 bits
+  std::vector<uint64_t> edges;
+  edges.reserve(3 * mesh.triangles.size());
   for (const auto& t : mesh.triangles) {
     for (int e = 0; e < 3; ++e) {
       const uint32_t a = welded[t[e]], b = welded[t[(e + 1) % 3]];
       if (a == b) continue;
-      forward.emplace_back(a, b);
-      backward.emplace_back(b, a);
+      // The pair in the high bits, the direction in the lowest: a < b sorts before b < a.
+      const uint64_t pair = (uint64_t{std::min(a, b)} << 32 | std::max(a, b));
+      edges.push_back(pair << 1 | (a < b ? 0u : 1u));
     }
   }
-  tbb::parallel_sort(forward.begin(), forward.end());
-  tbb::parallel_sort(backward.begin(), backward.end());
-  return forward == backward;
+  tbb::parallel_sort(edges.begin(), edges.end());
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i;
+    int64_t sum = 0;
+    for (; j < edges.size() && edges[j] >> 1 == edges[i] >> 1; ++j) sum += (edges[j] & 1) ? -1 : 1;
+    if (sum != 0) return false;
+    i = j;
+  }
+  return true;
 }
 
 // A triangle in cell units, with its object and whether that object is closed.
