@@ -3,59 +3,36 @@
 #include <dlfcn.h>
 #include <fmt/format.h>
 
-#include <cstring>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 
 #include "candidates/arm_module.hpp"
+#include "util/module_places.hpp"
 #include "vantage/error.hpp"
 
 namespace vantage {
 namespace {
 
-// Where the module may be, in order (as the CAD reader's, scene/step_reader.cpp): beside the code
-// running (the binary, or the Python module's shared object), in the install's library folder
-// relative to it, and the build tree's own.
-std::vector<std::filesystem::path> ArmModulePlaces() {
-  std::vector<std::filesystem::path> folders;
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&PlanMotion), &info) != 0 && info.dli_fname != nullptr &&
-      std::strchr(info.dli_fname, '/') != nullptr) {
-    folders.push_back(std::filesystem::path(info.dli_fname).parent_path());
-  }
-  std::error_code error;
-  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (!error) folders.push_back(self.parent_path());
-  std::vector<std::filesystem::path> places;
-  for (const std::filesystem::path& folder : folders) {
-    places.push_back(folder / VANTAGE_ARM_MODULE_NAME);
-    places.push_back(folder / VANTAGE_ARM_MODULE_FROM_BIN / VANTAGE_ARM_MODULE_NAME);
-  }
-  places.emplace_back(VANTAGE_ARM_MODULE_BUILT);
-  return places;
-}
-
 const detail::ArmModuleApi& LoadArmModule() {
   std::string tried;
-  for (const std::filesystem::path& place : ArmModulePlaces()) {
-    std::error_code error;
-    if (!std::filesystem::is_regular_file(place, error)) {
-      tried += (tried.empty() ? "" : ", ") + place.string();
-      continue;
-    }
-    void* module = dlopen(place.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (module == nullptr)
-      throw InternalError(fmt::format("cannot load the arm module {}: {}", place.string(), dlerror()));
-    using Entry = const detail::ArmModuleApi* (*)();
-    const auto entry = reinterpret_cast<Entry>(dlsym(module, "vantage_arm_module"));
-    const detail::ArmModuleApi* api = entry ? entry() : nullptr;
-    if (api == nullptr || api->version != detail::kArmModuleVersion)
-      throw InternalError(fmt::format("{} is not this vantage's arm module", place.string()));
-    return *api;  // never unloaded: its objects may live until the process ends
-  }
-  throw InternalError(fmt::format("cannot plan for an arm: the arm module {} is not installed "
-                                  "(looked at {})",
-                                  VANTAGE_ARM_MODULE_NAME, tried));
+  const std::optional<std::filesystem::path> place = detail::FirstModulePlace(
+      detail::ModulePlaces(reinterpret_cast<const void*>(&PlanMotion), VANTAGE_ARM_MODULE_NAME,
+                           VANTAGE_ARM_MODULE_FROM_BIN, VANTAGE_ARM_MODULE_BUILT),
+      &tried);
+  if (!place)
+    throw InternalError(fmt::format("cannot plan for an arm: the arm module {} is not installed "
+                                    "(looked at {})",
+                                    VANTAGE_ARM_MODULE_NAME, tried));
+  void* module = dlopen(place->c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (module == nullptr)
+    throw InternalError(fmt::format("cannot load the arm module {}: {}", place->string(), dlerror()));
+  using Entry = const detail::ArmModuleApi* (*)();
+  const auto entry = reinterpret_cast<Entry>(dlsym(module, "vantage_arm_module"));
+  const detail::ArmModuleApi* api = entry ? entry() : nullptr;
+  if (api == nullptr || api->version != detail::kArmModuleVersion)
+    throw InternalError(fmt::format("{} is not this vantage's arm module", place->string()));
+  return *api;  // never unloaded: its objects may live until the process ends
 }
 
 const detail::ArmModuleApi& Arm() {

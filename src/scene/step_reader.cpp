@@ -10,10 +10,11 @@
 #include <array>
 #include <cctype>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
+#include <optional>
 
 #include "util/isolated.hpp"
+#include "util/module_places.hpp"
 #include "util/run_files.hpp"
 #include "vantage/error.hpp"
 
@@ -28,48 +29,26 @@ namespace {
 using CadModuleEntry = int (*)(const char* path, double deflection, std::string* parts,
                                std::string* failure);
 
-// Where the module may be, in order: beside the code running (the binary, or the Python module's
-// shared object: build/ keeps both there), in the install's library folder relative to it (`cmake
-// --install`: bin/vantage and lib/vantage/libvantage_cad.so), and the build tree's own (the tests
-// and the Python module run from build/).
-std::vector<std::filesystem::path> CadModulePlaces() {
-  std::vector<std::filesystem::path> folders;
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&ReadCadFile), &info) != 0 && info.dli_fname != nullptr &&
-      std::strchr(info.dli_fname, '/') != nullptr) {
-    folders.push_back(std::filesystem::path(info.dli_fname).parent_path());
-  }
-  std::error_code error;
-  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (!error) folders.push_back(self.parent_path());
-  std::vector<std::filesystem::path> places;
-  for (const std::filesystem::path& folder : folders) {
-    places.push_back(folder / VANTAGE_CAD_MODULE_NAME);
-    places.push_back(folder / VANTAGE_CAD_MODULE_FROM_BIN / VANTAGE_CAD_MODULE_NAME);
-  }
-  places.emplace_back(VANTAGE_CAD_MODULE_BUILT);
-  return places;
-}
-
 // Loads the module (in the child process: the parent never maps OpenCASCADE) and returns its entry.
+// It lies beside the binary (or the Python module), in lib/vantage/ once installed, or in the build
+// folder (ModulePlaces).
 CadModuleEntry LoadCadModule() {
   std::string tried;
-  for (const std::filesystem::path& place : CadModulePlaces()) {
-    std::error_code error;
-    if (!std::filesystem::is_regular_file(place, error)) {
-      tried += (tried.empty() ? "" : ", ") + place.string();
-      continue;
-    }
-    void* module = dlopen(place.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (module == nullptr) {
-      throw InputError(fmt::format("cannot load the CAD reader {}: {}", place.string(), dlerror()));
-    }
-    if (void* entry = dlsym(module, "vantage_read_cad")) return reinterpret_cast<CadModuleEntry>(entry);
-    throw InputError(fmt::format("{} is not vantage's CAD reader (no vantage_read_cad)", place.string()));
+  const std::optional<std::filesystem::path> place = FirstModulePlace(
+      ModulePlaces(reinterpret_cast<const void*>(&ReadCadFile), VANTAGE_CAD_MODULE_NAME,
+                   VANTAGE_CAD_MODULE_FROM_BIN, VANTAGE_CAD_MODULE_BUILT),
+      &tried);
+  if (!place) {
+    throw InputError(fmt::format(
+        "cannot read STEP or IGES files: the CAD reader {} is not installed (looked at {})",
+        VANTAGE_CAD_MODULE_NAME, tried));
   }
-  throw InputError(fmt::format(
-      "cannot read STEP or IGES files: the CAD reader {} is not installed (looked at {})",
-      VANTAGE_CAD_MODULE_NAME, tried));
+  void* module = dlopen(place->c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (module == nullptr) {
+    throw InputError(fmt::format("cannot load the CAD reader {}: {}", place->string(), dlerror()));
+  }
+  if (void* entry = dlsym(module, "vantage_read_cad")) return reinterpret_cast<CadModuleEntry>(entry);
+  throw InputError(fmt::format("{} is not vantage's CAD reader (no vantage_read_cad)", place->string()));
 }
 
 std::vector<CadPart> PartsFromBytes(const std::string& bytes) {

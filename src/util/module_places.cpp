@@ -1,0 +1,41 @@
+#include "util/module_places.hpp"
+
+#include <dlfcn.h>
+
+#include <cstring>
+#include <system_error>
+
+namespace vantage::detail {
+
+std::vector<std::filesystem::path> ModulePlaces(const void* code, const std::string& name,
+                                                const std::string& from_bin,
+                                                const std::string& built) {
+  std::vector<std::filesystem::path> folders;
+  Dl_info info{};
+  if (dladdr(code, &info) != 0 && info.dli_fname != nullptr &&
+      std::strchr(info.dli_fname, '/') != nullptr) {
+    folders.push_back(std::filesystem::path(info.dli_fname).parent_path());
+  }
+  std::error_code error;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (!error) folders.push_back(self.parent_path());
+  std::vector<std::filesystem::path> places;
+  for (const std::filesystem::path& folder : folders) {
+    places.push_back(folder / name);
+    places.push_back(folder / from_bin / name);
+  }
+  places.emplace_back(built);
+  return places;
+}
+
+std::optional<std::filesystem::path> FirstModulePlace(
+    const std::vector<std::filesystem::path>& places, std::string* tried) {
+  for (const std::filesystem::path& place : places) {
+    std::error_code error;
+    if (std::filesystem::is_regular_file(place, error)) return place;
+    *tried += (tried->empty() ? "" : ", ") + place.string();
+  }
+  return std::nullopt;
+}
+
+}  // namespace vantage::detail

@@ -1,0 +1,26 @@
+#pragma once
+/// Finding a run-time module (the CAD reader, libvantage_cad.so; the arm module,
+/// libvantage_arm.so): shared objects loaded with dlopen the first time they are needed, so that
+/// a process that never reads CAD or plans for an arm does not map their libraries.
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace vantage::detail {
+
+/// Where the module `name` may be, in order: beside the code running (the binary, or the Python
+/// module's shared object: the object holding `code`, then /proc/self/exe), in the install's
+/// library folder relative to it (`from_bin`: `cmake --install` puts bin/vantage and
+/// lib/vantage/NAME), and the build tree's own copy `built` (the tests, the Python module run
+/// from build/).
+std::vector<std::filesystem::path> ModulePlaces(const void* code, const std::string& name,
+                                                const std::string& from_bin,
+                                                const std::string& built);
+
+/// The first of `places` that is a regular file, or nullopt; `tried` gets the places passed
+/// over, comma-separated, for the message that says the module is not installed.
+std::optional<std::filesystem::path> FirstModulePlace(
+    const std::vector<std::filesystem::path>& places, std::string* tried);
+
+}  // namespace vantage::detail
