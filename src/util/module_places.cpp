@@ -18,7 +18,9 @@ std::vector<std::filesystem::path> ModulePlaces(const void* code, const std::str
   }
   std::error_code error;
   const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (!error) folders.push_back(self.parent_path());
+  // The binary's folder once, when the code running is the binary itself.
+  if (!error && (folders.empty() || folders.front() != self.parent_path()))
+    folders.push_back(self.parent_path());
   std::vector<std::filesystem::path> places;
   for (const std::filesystem::path& folder : folders) {
     places.push_back(folder / name);
