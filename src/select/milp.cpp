@@ -486,6 +486,10 @@ MilpAnswer BuildAndSolve(const SelectionModel& milp, const std::vector<uint32_t>
 
 }  // namespace
 
+std::vector<bool> DominatedCandidates(const CoverageMatrix& matrix, std::span<const double> costs) {
+  return Dominated(matrix, Columns(matrix), costs);
+}
+
 MilpAnswer SolveSelectionMilp(const SelectionModel& milp, const std::vector<uint32_t>& start,
                               double time_limit) {
   VANTAGE_CHECK(milp.matrix != nullptr && milp.threshold >= 1 &&

@@ -57,6 +57,12 @@ inline bool AllWhole(std::span<const double> values) {
   return true;
 }
 
+/// Per candidate, whether another sees a superset at no higher cost and is strictly better (a
+/// strict superset, or cheaper) or equal at a lower index; candidates that see nothing too. Dropping
+/// them all keeps an optimum of n sensors, a budget and a goal (the reductions above). `costs`
+/// empty: unit.
+std::vector<bool> DominatedCandidates(const CoverageMatrix& matrix, std::span<const double> costs);
+
 /// Builds `milp` as the MILP above, warm-starts it from `start` (dominated members replaced by a
 /// kept superset), and solves it with CBC within `time_limit` seconds (CBC's share and kill time:
 /// cbc_answer.hpp). A model too large for the limit is not run. When every candidate left fits

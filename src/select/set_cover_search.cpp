@@ -35,8 +35,8 @@
 namespace vantage::detail {
 namespace {
 
-// Above these sizes the search is not tried (dominance is quadratic in the candidates, and each
-// node solves an LP and a graph automorphism problem over the whole residual).
+// Above these sizes the search is not tried (each node solves an LP and a graph automorphism
+// problem over the whole residual).
 constexpr size_t kMaxCandidates = 3000;
 constexpr size_t kMaxNonzeros = 200000;
 // Open nodes are kept while they take less than this many bytes of column states.
@@ -72,26 +72,14 @@ struct Instance {
 
 Instance Reduce(const CoverageMatrix& matrix, std::span<const double> costs) {
   // A candidate whose elements another candidate also sees, at no more cost, is never needed
-  // (swapping it for the other keeps a cover and its cost); of equals, the first is kept.
-  const auto cost = [&](uint32_t i) { return costs.empty() ? 1.0 : costs[i]; };
-  std::vector<uint32_t> seeing;
-  for (uint32_t i = 0; i < matrix.candidate_count(); ++i)
-    if (!matrix.Row(i).empty()) seeing.push_back(i);
+  // (swapping it for the other keeps a cover and its cost); of equals, the first is kept
+  // (the MILP's reduction, milp.hpp).
+  const std::vector<bool> dominated = DominatedCandidates(matrix, costs);
   Instance instance;
-  for (const uint32_t a : seeing) {
-    bool dominated = false;
-    for (const uint32_t b : seeing) {
-      if (b == a || matrix.Row(b).size() < matrix.Row(a).size() || cost(b) > cost(a)) continue;
-      const bool same = matrix.Row(b).size() == matrix.Row(a).size() && cost(b) == cost(a);
-      if (same && b > a) continue;
-      if (matrix.IsSubset(a, b)) {
-        dominated = true;
-        break;
-      }
-    }
-    if (dominated) continue;
+  for (uint32_t a = 0; a < matrix.candidate_count(); ++a) {
+    if (dominated[a]) continue;
     instance.candidate.push_back(a);
-    instance.cost.push_back(cost(a));
+    instance.cost.push_back(costs.empty() ? 1.0 : costs[a]);
     instance.columns.push_back(matrix.Row(a));
   }
   instance.rows.resize(matrix.element_count());
