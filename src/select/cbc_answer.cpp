@@ -28,13 +28,14 @@ T Take(const std::string& bytes, size_t* offset) {
 
 }  // namespace
 
-std::string EncodeAnswer(Cbc_Model* cbc, int x_count) {
+std::string EncodeAnswer(CbcModelHandle* cbc, int x_count) {
+  const CbcModuleApi& api = Cbc();
   std::string bytes;
-  Append(&bytes, Cbc_getBestPossibleObjValue(cbc));
-  Append(&bytes, static_cast<int32_t>(Cbc_isProvenOptimal(cbc) != 0));
-  Append(&bytes, static_cast<int32_t>(Cbc_status(cbc)));
-  Append(&bytes, static_cast<int32_t>(Cbc_secondaryStatus(cbc)));
-  const double* solution = Cbc_bestSolution(cbc);
+  Append(&bytes, api.cbc_best_possible_obj_value(cbc));
+  Append(&bytes, static_cast<int32_t>(api.cbc_is_proven_optimal(cbc) != 0));
+  Append(&bytes, static_cast<int32_t>(api.cbc_status(cbc)));
+  Append(&bytes, static_cast<int32_t>(api.cbc_secondary_status(cbc)));
+  const double* solution = api.cbc_best_solution(cbc);
   std::vector<int32_t> chosen;
   for (int q = 0; solution != nullptr && q < x_count; ++q)
     if (solution[q] > 0.5) chosen.push_back(q);
@@ -82,12 +83,12 @@ std::string StatusInWords(const CbcAnswer& answer) {
   }
 }
 
-std::optional<CbcAnswer> SolveInChild(Cbc_Model* cbc, int x_count, double seconds,
+std::optional<CbcAnswer> SolveInChild(CbcModelHandle* cbc, int x_count, double seconds,
                                       std::string* note) {
   std::string why;
   const std::optional<std::string> bytes = RunInChildProcess(
       [&] {
-        Cbc_solve(cbc);
+        Cbc().cbc_solve(cbc);
         return EncodeAnswer(cbc, x_count);
       },
       seconds, &why);

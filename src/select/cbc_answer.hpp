@@ -2,14 +2,14 @@
 /// What a CBC run in the child process (child_process.hpp) reports back to the parent: its
 /// bound, status and the x columns at 1, as bytes. The selection MILP (milp.hpp) solves in a child
 /// and reads the answer this way.
-#include <coin/Cbc_C_Interface.h>
-
 #include <algorithm>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "select/cbc_module.hpp"
 
 namespace vantage::detail {
 
@@ -25,9 +25,9 @@ inline constexpr double kCbcKillShare = 0.9;
 inline double CbcMaxNonzeros(double time_limit) { return std::max(20000.0, 40000.0 * time_limit); }
 
 struct CbcModelDeleter {
-  void operator()(Cbc_Model* model) const { Cbc_deleteModel(model); }
+  void operator()(CbcModelHandle* model) const { Cbc().cbc_delete_model(model); }
 };
-using CbcModelPtr = std::unique_ptr<Cbc_Model, CbcModelDeleter>;
+using CbcModelPtr = std::unique_ptr<CbcModelHandle, CbcModelDeleter>;
 
 struct CbcAnswer {
   double bound = std::numeric_limits<double>::quiet_NaN();  ///< CBC's best possible objective
@@ -39,13 +39,13 @@ struct CbcAnswer {
 };
 
 /// The answer of the solved `cbc` (in the child), its first `x_count` columns being the x's.
-std::string EncodeAnswer(Cbc_Model* cbc, int x_count);
+std::string EncodeAnswer(CbcModelHandle* cbc, int x_count);
 /// EncodeAnswer's bytes back (in the parent); VANTAGE_CHECKs that they are well formed.
 CbcAnswer DecodeAnswer(const std::string& bytes, int x_count);
 /// Solves `cbc` in a child process (child_process.hpp: its root LP ignores the time limit and its
 /// SIGINT handler swallows Ctrl-C, a child can be stopped) for at most `seconds`, and reads its
 /// answer back. Nullopt when the child was stopped or failed, with `note` saying so.
-std::optional<CbcAnswer> SolveInChild(Cbc_Model* cbc, int x_count, double seconds,
+std::optional<CbcAnswer> SolveInChild(CbcModelHandle* cbc, int x_count, double seconds,
                                       std::string* note);
 /// CBC's secondary status in words (CbcModel::secondaryStatus), with what the user can change.
 std::string StatusInWords(const CbcAnswer& answer);

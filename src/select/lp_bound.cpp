@@ -4,21 +4,23 @@
 // a valid bound through EvaluateExactly: round-off in CLP costs strength, never correctness).
 #include "select/lp_bound.hpp"
 
-#include <coin/ClpEventHandler.hpp>
-#include <coin/ClpSimplex.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "select/cbc_module.hpp"
 #include "vantage/error.hpp"
 #include "vantage/interrupt.hpp"
 
 namespace vantage::detail {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::max();  // CLP's COIN_DBL_MAX
+
+}  // namespace
 
 ClpCoverageLp::ClpCoverageLp(const LagrangianProblem& problem)
-    : model_(std::make_unique<ClpSimplex>()),
-      weights_(problem.weights.begin(), problem.weights.end()),
+    : weights_(problem.weights.begin(), problem.weights.end()),
       column_of_element_(problem.weights.size(), -1),
       rows_(problem.rows.size()),
       slots_(problem.slots) {
@@ -38,7 +40,7 @@ ClpCoverageLp::ClpCoverageLp(const LagrangianProblem& problem)
       }
     }
   }
-  std::vector<CoinBigIndex> starts{0};
+  std::vector<int> starts{0};
   std::vector<int> indices;
   std::vector<double> values;
   std::vector<double> objective;
@@ -51,32 +53,31 @@ ClpCoverageLp::ClpCoverageLp(const LagrangianProblem& problem)
       indices.push_back(i);
       values.push_back(-1.0);
     }
-    starts.push_back(static_cast<CoinBigIndex>(indices.size()));
+    starts.push_back(static_cast<int>(indices.size()));
     objective.push_back(-1.0);
     upper.push_back(weights_[e]);
   }
   for (size_t i = 0; i < rows_; ++i) {
     indices.push_back(static_cast<int>(i));
     values.push_back(1.0);
-    starts.push_back(static_cast<CoinBigIndex>(indices.size()));
+    starts.push_back(static_cast<int>(indices.size()));
     objective.push_back(1.0);
-    upper.push_back(COIN_DBL_MAX);
+    upper.push_back(kInfinity);
     ++columns;
   }
   for (size_t i = 0; i < rows_; ++i) {
     indices.push_back(static_cast<int>(i));
     values.push_back(1.0);
   }
-  starts.push_back(static_cast<CoinBigIndex>(indices.size()));
+  starts.push_back(static_cast<int>(indices.size()));
   objective.push_back(static_cast<double>(problem.slots));
-  upper.push_back(COIN_DBL_MAX);
+  upper.push_back(kInfinity);
   ++columns;
   const std::vector<double> lower(columns, 0.0);
-  const std::vector<double> row_upper(rows_, COIN_DBL_MAX);
-  model_->setLogLevel(0);
-  model_->loadProblem(columns, static_cast<int>(rows_), starts.data(), indices.data(),
-                      values.data(), lower.data(), upper.data(), objective.data(), own.data(),
-                      row_upper.data());
+  const std::vector<double> row_upper(rows_, kInfinity);
+  model_.reset(Cbc().clp_new(columns, static_cast<int>(rows_), starts.data(), indices.data(),
+                             values.data(), lower.data(), upper.data(), objective.data(),
+                             own.data(), row_upper.data()));
   for (size_t e = 0; e < weights_.size(); ++e) {
     if (column_of_element_[e] >= 0) constant_ += weights_[e];
   }
@@ -84,24 +85,13 @@ ClpCoverageLp::ClpCoverageLp(const LagrangianProblem& problem)
 
 ClpCoverageLp::~ClpCoverageLp() = default;
 
-namespace {
-
-// Stops CLP at the end of an iteration once an interrupt is requested (Solve then throws
-// Interrupted): its time limit can be tens of seconds, and a stage must stop within a fraction
-// of one.
-class StopOnInterrupt : public ClpEventHandler {
- public:
-  int event(Event which) override {
-    return which == endOfIteration && InterruptRequested() ? 0 : -1;
-  }
-  ClpEventHandler* clone() const override { return new StopOnInterrupt(*this); }
-};
-
-}  // namespace
+void ClpCoverageLp::Deleter::operator()(ClpHandle* model) const { Cbc().clp_delete(model); }
 
 ClpLpSolution ClpCoverageLp::Solve(double seconds, std::span<const double> start) {
+  const CbcModuleApi& clp = Cbc();
+  ClpHandle* model = model_.get();
   ClpLpSolution solution;
-  const int columns_total = model_->numberColumns();
+  const int columns_total = clp.clp_number_columns(model);
   const bool warm = !start.empty() && rows_ > 0;
   if (warm) {
     // A feasible point of L at `start`: lambda, mu = the slots-th largest r_i, pi_i = the rest.
@@ -111,35 +101,38 @@ ClpLpSolution ClpCoverageLp::Solve(double seconds, std::span<const double> start
         point[column_of_element_[e]] = std::clamp(start[e], 0.0, static_cast<double>(weights_[e]));
     }
     std::vector<double> product(rows_, 0.0);
-    model_->matrix()->times(point.data(), product.data());
+    clp.clp_times(model, point.data(), product.data());
+    const double* row_lower = clp.clp_row_lower(model);
     std::vector<double> r(rows_);
-    for (size_t i = 0; i < rows_; ++i) r[i] = model_->rowLower()[i] - product[i];
+    for (size_t i = 0; i < rows_; ++i) r[i] = row_lower[i] - product[i];
     std::vector<double> sorted = r;
     std::sort(sorted.begin(), sorted.end(), std::greater<>());
     const double mu = slots_ == 0 ? sorted.front() : (slots_ <= rows_ ? sorted[slots_ - 1] : 0.0);
     const size_t pi0 = columns_total - 1 - rows_;
     for (size_t i = 0; i < rows_; ++i) point[pi0 + i] = std::max(0.0, r[i] - mu);
     point[columns_total - 1] = std::max(0.0, mu);
-    std::copy(point.begin(), point.end(), model_->primalColumnSolution());
+    std::copy(point.begin(), point.end(), clp.clp_primal_column_solution(model));
   }
-  model_->setMaximumWallSeconds(std::max(seconds, 1e-3));
-  model_->setMaximumSeconds(std::max(seconds, 1e-3));
-  StopOnInterrupt stop;
-  model_->passInEventHandler(&stop);  // CLP keeps a copy
+  clp.clp_set_maximum_wall_seconds(model, std::max(seconds, 1e-3));
+  clp.clp_set_maximum_seconds(model, std::max(seconds, 1e-3));
+  // CLP stops at the end of an iteration once an interrupt is requested (Solve then throws
+  // Interrupted): its time limit can be tens of seconds, and a stage must stop within a fraction
+  // of one.
+  clp.clp_stop_when(model, [] { return InterruptRequested(); });
   // From a start the basis is unknown but the point is feasible and near the optimum: a values
   // pass of primal simplex (on the 450-candidate bench world, N = 10, from 1,000 subgradient
   // steps: 6,101 iterations in 5.7 s, against 9,969 in 39 s for dual simplex from scratch).
   // Without one, dual simplex from the last basis.
   if (warm) {
-    model_->primal(1);
+    clp.clp_primal(model, 1);
   } else {
-    model_->dual();
+    clp.clp_dual(model);
   }
   ThrowIfInterrupted();
-  solution.optimal = model_->status() == 0;
-  solution.objective = model_->objectiveValue() + constant_;
-  solution.iterations = model_->numberIterations();
-  const double* columns = model_->primalColumnSolution();
+  solution.optimal = clp.clp_status(model) == 0;
+  solution.objective = clp.clp_objective_value(model) + constant_;
+  solution.iterations = clp.clp_number_iterations(model);
+  const double* columns = clp.clp_primal_column_solution(model);
   solution.lambda.resize(weights_.size());
   for (size_t e = 0; e < weights_.size(); ++e) {
     const auto w = static_cast<double>(weights_[e]);
@@ -149,7 +142,7 @@ ClpLpSolution ClpCoverageLp::Solve(double seconds, std::span<const double> start
     solution.lambda[e] = value >= 0 && value <= w ? value : (value < 0 ? 0.0 : w);
   }
   // x_i: the duals of the rows pi_i + mu >= sum lambda (the primal LP's x).
-  const double* duals = model_->dualRowSolution();
+  const double* duals = clp.clp_dual_row_solution(model);
   solution.x.resize(rows_);
   for (size_t i = 0; i < rows_; ++i) solution.x[i] = std::abs(duals[i]);
   return solution;

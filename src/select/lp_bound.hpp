@@ -12,9 +12,9 @@
 
 #include "select/methods.hpp"
 
-class ClpSimplex;
-
 namespace vantage::detail {
+
+struct ClpHandle;  // cbc_module.hpp
 
 /// What ClpCoverageLp::Solve found.
 struct ClpLpSolution {
@@ -33,7 +33,8 @@ struct ClpLpSolution {
 /// one row per candidate (a basis of hundreds, not of the ~15 k elements of the primal form),
 /// its optimum the LP optimum of max coverage. Elements of weight 0 or seen by one row get
 /// lambda_e = w_e, optimal for them (a row's lower bound then carries their weight). Held in a
-/// ClpSimplex so that a later Solve starts from the last basis.
+/// ClpSimplex (in the CBC module, cbc_module.hpp) so that a later Solve starts from the last
+/// basis.
 class ClpCoverageLp {
  public:
   explicit ClpCoverageLp(const LagrangianProblem& problem);
@@ -46,7 +47,10 @@ class ClpCoverageLp {
   ClpLpSolution Solve(double seconds, std::span<const double> start = {});
 
  private:
-  std::unique_ptr<ClpSimplex> model_;
+  struct Deleter {
+    void operator()(ClpHandle* model) const;
+  };
+  std::unique_ptr<ClpHandle, Deleter> model_;
   std::vector<uint32_t> weights_;   // the problem's, per element
   std::vector<int> column_of_element_;  // LP column of each element's lambda, -1 if none
   size_t rows_ = 0;                     // LP rows: one per problem row

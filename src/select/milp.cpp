@@ -1,14 +1,15 @@
 // The selection MILP (milp.hpp): the one builder of every exact model, and its CBC run.
 #include "select/milp.hpp"
 
-#include <coin/Cbc_C_Interface.h>
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
 
 #include "select/cbc_answer.hpp"
+#include "select/cbc_module.hpp"
 #include "select/constrained.hpp"
 #include "vantage/error.hpp"
 #include "vantage/interrupt.hpp"
@@ -119,9 +120,10 @@ class Model {
   int column_count() const { return static_cast<int>(lower_.size()); }
 
   CbcModelPtr Load(double sense) const {
-    CbcModelPtr model(Cbc_newModel());
+    const CbcModuleApi& cbc_api = Cbc();
+    CbcModelPtr model(cbc_api.cbc_new_model());
     if (!model) return model;
-    std::vector<CoinBigIndex> starts{0};
+    std::vector<int> starts{0};
     std::vector<int> indices;
     std::vector<double> values;
     for (const auto& column : entries_) {
@@ -129,17 +131,17 @@ class Model {
         indices.push_back(row);
         values.push_back(value);
       }
-      starts.push_back(static_cast<CoinBigIndex>(indices.size()));
+      starts.push_back(static_cast<int>(indices.size()));
     }
-    Cbc_Model* cbc = model.get();
-    Cbc_loadProblem(cbc, column_count(), row_count(), starts.data(), indices.data(), values.data(),
-                    lower_.data(), upper_.data(), objective_.data(), row_lower_.data(),
-                    row_upper_.data());
+    CbcModelHandle* cbc = model.get();
+    cbc_api.cbc_load_problem(cbc, column_count(), row_count(), starts.data(), indices.data(),
+                             values.data(), lower_.data(), upper_.data(), objective_.data(),
+                             row_lower_.data(), row_upper_.data());
     for (int c = 0; c < column_count(); ++c)
-      if (is_integer_[static_cast<size_t>(c)]) Cbc_setInteger(cbc, c);
-    Cbc_setObjSense(cbc, sense);
-    Cbc_setLogLevel(cbc, 0);
-    Cbc_setParameter(cbc, "timeMode", "elapsed");  // wall clock, as the time limits mean
+      if (is_integer_[static_cast<size_t>(c)]) cbc_api.cbc_set_integer(cbc, c);
+    cbc_api.cbc_set_obj_sense(cbc, sense);
+    cbc_api.cbc_set_log_level(cbc, 0);
+    cbc_api.cbc_set_parameter(cbc, "timeMode", "elapsed");  // wall clock, as the time limits mean
     return model;
   }
 
@@ -426,16 +428,17 @@ MilpAnswer BuildAndSolve(const SelectionModel& milp, const std::vector<uint32_t>
     answer.note = "CBC could not create a model";
     return answer;
   }
-  Cbc_Model* cbc = owner.get();
+  const CbcModuleApi& cbc_api = Cbc();
+  CbcModelHandle* cbc = owner.get();
   // CBC notices its limit only between steps and overran it by up to 5 s in 60 (the 450-candidate
   // bench world): it gets kCbcTimeShare of the time, so that the whole method stays within it.
-  Cbc_setMaximumSeconds(cbc, kCbcTimeShare * time_limit);
+  cbc_api.cbc_set_maximum_seconds(cbc, kCbcTimeShare * time_limit);
   if (maximise && milp.value != ModelValue::kCells) {
     // Aggregates are fractions with no common grain worth relying on: prove to round-off only.
-    Cbc_setAllowableGap(cbc, 1e-10 * scale);
-    Cbc_setAllowableFractionGap(cbc, 0.0);
+    cbc_api.cbc_set_allowable_gap(cbc, 1e-10 * scale);
+    cbc_api.cbc_set_allowable_fraction_gap(cbc, 0.0);
   } else if (maximise || !has_costs || AllWhole(milp.costs)) {
-    Cbc_setAllowableGap(cbc, 0.99);  // whole cells, sensors or costs: within 1 is optimal
+    cbc_api.cbc_set_allowable_gap(cbc, 0.99);  // whole cells, sensors or costs: within 1 is optimal
   }
   // Warm start on every integer column (CBC fixes the ones given, the others at 0, and solves an
   // LP for the continuous ones): `start` with each dropped candidate replaced by its dominator,
@@ -466,8 +469,8 @@ MilpAnswer BuildAndSolve(const SelectionModel& milp, const std::vector<uint32_t>
     start_columns.push_back(r_of[q]);
     start_values.push_back(static_cast<int>(q) == root ? 1.0 : 0.0);
   }
-  Cbc_setMIPStartI(cbc, static_cast<int>(start_columns.size()), start_columns.data(),
-                   start_values.data());
+  cbc_api.cbc_set_mip_start_i(cbc, static_cast<int>(start_columns.size()), start_columns.data(),
+                               start_values.data());
 
   const std::optional<CbcAnswer> solved =
       SolveInChild(cbc, x_count, kCbcKillShare * time_limit, &answer.note);
@@ -494,6 +497,7 @@ MilpAnswer SolveSelectionMilp(const SelectionModel& milp, const std::vector<uint
                               double time_limit) {
   VANTAGE_CHECK(milp.matrix != nullptr && milp.threshold >= 1 &&
                 (milp.costs.empty() || milp.costs.size() == milp.matrix->candidate_count()));
+  Cbc();  // a missing CBC module is an internal error (exit 1), not a note on the answer
   try {
     return BuildAndSolve(milp, start, time_limit);
   } catch (const Interrupted&) {

@@ -13,18 +13,20 @@
 // j, to a cover as cheap that uses j, so the two children hold an optimum between them. Nodes are taken best bound first
 // (deepest first among equal bounds), so the smallest open bound is a proven lower bound when
 // the time runs out.
-#include <coin/ClpSimplex.hpp>
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <memory>
 #include <queue>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "select/cbc_module.hpp"
 #include "select/coverage_matrix.hpp"
 #include "select/milp.hpp"
 #include "select/methods.hpp"
@@ -174,24 +176,28 @@ LpOutcome SolveLp(const std::vector<std::vector<uint32_t>>& columns,
   LpOutcome outcome;
   outcome.x.assign(columns.size(), 0.0);
   if (row_count == 0) return outcome;
-  std::vector<CoinBigIndex> starts{0};
+  std::vector<int> starts{0};
   std::vector<int> indices;
   for (const std::vector<uint32_t>& column : columns) {
     indices.insert(indices.end(), column.begin(), column.end());
-    starts.push_back(static_cast<CoinBigIndex>(indices.size()));
+    starts.push_back(static_cast<int>(indices.size()));
   }
+  constexpr double kInfinity = std::numeric_limits<double>::max();  // CLP's COIN_DBL_MAX
   const std::vector<double> values(indices.size(), 1.0);
-  const std::vector<double> lower(columns.size(), 0.0), upper(columns.size(), COIN_DBL_MAX);
-  const std::vector<double> row_lower(row_count, 1.0), row_upper(row_count, COIN_DBL_MAX);
-  ClpSimplex model;
-  model.setLogLevel(0);
-  model.loadProblem(static_cast<int>(columns.size()), static_cast<int>(row_count), starts.data(),
-                    indices.data(), values.data(), lower.data(), upper.data(), cost.data(),
-                    row_lower.data(), row_upper.data());
-  model.setMaximumSeconds(std::max(seconds, 1e-3));
-  model.dual();
-  const double* duals = model.dualRowSolution();
-  const double* primal = model.primalColumnSolution();
+  const std::vector<double> lower(columns.size(), 0.0), upper(columns.size(), kInfinity);
+  const std::vector<double> row_lower(row_count, 1.0), row_upper(row_count, kInfinity);
+  const CbcModuleApi& clp = Cbc();
+  const auto deleter = [&clp](ClpHandle* model) { clp.clp_delete(model); };
+  const std::unique_ptr<ClpHandle, decltype(deleter)> owner(
+      clp.clp_new(static_cast<int>(columns.size()), static_cast<int>(row_count), starts.data(),
+                  indices.data(), values.data(), lower.data(), upper.data(), cost.data(),
+                  row_lower.data(), row_upper.data()),
+      deleter);
+  ClpHandle* model = owner.get();
+  clp.clp_set_maximum_seconds(model, std::max(seconds, 1e-3));
+  clp.clp_dual(model);
+  const double* duals = clp.clp_dual_row_solution(model);
+  const double* primal = clp.clp_primal_column_solution(model);
   std::vector<double> y(row_count);
   for (size_t r = 0; r < row_count; ++r) y[r] = duals[r] > 0 ? duals[r] : 0.0;  // NaN -> 0
   double largest = 1.0, total = 0.0;  // the scale that brings each column's sum to its cost

@@ -1,7 +1,8 @@
 #pragma once
 /// Finding a run-time module (the CAD reader, libvantage_cad.so; the arm module,
-/// libvantage_arm.so): shared objects loaded with dlopen the first time they are needed, so that
-/// a process that never reads CAD or plans for an arm does not map their libraries.
+/// libvantage_arm.so; CBC and CLP, libvantage_cbc.so): shared objects loaded with dlopen the
+/// first time they are needed, so that a process that never reads CAD, plans for an arm or solves
+/// a model does not map their libraries.
 #include <filesystem>
 #include <optional>
 #include <string>
