@@ -10,6 +10,7 @@
 #include <atomic>
 #include <limits>
 #include <optional>
+#include <span>
 #include <tuple>
 #include <cmath>
 
@@ -174,6 +175,76 @@ void AppendTriangleCells(const Vec3& a, const Vec3& b, const Vec3& c, double cel
   thread_local std::vector<Vec3> poly;  // kept with its capacity from triangle to triangle
   VisitBlock(tri, lo, hi, &poly, [keys](const Cell& c, const std::vector<Vec3>&) { keys->push_back(PackVoxel(c)); });
 }
+
+namespace {
+
+// Each target triangle's cells (AppendTriangleCells' keys, in its order), the targets' triangles
+// in scene order (object by object, every triangle): BuildReference clips them once, and the
+// exposure grid's walls and samples read the cells instead of clipping the triangles again.
+struct TargetCells {
+  std::vector<size_t> first;     // per object: the index of its first triangle among the targets'
+  std::vector<size_t> start;     // per target triangle: its first key (and one past the last)
+  std::vector<uint64_t> keys;
+  std::span<const uint64_t> Of(uint32_t object, size_t triangle) const {
+    const size_t j = first[object] + triangle;
+    return {keys.data() + start[j], keys.data() + start[j + 1]};
+  }
+};
+
+// The targets must fit the packed grid (CheckTargetsFitGrid).
+TargetCells ListTargetCells(const Scene& scene, double cell_size) {
+  TargetCells cells;
+  struct Tri {
+    const TriangleMesh* mesh;
+    size_t index;
+  };
+  std::vector<Tri> triangles;
+  cells.first.assign(scene.objects.size(), 0);
+  for (size_t o = 0; o < scene.objects.size(); ++o) {
+    cells.first[o] = triangles.size();
+    if (!scene.objects[o].is_target()) continue;
+    const TriangleMesh& mesh = scene.objects[o].mesh;
+    for (size_t i = 0; i < mesh.triangles.size(); ++i) triangles.push_back({&mesh, i});
+  }
+  struct Local {
+    std::vector<uint64_t> keys;
+    std::vector<std::pair<size_t, size_t>> ends;  // (triangle, one past its last key)
+  };
+  tbb::enumerable_thread_specific<Local> per_thread;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, triangles.size(), 1024),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      Local& local = per_thread.local();
+                      for (size_t i = range.begin(); i != range.end(); ++i) {
+                        const TriangleMesh& mesh = *triangles[i].mesh;
+                        const auto& t = mesh.triangles[triangles[i].index];
+                        AppendTriangleCells(mesh.vertices[t[0]], mesh.vertices[t[1]],
+                                            mesh.vertices[t[2]], cell_size, &local.keys);
+                        local.ends.emplace_back(i, local.keys.size());
+                      }
+                    });
+  cells.start.assign(triangles.size() + 1, 0);
+  for (const Local& local : per_thread) {
+    size_t begin = 0;
+    for (const auto& [i, end] : local.ends) {
+      cells.start[i + 1] = end - begin;
+      begin = end;
+    }
+  }
+  for (size_t i = 1; i < cells.start.size(); ++i) cells.start[i] += cells.start[i - 1];
+  cells.keys.resize(cells.start.back());
+  for (const Local& local : per_thread) {
+    size_t begin = 0;
+    for (const auto& [i, end] : local.ends) {
+      std::copy(local.keys.begin() + static_cast<ptrdiff_t>(begin),
+                local.keys.begin() + static_cast<ptrdiff_t>(end),
+                cells.keys.begin() + static_cast<ptrdiff_t>(cells.start[i]));
+      begin = end;
+    }
+  }
+  return cells;
+}
+
+}  // namespace
 
 void CheckTargetsFitGrid(const Scene& scene, double cell_size) {
   Aabb bounds;
@@ -422,8 +493,13 @@ void ForEachListed(const Listing& listing, uint64_t key, const Visit& visit) {
 
 class ExposureGrid {
  public:
-  ExposureGrid(const Scene& scene, double cell_size, const ExposureBox& box)
-      : scene_(scene), cell_size_(cell_size), box_(box), grid_(box.Size(), kFree) {
+  ExposureGrid(const Scene& scene, double cell_size, const ExposureBox& box,
+               const TargetCells& target_cells)
+      : scene_(scene),
+        cell_size_(cell_size),
+        target_cells_(target_cells),
+        box_(box),
+        grid_(box.Size(), kFree) {
     for (const SceneObject& object : scene.objects) closed_.push_back(IsClosed(object.mesh));
     // Triangles are kept as references (8 bytes each), their cell coordinates made when needed.
     for (uint32_t o = 0; o < scene.objects.size(); ++o) {
@@ -476,18 +552,26 @@ class ExposureGrid {
       for (size_t i = range.begin(); i != range.end(); ++i) {
         const CellTri& t = cell_tris_[i];
         Cell lo, hi;
-        bool inside = true;
+        bool inside = true, whole = true;  // whole: the triangle's cells all lie in the box
         for (int a = 0; a < 3; ++a) {
-          lo[a] = std::max(box_.lo[a], FloorToInt(std::min({t.v[0][a], t.v[1][a], t.v[2][a]})));
-          hi[a] = std::min(box_.hi[a], FloorToInt(std::max({t.v[0][a], t.v[1][a], t.v[2][a]})));
+          const int64_t low = FloorToInt(std::min({t.v[0][a], t.v[1][a], t.v[2][a]}));
+          const int64_t high = FloorToInt(std::max({t.v[0][a], t.v[1][a], t.v[2][a]}));
+          lo[a] = std::max(box_.lo[a], low);
+          hi[a] = std::min(box_.hi[a], high);
           inside = inside && lo[a] <= hi[a];
+          whole = whole && lo[a] == low && hi[a] == high;
         }
-        if (inside) {
-          VisitBlock(t.v, lo, hi, &poly, [&](const Cell& c, const std::vector<Vec3>&) {
-            const uint64_t index = box_.Index(c);
-            std::atomic_ref<uint8_t>(grid_[index]).store(kWall, std::memory_order_relaxed);
-            cells.emplace_back(index, static_cast<uint32_t>(i));
-          });
+        const auto wall = [&](const Cell& c) {
+          const uint64_t index = box_.Index(c);
+          std::atomic_ref<uint8_t>(grid_[index]).store(kWall, std::memory_order_relaxed);
+          cells.emplace_back(index, static_cast<uint32_t>(i));
+        };
+        if (inside && whole && scene_.objects[tris_[i].object].is_target()) {
+          // The same block of cells that BuildReference visited: its cells, not clipped again.
+          for (const uint64_t key : target_cells_.Of(tris_[i].object, tris_[i].index))
+            wall(UnpackVoxel(key));
+        } else if (inside) {
+          VisitBlock(t.v, lo, hi, &poly, [&](const Cell& c, const std::vector<Vec3>&) { wall(c); });
         }
         if (!t.closed) continue;
         for (int64_t x = lo[0]; x <= hi[0]; ++x)
@@ -639,6 +723,7 @@ class ExposureGrid {
 
   const Scene& scene_;
   double cell_size_;
+  const TargetCells& target_cells_;
   std::vector<char> closed_;  // per object: IsClosed
   ExposureBox box_;
   std::vector<uint8_t> grid_;
@@ -657,11 +742,13 @@ uint64_t ExposureGridCells(const Scene& scene, double cell_size) {
   return box ? box->Size() : 0;
 }
 
-std::vector<uint8_t> ComputeExposure(const Scene& scene, const Reference& reference) {
+namespace {
+
+// ComputeExposure with the targets' cells listed already (`cells`, in `box`).
+std::vector<uint8_t> ExposureOf(const Scene& scene, const Reference& reference,
+                                const ExposureBox& box, const TargetCells& cells) {
   const double cell_size = reference.cell_size;
-  const std::optional<ExposureBox> box = ExposureBoxOf(scene, cell_size);
-  if (!box) return {};
-  const ExposureGrid grid(scene, cell_size, *box);
+  const ExposureGrid grid(scene, cell_size, box, cells);
   struct Tri {
     uint32_t object;
     size_t index;
@@ -689,18 +776,22 @@ std::vector<uint8_t> ComputeExposure(const Scene& scene, const Reference& refere
         lo[a] = FloorToInt(std::min({tri[0][a], tri[1][a], tri[2][a]}));
         hi[a] = FloorToInt(std::max({tri[0][a], tri[1][a], tri[2][a]}));
       }
-      // A cell another triangle found exposed already is not clipped again (most cells of a
-      // fine mesh are shared by several triangles). The sink is only ever called for the cell
-      // just wanted, so it takes that cell's index from there instead of searching R again.
-      int64_t index = -1;
-      const auto not_yet_exposed = [&](const Cell& c) {
-        index = reference.IndexOf(PackVoxel(c));
+      // The triangle's cells as BuildReference listed them; a cell another triangle found
+      // exposed already is not clipped again (most cells of a fine mesh are shared by several
+      // triangles). A triangle inside one cell is its own part there, as VisitWantedBlock has it.
+      const bool in_one_cell = lo == hi && InsideCell(tri, lo);
+      for (const uint64_t key : cells.Of(targets[i].object, targets[i].index)) {
+        const int64_t index = reference.IndexOf(key);
         // Negative: left out already (never: R holds every touched cell).
-        return index >= 0 && !std::atomic_ref<uint8_t>(exposed[static_cast<size_t>(index)])
-                                  .load(std::memory_order_relaxed);
-      };
-      VisitWantedBlock(tri, lo, hi, &poly, not_yet_exposed, [&](const Cell&,
-                                                                const std::vector<Vec3>& part) {
+        if (index < 0 || std::atomic_ref<uint8_t>(exposed[static_cast<size_t>(index)])
+                             .load(std::memory_order_relaxed))
+          continue;
+        if (in_one_cell) {
+          poly.assign(std::begin(tri), std::end(tri));
+        } else if (!TriangleTouchesHalfOpenCell(tri, UnpackVoxel(key), &poly)) {
+          continue;  // never: the cell was listed as touched
+        }
+        const std::vector<Vec3>& part = poly;
         std::atomic_ref<uint8_t> flag(exposed[static_cast<size_t>(index)]);
         Vec3 centroid = Vec3::Zero();
         for (const Vec3& v : part) centroid += v;
@@ -709,10 +800,18 @@ std::vector<uint8_t> ComputeExposure(const Scene& scene, const Reference& refere
         for (size_t v = 0; v < part.size() && !is_exposed; ++v)
           is_exposed = grid.IsExposed(0.5 * (centroid + part[v]), normal, targets[i].object);
         if (is_exposed) flag.store(1, std::memory_order_relaxed);
-      });
+      }
     }
   });
   return exposed;
+}
+
+}  // namespace
+
+std::vector<uint8_t> ComputeExposure(const Scene& scene, const Reference& reference) {
+  const std::optional<ExposureBox> box = ExposureBoxOf(scene, reference.cell_size);
+  if (!box) return {};
+  return ExposureOf(scene, reference, *box, ListTargetCells(scene, reference.cell_size));
 }
 
 Reference BuildReference(const Scene& scene, const ReferenceOptions& options) {
@@ -737,9 +836,8 @@ Reference BuildReference(const Scene& scene, const ReferenceOptions& options) {
   if (triangles.empty())
     throw InputError("the scene has no target surface — mark at least one object as a target");
   CheckTargetsFitGrid(scene, options.cell_size);
-  std::optional<ExposureBox> exposure_box;
+  const std::optional<ExposureBox> exposure_box = ExposureBoxOf(scene, options.cell_size);
   if (options.exposed_only) {
-    exposure_box = ExposureBoxOf(scene, options.cell_size);
     if (!exposure_box)
       throw InputError(fmt::format(
           "--exposed-only: the targets' box spans more than {} cells of {} m, too many to find "
@@ -747,45 +845,29 @@ Reference BuildReference(const Scene& scene, const ReferenceOptions& options) {
           kMaxExposureGridCells, options.cell_size));
   }
 
-  struct Cells {
-    std::vector<uint64_t> keys;
-    std::vector<uint32_t> parts;  // per key, the part of the triangle that touched it
-  };
-  tbb::enumerable_thread_specific<Cells> per_thread;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, triangles.size(), 1024),
-                    [&](const tbb::blocked_range<size_t>& range) {
-                      Cells& cells = per_thread.local();
-                      for (size_t i = range.begin(); i != range.end(); ++i) {
-                        const TriangleMesh& mesh = *triangles[i].mesh;
-                        const auto& t = mesh.triangles[triangles[i].index];
-                        AppendTriangleCells(mesh.vertices[t[0]], mesh.vertices[t[1]],
-                                            mesh.vertices[t[2]], options.cell_size, &cells.keys);
-                        cells.parts.resize(cells.keys.size(), triangles[i].part);
-                      }
-                    });
-  for (const Cells& cells : per_thread)
-    reference.keys.insert(reference.keys.end(), cells.keys.begin(), cells.keys.end());
+  const TargetCells cells = ListTargetCells(scene, options.cell_size);
+  reference.keys = cells.keys;
   // Sorting makes the result independent of how the work was split between threads.
-  std::sort(reference.keys.begin(), reference.keys.end());
+  tbb::parallel_sort(reference.keys.begin(), reference.keys.end());
   reference.keys.erase(std::unique(reference.keys.begin(), reference.keys.end()), reference.keys.end());
   // A cell on two parts' surfaces belongs to the first: the smallest part index, in any order.
   reference.part_of.assign(reference.keys.size(), UINT32_MAX);
-  for (Cells& cells : per_thread) {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, cells.keys.size(), 4096),
-                      [&](const tbb::blocked_range<size_t>& range) {
-                        for (size_t i = range.begin(); i != range.end(); ++i) {
-                          std::atomic_ref<uint32_t> part(
-                              reference.part_of[static_cast<size_t>(reference.IndexOf(cells.keys[i]))]);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, triangles.size(), 1024),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t i = range.begin(); i != range.end(); ++i) {
+                        const uint32_t own = triangles[i].part;
+                        for (size_t k = cells.start[i]; k < cells.start[i + 1]; ++k) {
+                          std::atomic_ref<uint32_t> part(reference.part_of[static_cast<size_t>(
+                              reference.IndexOf(cells.keys[k]))]);
                           uint32_t now = part.load(std::memory_order_relaxed);
-                          while (cells.parts[i] < now &&
-                                 !part.compare_exchange_weak(now, cells.parts[i],
-                                                             std::memory_order_relaxed)) {
+                          while (own < now &&
+                                 !part.compare_exchange_weak(now, own, std::memory_order_relaxed)) {
                           }
                         }
-                      });
-    cells = Cells{};
-  }
-  reference.exposed = ComputeExposure(scene, reference);
+                      }
+                    });
+  // ComputeExposure on the cells just listed (empty without a box).
+  if (exposure_box) reference.exposed = ExposureOf(scene, reference, *exposure_box, cells);
   if (options.exposed_only) {
     VANTAGE_CHECK(reference.exposed.size() == reference.keys.size());
     reference.exposed_only = true;
