@@ -16,7 +16,6 @@
 #include <optional>
 #include <numbers>
 #include <set>
-#include <unordered_map>
 #include <string>
 #include <vector>
 
@@ -150,14 +149,21 @@ void CompactVertices(TriangleMesh* mesh) {
       return static_cast<size_t>(h ^ (h >> 31));
     }
   };
-  std::unordered_map<Key, uint32_t, KeyHash> first_at;
-  first_at.reserve(v.size());
+  // Each vertex's first equal one, from a table of vertex indices in open addressing (at most
+  // half full; no allocation per vertex, as the std::unordered_map before it had).
+  constexpr uint32_t kUnused = UINT32_MAX;
+  size_t capacity = 16;
+  while (capacity < 2 * v.size()) capacity *= 2;
+  std::vector<uint32_t> first_at(capacity, kUnused);
   std::vector<uint32_t> same_as(v.size());
+  const KeyHash hash;
   for (uint32_t i = 0; i < v.size(); ++i) {
     const Key key{v[i].x() + 0.0, v[i].y() + 0.0, v[i].z() + 0.0};
-    same_as[i] = first_at.try_emplace(key, i).first->second;
+    size_t slot = hash(key) & (capacity - 1);
+    while (first_at[slot] != kUnused && v[first_at[slot]] != v[i]) slot = (slot + 1) & (capacity - 1);
+    if (first_at[slot] == kUnused) first_at[slot] = i;
+    same_as[i] = first_at[slot];
   }
-  constexpr uint32_t kUnused = UINT32_MAX;
   std::vector<uint32_t> new_index(v.size(), kUnused);
   std::vector<Vec3> kept;
   for (auto& triangle : mesh->triangles) {
