@@ -7,6 +7,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <limits>
 #include <optional>
@@ -52,42 +53,61 @@ bool TriangleOverlapsClosedBox(const Vec3 (&tri)[3], const Vec3& lo, const Vec3&
   return true;
 }
 
-// Sutherland–Hodgman clip of a convex polygon to one side of an axis plane. Points created on
-// the plane get exactly the plane's coordinate, so "on the upper face" is decided exactly.
-void ClipAxis(std::vector<Vec3>* poly, int axis, double bound, bool keep_below) {
-  // A scratch buffer per thread, swapped with `poly`: both keep their capacity, so clipping
-  // allocates nothing after the first cells (a malloc and free per clip was a tenth of R).
-  thread_local std::vector<Vec3> out;
-  out.clear();
+// A triangle clipped to a cell: at most 3 * 2^6 corners, as each of the six clips at most
+// doubles them (it keeps a corner and adds a crossing per edge), held without allocating.
+struct Polygon {
+  static constexpr size_t kMax = 3 << 6;
+  std::array<Vec3, kMax> v;
+  size_t n = 0;
+  void Assign(const Vec3 (&tri)[3]) {
+    v[0] = tri[0];
+    v[1] = tri[1];
+    v[2] = tri[2];
+    n = 3;
+  }
+  std::span<const Vec3> Corners() const { return {v.data(), n}; }
+};
+
+// Sutherland–Hodgman clip of a convex polygon to one side of an axis plane, `in` into `out`.
+// Points created on the plane get exactly the plane's coordinate, so "on the upper face" is
+// decided exactly.
+void ClipAxis(const Polygon& in, Polygon* out, int axis, double bound, bool keep_below) {
+  out->n = 0;
   const auto inside = [&](const Vec3& p) { return keep_below ? p[axis] <= bound : p[axis] >= bound; };
-  for (size_t i = 0; i < poly->size(); ++i) {
-    const Vec3& a = (*poly)[i];
-    const Vec3& b = (*poly)[(i + 1) % poly->size()];
+  for (size_t i = 0; i < in.n; ++i) {
+    const Vec3& a = in.v[i];
+    const Vec3& b = in.v[i + 1 == in.n ? 0 : i + 1];
     const bool a_in = inside(a), b_in = inside(b);
-    if (a_in) out.push_back(a);
+    if (a_in) out->v[out->n++] = a;
     if (a_in != b_in) {
       const double t = (bound - a[axis]) / (b[axis] - a[axis]);
       Vec3 p = a + t * (b - a);
       p[axis] = bound;
-      out.push_back(p);
+      out->v[out->n++] = p;
     }
   }
-  poly->swap(out);
 }
 
 // Exact test against the half-open cell [k, k+1)³: clip the triangle to the closed cell; the
 // closed triangle meets the half-open cell unless the clipped convex polygon is empty or lies
 // entirely in one upper face (then its relative interior avoids every upper face otherwise).
-bool TriangleTouchesHalfOpenCell(const Vec3 (&tri)[3], const Cell& k, std::vector<Vec3>* poly) {
-  poly->assign(std::begin(tri), std::end(tri));
-  for (int axis = 0; axis < 3 && !poly->empty(); ++axis) {
-    ClipAxis(poly, axis, static_cast<double>(k[axis]), false);
-    if (!poly->empty()) ClipAxis(poly, axis, static_cast<double>(k[axis] + 1), true);
+// `poly` gets the clipped polygon.
+bool TriangleTouchesHalfOpenCell(const Vec3 (&tri)[3], const Cell& k, Polygon* poly) {
+  Polygon scratch;
+  poly->Assign(tri);
+  for (int axis = 0; axis < 3 && poly->n != 0; ++axis) {
+    ClipAxis(*poly, &scratch, axis, static_cast<double>(k[axis]), false);
+    if (scratch.n != 0) {
+      ClipAxis(scratch, poly, axis, static_cast<double>(k[axis] + 1), true);
+    } else {
+      poly->n = 0;
+    }
   }
-  if (poly->empty()) return false;
+  if (poly->n == 0) return false;
+  const std::span<const Vec3> corners = poly->Corners();
   for (int axis = 0; axis < 3; ++axis) {
     const double upper = static_cast<double>(k[axis] + 1);
-    if (std::all_of(poly->begin(), poly->end(), [&](const Vec3& p) { return p[axis] == upper; }))
+    if (std::all_of(corners.begin(), corners.end(), [&](const Vec3& p) { return p[axis] == upper; }))
       return false;
   }
   return true;
@@ -110,14 +130,14 @@ bool InsideCell(const Vec3 (&tri)[3], const Cell& k) {
 // between them.
 template <typename Wanted, typename Sink>
 void VisitWantedBlock(const Vec3 (&tri)[3], const Cell& lo, const Cell& hi,
-                      std::vector<Vec3>* poly, const Wanted& wanted, const Sink& sink) {
+                      Polygon* poly, const Wanted& wanted, const Sink& sink) {
   const int64_t count = (hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
   if (count == 1 && InsideCell(tri, lo)) {
     // The whole triangle lies in the half-open cell: clipping would return it as it is (most
     // triangles of a fine mesh; a third of the reference stage's samples were their clips).
     if (wanted(lo)) {
-      poly->assign(std::begin(tri), std::end(tri));
-      sink(lo, *poly);
+      poly->Assign(tri);
+      sink(lo, poly->Corners());
     }
     return;
   }
@@ -126,7 +146,7 @@ void VisitWantedBlock(const Vec3 (&tri)[3], const Cell& lo, const Cell& hi,
       for (int64_t y = lo[1]; y <= hi[1]; ++y)
         for (int64_t z = lo[2]; z <= hi[2]; ++z) {
           const Cell c{x, y, z};
-          if (wanted(c) && TriangleTouchesHalfOpenCell(tri, c, poly)) sink(c, *poly);
+          if (wanted(c) && TriangleTouchesHalfOpenCell(tri, c, poly)) sink(c, poly->Corners());
         }
     return;
   }
@@ -145,7 +165,7 @@ void VisitWantedBlock(const Vec3 (&tri)[3], const Cell& lo, const Cell& hi,
 }
 
 template <typename Sink>
-void VisitBlock(const Vec3 (&tri)[3], const Cell& lo, const Cell& hi, std::vector<Vec3>* poly,
+void VisitBlock(const Vec3 (&tri)[3], const Cell& lo, const Cell& hi, Polygon* poly,
                 const Sink& sink) {
   VisitWantedBlock(tri, lo, hi, poly, [](const Cell&) { return true; }, sink);
 }
@@ -172,8 +192,9 @@ void AppendTriangleCells(const Vec3& a, const Vec3& b, const Vec3& c, double cel
     hi[axis] = static_cast<int64_t>(std::floor(std::max({tri[0][axis], tri[1][axis], tri[2][axis]})));
   }
   VANTAGE_CHECK(VoxelIndexFits(lo) && VoxelIndexFits(hi));
-  thread_local std::vector<Vec3> poly;  // kept with its capacity from triangle to triangle
-  VisitBlock(tri, lo, hi, &poly, [keys](const Cell& c, const std::vector<Vec3>&) { keys->push_back(PackVoxel(c)); });
+  Polygon poly;
+  VisitBlock(tri, lo, hi, &poly,
+             [keys](const Cell& c, std::span<const Vec3>) { keys->push_back(PackVoxel(c)); });
 }
 
 namespace {
@@ -548,7 +569,7 @@ class ExposureGrid {
                       [&](const tbb::blocked_range<size_t>& range) {
       Listing& cells = per_thread.local().first;
       Listing& columns = per_thread.local().second;
-      std::vector<Vec3> poly;
+      Polygon poly;
       for (size_t i = range.begin(); i != range.end(); ++i) {
         const CellTri& t = cell_tris_[i];
         Cell lo, hi;
@@ -571,7 +592,7 @@ class ExposureGrid {
           for (const uint64_t key : target_cells_.Of(tris_[i].object, tris_[i].index))
             wall(UnpackVoxel(key));
         } else if (inside) {
-          VisitBlock(t.v, lo, hi, &poly, [&](const Cell& c, const std::vector<Vec3>&) { wall(c); });
+          VisitBlock(t.v, lo, hi, &poly, [&](const Cell& c, std::span<const Vec3>) { wall(c); });
         }
         if (!t.closed) continue;
         for (int64_t x = lo[0]; x <= hi[0]; ++x)
@@ -763,7 +784,7 @@ std::vector<uint8_t> ExposureOf(const Scene& scene, const Reference& reference,
   std::vector<uint8_t> exposed(reference.keys.size(), 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, targets.size(), 256),
                     [&](const tbb::blocked_range<size_t>& range) {
-    std::vector<Vec3> poly;
+    Polygon poly;
     for (size_t i = range.begin(); i != range.end(); ++i) {
       const TriangleMesh& mesh = scene.objects[targets[i].object].mesh;
       const auto& t = mesh.triangles[targets[i].index];
@@ -787,11 +808,11 @@ std::vector<uint8_t> ExposureOf(const Scene& scene, const Reference& reference,
                              .load(std::memory_order_relaxed))
           continue;
         if (in_one_cell) {
-          poly.assign(std::begin(tri), std::end(tri));
+          poly.Assign(tri);
         } else if (!TriangleTouchesHalfOpenCell(tri, UnpackVoxel(key), &poly)) {
           continue;  // never: the cell was listed as touched
         }
-        const std::vector<Vec3>& part = poly;
+        const std::span<const Vec3> part = poly.Corners();
         std::atomic_ref<uint8_t> flag(exposed[static_cast<size_t>(index)]);
         Vec3 centroid = Vec3::Zero();
         for (const Vec3& v : part) centroid += v;
