@@ -1306,6 +1306,38 @@ std::vector<std::vector<uint32_t>> AllSubsets(size_t m) {
   return subsets;
 }
 
+// With kept sensors (fixed variables of the model) every point of the curve holds them: it starts
+// one past them, each answer is the kept sensors plus n - |kept| others, and no answer beats the
+// enumerated best n-set that contains them.
+TEST(CoverageCurve, HoldsTheKeptSensorsAtEveryN) {
+  const std::vector<Observation> obs = RandomInstance(22, 10, 40, 0.2);
+  SelectOptions options;
+  options.n = 3;
+  options.method = Method::kGreedy;
+  options.fixed = {4, 7};
+  const std::vector<Selection> curve =
+      CoverageCurve(obs, 40, options, Select(obs, 40, options));
+  ASSERT_FALSE(curve.empty());
+  int smallest = 100;
+  for (const Selection& s : curve) {
+    SCOPED_TRACE(testing::Message() << s.method << " n=" << s.n);
+    smallest = std::min(smallest, s.n);
+    ASSERT_EQ(static_cast<int>(s.chosen.size()), s.n);
+    EXPECT_EQ(std::count(s.chosen.begin(), s.chosen.end(), 4u), 1);
+    EXPECT_EQ(std::count(s.chosen.begin(), s.chosen.end(), 7u), 1);
+    uint64_t best = 0;
+    for (const std::vector<uint32_t>& set : AllSubsets(10)) {
+      if (static_cast<int>(set.size()) != s.n || !std::count(set.begin(), set.end(), 4u) ||
+          !std::count(set.begin(), set.end(), 7u))
+        continue;
+      best = std::max<uint64_t>(best, UnionSize(obs, set));
+    }
+    EXPECT_LE(UnionSize(obs, s.chosen), best);
+    EXPECT_DOUBLE_EQ(s.coverage, static_cast<double>(UnionSize(obs, s.chosen)) / 40);
+  }
+  EXPECT_EQ(smallest, 3);
+}
+
 double SumOfCosts(const std::vector<double>& costs, const std::vector<uint32_t>& chosen) {
   double total = 0;
   for (uint32_t c : chosen) total += costs[c];  // the order Selection::cost sums in

@@ -14,6 +14,7 @@
 #include <numeric>
 
 #include "select/model.hpp"
+#include "select/run_methods.hpp"
 #include "vantage/error.hpp"
 #include "vantage/interrupt.hpp"
 
@@ -566,9 +567,20 @@ double ConstrainedMethods<Scorer>::Share(uint64_t cells) const {
 }
 
 template <MethodScorer Scorer>
-ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n) const {
+bool ConstrainedMethods<Scorer>::IsFree() const {
+  return options_.constraints.empty() && start_.empty() && !options_.budget && scorer_.k() == 1;
+}
+
+template <MethodScorer Scorer>
+ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n, int iterations) const {
   const Clock::time_point start = Clock::now();
   ConstrainedAnswer answer;
+  if (IsFree()) {
+    answer.chosen = RansacChoice(scorer_, n, iterations, options_.ransac_stop_coverage,
+                                 options_.seed);
+    answer.seconds = setup_seconds_ + SecondsSince(start);
+    return answer;
+  }
   if constexpr (Scorer::kCells) {
     if (options_.budget) {
       FittedDraws fit;
@@ -579,7 +591,7 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n) const {
       fit.may_add = [&](std::span<const uint32_t> set, uint32_t c) {
         return feasible_.CanAdd(set, c);
       };
-      answer.chosen = RansacFitted(scorer_.matrix(), fit, options_.ransac_iterations,
+      answer.chosen = RansacFitted(scorer_.matrix(), fit, iterations,
                                    options_.ransac_stop_coverage, options_.seed);
       if (answer.chosen.empty())
         answer.chosen = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, start_);
@@ -590,19 +602,19 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n) const {
   if constexpr (!Scorer::kCells) {
     if (options_.budget) {
       answer.chosen = StatesRansacFitted(scorer_, feasible_, CapacityFor(n), options_.costs,
-                                         std::nullopt, options_.ransac_iterations,
+                                         std::nullopt, iterations,
                                          options_.ransac_stop_coverage, options_.seed, start_);
       answer.seconds = setup_seconds_ + SecondsSince(start);
       return answer;
     }
   }
-  answer.chosen = ConstrainedRansac(scorer_, feasible_, n, options_.ransac_iterations,
+  answer.chosen = ConstrainedRansac(scorer_, feasible_, n, iterations,
                                     options_.ransac_stop_coverage, options_.seed, options_.fixed);
   if (answer.chosen.empty()) {
     Logger()->warn(
         "ransac, n = {}: none of its {} draws satisfies the constraints; reporting the "
         "constrained greedy answer",
-        n, options_.ransac_iterations);
+        n, iterations);
     answer.chosen = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, start_);
   }
   answer.seconds = setup_seconds_ + SecondsSince(start);
@@ -614,7 +626,8 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Greedy(size_t n) {
   const Clock::time_point start = Clock::now();
   VANTAGE_CHECK(options_.budget || n >= start_.size());
   n_ = n;
-  greedy_ = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, start_);
+  greedy_ = IsFree() ? GreedyComplete(scorer_, {}, n)
+                     : ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, start_);
   if (!options_.budget && greedy_.size() < n) {
     if (greedy_.size() == 1) {
       Logger()->warn("greedy, n = {}: only 1 sensor satisfies the constraints", n);
@@ -633,8 +646,14 @@ template <MethodScorer Scorer>
 ConstrainedAnswer ConstrainedMethods<Scorer>::Local() {
   const Clock::time_point start = Clock::now();
   const CoverageMatrix& matrix = scorer_.matrix();
-  local_ = ConstrainedLocal(scorer_, feasible_, greedy_, CapacityFor(n_), options_.fixed.size());
   free_local_.clear();
+  if (IsFree()) {
+    // 1-swaps only over states: LocalSearch's 2-swaps reason in cells (CellScorer).
+    local_ = LocalSearch(scorer_, greedy_);
+    local_seconds_ = greedy_seconds_ + SecondsSince(start);
+    return {local_, local_seconds_, std::nullopt, false};
+  }
+  local_ = ConstrainedLocal(scorer_, feasible_, greedy_, CapacityFor(n_), options_.fixed.size());
   if (!options_.fixed.empty()) {
     // The unconstrained answers need not hold the kept sensors: none.
   } else if (options_.budget) {
@@ -680,20 +699,14 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
   // constrained optimum.
   const bool has_free = options_.budget ? !free_local_.empty() : free_local_.size() == n_;
   const int k = scorer_.k();
-  SelectionModel model;
-  model.matrix = &matrix;
-  model.threshold = k;
+  ModelValue value = ModelValue::kCells;
   if constexpr (!Scorer::kCells)
-    model.value = scorer_.over() == OverStates::kMin ? ModelValue::kMin : ModelValue::kMean;
-  model.capacity = static_cast<double>(n_);
-  if (options_.budget) {
-    model.costs = options_.costs;
-    model.capacity = *options_.budget;
-  }
-  SelectionModel free_model = model;
+    value = scorer_.over() == OverStates::kMin ? ModelValue::kMin : ModelValue::kMean;
+  const SelectionModel model = ModelFor(options_, matrix, value, n_, &feasible_);
+  SelectionModel free_model = model;  // no rule, no kept sensor
+  free_model.fixed = {};
+  free_model.rules = nullptr;
   if (options_.budget) free_model.threshold = 1;  // a budget counts cells seen once
-  model.fixed = options_.fixed;
-  model.rules = &feasible_;
   ExactHints hints;  // cells: the cheap bound of the unconstrained problem
   if constexpr (Scorer::kCells) {
     hints.known_bound = static_cast<double>(
@@ -703,7 +716,10 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
   }
   ExactAnswer exact;
   bool solved = false;
-  if (has_free && n_ >= 1) {
+  if (IsFree()) {  // the model is the free one: one solve, all the time
+    exact = SolveExactModel(free_model, local_, time_limit, hints);
+    solved = true;
+  } else if (has_free && n_ >= 1) {
     ExactAnswer free = SolveExactModel(free_model, free_local_, 0.5 * time_limit);
     if (feasible_.IsFeasible(free.chosen) && better_or_equal(free.chosen, local_)) {
       exact = std::move(free);
@@ -728,10 +744,12 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
                   options_.budget ? fmt::format("budget {:g}", *options_.budget)
                                   : fmt::format("n = {}", n_),
                   options_.constraints.empty() ? "" : " (constrained)");
+  const char* over_states = Scorer::kCells ? "" : " over states";
   if (!answer.proven_optimal && !note.empty()) {
-    Logger()->warn("exact, {}: {}; reporting the best answer found and a bound", which, note);
+    Logger()->warn("exact{}, {}: {}; reporting the best answer found and a bound", over_states,
+                   which, note);
   } else if (!note.empty()) {
-    Logger()->debug("exact, {}: {}", which, note);
+    Logger()->debug("exact{}, {}: {}", over_states, which, note);
   }
   answer.seconds = local_seconds_ + SecondsSince(start);
   return answer;
@@ -744,13 +762,7 @@ template class ConstrainedMethods<StatesScorer>;
 
 namespace {
 
-// As select.cpp's GoalCells: the fewest cells whose share of R reaches the goal (at least one).
-uint64_t GoalCellsOf(double goal, size_t reference_size) {
-  const double cells = std::ceil(goal * static_cast<double>(reference_size) - 1e-9);
-  return std::max<uint64_t>(1, static_cast<uint64_t>(std::max(0.0, cells)));
-}
-
-class CellsRun {
+class CellsRun final : public MethodSteps<Selection> {
  public:
   CellsRun(const CoverageEvaluator& evaluator,
            const CoverageMatrix& matrix,
@@ -759,16 +771,44 @@ class CellsRun {
            double setup_seconds,
            std::vector<uint32_t> start = {})
       : evaluator_(evaluator),
+        matrix_(matrix),
         feasible_(feasible),
         options_(options),
+        setup_seconds_(setup_seconds),
+        kept_start_(start),
         scorer_(matrix, Threshold(options)),
         methods_(scorer_, feasible, options, setup_seconds, std::move(start)) {}
 
-  Selection Ransac(size_t n) const { return Scored(Method::kRansac, methods_.Ransac(n)); }
-  Selection Greedy(size_t n) { return Scored(Method::kGreedy, methods_.Greedy(n)); }
-  Selection Local() { return Scored(Method::kLocal, methods_.Local()); }
-  Selection Exact(double time_limit) const {
-    return Scored(Method::kExact, methods_.Exact(time_limit));
+  Selection Best() override {
+    if (options_.fixed.empty()) return SelectBest(evaluator_);
+    if (std::optional<Selection> best = BestAddition()) return std::move(*best);
+    throw InputError(fmt::format("--method best adds one sensor to the {} kept ones, and no one "
+                                 "candidate joins their parts (the chain found takes {}) — use "
+                                 "another method",
+                                 options_.fixed.size(),
+                                 kept_start_.size() - options_.fixed.size()));
+  }
+  /// Plain coverage: the best single candidate, or (kept sensors) the best single addition.
+  std::optional<Selection> TableHead() override {
+    if (options_.objective() != Objective::kCoverage) return std::nullopt;
+    if (options_.fixed.empty()) return SelectBest(evaluator_);
+    return BestAddition();
+  }
+  /// k-coverage from n = k; below the kept sensors and their chain no answer exists.
+  size_t FirstN() const override {
+    const size_t k =
+        options_.objective() == Objective::kKCoverage ? static_cast<size_t>(options_.k) : 1;
+    return std::max({k, options_.fixed.size() + 1, kept_start_.size()});
+  }
+  Selection Ransac(size_t n, int iterations) override {
+    return Scored(Method::kRansac, methods_.Ransac(n, iterations));
+  }
+  Selection Greedy(size_t n) override { return Scored(Method::kGreedy, methods_.Greedy(n)); }
+  Selection Local() override { return Scored(Method::kLocal, methods_.Local()); }
+  std::function<ExactDone<Selection>(double)> Exact() override {
+    return [this, methods = methods_](double seconds) {
+      return ExactDone<Selection>{Scored(Method::kExact, methods.Exact(seconds)), {}};
+    };
   }
 
   Selection Scored(Method method, ConstrainedAnswer answer) const {
@@ -783,119 +823,46 @@ class CellsRun {
   }
 
  private:
+  // The best single addition to the kept sensors (optimal for that n): greedy's first step, or
+  // with parts to join, the best of the candidates that join them all.
+  std::optional<Selection> BestAddition() {
+    const std::vector<uint32_t>& fixed = options_.fixed;
+    Selection best;
+    if (kept_start_.size() == fixed.size()) {
+      best = Greedy(fixed.size() + 1);
+    } else {
+      std::vector<uint32_t> trial(fixed.begin(), fixed.end());
+      trial.push_back(0);
+      int64_t best_c = -1;
+      uint64_t best_weight = 0;
+      for (uint32_t c = 0; c < matrix_.candidate_count(); ++c) {
+        trial.back() = c;
+        if (!feasible_.IsFeasible(trial)) continue;
+        const uint64_t weight = matrix_.CoveredWeight(trial);
+        if (best_c < 0 || weight > best_weight) {
+          best_c = c;
+          best_weight = weight;
+        }
+      }
+      if (best_c < 0) return std::nullopt;
+      trial.back() = static_cast<uint32_t>(best_c);
+      best = Scored(Method::kBest, {trial, setup_seconds_, std::nullopt, false});
+    }
+    best.method = MethodName(Method::kBest);
+    best.upper_bound = best.coverage;
+    best.proven_optimal = true;
+    return best;
+  }
+
   const CoverageEvaluator& evaluator_;
+  const CoverageMatrix& matrix_;
   const Feasibility& feasible_;
   const SelectOptions& options_;
+  double setup_seconds_;
+  std::vector<uint32_t> kept_start_;
   CellScorer scorer_;
   ConstrainedMethods<CellScorer> methods_;
 };
-
-// Set cover under the constraints: greedy adds feasible sensors until the goal is reached; exact
-// settles t = SetCoverLowerBound, t + 1, ... by the constrained maximum coverage of t sensors
-// (reaches the goal: t is the answer; its bound is below it: t is too few), up to greedy's size.
-std::vector<Selection> SetCoverConstrained(const CoverageEvaluator& evaluator,
-                                           const CoverageMatrix& matrix,
-                                           const Feasibility& feasible,
-                                           const SelectOptions& options,
-                                           const std::vector<uint32_t>& kept_start) {
-  const Clock::time_point start = Clock::now();
-  const uint64_t goal_cells = GoalCellsOf(*options.goal, matrix.reference_size());
-  const CellScorer scorer(matrix);
-  Capacity everyone;
-  everyone.n = matrix.candidate_count();
-  // The most any feasible set of n sensors covers, with the kept ones, from `seed`; `known`: a
-  // bound of the unconstrained problem.
-  const auto most_within = [&](size_t n, const std::vector<uint32_t>& seed, uint64_t known,
-                               double seconds) {
-    SelectionModel model;
-    model.matrix = &matrix;
-    model.capacity = static_cast<double>(n);
-    model.fixed = options.fixed;
-    model.rules = &feasible;
-    ExactHints hints;
-    hints.known_bound = static_cast<double>(known);
-    return SolveExactModel(model, seed, seconds, hints);
-  };
-  std::vector<uint32_t> greedy =
-      ConstrainedGreedy(scorer, feasible, everyone, goal_cells, kept_start);
-  if (matrix.CoveredWeight(greedy) < goal_cells) {
-    // Greedy could not reach it: the most any feasible set covers decides.
-    const ExactAnswer most =
-        most_within(everyone.n, greedy, matrix.seen_weight(), options.time_limit);
-    const auto most_cells = static_cast<uint64_t>(most.bound);
-    if (matrix.CoveredWeight(most.chosen) < goal_cells) {
-      const std::string reach =
-          most.proven_optimal || most_cells < goal_cells
-              ? fmt::format("the installation constraints allow at most {:.4f}",
-                            static_cast<double>(std::min(most_cells, matrix.seen_weight())) /
-                                static_cast<double>(matrix.reference_size()))
-              : fmt::format(
-                    "no set of sensors that satisfies the installation constraints was "
-                    "found to reach it (the best covers {:.4f})",
-                    static_cast<double>(matrix.CoveredWeight(most.chosen)) /
-                        static_cast<double>(matrix.reference_size()));
-      const std::string what = fmt::format("goal {:g} cannot be reached: {}", *options.goal, reach);
-      throw InputError(options.goal_source == "--goal"
-                           ? what + " — lower --goal or relax the constraints"
-                           : fmt::format("{}: {} — lower the scene's goal, give a lower --goal or "
-                                         "relax the constraints",
-                                         options.goal_source, what));
-    }
-    greedy = most.chosen;
-  }
-  const auto scored = [&](Method method, std::vector<uint32_t> chosen, double seconds) {
-    VANTAGE_CHECK(feasible.IsFeasible(chosen));
-    Selection s = ScoreSelection(evaluator, std::move(chosen), MethodName(method), options);
-    s.seconds = seconds;
-    return s;
-  };
-  std::vector<Selection> results;
-  const double greedy_seconds = SecondsSince(start);
-  if (options.method == Method::kRansac) {
-    FittedDraws fit;
-    fit.goal_cells = goal_cells;
-    fit.start = kept_start;
-    fit.may_add = [&](std::span<const uint32_t> set, uint32_t c) { return feasible.CanAdd(set, c); };
-    fit.is_feasible = [&](std::span<const uint32_t> set) { return feasible.IsFeasible(set); };
-    std::vector<uint32_t> drawn = RansacFitted(matrix, fit, options.ransac_iterations,
-                                               options.ransac_stop_coverage, options.seed);
-    // No order reached it under the rules: greedy's answer (which does, or the MILP's).
-    if (drawn.empty()) drawn = greedy;
-    return {scored(Method::kRansac, std::move(drawn), SecondsSince(start))};
-  }
-  if (options.method != Method::kExact)
-    results.push_back(scored(Method::kGreedy, greedy, greedy_seconds));
-  if (options.method == Method::kGreedy) return results;
-  std::vector<uint32_t> best = greedy;
-  size_t lower =
-      std::max<size_t>({1, options.fixed.size() + 1, SetCoverLowerBound(matrix, goal_cells)});
-  const Clock::time_point exact_start = Clock::now();
-  while (lower < best.size()) {
-    const double left = options.time_limit - SecondsSince(exact_start);
-    if (left <= 0.05) break;
-    // Fewer than the kept sensors and their chain: no feasible seed to start the MILP from, so
-    // t stays unsettled (the chain need not be the shortest).
-    if (lower < kept_start.size()) break;
-    Capacity t;
-    t.n = lower;
-    std::vector<uint32_t> seed = ConstrainedGreedy(scorer, feasible, t, 0, kept_start);
-    seed = ConstrainedLocal(scorer, feasible, std::move(seed), t, options.fixed.size());
-    const ExactAnswer most = most_within(lower, seed, GreedyUpperBound(matrix, seed, lower),
-                                         left / static_cast<double>(best.size() - lower));
-    if (matrix.CoveredWeight(most.chosen) >= goal_cells) {
-      best = most.chosen;
-      break;
-    }
-    // t not settled: stop at this lower bound
-    if (static_cast<uint64_t>(most.bound) >= goal_cells) break;
-    ++lower;
-  }
-  Selection s = scored(Method::kExact, best, greedy_seconds + SecondsSince(exact_start));
-  s.n_lower_bound = static_cast<int>(std::min(lower, best.size()));
-  s.proven_optimal = static_cast<size_t>(*s.n_lower_bound) == best.size();
-  results.push_back(std::move(s));
-  return results;
-}
 
 }  // namespace
 
@@ -925,8 +892,8 @@ std::vector<uint32_t> KeptStart(const Feasibility& feasible, const SelectOptions
 std::vector<Selection> SelectConstrained(std::span<const Observation> observations,
                                          size_t reference_size,
                                          const SelectOptions& options) {
+  VANTAGE_CHECK(!options.goal);  // a goal under rules or with kept sensors: the one model's
   const CoverageEvaluator evaluator(observations, reference_size);
-  const Objective objective = options.objective();
   const std::vector<uint32_t>& fixed = options.fixed;
   // One sensor alone breaks no constraint: best is the plain best single candidate.
   if (options.method == Method::kBest && fixed.empty()) return {SelectBest(evaluator)};
@@ -938,101 +905,22 @@ std::vector<Selection> SelectConstrained(std::span<const Observation> observatio
   const std::vector<uint32_t> kept_start = KeptStart(feasible, options);
   const bool is_bridged = kept_start.size() > fixed.size();
   if (!fixed.empty()) {
-    const bool kept_reach_goal =
-        options.goal && matrix.CoveredWeight(fixed) >= GoalCellsOf(*options.goal, reference_size);
-    const bool no_room = objective != Objective::kSetCover && !options.budget &&
-                         static_cast<size_t>(options.n) <= fixed.size();
-    if (!is_bridged && (kept_reach_goal || no_room))
-      return {ScoreSelection(evaluator, fixed, "kept", options)};
-    if (objective != Objective::kSetCover && !options.budget &&
-        static_cast<size_t>(options.n) < kept_start.size() && options.method != Method::kBest)
+    // No room: n is the kept sensors, or no other candidate fits what the budget leaves.
+    bool no_room = static_cast<size_t>(options.n) <= fixed.size();
+    if (options.budget) {
+      const double left = *options.budget - TotalCost(options.costs, fixed);
+      no_room = true;
+      for (uint32_t c = 0; c < observations.size() && no_room; ++c)
+        no_room = std::find(fixed.begin(), fixed.end(), c) != fixed.end() || options.costs[c] > left;
+    }
+    if (!is_bridged && no_room) return {ScoreSelection(evaluator, fixed, "kept", options)};
+    if (!options.budget && static_cast<size_t>(options.n) < kept_start.size() &&
+        options.method != Method::kBest)
       throw InputError(fmt::format("n = {}: joining the {} kept sensors takes {} more sensors",
                                    options.n, fixed.size(), kept_start.size() - fixed.size()));
   }
-  if (objective == Objective::kSetCover)
-    return SetCoverConstrained(evaluator, matrix, feasible, options, kept_start);
   CellsRun run(evaluator, matrix, feasible, options, setup_seconds, kept_start);
-  const auto n = static_cast<size_t>(options.n);
-  // The best single addition to the kept sensors (optimal for that n): greedy's first step, or
-  // with parts to join, the best of the candidates that join them all.
-  const auto best_addition = [&]() -> std::optional<Selection> {
-    Selection best;
-    if (!is_bridged) {
-      best = run.Greedy(fixed.size() + 1);
-    } else {
-      std::vector<uint32_t> trial(fixed.begin(), fixed.end());
-      trial.push_back(0);
-      int64_t best_c = -1;
-      uint64_t best_weight = 0;
-      for (uint32_t c = 0; c < matrix.candidate_count(); ++c) {
-        trial.back() = c;
-        if (!feasible.IsFeasible(trial)) continue;
-        const uint64_t weight = matrix.CoveredWeight(trial);
-        if (best_c < 0 || weight > best_weight) {
-          best_c = c;
-          best_weight = weight;
-        }
-      }
-      if (best_c < 0) return std::nullopt;
-      trial.back() = static_cast<uint32_t>(best_c);
-      best = run.Scored(Method::kBest, {trial, setup_seconds, std::nullopt, false});
-    }
-    best.method = MethodName(Method::kBest);
-    best.upper_bound = best.coverage;
-    best.proven_optimal = true;
-    return best;
-  };
-  if (options.method == Method::kBest) {
-    if (std::optional<Selection> best = best_addition()) return {*best};
-    throw InputError(fmt::format("--method best adds one sensor to the {} kept ones, and no one "
-                                 "candidate joins their parts (the chain found takes {}) — use "
-                                 "another method",
-                                 fixed.size(), kept_start.size() - fixed.size()));
-  }
-  switch (options.method) {
-    case Method::kRansac:
-      return {run.Ransac(n)};
-    case Method::kGreedy:
-      return {run.Greedy(n)};
-    case Method::kLocal:
-      run.Greedy(n);
-      return {run.Local()};
-    case Method::kExact:
-      run.Greedy(n);
-      run.Local();
-      return {run.Exact(options.time_limit)};
-    case Method::kBest:
-    case Method::kAll:
-      break;
-  }
-  if (objective == Objective::kBudget) {
-    std::vector<Selection> results{run.Greedy(n)};
-    results.push_back(run.Local());
-    results.push_back(run.Exact(options.time_limit));
-    return results;
-  }
-  std::vector<Selection> results;
-  size_t first_n = 1;
-  if (objective == Objective::kCoverage && fixed.empty()) results.push_back(SelectBest(evaluator));
-  if (objective == Objective::kCoverage && !fixed.empty()) {
-    // As with kept sensors unconstrained: the best single addition first.
-    if (std::optional<Selection> best = best_addition()) results.push_back(std::move(*best));
-  }
-  if (objective == Objective::kKCoverage) first_n = static_cast<size_t>(options.k);
-  // Below the kept sensors and their chain no answer exists.
-  first_n = std::max({first_n, fixed.size() + 1, kept_start.size()});
-  // Shared as for plain selection (select.cpp), so `help optimize`'s time rule holds here too.
-  AllExactTime exact_time(observations.size(), options.time_limit, static_cast<int>(n));
-  for (size_t k = first_n; k <= n; ++k) {
-    results.push_back(run.Ransac(k));
-    results.push_back(run.Greedy(k));
-    results.push_back(run.Local());
-    if (!exact_time.runs()) continue;
-    const Clock::time_point exact_start = Clock::now();
-    results.push_back(run.Exact(exact_time.Share(static_cast<int>(k))));
-    exact_time.Spend(SecondsSince(exact_start));
-  }
-  return results;
+  return RunMethods<Selection>(run, options, observations.size(), start);
 }
 
 std::vector<Selection> ConstrainedCurve(std::span<const Observation> observations,

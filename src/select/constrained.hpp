@@ -146,7 +146,8 @@ struct ConstrainedAnswer {
 /// (local from greedy's answer, exact warm-started from local's), seconds including the steps
 /// each needed. One implementation for every scorer: plain coverage, k-coverage and point counts
 /// (CellScorer with k = the threshold, over the matrix MatrixFor gives) with n sensors or a
-/// budget, and the states of a scene (StatesScorer). Set cover is SelectConstrained's.
+/// budget, and the states of a scene (StatesScorer). A goal is the states' model's
+/// (GoalOverStates).
 template <MethodScorer Scorer>
 class ConstrainedMethods {
  public:
@@ -158,7 +159,9 @@ class ConstrainedMethods {
                      const SelectOptions& options,
                      double setup_seconds,
                      std::vector<uint32_t> start = {});
-  ConstrainedAnswer Ransac(size_t n) const;
+  /// Where no rule and no kept sensor restricts the sets (a free model: over states), each
+  /// method is the plain one (RansacChoice, GreedyComplete, LocalSearch, one exact solve).
+  ConstrainedAnswer Ransac(size_t n, int iterations) const;
   ConstrainedAnswer Greedy(size_t n);
   /// After Greedy(n). The unconstrained local search's answer too, when it is feasible and scores
   /// better (constraints that do not bind then change nothing).
@@ -169,6 +172,8 @@ class ConstrainedMethods {
  private:
   Capacity CapacityFor(size_t n) const;
   double Share(uint64_t cells) const;
+  /// No rule, no kept sensor, no budget and k = 1: the plain methods apply.
+  bool IsFree() const;
   const Scorer& scorer_;
   const Feasibility& feasible_;
   const SelectOptions& options_;
@@ -195,9 +200,9 @@ std::vector<uint32_t> BridgeKept(const Feasibility& feasible, std::span<const ui
 /// when two kept sensors conflict, no chain joins them, or the chain breaks the budget.
 std::vector<uint32_t> KeptStart(const Feasibility& feasible, const SelectOptions& options);
 
-/// Select for options whose `constraints` are not empty (every objective; kept sensors are
-/// Select's residual problem): the same methods and order as Select, each under the constraints.
-/// InputError when a set cover goal cannot be reached under them.
+/// Select for maximum coverage (n sensors, k-coverage, point counts, a budget) under the
+/// constraints or with kept sensors (fixed variables of the model, never a residual problem):
+/// the same methods and order as Select (RunMethods), each under the rules. Not for a goal.
 std::vector<Selection> SelectConstrained(std::span<const Observation> observations,
                                          size_t reference_size, const SelectOptions& options);
 

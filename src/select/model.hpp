@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "select/coverage_matrix.hpp"
+#include "vantage/select.hpp"
 
 namespace vantage::detail {
 
@@ -38,6 +39,16 @@ struct SelectionModel {
   std::span<const uint32_t> fixed;     ///< kept sensors: x = 1
   const Feasibility* rules = nullptr;  ///< conflicts and connectivity, or none
 };
+
+/// The fewest cells whose share of R (`reference_size` cells) reaches `goal` (at least one).
+uint64_t GoalCells(double goal, size_t reference_size);
+
+/// The model `options` ask on `matrix` (the one translation from options to model): the
+/// threshold (k, or min points), `value`, the costs where a budget or `--cheapest` prices the
+/// sets, the capacity (`n` sensors, or the budget), the goal (in cells for kCells, else the
+/// fraction itself), the kept sensors and `rules`.
+SelectionModel ModelFor(const SelectOptions& options, const CoverageMatrix& matrix,
+                        ModelValue value, size_t n, const Feasibility* rules);
 
 /// What exact found for a SelectionModel.
 struct ExactAnswer {

@@ -20,6 +20,7 @@
 #include "select/methods.hpp"
 #include "select/model.hpp"
 #include "select/objective_bounds.hpp"
+#include "select/run_methods.hpp"
 #include "select/scorer.hpp"
 #include "vantage/error.hpp"
 #include "vantage/select_states.hpp"
@@ -225,18 +226,13 @@ void MarkObjective(const SelectOptions& options, StateSelection* result) {
 }
 
 // The selection model over the states `scorer` scores (its threshold and aggregate), with the
-// rules and kept sensors; the caller sets the capacity or the goal.
+// rules and kept sensors, for `options` (a goal, or `n` sensors).
 detail::SelectionModel StatesModel(const detail::StatesScorer& scorer,
                                    const detail::Feasibility* rules,
-                                   std::span<const uint32_t> fixed) {
-  detail::SelectionModel model;
-  model.matrix = &scorer.matrix();
-  model.threshold = scorer.k();
-  model.value = scorer.over() == OverStates::kMin ? detail::ModelValue::kMin
-                                                  : detail::ModelValue::kMean;
-  model.rules = rules;
-  model.fixed = fixed;
-  return model;
+                                   const SelectOptions& options, size_t n) {
+  const detail::ModelValue value = scorer.over() == OverStates::kMin ? detail::ModelValue::kMin
+                                                                     : detail::ModelValue::kMean;
+  return detail::ModelFor(options, scorer.matrix(), value, n, rules);
 }
 
 // A goal over states: the fewest sensors (or, minimising cost, the cheapest set) whose aggregate
@@ -298,8 +294,10 @@ std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> st
       detail::StatesCostGreedy(scorer, feasible, everyone_fits, costs, goal, kept_start);
   if (!detail::GoalReached(scorer.Fraction(scorer.Covered(greedy)), goal)) {
     // Greedy could not reach it under the rules: the most any feasible set reaches decides.
-    detail::SelectionModel most_model = StatesModel(scorer, &feasible, options.fixed);
-    most_model.capacity = static_cast<double>(matrix.candidate_count());
+    detail::SelectionModel most_model =
+        StatesModel(scorer, &feasible, options, matrix.candidate_count());
+    most_model.goal.reset();  // the most any set reaches, at no price
+    most_model.costs = {};
     const detail::ExactAnswer most =
         detail::SolveExactModel(most_model, greedy, options.time_limit);
     const double best = scorer.Fraction(scorer.Covered(most.chosen));
@@ -330,9 +328,8 @@ std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> st
     results.push_back(scored(Method::kGreedy, greedy, greedy_seconds));
   if (options.method == Method::kGreedy) return results;
   const Clock::time_point exact_start = Clock::now();
-  detail::SelectionModel goal_model = StatesModel(scorer, &feasible, options.fixed);
-  goal_model.costs = costs;
-  goal_model.goal = goal;
+  const detail::SelectionModel goal_model =
+      StatesModel(scorer, &feasible, options, matrix.candidate_count());
   const detail::ExactAnswer exact = detail::SolveExactModel(
       goal_model, greedy, std::max(0.1 * options.time_limit, options.time_limit - greedy_seconds));
   if (!exact.proven_optimal && !exact.note.empty()) {
@@ -404,6 +401,94 @@ void Validate(std::span<const StateObservations> states, const SelectOptions& op
   }
 }
 
+// The methods on the states' model (n sensors or a budget), scored over the states.
+class StatesRun final : public detail::MethodSteps<StateSelection> {
+ public:
+  StatesRun(std::span<const StateObservations> states, OverStates over,
+            const SelectOptions& options, const detail::StatesScorer& scorer,
+            const detail::Feasibility& feasible, double setup_seconds,
+            std::vector<uint32_t> kept_start)
+      : states_(states),
+        over_(over),
+        options_(options),
+        scorer_(scorer),
+        feasible_(feasible),
+        setup_seconds_(setup_seconds),
+        kept_start_(kept_start),
+        methods_(scorer, feasible, options, setup_seconds, std::move(kept_start)) {}
+
+  /// The best single candidate (optimal for n = 1), or with kept sensors the best single
+  /// addition: greedy's first step from them (with a chain to join them, not one addition).
+  StateSelection Best() override {
+    const size_t kept = options_.fixed.size();
+    if (kept_start_.size() > kept)
+      throw InputError(fmt::format("--method best adds one sensor to the {} kept ones, and they "
+                                   "need a chain of {} to join them — use another method",
+                                   kept, kept_start_.size() - kept));
+    StateSelection s;
+    if (kept == 0) {
+      const Clock::time_point t = Clock::now();
+      s = Scored(states_, over_, Method::kBest, {detail::BestCandidate(scorer_)},
+                 setup_seconds_ + SecondsSince(t));
+    } else {
+      s = Score(Method::kBest, methods_.Greedy(kept + 1));
+    }
+    s.selection.upper_bound = s.selection.coverage;
+    s.selection.proven_optimal = true;
+    return s;
+  }
+  /// As Select: min-points and k-coverage have no best.
+  std::optional<StateSelection> TableHead() override {
+    if (scorer_.k() != 1 || options_.budget || kept_start_.size() > options_.fixed.size())
+      return std::nullopt;
+    return Best();
+  }
+  /// k-coverage from n = k; below the kept sensors and their chain no answer exists.
+  size_t FirstN() const override {
+    return std::max({static_cast<size_t>(options_.k), options_.fixed.size() + 1,
+                     kept_start_.size()});
+  }
+  StateSelection Ransac(size_t n, int iterations) override {
+    return Score(Method::kRansac, methods_.Ransac(Room(n), iterations));
+  }
+  StateSelection Greedy(size_t n) override {
+    return Score(Method::kGreedy, methods_.Greedy(Room(n)));
+  }
+  StateSelection Local() override { return Score(Method::kLocal, methods_.Local()); }
+  std::function<detail::ExactDone<StateSelection>(double)> Exact() override {
+    return [this, methods = methods_](double seconds) {
+      return detail::ExactDone<StateSelection>{Score(Method::kExact, methods.Exact(seconds)), {}};
+    };
+  }
+
+ private:
+  // A budget has no n: every method grows within it.
+  size_t Room(size_t n) const {
+    return options_.budget ? scorer_.matrix().candidate_count() : n;
+  }
+  StateSelection Score(Method method, detail::ConstrainedAnswer answer) const {
+    VANTAGE_CHECK(feasible_.IsFeasible(answer.chosen));
+    if (options_.budget)
+      VANTAGE_CHECK(detail::TotalCost(options_.costs, answer.chosen) <= *options_.budget);
+    StateSelection s = Scored(states_, over_, method, std::move(answer.chosen), answer.seconds,
+                              options_.min_points, options_.min_points ? 1 : options_.k);
+    MarkObjective(options_, &s);
+    if (answer.upper_bound)
+      s.selection.upper_bound = std::max(*answer.upper_bound, s.selection.coverage);
+    s.selection.proven_optimal = answer.proven_optimal;
+    return s;
+  }
+
+  std::span<const StateObservations> states_;
+  OverStates over_;
+  const SelectOptions& options_;
+  const detail::StatesScorer& scorer_;
+  const detail::Feasibility& feasible_;
+  double setup_seconds_;
+  std::vector<uint32_t> kept_start_;
+  detail::ConstrainedMethods<detail::StatesScorer> methods_;
+};
+
 }  // namespace
 
 std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> states,
@@ -416,218 +501,29 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
   const int threshold = options.min_points ? static_cast<int>(*options.min_points) : options.k;
   const detail::StatesScorer scorer(matrix, over, threshold);
   const double setup = SecondsSince(start);
-  std::vector<StateSelection> results;
 
-  const auto best = [&] {
-    const Clock::time_point t = Clock::now();
-    StateSelection s = Scored(states, over, Method::kBest, {detail::BestCandidate(scorer)},
-                              setup + SecondsSince(t));
-    // The best single candidate is the optimum for n = 1.
-    s.selection.upper_bound = s.selection.coverage;
-    s.selection.proven_optimal = true;
-    return s;
-  };
-  const auto greedy_and_local = [&](size_t n, bool greedy, bool local) {
-    const Clock::time_point t = Clock::now();
-    std::vector<uint32_t> chosen = detail::GreedyComplete(scorer, {}, n);
-    const double greedy_seconds = setup + SecondsSince(t);
-    if (greedy) results.push_back(Scored(states, over, Method::kGreedy, chosen, greedy_seconds));
-    if (local) {
-      const Clock::time_point l = Clock::now();
-      // 1-swaps only: LocalSearch's 2-swaps reason in cells (CellScorer).
-      std::vector<uint32_t> improved = detail::LocalSearch(scorer, std::move(chosen));
-      results.push_back(Scored(states, over, Method::kLocal, std::move(improved),
-                               greedy_seconds + SecondsSince(l)));
-    }
-  };
-  const auto ransac = [&](size_t k, int iterations) {
-    const Clock::time_point t = Clock::now();
-    std::vector<uint32_t> chosen = detail::RansacChoice(scorer, k, iterations,
-                                                        options.ransac_stop_coverage, options.seed);
-    return Scored(states, over, Method::kRansac, std::move(chosen), setup + SecondsSince(t));
-  };
-  // Exact: the states' model (SolveExactModel: CBC warm-started from local search, with the
-  // states' Lagrangian bound when CBC cannot finish).
-  const auto exact = [&](size_t k, double time_limit) {
-    const Clock::time_point t = Clock::now();
-    const std::vector<uint32_t> local =
-        detail::LocalSearch(scorer, detail::GreedyComplete(scorer, {}, k));
-    detail::SelectionModel model = StatesModel(scorer, nullptr, {});
-    model.capacity = static_cast<double>(k);
-    const detail::ExactAnswer solved =
-        detail::SolveExactModel(model, local, std::max(0.0, time_limit - SecondsSince(t)));
-    if (!solved.proven_optimal && !solved.note.empty()) {
-      const std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
-      (logger ? logger : spdlog::default_logger())
-          ->warn("exact over states, n = {}: {}; reporting the best answer found and a bound", k,
-                 solved.note);
-    }
-    StateSelection s = Scored(states, over, Method::kExact, solved.chosen, setup + SecondsSince(t));
-    s.selection.upper_bound = std::max(solved.bound, s.selection.coverage);
-    s.selection.proven_optimal = solved.proven_optimal;
-    return s;
-  };
+  // Every objective but a goal runs the methods on the states' model (ConstrainedMethods over
+  // the StatesScorer): under the installation rules (the calibration overlap graph is the first
+  // state's), from the kept sensors (their x fixed at 1 in the MILP), counted k times or in
+  // points; with none of these, the plain methods.
+  const detail::Feasibility feasible(states.front().observations, options.constraints);
+  const std::vector<uint32_t> kept_start = detail::KeptStart(feasible, options);
+  if (options.goal)
+    return GoalOverStates(states, over, options, scorer, feasible, kept_start, start);
+  const size_t kept = options.fixed.size();
   const auto n = static_cast<size_t>(options.n);
-  if (!options.constraints.empty() || options.min_points || options.k >= 2 ||
-      !options.fixed.empty() || options.goal || options.budget) {
-    // Installation constraints (docs/constraints.md, Over scene states): the same methods under
-    // them; the calibration overlap graph is the first state's. Point density, k-coverage and
-    // kept sensors over states run the same methods (with no constraints, every set is
-    // feasible; kept sensors are where every answer starts, their x fixed at 1 in the MILP).
-    const detail::Feasibility feasible(states.front().observations, options.constraints);
-    const std::vector<uint32_t> kept_start = detail::KeptStart(feasible, options);
-    if (options.goal)
-      return GoalOverStates(states, over, options, scorer, feasible, kept_start, start);
-    const size_t kept = options.fixed.size();
-    const bool is_bridged = kept_start.size() > kept;
-    if (options.budget) {  // no n: every method grows within the budget
-      detail::ConstrainedMethods<detail::StatesScorer> methods(scorer, feasible, options, setup,
-                                                               kept_start);
-      const size_t everyone = matrix.candidate_count();
-      const auto scored = [&](Method method, detail::ConstrainedAnswer answer) {
-        VANTAGE_CHECK(feasible.IsFeasible(answer.chosen) &&
-                      detail::TotalCost(options.costs, answer.chosen) <= *options.budget);
-        StateSelection s = Scored(states, over, method, std::move(answer.chosen), answer.seconds,
-                                  options.min_points, options.min_points ? 1 : options.k);
-        MarkObjective(options, &s);
-        if (answer.upper_bound)
-          s.selection.upper_bound = std::max(*answer.upper_bound, s.selection.coverage);
-        s.selection.proven_optimal = answer.proven_optimal;
-        return s;
-      };
-      if (options.method == Method::kRansac) {
-        results.push_back(scored(Method::kRansac, methods.Ransac(everyone)));
-        return results;
-      }
-      detail::ConstrainedAnswer greedy = methods.Greedy(everyone);
-      if (options.method == Method::kGreedy || options.method == Method::kAll)
-        results.push_back(scored(Method::kGreedy, std::move(greedy)));
-      if (options.method == Method::kGreedy) return results;
-      detail::ConstrainedAnswer local = methods.Local();
-      if (options.method == Method::kLocal || options.method == Method::kAll)
-        results.push_back(scored(Method::kLocal, std::move(local)));
-      if (options.method == Method::kLocal) return results;
-      results.push_back(scored(
-          Method::kExact, methods.Exact(std::max(0.1 * options.time_limit,
-                                                 options.time_limit - SecondsSince(start)))));
-      return results;
-    }
-    if (kept > 0 && !is_bridged && n <= kept) {  // no room: the kept sensors are the answer
-      results.push_back(Scored(states, over, Method::kBest, options.fixed, setup,
-                               options.min_points, options.min_points ? 1 : options.k));
-      results.back().selection.method = "kept";
-      return results;
-    }
-    if (n < kept_start.size())
-      throw InputError(fmt::format("n = {}: joining the {} kept sensors takes {} more sensors",
-                                   n, kept, kept_start.size() - kept));
-    detail::ConstrainedMethods<detail::StatesScorer> methods(scorer, feasible, options, setup,
-                                                             kept_start);
-    const auto scored = [&](Method method, detail::ConstrainedAnswer answer) {
-      VANTAGE_CHECK(feasible.IsFeasible(answer.chosen));
-      StateSelection s = Scored(states, over, method, std::move(answer.chosen), answer.seconds,
-                                options.min_points, options.min_points ? 1 : options.k);
-      if (answer.upper_bound)
-        s.selection.upper_bound = std::max(*answer.upper_bound, s.selection.coverage);
-      s.selection.proven_optimal = answer.proven_optimal;
-      return s;
-    };
-    const auto one_n = [&](size_t k, bool ransac_too, bool greedy, bool local) {
-      if (ransac_too) results.push_back(scored(Method::kRansac, methods.Ransac(k)));
-      detail::ConstrainedAnswer g = methods.Greedy(k);
-      if (greedy) results.push_back(scored(Method::kGreedy, std::move(g)));
-      if (local) results.push_back(scored(Method::kLocal, methods.Local()));
-    };
-    // With kept sensors, the best single addition: greedy's first step from them (optimal for
-    // that n; with a chain to join them, not one addition).
-    const auto best_addition = [&] {
-      StateSelection s = scored(Method::kBest, methods.Greedy(kept + 1));
-      s.selection.upper_bound = s.selection.coverage;
-      s.selection.proven_optimal = true;
-      return s;
-    };
-    if (options.method == Method::kBest && is_bridged)
-      throw InputError(fmt::format("--method best adds one sensor to the {} kept ones, and they "
-                                   "need a chain of {} to join them — use another method",
-                                   kept, kept_start.size() - kept));
-    switch (options.method) {
-      case Method::kBest:  // one sensor breaks no constraint
-        results.push_back(kept > 0 ? best_addition() : best());
-        break;
-      case Method::kGreedy:
-        one_n(n, false, true, false);
-        break;
-      case Method::kLocal:
-        one_n(n, false, false, true);
-        break;
-      case Method::kRansac:
-        results.push_back(scored(Method::kRansac, methods.Ransac(n)));
-        break;
-      case Method::kAll: {
-        // As Select: min-points and k-coverage have no best, and k-coverage starts at n = k.
-        if (threshold == 1 && kept == 0) results.push_back(best());
-        if (threshold == 1 && kept > 0 && !is_bridged) results.push_back(best_addition());
-        detail::AllExactTime exact_time(matrix.candidate_count(), options.time_limit,
-                                        static_cast<int>(n));
-        // Below the kept sensors and their chain no answer exists.
-        const size_t first_n =
-            std::max({static_cast<size_t>(options.k), kept + 1, kept_start.size()});
-        for (size_t k = first_n; k <= n; ++k) {
-          one_n(k, true, true, true);
-          if (!exact_time.runs()) continue;
-          const Clock::time_point t = Clock::now();
-          results.push_back(
-              scored(Method::kExact, methods.Exact(exact_time.Share(static_cast<int>(k)))));
-          exact_time.Spend(SecondsSince(t));
-        }
-        break;
-      }
-      case Method::kExact: {
-        const Clock::time_point t = Clock::now();
-        methods.Greedy(n);
-        methods.Local();
-        results.push_back(
-            scored(Method::kExact, methods.Exact(std::max(0.1 * options.time_limit,
-                                                          options.time_limit - SecondsSince(t)))));
-        break;
-      }
-    }
-    return results;
+  if (!options.budget && kept > 0 && kept_start.size() == kept && n <= kept) {
+    // No room: the kept sensors are the answer.
+    StateSelection s = Scored(states, over, Method::kBest, options.fixed, setup, options.min_points,
+                              options.min_points ? 1 : options.k);
+    s.selection.method = "kept";
+    return {s};
   }
-  switch (options.method) {
-    case Method::kBest:
-      results.push_back(best());
-      break;
-    case Method::kGreedy:
-      greedy_and_local(n, true, false);
-      break;
-    case Method::kLocal:
-      greedy_and_local(n, false, true);
-      break;
-    case Method::kRansac:
-      results.push_back(ransac(n, options.ransac_iterations));
-      break;
-    case Method::kAll: {
-      results.push_back(best());
-      detail::AllExactTime exact_time(matrix.candidate_count(), options.time_limit,
-                                      static_cast<int>(n));
-      for (size_t k = 1; k <= n; ++k) {
-        results.push_back(ransac(k, detail::AllRansacShare::Iterations(
-                                        options.ransac_iterations, static_cast<int>(k),
-                                        static_cast<int>(n))));
-        greedy_and_local(k, true, true);
-        if (!exact_time.runs()) continue;
-        const Clock::time_point t = Clock::now();
-        results.push_back(exact(k, exact_time.Share(static_cast<int>(k))));
-        exact_time.Spend(SecondsSince(t));
-      }
-      break;
-    }
-    case Method::kExact:
-      results.push_back(exact(n, options.time_limit));
-      break;
-  }
-  return results;
+  if (!options.budget && n < kept_start.size())
+    throw InputError(fmt::format("n = {}: joining the {} kept sensors takes {} more sensors", n,
+                                 kept, kept_start.size() - kept));
+  StatesRun run(states, over, options, scorer, feasible, setup, kept_start);
+  return detail::RunMethods<StateSelection>(run, options, matrix.candidate_count(), start);
 }
 
 Selection ScoreChosenOverStates(std::span<const StateObservations> states, OverStates over,

@@ -14,20 +14,19 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include <tbb/global_control.h>
-
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
+#include <functional>
 #include <iterator>
-#include <thread>
+#include <memory>
+#include <optional>
 
 #include "select/constrained.hpp"
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
 #include "select/model.hpp"
+#include "select/run_methods.hpp"
 #include "vantage/error.hpp"
 #include "vantage/select_states.hpp"
 
@@ -52,16 +51,12 @@ std::shared_ptr<spdlog::logger> Logger() {
 
 // Goal of set cover in whole cells: the fewest cells whose share of R reaches the goal (at
 // least one, so that the answer has a sensor).
-uint64_t GoalCells(double goal, size_t reference_size) {
-  const double cells = std::ceil(goal * static_cast<double>(reference_size) - 1e-9);
-  return std::max<uint64_t>(1, static_cast<uint64_t>(std::max(0.0, cells)));
-}
 
 // Greedy, local search and exact for one n (or one goal, or one budget), each built on the one
 // before (local starts from greedy's answer, exact is warm-started from local's, or from greedy's
 // for set cover), so each one's seconds include the earlier steps it needed, as if it had run
 // alone. Scores are recomputed from the observations under the objective's metric.
-class Pipeline {
+class Pipeline final : public detail::MethodSteps<Selection> {
  public:
   Pipeline(const CoverageEvaluator& evaluator,
            const detail::CoverageMatrix& matrix,
@@ -74,7 +69,22 @@ class Pipeline {
         k_(detail::Threshold(options)),
         setup_seconds_(setup_seconds) {}
 
-  Selection Ransac(int n, int iterations) const {
+  Selection Best() override { return SelectBest(evaluator_); }
+
+  /// Best's row heads the table of plain coverage (n = 1 is its optimum).
+  std::optional<Selection> TableHead() override {
+    if (objective_ != Objective::kCoverage) return std::nullopt;
+    return SelectBest(evaluator_);
+  }
+
+  /// k-coverage needs n >= k (below it nothing counts).
+  size_t FirstN() const override {
+    return objective_ == Objective::kKCoverage ? static_cast<size_t>(k_) : 1;
+  }
+
+  bool ParallelExact() const override { return true; }
+
+  Selection Ransac(size_t n, int iterations) override {
     const Clock::time_point start = Clock::now();
     std::vector<uint32_t> chosen;
     if (objective_ == Objective::kSetCover || objective_ == Objective::kBudget) {
@@ -85,7 +95,7 @@ class Pipeline {
                                                    : GoalCosts();
       if (objective_ == Objective::kBudget) fit.budget = *options_.budget;
       if (objective_ == Objective::kSetCover)
-        fit.goal_cells = GoalCells(*options_.goal, matrix_.reference_size());
+        fit.goal_cells = detail::GoalCells(*options_.goal, matrix_.reference_size());
       chosen = detail::RansacFitted(matrix_, fit, iterations, options_.ransac_stop_coverage,
                                     options_.seed);
       // Every order reaches a goal that all candidates reach; a budget's draws add nothing only
@@ -98,11 +108,11 @@ class Pipeline {
     return Scored(Method::kRansac, std::move(chosen), setup_seconds_ + SecondsSince(start));
   }
 
-  Selection Greedy(int n) {
+  Selection Greedy(size_t n) override {
     const Clock::time_point start = Clock::now();
     switch (objective_) {
       case Objective::kSetCover:
-        greedy_ = detail::GreedyToGoal(matrix_, GoalCells(*options_.goal, matrix_.reference_size()),
+        greedy_ = detail::GreedyToGoal(matrix_, detail::GoalCells(*options_.goal, matrix_.reference_size()),
                                        k_, GoalCosts());
         break;
       case Objective::kBudget:
@@ -123,7 +133,7 @@ class Pipeline {
   }
 
   /// After Greedy(n).
-  Selection Local() {
+  Selection Local() override {
     const Clock::time_point start = Clock::now();
     detail::LocalOptions local;
     if (objective_ == Objective::kBudget) {
@@ -137,26 +147,33 @@ class Pipeline {
     return Scored(Method::kLocal, local_, local_seconds_);
   }
 
-  /// After Local() (or Greedy(n) for set cover, or when local was not asked for).
-  Selection Exact(double time_limit) const {
+  /// After Local() (or Greedy(n) for set cover): a goal's exact at once (never in lanes), the
+  /// others from a copy of local's answer, const and touching no member state, so that `all`'s
+  /// lanes run them at once.
+  std::function<detail::ExactDone<Selection>(double)> Exact() override {
+    if (objective_ == Objective::kSetCover)
+      return [this](double seconds) { return detail::ExactDone<Selection>{GoalExact(seconds), {}}; };
+    return [this, start = local_, start_seconds = local_seconds_](double seconds) {
+      auto note = std::make_shared<ExactNote>();
+      Selection s = ExactFrom(start, start_seconds, seconds, note.get());
+      return detail::ExactDone<Selection>{
+          std::move(s), [this, n = start.size(), note] {
+            LogNote(n, note->proven_optimal, note->text);
+          }};
+    };
+  }
+
+  /// Exact for a goal, from greedy's answer.
+  Selection GoalExact(double time_limit) const {
     const Clock::time_point start = Clock::now();
-    const size_t n = local_.size();
-    if (objective_ == Objective::kSetCover && (k_ >= 2 || matrix_.has_counts() ||
-                                               options_.minimize_cost)) {
+    if (k_ >= 2 || matrix_.has_counts() || options_.minimize_cost)
       return ThresholdGoal(time_limit, start);
-    }
-    if (objective_ == Objective::kSetCover) {
-      const detail::SetCoverResult exact = detail::SolveSetCover(
-          matrix_, GoalCells(*options_.goal, matrix_.reference_size()), local_, time_limit);
-      LogNote(local_.size(), exact.proven_optimal, exact.note);
-      Selection s = Scored(Method::kExact, exact.chosen, local_seconds_ + SecondsSince(start));
-      s.n_lower_bound = static_cast<int>(exact.lower_bound);
-      s.proven_optimal = exact.proven_optimal;
-      return s;
-    }
-    ExactNote note;
-    Selection s = ExactFrom(local_, local_seconds_, time_limit, &note);
-    LogNote(n, note.proven_optimal, note.text);
+    const detail::SetCoverResult exact = detail::SolveSetCover(
+        matrix_, detail::GoalCells(*options_.goal, matrix_.reference_size()), local_, time_limit);
+    LogNote(local_.size(), exact.proven_optimal, exact.note);
+    Selection s = Scored(Method::kExact, exact.chosen, local_seconds_ + SecondsSince(start));
+    s.n_lower_bound = static_cast<int>(exact.lower_bound);
+    s.proven_optimal = exact.proven_optimal;
     return s;
   }
 
@@ -171,15 +188,8 @@ class Pipeline {
   Selection ExactFrom(const std::vector<uint32_t>& start, double start_seconds, double time_limit,
                       ExactNote* note) const {
     const Clock::time_point begin = Clock::now();
-    detail::SelectionModel model;
-    model.matrix = &matrix_;
-    if (objective_ == Objective::kBudget) {
-      model.costs = options_.costs;
-      model.capacity = *options_.budget;
-    } else {
-      model.threshold = k_;
-      model.capacity = static_cast<double>(start.size());
-    }
+    const detail::SelectionModel model =
+        detail::ModelFor(options_, matrix_, detail::ModelValue::kCells, start.size(), nullptr);
     detail::ExactAnswer exact = detail::SolveExactModel(model, start, time_limit);
     note->proven_optimal = exact.proven_optimal;
     note->text = std::move(exact.note);
@@ -210,7 +220,7 @@ class Pipeline {
   /// from greedy's answer, with the cheap bound where CBC gives none. The cheapest cover of every
   /// cell goes to OrbitalSetCover first (where it applies), then to the MILP unless proven.
   Selection ThresholdGoal(double time_limit, Clock::time_point start) const {
-    const uint64_t goal_cells = GoalCells(*options_.goal, matrix_.reference_size());
+    const uint64_t goal_cells = detail::GoalCells(*options_.goal, matrix_.reference_size());
     const auto price = [&](const std::vector<uint32_t>& chosen) {
       return options_.minimize_cost ? detail::TotalCost(options_.costs, chosen)
                                     : static_cast<double>(chosen.size());
@@ -275,47 +285,6 @@ class Pipeline {
   double greedy_seconds_ = 0;
   double local_seconds_ = 0;
 };
-
-// One exact run of `all`: its n's local answer, the seconds that took, its place in the results.
-struct ExactRun {
-  std::vector<uint32_t> start;
-  double start_seconds = 0;
-  size_t slot = 0;
-  Pipeline::ExactNote note;
-};
-
-// `all`'s exact runs in AllExactTime's lanes: each lane (the calling thread and lanes - 1 more)
-// takes the smallest n not yet started, with its share of the lane's time.
-void RunExactLanes(const Pipeline& pipeline, double time_limit, std::vector<ExactRun>* runs,
-                   std::vector<Selection>* results) {
-  if (runs->empty()) return;
-  const size_t threads = tbb::global_control::active_value(
-      tbb::global_control::max_allowed_parallelism);
-  const size_t lanes = detail::AllExactTime::Lanes(threads, runs->size());
-  std::atomic<size_t> next{0};
-  std::vector<std::exception_ptr> failures(lanes);
-  const auto lane = [&](size_t which) {
-    try {
-      detail::AllExactTime time(time_limit);
-      for (size_t j; (j = next.fetch_add(1)) < runs->size();) {
-        ExactRun& run = (*runs)[j];
-        const Clock::time_point start = Clock::now();
-        (*results)[run.slot] = pipeline.ExactFrom(
-            run.start, run.start_seconds, time.Share(runs->size() - j, lanes), &run.note);
-        time.Spend(SecondsSince(start));
-      }
-    } catch (...) {
-      failures[which] = std::current_exception();
-      next = runs->size();  // the other lanes start nothing more
-    }
-  };
-  std::vector<std::thread> others;
-  for (size_t which = 1; which < lanes; ++which) others.emplace_back(lane, which);
-  lane(0);
-  for (std::thread& t : others) t.join();
-  for (const std::exception_ptr& failure : failures)
-    if (failure) std::rethrow_exception(failure);
-}
 
 }  // namespace
 
@@ -450,102 +419,14 @@ Selection SelectGreedy(const CoverageEvaluator& evaluator, int n) {
 
 namespace {
 
-/// `values` without the elements of the sorted `removed`.
-template <typename T>
-std::vector<T> Without(const std::vector<T>& values, const std::vector<T>& removed) {
-  std::vector<T> out;
-  out.reserve(values.size());
-  std::set_difference(values.begin(), values.end(), removed.begin(), removed.end(),
-                      std::back_inserter(out));
-  return out;
-}
-
-template <typename T>
-std::vector<T> Union(const std::vector<T>& a, const std::vector<T>& b) {
-  std::vector<T> out;
-  out.reserve(a.size() + b.size());
-  std::set_union(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
-  return out;
-}
-
-// Selection with kept sensors F: the residual problem (the other candidates, each without the
-// cells and keys F sees; n - |F| sensors, the goal less F's share, the budget less F's cost) run
-// by the same methods, and F put in front of each answer. Coverage(F ∪ S) = |F's cells| + S's
-// residual cells, so each method's answer, bound and proof carry over exactly.
-std::vector<Selection> SelectKeeping(std::span<const Observation> observations,
-                                     size_t reference_size, const SelectOptions& options) {
-  const CoverageEvaluator evaluator(observations, reference_size);
-  const std::vector<uint32_t>& fixed = options.fixed;
-  Observation seen;
-  for (const uint32_t i : fixed) {
-    seen.reference_indices = Union(seen.reference_indices, observations[i].reference_indices);
-    seen.outside_keys = Union(seen.outside_keys, observations[i].outside_keys);
-    seen.plain_reference_indices =
-        Union(seen.plain_reference_indices, observations[i].plain_reference_indices);
-  }
-  const double kept_share = Fraction(seen.reference_indices.size(), reference_size);
-  std::vector<Observation> residual;
-  std::vector<uint32_t> original;  // residual index -> candidate index
-  for (uint32_t i = 0; i < observations.size(); ++i) {
-    if (std::find(fixed.begin(), fixed.end(), i) != fixed.end()) continue;
-    Observation o = observations[i];
-    o.reference_indices = Without(o.reference_indices, seen.reference_indices);
-    o.outside_keys = Without(o.outside_keys, seen.outside_keys);
-    o.plain_reference_indices = Without(o.plain_reference_indices, seen.plain_reference_indices);
-    residual.push_back(std::move(o));
-    original.push_back(i);
-  }
-  SelectOptions rest = options;
-  rest.fixed.clear();
-  rest.n = options.n - static_cast<int>(fixed.size());
-  // Set cover and budget ignore n; it only has to be valid for the residual.
-  if (options.objective() != Objective::kCoverage)
-    rest.n = std::clamp(rest.n, 1, static_cast<int>(std::max<size_t>(residual.size(), 1)));
-  double kept_cost = 0;
-  if (options.budget || options.minimize_cost) {
-    rest.costs.clear();
-    for (const uint32_t i : original) rest.costs.push_back(options.costs[i]);
-  }
-  if (options.budget) {
-    kept_cost = detail::TotalCost(options.costs, fixed);  // within the budget (Validate)
-    rest.budget = *options.budget - kept_cost;
-  }
-  const bool kept_reach_goal = options.goal && kept_share + 1e-12 >= *options.goal;
-  if (options.goal) rest.goal = *options.goal - kept_share;
-  const bool no_room = options.objective() == Objective::kCoverage ? rest.n == 0 : false;
-  const bool budget_spent = options.budget && std::none_of(
-                                                  rest.costs.begin(), rest.costs.end(),
-                                                  [&](double c) { return c <= *rest.budget; });
-  if (residual.empty() || no_room || kept_reach_goal || budget_spent) {
-    Selection kept = detail::ScoreSelection(evaluator, fixed, "kept", options);
-    return {kept};
-  }
-  std::vector<Selection> results = Select(residual, reference_size, rest);
-  for (Selection& r : results) {
-    std::vector<uint32_t> chosen = fixed;
-    for (const uint32_t j : r.chosen) chosen.push_back(original[j]);
-    Selection s = detail::ScoreSelection(evaluator, std::move(chosen), r.method, options);
-    s.seconds = r.seconds;
-    if (r.upper_bound) s.upper_bound = std::max(*r.upper_bound + kept_share, s.coverage);
-    s.proven_optimal = r.proven_optimal;
-    if (r.n_lower_bound) s.n_lower_bound = *r.n_lower_bound + static_cast<int>(fixed.size());
-    if (r.cost_lower_bound)
-      s.cost_lower_bound = *r.cost_lower_bound + detail::TotalCost(options.costs, fixed);
-    r = std::move(s);
-  }
-  return results;
-}
-
-// Whether `options` is one of the combinations that select.cpp's pipeline and the residual
-// problem of kept sensors do not model, and the one model of over_states.cpp does (kept sensors
-// as fixed variables, a threshold per cell, costs, the rules, one selection MILP): a budget
-// counted k times or in points; a goal counted k times or in points with kept sensors; a goal
-// counted k times, in points or by cost under installation constraints.
+// Whether `options` is a question select.cpp's pipeline and SelectConstrained do not ask, and
+// the states' model (over_states.cpp) does, with the scene as its one state: a budget counted k
+// times or in points, and a goal with kept sensors or under installation rules (every goal
+// there is the one model's: kept sensors fixed at 1, a threshold per cell, costs, the rules).
 bool OnOneStateOfTheModel(const SelectOptions& o) {
   const bool threshold = o.k >= 2 || o.min_points.has_value();
   if (o.budget && threshold) return true;
-  if (o.goal && threshold && !o.fixed.empty()) return true;
-  return o.goal && (threshold || o.minimize_cost) && !o.constraints.empty();
+  return o.goal && (!o.fixed.empty() || !o.constraints.empty());
 }
 
 // Those combinations on the scene as one state: with one state the states' mean is the state's
@@ -588,14 +469,8 @@ std::vector<Selection> Select(std::span<const Observation> observations,
                               const SelectOptions& options) {
   options.Validate(observations.size());
   if (OnOneStateOfTheModel(options)) return SelectOnOneState(observations, reference_size, options);
-  // Kept sensors are fixed variables of the one model (SelectConstrained, whose feasibility
-  // without constraints admits every set) where cells count k times or in points; the residual
-  // problem serves plain coverage, goals and budgets.
-  const bool counts_threshold = options.k >= 2 || options.min_points.has_value();
-  if (!options.fixed.empty() && options.constraints.empty() && !counts_threshold)
-    return SelectKeeping(observations, reference_size, options);
   const CoverageEvaluator evaluator(observations, reference_size);
-  // Kept sensors reach here only under constraints: SelectConstrained adds the best single one.
+  // With kept sensors, SelectConstrained adds the best single one.
   if (options.method == Method::kBest && options.fixed.empty()) return {SelectBest(evaluator)};
   if (options.min_points) RequirePointCounts(observations);
   const bool is_constrained = !options.constraints.empty();
@@ -609,7 +484,7 @@ std::vector<Selection> Select(std::span<const Observation> observations,
   Pipeline pipeline(evaluator, matrix, options, setup_seconds);
   const Objective objective = options.objective();
   if (objective == Objective::kSetCover) {
-    const uint64_t goal_cells = GoalCells(*options.goal, reference_size);
+    const uint64_t goal_cells = detail::GoalCells(*options.goal, reference_size);
     // What all candidates reach together, counted as the goal counts (k seers, or the points).
     const int threshold = detail::Threshold(options);
     std::vector<uint32_t> everyone(matrix.candidate_count());
@@ -635,67 +510,7 @@ std::vector<Selection> Select(std::span<const Observation> observations,
   if (is_constrained || !options.fixed.empty())
     return detail::SelectConstrained(observations, reference_size, options);
 
-  switch (options.method) {
-    case Method::kRansac:
-      return {pipeline.Ransac(options.n, options.ransac_iterations)};
-    case Method::kGreedy:
-      return {pipeline.Greedy(options.n)};
-    case Method::kLocal:
-      pipeline.Greedy(options.n);
-      return {pipeline.Local()};
-    case Method::kExact:
-      pipeline.Greedy(options.n);
-      if (objective != Objective::kSetCover) pipeline.Local();
-      // The time limit bounds the whole method: the matrix, greedy and local it started from
-      // count (at least a tenth of the limit is left to exact itself).
-      return {pipeline.Exact(
-          std::max(0.1 * options.time_limit, options.time_limit - SecondsSince(start)))};
-    case Method::kBest:
-    case Method::kAll:
-      break;
-  }
-
-  // "all" for one goal or one budget: no n to vary.
-  if (objective == Objective::kSetCover) {
-    return {pipeline.Greedy(options.n), pipeline.Exact(options.time_limit)};
-  }
-  if (objective == Objective::kBudget) {
-    std::vector<Selection> results{pipeline.Greedy(options.n)};
-    results.push_back(pipeline.Local());
-    results.push_back(pipeline.Exact(options.time_limit));
-    return results;
-  }
-
-  // Per n: best (coverage only, n = 1), then ransac, greedy, local, exact. k-coverage needs
-  // n >= k (below it nothing counts).
-  std::vector<Selection> results;
-  int first_n = 1;
-  if (objective == Objective::kCoverage) {
-    results.push_back(SelectBest(evaluator));
-  } else if (objective == Objective::kKCoverage) {
-    first_n = options.k;
-  }
-  detail::AllExactTime exact_time(observations.size(), options.time_limit, options.n);
-  if (!exact_time.runs()) {
-    Logger()->info("select: exact skipped in 'all' ({} candidates > {}); use --method exact",
-                   observations.size(), detail::AllExactTime::kMaxCandidates);
-  }
-  // RANSAC, greedy and local for every n first (deterministic), then exact from each n's local
-  // answer in AllExactTime's lanes, each result in its n's place.
-  std::vector<ExactRun> exact_runs;
-  for (int n = first_n; n <= options.n; ++n) {
-    results.push_back(pipeline.Ransac(
-        n, detail::AllRansacShare::Iterations(options.ransac_iterations, n, options.n)));
-    results.push_back(pipeline.Greedy(n));
-    results.push_back(pipeline.Local());
-    if (!exact_time.runs()) continue;
-    exact_runs.push_back({pipeline.local(), pipeline.local_seconds(), results.size(), {}});
-    results.emplace_back();
-  }
-  RunExactLanes(pipeline, options.time_limit, &exact_runs, &results);
-  for (const ExactRun& run : exact_runs)
-    pipeline.LogNote(run.start.size(), run.note.proven_optimal, run.note.text);
-  return results;
+  return detail::RunMethods<Selection>(pipeline, options, observations.size(), start);
 }
 
 std::vector<Selection> CoverageCurve(std::span<const Observation> observations,
@@ -707,8 +522,7 @@ std::vector<Selection> CoverageCurve(std::span<const Observation> observations,
   for (const Selection& s : results) last_n = std::max(last_n, s.n);
   last_n = std::min(last_n, static_cast<int>(observations.size()));
   const int first_n = objective == Objective::kKCoverage ? options.k : 1;
-  if (!options.constraints.empty() ||
-      (!options.fixed.empty() && (options.k >= 2 || options.min_points))) {
+  if (!options.constraints.empty() || !options.fixed.empty()) {
     if (options.min_points) RequirePointCounts(observations);
     return detail::ConstrainedCurve(observations, reference_size, options, results, first_n,
                                     last_n);
