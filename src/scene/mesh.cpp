@@ -1,14 +1,11 @@
 // Triangle meshes: the scene's geometry, the primitives of SDF and YAML scenes (tessellated with
 // a bounded chord error, SYSTEM.md "coverage metric"), and mesh files read through Assimp.
-#include <assimp/config.h>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
+#include <dlfcn.h>
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <bit>
 #include <filesystem>
-#include <assimp/Importer.hpp>
 #include <cmath>
 #include <cctype>
 #include <cstdio>
@@ -23,6 +20,7 @@
 #include "scene/scaled_mesh_cache.hpp"
 #include "scene/step_reader.hpp"
 #include "util/isolated.hpp"
+#include "util/module_places.hpp"
 #include "util/run_files.hpp"
 #include "vantage/error.hpp"
 #include "vantage/scene.hpp"
@@ -160,7 +158,8 @@ void CompactVertices(TriangleMesh* mesh) {
   for (uint32_t i = 0; i < v.size(); ++i) {
     const Key key{v[i].x() + 0.0, v[i].y() + 0.0, v[i].z() + 0.0};
     size_t slot = hash(key) & (capacity - 1);
-    while (first_at[slot] != kUnused && v[first_at[slot]] != v[i]) slot = (slot + 1) & (capacity - 1);
+    while (first_at[slot] != kUnused && v[first_at[slot]] != v[i])
+      slot = (slot + 1) & (capacity - 1);
     if (first_at[slot] == kUnused) first_at[slot] = i;
     same_as[i] = first_at[slot];
   }
@@ -177,60 +176,6 @@ void CompactVertices(TriangleMesh* mesh) {
     }
   }
   mesh->vertices = std::move(kept);
-}
-
-/// What is wrong with `mesh`'s faces, "" when nothing: a face without vertices (Assimp's PLY
-/// reader makes them of a file cut short, and its triangulation then asserts) or a vertex index
-/// beyond the mesh's vertices (a broken PLY; reading it would read past them).
-std::string FaceProblem(const aiMesh& mesh) {
-  for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
-    const aiFace& face = mesh.mFaces[f];
-    if (face.mNumIndices == 0) return fmt::format("face {} has no vertices (a file cut short?)", f);
-    for (unsigned k = 0; k < face.mNumIndices; ++k) {
-      if (face.mIndices[k] < mesh.mNumVertices) continue;
-      return fmt::format("face {} refers to vertex index {}, out of range: the mesh has {} "
-                         "vertices (indices 0 to {})",
-                         f, face.mIndices[k], mesh.mNumVertices,
-                         static_cast<int64_t>(mesh.mNumVertices) - 1);
-    }
-  }
-  return {};
-}
-
-/// Appends the triangles of one Assimp mesh, placed by `world_from_mesh`; lines and points
-/// (left by aiProcess_SortByPType) are skipped. A face problem (FaceProblem) sets `problem`.
-void AppendAssimpMesh(const aiMesh& mesh, const aiMatrix4x4& world_from_mesh, TriangleMesh* out,
-                      std::string* problem) {
-  if (!(mesh.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || !problem->empty()) return;
-  *problem = FaceProblem(mesh);
-  if (!problem->empty()) return;
-  const auto base = static_cast<uint32_t>(out->vertices.size());
-  for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
-    const aiVector3D p = world_from_mesh * mesh.mVertices[v];
-    out->vertices.emplace_back(p.x, p.y, p.z);
-  }
-  for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
-    const aiFace& face = mesh.mFaces[f];
-    if (face.mNumIndices != 3) continue;
-    out->triangles.push_back(
-        {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
-  }
-}
-
-/// Walks the node tree, composing each node's transform onto its parent's.
-void Flatten(const aiScene& scene,
-             const aiNode& node,
-             const aiMatrix4x4& parent,
-             TriangleMesh* out,
-             std::string* problem) {
-  const aiMatrix4x4 world_from_node = parent * node.mTransformation;
-  for (unsigned i = 0; i < node.mNumMeshes; ++i) {
-    if (node.mMeshes[i] < scene.mNumMeshes)
-      AppendAssimpMesh(*scene.mMeshes[node.mMeshes[i]], world_from_node, out, problem);
-  }
-  for (unsigned i = 0; i < node.mNumChildren; ++i) {
-    Flatten(scene, *node.mChildren[i], world_from_node, out, problem);
-  }
 }
 
 [[noreturn]] void FailMesh(const std::string& path, const std::string& what) {
@@ -439,28 +384,42 @@ TriangleMesh MakePlane(double size_x, double size_y) {
 
 namespace {
 
-/// Assimp's import of `path` (PlyBodyProblem already checked): the raw triangles, or FailMesh.
-TriangleMesh ImportWithAssimp(const std::string& path) {
-  Assimp::Importer importer;
-  // Gazebo uses a Collada file's coordinates as they are (Z up in practice), with only the
-  // <unit> scale applied; Assimp would otherwise rotate Z_UP files to Y up.
-  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
-  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
-                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  const aiScene* scene = importer.ReadFile(path, 0);
-  if (!scene || !scene->mRootNode) FailMesh(path, importer.GetErrorString());
-  // Checked before Assimp's triangulation, which asserts (Debian's build aborts) on a face
-  // without vertices, as its PLY reader made of a file cut short (session 9).
-  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-    if (const std::string problem = FaceProblem(*scene->mMeshes[m]); !problem.empty())
-      FailMesh(path, problem);
-  }
-  scene = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_SortByPType);
-  if (!scene || !scene->mRootNode) FailMesh(path, importer.GetErrorString());
+// Assimp is in a module of its own (src/scene/module/assimp_reader.cpp, libvantage_assimp.so),
+// loaded only in the child process that reads a mesh with it (issue 47: its 40 k relocations were
+// two thirds of every process start's); the entry is vantage_read_mesh there.
+using MeshModuleEntry = int (*)(const char* path, TriangleMesh* raw, std::string* problem);
+
+// Where the module lies (ModulePlaces), found in this process so that a missing one is an
+// internal error naming the places looked at.
+std::filesystem::path MeshModulePlace() {
+  std::string tried;
+  const std::optional<std::filesystem::path> place = detail::FirstModulePlace(
+      detail::ModulePlaces(reinterpret_cast<const void*>(&ReadMeshFile),
+                           VANTAGE_ASSIMP_MODULE_NAME, VANTAGE_ASSIMP_MODULE_FROM_BIN,
+                           VANTAGE_ASSIMP_MODULE_BUILT),
+      &tried);
+  if (!place)
+    throw InternalError(fmt::format("cannot read meshes with Assimp: the mesh reader {} is not "
+                                    "installed (looked at {})",
+                                    VANTAGE_ASSIMP_MODULE_NAME, tried));
+  return *place;
+}
+
+/// Assimp's import of `path` (PlyBodyProblem already checked) through the module at `module`
+/// (in the child process): the raw triangles, or FailMesh.
+TriangleMesh ImportWithModule(const std::filesystem::path& module, const std::string& path) {
+  void* handle = dlopen(module.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (handle == nullptr)
+    throw std::runtime_error(fmt::format("cannot load the mesh reader {}: {}", module.string(),
+                                         dlerror()));
+  const auto entry = reinterpret_cast<MeshModuleEntry>(dlsym(handle, "vantage_read_mesh"));
+  if (entry == nullptr)
+    throw std::runtime_error(fmt::format("{} is not vantage's mesh reader", module.string()));
   TriangleMesh raw;
   std::string problem;
-  Flatten(*scene, *scene->mRootNode, aiMatrix4x4(), &raw, &problem);
-  if (!problem.empty()) FailMesh(path, problem);
+  const int status = entry(path.c_str(), &raw, &problem);
+  if (status == 1) FailMesh(path, problem);
+  if (status != 0) throw std::runtime_error(problem);
   return raw;
 }
 
@@ -559,8 +518,9 @@ TriangleMesh ReadMeshFile(const std::string& path) {
   // a segfault in its PLY header parser within seconds), and a crash there must not end vantage.
   // CPU time: a minute, and 10 s per MiB (Assimp reads about 10 MiB of STL a second here).
   const double mib = static_cast<double>(std::filesystem::file_size(path, error)) / (1 << 20);
+  const std::filesystem::path reader = MeshModulePlace();
   TriangleMesh raw = MeshFromBytes(detail::RunIsolated(
-      [&] { return MeshBytes(ImportWithAssimp(path)); },
+      [&] { return MeshBytes(ImportWithModule(reader, path)); },
       fmt::format("{}: cannot read mesh: Assimp", path),
       60.0 + 10.0 * mib));
   if (raw.triangles.empty()) FailMesh(path, "it holds no triangles");

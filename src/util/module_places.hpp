@@ -1,8 +1,9 @@
 #pragma once
-/// Finding a run-time module (the CAD reader, libvantage_cad.so; the arm module,
-/// libvantage_arm.so; CBC and CLP, libvantage_cbc.so): shared objects loaded with dlopen the
-/// first time they are needed, so that a process that never reads CAD, plans for an arm or solves
-/// a model does not map their libraries.
+/// Finding a run-time module (the CAD reader, libvantage_cad.so; Assimp's mesh reader,
+/// libvantage_assimp.so; the arm module, libvantage_arm.so; CBC and CLP, libvantage_cbc.so):
+/// shared objects loaded with dlopen the first time they are needed, so that a process that never
+/// reads CAD or a mesh through Assimp, plans for an arm or solves a model does not map their
+/// libraries.
 #include <filesystem>
 #include <optional>
 #include <string>
