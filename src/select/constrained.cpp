@@ -568,7 +568,8 @@ double ConstrainedMethods<Scorer>::Share(uint64_t cells) const {
 
 template <MethodScorer Scorer>
 bool ConstrainedMethods<Scorer>::IsFree() const {
-  return options_.constraints.empty() && start_.empty() && !options_.budget && scorer_.k() == 1;
+  if (!options_.constraints.empty() || !start_.empty()) return false;
+  return Scorer::kCells || (!options_.budget && scorer_.k() == 1);
 }
 
 template <MethodScorer Scorer>
@@ -576,8 +577,23 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n, int iterations) c
   const Clock::time_point start = Clock::now();
   ConstrainedAnswer answer;
   if (IsFree()) {
-    answer.chosen = RansacChoice(scorer_, n, iterations, options_.ransac_stop_coverage,
-                                 options_.seed);
+    if constexpr (Scorer::kCells) {
+      if (options_.budget) {
+        // No n to draw: each draw is a random order taken until the budget stops it; where
+        // nothing affordable sees anything, greedy's answer.
+        FittedDraws fit;
+        fit.threshold = scorer_.k();
+        fit.costs = options_.costs;
+        fit.budget = *options_.budget;
+        answer.chosen = RansacFitted(scorer_.matrix(), fit, iterations,
+                                     options_.ransac_stop_coverage, options_.seed);
+        if (answer.chosen.empty())
+          answer.chosen = GreedyBudget(scorer_.matrix(), options_.costs, *options_.budget);
+      }
+    }
+    if (!options_.budget)
+      answer.chosen = RansacChoice(scorer_, n, iterations, options_.ransac_stop_coverage,
+                                   options_.seed);
     answer.seconds = setup_seconds_ + SecondsSince(start);
     return answer;
   }
@@ -626,8 +642,18 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Greedy(size_t n) {
   const Clock::time_point start = Clock::now();
   VANTAGE_CHECK(options_.budget || n >= start_.size());
   n_ = n;
-  greedy_ = IsFree() ? GreedyComplete(scorer_, {}, n)
-                     : ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, start_);
+  if (!IsFree()) {
+    greedy_ = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, start_);
+  } else if (options_.budget) {
+    if constexpr (Scorer::kCells)
+      greedy_ = GreedyBudget(scorer_.matrix(), options_.costs, *options_.budget);
+  } else if (options_.objective() == Objective::kKCoverage ||
+             options_.objective() == Objective::kMinPoints) {
+    // The threshold greedy (a count matrix makes it the min-points one).
+    if constexpr (Scorer::kCells) greedy_ = KGreedyComplete(scorer_.matrix(), {}, n, scorer_.k());
+  } else {
+    greedy_ = GreedyComplete(scorer_, {}, n);
+  }
   if (!options_.budget && greedy_.size() < n) {
     if (greedy_.size() == 1) {
       Logger()->warn("greedy, n = {}: only 1 sensor satisfies the constraints", n);
@@ -639,7 +665,7 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Greedy(size_t n) {
   greedy_seconds_ = setup_seconds_ + SecondsSince(start);
   local_ = greedy_;
   local_seconds_ = greedy_seconds_;
-  return {greedy_, greedy_seconds_, std::nullopt, false};
+  return {greedy_, greedy_seconds_, std::nullopt, false, {}};
 }
 
 template <MethodScorer Scorer>
@@ -648,10 +674,21 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Local() {
   const CoverageMatrix& matrix = scorer_.matrix();
   free_local_.clear();
   if (IsFree()) {
-    // 1-swaps only over states: LocalSearch's 2-swaps reason in cells (CellScorer).
-    local_ = LocalSearch(scorer_, greedy_);
+    if constexpr (Scorer::kCells) {
+      LocalOptions local;
+      if (options_.budget) {
+        local.costs = options_.costs;
+        local.budget = *options_.budget;
+      }
+      local_ = options_.objective() == Objective::kMinPoints
+                   ? PointsLocalSearch(matrix, greedy_, scorer_.k())
+                   : LocalSearch(scorer_, greedy_, local);
+    } else {
+      // 1-swaps only over states: LocalSearch's 2-swaps reason in cells (CellScorer).
+      local_ = LocalSearch(scorer_, greedy_);
+    }
     local_seconds_ = greedy_seconds_ + SecondsSince(start);
-    return {local_, local_seconds_, std::nullopt, false};
+    return {local_, local_seconds_, std::nullopt, false, {}};
   }
   local_ = ConstrainedLocal(scorer_, feasible_, greedy_, CapacityFor(n_), options_.fixed.size());
   if (!options_.fixed.empty()) {
@@ -682,7 +719,7 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Local() {
       scorer_.ScoreOf(scorer_.Covered(local_)) < scorer_.ScoreOf(scorer_.Covered(free_local_)))
     local_ = free_local_;
   local_seconds_ = greedy_seconds_ + SecondsSince(start);
-  return {local_, local_seconds_, std::nullopt, false};
+  return {local_, local_seconds_, std::nullopt, false, {}};
 }
 
 template <MethodScorer Scorer>
@@ -717,7 +754,7 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
   ExactAnswer exact;
   bool solved = false;
   if (IsFree()) {  // the model is the free one: one solve, all the time
-    exact = SolveExactModel(free_model, local_, time_limit, hints);
+    exact = SolveExactModel(free_model, local_, time_limit);
     solved = true;
   } else if (has_free && n_ >= 1) {
     ExactAnswer free = SolveExactModel(free_model, free_local_, 0.5 * time_limit);
@@ -745,11 +782,15 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
                                   : fmt::format("n = {}", n_),
                   options_.constraints.empty() ? "" : " (constrained)");
   const char* over_states = Scorer::kCells ? "" : " over states";
-  if (!answer.proven_optimal && !note.empty()) {
-    Logger()->warn("exact{}, {}: {}; reporting the best answer found and a bound", over_states,
-                   which, note);
-  } else if (!note.empty()) {
-    Logger()->debug("exact{}, {}: {}", over_states, which, note);
+  if (!note.empty()) {
+    answer.log = [what = fmt::format("exact{}, {}", over_states, which), note,
+                  proven = answer.proven_optimal] {
+      if (!proven) {
+        Logger()->warn("{}: {}; reporting the best answer found and a bound", what, note);
+      } else {
+        Logger()->debug("{}: {}", what, note);
+      }
+    };
   }
   answer.seconds = local_seconds_ + SecondsSince(start);
   return answer;
@@ -807,9 +848,13 @@ class CellsRun final : public MethodSteps<Selection> {
   Selection Local() override { return Scored(Method::kLocal, methods_.Local()); }
   std::function<ExactDone<Selection>(double)> Exact() override {
     return [this, methods = methods_](double seconds) {
-      return ExactDone<Selection>{Scored(Method::kExact, methods.Exact(seconds)), {}};
+      ConstrainedAnswer answer = methods.Exact(seconds);
+      std::function<void()> log = std::move(answer.log);
+      return ExactDone<Selection>{Scored(Method::kExact, std::move(answer)), std::move(log)};
     };
   }
+  /// Without rules and kept sensors, `all`'s n's share AllExactTime's lanes.
+  bool ParallelExact() const override { return methods_.IsFree(); }
 
   Selection Scored(Method method, ConstrainedAnswer answer) const {
     VANTAGE_CHECK(feasible_.IsFeasible(answer.chosen));
@@ -846,7 +891,7 @@ class CellsRun final : public MethodSteps<Selection> {
       }
       if (best_c < 0) return std::nullopt;
       trial.back() = static_cast<uint32_t>(best_c);
-      best = Scored(Method::kBest, {trial, setup_seconds_, std::nullopt, false});
+      best = Scored(Method::kBest, {trial, setup_seconds_, std::nullopt, false, {}});
     }
     best.method = MethodName(Method::kBest);
     best.upper_bound = best.coverage;

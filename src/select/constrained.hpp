@@ -3,6 +3,7 @@
 /// greedy, local search, RANSAC and the MILP of maximum coverage restricted to feasible sets —
 /// no conflicting pair chosen, and with a calibration rule a connected overlap graph.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
@@ -140,10 +141,11 @@ struct ConstrainedAnswer {
   double seconds = 0;
   std::optional<double> upper_bound;
   bool proven_optimal = false;
+  std::function<void()> log;  ///< exact: what it has to say, logged by the caller (in n order)
 };
 
-/// The methods for one n (or one budget), each built on the one before as Select's Pipeline does
-/// (local from greedy's answer, exact warm-started from local's), seconds including the steps
+/// The methods for one n (or one budget), each built on the one before (local from greedy's
+/// answer, exact warm-started from local's), seconds including the steps
 /// each needed. One implementation for every scorer: plain coverage, k-coverage and point counts
 /// (CellScorer with k = the threshold, over the matrix MatrixFor gives) with n sensors or a
 /// budget, and the states of a scene (StatesScorer). A goal is the states' model's
@@ -159,8 +161,11 @@ class ConstrainedMethods {
                      const SelectOptions& options,
                      double setup_seconds,
                      std::vector<uint32_t> start = {});
-  /// Where no rule and no kept sensor restricts the sets (a free model: over states), each
-  /// method is the plain one (RansacChoice, GreedyComplete, LocalSearch, one exact solve).
+  /// Where no rule and no kept sensor restricts the sets (IsFree), each method is the plain one:
+  /// for cells RansacChoice (RansacFitted for a budget), the lazy GreedyComplete (KGreedyComplete
+  /// with a threshold, GreedyBudget for a budget), LocalSearch with 2-swaps (PointsLocalSearch
+  /// with point counts) and one exact solve; over states RansacChoice, GreedyComplete,
+  /// LocalSearch's 1-swaps and one exact solve.
   ConstrainedAnswer Ransac(size_t n, int iterations) const;
   ConstrainedAnswer Greedy(size_t n);
   /// After Greedy(n). The unconstrained local search's answer too, when it is feasible and scores
@@ -168,12 +173,13 @@ class ConstrainedMethods {
   ConstrainedAnswer Local();
   /// After Local().
   ConstrainedAnswer Exact(double time_limit) const;
+  /// No rule and no kept sensor (over states also no budget and k = 1): the plain methods apply,
+  /// and exact touches no shared state (`all`'s lanes may run it at once).
+  bool IsFree() const;
 
  private:
   Capacity CapacityFor(size_t n) const;
   double Share(uint64_t cells) const;
-  /// No rule, no kept sensor, no budget and k = 1: the plain methods apply.
-  bool IsFree() const;
   const Scorer& scorer_;
   const Feasibility& feasible_;
   const SelectOptions& options_;
@@ -200,14 +206,14 @@ std::vector<uint32_t> BridgeKept(const Feasibility& feasible, std::span<const ui
 /// when two kept sensors conflict, no chain joins them, or the chain breaks the budget.
 std::vector<uint32_t> KeptStart(const Feasibility& feasible, const SelectOptions& options);
 
-/// Select for maximum coverage (n sensors, k-coverage, point counts, a budget) under the
-/// constraints or with kept sensors (fixed variables of the model, never a residual problem):
-/// the same methods and order as Select (RunMethods), each under the rules. Not for a goal.
+/// Select for maximum coverage (n sensors, k-coverage, point counts, a budget), with or without
+/// the constraints and kept sensors (fixed variables of the model, never a residual problem):
+/// ConstrainedMethods in RunMethods' order. Not for a goal.
 std::vector<Selection> SelectConstrained(std::span<const Observation> observations,
                                          size_t reference_size, const SelectOptions& options);
 
-/// CoverageCurve under the constraints: greedy and local at every n from first_n to last_n that
-/// `results` lacks.
+/// CoverageCurve: greedy and local at every n from first_n (past the kept sensors and their
+/// chain) to last_n that `results` lacks.
 std::vector<Selection> ConstrainedCurve(std::span<const Observation> observations,
                                         size_t reference_size,
                                         const SelectOptions& options,

@@ -457,7 +457,10 @@ class StatesRun final : public detail::MethodSteps<StateSelection> {
   StateSelection Local() override { return Score(Method::kLocal, methods_.Local()); }
   std::function<detail::ExactDone<StateSelection>(double)> Exact() override {
     return [this, methods = methods_](double seconds) {
-      return detail::ExactDone<StateSelection>{Score(Method::kExact, methods.Exact(seconds)), {}};
+      detail::ConstrainedAnswer answer = methods.Exact(seconds);
+      std::function<void()> log = std::move(answer.log);
+      return detail::ExactDone<StateSelection>{Score(Method::kExact, std::move(answer)),
+                                               std::move(log)};
     };
   }
 

@@ -1,8 +1,11 @@
 // Select: runs the methods on the merged matrix and scores their answers (SYSTEM.md, stage 5).
 //
-// The further objectives (set cover, k-coverage, budget) run the same methods on the same matrix
-// with their own greedy, local search and MILP (methods.hpp); their answers are scored under
-// their own metric (k-coverage counts a cell once k chosen sensors see it).
+// Every objective but a goal runs the methods on the model (constrained.cpp's ConstrainedMethods:
+// the plain greedy, local search, RANSAC and one exact solve where no rule or kept sensor
+// restricts it); a plain goal runs GoalSteps below; a goal with rules or kept sensors, and a
+// budget counted k times or in points, the states' model on one state. Each runs in RunMethods'
+// order, and answers are scored under their own metric (k-coverage counts a cell once k chosen
+// sensors see it).
 //
 // Every method works on one detail::CoverageMatrix, built once per Select call: reference cells
 // that exactly the same candidates see are merged into one weighted element and cells nobody
@@ -52,115 +55,56 @@ std::shared_ptr<spdlog::logger> Logger() {
 // Goal of set cover in whole cells: the fewest cells whose share of R reaches the goal (at
 // least one, so that the answer has a sensor).
 
-// Greedy, local search and exact for one n (or one goal, or one budget), each built on the one
-// before (local starts from greedy's answer, exact is warm-started from local's, or from greedy's
-// for set cover), so each one's seconds include the earlier steps it needed, as if it had run
-// alone. Scores are recomputed from the observations under the objective's metric.
-class Pipeline final : public detail::MethodSteps<Selection> {
+// The methods for a goal on the plain matrix (no rule, no kept sensor; those goals are the
+// states' model's): greedy to the goal, RANSAC's orders taken until it, and exact from greedy's
+// answer (SolveSetCover; with a threshold or costs the goal MILP). Every other objective runs on
+// ConstrainedMethods (SelectConstrained). Scores are recomputed from the observations under the
+// objective's metric.
+class GoalSteps final : public detail::MethodSteps<Selection> {
  public:
-  Pipeline(const CoverageEvaluator& evaluator,
-           const detail::CoverageMatrix& matrix,
-           const SelectOptions& options,
-           double setup_seconds)
+  GoalSteps(const CoverageEvaluator& evaluator,
+            const detail::CoverageMatrix& matrix,
+            const SelectOptions& options,
+            double setup_seconds)
       : evaluator_(evaluator),
         matrix_(matrix),
         options_(options),
-        objective_(options.objective()),
         k_(detail::Threshold(options)),
+        goal_cells_(detail::GoalCells(*options.goal, matrix.reference_size())),
         setup_seconds_(setup_seconds) {}
 
   Selection Best() override { return SelectBest(evaluator_); }
+  std::optional<Selection> TableHead() override { return std::nullopt; }
+  size_t FirstN() const override { return 1; }
 
-  /// Best's row heads the table of plain coverage (n = 1 is its optimum).
-  std::optional<Selection> TableHead() override {
-    if (objective_ != Objective::kCoverage) return std::nullopt;
-    return SelectBest(evaluator_);
-  }
-
-  /// k-coverage needs n >= k (below it nothing counts).
-  size_t FirstN() const override {
-    return objective_ == Objective::kKCoverage ? static_cast<size_t>(k_) : 1;
-  }
-
-  bool ParallelExact() const override { return true; }
-
-  Selection Ransac(size_t n, int iterations) override {
+  /// No n to draw: each draw is a random order taken until the goal is reached.
+  Selection Ransac(size_t, int iterations) override {
     const Clock::time_point start = Clock::now();
-    std::vector<uint32_t> chosen;
-    if (objective_ == Objective::kSetCover || objective_ == Objective::kBudget) {
-      // No n to draw: each draw is a random order taken until the goal or the budget stops it.
-      detail::FittedDraws fit;
-      fit.threshold = k_;
-      fit.costs = objective_ == Objective::kBudget ? std::span<const double>(options_.costs)
-                                                   : GoalCosts();
-      if (objective_ == Objective::kBudget) fit.budget = *options_.budget;
-      if (objective_ == Objective::kSetCover)
-        fit.goal_cells = detail::GoalCells(*options_.goal, matrix_.reference_size());
-      chosen = detail::RansacFitted(matrix_, fit, iterations, options_.ransac_stop_coverage,
-                                    options_.seed);
-      // Every order reaches a goal that all candidates reach; a budget's draws add nothing only
-      // where nothing affordable sees anything: greedy's answer then.
-      if (chosen.empty()) chosen = detail::GreedyBudget(matrix_, options_.costs, *options_.budget);
-    } else {
-      chosen = detail::RansacChoice(detail::CellScorer(matrix_, k_), static_cast<size_t>(n),
-                                    iterations, options_.ransac_stop_coverage, options_.seed);
-    }
+    detail::FittedDraws fit;
+    fit.threshold = k_;
+    fit.costs = GoalCosts();
+    fit.goal_cells = goal_cells_;
+    std::vector<uint32_t> chosen = detail::RansacFitted(
+        matrix_, fit, iterations, options_.ransac_stop_coverage, options_.seed);
     return Scored(Method::kRansac, std::move(chosen), setup_seconds_ + SecondsSince(start));
   }
 
-  Selection Greedy(size_t n) override {
+  Selection Greedy(size_t) override {
     const Clock::time_point start = Clock::now();
-    switch (objective_) {
-      case Objective::kSetCover:
-        greedy_ = detail::GreedyToGoal(matrix_, detail::GoalCells(*options_.goal, matrix_.reference_size()),
-                                       k_, GoalCosts());
-        break;
-      case Objective::kBudget:
-        greedy_ = detail::GreedyBudget(matrix_, options_.costs, *options_.budget);
-        break;
-      case Objective::kKCoverage:
-      case Objective::kMinPoints:  // the matrix's point counts make it the min-points greedy
-        greedy_ = detail::KGreedyComplete(matrix_, {}, static_cast<size_t>(n), k_);
-        break;
-      case Objective::kCoverage:
-        greedy_ = detail::GreedyComplete(detail::CellScorer(matrix_), {}, static_cast<size_t>(n));
-        break;
-    }
-    greedy_seconds_ = setup_seconds_ + SecondsSince(start);
-    local_ = greedy_;
-    local_seconds_ = greedy_seconds_;
-    return Scored(Method::kGreedy, greedy_, greedy_seconds_);
+    local_ = detail::GreedyToGoal(matrix_, goal_cells_, k_, GoalCosts());
+    local_seconds_ = setup_seconds_ + SecondsSince(start);
+    return Scored(Method::kGreedy, local_, local_seconds_);
   }
 
-  /// After Greedy(n).
+  /// A goal has no local search (SelectOptions::Validate refuses it).
   Selection Local() override {
-    const Clock::time_point start = Clock::now();
-    detail::LocalOptions local;
-    if (objective_ == Objective::kBudget) {
-      local.costs = options_.costs;
-      local.budget = *options_.budget;
-    }
-    local_ = objective_ == Objective::kMinPoints
-                 ? detail::PointsLocalSearch(matrix_, greedy_, k_)
-                 : detail::LocalSearch(detail::CellScorer(matrix_, k_), greedy_, local);
-    local_seconds_ = greedy_seconds_ + SecondsSince(start);
-    return Scored(Method::kLocal, local_, local_seconds_);
+    VANTAGE_CHECK(false);
+    return {};
   }
 
-  /// After Local() (or Greedy(n) for set cover): a goal's exact at once (never in lanes), the
-  /// others from a copy of local's answer, const and touching no member state, so that `all`'s
-  /// lanes run them at once.
+  /// After Greedy: runs at once, never in lanes.
   std::function<detail::ExactDone<Selection>(double)> Exact() override {
-    if (objective_ == Objective::kSetCover)
-      return [this](double seconds) { return detail::ExactDone<Selection>{GoalExact(seconds), {}}; };
-    return [this, start = local_, start_seconds = local_seconds_](double seconds) {
-      auto note = std::make_shared<ExactNote>();
-      Selection s = ExactFrom(start, start_seconds, seconds, note.get());
-      return detail::ExactDone<Selection>{
-          std::move(s), [this, n = start.size(), note] {
-            LogNote(n, note->proven_optimal, note->text);
-          }};
-    };
+    return [this](double seconds) { return detail::ExactDone<Selection>{GoalExact(seconds), {}}; };
   }
 
   /// Exact for a goal, from greedy's answer.
@@ -168,47 +112,17 @@ class Pipeline final : public detail::MethodSteps<Selection> {
     const Clock::time_point start = Clock::now();
     if (k_ >= 2 || matrix_.has_counts() || options_.minimize_cost)
       return ThresholdGoal(time_limit, start);
-    const detail::SetCoverResult exact = detail::SolveSetCover(
-        matrix_, detail::GoalCells(*options_.goal, matrix_.reference_size()), local_, time_limit);
-    LogNote(local_.size(), exact.proven_optimal, exact.note);
+    const detail::SetCoverResult exact =
+        detail::SolveSetCover(matrix_, goal_cells_, local_, time_limit);
+    LogNote(exact.proven_optimal, exact.note);
     Selection s = Scored(Method::kExact, exact.chosen, local_seconds_ + SecondsSince(start));
     s.n_lower_bound = static_cast<int>(exact.lower_bound);
     s.proven_optimal = exact.proven_optimal;
     return s;
   }
 
-  /// What exact found to say, logged by the caller (in n order where lanes ran at once).
-  struct ExactNote {
-    bool proven_optimal = false;
-    std::string text;
-  };
-
-  /// Exact (coverage, k-coverage, min points or budget) warm-started from `start`, found in
-  /// `start_seconds`. Const and touching no member state: `all`'s lanes run it at once.
-  Selection ExactFrom(const std::vector<uint32_t>& start, double start_seconds, double time_limit,
-                      ExactNote* note) const {
-    const Clock::time_point begin = Clock::now();
-    const detail::SelectionModel model =
-        detail::ModelFor(options_, matrix_, detail::ModelValue::kCells, start.size(), nullptr);
-    detail::ExactAnswer exact = detail::SolveExactModel(model, start, time_limit);
-    note->proven_optimal = exact.proven_optimal;
-    note->text = std::move(exact.note);
-    Selection s = Scored(Method::kExact, exact.chosen, start_seconds + SecondsSince(begin));
-    s.upper_bound = std::max(
-        Fraction(static_cast<uint64_t>(exact.bound), matrix_.reference_size()), s.coverage);
-    s.proven_optimal = exact.proven_optimal;
-    return s;
-  }
-
-  const std::vector<uint32_t>& local() const { return local_; }
-  double local_seconds() const { return local_seconds_; }
-
-  void LogNote(size_t n, bool proven_optimal, const std::string& note) const {
-    std::string what = fmt::format("exact, n = {}", n);
-    if (objective_ == Objective::kKCoverage) what += fmt::format(", k = {}", k_);
-    if (objective_ == Objective::kMinPoints) what += fmt::format(", min points = {}", k_);
-    if (objective_ == Objective::kSetCover || objective_ == Objective::kBudget)
-      what = fmt::format("exact ({})", ObjectiveName(objective_));
+  void LogNote(bool proven_optimal, const std::string& note) const {
+    const std::string what = fmt::format("exact ({})", ObjectiveName(Objective::kSetCover));
     if (!proven_optimal && !note.empty()) {
       Logger()->warn("{}: {}; reporting the best answer found and a bound", what, note);
     } else if (!note.empty()) {
@@ -220,7 +134,7 @@ class Pipeline final : public detail::MethodSteps<Selection> {
   /// from greedy's answer, with the cheap bound where CBC gives none. The cheapest cover of every
   /// cell goes to OrbitalSetCover first (where it applies), then to the MILP unless proven.
   Selection ThresholdGoal(double time_limit, Clock::time_point start) const {
-    const uint64_t goal_cells = detail::GoalCells(*options_.goal, matrix_.reference_size());
+    const uint64_t goal_cells = goal_cells_;
     const auto price = [&](const std::vector<uint32_t>& chosen) {
       return options_.minimize_cost ? detail::TotalCost(options_.costs, chosen)
                                     : static_cast<double>(chosen.size());
@@ -242,7 +156,7 @@ class Pipeline final : public detail::MethodSteps<Selection> {
     }
     if (!milp.chosen.empty() && price(milp.chosen) < price(chosen)) chosen = milp.chosen;
     const bool proven = milp.proven_optimal || orbital.proven_optimal;
-    LogNote(local_.size(), proven,
+    LogNote(proven,
             orbital.applied ? orbital.note + (milp.note.empty() ? "" : "; " + milp.note)
                             : milp.note);
     Selection s = Scored(Method::kExact, chosen, local_seconds_ + SecondsSince(start));
@@ -272,17 +186,14 @@ class Pipeline final : public detail::MethodSteps<Selection> {
     if (s.budget) VANTAGE_CHECK(*s.cost <= *s.budget);
     return s;
   }
-
  private:
   const CoverageEvaluator& evaluator_;
   const detail::CoverageMatrix& matrix_;
   const SelectOptions& options_;
-  Objective objective_;
   int k_;
+  uint64_t goal_cells_;
   double setup_seconds_;
-  std::vector<uint32_t> greedy_;
-  std::vector<uint32_t> local_;
-  double greedy_seconds_ = 0;
+  std::vector<uint32_t> local_;  // greedy's answer, where exact starts
   double local_seconds_ = 0;
 };
 
@@ -395,31 +306,22 @@ Selection SelectBest(const CoverageEvaluator& evaluator) {
 }
 
 Selection SelectRansac(const CoverageEvaluator& evaluator, const SelectOptions& options) {
-  const Clock::time_point start = Clock::now();
-  options.Validate(evaluator.observations().size());
-  if (options.min_points) RequirePointCounts(evaluator.observations());
-  const detail::CoverageMatrix matrix =
-      detail::MatrixFor(evaluator.observations(), evaluator.reference_size(), options);
-  Selection s =
-      Pipeline(evaluator, matrix, options, 0).Ransac(options.n, options.ransac_iterations);
-  s.seconds = SecondsSince(start);
-  return s;
+  SelectOptions ransac = options;
+  ransac.method = Method::kRansac;
+  return Select(evaluator.observations(), evaluator.reference_size(), ransac).front();
 }
 
 Selection SelectGreedy(const CoverageEvaluator& evaluator, int n) {
-  const Clock::time_point start = Clock::now();
   ValidateN(n, evaluator.observations().size());
-  const detail::CoverageMatrix matrix(evaluator.observations(), evaluator.reference_size());
   SelectOptions options;
   options.n = n;
-  Selection s = Pipeline(evaluator, matrix, options, 0).Greedy(n);
-  s.seconds = SecondsSince(start);
-  return s;
+  options.method = Method::kGreedy;
+  return Select(evaluator.observations(), evaluator.reference_size(), options).front();
 }
 
 namespace {
 
-// Whether `options` is a question select.cpp's pipeline and SelectConstrained do not ask, and
+// Whether `options` is a question GoalSteps and SelectConstrained do not ask, and
 // the states' model (over_states.cpp) does, with the scene as its one state: a budget counted k
 // times or in points, and a goal with kept sensors or under installation rules (every goal
 // there is the one model's: kept sensors fixed at 1, a threshold per cell, costs, the rules).
@@ -473,7 +375,9 @@ std::vector<Selection> Select(std::span<const Observation> observations,
   // With kept sensors, SelectConstrained adds the best single one.
   if (options.method == Method::kBest && options.fixed.empty()) return {SelectBest(evaluator)};
   if (options.min_points) RequirePointCounts(observations);
-  const bool is_constrained = !options.constraints.empty();
+  // Every objective but a goal: the methods on the model (ConstrainedMethods), with or without
+  // rules and kept sensors.
+  if (!options.goal) return detail::SelectConstrained(observations, reference_size, options);
 
   const Clock::time_point start = Clock::now();
   const detail::CoverageMatrix matrix = detail::MatrixFor(observations, reference_size, options);
@@ -481,36 +385,30 @@ std::vector<Selection> Select(std::span<const Observation> observations,
   Logger()->debug("select: {} candidates, {} of {} reference cells seen, merged into {} elements",
                   matrix.candidate_count(), matrix.seen_weight(), reference_size,
                   matrix.element_count());
-  Pipeline pipeline(evaluator, matrix, options, setup_seconds);
-  const Objective objective = options.objective();
-  if (objective == Objective::kSetCover) {
-    const uint64_t goal_cells = detail::GoalCells(*options.goal, reference_size);
-    // What all candidates reach together, counted as the goal counts (k seers, or the points).
-    const int threshold = detail::Threshold(options);
-    std::vector<uint32_t> everyone(matrix.candidate_count());
-    for (uint32_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
-    const uint64_t reachable = threshold == 1 && !matrix.has_counts()
-                                   ? matrix.seen_weight()
-                                   : detail::KCoveredWeight(matrix, everyone, threshold);
-    if (goal_cells > reachable) {
-      const std::string counted =
-          options.min_points ? fmt::format(" (cells holding {} points)", *options.min_points)
-          : options.k >= 2   ? fmt::format(" (cells seen {} times)", options.k)
-                             : std::string();
-      const std::string reach =
-          fmt::format("goal {:g} is above the {:.4f}{} that all {} candidates reach together",
-                      *options.goal, Fraction(reachable, reference_size), counted,
-                      observations.size());
-      throw InputError(options.goal_source == "--goal"
-                           ? reach + " — lower --goal"
-                           : fmt::format("{}: {} — lower the scene's goal, or give a lower --goal",
-                                         options.goal_source, reach));
-    }
+  const uint64_t goal_cells = detail::GoalCells(*options.goal, reference_size);
+  // What all candidates reach together, counted as the goal counts (k seers, or the points).
+  const int threshold = detail::Threshold(options);
+  std::vector<uint32_t> everyone(matrix.candidate_count());
+  for (uint32_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
+  const uint64_t reachable = threshold == 1 && !matrix.has_counts()
+                                 ? matrix.seen_weight()
+                                 : detail::KCoveredWeight(matrix, everyone, threshold);
+  if (goal_cells > reachable) {
+    const std::string counted =
+        options.min_points ? fmt::format(" (cells holding {} points)", *options.min_points)
+        : options.k >= 2   ? fmt::format(" (cells seen {} times)", options.k)
+                           : std::string();
+    const std::string reach =
+        fmt::format("goal {:g} is above the {:.4f}{} that all {} candidates reach together",
+                    *options.goal, Fraction(reachable, reference_size), counted,
+                    observations.size());
+    throw InputError(options.goal_source == "--goal"
+                         ? reach + " — lower --goal"
+                         : fmt::format("{}: {} — lower the scene's goal, or give a lower --goal",
+                                       options.goal_source, reach));
   }
-  if (is_constrained || !options.fixed.empty())
-    return detail::SelectConstrained(observations, reference_size, options);
-
-  return detail::RunMethods<Selection>(pipeline, options, observations.size(), start);
+  GoalSteps steps(evaluator, matrix, options, setup_seconds);
+  return detail::RunMethods<Selection>(steps, options, observations.size(), start);
 }
 
 std::vector<Selection> CoverageCurve(std::span<const Observation> observations,
@@ -522,32 +420,10 @@ std::vector<Selection> CoverageCurve(std::span<const Observation> observations,
   for (const Selection& s : results) last_n = std::max(last_n, s.n);
   last_n = std::min(last_n, static_cast<int>(observations.size()));
   const int first_n = objective == Objective::kKCoverage ? options.k : 1;
-  if (!options.constraints.empty() || !options.fixed.empty()) {
-    if (options.min_points) RequirePointCounts(observations);
-    return detail::ConstrainedCurve(observations, reference_size, options, results, first_n,
-                                    last_n);
-  }
-  const auto has = [&](const std::string& method, int n) {
-    return std::any_of(results.begin(), results.end(), [&](const Selection& s) {
-      return s.method == method && s.n == n && s.k == (objective == Objective::kKCoverage ? options.k : 1);
-    });
-  };
-  std::vector<Selection> curve;
-  if (last_n < first_n) return curve;
-  const CoverageEvaluator evaluator(observations, reference_size);
-  const Clock::time_point start = Clock::now();
+  if (last_n < first_n) return {};
   if (options.min_points) RequirePointCounts(observations);
-  const detail::CoverageMatrix matrix = detail::MatrixFor(observations, reference_size, options);
-  Pipeline pipeline(evaluator, matrix, options, SecondsSince(start));
-  const std::string greedy = MethodName(Method::kGreedy), local = MethodName(Method::kLocal);
-  for (int n = first_n; n <= last_n; ++n) {
-    const bool want_greedy = !has(greedy, n), want_local = !has(local, n);
-    if (!want_greedy && !want_local) continue;
-    Selection g = pipeline.Greedy(n);  // local starts from greedy's answer
-    if (want_greedy) curve.push_back(std::move(g));
-    if (want_local) curve.push_back(pipeline.Local());
-  }
-  return curve;
+  return detail::ConstrainedCurve(observations, reference_size, options, results, first_n,
+                                  last_n);
 }
 
 }  // namespace vantage
