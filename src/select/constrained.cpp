@@ -576,44 +576,35 @@ template <MethodScorer Scorer>
 ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n, int iterations) const {
   const Clock::time_point start = Clock::now();
   ConstrainedAnswer answer;
-  if (IsFree()) {
-    if constexpr (Scorer::kCells) {
-      if (options_.budget) {
-        // No n to draw: each draw is a random order taken until the budget stops it; where
-        // nothing affordable sees anything, greedy's answer.
-        FittedDraws fit;
-        fit.threshold = scorer_.k();
-        fit.costs = options_.costs;
-        fit.budget = *options_.budget;
-        answer.chosen = RansacFitted(scorer_.matrix(), fit, iterations,
-                                     options_.ransac_stop_coverage, options_.seed);
-        if (answer.chosen.empty())
-          answer.chosen = GreedyBudget(scorer_.matrix(), options_.costs, *options_.budget);
-      }
-    }
-    if (!options_.budget)
-      answer.chosen = RansacChoice(scorer_, n, iterations, options_.ransac_stop_coverage,
-                                   options_.seed);
-    answer.seconds = setup_seconds_ + SecondsSince(start);
-    return answer;
-  }
   if constexpr (Scorer::kCells) {
     if (options_.budget) {
+      // No n to draw: each draw is a random order taken until the budget stops it (under the
+      // rules, from the kept sensors); where no draw adds anything, greedy's answer.
       FittedDraws fit;
       fit.threshold = scorer_.k();
       fit.costs = options_.costs;
       fit.budget = *options_.budget;
       fit.start = start_;
-      fit.may_add = [&](std::span<const uint32_t> set, uint32_t c) {
-        return feasible_.CanAdd(set, c);
-      };
+      if (!IsFree()) {
+        fit.may_add = [&](std::span<const uint32_t> set, uint32_t c) {
+          return feasible_.CanAdd(set, c);
+        };
+      }
       answer.chosen = RansacFitted(scorer_.matrix(), fit, iterations,
                                    options_.ransac_stop_coverage, options_.seed);
-      if (answer.chosen.empty())
-        answer.chosen = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, start_);
+      if (answer.chosen.empty()) {
+        answer.chosen = IsFree() ? GreedyBudget(scorer_.matrix(), options_.costs, *options_.budget)
+                                 : ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, start_);
+      }
       answer.seconds = setup_seconds_ + SecondsSince(start);
       return answer;
     }
+  }
+  if (IsFree()) {
+    answer.chosen =
+        RansacChoice(scorer_, n, iterations, options_.ransac_stop_coverage, options_.seed);
+    answer.seconds = setup_seconds_ + SecondsSince(start);
+    return answer;
   }
   if constexpr (!Scorer::kCells) {
     if (options_.budget) {
