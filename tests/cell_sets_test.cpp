@@ -90,6 +90,37 @@ TEST(CellOfPoint, EqualsTheDivisionOnBoundaryPoints) {
     EXPECT_EQ(cell_of.Axis(x), FloorToInt(x / 0.005)) << x;
 }
 
+// Axis(x, guess) is the division's cell whatever the guess: the true cell, its neighbours (a
+// boundary point's other side), cells far off, and the extremes of a fitting index.
+TEST(CellOfPoint, GuessedAxisEqualsTheDivision) {
+  std::mt19937_64 rng(46);
+  for (const double cell : {0.005, 0.001, 0.003, 1.0 / 3, 0.007, 1e-5, 0.125, 7.3, 1e300, 1e-310}) {
+    const CellOfPoint cell_of(cell);
+    std::uniform_int_distribution<int64_t> far(-kVoxelAxisOffset, kVoxelAxisOffset - 1);
+    size_t checked = 0;
+    for (const double x : BoundaryPoints(cell, &rng)) {
+      const int64_t truth = DividedCell(x, cell);
+      for (const int64_t guess : {truth, truth - 1, truth + 1, truth - 2, truth + 2, far(rng),
+                                  int64_t{0}, -kVoxelAxisOffset, kVoxelAxisOffset - 1}) {
+        if (std::abs(guess) > kVoxelAxisOffset) continue;  // fitting indices only
+        ASSERT_EQ(cell_of.Axis(x, guess), truth) << "x = " << x << ", F = " << cell << ", guess " << guess;
+        ++checked;
+      }
+    }
+    EXPECT_GT(checked, 100000u);
+    // A walk along a row of hits, each guessing the last one's cell (as observe does).
+    std::uniform_real_distribution<double> step(0.0, 2.5 * std::min(cell, 1.0));
+    VoxelIndex last{0, 0, 0};
+    Vec3 p(-2.0, 0.5, -0.25);
+    for (int i = 0; i < 20000; ++i) {
+      p += Vec3(step(rng), -0.5 * step(rng), 0.25 * step(rng));
+      const VoxelIndex got = cell_of.Near(p, last);
+      for (int a = 0; a < 3; ++a) ASSERT_EQ(got[a], DividedCell(p[a], cell)) << p[a] << " " << cell;
+      if (VoxelIndexFits(got)) last = got;
+    }
+  }
+}
+
 TEST(CellOfPoint, PackingEqualsPackVoxel) {
   std::mt19937_64 rng(47);
   std::uniform_int_distribution<int64_t> axis(-kVoxelAxisOffset, kVoxelAxisOffset - 1);

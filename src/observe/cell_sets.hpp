@@ -42,6 +42,24 @@ class CellOfPoint {
   }
   VoxelIndex operator()(const Vec3& p) const { return {Axis(p.x()), Axis(p.y()), Axis(p.z())}; }
 
+  /// Axis(x), trying `guess` (a neighbouring hit's index, |guess| < 2^53 so that it converts
+  /// exactly) first: where q = x · (1/F) lies in
+  /// (guess, guess + 1) by more than Axis's margin, guess is floor(q) and Axis's own test passes
+  /// with it, so Axis would return it; otherwise Axis decides. A guess outside (q - 1, q + 1)
+  /// fails the test: q - guess or guess + 1 - q is then at most 0 however it rounds. Saves the
+  /// floor (and its sign-dependent branch) for the hits that stay in their neighbour's cell.
+  int64_t Axis(double x, int64_t guess) const {
+    const double q = x * inverse_;
+    const double below = static_cast<double>(guess);
+    const double margin = std::abs(q) * 0x1p-50 + 0x1p-1000;
+    if (!divide_ && q - below > margin && below + 1.0 - q > margin) return guess;
+    return Axis(x);
+  }
+  /// The cell of `p`, trying `guess`'s index on each axis (Axis(x, guess)).
+  VoxelIndex Near(const Vec3& p, const VoxelIndex& guess) const {
+    return {Axis(p.x(), guess[0]), Axis(p.y(), guess[1]), Axis(p.z(), guess[2])};
+  }
+
  private:
   double cell_, inverse_;
   bool divide_;
@@ -100,8 +118,17 @@ class CellSet {
       if (last_index_ >= 0 && count_) Bump(static_cast<size_t>(last_index_));
       return;
     }
+    Add(key, index_->Find(key));
+  }
+  /// Add, with the key's index in R already found (`found`: the index's Find(key)), so that
+  /// several sets fed the same hits look each cell up once.
+  void Add(uint64_t key, int64_t found) {
+    if (key == last_key_) {
+      if (last_index_ >= 0 && count_) Bump(static_cast<size_t>(last_index_));
+      return;
+    }
     last_key_ = key;
-    last_index_ = index_->Find(key);
+    last_index_ = found;
     if (last_index_ < 0) {
       outside_.push_back(key);
       return;

@@ -78,7 +78,8 @@ class PixelJudge {
         observation_(observation),
         keys_(sets->all),
         quality_keys_(sets->quality),
-        ideal_keys_(sets->ideal) {
+        ideal_keys_(sets->ideal),
+        index_(index) {
     keys_.Reset(index, count_ && !quality_.active());
     if (quality_.active()) quality_keys_.Reset(index, count_);
     if (physical_.active()) ideal_keys_.Reset(index, false);
@@ -94,9 +95,18 @@ class PixelJudge {
   // the flying-pixel filter drops it.
   void Take(float t, bool is_target, const Vec3& d, const Vec3& n, const Vec3& p, bool flying) {
     if (!is_target || t < sensor_.near || t > sensor_.far) return;
-    const VoxelIndex index = cell_of_(p);
-    VANTAGE_CHECK(VoxelIndexFits(index));
-    const uint64_t key = detail::PackFittingVoxel(index);
+    // Neighbouring pixels' hits mostly share a cell: the last hit's index is tried first, and
+    // when it is the cell its key is known (it fitted).
+    // Its index in R is looked up once, for every set the hit goes to.
+    const VoxelIndex index = cell_of_.Near(p, last_cell_);
+    if (index != last_cell_) {
+      VANTAGE_CHECK(VoxelIndexFits(index));
+      last_cell_ = index;
+      last_key_ = detail::PackFittingVoxel(index);
+      last_found_ = index_.Find(last_key_);
+    }
+    const uint64_t key = last_key_;
+    const int64_t found = last_found_;
     bool passes = true;
     if (quality_.max_incidence_deg) {
       const double norms = d.norm() * n.norm();
@@ -112,13 +122,13 @@ class PixelJudge {
       passes = sigma <= *quality_.max_depth_noise;
     }
     if (!physical_.active()) {
-      Count(key, passes);
+      Count(key, found, passes);
       return;
     }
-    if (passes) ideal_keys_.Add(key);
+    if (passes) ideal_keys_.Add(key, found);
     if (flying) return;
     if (!physical_.aperture) {
-      Count(key, passes);
+      Count(key, found, passes);
       return;
     }
     // Stereo cannot match nearer than its disparity search reaches; the aperture must have the
@@ -132,6 +142,7 @@ class PixelJudge {
     segments_.query[queued_] = true;
     passes_[queued_] = passes;
     queued_keys_[queued_] = key;
+    queued_found_[queued_] = found;
     if (++queued_ == OcclusionBatch::kWidth) Flush();
   }
 
@@ -155,12 +166,12 @@ class PixelJudge {
   }
 
  private:
-  void Count(uint64_t key, bool passes) {
+  void Count(uint64_t key, int64_t found, bool passes) {
     ++observation_->target_pixels;
-    keys_.Add(key);
+    keys_.Add(key, found);
     if (!quality_.active() || !passes) return;
     ++observation_->quality_pixels;
-    quality_keys_.Add(key);
+    quality_keys_.Add(key, found);
   }
 
   // The queued segments as one occlusion packet; the unoccluded ones count.
@@ -172,7 +183,7 @@ class PixelJudge {
     else
       rays_.Occluded(&segments_);
     for (int lane = 0; lane < queued_; ++lane)
-      if (!segments_.occluded[lane]) Count(queued_keys_[lane], passes_[lane]);
+      if (!segments_.occluded[lane]) Count(queued_keys_[lane], queued_found_[lane], passes_[lane]);
     queued_ = 0;
   }
 
@@ -192,10 +203,16 @@ class PixelJudge {
   // keys: every measured pixel's cell; quality_keys: those passing the filter; ideal_keys: as
   // the ideal pinhole counts (the filter's pixels when one is on), with the physical model only.
   detail::CellSet &keys_, &quality_keys_, &ideal_keys_;
+  const detail::CellIndex& index_;
+  // The last hit's cell, its key and its index in R (a cell that fits; any such cell to start).
+  VoxelIndex last_cell_{0, 0, 0};
+  uint64_t last_key_ = detail::PackFittingVoxel(VoxelIndex{0, 0, 0});
+  int64_t last_found_ = index_.Find(last_key_);
   OcclusionBatch segments_;
   int queued_ = 0;
   bool passes_[OcclusionBatch::kWidth];
   uint64_t queued_keys_[OcclusionBatch::kWidth];
+  int64_t queued_found_[OcclusionBatch::kWidth];
 };
 
 // One packet of a camera's rays: pixels u_start .. u_start + active - 1 of row v, traced in the
