@@ -317,6 +317,10 @@ int PrimaryResult(const std::vector<Selection>& results);
 
 /// The report.json text (pretty-printed, keys of SYSTEM.md plus extras).
 std::string ReportJson(const Report& report);
+/// report.json's "ceiling", each result's "part_coverage" (null where it has none) and
+/// "pose_tolerance" (null where absent), as the JSON text of one object with those three keys
+/// (report.html shows the same, without making all of report.json).
+std::string ReportAnswersJsonText(const Report& report);
 /// report.json's "robustness" object alone, as JSON text (report.html shows the same).
 std::string RobustnessJsonText(const Robustness& robustness, const VisibilityFile& data);
 /// candidates.csv text: one row per candidate.

@@ -804,15 +804,7 @@ std::optional<std::string> BuildPage(const Report& report, const Scene& scene,
   }
   // The ceiling, each target part and the mounting tolerance (issue 46): report.json's own
   // entries, so that the page and the file cannot disagree.
-  {
-    const ordered_json full = ordered_json::parse(ReportJson(report));
-    ordered_json part_coverage = ordered_json::array();
-    for (const ordered_json& r : full["results"])
-      part_coverage.push_back(r.value("part_coverage", ordered_json()));
-    page["answers"] = {{"ceiling", full.value("ceiling", ordered_json())},
-                       {"part_coverage", std::move(part_coverage)},
-                       {"pose_tolerance", full.value("pose_tolerance", ordered_json())}};
-  }
+  page["answers"] = ordered_json::parse(ReportAnswersJsonText(report));
   page["whatif"] = std::move(whatif);
   page["voxels"] = std::move(voxels);
   page["meshes"] = std::move(meshes_json);

@@ -259,6 +259,31 @@ ordered_json CeilingJson(const Report& report) {
   return j;
 }
 
+// A result's coverage per target part (report.json's "part_coverage"), or null without parts.
+ordered_json PartCoverageJson(const Report& report, size_t index) {
+  if (report.result_part_coverage.empty()) return ordered_json();
+  ordered_json parts = ordered_json::object();
+  for (size_t p = 0; p < report.parts.size(); ++p)
+    parts[report.parts[p].name] = report.result_part_coverage[index][p];
+  return parts;
+}
+
+// report.json's "pose_tolerance", with each sensor's own cost by name in the result's chosen
+// order.
+ordered_json PoseToleranceEntry(const PoseTolerance& pose_tolerance, const Report& report,
+                                const VisibilityFile& data) {
+  ordered_json tolerance = PoseToleranceJson(pose_tolerance, data);
+  for (size_t i = 0; i < pose_tolerance.results.size(); ++i) {
+    const PoseSpread& s = pose_tolerance.results[i];
+    const Selection& result = report.results.at(static_cast<size_t>(s.result));
+    ordered_json losses = ordered_json::object();
+    for (size_t k = 0; k < s.sensor_loss.size(); ++k)
+      losses[data.candidates.at(result.chosen.at(k)).name] = s.sensor_loss[k];
+    tolerance["results"][i]["sensor_loss"] = std::move(losses);
+  }
+  return tolerance;
+}
+
 }  // namespace
 
 const char* Version() { return VANTAGE_VERSION; }
@@ -450,12 +475,8 @@ std::string ReportJson(const Report& report) {
     const double* plain =
         report.result_plain_coverage.empty() ? nullptr : &report.result_plain_coverage.at(index);
     results.push_back(ResultJson(report.results[index], data, plain));
-    if (!report.result_part_coverage.empty()) {
-      ordered_json parts = ordered_json::object();
-      for (size_t p = 0; p < report.parts.size(); ++p)
-        parts[report.parts[p].name] = report.result_part_coverage[index][p];
-      results.back()["part_coverage"] = std::move(parts);
-    }
+    if (!report.result_part_coverage.empty())
+      results.back()["part_coverage"] = PartCoverageJson(report, index);
     if (!report.result_ideal_coverage.empty())
       results.back()["ideal_coverage"] = report.result_ideal_coverage.at(index);
     if (report.constraints) {
@@ -493,19 +514,8 @@ std::string ReportJson(const Report& report) {
     j["min_points"] = std::move(density);
   }
   if (report.robustness) j["robustness"] = RobustnessJson(*report.robustness, data);
-  if (report.pose_tolerance) {
-    ordered_json tolerance = PoseToleranceJson(*report.pose_tolerance, data);
-    // Each sensor's own cost, by name, in the result's chosen order.
-    for (size_t i = 0; i < report.pose_tolerance->results.size(); ++i) {
-      const PoseSpread& s = report.pose_tolerance->results[i];
-      const Selection& result = report.results.at(static_cast<size_t>(s.result));
-      ordered_json losses = ordered_json::object();
-      for (size_t k = 0; k < s.sensor_loss.size(); ++k)
-        losses[data.candidates.at(result.chosen.at(k)).name] = s.sensor_loss[k];
-      tolerance["results"][i]["sensor_loss"] = std::move(losses);
-    }
-    j["pose_tolerance"] = std::move(tolerance);
-  }
+  if (report.pose_tolerance)
+    j["pose_tolerance"] = PoseToleranceEntry(*report.pose_tolerance, report, data);
   if (report.states) {
     ordered_json states = ordered_json::array();
     for (const StatesInfo::State& state : report.states->states) {
@@ -532,6 +542,20 @@ std::string ReportJson(const Report& report) {
   if (report.inputs) j["inputs"] = detail::RunInputsJson(*report.inputs);
   // A path that is not UTF-8 (legal on Linux) is written with U+FFFD instead of throwing.
   return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
+std::string ReportAnswersJsonText(const Report& report) {
+  VANTAGE_CHECK(report.data != nullptr && report.is_derived);
+  ordered_json part_coverage = ordered_json::array();
+  for (size_t index = 0; index < report.results.size(); ++index)
+    part_coverage.push_back(PartCoverageJson(report, index));
+  const ordered_json answers = {
+      {"ceiling", report.ceiling ? CeilingJson(report) : ordered_json()},
+      {"part_coverage", std::move(part_coverage)},
+      {"pose_tolerance", report.pose_tolerance
+                             ? PoseToleranceEntry(*report.pose_tolerance, report, *report.data)
+                             : ordered_json()}};
+  return answers.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 std::string RobustnessJsonText(const Robustness& robustness, const VisibilityFile& data) {
