@@ -314,40 +314,79 @@ std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> st
     }
     greedy = most.chosen;
   }
-  const double greedy_seconds = SecondsSince(start);
-  std::vector<StateSelection> results;
-  if (options.method == Method::kRansac) {
-    std::vector<uint32_t> drawn = detail::StatesRansacFitted(
-        scorer, feasible, everyone_fits, costs, goal, options.ransac_iterations,
-        options.ransac_stop_coverage, options.seed, kept_start);
-    if (drawn.empty()) drawn = greedy;  // no order reached it under the rules
-    results.push_back(scored(Method::kRansac, std::move(drawn), SecondsSince(start)));
-    return results;
-  }
-  if (options.method != Method::kExact)
-    results.push_back(scored(Method::kGreedy, greedy, greedy_seconds));
-  if (options.method == Method::kGreedy) return results;
-  const Clock::time_point exact_start = Clock::now();
+  // The methods in RunMethods' order: greedy's answer (found above, for the checks), RANSAC's
+  // orders taken until the goal, and exact (the model with the goal) from greedy's answer.
+  class GoalRun final : public detail::MethodSteps<StateSelection> {
+   public:
+    GoalRun(const decltype(scored)& score, std::vector<uint32_t> greedy, double greedy_seconds,
+            std::function<std::vector<uint32_t>()> draw,
+            std::function<detail::ExactAnswer(double)> solve,
+            std::function<void(const detail::ExactAnswer&)> log, bool minimize_cost)
+        : score_(score),
+          greedy_(std::move(greedy)),
+          greedy_seconds_(greedy_seconds),
+          draw_(std::move(draw)),
+          solve_(std::move(solve)),
+          log_(std::move(log)),
+          minimize_cost_(minimize_cost) {}
+    StateSelection Best() override { VANTAGE_CHECK(false); return {}; }  // Validate refuses it
+    std::optional<StateSelection> TableHead() override { return std::nullopt; }
+    size_t FirstN() const override { return 1; }
+    StateSelection Ransac(size_t, int) override {
+      const Clock::time_point t = Clock::now();
+      std::vector<uint32_t> drawn = draw_();
+      if (drawn.empty()) drawn = greedy_;  // no order reached it under the rules
+      return score_(Method::kRansac, std::move(drawn), greedy_seconds_ + SecondsSince(t));
+    }
+    StateSelection Greedy(size_t) override {
+      return score_(Method::kGreedy, greedy_, greedy_seconds_);
+    }
+    StateSelection Local() override { VANTAGE_CHECK(false); return {}; }  // Validate refuses it
+    std::function<detail::ExactDone<StateSelection>(double)> Exact() override {
+      return [this](double seconds) {
+        const Clock::time_point t = Clock::now();
+        const detail::ExactAnswer exact = solve_(seconds);
+        log_(exact);
+        StateSelection s =
+            score_(Method::kExact, exact.chosen, greedy_seconds_ + SecondsSince(t));
+        if (minimize_cost_) {
+          s.selection.cost_lower_bound = exact.bound;
+        } else {
+          s.selection.n_lower_bound = static_cast<int>(std::llround(exact.bound));
+        }
+        s.selection.proven_optimal = exact.proven_optimal;
+        return detail::ExactDone<StateSelection>{std::move(s), {}};
+      };
+    }
+
+   private:
+    const decltype(scored)& score_;
+    std::vector<uint32_t> greedy_;
+    double greedy_seconds_;
+    std::function<std::vector<uint32_t>()> draw_;
+    std::function<detail::ExactAnswer(double)> solve_;
+    std::function<void(const detail::ExactAnswer&)> log_;
+    bool minimize_cost_;
+  };
   const detail::SelectionModel goal_model =
       StatesModel(scorer, &feasible, options, matrix.candidate_count());
-  const detail::ExactAnswer exact = detail::SolveExactModel(
-      goal_model, greedy, std::max(0.1 * options.time_limit, options.time_limit - greedy_seconds));
-  if (!exact.proven_optimal && !exact.note.empty()) {
-    const std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
-    (logger ? logger : spdlog::default_logger())
-        ->warn("exact{}, goal {:g}: {}; reporting the best answer found and a bound",
-               states.size() == 1 ? "" : " over states", goal, exact.note);
-  }
-  StateSelection s =
-      scored(Method::kExact, exact.chosen, greedy_seconds + SecondsSince(exact_start));
-  if (options.minimize_cost) {
-    s.selection.cost_lower_bound = exact.bound;
-  } else {
-    s.selection.n_lower_bound = static_cast<int>(std::llround(exact.bound));
-  }
-  s.selection.proven_optimal = exact.proven_optimal;
-  results.push_back(std::move(s));
-  return results;
+  GoalRun run(
+      scored, greedy, SecondsSince(start),
+      [&] {
+        return detail::StatesRansacFitted(scorer, feasible, everyone_fits, costs, goal,
+                                          options.ransac_iterations,
+                                          options.ransac_stop_coverage, options.seed, kept_start);
+      },
+      [&](double seconds) { return detail::SolveExactModel(goal_model, greedy, seconds); },
+      [&](const detail::ExactAnswer& exact) {
+        if (exact.proven_optimal || exact.note.empty()) return;
+        const std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
+        (logger ? logger : spdlog::default_logger())
+            ->warn("exact{}, goal {:g}: {}; reporting the best answer found and a bound",
+                   states.size() == 1 ? "" : " over states", goal, exact.note);
+      },
+      options.minimize_cost);
+  return detail::RunMethods<StateSelection>(run, options, matrix.candidate_count(), start);
 }
 
 // The states' stacked matrix for the objective of `options`: with min_points, with the counts
