@@ -1,12 +1,11 @@
 // The ray-casting limit for a scene: trace pixels of every candidate camera with Embree packets
-// (4 x 4 pixels, as observe) on all cores and do nothing else (no voxels, no sets). Two loops:
-// every pixel of every image, and exactly the pixels vantage's culling traces (the same rays as
-// `vantage observe`), whose time scripts/bench_e2e.sh divides vantage's observe time by.
+// on all cores and do nothing else (no voxels, no sets). Two loops: every pixel of every image,
+// and exactly the pixels vantage's culling traces (the same rays as `vantage observe`), whose
+// time scripts/bench_e2e.sh divides vantage's observe time by.
 // Usage: ray_limit SCENE [--model-path DIR] [--resource-path DIR]  -> one JSON line on stdout.
 #include <tbb/parallel_for.h>
 
 #include <atomic>
-#include <bit>
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -45,10 +44,7 @@ int main(int argc, char** argv) {
       for (const auto& s : full[i]) full_rays += static_cast<uint64_t>(s.u1 - s.u0 + 1);
     }
     std::atomic<uint64_t> hits{0};  // rays of the last loop that hit a target
-    // Packets of 4 x 4 pixels, as observe casts them (detail::TilesOfSpans).
     const auto trace = [&](const std::vector<std::vector<detail::RowSpan>>& spans) {
-      std::vector<std::vector<detail::PixelTile>> tiles(spans.size());
-      for (size_t i = 0; i < spans.size(); ++i) tiles[i] = detail::TilesOfSpans(spans[i]);
       hits = 0;
       const auto start = std::chrono::steady_clock::now();
       tbb::parallel_for(size_t{0}, cams.size(), [&](size_t i) {
@@ -58,17 +54,16 @@ int main(int argc, char** argv) {
         for (int a = 0; a < 3; ++a) batch.origin[a] = static_cast<float>(c.world_from_body.position[a]);
         batch.tfar = static_cast<float>(c.sensor.far);
         uint64_t local_hits = 0;
-        for (const detail::PixelTile& tile : tiles[i]) {
-          int lane = 0;
-          for (unsigned mask = tile.mask; mask != 0; mask &= mask - 1, ++lane) {
-            const int bit = std::countr_zero(mask);
-            const Vec3 d = rotation * PixelRayInBody(c.sensor, detail::TileU(tile, bit),
-                                                     detail::TileV(tile, bit));
-            for (int a = 0; a < 3; ++a) batch.dir[a][lane] = static_cast<float>(d[a]);
+        for (const detail::RowSpan& span : spans[i]) {
+          for (int u0 = span.u0; u0 <= span.u1; u0 += RayBatch::kWidth) {
+            batch.active = std::min(RayBatch::kWidth, span.u1 - u0 + 1);
+            for (int lane = 0; lane < batch.active; ++lane) {
+              const Vec3 d = rotation * PixelRayInBody(c.sensor, u0 + lane, span.v);
+              for (int a = 0; a < 3; ++a) batch.dir[a][lane] = static_cast<float>(d[a]);
+            }
+            rays.Intersect(&batch);
+            for (int lane = 0; lane < batch.active; ++lane) local_hits += batch.is_target[lane] ? 1 : 0;
           }
-          batch.active = lane;
-          rays.Intersect(&batch);
-          for (lane = 0; lane < batch.active; ++lane) local_hits += batch.is_target[lane] ? 1 : 0;
         }
         hits += local_hits;
       });

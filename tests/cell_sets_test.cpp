@@ -408,45 +408,5 @@ TEST(Culling, SpansAreOrderedApartAndCoverEveryRayThatMeetsABlock) {
   }
 }
 
-// Tiles of 4 x 4 pixels (one packet each): over random spans (several per row, rows skipped, odd
-// widths), every pixel of the spans in exactly one tile and no other pixel, tiles in row-major
-// order, none empty.
-TEST(Culling, TilesHoldEveryPixelOfTheSpansOnce) {
-  std::mt19937_64 rng(7);
-  for (int round = 0; round < 200; ++round) {
-    const int width = 1 + static_cast<int>(rng() % 70), height = 1 + static_cast<int>(rng() % 30);
-    std::vector<detail::RowSpan> spans;
-    std::vector<std::vector<int>> wanted(static_cast<size_t>(height),
-                                         std::vector<int>(static_cast<size_t>(width), 0));
-    for (int v = 0; v < height; ++v) {
-      if (rng() % 4 == 0) continue;
-      for (int u = static_cast<int>(rng() % 5); u < width;) {
-        const int u1 = std::min(width - 1, u + static_cast<int>(rng() % 20));
-        spans.push_back({v, u, u1});
-        for (int x = u; x <= u1; ++x) wanted[static_cast<size_t>(v)][static_cast<size_t>(x)] = 1;
-        u = u1 + 2 + static_cast<int>(rng() % 6);
-      }
-    }
-    std::vector<std::vector<int>> got(static_cast<size_t>(height),
-                                      std::vector<int>(static_cast<size_t>(width), 0));
-    const std::vector<detail::PixelTile> tiles = detail::TilesOfSpans(spans);
-    for (size_t i = 0; i < tiles.size(); ++i) {
-      const detail::PixelTile& t = tiles[i];
-      ASSERT_NE(t.mask, 0);
-      if (i > 0) {
-        ASSERT_TRUE(tiles[i - 1].tv < t.tv || (tiles[i - 1].tv == t.tv && tiles[i - 1].tu < t.tu));
-      }
-      for (int bit = 0; bit < 16; ++bit) {
-        if (!((t.mask >> bit) & 1)) continue;
-        const int u = detail::TileU(t, bit), v = detail::TileV(t, bit);
-        ASSERT_TRUE(u == 4 * t.tu + bit % 4 && v == 4 * t.tv + bit / 4);
-        ASSERT_TRUE(u >= 0 && u < width && v >= 0 && v < height) << u << ", " << v;
-        ++got[static_cast<size_t>(v)][static_cast<size_t>(u)];
-      }
-    }
-    ASSERT_EQ(got, wanted) << "round " << round;
-  }
-}
-
 }  // namespace
 }  // namespace vantage

@@ -2,12 +2,10 @@
 
 #include <algorithm>
 #include <bit>
-#include <cmath>
 #include <cstdint>
+#include <cmath>
 #include <limits>
 #include <map>
-
-#include "vantage/error.hpp"
 
 namespace vantage::detail {
 namespace {
@@ -148,37 +146,6 @@ std::vector<RowSpan> SpansToTrace(const Candidate& candidate, const std::vector<
     }
   }
   return spans;
-}
-
-std::vector<PixelTile> TilesOfSpans(const std::vector<RowSpan>& spans) {
-  std::vector<PixelTile> tiles;
-  std::vector<uint16_t> masks;  // by tile column, the current band of 4 rows
-  for (size_t i = 0; i < spans.size();) {
-    const int tv = spans[i].v / 4;
-    int c_min = std::numeric_limits<int>::max(), c_max = -1;
-    size_t j = i;
-    for (; j < spans.size() && spans[j].v / 4 == tv; ++j) {
-      const RowSpan& s = spans[j];
-      VANTAGE_CHECK(s.v >= 0 && s.u0 >= 0 && s.u0 <= s.u1 && (j == 0 || spans[j - 1].v <= s.v));
-      const int c0 = s.u0 / 4, c1 = s.u1 / 4, row = s.v % 4;
-      if (masks.size() <= static_cast<size_t>(c1)) masks.resize(static_cast<size_t>(c1) + 1, 0);
-      for (int c = c0; c <= c1; ++c) {
-        const int lo = std::max(s.u0, 4 * c) - 4 * c, hi = std::min(s.u1, 4 * c + 3) - 4 * c;
-        const unsigned bits = ((2u << hi) - 1) & ~((1u << lo) - 1);
-        masks[static_cast<size_t>(c)] |= static_cast<uint16_t>(bits << (4 * row));
-      }
-      c_min = std::min(c_min, c0);
-      c_max = std::max(c_max, c1);
-    }
-    for (int c = c_min; c <= c_max; ++c) {
-      uint16_t& mask = masks[static_cast<size_t>(c)];
-      if (mask == 0) continue;
-      tiles.push_back({c, tv, mask});
-      mask = 0;
-    }
-    i = j;
-  }
-  return tiles;
 }
 
 }  // namespace vantage::detail

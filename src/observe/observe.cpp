@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -230,59 +229,6 @@ void TracePacket(const RayScene& rays, const PlacedRayScene* placed, const Candi
   }
 }
 
-// One 4 x 4 tile's pixels as one packet (lane i: the tile's i-th pixel in its mask), traced as
-// TracePacket does.
-void TraceTile(const RayScene& rays,
-               const PlacedRayScene* placed,
-               const Candidate& candidate,
-               const Mat3& world_from_body,
-               const detail::PixelTile& tile,
-               RayBatch* batch) {
-  int lane = 0;
-  for (unsigned mask = tile.mask; mask != 0; mask &= mask - 1, ++lane) {
-    const int bit = std::countr_zero(mask);
-    const Vec3 d = world_from_body * PixelRayInBody(candidate.sensor, detail::TileU(tile, bit),
-                                                    detail::TileV(tile, bit));
-    for (int a = 0; a < 3; ++a) batch->dir[a][lane] = static_cast<float>(d[a]);
-  }
-  batch->active = lane;
-  if (placed) {
-    placed->Intersect(batch);
-  } else {
-    rays.Intersect(batch);
-  }
-}
-
-// A hit on an edge or corner (RayBatch::on_edge) of a tile's packet, traced again in the packet
-// of one row's 16 pixels that observe traced before tiles (the span's pixels from its first, 16 at
-// a time), lane `lane` of `batch` replaced by it: triangles sharing the edge are hit at the same
-// depth, and the row packet's traversal order decides between them as it always did.
-void RetraceInRowPacket(const RayScene& rays,
-                        const PlacedRayScene* placed,
-                        const Candidate& candidate,
-                        const Mat3& world_from_body,
-                        const std::vector<RowSpan>& spans,
-                        int u,
-                        int v,
-                        int lane,
-                        RayBatch* row,
-                        RayBatch* batch) {
-  const auto span = std::partition_point(spans.begin(), spans.end(), [&](const RowSpan& s) {
-    return s.v < v || (s.v == v && s.u1 < u);
-  });
-  VANTAGE_CHECK(span != spans.end() && span->v == v && span->u0 <= u && u <= span->u1);
-  const int u_start = span->u0 + (u - span->u0) / RayBatch::kWidth * RayBatch::kWidth;
-  row->active = std::min(RayBatch::kWidth, span->u1 - u_start + 1);
-  TracePacket(rays, placed, candidate, world_from_body, v, u_start, row);
-  const int from = u - u_start;
-  batch->t[lane] = row->t[from];
-  batch->is_target[lane] = row->is_target[from];
-  for (int a = 0; a < 3; ++a) {
-    batch->normal[a][lane] = row->normal[a][from];
-    if (row->is_target[from]) batch->point[a][lane] = row->point[a][from];
-  }
-}
-
 // One image row's first hits, for the pixels traced in it (the flying-pixel filter compares each
 // pixel with its 4-neighbours, so it holds three rows).
 struct RowHits {
@@ -418,27 +364,19 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference,
     ObserveWithFlyingFilter(rays, candidate, spans, placed_rays, *flying, &batch, &observation,
                             &judge);
   } else {
-    // Square packets: neighbouring rays in both directions stay within fewer BVH leaves.
-    RayBatch row;
-    row.origin[0] = batch.origin[0], row.origin[1] = batch.origin[1],
-    row.origin[2] = batch.origin[2];
-    row.tfar = batch.tfar;
-    for (const detail::PixelTile& tile : detail::TilesOfSpans(spans)) {
-      TraceTile(rays, placed_rays, candidate, world_from_body, tile, &batch);
-      observation.rays_traced += static_cast<uint64_t>(batch.active);
-      int lane = 0;
-      for (unsigned mask = tile.mask; mask != 0; mask &= mask - 1, ++lane) {
-        if (!batch.on_edge[lane]) continue;
-        const int bit = std::countr_zero(mask);
-        RetraceInRowPacket(rays, placed_rays, candidate, world_from_body, spans,
-                           detail::TileU(tile, bit), detail::TileV(tile, bit), lane, &row, &batch);
-      }
-      for (int lane = 0; lane < batch.active; ++lane) {
-        if (!batch.is_target[lane]) continue;
-        judge.Take(batch.t[lane], true,
-                   Vec3(batch.dir[0][lane], batch.dir[1][lane], batch.dir[2][lane]),
-                   Vec3(batch.normal[0][lane], batch.normal[1][lane], batch.normal[2][lane]),
-                   Vec3(batch.point[0][lane], batch.point[1][lane], batch.point[2][lane]), false);
+    for (const RowSpan& span : spans) {
+      for (int u_start = span.u0; u_start <= span.u1; u_start += RayBatch::kWidth) {
+        batch.active = std::min(RayBatch::kWidth, span.u1 - u_start + 1);
+        TracePacket(rays, placed_rays, candidate, world_from_body, span.v, u_start, &batch);
+        observation.rays_traced += static_cast<uint64_t>(batch.active);
+        for (int lane = 0; lane < batch.active; ++lane) {
+          if (!batch.is_target[lane]) continue;
+          judge.Take(batch.t[lane], true,
+                     Vec3(batch.dir[0][lane], batch.dir[1][lane], batch.dir[2][lane]),
+                     Vec3(batch.normal[0][lane], batch.normal[1][lane], batch.normal[2][lane]),
+                     Vec3(batch.point[0][lane], batch.point[1][lane], batch.point[2][lane]),
+                     false);
+        }
       }
     }
   }
