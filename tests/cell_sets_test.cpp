@@ -334,6 +334,12 @@ TEST(ApertureField, ContainsEqualsTheDivisions) {
         }
       }
     }
+    // Points off the doubles' finite range: as the division formula (the rotation's 0 · inf).
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (const Vec3& p : {Vec3(kInf, 0.1, 0.1), Vec3(kInf, 0, 0), Vec3(1, kInf, 0), Vec3(1, 0, -kInf),
+                          Vec3(-kInf, 0, 0), Vec3(nan, 0, 0), Vec3(1, nan, 0), Vec3(1e308, -1e308, 0)})
+      check(p);
   }
   EXPECT_GT(inside, 100000u);
   EXPECT_GT(outside, 100000u);

@@ -3,6 +3,7 @@
 /// Body frame: x forward, y left, z up (Gazebo, ROS). Image: u right = -y, v down = -z,
 /// depth along +x. Pixel (u, v) covers [u, u+1) x [v, v+1); its ray passes its centre (u+0.5, v+0.5).
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -172,7 +173,13 @@ class ApertureField {
  public:
   ApertureField(const SensorType& camera, const SecondAperture& aperture);
   bool Contains(const Vec3& p_body) const {
-    const Vec3 p = aperture_from_body_ * (p_body - centre_);
+    // Without toe-in the rotation is the identity (cos 0 = 1, sin 0 = 0): on a finite point its
+    // product changes at most a zero's sign, which no test below reads (on an infinite one,
+    // 0 · inf makes NaN, so the product is kept there).
+    const Vec3 d = p_body - centre_;
+    constexpr double kMax = std::numeric_limits<double>::max();
+    const bool finite = std::abs(d.x()) <= kMax && std::abs(d.y()) <= kMax && std::abs(d.z()) <= kMax;
+    const Vec3 p = turned_ || !finite ? Vec3(aperture_from_body_ * d) : d;
     if (!(p.x() > 0)) return false;
     const int verdict = Quickly(p);
     return verdict < 0 ? Exactly(p) : verdict != 0;
@@ -210,11 +217,19 @@ class ApertureField {
     const double ux = cx_ * x - fx_ * p.y(), vx = cy_ * x - fy_ * p.z();
     const double su = std::abs(cx_ * x) + std::abs(fx_ * p.y()) + width_ * x;
     const double sv = std::abs(cy_ * x) + std::abs(fy_ * p.z()) + height_ * x;
-    return both(both(sign(ux, su), sign(width_ * x - ux, su)),
-                both(sign(vx, sv), sign(height_ * x - vx, sv)));
+    // both(both(sign(ux, su), sign(w x - ux, su)), both(sign(vx, sv), sign(h x - vx, sv))),
+    // each comparison made and the four combined without a branch (the scales are >= 0, so no
+    // term is both above its margin and below its negative): 0 where one lies below, 1 where
+    // all lie above, else -1.
+    const double mu = su * kMargin, mv = sv * kMargin;
+    const double right = width_ * x - ux, bottom = height_ * x - vx;
+    const bool below = (ux < -mu) | (right < -mu) | (vx < -mv) | (bottom < -mv);
+    const bool above = (ux > mu) & (right > mu) & (vx > mv) & (bottom > mv);
+    return below ? 0 : above ? 1 : -1;
   }
 
   Mat3 aperture_from_body_;
+  bool turned_ = true;  // aperture_from_body_ is not the identity
   Vec3 centre_;
   double half_cone_ = 0;                  // > 0: a cone of this half angle
   double tan_half_h_ = 0, tan_half_v_ = 0;  // > 0: a frustum

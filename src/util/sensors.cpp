@@ -235,6 +235,7 @@ bool InApertureField(const SensorType& camera, const SecondAperture& aperture,
 ApertureField::ApertureField(const SensorType& camera, const SecondAperture& aperture)
     : aperture_from_body_(BodyFromAperture(aperture).transpose()),
       centre_(ApertureCentreInBody(aperture)) {
+  turned_ = aperture_from_body_ != Mat3::Identity();
   if (aperture.cone > 0) {
     half_cone_ = aperture.cone / 2;
   } else if (aperture.hfov > 0) {
