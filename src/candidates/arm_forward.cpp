@@ -1,9 +1,7 @@
 // arm.hpp's kinematics, collision checks and motion planning, called in the arm module
 // (candidates/arm_module.hpp), which is loaded the first time one of them is called.
-#include <dlfcn.h>
 #include <fmt/format.h>
 
-#include <filesystem>
 #include <mutex>
 #include <optional>
 
@@ -15,23 +13,13 @@ namespace vantage {
 namespace {
 
 const detail::ArmModuleApi& LoadArmModule() {
-  std::string tried;
-  const std::optional<std::filesystem::path> place = detail::FirstModulePlace(
-      detail::ModulePlaces(reinterpret_cast<const void*>(&PlanMotion), VANTAGE_ARM_MODULE_NAME,
-                           VANTAGE_ARM_MODULE_FROM_BIN, VANTAGE_ARM_MODULE_BUILT),
-      &tried);
-  if (!place)
-    throw InternalError(fmt::format("cannot plan for an arm: the arm module {} is not installed "
-                                    "(looked at {})",
-                                    VANTAGE_ARM_MODULE_NAME, tried));
-  void* module = dlopen(place->c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (module == nullptr)
-    throw InternalError(fmt::format("cannot load the arm module {}: {}", place->string(), dlerror()));
-  using Entry = const detail::ArmModuleApi* (*)();
-  const auto entry = reinterpret_cast<Entry>(dlsym(module, "vantage_arm_module"));
-  const detail::ArmModuleApi* api = entry ? entry() : nullptr;
+  const detail::ModuleEntry loaded = detail::LoadModuleEntry(
+      reinterpret_cast<const void*>(&PlanMotion), VANTAGE_ARM_MODULE_NAME,
+      VANTAGE_ARM_MODULE_FROM_BIN, VANTAGE_ARM_MODULE_BUILT, "plan for an arm", "arm module",
+      "vantage_arm_module");
+  const auto* api = static_cast<const detail::ArmModuleApi*>(loaded.api);
   if (api == nullptr || api->version != detail::kArmModuleVersion)
-    throw InternalError(fmt::format("{} is not this vantage's arm module", place->string()));
+    throw InternalError(fmt::format("{} is not this vantage's arm module", loaded.place.string()));
   return *api;  // never unloaded: its objects may live until the process ends
 }
 

@@ -1,11 +1,6 @@
 // Loads the CBC module (cbc_module.hpp) the first time CBC or CLP is called, as arm_forward.cpp
 // loads the arm module.
-#include <dlfcn.h>
 #include <fmt/format.h>
-
-#include <filesystem>
-#include <optional>
-#include <string>
 
 #include "select/cbc_module.hpp"
 #include "util/module_places.hpp"
@@ -15,24 +10,12 @@ namespace vantage::detail {
 namespace {
 
 const CbcModuleApi& LoadCbcModule() {
-  std::string tried;
-  const std::optional<std::filesystem::path> place = FirstModulePlace(
-      ModulePlaces(reinterpret_cast<const void*>(&Cbc), VANTAGE_CBC_MODULE_NAME,
-                   VANTAGE_CBC_MODULE_FROM_BIN, VANTAGE_CBC_MODULE_BUILT),
-      &tried);
-  if (!place)
-    throw InternalError(fmt::format("cannot solve with CBC or CLP: the CBC module {} is not "
-                                    "installed (looked at {})",
-                                    VANTAGE_CBC_MODULE_NAME, tried));
-  void* module = dlopen(place->c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (module == nullptr)
-    throw InternalError(
-        fmt::format("cannot load the CBC module {}: {}", place->string(), dlerror()));
-  using Entry = const CbcModuleApi* (*)();
-  const auto entry = reinterpret_cast<Entry>(dlsym(module, "vantage_cbc_module"));
-  const CbcModuleApi* api = entry ? entry() : nullptr;
+  const ModuleEntry loaded = LoadModuleEntry(
+      reinterpret_cast<const void*>(&Cbc), VANTAGE_CBC_MODULE_NAME, VANTAGE_CBC_MODULE_FROM_BIN,
+      VANTAGE_CBC_MODULE_BUILT, "solve with CBC or CLP", "CBC module", "vantage_cbc_module");
+  const auto* api = static_cast<const CbcModuleApi*>(loaded.api);
   if (api == nullptr || api->version != kCbcModuleVersion)
-    throw InternalError(fmt::format("{} is not this vantage's CBC module", place->string()));
+    throw InternalError(fmt::format("{} is not this vantage's CBC module", loaded.place.string()));
   return *api;  // never unloaded: its models may live until the process ends
 }
 

@@ -1,9 +1,12 @@
 #include "util/module_places.hpp"
 
 #include <dlfcn.h>
+#include <fmt/format.h>
 
 #include <cstring>
 #include <system_error>
+
+#include "vantage/error.hpp"
 
 namespace vantage::detail {
 
@@ -38,6 +41,24 @@ std::optional<std::filesystem::path> FirstModulePlace(
     *tried += (tried->empty() ? "" : ", ") + place.string();
   }
   return std::nullopt;
+}
+
+ModuleEntry LoadModuleEntry(const void* code, const std::string& name,
+                            const std::string& from_bin, const std::string& built,
+                            const std::string& purpose, const std::string& what,
+                            const char* symbol) {
+  std::string tried;
+  const std::optional<std::filesystem::path> place =
+      FirstModulePlace(ModulePlaces(code, name, from_bin, built), &tried);
+  if (!place)
+    throw InternalError(fmt::format("cannot {}: the {} {} is not installed (looked at {})",
+                                    purpose, what, name, tried));
+  void* module = dlopen(place->c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (module == nullptr)
+    throw InternalError(fmt::format("cannot load the {} {}: {}", what, place->string(), dlerror()));
+  using Entry = const void* (*)();
+  const auto entry = reinterpret_cast<Entry>(dlsym(module, symbol));
+  return {entry ? entry() : nullptr, *place};
 }
 
 }  // namespace vantage::detail

@@ -25,4 +25,20 @@ std::vector<std::filesystem::path> ModulePlaces(const void* code, const std::str
 std::optional<std::filesystem::path> FirstModulePlace(
     const std::vector<std::filesystem::path>& places, std::string* tried);
 
+/// What a module's API entry (a C function taking nothing) returned: the process keeps the module
+/// mapped until it ends (its objects may live that long). `place`: where it was found.
+struct ModuleEntry {
+  const void* api = nullptr;  ///< null when the module has no `symbol` or its entry gave none
+  std::filesystem::path place;
+};
+
+/// Finds the module (ModulePlaces, FirstModulePlace), loads it and calls its entry `symbol`.
+/// InternalError when it is not installed ("cannot `purpose`: the `what` NAME is not installed
+/// (looked at ...)") or cannot be loaded ("cannot load the `what` PLACE: dlerror"). The caller
+/// checks the API it gets (its type and version).
+ModuleEntry LoadModuleEntry(const void* code, const std::string& name,
+                            const std::string& from_bin, const std::string& built,
+                            const std::string& purpose, const std::string& what,
+                            const char* symbol);
+
 }  // namespace vantage::detail
