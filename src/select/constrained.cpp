@@ -735,19 +735,19 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
   free_model.fixed = {};
   free_model.rules = nullptr;
   if (options_.budget) free_model.threshold = 1;  // a budget counts cells seen once
-  ExactHints hints;  // cells: the cheap bound of the unconstrained problem
-  if constexpr (Scorer::kCells) {
+  ExactAnswer exact;
+  bool solved = false;
+  ExactHints hints;  // cells under rules: the cheap bound of the unconstrained problem
+  if (IsFree()) {  // the model is the free one: one solve, all the time, no hint
+    exact = SolveExactModel(free_model, local_, time_limit);
+    solved = true;
+  } else if constexpr (Scorer::kCells) {
     hints.known_bound = static_cast<double>(
         options_.budget ? BudgetUpperBound(matrix, local_, options_.costs, *options_.budget)
         : k == 1        ? GreedyUpperBound(matrix, local_, n_)
                         : KUpperBound(matrix, local_, n_, k));
   }
-  ExactAnswer exact;
-  bool solved = false;
-  if (IsFree()) {  // the model is the free one: one solve, all the time
-    exact = SolveExactModel(free_model, local_, time_limit);
-    solved = true;
-  } else if (has_free && n_ >= 1) {
+  if (!solved && has_free && n_ >= 1) {
     ExactAnswer free = SolveExactModel(free_model, free_local_, 0.5 * time_limit);
     if (feasible_.IsFeasible(free.chosen) && better_or_equal(free.chosen, local_)) {
       exact = std::move(free);
