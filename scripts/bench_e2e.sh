@@ -43,19 +43,24 @@ assert l["culled_rays"] == rays, (l["culled_rays"], rays)  # the limit traced th
 print(f"| {name} | {len(r['candidates'])} | {pixels/1e6:.1f} M | {rays/1e6:.2f} M | {pixels/max(rays,1):.1f}x | "
       f"{obs:.3f} | {rays/obs/1e6:.1f} M | {l['culled_rays_per_second']/1e6:.1f} M | "
       f"{l['all_pixels_rays_per_second']/1e6:.1f} M | {obs/l['culled_seconds']:.2f} | "
+      f"{obs/l['same_rays_seconds']:.2f} ({l['segments']/1e6:.2f} M segments) | "
       f"{wall:.3f} | {wall/obs:.2f} | {around:.3f} {'<=' if around <= obs else '>'} observe | "
       f"{int(open(rss).read().split()[-1])/1024:.0f} |")
 PYEOF
 }
 
-echo "| world | candidates | pixels | rays traced | culling | observe s | rays/s | limit rays/s (same rays) | limit rays/s (every pixel) | ratio | end-to-end s | end-to-end / observe | load + reference + start and writing s | peak MiB |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+echo "| world | candidates | pixels | rays traced | culling | observe s | rays/s | limit rays/s (same rays) | limit rays/s (every pixel) | ratio | ratio, same rays incl. segments | end-to-end s | end-to-end / observe | load + reference + start and writing s | peak MiB |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 run_world example examples/scenes/bin_picking_cell.yaml
 run_world bin_picking "$SHARED/worlds/bin_picking.world" "${GZ[@]}"
 run_world bin_picking_with_occlusions "$SHARED/worlds/bin_picking_with_occlusions.world" "${GZ[@]}"
 run_world multi_bin_picking_450 bench/worlds/multi_bin_picking.world "${GZ[@]}"
 echo
-echo "ratio = vantage observe time / the limit loop's time for exactly the same rays (target <= 1.0)."
+echo "ratio = vantage observe time / the limit loop's time for the same primary rays (the culled pixels)."
+echo "ratio, same rays incl. segments = the same over the limit loop casting every ray observe casts: the"
+echo "primary rays and, under the physical sensor model, the second aperture's occlusion segments (none"
+echo "on the Gazebo worlds, read as the ideal pinhole); issue 47's <= 1.0 is against this one. Observe's"
+echo "time includes building the BVH, the limit loop's does not (ray_limit's rays_build_seconds)."
 echo "end-to-end / observe: the whole command's wall time over observe's own (target <= 1.3, issue 47)."
 echo "load + reference + start and writing: report.json's load and reference, and the wall time outside"
 echo "its total (process start, writing the outputs, exit); target <= observe on every world (issue 47)."
