@@ -1,5 +1,8 @@
 // What every command writes: the inputs block that reproduces the run, and the output files,
 // each produced by its serialiser from the derived report.
+#include <tbb/parallel_invoke.h>
+
+#include <exception>
 #include <filesystem>
 
 #include "pipeline/common.hpp"
@@ -129,11 +132,36 @@ std::map<std::string, std::string> ConstellationFiles(const std::string& scene_p
 
 void FinishRun(const Scene& scene, std::map<std::string, std::string> extra, RunResult* run) {
   VANTAGE_CHECK(run->report.is_derived && run->report.data == run->data.get());
-  run->files = ReportFiles(run->report);
-  extra["report.html"] = HtmlReport(run->report, scene);
-  extra["static_transforms.yaml"] = StaticTransformsYaml(run->report);
-  extra["static_transforms.launch.py"] = StaticTransformsLaunch(run->report);
-  extra["cameras.urdf.xacro"] = CamerasXacro(run->report);
+  // The serialisers read the derived report and write nothing else, so they run side by side
+  // (issue 47: report.html alone took as long as the others together, each on one core). A
+  // failure is raised in the order they were called in before.
+  std::map<std::string, std::string> files;
+  std::string html, yaml, launch, xacro;
+  std::exception_ptr errors[3];
+  const auto guarded = [&errors](int k, auto&& work) {
+    try {
+      work();
+    } catch (...) {
+      errors[k] = std::current_exception();
+    }
+  };
+  tbb::parallel_invoke(
+      [&] { guarded(0, [&] { files = ReportFiles(run->report); }); },
+      [&] { guarded(1, [&] { html = HtmlReport(run->report, scene); }); },
+      [&] {
+        guarded(2, [&] {
+          yaml = StaticTransformsYaml(run->report);
+          launch = StaticTransformsLaunch(run->report);
+          xacro = CamerasXacro(run->report);
+        });
+      });
+  for (const std::exception_ptr& error : errors)
+    if (error) std::rethrow_exception(error);
+  run->files = std::move(files);
+  extra["report.html"] = std::move(html);
+  extra["static_transforms.yaml"] = std::move(yaml);
+  extra["static_transforms.launch.py"] = std::move(launch);
+  extra["cameras.urdf.xacro"] = std::move(xacro);
   run->files.merge(extra);
 }
 
