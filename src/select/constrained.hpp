@@ -148,8 +148,7 @@ struct ConstrainedAnswer {
 /// answer, exact warm-started from local's), seconds including the steps
 /// each needed. One implementation for every scorer: plain coverage, k-coverage and point counts
 /// (CellScorer with k = the threshold, over the matrix MatrixFor gives) with n sensors or a
-/// budget, and the states of a scene (StatesScorer). A goal is the states' model's
-/// (GoalOverStates).
+/// budget, and the states of a scene (StatesScorer). A goal is over_states.cpp's GoalMethods.
 template <MethodScorer Scorer>
 class ConstrainedMethods {
  public:

@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <memory>
 #include <numeric>
 #include <optional>
 
@@ -235,10 +237,194 @@ detail::SelectionModel StatesModel(const detail::StatesScorer& scorer,
   return detail::ModelFor(options, scorer.matrix(), value, n, rules);
 }
 
-// A goal over states: the fewest sensors (or, minimising cost, the cheapest set) whose aggregate
-// reaches it, under the rules and with the kept sensors. Greedy: StatesCostGreedy to the goal;
-// RANSAC: random orders taken until it is reached; exact: the model with the goal (SolveExactModel) from
-// greedy's answer; all: greedy and exact.
+// The methods for a goal, on the one model: the fewest sensors (or, minimising cost, the cheapest
+// set) whose aggregate over the states reaches it, under the rules and with the kept sensors (a
+// scene without states is one state). Greedy to the goal, RANSAC's random orders taken until it,
+// and exact from greedy's answer, in RunMethods' order. On the plain matrix (one state, no rule,
+// no kept sensor) each is the plain matrix's own method: GreedyToGoal, RansacFitted, and for
+// exact SolveSetCover (a goal counted once, at unit cost: orbital branching, the goal MILP and
+// the search t by t) or orbital branching and the goal MILP (k >= 2, points, costs); elsewhere
+// StatesCostGreedy, StatesRansacFitted and SolveExactModel on the goal's model.
+class GoalMethods final : public detail::MethodSteps<StateSelection> {
+ public:
+  GoalMethods(std::span<const StateObservations> states, OverStates over,
+              const SelectOptions& options, const detail::StatesScorer& scorer,
+              const detail::Feasibility& feasible, std::vector<uint32_t> kept_start,
+              std::vector<uint32_t> greedy, double greedy_seconds)
+      : states_(states),
+        over_(over),
+        options_(options),
+        scorer_(scorer),
+        feasible_(feasible),
+        kept_start_(std::move(kept_start)),
+        greedy_(std::move(greedy)),
+        greedy_seconds_(greedy_seconds),
+        plain_(IsPlain(states, options)),
+        threshold_(detail::Threshold(options)),
+        goal_cells_(detail::GoalCells(*options.goal, scorer.matrix().reference_size())) {}
+
+  /// One state, no rule and no kept sensor: the goal of the plain matrix, in whole cells.
+  static bool IsPlain(std::span<const StateObservations> states, const SelectOptions& options) {
+    return states.size() == 1 && options.constraints.empty() && options.fixed.empty();
+  }
+  /// Greedy's answer on the plain matrix (GoalMethods takes it, as it takes the states' one).
+  static std::vector<uint32_t> PlainGreedy(const detail::CoverageMatrix& matrix,
+                                           const SelectOptions& options) {
+    return detail::GreedyToGoal(matrix, detail::GoalCells(*options.goal, matrix.reference_size()),
+                                detail::Threshold(options), Costs(options));
+  }
+
+  StateSelection Best() override { VANTAGE_CHECK(false); return {}; }  // Validate refuses it
+  std::optional<StateSelection> TableHead() override { return std::nullopt; }
+  size_t FirstN() const override { return 1; }
+
+  /// No n to draw: each draw is a random order taken until the goal is reached.
+  StateSelection Ransac(size_t, int iterations) override {
+    const Clock::time_point t = Clock::now();
+    std::vector<uint32_t> drawn;
+    if (plain_) {
+      detail::FittedDraws fit;
+      fit.threshold = threshold_;
+      fit.costs = Costs(options_);
+      fit.goal_cells = goal_cells_;
+      drawn = detail::RansacFitted(scorer_.matrix(), fit, iterations,
+                                   options_.ransac_stop_coverage, options_.seed);
+    } else {
+      detail::Capacity everyone_fits;
+      everyone_fits.n = scorer_.matrix().candidate_count();
+      drawn = detail::StatesRansacFitted(scorer_, feasible_, everyone_fits, Costs(options_),
+                                         *options_.goal, iterations,
+                                         options_.ransac_stop_coverage, options_.seed,
+                                         kept_start_);
+      if (drawn.empty()) drawn = greedy_;  // no order reached it under the rules
+    }
+    return Score(Method::kRansac, std::move(drawn), greedy_seconds_ + SecondsSince(t));
+  }
+  StateSelection Greedy(size_t) override { return Score(Method::kGreedy, greedy_, greedy_seconds_); }
+  StateSelection Local() override { VANTAGE_CHECK(false); return {}; }  // Validate refuses it
+
+  /// After Greedy: runs at once, never in lanes.
+  std::function<detail::ExactDone<StateSelection>(double)> Exact() override {
+    return [this](double seconds) {
+      const Clock::time_point t = Clock::now();
+      StateSelection s = plain_ ? PlainExact(seconds) : ModelExact(seconds);
+      s.selection.seconds = greedy_seconds_ + SecondsSince(t);
+      return detail::ExactDone<StateSelection>{std::move(s), {}};
+    };
+  }
+
+ private:
+  /// The costs a goal minimises: the candidates' with minimize_cost, else none (unit).
+  static std::span<const double> Costs(const SelectOptions& options) {
+    return options.minimize_cost ? std::span<const double>(options.costs)
+                                 : std::span<const double>();
+  }
+
+  StateSelection Score(Method method, std::vector<uint32_t> chosen, double seconds) const {
+    VANTAGE_CHECK(feasible_.IsFeasible(chosen));
+    StateSelection s = Scored(states_, over_, method, std::move(chosen), seconds,
+                              options_.min_points, options_.min_points ? 1 : options_.k);
+    MarkObjective(options_, &s);
+    return s;
+  }
+
+  void Warn(bool proven_optimal, const std::string& what, const std::string& note) const {
+    if (proven_optimal || note.empty()) return;
+    const std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
+    (logger ? logger : spdlog::default_logger())
+        ->warn("{}: {}; reporting the best answer found and a bound", what, note);
+  }
+
+  /// Exact on the goal's model (rules, kept sensors, states) from greedy's answer.
+  StateSelection ModelExact(double seconds) const {
+    const detail::SelectionModel model =
+        StatesModel(scorer_, &feasible_, options_, scorer_.matrix().candidate_count());
+    const detail::ExactAnswer exact = detail::SolveExactModel(model, greedy_, seconds);
+    Warn(exact.proven_optimal,
+         fmt::format("exact{}, goal {:g}", states_.size() == 1 ? "" : " over states",
+                     *options_.goal),
+         exact.note);
+    StateSelection s = Score(Method::kExact, exact.chosen, 0);
+    if (options_.minimize_cost) {
+      s.selection.cost_lower_bound = exact.bound;
+    } else {
+      s.selection.n_lower_bound = static_cast<int>(std::llround(exact.bound));
+    }
+    s.selection.proven_optimal = exact.proven_optimal;
+    return s;
+  }
+
+  /// Exact on the plain matrix from greedy's answer: SolveSetCover for a goal counted once at
+  /// unit cost; else (k >= 2, points, costs) the cheapest cover of every cell by orbital
+  /// branching first where the instance is symmetric, then the goal MILP unless proven, with the
+  /// cheap bound where CBC gives none.
+  StateSelection PlainExact(double time_limit) const {
+    const Clock::time_point start = Clock::now();
+    const detail::CoverageMatrix& matrix = scorer_.matrix();
+    const std::string what = fmt::format("exact ({})", ObjectiveName(Objective::kSetCover));
+    if (threshold_ == 1 && !matrix.has_counts() && !options_.minimize_cost) {
+      const detail::SetCoverResult exact =
+          detail::SolveSetCover(matrix, goal_cells_, greedy_, time_limit);
+      Warn(exact.proven_optimal, what, exact.note);
+      StateSelection s = Score(Method::kExact, exact.chosen, 0);
+      s.selection.n_lower_bound = static_cast<int>(exact.lower_bound);
+      s.selection.proven_optimal = exact.proven_optimal;
+      return s;
+    }
+    const auto price = [&](const std::vector<uint32_t>& chosen) {
+      return options_.minimize_cost ? detail::TotalCost(options_.costs, chosen)
+                                    : static_cast<double>(chosen.size());
+    };
+    std::vector<uint32_t> chosen = greedy_;
+    detail::OrbitalSetCoverResult orbital;
+    double milp_seconds = time_limit;
+    if (options_.minimize_cost && threshold_ == 1 && !matrix.has_counts() &&
+        goal_cells_ == matrix.seen_weight()) {
+      orbital = detail::OrbitalSetCover(matrix, options_.costs, greedy_, 0,
+                                        detail::kOrbitalTimeShare * time_limit);
+      if (price(orbital.chosen) < price(chosen)) chosen = orbital.chosen;
+      milp_seconds = time_limit - SecondsSince(start);
+    }
+    detail::GoalResult milp;
+    if (!orbital.proven_optimal) {
+      milp = detail::SolveGoalMilp(matrix, threshold_, Costs(options_), goal_cells_, chosen,
+                                   milp_seconds);
+    }
+    if (!milp.chosen.empty() && price(milp.chosen) < price(chosen)) chosen = milp.chosen;
+    const bool proven = milp.proven_optimal || orbital.proven_optimal;
+    Warn(proven, what,
+         orbital.applied ? orbital.note + (milp.note.empty() ? "" : "; " + milp.note) : milp.note);
+    StateSelection scored = Score(Method::kExact, chosen, 0);
+    Selection& s = scored.selection;
+    if (options_.minimize_cost) {
+      s.cost_lower_bound = std::min(std::max(milp.lower_bound, orbital.lower_bound), *s.cost);
+      s.proven_optimal = proven || *s.cost <= *s.cost_lower_bound;
+      if (s.proven_optimal) s.cost_lower_bound = *s.cost;
+    } else {
+      const size_t cheap = detail::ThresholdGoalLowerBound(matrix, goal_cells_, threshold_);
+      const size_t lower = std::max(cheap, static_cast<size_t>(milp.lower_bound));
+      s.n_lower_bound = static_cast<int>(std::min(lower, chosen.size()));
+      s.proven_optimal = milp.proven_optimal || *s.n_lower_bound == s.n;
+      if (s.proven_optimal) s.n_lower_bound = s.n;
+    }
+    return scored;
+  }
+
+  std::span<const StateObservations> states_;
+  OverStates over_;
+  const SelectOptions& options_;
+  const detail::StatesScorer& scorer_;
+  const detail::Feasibility& feasible_;
+  std::vector<uint32_t> kept_start_;
+  std::vector<uint32_t> greedy_;  // greedy's answer, where exact starts
+  double greedy_seconds_;
+  bool plain_;
+  int threshold_;       // k seers, or min_points points
+  uint64_t goal_cells_;  // the goal in whole cells of the stacked R (the plain matrix's own)
+};
+
+// A goal: checks that it can be reached (by all candidates, then under the rules), the kept
+// sensors alone where they reach it, greedy's answer, then GoalMethods in RunMethods' order.
 std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> states,
                                            OverStates over,
                                            const SelectOptions& options,
@@ -248,16 +434,6 @@ std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> st
                                            Clock::time_point start) {
   const double goal = *options.goal;
   const detail::CoverageMatrix& matrix = scorer.matrix();
-  const std::span<const double> costs =
-      options.minimize_cost ? std::span<const double>(options.costs) : std::span<const double>();
-  const int k = options.min_points ? 1 : options.k;
-  const auto scored = [&](Method method, std::vector<uint32_t> chosen, double seconds) {
-    VANTAGE_CHECK(feasible.IsFeasible(chosen));
-    StateSelection s = Scored(states, over, method, std::move(chosen), seconds,
-                              options.min_points, k);
-    MarkObjective(options, &s);
-    return s;
-  };
   const auto unreachable = [&](const std::string& reach, const std::string& relax) {
     // One state is a scene without states (Select's combinations on the one model).
     const std::string what =
@@ -273,7 +449,16 @@ std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> st
   std::vector<uint32_t> everyone(matrix.candidate_count());
   std::iota(everyone.begin(), everyone.end(), 0U);
   const double reach = scorer.Fraction(scorer.Covered(everyone));
-  if (!detail::GoalReached(reach, goal)) {
+  // One state counts the goal in whole cells (GoalCells), as its methods do.
+  const int threshold = detail::Threshold(options);
+  const bool reachable =
+      states.size() == 1
+          ? detail::GoalCells(goal, matrix.reference_size()) <=
+                (threshold == 1 && !matrix.has_counts()
+                     ? matrix.seen_weight()
+                     : detail::KCoveredWeight(matrix, everyone, threshold))
+          : detail::GoalReached(reach, goal);
+  if (!reachable) {
     const std::string counted =
         options.min_points ? fmt::format(" (cells holding {} points)", *options.min_points)
         : options.k >= 2   ? fmt::format(" (cells seen {} times)", options.k)
@@ -284,109 +469,49 @@ std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> st
   }
   if (kept_start.size() == options.fixed.size() && !options.fixed.empty() &&
       detail::GoalReached(scorer.Fraction(scorer.Covered(options.fixed)), goal)) {
-    StateSelection s = scored(Method::kBest, options.fixed, SecondsSince(start));
+    StateSelection s = Scored(states, over, Method::kBest, options.fixed, SecondsSince(start),
+                              options.min_points, options.min_points ? 1 : options.k);
+    MarkObjective(options, &s);
     s.selection.method = "kept";
     return {s};
   }
-  detail::Capacity everyone_fits;
-  everyone_fits.n = matrix.candidate_count();
-  std::vector<uint32_t> greedy =
-      detail::StatesCostGreedy(scorer, feasible, everyone_fits, costs, goal, kept_start);
-  if (!detail::GoalReached(scorer.Fraction(scorer.Covered(greedy)), goal)) {
-    // Greedy could not reach it under the rules: the most any feasible set reaches decides.
-    detail::SelectionModel most_model =
-        StatesModel(scorer, &feasible, options, matrix.candidate_count());
-    most_model.goal.reset();  // the most any set reaches, at no price
-    most_model.costs = {};
-    const detail::ExactAnswer most =
-        detail::SolveExactModel(most_model, greedy, options.time_limit);
-    const double best = scorer.Fraction(scorer.Covered(most.chosen));
-    if (!detail::GoalReached(best, goal)) {
-      throw unreachable(
-          most.proven_optimal || most.bound < goal - 1e-9
-              ? fmt::format("cannot be reached: the installation constraints allow at most {:.4f}",
-                            std::min(most.bound, reach))
-              : fmt::format("cannot be reached: no set of sensors that satisfies the "
-                            "installation constraints was found to reach it (the best reaches "
-                            "{:.4f})",
-                            best),
-          " or relax the constraints");
+  std::vector<uint32_t> greedy;
+  if (GoalMethods::IsPlain(states, options)) {
+    greedy = GoalMethods::PlainGreedy(matrix, options);
+  } else {
+    detail::Capacity everyone_fits;
+    everyone_fits.n = matrix.candidate_count();
+    const std::span<const double> costs = options.minimize_cost
+                                              ? std::span<const double>(options.costs)
+                                              : std::span<const double>();
+    greedy = detail::StatesCostGreedy(scorer, feasible, everyone_fits, costs, goal, kept_start);
+    if (!detail::GoalReached(scorer.Fraction(scorer.Covered(greedy)), goal)) {
+      // Greedy could not reach it under the rules: the most any feasible set reaches decides.
+      detail::SelectionModel most_model =
+          StatesModel(scorer, &feasible, options, matrix.candidate_count());
+      most_model.goal.reset();  // the most any set reaches, at no price
+      most_model.costs = {};
+      const detail::ExactAnswer most =
+          detail::SolveExactModel(most_model, greedy, options.time_limit);
+      const double best = scorer.Fraction(scorer.Covered(most.chosen));
+      if (!detail::GoalReached(best, goal)) {
+        throw unreachable(
+            most.proven_optimal || most.bound < goal - 1e-9
+                ? fmt::format(
+                      "cannot be reached: the installation constraints allow at most {:.4f}",
+                      std::min(most.bound, reach))
+                : fmt::format("cannot be reached: no set of sensors that satisfies the "
+                              "installation constraints was found to reach it (the best "
+                              "reaches {:.4f})",
+                              best),
+            " or relax the constraints");
+      }
+      greedy = most.chosen;
     }
-    greedy = most.chosen;
   }
-  // The methods in RunMethods' order: greedy's answer (found above, for the checks), RANSAC's
-  // orders taken until the goal, and exact (the model with the goal) from greedy's answer.
-  class GoalRun final : public detail::MethodSteps<StateSelection> {
-   public:
-    GoalRun(const decltype(scored)& score, std::vector<uint32_t> greedy, double greedy_seconds,
-            std::function<std::vector<uint32_t>()> draw,
-            std::function<detail::ExactAnswer(double)> solve,
-            std::function<void(const detail::ExactAnswer&)> log, bool minimize_cost)
-        : score_(score),
-          greedy_(std::move(greedy)),
-          greedy_seconds_(greedy_seconds),
-          draw_(std::move(draw)),
-          solve_(std::move(solve)),
-          log_(std::move(log)),
-          minimize_cost_(minimize_cost) {}
-    StateSelection Best() override { VANTAGE_CHECK(false); return {}; }  // Validate refuses it
-    std::optional<StateSelection> TableHead() override { return std::nullopt; }
-    size_t FirstN() const override { return 1; }
-    StateSelection Ransac(size_t, int) override {
-      const Clock::time_point t = Clock::now();
-      std::vector<uint32_t> drawn = draw_();
-      if (drawn.empty()) drawn = greedy_;  // no order reached it under the rules
-      return score_(Method::kRansac, std::move(drawn), greedy_seconds_ + SecondsSince(t));
-    }
-    StateSelection Greedy(size_t) override {
-      return score_(Method::kGreedy, greedy_, greedy_seconds_);
-    }
-    StateSelection Local() override { VANTAGE_CHECK(false); return {}; }  // Validate refuses it
-    std::function<detail::ExactDone<StateSelection>(double)> Exact() override {
-      return [this](double seconds) {
-        const Clock::time_point t = Clock::now();
-        const detail::ExactAnswer exact = solve_(seconds);
-        log_(exact);
-        StateSelection s =
-            score_(Method::kExact, exact.chosen, greedy_seconds_ + SecondsSince(t));
-        if (minimize_cost_) {
-          s.selection.cost_lower_bound = exact.bound;
-        } else {
-          s.selection.n_lower_bound = static_cast<int>(std::llround(exact.bound));
-        }
-        s.selection.proven_optimal = exact.proven_optimal;
-        return detail::ExactDone<StateSelection>{std::move(s), {}};
-      };
-    }
-
-   private:
-    const decltype(scored)& score_;
-    std::vector<uint32_t> greedy_;
-    double greedy_seconds_;
-    std::function<std::vector<uint32_t>()> draw_;
-    std::function<detail::ExactAnswer(double)> solve_;
-    std::function<void(const detail::ExactAnswer&)> log_;
-    bool minimize_cost_;
-  };
-  const detail::SelectionModel goal_model =
-      StatesModel(scorer, &feasible, options, matrix.candidate_count());
-  GoalRun run(
-      scored, greedy, SecondsSince(start),
-      [&] {
-        return detail::StatesRansacFitted(scorer, feasible, everyone_fits, costs, goal,
-                                          options.ransac_iterations,
-                                          options.ransac_stop_coverage, options.seed, kept_start);
-      },
-      [&](double seconds) { return detail::SolveExactModel(goal_model, greedy, seconds); },
-      [&](const detail::ExactAnswer& exact) {
-        if (exact.proven_optimal || exact.note.empty()) return;
-        const std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
-        (logger ? logger : spdlog::default_logger())
-            ->warn("exact{}, goal {:g}: {}; reporting the best answer found and a bound",
-                   states.size() == 1 ? "" : " over states", goal, exact.note);
-      },
-      options.minimize_cost);
-  return detail::RunMethods<StateSelection>(run, options, matrix.candidate_count(), start);
+  GoalMethods methods(states, over, options, scorer, feasible, kept_start, std::move(greedy),
+                      SecondsSince(start));
+  return detail::RunMethods<StateSelection>(methods, options, matrix.candidate_count(), start);
 }
 
 // The states' stacked matrix for the objective of `options`: with min_points, with the counts

@@ -2,9 +2,9 @@
 //
 // Every objective but a goal runs the methods on the model (constrained.cpp's ConstrainedMethods:
 // the plain greedy, local search, RANSAC and one exact solve where no rule or kept sensor
-// restricts it); a plain goal runs GoalSteps below; a goal with rules or kept sensors, and a
-// budget counted k times or in points, the states' model on one state. Each runs in RunMethods'
-// order, and answers are scored under their own metric (k-coverage counts a cell once k chosen
+// restricts it); every goal, and a budget counted k times or in points, runs the states' model
+// on one state (over_states.cpp: GoalMethods, with the plain matrix's own set cover where no rule
+// or kept sensor restricts it). Each runs in RunMethods' order, and answers are scored under their own metric (k-coverage counts a cell once k chosen
 // sensors see it).
 //
 // Every method works on one detail::CoverageMatrix, built once per Select call: reference cells
@@ -15,12 +15,10 @@
 #include "vantage/select.hpp"
 
 #include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <functional>
 #include <iterator>
 #include <memory>
 #include <optional>
@@ -29,7 +27,6 @@
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
 #include "select/model.hpp"
-#include "select/run_methods.hpp"
 #include "vantage/error.hpp"
 #include "vantage/select_states.hpp"
 
@@ -42,160 +39,6 @@ using Clock = std::chrono::steady_clock;
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
-
-double Fraction(uint64_t cells, size_t reference_size) {
-  return reference_size ? static_cast<double>(cells) / static_cast<double>(reference_size) : 0.0;
-}
-
-std::shared_ptr<spdlog::logger> Logger() {
-  auto logger = spdlog::get("vantage");
-  return logger ? logger : spdlog::default_logger();
-}
-
-// Goal of set cover in whole cells: the fewest cells whose share of R reaches the goal (at
-// least one, so that the answer has a sensor).
-
-// The methods for a goal on the plain matrix (no rule, no kept sensor; those goals are the
-// states' model's): greedy to the goal, RANSAC's orders taken until it, and exact from greedy's
-// answer (SolveSetCover; with a threshold or costs the goal MILP). Every other objective runs on
-// ConstrainedMethods (SelectConstrained). Scores are recomputed from the observations under the
-// objective's metric.
-class GoalSteps final : public detail::MethodSteps<Selection> {
- public:
-  GoalSteps(const CoverageEvaluator& evaluator,
-            const detail::CoverageMatrix& matrix,
-            const SelectOptions& options,
-            double setup_seconds)
-      : evaluator_(evaluator),
-        matrix_(matrix),
-        options_(options),
-        k_(detail::Threshold(options)),
-        goal_cells_(detail::GoalCells(*options.goal, matrix.reference_size())),
-        setup_seconds_(setup_seconds) {}
-
-  Selection Best() override { return SelectBest(evaluator_); }
-  std::optional<Selection> TableHead() override { return std::nullopt; }
-  size_t FirstN() const override { return 1; }
-
-  /// No n to draw: each draw is a random order taken until the goal is reached.
-  Selection Ransac(size_t, int iterations) override {
-    const Clock::time_point start = Clock::now();
-    detail::FittedDraws fit;
-    fit.threshold = k_;
-    fit.costs = GoalCosts();
-    fit.goal_cells = goal_cells_;
-    std::vector<uint32_t> chosen = detail::RansacFitted(
-        matrix_, fit, iterations, options_.ransac_stop_coverage, options_.seed);
-    return Scored(Method::kRansac, std::move(chosen), setup_seconds_ + SecondsSince(start));
-  }
-
-  Selection Greedy(size_t) override {
-    const Clock::time_point start = Clock::now();
-    local_ = detail::GreedyToGoal(matrix_, goal_cells_, k_, GoalCosts());
-    local_seconds_ = setup_seconds_ + SecondsSince(start);
-    return Scored(Method::kGreedy, local_, local_seconds_);
-  }
-
-  /// A goal has no local search (SelectOptions::Validate refuses it).
-  Selection Local() override {
-    VANTAGE_CHECK(false);
-    return {};
-  }
-
-  /// After Greedy: runs at once, never in lanes.
-  std::function<detail::ExactDone<Selection>(double)> Exact() override {
-    return [this](double seconds) { return detail::ExactDone<Selection>{GoalExact(seconds), {}}; };
-  }
-
-  /// Exact for a goal, from greedy's answer.
-  Selection GoalExact(double time_limit) const {
-    const Clock::time_point start = Clock::now();
-    if (k_ >= 2 || matrix_.has_counts() || options_.minimize_cost)
-      return ThresholdGoal(time_limit, start);
-    const detail::SetCoverResult exact =
-        detail::SolveSetCover(matrix_, goal_cells_, local_, time_limit);
-    LogNote(exact.proven_optimal, exact.note);
-    Selection s = Scored(Method::kExact, exact.chosen, local_seconds_ + SecondsSince(start));
-    s.n_lower_bound = static_cast<int>(exact.lower_bound);
-    s.proven_optimal = exact.proven_optimal;
-    return s;
-  }
-
-  void LogNote(bool proven_optimal, const std::string& note) const {
-    const std::string what = fmt::format("exact ({})", ObjectiveName(Objective::kSetCover));
-    if (!proven_optimal && !note.empty()) {
-      Logger()->warn("{}: {}; reporting the best answer found and a bound", what, note);
-    } else if (!note.empty()) {
-      Logger()->debug("{}: {}", what, note);
-    }
-  }
-
-  /// Exact for a goal with a threshold (k >= 2, min_points) or minimising cost: the goal MILP
-  /// from greedy's answer, with the cheap bound where CBC gives none. The cheapest cover of every
-  /// cell goes to OrbitalSetCover first (where it applies), then to the MILP unless proven.
-  Selection ThresholdGoal(double time_limit, Clock::time_point start) const {
-    const uint64_t goal_cells = goal_cells_;
-    const auto price = [&](const std::vector<uint32_t>& chosen) {
-      return options_.minimize_cost ? detail::TotalCost(options_.costs, chosen)
-                                    : static_cast<double>(chosen.size());
-    };
-    std::vector<uint32_t> chosen = local_;
-    detail::OrbitalSetCoverResult orbital;
-    double milp_seconds = time_limit;
-    if (options_.minimize_cost && k_ == 1 && !matrix_.has_counts() &&
-        goal_cells == matrix_.seen_weight()) {
-      // Every cell at the least cost: orbital branching first where the instance is symmetric.
-      orbital = detail::OrbitalSetCover(matrix_, options_.costs, local_, 0,
-                                        detail::kOrbitalTimeShare * time_limit);
-      if (price(orbital.chosen) < price(chosen)) chosen = orbital.chosen;
-      milp_seconds = time_limit - SecondsSince(start);
-    }
-    detail::GoalResult milp;
-    if (!orbital.proven_optimal) {
-      milp = detail::SolveGoalMilp(matrix_, k_, GoalCosts(), goal_cells, chosen, milp_seconds);
-    }
-    if (!milp.chosen.empty() && price(milp.chosen) < price(chosen)) chosen = milp.chosen;
-    const bool proven = milp.proven_optimal || orbital.proven_optimal;
-    LogNote(proven,
-            orbital.applied ? orbital.note + (milp.note.empty() ? "" : "; " + milp.note)
-                            : milp.note);
-    Selection s = Scored(Method::kExact, chosen, local_seconds_ + SecondsSince(start));
-    if (options_.minimize_cost) {
-      s.cost_lower_bound = std::min(std::max(milp.lower_bound, orbital.lower_bound), *s.cost);
-      s.proven_optimal = proven || *s.cost <= *s.cost_lower_bound;
-      if (s.proven_optimal) s.cost_lower_bound = *s.cost;
-    } else {
-      const size_t cheap = detail::ThresholdGoalLowerBound(matrix_, goal_cells, k_);
-      const size_t lower = std::max(cheap, static_cast<size_t>(milp.lower_bound));
-      s.n_lower_bound = static_cast<int>(std::min(lower, chosen.size()));
-      s.proven_optimal = milp.proven_optimal || *s.n_lower_bound == s.n;
-      if (s.proven_optimal) s.n_lower_bound = s.n;
-    }
-    return s;
-  }
-
-  /// The costs a goal minimises: the candidates' with minimize_cost, else none (unit).
-  std::span<const double> GoalCosts() const {
-    return options_.minimize_cost ? std::span<const double>(options_.costs)
-                                  : std::span<const double>();
-  }
-
-  Selection Scored(Method method, std::vector<uint32_t> chosen, double seconds) const {
-    Selection s = detail::ScoreSelection(evaluator_, std::move(chosen), MethodName(method), options_);
-    s.seconds = seconds;
-    if (s.budget) VANTAGE_CHECK(*s.cost <= *s.budget);
-    return s;
-  }
- private:
-  const CoverageEvaluator& evaluator_;
-  const detail::CoverageMatrix& matrix_;
-  const SelectOptions& options_;
-  int k_;
-  uint64_t goal_cells_;
-  double setup_seconds_;
-  std::vector<uint32_t> local_;  // greedy's answer, where exact starts
-  double local_seconds_ = 0;
-};
 
 }  // namespace
 
@@ -321,14 +164,13 @@ Selection SelectGreedy(const CoverageEvaluator& evaluator, int n) {
 
 namespace {
 
-// Whether `options` is a question GoalSteps and SelectConstrained do not ask, and
-// the states' model (over_states.cpp) does, with the scene as its one state: a budget counted k
-// times or in points, and a goal with kept sensors or under installation rules (every goal
-// there is the one model's: kept sensors fixed at 1, a threshold per cell, costs, the rules).
+// Whether `options` is a question the methods on the cells (SelectConstrained) do not ask, and
+// the states' model (over_states.cpp) does, with the scene as its one state: every goal (the one
+// model's GoalMethods: kept sensors fixed at 1, a threshold per cell, costs, the rules; on the
+// plain matrix its own set cover) and a budget counted k times or in points.
 bool OnOneStateOfTheModel(const SelectOptions& o) {
   const bool threshold = o.k >= 2 || o.min_points.has_value();
-  if (o.budget && threshold) return true;
-  return o.goal && (!o.fixed.empty() || !o.constraints.empty());
+  return o.goal || (o.budget && threshold);
 }
 
 // Those combinations on the scene as one state: with one state the states' mean is the state's
@@ -377,38 +219,7 @@ std::vector<Selection> Select(std::span<const Observation> observations,
   if (options.min_points) RequirePointCounts(observations);
   // Every objective but a goal: the methods on the model (ConstrainedMethods), with or without
   // rules and kept sensors.
-  if (!options.goal) return detail::SelectConstrained(observations, reference_size, options);
-
-  const Clock::time_point start = Clock::now();
-  const detail::CoverageMatrix matrix = detail::MatrixFor(observations, reference_size, options);
-  const double setup_seconds = SecondsSince(start);
-  Logger()->debug("select: {} candidates, {} of {} reference cells seen, merged into {} elements",
-                  matrix.candidate_count(), matrix.seen_weight(), reference_size,
-                  matrix.element_count());
-  const uint64_t goal_cells = detail::GoalCells(*options.goal, reference_size);
-  // What all candidates reach together, counted as the goal counts (k seers, or the points).
-  const int threshold = detail::Threshold(options);
-  std::vector<uint32_t> everyone(matrix.candidate_count());
-  for (uint32_t i = 0; i < everyone.size(); ++i) everyone[i] = i;
-  const uint64_t reachable = threshold == 1 && !matrix.has_counts()
-                                 ? matrix.seen_weight()
-                                 : detail::KCoveredWeight(matrix, everyone, threshold);
-  if (goal_cells > reachable) {
-    const std::string counted =
-        options.min_points ? fmt::format(" (cells holding {} points)", *options.min_points)
-        : options.k >= 2   ? fmt::format(" (cells seen {} times)", options.k)
-                           : std::string();
-    const std::string reach =
-        fmt::format("goal {:g} is above the {:.4f}{} that all {} candidates reach together",
-                    *options.goal, Fraction(reachable, reference_size), counted,
-                    observations.size());
-    throw InputError(options.goal_source == "--goal"
-                         ? reach + " — lower --goal"
-                         : fmt::format("{}: {} — lower the scene's goal, or give a lower --goal",
-                                       options.goal_source, reach));
-  }
-  GoalSteps steps(evaluator, matrix, options, setup_seconds);
-  return detail::RunMethods<Selection>(steps, options, observations.size(), start);
+  return detail::SelectConstrained(observations, reference_size, options);
 }
 
 std::vector<Selection> CoverageCurve(std::span<const Observation> observations,
