@@ -414,5 +414,111 @@ TEST(Culling, SpansAreOrderedApartAndCoverEveryRayThatMeetsABlock) {
   }
 }
 
+// CornersInBody shares products among the corners; each corner equals Pose::operator* bit for
+// bit (the spans then equal the per-corner rule's, tested above, in every rounding case).
+TEST(Culling, CornersInBodyEqualThePoseProductBitForBit) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int round = 0; round < 20000; ++round) {
+    const Vec3 axis = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+    const double scale = std::pow(10.0, 3 * unit(rng));
+    const Pose pose{Vec3(scale * unit(rng), scale * unit(rng), scale * unit(rng)),
+                    Quat(Eigen::AngleAxisd(std::numbers::pi * unit(rng), axis))};
+    Aabb box;
+    const Vec3 lo(scale * unit(rng), scale * unit(rng), scale * unit(rng));
+    box.Extend(lo);
+    box.Extend(lo + scale * Vec3(std::abs(unit(rng)), std::abs(unit(rng)), std::abs(unit(rng))));
+    const detail::BodyCorners corners = detail::CornersInBody(pose, box);
+    for (int k = 0; k < 8; ++k) {
+      const Vec3 corner((k & 1) ? box.max.x() : box.min.x(), (k & 2) ? box.max.y() : box.min.y(),
+                        (k & 4) ? box.max.z() : box.min.z());
+      const Vec3 body = pose * corner;
+      ASSERT_EQ(corners.x[k], body.x()) << "round " << round << " corner " << k;
+      ASSERT_EQ(corners.y[k], body.y()) << "round " << round << " corner " << k;
+      ASSERT_EQ(corners.z[k], body.z()) << "round " << round << " corner " << k;
+    }
+  }
+}
+
+// Culling's spans equal the rule computed the plain way, corner by corner: each block's corners
+// through Pose::operator* and ProjectBodyPoint, the bounding rectangle of the projections padded
+// by one pixel (the whole image where a corner lies on or behind the camera plane, none beyond
+// [near, far]), their union as a pixel mask, its maximal runs per row. Random cameras (any
+// orientation) and boxes, near, behind and across the camera.
+TEST(Culling, SpansEqualThePerCornerProjection) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  size_t traced = 0;
+  for (int round = 0; round < 200; ++round) {
+    Candidate c;
+    c.sensor = SensorType::FromFov("cam", 64 + round % 97, 48 + round % 61, 0.6 + 0.01 * (round % 90),
+                                   std::nullopt, 0.05 + 0.002 * (round % 50), 1.0 + 0.02 * round);
+    const Vec3 axis = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+    c.world_from_body = Pose{Vec3(0.5 * unit(rng), 0.5 * unit(rng), 0.5 * unit(rng)),
+                             Quat(Eigen::AngleAxisd(std::numbers::pi * unit(rng), axis))};
+    std::vector<Aabb> blocks;
+    for (int b = 0; b < 30; ++b) {
+      Aabb box;
+      const Vec3 lo(2 * unit(rng), 2 * unit(rng), 2 * unit(rng));
+      box.Extend(lo);
+      box.Extend(lo + Vec3(0.3 * std::abs(unit(rng)), 0.3 * std::abs(unit(rng)), 0.3 * std::abs(unit(rng))));
+      blocks.push_back(box);
+    }
+    const SensorType& s = c.sensor;
+    const Pose body_from_world = c.world_from_body.Inverse();
+    std::vector<std::vector<uint8_t>> mask(static_cast<size_t>(s.height),
+                                           std::vector<uint8_t>(static_cast<size_t>(s.width), 0));
+    for (const Aabb& box : blocks) {
+      double depth_min = std::numeric_limits<double>::infinity(), depth_max = -depth_min;
+      double u_min = depth_min, u_max = -depth_min, v_min = depth_min, v_max = -depth_min;
+      for (int k = 0; k < 8; ++k) {
+        const Vec3 corner((k & 1) ? box.max.x() : box.min.x(), (k & 2) ? box.max.y() : box.min.y(),
+                          (k & 4) ? box.max.z() : box.min.z());
+        const Vec3 body = body_from_world * corner;
+        depth_min = std::min(depth_min, body.x());
+        depth_max = std::max(depth_max, body.x());
+        if (const auto uv = ProjectBodyPoint(s, body)) {
+          u_min = std::min(u_min, uv->x());
+          u_max = std::max(u_max, uv->x());
+          v_min = std::min(v_min, uv->y());
+          v_max = std::max(v_max, uv->y());
+        }
+      }
+      const double slack = 1e-6 * (1.0 + s.far);
+      if (depth_max < s.near - slack || depth_min > s.far + slack) continue;
+      int u0 = 0, v0 = 0, u1 = s.width - 1, v1 = s.height - 1;
+      if (depth_min > 1e-9) {
+        const auto clamp = [](double x) { return static_cast<int>(std::min(1e9, std::max(-1.0, x))); };
+        u0 = std::max(0, clamp(std::ceil(u_min - 0.5) - 1));
+        v0 = std::max(0, clamp(std::ceil(v_min - 0.5) - 1));
+        u1 = std::min(s.width - 1, clamp(std::floor(u_max - 0.5) + 1));
+        v1 = std::min(s.height - 1, clamp(std::floor(v_max - 0.5) + 1));
+      }
+      for (int v = v0; v <= v1; ++v)
+        for (int u = u0; u <= u1; ++u) mask[static_cast<size_t>(v)][static_cast<size_t>(u)] = 1;
+    }
+    std::vector<detail::RowSpan> expected;
+    for (int v = 0; v < s.height; ++v) {
+      for (int u = 0; u < s.width; ++u) {
+        if (!mask[static_cast<size_t>(v)][static_cast<size_t>(u)]) continue;
+        if (!expected.empty() && expected.back().v == v && expected.back().u1 == u - 1) {
+          ++expected.back().u1;
+        } else {
+          expected.push_back({v, u, u});
+        }
+        ++traced;
+      }
+    }
+    const std::vector<detail::RowSpan> spans = detail::SpansToTrace(c, blocks, true);
+    ASSERT_EQ(spans.size(), expected.size()) << "round " << round;
+    for (size_t i = 0; i < spans.size(); ++i) {
+      ASSERT_EQ(spans[i].v, expected[i].v) << "round " << round << " span " << i;
+      ASSERT_EQ(spans[i].u0, expected[i].u0) << "round " << round << " span " << i;
+      ASSERT_EQ(spans[i].u1, expected[i].u1) << "round " << round << " span " << i;
+    }
+  }
+  EXPECT_GT(traced, 100000u);
+}
+
 }  // namespace
 }  // namespace vantage

@@ -31,18 +31,20 @@ PixelRect RectOfBounds(const SensorType& s, const Pose& body_from_world, const A
   double depth_min = std::numeric_limits<double>::infinity();
   double depth_max = -depth_min;
   double u_min = depth_min, u_max = -depth_min, v_min = depth_min, v_max = -depth_min;
+  const BodyCorners body = CornersInBody(body_from_world, bounds);
   for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 world((corner & 1) ? bounds.max.x() : bounds.min.x(),
-                     (corner & 2) ? bounds.max.y() : bounds.min.y(),
-                     (corner & 4) ? bounds.max.z() : bounds.min.z());
-    const Vec3 body = body_from_world * world;
-    depth_min = std::min(depth_min, body.x());
-    depth_max = std::max(depth_max, body.x());
-    if (const auto uv = ProjectBodyPoint(s, body)) {
-      u_min = std::min(u_min, uv->x());
-      u_max = std::max(u_max, uv->x());
-      v_min = std::min(v_min, uv->y());
-      v_max = std::max(v_max, uv->y());
+    const double x = body.x[corner];
+    depth_min = std::min(depth_min, x);
+    depth_max = std::max(depth_max, x);
+    // ProjectBodyPoint's arithmetic, inline: a corner at or behind the camera plane projects
+    // nowhere.
+    if (x > 0) {
+      const double u = s.cx + s.fx * (-body.y[corner] / x);
+      const double v = s.cy + s.fy * (-body.z[corner] / x);
+      u_min = std::min(u_min, u);
+      u_max = std::max(u_max, u);
+      v_min = std::min(v_min, v);
+      v_max = std::max(v_max, v);
     }
   }
   // Depth is linear, so the box's depths lie between its corners' depths.
@@ -64,6 +66,39 @@ PixelRect RectOfBounds(const SensorType& s, const Pose& body_from_world, const A
 constexpr int64_t kCullBlockCells = 4;
 
 }  // namespace
+
+// Each operation of Pose::operator* (Eigen's quaternion product: uv = q.vec x p, uv += uv,
+// p + w uv + q.vec x uv, then + position) on the same operands in the same order; a component of
+// uv depends on two of the corner's coordinates, so 4 values serve the 8 corners.
+BodyCorners CornersInBody(const Pose& body_from_world, const Aabb& bounds) {
+  const Quat& q = body_from_world.rotation;
+  const double qx = q.x(), qy = q.y(), qz = q.z(), qw = q.w();
+  const Vec3& t = body_from_world.position;
+  const double X[2] = {bounds.min.x(), bounds.max.x()};
+  const double Y[2] = {bounds.min.y(), bounds.max.y()};
+  const double Z[2] = {bounds.min.z(), bounds.max.z()};
+  // uv = 2 (q.vec x p): uv0 by (y, z), uv1 by (x, z), uv2 by (x, y).
+  double uv0[2][2], uv1[2][2], uv2[2][2];
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < 2; ++j) {
+      uv0[i][j] = qy * Z[j] - qz * Y[i];
+      uv0[i][j] += uv0[i][j];
+      uv1[i][j] = qz * X[i] - qx * Z[j];
+      uv1[i][j] += uv1[i][j];
+      uv2[i][j] = qx * Y[j] - qy * X[i];
+      uv2[i][j] += uv2[i][j];
+    }
+  }
+  BodyCorners out;
+  for (int k = 0; k < 8; ++k) {
+    const int a = k & 1, b = (k >> 1) & 1, c = (k >> 2) & 1;
+    const double u0 = uv0[b][c], u1 = uv1[a][c], u2 = uv2[a][b];
+    out.x[k] = X[a] + qw * u0 + (qy * u2 - qz * u1) + t.x();
+    out.y[k] = Y[b] + qw * u1 + (qz * u0 - qx * u2) + t.y();
+    out.z[k] = Z[c] + qw * u2 + (qx * u1 - qy * u0) + t.z();
+  }
+  return out;
+}
 
 std::vector<Aabb> ReferenceBlocks(const Reference& reference) {
   std::map<std::array<int64_t, 3>, Aabb> blocks;

@@ -16,6 +16,14 @@ struct RowSpan {
   int v, u0, u1;
 };
 
+/// The eight corners of a box in the body frame (x, y, z by corner; corner k takes the box's max
+/// on axis a where bit a of k is set), equal bit for bit to `body_from_world * corner`
+/// (Pose::operator*) with the products that corners share computed once.
+struct BodyCorners {
+  double x[8], y[8], z[8];
+};
+BodyCorners CornersInBody(const Pose& body_from_world, const Aabb& bounds);
+
 /// The pixels to trace for one camera, row by row, each pixel once: the union of the projected
 /// rectangles of the blocks (padded by one pixel), or the whole image when `cull` is false.
 std::vector<RowSpan> SpansToTrace(const Candidate& candidate, const std::vector<Aabb>& blocks, bool cull);
