@@ -131,9 +131,11 @@ void AddQuad(TriangleMesh* mesh, uint32_t a, uint32_t b, uint32_t c, uint32_t d)
 /// bits in one pass (the full sort this replaced was half the load of a 53 k-triangle STL); the
 /// kept vertices are numbered in the order the triangles first use them. Faster than
 /// aiProcess_JoinIdenticalVertices, which also compares normals and would keep STL's per-face
-/// copies anyway.
-void CompactVertices(TriangleMesh* mesh) {
-  const std::vector<Vec3>& v = mesh->vertices;
+/// copies anyway. The `count` positions are at(i); `triangles` are renumbered, the kept vertices
+/// returned.
+template <class At>
+std::vector<Vec3> CompactVerticesOf(size_t count, const At& at,
+                                    std::vector<std::array<uint32_t, 3>>* triangles) {
   // + 0.0 turns -0.0 into +0.0, so that equal bits are exactly the doubles that compare equal
   // (the vertices are finite: ReadMeshFile and WorldPointProblem refuse the others).
   using Key = std::array<double, 3>;
@@ -151,31 +153,32 @@ void CompactVertices(TriangleMesh* mesh) {
   // half full; no allocation per vertex, as the std::unordered_map before it had).
   constexpr uint32_t kUnused = UINT32_MAX;
   size_t capacity = 16;
-  while (capacity < 2 * v.size()) capacity *= 2;
+  while (capacity < 2 * count) capacity *= 2;
   std::vector<uint32_t> first_at(capacity, kUnused);
-  std::vector<uint32_t> same_as(v.size());
+  std::vector<uint32_t> same_as(count);
   const KeyHash hash;
-  for (uint32_t i = 0; i < v.size(); ++i) {
-    const Key key{v[i].x() + 0.0, v[i].y() + 0.0, v[i].z() + 0.0};
+  for (uint32_t i = 0; i < count; ++i) {
+    const Vec3 v = at(i);
+    const Key key{v.x() + 0.0, v.y() + 0.0, v.z() + 0.0};
     size_t slot = hash(key) & (capacity - 1);
-    while (first_at[slot] != kUnused && v[first_at[slot]] != v[i])
+    while (first_at[slot] != kUnused && at(first_at[slot]) != v)
       slot = (slot + 1) & (capacity - 1);
     if (first_at[slot] == kUnused) first_at[slot] = i;
     same_as[i] = first_at[slot];
   }
-  std::vector<uint32_t> new_index(v.size(), kUnused);
+  std::vector<uint32_t> new_index(count, kUnused);
   std::vector<Vec3> kept;
-  for (auto& triangle : mesh->triangles) {
+  for (auto& triangle : *triangles) {
     for (uint32_t& index : triangle) {
       index = same_as[index];
       if (new_index[index] == kUnused) {
         new_index[index] = static_cast<uint32_t>(kept.size());
-        kept.push_back(v[index]);
+        kept.push_back(at(index));
       }
       index = new_index[index];
     }
   }
-  mesh->vertices = std::move(kept);
+  return kept;
 }
 
 [[noreturn]] void FailMesh(const std::string& path, const std::string& what) {
@@ -530,28 +533,48 @@ TriangleMesh ReadMeshFile(const std::string& path) {
   return raw;
 }
 
-TriangleMesh ScaledMesh(TriangleMesh raw, const Vec3& scale, const std::string& path) {
-  raw.Scale(scale);
+namespace {
+
+/// ScaledMesh of `raw` without changing it: each scaled vertex is computed where it is read (the
+/// same product as TriangleMesh::Scale's), so the raw mesh is neither copied nor scaled in place
+/// (issue 47: ScaledMeshCache copied the 53 k-triangle STL's 158 k vertices, 4.4 MB, to scale
+/// them, and ScaledMesh then moved and welded the copy).
+TriangleMesh ScaledOf(const TriangleMesh& raw, const Vec3& scale, const std::string& path) {
+  const std::vector<Vec3>& raw_vertices = raw.vertices;
+  const auto at = [&](uint32_t i) -> Vec3 { return raw_vertices[i].cwiseProduct(scale); };
   // Every vertex is checked before any triangle is dropped: a vertex far out makes its triangles
   // slivers, which were dropped as degenerate, so the mesh lost them without a word (issue 15).
-  for (const auto& t : raw.triangles) {
-    for (const uint32_t index : t) {
-      const std::string beyond = WorldPointProblem(raw.vertices[index]);
-      if (beyond.empty()) continue;
-      throw InputError(fmt::format(
-          "{}: a vertex of the mesh{} lies at {} — check the file's units and the scale", path,
-          scale == Vec3::Ones() ? "" : " (scale applied)", beyond));
+  // The vertices all within reach (the usual case) need no look at the triangles; otherwise the
+  // first one a triangle uses, in the triangles' order, is named.
+  const bool all_within = std::all_of(raw_vertices.begin(), raw_vertices.end(), [&](const Vec3& v) {
+    const Vec3 scaled = v.cwiseProduct(scale);
+    return scaled.allFinite() && (scaled.array().abs() <= kMaxWorldCoordinate).all();
+  });
+  if (!all_within) {
+    for (const auto& t : raw.triangles) {
+      for (const uint32_t index : t) {
+        const std::string beyond = WorldPointProblem(at(index));
+        if (beyond.empty()) continue;
+        throw InputError(fmt::format(
+            "{}: a vertex of the mesh{} lies at {} — check the file's units and the scale", path,
+            scale == Vec3::Ones() ? "" : " (scale applied)", beyond));
+      }
     }
   }
   TriangleMesh mesh;
-  mesh.vertices = std::move(raw.vertices);
+  mesh.triangles.reserve(raw.triangles.size());
   for (const auto& t : raw.triangles) {
-    if (!IsDegenerate(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]))
-      mesh.triangles.push_back(t);
+    if (!IsDegenerate(at(t[0]), at(t[1]), at(t[2]))) mesh.triangles.push_back(t);
   }
   if (mesh.triangles.empty()) FailMesh(path, "every triangle is degenerate (zero area)");
-  CompactVertices(&mesh);
+  mesh.vertices = CompactVerticesOf(raw_vertices.size(), at, &mesh.triangles);
   return mesh;
+}
+
+}  // namespace
+
+TriangleMesh ScaledMesh(TriangleMesh raw, const Vec3& scale, const std::string& path) {
+  return ScaledOf(raw, scale, path);
 }
 
 TriangleMesh LoadMeshFile(const std::string& path, const Vec3& scale) {
@@ -565,7 +588,7 @@ const TriangleMesh& detail::ScaledMeshCache::Get(const TriangleMesh& raw, const 
       {std::bit_cast<uint64_t>(scale.x()), std::bit_cast<uint64_t>(scale.y()),
        std::bit_cast<uint64_t>(scale.z())}};
   auto it = meshes_.find(key);
-  if (it == meshes_.end()) it = meshes_.emplace(std::move(key), ScaledMesh(raw, scale, path)).first;
+  if (it == meshes_.end()) it = meshes_.emplace(std::move(key), ScaledOf(raw, scale, path)).first;
   return it->second;
 }
 
