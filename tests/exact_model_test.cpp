@@ -217,6 +217,25 @@ TEST(ExactModel, EveryKindMatchesEnumeration) {
       q.model.goal = goal;
       questions.push_back(q);
     }
+    // A goal counted twice or in points on the plain matrix: SolveExactModel's own goal search
+    // (orbital branching where it applies, the goal MILP, the cheap bound).
+    for (const bool with_points : {false, true}) {
+      const int threshold = with_points ? 3 : 2;
+      const double goal = std::ceil(0.6 * cells_of(threshold, with_points)(everyone));
+      if (goal < 1) continue;
+      Question q{with_points ? "goal in cells holding 3 points" : "goal in cells seen twice",
+                 {},
+                 everyone,
+                 [](const std::vector<uint32_t>& set) { return static_cast<double>(set.size()); },
+                 [&, goal, threshold, with_points](const std::vector<uint32_t>& set) {
+                   return static_cast<double>(
+                              CountedCells(obs, cells, set, threshold, with_points)) >= goal;
+                 }};
+      q.model.matrix = with_points ? &points : &plain;
+      q.model.threshold = threshold;
+      q.model.goal = goal;
+      questions.push_back(q);
+    }
     for (const Question& q : questions) Check(q, &asked);
 
     // Over two states: the second state's own R and candidates' views.
@@ -288,7 +307,7 @@ TEST(ExactModel, EveryKindMatchesEnumeration) {
       }
     }
   }
-  EXPECT_EQ(asked, 4 * (9 + 2 * 4));  // every kind, 4 instances
+  EXPECT_EQ(asked, 4 * (11 + 2 * 4));  // every kind, 4 instances
 }
 
 }  // namespace

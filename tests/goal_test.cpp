@@ -507,7 +507,9 @@ TEST(StatesCli, KeptSensorOverStatesGetsTheBestAddition) {
   ASSERT_GE(exact_coverage, 0);
   EXPECT_NEAR(exact_coverage, single["coverage"].get<double>(), 1e-12);
   for (const nlohmann::json& r : all["results"]) {
-    if (r["n"] == 2) EXPECT_LE(r["coverage"].get<double>(), exact_coverage + 1e-12) << r["method"];
+    if (r["n"] == 2) {
+      EXPECT_LE(r["coverage"].get<double>(), exact_coverage + 1e-12) << r["method"];
+    }
   }
 }
 

@@ -14,8 +14,10 @@
 //      coverage), the LP bound (k-coverage, budget), the Lagrangian (rules, n sensors), the
 //      states' Lagrangian (when CBC gave no bound).
 //
-// The fewest sensors (SolveSetCover) settle t cheaply where they can, then ask the model as a
-// goal, then t by t as maximum coverage.
+// A goal of cells on the plain matrix (no rule, no kept sensor) is the one model that takes its own
+// search (SolvePlainGoal): the fewest sensors (SolveSetCover) settle t cheaply where they can,
+// then orbital branching and the model as a goal (the MILP steps), then t by t as maximum
+// coverage; with a threshold or costs, orbital branching and the goal's MILP.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -311,12 +313,12 @@ class Objective {
   size_t most_ = 0;
 };
 
-}  // namespace
-
-ExactAnswer SolveExactModel(const SelectionModel& model,
-                            const std::vector<uint32_t>& start,
-                            double time_limit,
-                            const ExactHints& hints) {
+// The model as one MILP, with the kind's bounds (steps 1-6 above): every model but a goal on the
+// plain matrix, and that goal's own MILP (SolveGoalMilp).
+ExactAnswer SolveModelMilp(const SelectionModel& model,
+                           const std::vector<uint32_t>& start,
+                           double time_limit,
+                           const ExactHints& hints) {
   const Clock::time_point begin = Clock::now();
   const CoverageMatrix& matrix = *model.matrix;
   const Objective objective(model);
@@ -563,6 +565,71 @@ ExactAnswer SolveExactModel(const SelectionModel& model,
   return result;
 }
 
+// A goal of cells with no rule and no kept sensor: the plain matrix's goal.
+bool IsPlainGoal(const SelectionModel& model) {
+  const bool rules = model.rules != nullptr &&
+                     (!model.rules->conflicts().empty() || model.rules->has_calibration());
+  return model.goal && model.value == ModelValue::kCells && model.fixed.empty() && !rules;
+}
+
+// The plain matrix's goal: the fewest sensors by the set-cover search (SolveSetCover) where a
+// cell counts once and every sensor costs one; otherwise (k >= 2, points, costs) the cheapest
+// cover of every cell by orbital branching first where the instance is symmetric, then the goal
+// MILP unless proven, with the cheap bound where CBC gives none.
+ExactAnswer SolvePlainGoal(const SelectionModel& model, const std::vector<uint32_t>& start,
+                           double time_limit) {
+  const Clock::time_point begin = Clock::now();
+  const CoverageMatrix& matrix = *model.matrix;
+  const auto goal_cells = static_cast<uint64_t>(*model.goal);
+  const int k = model.threshold;
+  const bool priced = !model.costs.empty();
+  ExactAnswer answer;
+  if (k == 1 && !matrix.has_counts() && !priced) {
+    SetCoverResult cover = SolveSetCover(matrix, goal_cells, start, time_limit);
+    return {std::move(cover.chosen), static_cast<double>(cover.lower_bound), cover.proven_optimal,
+            std::move(cover.note)};
+  }
+  const auto price = [&](const std::vector<uint32_t>& chosen) {
+    return priced ? TotalCost(model.costs, chosen) : static_cast<double>(chosen.size());
+  };
+  answer.chosen = start;
+  OrbitalSetCoverResult orbital;
+  double milp_seconds = time_limit;
+  if (priced && k == 1 && !matrix.has_counts() && goal_cells == matrix.seen_weight()) {
+    orbital = OrbitalSetCover(matrix, model.costs, start, 0, kOrbitalTimeShare * time_limit);
+    if (price(orbital.chosen) < price(answer.chosen)) answer.chosen = orbital.chosen;
+    milp_seconds = time_limit - std::chrono::duration<double>(Clock::now() - begin).count();
+  }
+  GoalResult milp;
+  if (!orbital.proven_optimal)
+    milp = SolveGoalMilp(matrix, k, model.costs, goal_cells, answer.chosen, milp_seconds);
+  if (!milp.chosen.empty() && price(milp.chosen) < price(answer.chosen)) answer.chosen = milp.chosen;
+  answer.note =
+      orbital.applied ? orbital.note + (milp.note.empty() ? "" : "; " + milp.note) : milp.note;
+  const double held = price(answer.chosen);
+  if (priced) {
+    answer.bound = std::min(std::max(milp.lower_bound, orbital.lower_bound), held);
+    answer.proven_optimal = milp.proven_optimal || orbital.proven_optimal || held <= answer.bound;
+  } else {
+    const size_t cheap = ThresholdGoalLowerBound(matrix, goal_cells, k);
+    const size_t lower = std::max(cheap, static_cast<size_t>(milp.lower_bound));
+    answer.bound = static_cast<double>(std::min(lower, answer.chosen.size()));
+    answer.proven_optimal = milp.proven_optimal || answer.bound == held;
+  }
+  if (answer.proven_optimal) answer.bound = held;
+  return answer;
+}
+
+}  // namespace
+
+ExactAnswer SolveExactModel(const SelectionModel& model,
+                            const std::vector<uint32_t>& start,
+                            double time_limit,
+                            const ExactHints& hints) {
+  if (IsPlainGoal(model)) return SolvePlainGoal(model, start, time_limit);
+  return SolveModelMilp(model, start, time_limit, hints);
+}
+
 ExactResult SolveExact(const CoverageMatrix& matrix,
                        size_t n,
                        const std::vector<uint32_t>& start,
@@ -586,7 +653,7 @@ GoalResult SolveGoalMilp(const CoverageMatrix& matrix,
   model.threshold = k;
   model.costs = costs;
   model.goal = static_cast<double>(goal_cells);
-  ExactAnswer answer = SolveExactModel(model, start, time_limit);
+  ExactAnswer answer = SolveModelMilp(model, start, time_limit, {});
   return {std::move(answer.chosen), answer.bound, answer.proven_optimal, std::move(answer.note)};
 }
 

@@ -74,8 +74,10 @@ struct ExactHints {
 /// within `time_limit` seconds (exact.cpp): the bound the model's kind has before CBC, the model
 /// as one MILP in CBC's child process (milp.hpp), CBC's answer checked in integers and against
 /// the rules, and the bound the kind adds after CBC (branch and bound on the Lagrangian for
-/// maximum coverage, the LP bound for k-coverage and budgets, the states' Lagrangian). Never
-/// returns an answer worse than `start`.
+/// maximum coverage, the LP bound for k-coverage and budgets, the states' Lagrangian). A goal of
+/// cells with no rule and no kept sensor runs the set-cover search instead (SolveSetCover; with
+/// a threshold or costs orbital branching and the goal MILP). Never returns an answer worse than
+/// `start`.
 ExactAnswer SolveExactModel(const SelectionModel& model,
                             const std::vector<uint32_t>& start,
                             double time_limit,

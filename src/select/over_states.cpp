@@ -241,10 +241,9 @@ detail::SelectionModel StatesModel(const detail::StatesScorer& scorer,
 // set) whose aggregate over the states reaches it, under the rules and with the kept sensors (a
 // scene without states is one state). Greedy to the goal, RANSAC's random orders taken until it,
 // and exact from greedy's answer, in RunMethods' order. On the plain matrix (one state, no rule,
-// no kept sensor) each is the plain matrix's own method: GreedyToGoal, RansacFitted, and for
-// exact SolveSetCover (a goal counted once, at unit cost: orbital branching, the goal MILP and
-// the search t by t) or orbital branching and the goal MILP (k >= 2, points, costs); elsewhere
-// StatesCostGreedy, StatesRansacFitted and SolveExactModel on the goal's model.
+// no kept sensor) greedy and RANSAC are the plain matrix's own (GreedyToGoal, RansacFitted), and
+// exact is its goal in whole cells (SolveExactModel: the set-cover search); elsewhere
+// StatesCostGreedy, StatesRansacFitted, and exact on the goal's model over the states.
 class GoalMethods final : public detail::MethodSteps<StateSelection> {
  public:
   GoalMethods(std::span<const StateObservations> states, OverStates over,
@@ -303,12 +302,31 @@ class GoalMethods final : public detail::MethodSteps<StateSelection> {
   StateSelection Greedy(size_t) override { return Score(Method::kGreedy, greedy_, greedy_seconds_); }
   StateSelection Local() override { VANTAGE_CHECK(false); return {}; }  // Validate refuses it
 
-  /// After Greedy: runs at once, never in lanes.
+  /// Exact on the goal's model from greedy's answer, after Greedy: runs at once, never in lanes.
+  /// The plain matrix's goal is counted in whole cells (SolveExactModel then runs its set-cover
+  /// search); elsewhere the aggregate over the states, with the rules and the kept sensors.
   std::function<detail::ExactDone<StateSelection>(double)> Exact() override {
     return [this](double seconds) {
       const Clock::time_point t = Clock::now();
-      StateSelection s = plain_ ? PlainExact(seconds) : ModelExact(seconds);
-      s.selection.seconds = greedy_seconds_ + SecondsSince(t);
+      const size_t candidates = scorer_.matrix().candidate_count();
+      const detail::SelectionModel model =
+          plain_ ? detail::ModelFor(options_, scorer_.matrix(), detail::ModelValue::kCells,
+                                    candidates, nullptr)
+                 : StatesModel(scorer_, &feasible_, options_, candidates);
+      const detail::ExactAnswer exact = detail::SolveExactModel(model, greedy_, seconds);
+      if (!exact.proven_optimal && !exact.note.empty()) {
+        const std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
+        (logger ? logger : spdlog::default_logger())
+            ->warn("exact{}, goal {:g}: {}; reporting the best answer found and a bound",
+                   states_.size() == 1 ? "" : " over states", *options_.goal, exact.note);
+      }
+      StateSelection s = Score(Method::kExact, exact.chosen, greedy_seconds_ + SecondsSince(t));
+      if (options_.minimize_cost) {
+        s.selection.cost_lower_bound = exact.bound;
+      } else {
+        s.selection.n_lower_bound = static_cast<int>(std::llround(exact.bound));
+      }
+      s.selection.proven_optimal = exact.proven_optimal;
       return detail::ExactDone<StateSelection>{std::move(s), {}};
     };
   }
@@ -326,88 +344,6 @@ class GoalMethods final : public detail::MethodSteps<StateSelection> {
                               options_.min_points, options_.min_points ? 1 : options_.k);
     MarkObjective(options_, &s);
     return s;
-  }
-
-  void Warn(bool proven_optimal, const std::string& what, const std::string& note) const {
-    if (proven_optimal || note.empty()) return;
-    const std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
-    (logger ? logger : spdlog::default_logger())
-        ->warn("{}: {}; reporting the best answer found and a bound", what, note);
-  }
-
-  /// Exact on the goal's model (rules, kept sensors, states) from greedy's answer.
-  StateSelection ModelExact(double seconds) const {
-    const detail::SelectionModel model =
-        StatesModel(scorer_, &feasible_, options_, scorer_.matrix().candidate_count());
-    const detail::ExactAnswer exact = detail::SolveExactModel(model, greedy_, seconds);
-    Warn(exact.proven_optimal,
-         fmt::format("exact{}, goal {:g}", states_.size() == 1 ? "" : " over states",
-                     *options_.goal),
-         exact.note);
-    StateSelection s = Score(Method::kExact, exact.chosen, 0);
-    if (options_.minimize_cost) {
-      s.selection.cost_lower_bound = exact.bound;
-    } else {
-      s.selection.n_lower_bound = static_cast<int>(std::llround(exact.bound));
-    }
-    s.selection.proven_optimal = exact.proven_optimal;
-    return s;
-  }
-
-  /// Exact on the plain matrix from greedy's answer: SolveSetCover for a goal counted once at
-  /// unit cost; else (k >= 2, points, costs) the cheapest cover of every cell by orbital
-  /// branching first where the instance is symmetric, then the goal MILP unless proven, with the
-  /// cheap bound where CBC gives none.
-  StateSelection PlainExact(double time_limit) const {
-    const Clock::time_point start = Clock::now();
-    const detail::CoverageMatrix& matrix = scorer_.matrix();
-    const std::string what = fmt::format("exact ({})", ObjectiveName(Objective::kSetCover));
-    if (threshold_ == 1 && !matrix.has_counts() && !options_.minimize_cost) {
-      const detail::SetCoverResult exact =
-          detail::SolveSetCover(matrix, goal_cells_, greedy_, time_limit);
-      Warn(exact.proven_optimal, what, exact.note);
-      StateSelection s = Score(Method::kExact, exact.chosen, 0);
-      s.selection.n_lower_bound = static_cast<int>(exact.lower_bound);
-      s.selection.proven_optimal = exact.proven_optimal;
-      return s;
-    }
-    const auto price = [&](const std::vector<uint32_t>& chosen) {
-      return options_.minimize_cost ? detail::TotalCost(options_.costs, chosen)
-                                    : static_cast<double>(chosen.size());
-    };
-    std::vector<uint32_t> chosen = greedy_;
-    detail::OrbitalSetCoverResult orbital;
-    double milp_seconds = time_limit;
-    if (options_.minimize_cost && threshold_ == 1 && !matrix.has_counts() &&
-        goal_cells_ == matrix.seen_weight()) {
-      orbital = detail::OrbitalSetCover(matrix, options_.costs, greedy_, 0,
-                                        detail::kOrbitalTimeShare * time_limit);
-      if (price(orbital.chosen) < price(chosen)) chosen = orbital.chosen;
-      milp_seconds = time_limit - SecondsSince(start);
-    }
-    detail::GoalResult milp;
-    if (!orbital.proven_optimal) {
-      milp = detail::SolveGoalMilp(matrix, threshold_, Costs(options_), goal_cells_, chosen,
-                                   milp_seconds);
-    }
-    if (!milp.chosen.empty() && price(milp.chosen) < price(chosen)) chosen = milp.chosen;
-    const bool proven = milp.proven_optimal || orbital.proven_optimal;
-    Warn(proven, what,
-         orbital.applied ? orbital.note + (milp.note.empty() ? "" : "; " + milp.note) : milp.note);
-    StateSelection scored = Score(Method::kExact, chosen, 0);
-    Selection& s = scored.selection;
-    if (options_.minimize_cost) {
-      s.cost_lower_bound = std::min(std::max(milp.lower_bound, orbital.lower_bound), *s.cost);
-      s.proven_optimal = proven || *s.cost <= *s.cost_lower_bound;
-      if (s.proven_optimal) s.cost_lower_bound = *s.cost;
-    } else {
-      const size_t cheap = detail::ThresholdGoalLowerBound(matrix, goal_cells_, threshold_);
-      const size_t lower = std::max(cheap, static_cast<size_t>(milp.lower_bound));
-      s.n_lower_bound = static_cast<int>(std::min(lower, chosen.size()));
-      s.proven_optimal = milp.proven_optimal || *s.n_lower_bound == s.n;
-      if (s.proven_optimal) s.n_lower_bound = s.n;
-    }
-    return scored;
   }
 
   std::span<const StateObservations> states_;
