@@ -237,40 +237,58 @@ detail::SelectionModel StatesModel(const detail::StatesScorer& scorer,
   return detail::ModelFor(options, scorer.matrix(), value, n, rules);
 }
 
-// The methods for a goal, on the one model: the fewest sensors (or, minimising cost, the cheapest
-// set) whose aggregate over the states reaches it, under the rules and with the kept sensors (a
+// The methods for a goal, on the goal's model (GoalModel): the least cost (with unit costs the
+// fewest sensors) whose value reaches the goal, under the rules and with the kept sensors (a
 // scene without states is one state). Greedy to the goal, RANSAC's random orders taken until it,
-// and exact from greedy's answer, in RunMethods' order. On the plain matrix (one state, no rule,
-// no kept sensor) greedy and RANSAC are the plain matrix's own (GreedyToGoal, RansacFitted), and
-// exact is its goal in whole cells (SolveExactModel: the set-cover search); elsewhere
-// StatesCostGreedy, StatesRansacFitted, and exact on the goal's model over the states.
+// and exact from greedy's answer, in RunMethods' order; every method reads the model (threshold,
+// costs, goal), the options only say how each runs and how answers are scored. On the plain
+// matrix (one state, no rule, no kept sensor: the model in whole cells) greedy and RANSAC are the
+// plain matrix's own (GreedyToGoal, RansacFitted); elsewhere StatesCostGreedy and
+// StatesRansacFitted. Exact is SolveExactModel on the model either way (on the plain matrix it
+// runs the set-cover search).
 class GoalMethods final : public detail::MethodSteps<StateSelection> {
  public:
   GoalMethods(std::span<const StateObservations> states, OverStates over,
               const SelectOptions& options, const detail::StatesScorer& scorer,
-              const detail::Feasibility& feasible, std::vector<uint32_t> kept_start,
-              std::vector<uint32_t> greedy, double greedy_seconds)
+              const detail::Feasibility& feasible, detail::SelectionModel model,
+              std::vector<uint32_t> kept_start, std::vector<uint32_t> greedy,
+              double greedy_seconds)
       : states_(states),
         over_(over),
         options_(options),
         scorer_(scorer),
         feasible_(feasible),
+        model_(std::move(model)),
         kept_start_(std::move(kept_start)),
         greedy_(std::move(greedy)),
-        greedy_seconds_(greedy_seconds),
-        plain_(IsPlain(states, options)),
-        threshold_(detail::Threshold(options)),
-        goal_cells_(detail::GoalCells(*options.goal, scorer.matrix().reference_size())) {}
+        greedy_seconds_(greedy_seconds) {}
 
-  /// One state, no rule and no kept sensor: the goal of the plain matrix, in whole cells.
-  static bool IsPlain(std::span<const StateObservations> states, const SelectOptions& options) {
-    return states.size() == 1 && options.constraints.empty() && options.fixed.empty();
+  /// The goal's model: in whole cells on the plain matrix (one state, no rule and no kept
+  /// sensor), else the aggregate over the states with the rules and the kept sensors.
+  static detail::SelectionModel GoalModel(std::span<const StateObservations> states,
+                                          const SelectOptions& options,
+                                          const detail::StatesScorer& scorer,
+                                          const detail::Feasibility& feasible) {
+    const size_t candidates = scorer.matrix().candidate_count();
+    const bool plain =
+        states.size() == 1 && options.constraints.empty() && options.fixed.empty();
+    return plain ? detail::ModelFor(options, scorer.matrix(), detail::ModelValue::kCells,
+                                    candidates, nullptr)
+                 : StatesModel(scorer, &feasible, options, candidates);
   }
-  /// Greedy's answer on the plain matrix (GoalMethods takes it, as it takes the states' one).
-  static std::vector<uint32_t> PlainGreedy(const detail::CoverageMatrix& matrix,
-                                           const SelectOptions& options) {
-    return detail::GreedyToGoal(matrix, detail::GoalCells(*options.goal, matrix.reference_size()),
-                                detail::Threshold(options), Costs(options));
+  static bool IsPlain(const detail::SelectionModel& model) {
+    return model.value == detail::ModelValue::kCells;
+  }
+  /// Greedy to the model's goal, from the kept sensors (GoalOverStates checks what it reached).
+  static std::vector<uint32_t> GreedyToTheGoal(const detail::SelectionModel& model,
+                                               const detail::StatesScorer& scorer,
+                                               const detail::Feasibility& feasible,
+                                               const std::vector<uint32_t>& kept_start) {
+    if (IsPlain(model))
+      return detail::GreedyToGoal(*model.matrix, static_cast<uint64_t>(*model.goal),
+                                  model.threshold, model.costs);
+    return detail::StatesCostGreedy(scorer, feasible, Everyone(model), model.costs, *model.goal,
+                                    kept_start);
   }
 
   StateSelection Best() override { VANTAGE_CHECK(false); return {}; }  // Validate refuses it
@@ -281,20 +299,17 @@ class GoalMethods final : public detail::MethodSteps<StateSelection> {
   StateSelection Ransac(size_t, int iterations) override {
     const Clock::time_point t = Clock::now();
     std::vector<uint32_t> drawn;
-    if (plain_) {
+    if (IsPlain(model_)) {
       detail::FittedDraws fit;
-      fit.threshold = threshold_;
-      fit.costs = Costs(options_);
-      fit.goal_cells = goal_cells_;
-      drawn = detail::RansacFitted(scorer_.matrix(), fit, iterations,
+      fit.threshold = model_.threshold;
+      fit.costs = model_.costs;
+      fit.goal_cells = static_cast<uint64_t>(*model_.goal);
+      drawn = detail::RansacFitted(*model_.matrix, fit, iterations,
                                    options_.ransac_stop_coverage, options_.seed);
     } else {
-      detail::Capacity everyone_fits;
-      everyone_fits.n = scorer_.matrix().candidate_count();
-      drawn = detail::StatesRansacFitted(scorer_, feasible_, everyone_fits, Costs(options_),
-                                         *options_.goal, iterations,
-                                         options_.ransac_stop_coverage, options_.seed,
-                                         kept_start_);
+      drawn = detail::StatesRansacFitted(scorer_, feasible_, Everyone(model_), model_.costs,
+                                         *model_.goal, iterations, options_.ransac_stop_coverage,
+                                         options_.seed, kept_start_);
       if (drawn.empty()) drawn = greedy_;  // no order reached it under the rules
     }
     return Score(Method::kRansac, std::move(drawn), greedy_seconds_ + SecondsSince(t));
@@ -302,18 +317,11 @@ class GoalMethods final : public detail::MethodSteps<StateSelection> {
   StateSelection Greedy(size_t) override { return Score(Method::kGreedy, greedy_, greedy_seconds_); }
   StateSelection Local() override { VANTAGE_CHECK(false); return {}; }  // Validate refuses it
 
-  /// Exact on the goal's model from greedy's answer, after Greedy: runs at once, never in lanes.
-  /// The plain matrix's goal is counted in whole cells (SolveExactModel then runs its set-cover
-  /// search); elsewhere the aggregate over the states, with the rules and the kept sensors.
+  /// Exact on the model from greedy's answer, after Greedy: runs at once, never in lanes.
   std::function<detail::ExactDone<StateSelection>(double)> Exact() override {
     return [this](double seconds) {
       const Clock::time_point t = Clock::now();
-      const size_t candidates = scorer_.matrix().candidate_count();
-      const detail::SelectionModel model =
-          plain_ ? detail::ModelFor(options_, scorer_.matrix(), detail::ModelValue::kCells,
-                                    candidates, nullptr)
-                 : StatesModel(scorer_, &feasible_, options_, candidates);
-      const detail::ExactAnswer exact = detail::SolveExactModel(model, greedy_, seconds);
+      const detail::ExactAnswer exact = detail::SolveExactModel(model_, greedy_, seconds);
       if (!exact.proven_optimal && !exact.note.empty()) {
         const std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
         (logger ? logger : spdlog::default_logger())
@@ -321,10 +329,11 @@ class GoalMethods final : public detail::MethodSteps<StateSelection> {
                    states_.size() == 1 ? "" : " over states", *options_.goal, exact.note);
       }
       StateSelection s = Score(Method::kExact, exact.chosen, greedy_seconds_ + SecondsSince(t));
-      if (options_.minimize_cost) {
-        s.selection.cost_lower_bound = exact.bound;
-      } else {
+      // The bound is on the least cost, or with unit costs on the fewest sensors.
+      if (model_.costs.empty()) {
         s.selection.n_lower_bound = static_cast<int>(std::llround(exact.bound));
+      } else {
+        s.selection.cost_lower_bound = exact.bound;
       }
       s.selection.proven_optimal = exact.proven_optimal;
       return detail::ExactDone<StateSelection>{std::move(s), {}};
@@ -332,10 +341,11 @@ class GoalMethods final : public detail::MethodSteps<StateSelection> {
   }
 
  private:
-  /// The costs a goal minimises: the candidates' with minimize_cost, else none (unit).
-  static std::span<const double> Costs(const SelectOptions& options) {
-    return options.minimize_cost ? std::span<const double>(options.costs)
-                                 : std::span<const double>();
+  // A goal has no n: every candidate may join.
+  static detail::Capacity Everyone(const detail::SelectionModel& model) {
+    detail::Capacity everyone;
+    everyone.n = model.matrix->candidate_count();
+    return everyone;
   }
 
   StateSelection Score(Method method, std::vector<uint32_t> chosen, double seconds) const {
@@ -351,12 +361,10 @@ class GoalMethods final : public detail::MethodSteps<StateSelection> {
   const SelectOptions& options_;
   const detail::StatesScorer& scorer_;
   const detail::Feasibility& feasible_;
+  const detail::SelectionModel model_;
   std::vector<uint32_t> kept_start_;
   std::vector<uint32_t> greedy_;  // greedy's answer, where exact starts
   double greedy_seconds_;
-  bool plain_;
-  int threshold_;       // k seers, or min_points points
-  uint64_t goal_cells_;  // the goal in whole cells of the stacked R (the plain matrix's own)
 };
 
 // A goal: checks that it can be reached (by all candidates, then under the rules), the kept
@@ -411,42 +419,32 @@ std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> st
     s.selection.method = "kept";
     return {s};
   }
-  std::vector<uint32_t> greedy;
-  if (GoalMethods::IsPlain(states, options)) {
-    greedy = GoalMethods::PlainGreedy(matrix, options);
-  } else {
-    detail::Capacity everyone_fits;
-    everyone_fits.n = matrix.candidate_count();
-    const std::span<const double> costs = options.minimize_cost
-                                              ? std::span<const double>(options.costs)
-                                              : std::span<const double>();
-    greedy = detail::StatesCostGreedy(scorer, feasible, everyone_fits, costs, goal, kept_start);
-    if (!detail::GoalReached(scorer.Fraction(scorer.Covered(greedy)), goal)) {
-      // Greedy could not reach it under the rules: the most any feasible set reaches decides.
-      detail::SelectionModel most_model =
-          StatesModel(scorer, &feasible, options, matrix.candidate_count());
-      most_model.goal.reset();  // the most any set reaches, at no price
-      most_model.costs = {};
-      const detail::ExactAnswer most =
-          detail::SolveExactModel(most_model, greedy, options.time_limit);
-      const double best = scorer.Fraction(scorer.Covered(most.chosen));
-      if (!detail::GoalReached(best, goal)) {
-        throw unreachable(
-            most.proven_optimal || most.bound < goal - 1e-9
-                ? fmt::format(
-                      "cannot be reached: the installation constraints allow at most {:.4f}",
-                      std::min(most.bound, reach))
-                : fmt::format("cannot be reached: no set of sensors that satisfies the "
-                              "installation constraints was found to reach it (the best "
-                              "reaches {:.4f})",
-                              best),
-            " or relax the constraints");
-      }
-      greedy = most.chosen;
+  const detail::SelectionModel model = GoalMethods::GoalModel(states, options, scorer, feasible);
+  std::vector<uint32_t> greedy = GoalMethods::GreedyToTheGoal(model, scorer, feasible, kept_start);
+  // The plain matrix's greedy reaches any goal all candidates reach; under the rules, where greedy
+  // cannot, the most any feasible set reaches decides.
+  if (!GoalMethods::IsPlain(model) &&
+      !detail::GoalReached(scorer.Fraction(scorer.Covered(greedy)), goal)) {
+    detail::SelectionModel most_model = model;
+    most_model.goal.reset();  // the most any set reaches, at no price
+    most_model.costs = {};
+    const detail::ExactAnswer most = detail::SolveExactModel(most_model, greedy, options.time_limit);
+    const double best = scorer.Fraction(scorer.Covered(most.chosen));
+    if (!detail::GoalReached(best, goal)) {
+      throw unreachable(
+          most.proven_optimal || most.bound < goal - 1e-9
+              ? fmt::format("cannot be reached: the installation constraints allow at most {:.4f}",
+                            std::min(most.bound, reach))
+              : fmt::format("cannot be reached: no set of sensors that satisfies the "
+                            "installation constraints was found to reach it (the best reaches "
+                            "{:.4f})",
+                            best),
+          " or relax the constraints");
     }
+    greedy = most.chosen;
   }
-  GoalMethods methods(states, over, options, scorer, feasible, kept_start, std::move(greedy),
-                      SecondsSince(start));
+  GoalMethods methods(states, over, options, scorer, feasible, model, kept_start,
+                      std::move(greedy), SecondsSince(start));
   return detail::RunMethods<StateSelection>(methods, options, matrix.candidate_count(), start);
 }
 
