@@ -534,6 +534,20 @@ template std::vector<uint32_t> ConstrainedRansac(const StatesScorer&,
 
 // ----- the methods for one n -------------------------------------------------------------------
 
+namespace {
+
+// How the model values a scorer's cells: one state's, or the mean or min over the states.
+template <MethodScorer Scorer>
+ModelValue ValueOf(const Scorer& scorer) {
+  if constexpr (Scorer::kCells) {
+    return ModelValue::kCells;
+  } else {
+    return scorer.over() == OverStates::kMin ? ModelValue::kMin : ModelValue::kMean;
+  }
+}
+
+}  // namespace
+
 template <MethodScorer Scorer>
 ConstrainedMethods<Scorer>::ConstrainedMethods(const Scorer& scorer,
                                                const Feasibility& feasible,
@@ -542,20 +556,22 @@ ConstrainedMethods<Scorer>::ConstrainedMethods(const Scorer& scorer,
                                                std::vector<uint32_t> start)
     : scorer_(scorer),
       feasible_(feasible),
-      options_(options),
+      model_(ModelFor(options, scorer.matrix(), ValueOf(scorer), 0, &feasible)),
+      seed_(options.seed),
+      ransac_stop_coverage_(options.ransac_stop_coverage),
       setup_seconds_(setup_seconds),
       start_(start.empty() ? options.fixed : std::move(start)) {
-  VANTAGE_CHECK(feasible_.IsFeasible(start_));
+  VANTAGE_CHECK(!model_.goal && feasible_.IsFeasible(start_));  // a goal is GoalMethods'
 }
 
 template <MethodScorer Scorer>
 Capacity ConstrainedMethods<Scorer>::CapacityFor(size_t n) const {
   Capacity capacity;
   capacity.n = n;
-  if (options_.budget) {
+  if (HasBudget()) {
     capacity.n = scorer_.matrix().candidate_count();
-    capacity.costs = options_.costs;
-    capacity.budget = *options_.budget;
+    capacity.costs = model_.costs;
+    capacity.budget = model_.capacity;
   }
   return capacity;
 }
@@ -568,8 +584,8 @@ double ConstrainedMethods<Scorer>::Share(uint64_t cells) const {
 
 template <MethodScorer Scorer>
 bool ConstrainedMethods<Scorer>::IsFree() const {
-  if (!options_.constraints.empty() || !start_.empty()) return false;
-  return Scorer::kCells || (!options_.budget && scorer_.k() == 1);
+  if (HasRules() || !start_.empty()) return false;
+  return Scorer::kCells || (!HasBudget() && scorer_.k() == 1);
 }
 
 template <MethodScorer Scorer>
@@ -577,13 +593,13 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n, int iterations) c
   const Clock::time_point start = Clock::now();
   ConstrainedAnswer answer;
   if constexpr (Scorer::kCells) {
-    if (options_.budget) {
+    if (HasBudget()) {
       // No n to draw: each draw is a random order taken until the budget stops it (under the
       // rules, from the kept sensors); where no draw adds anything, greedy's answer.
       FittedDraws fit;
       fit.threshold = scorer_.k();
-      fit.costs = options_.costs;
-      fit.budget = *options_.budget;
+      fit.costs = model_.costs;
+      fit.budget = model_.capacity;
       fit.start = start_;
       if (!IsFree()) {
         fit.may_add = [&](std::span<const uint32_t> set, uint32_t c) {
@@ -591,9 +607,9 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n, int iterations) c
         };
       }
       answer.chosen = RansacFitted(scorer_.matrix(), fit, iterations,
-                                   options_.ransac_stop_coverage, options_.seed);
+                                   ransac_stop_coverage_, seed_);
       if (answer.chosen.empty()) {
-        answer.chosen = IsFree() ? GreedyBudget(scorer_.matrix(), options_.costs, *options_.budget)
+        answer.chosen = IsFree() ? GreedyBudget(scorer_.matrix(), model_.costs, model_.capacity)
                                  : ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, start_);
       }
       answer.seconds = setup_seconds_ + SecondsSince(start);
@@ -602,21 +618,21 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n, int iterations) c
   }
   if (IsFree()) {
     answer.chosen =
-        RansacChoice(scorer_, n, iterations, options_.ransac_stop_coverage, options_.seed);
+        RansacChoice(scorer_, n, iterations, ransac_stop_coverage_, seed_);
     answer.seconds = setup_seconds_ + SecondsSince(start);
     return answer;
   }
   if constexpr (!Scorer::kCells) {
-    if (options_.budget) {
-      answer.chosen = StatesRansacFitted(scorer_, feasible_, CapacityFor(n), options_.costs,
+    if (HasBudget()) {
+      answer.chosen = StatesRansacFitted(scorer_, feasible_, CapacityFor(n), model_.costs,
                                          std::nullopt, iterations,
-                                         options_.ransac_stop_coverage, options_.seed, start_);
+                                         ransac_stop_coverage_, seed_, start_);
       answer.seconds = setup_seconds_ + SecondsSince(start);
       return answer;
     }
   }
   answer.chosen = ConstrainedRansac(scorer_, feasible_, n, iterations,
-                                    options_.ransac_stop_coverage, options_.seed, options_.fixed);
+                                    ransac_stop_coverage_, seed_, model_.fixed);
   if (answer.chosen.empty()) {
     Logger()->warn(
         "ransac, n = {}: none of its {} draws satisfies the constraints; reporting the "
@@ -631,21 +647,20 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n, int iterations) c
 template <MethodScorer Scorer>
 ConstrainedAnswer ConstrainedMethods<Scorer>::Greedy(size_t n) {
   const Clock::time_point start = Clock::now();
-  VANTAGE_CHECK(options_.budget || n >= start_.size());
+  VANTAGE_CHECK(HasBudget() || n >= start_.size());
   n_ = n;
   if (!IsFree()) {
     greedy_ = ConstrainedGreedy(scorer_, feasible_, CapacityFor(n), 0, start_);
-  } else if (options_.budget) {
+  } else if (HasBudget()) {
     if constexpr (Scorer::kCells)
-      greedy_ = GreedyBudget(scorer_.matrix(), options_.costs, *options_.budget);
-  } else if (options_.objective() == Objective::kKCoverage ||
-             options_.objective() == Objective::kMinPoints) {
-    // The threshold greedy (a count matrix makes it the min-points one).
+      greedy_ = GreedyBudget(scorer_.matrix(), model_.costs, model_.capacity);
+  } else if (scorer_.k() > 1 || scorer_.matrix().has_counts()) {
+    // The threshold greedy (k-coverage; a count matrix makes it the min-points one).
     if constexpr (Scorer::kCells) greedy_ = KGreedyComplete(scorer_.matrix(), {}, n, scorer_.k());
   } else {
     greedy_ = GreedyComplete(scorer_, {}, n);
   }
-  if (!options_.budget && greedy_.size() < n) {
+  if (!HasBudget() && greedy_.size() < n) {
     if (greedy_.size() == 1) {
       Logger()->warn("greedy, n = {}: only 1 sensor satisfies the constraints", n);
     } else {
@@ -667,11 +682,11 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Local() {
   if (IsFree()) {
     if constexpr (Scorer::kCells) {
       LocalOptions local;
-      if (options_.budget) {
-        local.costs = options_.costs;
-        local.budget = *options_.budget;
+      if (HasBudget()) {
+        local.costs = model_.costs;
+        local.budget = model_.capacity;
       }
-      local_ = options_.objective() == Objective::kMinPoints
+      local_ = matrix.has_counts()
                    ? PointsLocalSearch(matrix, greedy_, scorer_.k())
                    : LocalSearch(scorer_, greedy_, local);
     } else {
@@ -681,15 +696,15 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Local() {
     local_seconds_ = greedy_seconds_ + SecondsSince(start);
     return {local_, local_seconds_, std::nullopt, false, {}};
   }
-  local_ = ConstrainedLocal(scorer_, feasible_, greedy_, CapacityFor(n_), options_.fixed.size());
-  if (!options_.fixed.empty()) {
+  local_ = ConstrainedLocal(scorer_, feasible_, greedy_, CapacityFor(n_), model_.fixed.size());
+  if (!model_.fixed.empty()) {
     // The unconstrained answers need not hold the kept sensors: none.
-  } else if (options_.budget) {
+  } else if (HasBudget()) {
     if constexpr (Scorer::kCells) {  // over states the constrained search is the only one
       LocalOptions local;
-      local.costs = options_.costs;
-      local.budget = *options_.budget;
-      free_local_ = LocalSearch(CellScorer(matrix), GreedyBudget(matrix, options_.costs, local.budget),
+      local.costs = model_.costs;
+      local.budget = model_.capacity;
+      free_local_ = LocalSearch(CellScorer(matrix), GreedyBudget(matrix, model_.costs, local.budget),
                                 local);
     }
   } else if (n_ <= matrix.candidate_count()) {
@@ -725,16 +740,14 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
   // The unconstrained optimum first (half the time), from the unconstrained local answer: when it
   // is feasible it is the constrained one, proof included; else its bound still bounds the
   // constrained optimum.
-  const bool has_free = options_.budget ? !free_local_.empty() : free_local_.size() == n_;
+  const bool has_free = HasBudget() ? !free_local_.empty() : free_local_.size() == n_;
   const int k = scorer_.k();
-  ModelValue value = ModelValue::kCells;
-  if constexpr (!Scorer::kCells)
-    value = scorer_.over() == OverStates::kMin ? ModelValue::kMin : ModelValue::kMean;
-  const SelectionModel model = ModelFor(options_, matrix, value, n_, &feasible_);
+  SelectionModel model = model_;
+  if (!HasBudget()) model.capacity = static_cast<double>(n_);
   SelectionModel free_model = model;  // no rule, no kept sensor
   free_model.fixed = {};
   free_model.rules = nullptr;
-  if (options_.budget) free_model.threshold = 1;  // a budget counts cells seen once
+  if (HasBudget()) free_model.threshold = 1;  // a budget counts cells seen once
   ExactAnswer exact;
   bool solved = false;
   ExactHints hints;  // cells under rules: the cheap bound of the unconstrained problem
@@ -743,7 +756,7 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
     solved = true;
   } else if constexpr (Scorer::kCells) {
     hints.known_bound = static_cast<double>(
-        options_.budget ? BudgetUpperBound(matrix, local_, options_.costs, *options_.budget)
+        HasBudget() ? BudgetUpperBound(matrix, local_, model_.costs, model_.capacity)
         : k == 1        ? GreedyUpperBound(matrix, local_, n_)
                         : KUpperBound(matrix, local_, n_, k));
   }
@@ -769,9 +782,9 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
   // where there are constraints (kept sensors and thresholds run here without any).
   const std::string which =
       fmt::format("{}{}",
-                  options_.budget ? fmt::format("budget {:g}", *options_.budget)
+                  HasBudget() ? fmt::format("budget {:g}", model_.capacity)
                                   : fmt::format("n = {}", n_),
-                  options_.constraints.empty() ? "" : " (constrained)");
+                  HasRules() ? " (constrained)" : "");
   const char* over_states = Scorer::kCells ? "" : " over states";
   if (!note.empty()) {
     answer.log = [what = fmt::format("exact{}, {}", over_states, which), note,

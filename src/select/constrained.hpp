@@ -10,6 +10,7 @@
 
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
+#include "select/model.hpp"
 #include "select/objective_bounds.hpp"
 #include "select/scorer.hpp"
 #include "vantage/constraints.hpp"
@@ -179,9 +180,17 @@ class ConstrainedMethods {
  private:
   Capacity CapacityFor(size_t n) const;
   double Share(uint64_t cells) const;
+  /// A budget (the model's costs and capacity) instead of n sensors.
+  bool HasBudget() const { return !model_.costs.empty(); }
+  /// A conflict or calibration rule restricts the sets.
+  bool HasRules() const { return !feasible_.conflicts().empty() || feasible_.has_calibration(); }
   const Scorer& scorer_;
   const Feasibility& feasible_;
-  const SelectOptions& options_;
+  /// The question every method answers: ModelFor(options), its capacity n set per n (a budget's
+  /// is the budget); the methods read its threshold, costs, budget and kept sensors.
+  SelectionModel model_;
+  uint64_t seed_;                // RANSAC's draws
+  double ransac_stop_coverage_;  // RANSAC stops once a draw reaches this share
   double setup_seconds_;
   std::vector<uint32_t> start_;
   size_t n_ = 0;
