@@ -314,8 +314,11 @@ TEST(Physical, FemtoBoltModesAreOrbbecsDatasheet) {
     priced.cost_given = true;
     EXPECT_TRUE(UnitCostGiven(priced, m.id));
   }
-  for (const SensorType& type : Catalog())
-    if (!type.id.starts_with("femto_bolt")) EXPECT_TRUE(UnitCostGiven(type, type.id)) << type.id;
+  for (const SensorType& type : Catalog()) {
+    if (!type.id.starts_with("femto_bolt")) {
+      EXPECT_TRUE(UnitCostGiven(type, type.id)) << type.id;
+    }
+  }
 }
 
 // Structured light and stereo need a second aperture: a type of that technology without one is
@@ -386,7 +389,9 @@ sensors:
     EXPECT_EQ(t.contains("physical_model"), t["type"] == "asus_xtion_pro_live");
   }
   for (const nlohmann::json& t : report["sensor_model"]["types"]) {
-    if (t["type"] == "femto_bolt_nfov_unbinned") EXPECT_EQ(t["second_aperture"], "none");
+    if (t["type"] == "femto_bolt_nfov_unbinned") {
+      EXPECT_EQ(t["second_aperture"], "none");
+    }
     if (t["type"] == "asus_xtion_pro_live") {
       EXPECT_EQ(t["second_aperture"], "not modelled");
       EXPECT_NE(t["physical_model"].get<std::string>().find("projector"), std::string::npos);
