@@ -227,6 +227,17 @@ void MarkObjective(const SelectOptions& options, StateSelection* result) {
   }
 }
 
+// An answer scored as `options` count it: k seers or the points, and a goal's or a budget's
+// fields (Scored, then MarkObjective).
+StateSelection ScoredFor(const SelectOptions& options, std::span<const StateObservations> states,
+                         OverStates over, Method method, std::vector<uint32_t> chosen,
+                         double seconds) {
+  StateSelection s = Scored(states, over, method, std::move(chosen), seconds, options.min_points,
+                            options.min_points ? 1 : options.k);
+  MarkObjective(options, &s);
+  return s;
+}
+
 // The selection model over the states `scorer` scores (its threshold and aggregate), with the
 // rules and kept sensors, for `options` (a goal, or `n` sensors).
 detail::SelectionModel StatesModel(const detail::StatesScorer& scorer,
@@ -350,10 +361,7 @@ class GoalMethods final : public detail::MethodSteps<StateSelection> {
 
   StateSelection Score(Method method, std::vector<uint32_t> chosen, double seconds) const {
     VANTAGE_CHECK(feasible_.IsFeasible(chosen));
-    StateSelection s = Scored(states_, over_, method, std::move(chosen), seconds,
-                              options_.min_points, options_.min_points ? 1 : options_.k);
-    MarkObjective(options_, &s);
-    return s;
+    return ScoredFor(options_, states_, over_, method, std::move(chosen), seconds);
   }
 
   std::span<const StateObservations> states_;
@@ -413,9 +421,8 @@ std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> st
   }
   if (kept_start.size() == options.fixed.size() && !options.fixed.empty() &&
       detail::GoalReached(scorer.Fraction(scorer.Covered(options.fixed)), goal)) {
-    StateSelection s = Scored(states, over, Method::kBest, options.fixed, SecondsSince(start),
-                              options.min_points, options.min_points ? 1 : options.k);
-    MarkObjective(options, &s);
+    StateSelection s =
+        ScoredFor(options, states, over, Method::kBest, options.fixed, SecondsSince(start));
     s.selection.method = "kept";
     return {s};
   }
@@ -571,9 +578,8 @@ class StatesRun final : public detail::MethodSteps<StateSelection> {
     VANTAGE_CHECK(feasible_.IsFeasible(answer.chosen));
     if (options_.budget)
       VANTAGE_CHECK(detail::TotalCost(options_.costs, answer.chosen) <= *options_.budget);
-    StateSelection s = Scored(states_, over_, method, std::move(answer.chosen), answer.seconds,
-                              options_.min_points, options_.min_points ? 1 : options_.k);
-    MarkObjective(options_, &s);
+    StateSelection s =
+        ScoredFor(options_, states_, over_, method, std::move(answer.chosen), answer.seconds);
     if (answer.upper_bound)
       s.selection.upper_bound = std::max(*answer.upper_bound, s.selection.coverage);
     s.selection.proven_optimal = answer.proven_optimal;
@@ -615,8 +621,7 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
   const auto n = static_cast<size_t>(options.n);
   if (!options.budget && kept > 0 && kept_start.size() == kept && n <= kept) {
     // No room: the kept sensors are the answer.
-    StateSelection s = Scored(states, over, Method::kBest, options.fixed, setup, options.min_points,
-                              options.min_points ? 1 : options.k);
+    StateSelection s = ScoredFor(options, states, over, Method::kBest, options.fixed, setup);
     s.selection.method = "kept";
     return {s};
   }
@@ -630,10 +635,7 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
 Selection ScoreChosenOverStates(std::span<const StateObservations> states, OverStates over,
                                 std::vector<uint32_t> chosen, const std::string& method,
                                 const SelectOptions& options) {
-  const int k = options.min_points ? 1 : options.k;
-  StateSelection scored =
-      Scored(states, over, Method::kLocal, std::move(chosen), 0, options.min_points, k);
-  MarkObjective(options, &scored);
+  StateSelection scored = ScoredFor(options, states, over, Method::kLocal, std::move(chosen), 0);
   scored.selection.method = method;
   scored.selection.seconds = 0;
   scored.selection.state_coverage = std::move(scored.state_coverage);
