@@ -2,16 +2,13 @@
 // of `vantage observe`.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
-#include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <functional>
-#include <thread>
 
 #include "pipeline/common.hpp"
 #include "vantage/gazebo_export.hpp"
@@ -47,62 +44,6 @@ void CheckMemory(const MemoryEstimate& estimate, double limit_mib, const std::st
                         ? "use simpler meshes or fewer states"
                         : "use fewer candidates, lower resolutions, a larger --cell-size, fewer "
                           "--threads")));
-}
-
-// Scenes up to this many triangles have their ray caster built beside R (RaySceneBuild): their
-// BVH takes well under a second, the most a stop request (Ctrl-C during R) then waits for it.
-constexpr uint64_t kMaxTrianglesBuiltBeside = 1000000;
-
-// The ray caster's scene (Embree's BVH) needs the meshes alone, not R: issue 47 builds it on a
-// thread of its own while this thread builds R, whose serial parts (IsClosed, the exposure pass's
-// merges) left the second core idle for about as long as the BVH takes. `beside`: start it now;
-// otherwise Take() builds it where it was built before. Errors come out of Take(), after R's and
-// the checks' own, as before.
-class RaySceneBuild {
- public:
-  RaySceneBuild(const Scene& scene, bool beside) : scene_(scene) {
-    if (!beside) return;
-    thread_ = std::thread([this] {
-      try {
-        rays_ = std::make_unique<RayScene>(scene_);
-      } catch (...) {
-        error_ = std::current_exception();
-      }
-    });
-  }
-  RaySceneBuild(const RaySceneBuild&) = delete;
-  RaySceneBuild& operator=(const RaySceneBuild&) = delete;
-  ~RaySceneBuild() {
-    if (thread_.joinable()) thread_.join();  // R or a check failed: its error goes on
-  }
-
-  std::unique_ptr<RayScene> Take() {
-    if (!thread_.joinable()) return std::make_unique<RayScene>(scene_);
-    thread_.join();
-    if (error_) std::rethrow_exception(error_);
-    return std::move(rays_);
-  }
-
- private:
-  const Scene& scene_;
-  std::thread thread_;
-  std::unique_ptr<RayScene> rays_;
-  std::exception_ptr error_;
-};
-
-// Whether the BVH may be built beside R: two threads allowed (--threads 1 means one), a scene
-// small enough to wait for, no --max-seconds (its refusal comes before the build), and a run that
-// the memory check, with R still empty, would not already refuse (a refused run builds nothing).
-bool BuildRaysBesideReference(const PreparedScene& prepared, const RunLimits& limits) {
-  if (tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) < 2 ||
-      Threads() < 2 || limits.max_seconds > 0)
-    return false;
-  const Scene& scene = prepared.problem.scene;
-  if (scene.TriangleCount() > kMaxTrianglesBuiltBeside) return false;
-  MemoryEstimate estimate = EstimateMemory(scene, 0, prepared.candidates, Threads());
-  estimate.scene += MeshBytes(scene);
-  for (const Scene& state : prepared.state_scenes) estimate.scene += MeshBytes(state);
-  return estimate.Total() / kMiB <= MemoryLimitMiB(limits.max_memory_mib);
 }
 
 }  // namespace
@@ -386,8 +327,6 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& give
   auto start = std::chrono::steady_clock::now();
   const ReferenceOptions reference_options{problem.cell_size, prepared.exposed_only};
   reference_options.Validate();
-  detail::RaySceneBuild ray_scene(problem.scene,
-                                  detail::BuildRaysBesideReference(prepared, limits));
   Reference reference =
       detail::BuildRunReference(problem.scene, reference_options, problem.source, [&] {
         detail::CheckReferenceMemory(prepared, limits.max_memory_mib);
@@ -410,7 +349,7 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& give
   detail::CheckObserveTime(reference, candidates, observe, limits.max_seconds, problem.scene,
                            prepared.state_scenes, problem.source);
   start = std::chrono::steady_clock::now();
-  result.rays = ray_scene.Take();
+  result.rays = std::make_unique<RayScene>(problem.scene);
   std::vector<Observation> observations = trace_all(*result.rays, reference, candidates);
   result.timings.observe = detail::SecondsSince(start);
   uint64_t rays = 0;
