@@ -14,11 +14,13 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <random>
 #include <set>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "scene/plain_obj.hpp"
 #include "scene/ply_body.hpp"
 #include "util/isolated.hpp"
 #include "test_util.hpp"
@@ -455,6 +457,53 @@ TEST(Scene, BinaryStlIsTheCubeAssimpReads) {
   // One byte more: not a binary STL by the size rule, and no ASCII one either: refused.
   WriteText(dir.File("cut.stl"), binary + " ");
   ExpectMeshError(dir.File("cut.stl"));
+}
+
+// Issue 47: a plain OBJ is read without Assimp's child process, as exactly the mesh Assimp makes
+// of it. The same text with one line more that only Assimp reads (a smoothing group, which moves
+// no vertex) goes to Assimp; both meshes must agree bit for bit, over numbers of every plain form:
+// up to 8 integer and 20 fraction digits (Assimp keeps 15), -0, integers, zeros in front.
+TEST(Scene, PlainObjIsTheMeshAssimpReads) {
+  TempDir dir;
+  std::mt19937_64 random(47);
+  const auto digits = [&](int count) {
+    std::string text;
+    for (int i = 0; i < count; ++i) text += static_cast<char>('0' + random() % 10);
+    return text;
+  };
+  const auto number = [&] {
+    std::string text = random() % 2 ? "-" : "";
+    text += random() % 4 ? std::to_string(random() % 3) : digits(1 + static_cast<int>(random() % 8));
+    if (random() % 8) text += "." + digits(1 + static_cast<int>(random() % 20));
+    return text;
+  };
+  std::string text = "# every plain form\r\no part\n";
+  const int vertices = 900;
+  for (int i = 0; i < vertices; ++i)
+    text += fmt::format("v {} {} {}\n", number(), number(), i == 0 ? "-0.000" : number());
+  text += "v 0.1 0.2 0.3\nv 1 2 3\nv 0.000000000000000000001 -7.0000000000000001 12345678.5\n";
+  for (int f = 0; f < 1200; ++f) {
+    const int a = 1 + static_cast<int>(random() % (vertices + 3));
+    const int b = 1 + (a + static_cast<int>(random() % 50)) % (vertices + 3);
+    const int c = 1 + (b + static_cast<int>(random() % 50)) % (vertices + 3);
+    text += fmt::format("f {} {}\t{}\n", a, b, c);
+  }
+  WriteText(dir.File("plain.obj"), text);
+  WriteText(dir.File("assimp.obj"), text + "s off\n");
+  const std::optional<TriangleMesh> raw = detail::ReadPlainObj(dir.File("plain.obj"));
+  ASSERT_TRUE(raw.has_value());
+  EXPECT_FALSE(detail::ReadPlainObj(dir.File("assimp.obj")).has_value());
+  const TriangleMesh mesh = ScaledMesh(*raw, Vec3::Ones(), dir.File("plain.obj"));
+  const TriangleMesh by_assimp = LoadMeshFile(dir.File("assimp.obj"));
+  EXPECT_GT(mesh.triangles.size(), 1000u);
+  EXPECT_EQ(by_assimp.vertices, mesh.vertices);
+  EXPECT_EQ(by_assimp.triangles, mesh.triangles);
+  EXPECT_EQ(LoadMeshFile(dir.File("plain.obj")).vertices, mesh.vertices);
+  // Forms left to Assimp; Assimp's own reading of "1.5" and "-0.25" is the plain one.
+  for (const char* word : {"1e3", "+1", ".5", "1.", "nan", "inf", "0x1", "1.5a", "", "-"})
+    EXPECT_FALSE(detail::PlainObjNumber(word).has_value()) << word;
+  EXPECT_EQ(detail::PlainObjNumber("1.5"), 1.5f);
+  EXPECT_EQ(detail::PlainObjNumber("-0.25"), -0.25f);
 }
 
 TEST(Scene, MeshErrorsNameTheFile) {

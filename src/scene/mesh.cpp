@@ -14,14 +14,17 @@
 #include <numbers>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "scene/plain_obj.hpp"
 #include "scene/ply_body.hpp"
 #include "scene/scaled_mesh_cache.hpp"
 #include "scene/step_reader.hpp"
 #include "util/isolated.hpp"
 #include "util/module_places.hpp"
 #include "util/run_files.hpp"
+#include "util/words.hpp"
 #include "vantage/error.hpp"
 #include "vantage/scene.hpp"
 
@@ -501,6 +504,110 @@ std::optional<TriangleMesh> ReadBinaryStl(const std::string& path) {
 
 }  // namespace
 
+namespace detail {
+
+// Assimp's fast_atof, as plain_obj.hpp describes it.
+std::optional<float> PlainObjNumber(std::string_view word) {
+  static constexpr double kScale[16] = {0.0,     1e-1,  1e-2,  1e-3,  1e-4,  1e-5,  1e-6,  1e-7,
+                                        1e-8,    1e-9,  1e-10, 1e-11, 1e-12, 1e-13, 1e-14, 1e-15};
+  size_t at = 0;
+  const bool negative = !word.empty() && word[0] == '-';
+  if (negative) ++at;
+  const auto digit = [&](size_t k) { return k < word.size() && word[k] >= '0' && word[k] <= '9'; };
+  if (!digit(at)) return std::nullopt;
+  uint64_t whole = 0;
+  size_t count = 0;
+  for (; digit(at); ++at, ++count) whole = whole * 10 + static_cast<uint64_t>(word[at] - '0');
+  if (count > 18) return std::nullopt;
+  float value = static_cast<float>(whole);
+  if (at < word.size()) {
+    if (word[at] != '.' || !digit(at + 1)) return std::nullopt;
+    ++at;
+    uint64_t fraction = 0;
+    size_t digits = 0;
+    for (; digit(at); ++at) {
+      if (digits == 15) continue;  // digits past the 15th are read over
+      fraction = fraction * 10 + static_cast<uint64_t>(word[at] - '0');
+      ++digits;
+    }
+    if (at != word.size()) return std::nullopt;
+    value += static_cast<float>(static_cast<double>(fraction) * kScale[digits]);
+  }
+  return negative ? -value : value;
+}
+
+std::optional<TriangleMesh> ReadPlainObj(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension != ".obj") return std::nullopt;
+  std::string text;
+  if (!detail::ReadWholeFile(path, &text)) return std::nullopt;
+  std::vector<Vec3> positions;
+  TriangleMesh mesh;
+  bool named = false;
+  std::string_view rest(text);
+  std::vector<std::string_view> words;
+  while (!rest.empty()) {
+    const size_t end = rest.find('\n');
+    std::string_view line = rest.substr(0, end);
+    rest = end == std::string_view::npos ? std::string_view() : rest.substr(end + 1);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    words.clear();
+    for (size_t at = 0; at < line.size();) {
+      if (line[at] == ' ' || line[at] == '\t') {
+        ++at;
+        continue;
+      }
+      const size_t stop = line.find_first_of(" \t", at);
+      const size_t length = stop == std::string_view::npos ? line.size() - at : stop - at;
+      words.push_back(line.substr(at, length));
+      at += length;
+    }
+    if (words.empty()) continue;
+    if (words[0][0] == '#') continue;  // a comment line
+    for (const std::string_view word : words) {
+      for (const char c : word)
+        if (static_cast<unsigned char>(c) < 0x21 || static_cast<unsigned char>(c) > 0x7e)
+          return std::nullopt;  // control or non-ASCII bytes: Assimp's call
+    }
+    if (words[0] == "o") {
+      if (named || !mesh.triangles.empty() || words.size() != 2) return std::nullopt;
+      named = true;
+    } else if (words[0] == "v") {
+      if (words.size() != 4) return std::nullopt;
+      float xyz[3];
+      for (int a = 0; a < 3; ++a) {
+        const std::optional<float> value = PlainObjNumber(words[1 + a]);
+        if (!value) return std::nullopt;
+        xyz[a] = *value;
+      }
+      positions.emplace_back(xyz[0] + 0.0f, xyz[1] + 0.0f, xyz[2] + 0.0f);
+    } else if (words[0] == "f") {
+      if (words.size() != 4) return std::nullopt;
+      std::array<uint32_t, 3> corners{};
+      for (int k = 0; k < 3; ++k) {
+        const std::string_view word = words[1 + k];
+        uint64_t index = 0;
+        if (word.size() > 9) return std::nullopt;
+        for (const char c : word) {
+          if (c < '0' || c > '9') return std::nullopt;
+          index = index * 10 + static_cast<uint64_t>(c - '0');
+        }
+        if (index == 0 || index > positions.size()) return std::nullopt;
+        corners[k] = static_cast<uint32_t>(mesh.vertices.size());
+        mesh.vertices.push_back(positions[index - 1]);
+      }
+      mesh.triangles.push_back(corners);
+    } else {
+      return std::nullopt;
+    }
+  }
+  if (mesh.triangles.empty()) return std::nullopt;
+  return mesh;
+}
+
+}  // namespace detail
+
 TriangleMesh ReadMeshFile(const std::string& path) {
   if (detail::IsCadFile(path)) return detail::ReadCadMesh(path, detail::kDefaultCadDeflection);
   detail::NoteInputFile(path, "mesh file");
@@ -517,6 +624,7 @@ TriangleMesh ReadMeshFile(const std::string& path) {
     }
     return std::move(*stl);
   }
+  if (std::optional<TriangleMesh> obj = detail::ReadPlainObj(path)) return std::move(*obj);
   // In a child process: Assimp's readers crash on some broken files (the mesh_file fuzzer found
   // a segfault in its PLY header parser within seconds), and a crash there must not end vantage.
   // CPU time: a minute, and 10 s per MiB (Assimp reads about 10 MiB of STL a second here).
