@@ -24,11 +24,6 @@ struct RayBatch {
   float t[kWidth];
   bool is_target[kWidth];
   float normal[3][kWidth];  ///< geometric normal of the hit (not normalised; valid on hits)
-  /// The hit lies within kEdgeBarycentric of its triangle's border (valid on hits). There the
-  /// triangles sharing the edge or corner are hit at the same t, and which one Embree reports
-  /// depends on the packet's other rays (its traversal order).
-  bool on_edge[kWidth];
-  static constexpr float kEdgeBarycentric = 1e-4f;
   /// The hit on a target, valid where is_target: the point at Embree's barycentric coordinates
   /// on the scene's own (double) triangle, v0 + u (v1 - v0) + v (v2 - v0). On a face that lies on
   /// a grid plane it has the plane's coordinate exactly, so its cell is the face's cell of R;

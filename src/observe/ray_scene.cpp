@@ -166,12 +166,9 @@ void IntersectPacket(RTCScene scene, const std::vector<uint8_t>& is_target,
   for (int lane = 0; lane < batch->active; ++lane) {
     const unsigned geom = rays.hit.geomID[lane];
     const unsigned instance = rays.hit.instID[0][lane];
-    const float u = rays.hit.u[lane], v = rays.hit.v[lane];
-    batch->on_edge[lane] = std::min(std::min(u, v), 1.0f - u - v) < RayBatch::kEdgeBarycentric;
     if (geom == RTC_INVALID_GEOMETRY_ID) {
       batch->t[lane] = std::numeric_limits<float>::infinity();
       batch->is_target[lane] = false;
-      batch->on_edge[lane] = false;
     } else if (body_to_world && instance != kSceneInstance) {
       VANTAGE_CHECK(instance < body_to_world->size());
       batch->t[lane] = rays.ray.tfar[lane];
