@@ -23,8 +23,8 @@ FUZZ_TARGETS=${FUZZ_TARGETS:-yaml_scene gazebo_world visibility_file constellati
 JOBS=${JOBS:-2}
 FUZZ_TIMEOUT=${FUZZ_TIMEOUT:-10}
 
-# ccache (when installed) makes a rebuild after a small change cheap: the pipeline target compiles
-# the whole library with the sanitizers. CMAKE_CXX_COMPILER_LAUNCHER= (empty) turns it off.
+# ccache (when installed) makes a rebuild after a small change cheap: the targets compile the main
+# build's library with the sanitizers. CMAKE_CXX_COMPILER_LAUNCHER= (empty) turns it off.
 if [ -z "${CMAKE_CXX_COMPILER_LAUNCHER+set}" ] && command -v ccache >/dev/null; then
   CMAKE_CXX_COMPILER_LAUNCHER=ccache
 fi
