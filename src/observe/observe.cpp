@@ -214,12 +214,30 @@ class PixelJudge {
   int64_t queued_found_[OcclusionBatch::kWidth];
 };
 
+// The body-frame ray of every pixel of a camera, as PixelRayInBody computes it: (1, -right(u),
+// -down(v)) with right(u) = (u + 0.5 - cx) / fx and down(v) = (v + 0.5 - cy) / fy, each quotient
+// computed once per column or row instead of once per pixel (the same expressions, so the same
+// doubles, the same directions and the same float rays).
+class PixelRays {
+ public:
+  explicit PixelRays(const SensorType& s) : sensor_(s), right_(static_cast<size_t>(s.width)) {
+    for (int u = 0; u < s.width; ++u) right_[static_cast<size_t>(u)] = (u + 0.5 - s.cx) / s.fx;
+  }
+  double Down(int v) const { return (v + 0.5 - sensor_.cy) / sensor_.fy; }
+  Vec3 InBody(int u, double down) const { return Vec3(1.0, -right_[static_cast<size_t>(u)], -down); }
+
+ private:
+  const SensorType& sensor_;
+  std::vector<double> right_;
+};
+
 // One packet of a camera's rays: pixels u_start .. u_start + active - 1 of row v, traced in the
 // scene, or in `placed` (the scene with the arm carrying the camera as it stands, issue 45).
-void TracePacket(const RayScene& rays, const PlacedRayScene* placed, const Candidate& candidate,
+void TracePacket(const RayScene& rays, const PlacedRayScene* placed, const PixelRays& pixels,
                  const Mat3& world_from_body, int v, int u_start, RayBatch* batch) {
+  const double down = pixels.Down(v);
   for (int lane = 0; lane < batch->active; ++lane) {
-    const Vec3 d = world_from_body * PixelRayInBody(candidate.sensor, u_start + lane, v);
+    const Vec3 d = world_from_body * pixels.InBody(u_start + lane, down);
     for (int a = 0; a < 3; ++a) batch->dir[a][lane] = static_cast<float>(d[a]);
   }
   if (placed) {
@@ -266,6 +284,7 @@ void ObserveWithFlyingFilter(const RayScene& rays, const Candidate& candidate,
   const SensorType& s = candidate.sensor;
   if (spans.empty()) return;
   const Mat3 world_from_body = candidate.world_from_body.rotation.toRotationMatrix();
+  const PixelRays pixels(s);
   const int first = spans.front().v, last = spans.back().v;
   // Rows first - 1 .. last + 1: the judged spans and the spans to trace.
   const auto slot = [&](int v) { return static_cast<size_t>(v - first + 1); };
@@ -294,7 +313,7 @@ void ObserveWithFlyingFilter(const RayScene& rays, const Candidate& candidate,
     for (const auto& [u0, u1] : needed(v)) {
       for (int u_start = u0; u_start <= u1; u_start += RayBatch::kWidth) {
         batch->active = std::min(RayBatch::kWidth, u1 - u_start + 1);
-        TracePacket(rays, placed, candidate, world_from_body, v, u_start, batch);
+        TracePacket(rays, placed, pixels, world_from_body, v, u_start, batch);
         observation->rays_traced += static_cast<uint64_t>(batch->active);
         for (int lane = 0; lane < batch->active; ++lane) {
           const size_t u = static_cast<size_t>(u_start + lane);
@@ -350,6 +369,7 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference,
   const PlacedRayScene* placed_rays = placed ? &*placed : nullptr;
   const SensorType& s = candidate.sensor;
   const Mat3 world_from_body = candidate.world_from_body.rotation.toRotationMatrix();
+  const PixelRays pixels(s);
   const Vec3 origin = candidate.world_from_body.position;
   Observation observation;
   const detail::CellSetsPool::Lease sets(pool);
@@ -367,7 +387,7 @@ Observation ObserveOne(const RayScene& rays, const Reference& reference,
     for (const RowSpan& span : spans) {
       for (int u_start = span.u0; u_start <= span.u1; u_start += RayBatch::kWidth) {
         batch.active = std::min(RayBatch::kWidth, span.u1 - u_start + 1);
-        TracePacket(rays, placed_rays, candidate, world_from_body, span.v, u_start, &batch);
+        TracePacket(rays, placed_rays, pixels, world_from_body, span.v, u_start, &batch);
         observation.rays_traced += static_cast<uint64_t>(batch.active);
         for (int lane = 0; lane < batch.active; ++lane) {
           if (!batch.is_target[lane]) continue;
