@@ -27,6 +27,7 @@
 #include <optional>
 #include <string>
 
+#include "limit_loops.hpp"
 #include "observe/arm_occlusion.hpp"
 #include "observe/culling.hpp"
 #include "vantage/arm.hpp"
@@ -138,24 +139,9 @@ int main(int argc, char** argv) {
       spans[i] = detail::SpansToTrace(views.candidates[i], blocks, true);
       for (const auto& s : spans[i]) traced += static_cast<uint64_t>(s.u1 - s.u0 + 1);
     }
-    // The limit loop of one view: its spans' pixel rays, 16 at a time, into `intersect` (a
-    // generic lambda, so the call is inlined as in observe).
+    // The limit loop of one view: its spans' pixel rays, 16 at a time, into `intersect`.
     const auto trace_view = [&](size_t i, const auto& intersect) {
-      const Candidate& c = views.candidates[i];
-      const Mat3 rotation = c.world_from_body.rotation.toRotationMatrix();
-      RayBatch batch;
-      for (int a = 0; a < 3; ++a) batch.origin[a] = static_cast<float>(c.world_from_body.position[a]);
-      batch.tfar = static_cast<float>(c.sensor.far);
-      for (const detail::RowSpan& span : spans[i]) {
-        for (int u0 = span.u0; u0 <= span.u1; u0 += RayBatch::kWidth) {
-          batch.active = std::min(RayBatch::kWidth, span.u1 - u0 + 1);
-          for (int lane = 0; lane < batch.active; ++lane) {
-            const Vec3 d = rotation * PixelRayInBody(c.sensor, u0 + lane, span.v);
-            for (int a = 0; a < 3; ++a) batch.dir[a][lane] = static_cast<float>(d[a]);
-          }
-          intersect(&batch);
-        }
-      }
+      bench::TraceSpans(views.candidates[i], spans[i], intersect);
     };
     start = std::chrono::steady_clock::now();
     tbb::parallel_for(size_t{0}, views.candidates.size(), [&](size_t i) {
@@ -181,40 +167,17 @@ int main(int argc, char** argv) {
 
     // The same rays as observe's model: each view's occlusion segments, found in an untimed pass
     // (the conditions of observe.cpp's PixelJudge::Take), then cast with the primary rays.
-    struct Segments {
-      float centre[3] = {};
-      std::vector<std::array<float, 3>> dir;  // the point minus the aperture's centre
-    };
     const auto find_segments = [&](bool with_arm) {
-      std::vector<Segments> all(views.candidates.size());
+      std::vector<bench::Segments> all(views.candidates.size());
       tbb::parallel_for(size_t{0}, views.candidates.size(), [&](size_t i) {
         const Candidate& c = views.candidates[i];
-        const SecondAperture* aperture = SecondApertureOf(c.sensor, c.type_id);
-        if (!aperture) return;
-        const Mat3 rotation = c.world_from_body.rotation.toRotationMatrix();
-        const Vec3 origin = c.world_from_body.position;
-        const Vec3 centre = origin + c.world_from_body.rotation * ApertureCentreInBody(*aperture);
-        const double nearest = StereoNearestDepth(c.sensor, *aperture);
-        for (int a = 0; a < 3; ++a) all[i].centre[a] = static_cast<float>(centre[a]);
         std::optional<PlacedRayScene> placed;
         if (with_arm && c.arm) placed.emplace(arms.Place(*c.arm));
-        trace_view(i, [&](RayBatch* batch) {
+        all[i] = bench::FindSegments(c, spans[i], [&](RayBatch* batch) {
           if (placed) {
             placed->Intersect(batch);
           } else {
             rays.Intersect(batch);
-          }
-          for (int lane = 0; lane < batch->active; ++lane) {
-            const float t = batch->t[lane];
-            if (!batch->is_target[lane] || t < c.sensor.near || t > c.sensor.far || t < nearest)
-              continue;
-            const Vec3 p(batch->point[0][lane], batch->point[1][lane], batch->point[2][lane]);
-            const Vec3 n(batch->normal[0][lane], batch->normal[1][lane], batch->normal[2][lane]);
-            if (!InApertureField(c.sensor, *aperture, rotation.transpose() * (p - origin))) continue;
-            if (n.dot(centre - p) * n.dot(origin - p) <= 0) continue;
-            const Vec3 d = p - centre;
-            all[i].dir.push_back({static_cast<float>(d[0]), static_cast<float>(d[1]),
-                                  static_cast<float>(d[2])});
           }
         });
       });
@@ -224,7 +187,7 @@ int main(int argc, char** argv) {
     // Occluded.
     // `with_arm`: 0 the cell alone, 1 every link placed (Place), 2 the links the view's rays can
     // meet (PlaceForView, as observe places them).
-    const auto same_rays = [&](const std::vector<Segments>& segments, int with_arm) {
+    const auto same_rays = [&](const std::vector<bench::Segments>& segments, int with_arm) {
       tbb::parallel_for(size_t{0}, views.candidates.size(), [&](size_t i) {
         const Candidate& c = views.candidates[i];
         std::optional<PlacedRayScene> placed;
@@ -237,27 +200,17 @@ int main(int argc, char** argv) {
             rays.Intersect(batch);
           }
         });
-        OcclusionBatch packet;
-        for (int a = 0; a < 3; ++a) packet.origin[a] = segments[i].centre[a];
-        packet.tfar = 1.0f - 1e-4f;
-        const auto& dirs = segments[i].dir;
-        for (size_t k0 = 0; k0 < dirs.size(); k0 += OcclusionBatch::kWidth) {
-          const size_t lanes = std::min<size_t>(OcclusionBatch::kWidth, dirs.size() - k0);
-          for (size_t lane = 0; lane < OcclusionBatch::kWidth; ++lane) {
-            packet.query[lane] = lane < lanes;
-            if (lane < lanes)
-              for (int a = 0; a < 3; ++a) packet.dir[a][lane] = dirs[k0 + lane][a];
-          }
+        bench::CastSegments(segments[i], [&](OcclusionBatch* packet) {
           if (placed) {
-            placed->Occluded(&packet);
+            placed->Occluded(packet);
           } else {
-            rays.Occluded(&packet);
+            rays.Occluded(packet);
           }
-        }
+        });
       });
     };
-    const std::vector<Segments> bare_segments = find_segments(false);
-    const std::vector<Segments> arm_segments = find_segments(true);
+    const std::vector<bench::Segments> bare_segments = find_segments(false);
+    const std::vector<bench::Segments> arm_segments = find_segments(true);
     uint64_t bare_segment_count = 0, arm_segment_count = 0;
     for (size_t i = 0; i < views.candidates.size(); ++i) {
       bare_segment_count += bare_segments[i].dir.size();

@@ -31,6 +31,7 @@
 #include <optional>
 #include <string>
 
+#include "limit_loops.hpp"
 #include "observe/culling.hpp"
 #include "vantage/ray_scene.hpp"
 #include "vantage/vantage.hpp"
@@ -109,59 +110,18 @@ int main(int argc, char** argv) {
 
     // The primary rays of candidate i's spans, 16 at a time, into `intersect`.
     const auto trace_view = [&](size_t i, const std::vector<detail::RowSpan>& spans, const auto& intersect) {
-      const Candidate& c = cams[i];
-      const Mat3 rotation = c.world_from_body.rotation.toRotationMatrix();
-      RayBatch batch;
-      for (int a = 0; a < 3; ++a) batch.origin[a] = static_cast<float>(c.world_from_body.position[a]);
-      batch.tfar = static_cast<float>(c.sensor.far);
-      for (const detail::RowSpan& span : spans) {
-        for (int u0 = span.u0; u0 <= span.u1; u0 += RayBatch::kWidth) {
-          batch.active = std::min(RayBatch::kWidth, span.u1 - u0 + 1);
-          for (int lane = 0; lane < batch.active; ++lane) {
-            const Vec3 d = rotation * PixelRayInBody(c.sensor, u0 + lane, span.v);
-            for (int a = 0; a < 3; ++a) batch.dir[a][lane] = static_cast<float>(d[a]);
-          }
-          intersect(&batch);
-        }
-      }
+      bench::TraceSpans(cams[i], spans, intersect);
     };
 
-    // The occlusion segments observe casts under the physical model, found untimed: from each
-    // target hit within range, beyond stereo's nearest depth, in the aperture's field and on
-    // the side of its surface both centres see, to the aperture's centre.
-    struct Segments {
-      float centre[3] = {};
-      std::vector<std::array<float, 3>> dir;  // the point minus the aperture's centre
-    };
-    std::vector<Segments> segments(cams.size());
+    // The occlusion segments observe casts under the physical model, found untimed.
+    std::vector<bench::Segments> segments(cams.size());
     if (physical) {
       tbb::parallel_for(size_t{0}, cams.size(), [&](size_t i) {
-        const Candidate& c = cams[i];
-        const SecondAperture* aperture = SecondApertureOf(c.sensor, c.type_id);
-        if (!aperture) return;
-        const Mat3 rotation = c.world_from_body.rotation.toRotationMatrix();
-        const Vec3 origin = c.world_from_body.position;
-        const Vec3 centre = origin + c.world_from_body.rotation * ApertureCentreInBody(*aperture);
-        const double nearest = StereoNearestDepth(c.sensor, *aperture);
-        for (int a = 0; a < 3; ++a) segments[i].centre[a] = static_cast<float>(centre[a]);
-        trace_view(i, culled[i], [&](RayBatch* batch) {
-          rays.Intersect(batch);
-          for (int lane = 0; lane < batch->active; ++lane) {
-            const float t = batch->t[lane];
-            if (!batch->is_target[lane] || t < c.sensor.near || t > c.sensor.far || t < nearest) continue;
-            const Vec3 p(batch->point[0][lane], batch->point[1][lane], batch->point[2][lane]);
-            const Vec3 n(batch->normal[0][lane], batch->normal[1][lane], batch->normal[2][lane]);
-            if (!InApertureField(c.sensor, *aperture, rotation.transpose() * (p - origin))) continue;
-            if (n.dot(centre - p) * n.dot(origin - p) <= 0) continue;
-            const Vec3 d = p - centre;
-            segments[i].dir.push_back(
-                {static_cast<float>(d[0]), static_cast<float>(d[1]), static_cast<float>(d[2])});
-          }
-        });
+        segments[i] = bench::FindSegments(cams[i], culled[i], [&](RayBatch* batch) { rays.Intersect(batch); });
       });
     }
     uint64_t segment_count = 0;
-    for (const Segments& s : segments) segment_count += s.dir.size();
+    for (const bench::Segments& s : segments) segment_count += s.dir.size();
 
     std::atomic<uint64_t> hits{0};  // rays of the last primary loop that hit a target
     // One candidate's primary rays of `spans[i]`, and its segments when `with_segments`.
@@ -174,19 +134,7 @@ int main(int argc, char** argv) {
       });
       hits += local_hits;
       if (!with_segments) return;
-      const auto& dirs = segments[i].dir;
-      OcclusionBatch packet;
-      for (int a = 0; a < 3; ++a) packet.origin[a] = segments[i].centre[a];
-      packet.tfar = 1.0f - 1e-4f;
-      for (size_t k0 = 0; k0 < dirs.size(); k0 += OcclusionBatch::kWidth) {
-        const size_t lanes = std::min<size_t>(OcclusionBatch::kWidth, dirs.size() - k0);
-        for (size_t lane = 0; lane < OcclusionBatch::kWidth; ++lane) {
-          packet.query[lane] = lane < lanes;
-          if (lane < lanes)
-            for (int a = 0; a < 3; ++a) packet.dir[a][lane] = dirs[k0 + lane][a];
-        }
-        rays.Occluded(&packet);
-      }
+      bench::CastSegments(segments[i], [&](OcclusionBatch* packet) { rays.Occluded(packet); });
     };
     const auto cast_all = [&](const std::vector<std::vector<detail::RowSpan>>& spans, bool with_segments) {
       hits = 0;
