@@ -23,11 +23,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::shared_ptr<spdlog::logger> Logger() {
-  auto logger = spdlog::get("vantage");
-  return logger ? logger : spdlog::default_logger();
-}
-
 bool SortedHas(const std::vector<uint32_t>& sorted, uint32_t value) {
   return std::binary_search(sorted.begin(), sorted.end(), value);
 }
@@ -634,7 +629,7 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n, int iterations) c
   answer.chosen = ConstrainedRansac(scorer_, feasible_, n, iterations,
                                     ransac_stop_coverage_, seed_, model_.fixed);
   if (answer.chosen.empty()) {
-    Logger()->warn(
+    SelectLogger()->warn(
         "ransac, n = {}: none of its {} draws satisfies the constraints; reporting the "
         "constrained greedy answer",
         n, iterations);
@@ -662,9 +657,9 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Greedy(size_t n) {
   }
   if (!HasBudget() && greedy_.size() < n) {
     if (greedy_.size() == 1) {
-      Logger()->warn("greedy, n = {}: only 1 sensor satisfies the constraints", n);
+      SelectLogger()->warn("greedy, n = {}: only 1 sensor satisfies the constraints", n);
     } else {
-      Logger()->warn("greedy, n = {}: only {} sensors satisfy the constraints together", n,
+      SelectLogger()->warn("greedy, n = {}: only {} sensors satisfy the constraints together", n,
                      greedy_.size());
     }
   }
@@ -790,9 +785,9 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
     answer.log = [what = fmt::format("exact{}, {}", over_states, which), note,
                   proven = answer.proven_optimal] {
       if (!proven) {
-        Logger()->warn("{}: {}; reporting the best answer found and a bound", what, note);
+        SelectLogger()->warn("{}: {}; reporting the best answer found and a bound", what, note);
       } else {
-        Logger()->debug("{}: {}", what, note);
+        SelectLogger()->debug("{}: {}", what, note);
       }
     };
   }

@@ -24,6 +24,8 @@ class Feasibility {
   Feasibility(std::span<const Observation> observations, const InstallConstraints& constraints);
   size_t candidate_count() const { return conflicts_of_.size(); }
   bool has_calibration() const { return has_calibration_; }
+  /// A conflict pair or the calibration rule restricts which sets are allowed.
+  bool restricts() const { return !conflicts_.empty() || has_calibration_; }
   /// Whether a and b may not both be chosen.
   bool InConflict(uint32_t a, uint32_t b) const;
   /// Whether a and b are joined in the overlap graph (calibration rule).
@@ -182,8 +184,7 @@ class ConstrainedMethods {
   double Share(uint64_t cells) const;
   /// A budget (the model's costs and capacity) instead of n sensors.
   bool HasBudget() const { return !model_.costs.empty(); }
-  /// A conflict or calibration rule restricts the sets.
-  bool HasRules() const { return !feasible_.conflicts().empty() || feasible_.has_calibration(); }
+  bool HasRules() const { return feasible_.restricts(); }
   const Scorer& scorer_;
   const Feasibility& feasible_;
   /// The question every method answers: ModelFor(options), its capacity n set per n (a budget's

@@ -567,8 +567,7 @@ ExactAnswer SolveModelMilp(const SelectionModel& model,
 
 // A goal of cells with no rule and no kept sensor: the plain matrix's goal.
 bool IsPlainGoal(const SelectionModel& model) {
-  const bool rules = model.rules != nullptr &&
-                     (!model.rules->conflicts().empty() || model.rules->has_calibration());
+  const bool rules = model.rules != nullptr && model.rules->restricts();
   return model.goal && model.value == ModelValue::kCells && model.fixed.empty() && !rules;
 }
 

@@ -161,8 +161,7 @@ MilpAnswer BuildAndSolve(const SelectionModel& milp, const std::vector<uint32_t>
   const bool maximise = !milp.goal;
   const bool has_costs = !milp.costs.empty();
   const auto resource = [&](uint32_t i) { return has_costs ? milp.costs[i] : 1.0; };
-  const bool has_rules = milp.rules != nullptr &&
-                         (!milp.rules->conflicts().empty() || milp.rules->has_calibration());
+  const bool has_rules = milp.rules != nullptr && milp.rules->restricts();
   std::vector<bool> is_fixed(m, false);
   for (const uint32_t f : milp.fixed) is_fixed[f] = true;
 

@@ -334,10 +334,9 @@ class GoalMethods final : public detail::MethodSteps<StateSelection> {
       const Clock::time_point t = Clock::now();
       const detail::ExactAnswer exact = detail::SolveExactModel(model_, greedy_, seconds);
       if (!exact.proven_optimal && !exact.note.empty()) {
-        const std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
-        (logger ? logger : spdlog::default_logger())
-            ->warn("exact{}, goal {:g}: {}; reporting the best answer found and a bound",
-                   states_.size() == 1 ? "" : " over states", *options_.goal, exact.note);
+        detail::SelectLogger()->warn(
+            "exact{}, goal {:g}: {}; reporting the best answer found and a bound",
+            states_.size() == 1 ? "" : " over states", *options_.goal, exact.note);
       }
       StateSelection s = Score(Method::kExact, exact.chosen, greedy_seconds_ + SecondsSince(t));
       // The bound is on the least cost, or with unit costs on the fewest sensors.
