@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <cmath>
 #include <cctype>
-#include <cstdio>
 #include <cstring>
 #include <optional>
 #include <numbers>
@@ -460,6 +459,13 @@ TriangleMesh MeshFromBytes(const std::string& bytes) {
   return mesh;
 }
 
+/// Whether `path` ends in `extension` (lower case, with its dot), in any case.
+bool HasExtension(const std::string& path, std::string_view extension) {
+  std::string own = std::filesystem::path(path).extension().string();
+  for (char& c : own) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return own == extension;
+}
+
 /// A binary STL read here, without Assimp's child process: the file is a fixed layout (an
 /// 80-byte header, a triangle count n, 50 bytes per triangle) recognised by the size rule Assimp's
 /// own STL reader uses (84 + 50 n bytes exactly, STLImporter::IsBinarySTL), so no content can make
@@ -467,21 +473,11 @@ TriangleMesh MeshFromBytes(const std::string& bytes) {
 /// file order, with Assimp's identity node transform's + 0 (which turns -0 into +0). Empty when
 /// the file is not such an STL, or holds no triangle (Assimp reads those, and words the refusal).
 std::optional<TriangleMesh> ReadBinaryStl(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (extension != ".stl") return std::nullopt;
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (!file) return std::nullopt;
+  if (!HasExtension(path, ".stl")) return std::nullopt;
   std::string bytes;
-  char buffer[1 << 16];
-  for (size_t n; (n = std::fread(buffer, 1, sizeof(buffer), file)) > 0;) {
-    if (bytes.empty()) bytes.reserve(static_cast<size_t>(std::filesystem::file_size(path)));
-    bytes.append(buffer, n);
-  }
-  const bool failed = std::ferror(file) != 0;
-  std::fclose(file);
+  if (!detail::ReadWholeFile(path, &bytes)) return std::nullopt;
   constexpr size_t kHeader = 84, kPerTriangle = 50;
-  if (failed || bytes.size() < kHeader) return std::nullopt;
+  if (bytes.size() < kHeader) return std::nullopt;
   uint32_t count = 0;
   std::memcpy(&count, bytes.data() + 80, sizeof(count));
   if (count == 0 || bytes.size() != kHeader + kPerTriangle * static_cast<size_t>(count))
@@ -537,9 +533,7 @@ std::optional<float> PlainObjNumber(std::string_view word) {
 }
 
 std::optional<TriangleMesh> ReadPlainObj(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (extension != ".obj") return std::nullopt;
+  if (!HasExtension(path, ".obj")) return std::nullopt;
   std::string text;
   if (!detail::ReadWholeFile(path, &text)) return std::nullopt;
   std::vector<Vec3> positions;
