@@ -19,6 +19,7 @@
 #include <csignal>
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
 #include <limits>
 #include <map>
 #include <memory>
@@ -26,8 +27,11 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
+#include <type_traits>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "vantage/error.hpp"
@@ -35,6 +39,7 @@
 #include "vantage/interrupt.hpp"
 #include "vantage/pipeline.hpp"
 #include "vantage/select_states.hpp"
+#include "vantage/selection_options.hpp"
 #include "vantage/sensors.hpp"
 #include "vantage/types.hpp"
 #include "vantage/words.hpp"
@@ -809,64 +814,48 @@ VisibilityHandle FromMatrix(const py::object& csr, const py::object& cells_value
   return result;
 }
 
-SelectionRequest RequestOf(std::optional<int> n,
-                           std::optional<Method> method,
-                           std::optional<double> time_limit,
-                           std::optional<int> k,
-                           std::optional<double> goal,
-                           std::optional<double> budget,
-                           std::optional<int> iterations,
-                           std::optional<double> stop,
-                           std::optional<OverStates> over_states = std::nullopt) {
-  SelectionRequest request;
-  request.n = n;
-  request.method = method;
-  request.time_limit = time_limit;
-  request.k = k;
-  request.goal = goal;
-  request.budget = budget;
-  request.ransac_iterations = iterations;
-  request.ransac_stop_coverage = stop;
-  request.over_states = over_states;
-  return request;
-}
-
-// The CLI's constraint and point-density flags (docs/constraints.md), None where not given, set
-// on `request` (a SelectionRequest or EvaluateOptions: the keywords every selecting function and
-// evaluate share).
-template <typename Request>
-void SetInstallRules(Request* request, const py::object& interference,
-                     const py::object& interference_overlap,
-                     const py::object& calibration_overlap,
-                     const py::object& calibration_overlap_frac, const py::object& min_points,
-                     const py::object& min_density) {
-  request->constraints.interference = FlagOf(interference, "interference");
-  request->constraints.interference_overlap =
-      RealOf(interference_overlap, "interference_overlap");
-  request->constraints.calibration_overlap = UnsignedOf(calibration_overlap, "calibration_overlap");
-  request->constraints.calibration_overlap_frac =
+// The installation constraints' keywords (docs/constraints.md), None where not given, set on
+// `constraints` (a SelectionRequest's or EvaluateOptions').
+void SetConstraintKeywords(ConstraintOptions* constraints, const py::object& interference,
+                           const py::object& interference_overlap,
+                           const py::object& calibration_overlap,
+                           const py::object& calibration_overlap_frac) {
+  constraints->interference = FlagOf(interference, "interference");
+  constraints->interference_overlap = RealOf(interference_overlap, "interference_overlap");
+  constraints->calibration_overlap = UnsignedOf(calibration_overlap, "calibration_overlap");
+  constraints->calibration_overlap_frac =
       RealOf(calibration_overlap_frac, "calibration_overlap_frac");
-  request->min_points = WholeOf(min_points, "min_points", std::numeric_limits<int64_t>::min(),
-                                std::numeric_limits<int64_t>::max());
-  request->min_density = RealOf(min_density, "min_density");
 }
 
-// The selection keywords every selecting function shares, checked as the rule above says.
-SelectionRequest RequestOf(const py::object& n, std::optional<Method> method,
-                           const py::object& time_limit, const py::object& k,
-                           const py::object& goal, const py::object& budget,
-                           const py::object& iterations, const py::object& stop,
-                           std::optional<OverStates> over_states = std::nullopt) {
-  return RequestOf(IntOf(n, "n"), method, RealOf(time_limit, "time_limit"), IntOf(k, "k"),
-                   RealOf(goal, "goal"), RealOf(budget, "budget"), IntOf(iterations, "iterations"),
-                   RealOf(stop, "stop"), over_states);
-}
-
-// --cheapest and --keep-existing (flags: False is the CLI's default).
-void SetChoiceFlags(SelectionRequest* request, const py::object& cheapest,
-                    const py::object& keep_existing) {
-  request->cheapest = FlagOf(cheapest, "cheapest", false);
-  request->keep_existing = FlagOf(keep_existing, "keep_existing", false);
+// The selection keywords every selecting function shares, by keyword: each read as its row of
+// the selection options' table (selection_options.hpp) types it, None (False for a flag) where
+// not given, with the rule above.
+SelectionRequest RequestOf(
+    std::initializer_list<std::pair<std::string_view, const py::object*>> keywords) {
+  SelectionRequest request;
+  for (const auto& [keyword, value] : keywords) {
+    const std::string key(keyword);
+    std::visit(
+        [&](auto pointer) {
+          auto& field = request.*pointer;
+          using Value = std::decay_t<decltype(field)>;
+          if constexpr (std::is_same_v<Value, bool>)
+            field = FlagOf(*value, key, false);
+          else if constexpr (std::is_same_v<Value, std::optional<int>>)
+            field = IntOf(*value, key);
+          else if constexpr (std::is_same_v<Value, std::optional<int64_t>>)
+            field = WholeOf(*value, key, std::numeric_limits<int64_t>::min(),
+                            std::numeric_limits<int64_t>::max());
+          else if constexpr (std::is_same_v<Value, std::optional<double>>)
+            field = RealOf(*value, key);
+          else if constexpr (std::is_same_v<Value, std::optional<Method>>)
+            field = OptionalMethodOf(TextOf(*value, key));
+          else
+            field = OverStatesOf(TextOf(*value, key));
+        },
+        SelectionOptionOfKeyword(keyword).member);
+  }
+  return request;
 }
 
 // Selection as `vantage select FILE`: the same resolution, constraints included; each result
@@ -1236,11 +1225,14 @@ void Bind(py::module_& m) {
               throw InputError(AtPlace("method", 0,
                                        "'all' gives one result per method and n — use "
                                        "select_all(), or name one method"));
-            SelectionRequest request =
-                RequestOf(n, chosen, time_limit, k, goal, budget, iterations, stop);
-            SetInstallRules(&request, interference, interference_overlap, calibration_overlap,
-                            calibration_overlap_frac, min_points, min_density);
-            SetChoiceFlags(&request, cheapest, keep_existing);
+            SelectionRequest request = RequestOf(
+                {{"n", &n}, {"time_limit", &time_limit}, {"k", &k}, {"goal", &goal},
+                 {"budget", &budget}, {"iterations", &iterations}, {"stop", &stop},
+                 {"min_points", &min_points}, {"min_density", &min_density},
+                 {"cheapest", &cheapest}, {"keep_existing", &keep_existing}});
+            request.method = chosen;
+            SetConstraintKeywords(&request.constraints, interference, interference_overlap,
+                                  calibration_overlap, calibration_overlap_frac);
             std::vector<SelectionInfo> results =
                 SelectOn(*v.data, request, UnsignedOf(seed, "seed"), Method::kExact, threads);
             return std::move(results.back());
@@ -1278,11 +1270,13 @@ void Bind(py::module_& m) {
              const py::object& calibration_overlap_frac, const py::object& min_points,
              const py::object& min_density, const py::object& cheapest,
              const py::object& keep_existing) {
-            SelectionRequest request = RequestOf(n, OptionalMethodOf(TextOf(method, "method")),
-                                                 time_limit, k, goal, budget, iterations, stop);
-            SetInstallRules(&request, interference, interference_overlap, calibration_overlap,
-                            calibration_overlap_frac, min_points, min_density);
-            SetChoiceFlags(&request, cheapest, keep_existing);
+            SelectionRequest request = RequestOf(
+                {{"n", &n}, {"method", &method}, {"time_limit", &time_limit}, {"k", &k},
+                 {"goal", &goal}, {"budget", &budget}, {"iterations", &iterations},
+                 {"stop", &stop}, {"min_points", &min_points}, {"min_density", &min_density},
+                 {"cheapest", &cheapest}, {"keep_existing", &keep_existing}});
+            SetConstraintKeywords(&request.constraints, interference, interference_overlap,
+                                  calibration_overlap, calibration_overlap_frac);
             return SelectOn(*v.data, request, UnsignedOf(seed, "seed"), Method::kAll, threads);
           },
           py::arg("n") = py::none(), py::arg("method") = py::none(),
@@ -1485,12 +1479,13 @@ void Bind(py::module_& m) {
                                       seed, observation_point, random_roll, exposed_only});
         options.observe = ObserveOptionsOf(quality, cull, progress, physical);
         options.limits = LimitsOf(max_memory, max_seconds);
-        options.selection =
-            RequestOf(n, OptionalMethodOf(TextOf(method, "method")), time_limit, k, goal, budget,
-                      iterations, stop, OverStatesOf(TextOf(over_states, "over_states")));
-        SetInstallRules(&options.selection, interference, interference_overlap, calibration_overlap,
-                        calibration_overlap_frac, min_points, min_density);
-        SetChoiceFlags(&options.selection, cheapest, keep_existing);
+        options.selection = RequestOf(
+            {{"n", &n}, {"method", &method}, {"iterations", &iterations}, {"stop", &stop},
+             {"time_limit", &time_limit}, {"goal", &goal}, {"cheapest", &cheapest}, {"k", &k},
+             {"budget", &budget}, {"min_points", &min_points}, {"min_density", &min_density},
+             {"over_states", &over_states}, {"keep_existing", &keep_existing}});
+        SetConstraintKeywords(&options.selection.constraints, interference, interference_overlap,
+                              calibration_overlap, calibration_overlap_frac);
         options.robustness = RobustnessOf(fov_tolerance, alternatives_within);
         options.pose_tolerance = PoseToleranceOf(pose_tolerance, pose_samples);
         options.by_type = FlagOf(by_type, "by_type", false);
@@ -1566,12 +1561,13 @@ void Bind(py::module_& m) {
          const py::object& min_points, const py::object& min_density) {
         SelectFileOptions options;
         options.visibility_file = PathOf(file, "file");
-        options.selection =
-            RequestOf(n, OptionalMethodOf(TextOf(method, "method")), time_limit, k, goal, budget,
-                      iterations, stop, OverStatesOf(TextOf(over_states, "over_states")));
-        SetInstallRules(&options.selection, interference, interference_overlap, calibration_overlap,
-                        calibration_overlap_frac, min_points, min_density);
-        SetChoiceFlags(&options.selection, cheapest, keep_existing);
+        options.selection = RequestOf(
+            {{"n", &n}, {"method", &method}, {"iterations", &iterations}, {"stop", &stop},
+             {"time_limit", &time_limit}, {"goal", &goal}, {"cheapest", &cheapest}, {"k", &k},
+             {"budget", &budget}, {"min_points", &min_points}, {"min_density", &min_density},
+             {"over_states", &over_states}, {"keep_existing", &keep_existing}});
+        SetConstraintKeywords(&options.selection.constraints, interference, interference_overlap,
+                              calibration_overlap, calibration_overlap_frac);
         options.seed = UnsignedOf(seed, "seed");
         options.robustness = RobustnessOf(fov_tolerance, alternatives_within);
         options.pose_tolerance = PoseToleranceOf(pose_tolerance, pose_samples);
@@ -1624,8 +1620,11 @@ void Bind(py::module_& m) {
         options.constellation = OptionalPathOf(constellation, "constellation").value_or("");
         options.observe = ObserveOptionsOf(quality, cull, progress, physical);
         options.limits = LimitsOf(max_memory, max_seconds);
-        SetInstallRules(&options, interference, interference_overlap, calibration_overlap,
-                        calibration_overlap_frac, min_points, min_density);
+        SetConstraintKeywords(&options.constraints, interference, interference_overlap,
+                              calibration_overlap, calibration_overlap_frac);
+        options.min_points = WholeOf(min_points, "min_points", std::numeric_limits<int64_t>::min(),
+                                     std::numeric_limits<int64_t>::max());
+        options.min_density = RealOf(min_density, "min_density");
         options.pose_tolerance = PoseToleranceOf(pose_tolerance, pose_samples);
         const std::optional<std::string> out_dir = OutDirOf(out);
         struct Outcome {

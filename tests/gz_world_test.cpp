@@ -538,7 +538,7 @@ TEST(GzWorld, KeepExistingKeepsTheWorldsCamerasInEveryMethod) {
   EXPECT_EQ(methods, (std::set<std::string>{"best", "ransac", "greedy", "local", "exact"}));
   // The run says it kept them (report.json inputs), so that a rerun from it can do the same.
   ASSERT_TRUE(run.report.inputs.has_value());
-  EXPECT_TRUE(run.report.inputs->keep_existing);
+  EXPECT_TRUE(run.report.inputs->selection.keep_existing);
   EXPECT_NE(run.files.at("report.json").find("\"keep_existing\": true"), std::string::npos);
 
   // A goal and a budget count the kept sensors too.

@@ -15,8 +15,11 @@
 #include <mutex>
 #include <set>
 #include <string_view>
+#include <type_traits>
+#include <variant>
 
 #include "commands.hpp"
+#include "vantage/selection_options.hpp"
 
 namespace vantage::cli {
 namespace {
@@ -287,56 +290,39 @@ void AddObserveFlags(CLI::App* app, ObserveOptions* observe, RunLimits* limits) 
 }
 
 void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {
-  app->add_option("-n,--sensors", request->n, "number of sensors wanted (default: the scene's)");
-  AddEnumOption<Method>(app, "--method", &request->method,
-                        {Method::kBest, Method::kRansac, Method::kGreedy, Method::kLocal,
-                         Method::kExact, Method::kAll},
-                        MethodName, ParseMethod,
-                        "best | ransac | greedy | local | exact | all (default: the scene's, "
-                        "else all: every method, compared)");
-  app->add_option("--iterations", request->ransac_iterations,
-                  "RANSAC iteration cap (default: the scene's); --method all runs it at the N "
-                  "asked and shares 5e5 drawn sensors among the smaller N's");
-  app->add_option("--stop", request->ransac_stop_coverage,
-                  "RANSAC stops at this coverage, fraction 0..1 (default: the scene's)");
-  app->add_option("--time-limit", request->time_limit,
-                  "seconds for the exact method, the greedy and local search it starts from "
-                  "included (default: 60); --method all runs its N's on up to 2 threads at once, "
-                  "each thread's N's sharing the smaller of it and 6 s of wall time, each N an "
-                  "equal part of what that thread has left for the N's it still expects");
-  app->add_option("--goal", request->goal,
-                  "objective: the fewest sensors whose coverage reaches this fraction 0..1 (set "
-                  "cover)");
-  app->add_flag("--cheapest", request->cheapest,
-                "with --goal: the cheapest sensors (their types' cost) reaching it, not the "
-                "fewest");
-  app->add_option("--k", request->k,
-                  "objective: k-coverage, a cell counts once k chosen sensors see it (k >= 2); "
-                  "with --goal or --budget: the goal or the budget's coverage counts cells seen "
-                  "k times");
-  app->add_option("--budget", request->budget,
-                  "objective: the most coverage for a total sensor cost within this budget "
-                  "(counted k times with --k, in points with --min-points)");
-  AddPointDensityFlags(app, &request->min_points, &request->min_density);
-  AddEnumOption<OverStates>(app, "--over-states", &request->over_states,
-                            {OverStates::kMean, OverStates::kMin}, OverStatesName,
-                            ParseOverStates,
-                            "a scene with states: maximise the mean or the worst (min) coverage "
-                            "over them (default mean)");
-  app->add_flag("--keep-existing", request->keep_existing,
-                "every answer keeps the sensors the scene declares (a gz-sim world's cameras, "
-                "a YAML scene's `sensors:`) and adds to them; -n counts them");
+  for (const SelectionOption& option : SelectionOptionTable()) {
+    const std::string names(option.cli_names);
+    const std::string help(option.help);
+    std::visit(
+        [&](auto pointer) {
+          auto& value = request->*pointer;
+          using Value = std::decay_t<decltype(value)>;
+          if constexpr (std::is_same_v<Value, bool>) {
+            app->add_flag(names, value, help);
+          } else if constexpr (std::is_same_v<Value, std::optional<Method>>) {
+            AddEnumOption<Method>(app, names, &value,
+                                  {Method::kBest, Method::kRansac, Method::kGreedy,
+                                   Method::kLocal, Method::kExact, Method::kAll},
+                                  MethodName, ParseMethod, help);
+          } else if constexpr (std::is_same_v<Value, std::optional<OverStates>>) {
+            AddEnumOption<OverStates>(app, names, &value, {OverStates::kMean, OverStates::kMin},
+                                      OverStatesName, ParseOverStates, help);
+          } else {
+            app->add_option(names, value, help);
+          }
+        },
+        option.member);
+  }
   AddConstraintFlags(app, &request->constraints);
 }
 
 void AddPointDensityFlags(CLI::App* app, std::optional<int64_t>* min_points,
                           std::optional<double>* min_density) {
+  // The rows of the selection options' table, onto evaluate's own fields too.
   app->add_option("--min-points", *min_points,
-                  "point density: a cell counts once the chosen sensors together put at least "
-                  "this many pixels' hits in it (1..65535; docs/constraints.md)");
+                  std::string(SelectionOptionOfKeyword("min_points").help));
   app->add_option("--min-density", *min_density,
-                  "point density in points per cm² of a cell's face (F²), converted to "
-                  "--min-points = ceil(D * F²)");
+                  std::string(SelectionOptionOfKeyword("min_density").help));
 }
 
 void AddConstraintFlags(CLI::App* app, ConstraintOptions* c) {

@@ -28,6 +28,7 @@
 #include "vantage/robustness.hpp"
 #include "vantage/select.hpp"
 #include "vantage/select_states.hpp"
+#include "vantage/selection_options.hpp"
 #include "vantage/settings.hpp"
 #include "vantage/visibility_file.hpp"
 
@@ -59,24 +60,6 @@ struct RunLimits {
   void Validate() const;  ///< InputError naming --max-memory or --max-seconds
 };
 
-/// Installation constraints of a run (docs/constraints.md), from the command line.
-struct ConstraintOptions {
-  /// --interference true|false: projecting sensors (ProjectsLight) may not light up more than
-  /// `interference_overlap` of each other's observed cells. Unset: on wherever it applies (the
-  /// coverage objective without states, kept sensors or refinement), off elsewhere.
-  std::optional<bool> interference;
-  std::optional<double> interference_overlap;  ///< --interference-overlap, fraction; default 0.1
-  /// --calibration-overlap C: the chosen sensors' overlap graph (an edge: at least C common
-  /// cells of R) must be connected.
-  std::optional<uint64_t> calibration_overlap;
-  /// --calibration-overlap-frac f: an edge needs a share f of the smaller of the two sets.
-  std::optional<double> calibration_overlap_frac;
-  double Overlap() const { return interference_overlap.value_or(0.1); }
-  /// InputError naming the option: an overlap outside [0, 1], C < 1, f outside (0, 1], or both
-  /// calibration options.
-  void Validate() const;
-};
-
 /// A deliberately high estimate of the seconds that observing `candidates` candidates with
 /// `rays` rays to trace (after culling: CountRaysToTrace) takes on `threads` threads, selection
 /// and outputs included: kSecondsPerRay per ray plus kSecondsPerCandidate per candidate (culling,
@@ -96,31 +79,6 @@ inline constexpr double kSecondsPerCandidate = 3e-4;
 double EstimateSceneSeconds(uint64_t built_triangles, uint64_t scene_triangles, size_t threads);
 inline constexpr double kSecondsPerTriangle = 1e-6;
 inline constexpr double kOutputSecondsPerTriangle = 2e-6;
-
-/// Selection settings given by the caller; unset: the scene's (SelectionSettings). Any of goal,
-/// k and budget given replaces the scene's objective altogether (so --k 2 over a scene's goal
-/// works).
-struct SelectionRequest {
-  std::optional<int> n;                        ///< -n
-  std::optional<Method> method;                ///< --method
-  std::optional<int> ransac_iterations;        ///< --iterations
-  std::optional<double> ransac_stop_coverage;  ///< --stop, fraction
-  std::optional<double> time_limit;            ///< --time-limit [s], default 60
-  std::optional<double> goal;                  ///< --goal, fraction
-  bool cheapest = false;                       ///< --cheapest: the goal minimises cost
-  std::optional<int> k;                        ///< --k
-  std::optional<double> budget;                ///< --budget
-  /// --min-points: a cell counts once the chosen sensors put this many pixels' hits in it
-  /// (SelectOptions::min_points; docs/constraints.md, "Point density").
-  std::optional<int64_t> min_points;
-  /// --min-density [points per cm²]: min_points = ceil(D · F² in cm²), F the cell edge.
-  std::optional<double> min_density;
-  std::optional<OverStates> over_states;       ///< --over-states, for a scene with states
-  /// --keep-existing: every answer holds the explicitly declared sensors (candidates of no
-  /// population: a world's cameras, a YAML scene's `sensors:`), SelectOptions::fixed.
-  bool keep_existing = false;
-  ConstraintOptions constraints;  ///< installation constraints
-};
 
 /// The selection options of a run: the request over the scene's settings, costs from the
 /// candidates' types. InputError naming the option of the request that makes them invalid, or

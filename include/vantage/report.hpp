@@ -10,6 +10,7 @@
 #include "vantage/pose_tolerance.hpp"
 #include "vantage/robustness.hpp"
 #include "vantage/select.hpp"
+#include "vantage/selection_options.hpp"
 #include "vantage/tour.hpp"
 #include "vantage/visibility_file.hpp"
 
@@ -96,23 +97,9 @@ struct RunInputs {
   /// `sensor_model: "physical"` when physical, left out when ideal (reports as before issue 43).
   bool physical = false;
   QualityFilter quality;                    ///< --max-incidence, --max-depth-noise
-  std::optional<int> n;                     ///< -n
-  std::optional<std::string> method;        ///< --method
-  std::optional<int> ransac_iterations;     ///< --iterations
-  std::optional<double> ransac_stop_coverage;  ///< --stop
-  std::optional<double> time_limit;         ///< --time-limit
-  std::optional<double> goal;               ///< --goal
-  std::optional<int> k;                     ///< --k
-  std::optional<double> budget;             ///< --budget
-  bool cheapest = false;                    ///< --cheapest (with --goal: least cost)
-  std::optional<int> min_points;            ///< --min-points
-  std::optional<double> min_density;        ///< --min-density [points per cm²]
-  std::optional<std::string> over_states;   ///< --over-states
-  bool keep_existing = false;               ///< --keep-existing
-  std::optional<bool> interference;         ///< --interference
-  std::optional<double> interference_overlap;  ///< --interference-overlap
-  std::optional<uint64_t> calibration_overlap;  ///< --calibration-overlap, cells
-  std::optional<double> calibration_overlap_frac;  ///< --calibration-overlap-frac
+  /// -n, --method, ..., --keep-existing and the installation constraints, as given (each
+  /// option's `inputs` key: SelectionOptionTable()).
+  SelectionRequest selection;
   bool refine = false;                      ///< --refine
   std::optional<int> refine_rounds;         ///< --refine-rounds
   std::optional<double> fov_tolerance_deg;  ///< --fov-tolerance

@@ -220,13 +220,12 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   // run's, checked before any ray.
   ConstraintOptions constraints = options.constraints;
   if (constellation.inputs) {
-    const RunInputs& run_inputs = *constellation.inputs;
-    if (!constraints.interference) constraints.interference = run_inputs.interference;
-    if (!constraints.interference_overlap)
-      constraints.interference_overlap = run_inputs.interference_overlap;
+    const ConstraintOptions& run = constellation.inputs->selection.constraints;
+    if (!constraints.interference) constraints.interference = run.interference;
+    if (!constraints.interference_overlap) constraints.interference_overlap = run.interference_overlap;
     if (!constraints.calibration_overlap && !constraints.calibration_overlap_frac) {
-      constraints.calibration_overlap = run_inputs.calibration_overlap;
-      constraints.calibration_overlap_frac = run_inputs.calibration_overlap_frac;
+      constraints.calibration_overlap = run.calibration_overlap;
+      constraints.calibration_overlap_frac = run.calibration_overlap_frac;
     }
   }
   try {
@@ -242,8 +241,8 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   std::optional<double> min_density = options.min_density;
   std::string density_origin;  // empty: the flags
   if (!min_points && !min_density && constellation.inputs) {
-    min_points = constellation.inputs->min_points;
-    min_density = constellation.inputs->min_density;
+    min_points = constellation.inputs->selection.min_points;
+    min_density = constellation.inputs->selection.min_density;
     density_origin = options.constellation;
     detail::ResolveMinPoints(min_points, min_density, scene.load.cell_size.value_or(1e-9),
                              density_origin);
@@ -306,12 +305,9 @@ EvaluateResult Evaluate(const EvaluateOptions& options) {
   if (report.constraints) report.constraints->is_applied = false;
   report.inputs = detail::InputsOf("evaluate", scene, observe);
   report.inputs->physical = run.data->physical;
-  report.inputs->interference = options.constraints.interference;
-  report.inputs->interference_overlap = options.constraints.interference_overlap;
-  report.inputs->calibration_overlap = options.constraints.calibration_overlap;
-  report.inputs->calibration_overlap_frac = options.constraints.calibration_overlap_frac;
-  if (options.min_points) report.inputs->min_points = static_cast<int>(*options.min_points);
-  report.inputs->min_density = options.min_density;
+  report.inputs->selection.constraints = options.constraints;
+  report.inputs->selection.min_points = options.min_points;
+  report.inputs->selection.min_density = options.min_density;
   if (!options.constellation.empty())
     report.inputs->constellation = detail::AbsolutePath(options.constellation).string();
   DeriveReport(&report);

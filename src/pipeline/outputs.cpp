@@ -38,8 +38,8 @@ ScoringOptions ScoringOf(const VisibilityFile& data, const RunInputs& inputs) {
   ScoringOptions scoring;
   scoring.cell_size = data.reference.cell_size;
   scoring.quality = data.quality;
-  scoring.min_points = inputs.min_points;
-  scoring.min_density = inputs.min_density;
+  scoring.min_points = inputs.selection.min_points;
+  scoring.min_density = inputs.selection.min_density;
   return scoring;
 }
 
@@ -92,23 +92,7 @@ void AddPoseTolerance(const std::optional<PoseToleranceOptions>& options, const 
 }
 
 void AddSelectionInputs(const SelectionRequest& request, RunInputs* inputs) {
-  inputs->n = request.n;
-  if (request.method) inputs->method = MethodName(*request.method);
-  inputs->ransac_iterations = request.ransac_iterations;
-  inputs->ransac_stop_coverage = request.ransac_stop_coverage;
-  inputs->time_limit = request.time_limit;
-  inputs->goal = request.goal;
-  inputs->k = request.k;
-  inputs->budget = request.budget;
-  inputs->cheapest = request.cheapest;
-  if (request.min_points) inputs->min_points = static_cast<int>(*request.min_points);
-  inputs->min_density = request.min_density;
-  if (request.over_states) inputs->over_states = OverStatesName(*request.over_states);
-  inputs->keep_existing = request.keep_existing;
-  inputs->interference = request.constraints.interference;
-  inputs->interference_overlap = request.constraints.interference_overlap;
-  inputs->calibration_overlap = request.constraints.calibration_overlap;
-  inputs->calibration_overlap_frac = request.constraints.calibration_overlap_frac;
+  inputs->selection = request;
 }
 
 std::map<std::string, std::string> ConstellationFiles(const std::string& scene_path,

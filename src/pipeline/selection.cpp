@@ -6,12 +6,33 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string_view>
 #include <utility>
 
 #include "pipeline/common.hpp"
 #include "vantage/error.hpp"
 
 namespace vantage {
+namespace {
+
+// The request's options in the order a FieldError blames them: by the field a message is most
+// about (a cost asked without a goal before the goal, k before n's other faults...), then any
+// option whose field is not listed, in the table's order.
+std::vector<const SelectionOption*> OptionsInBlameOrder() {
+  static constexpr std::array<std::string_view, 11> kFieldOrder = {
+      "minimize_cost", "min_points",           "n",          "k",      "goal", "budget",
+      "ransac_iterations", "ransac_stop_coverage", "time_limit", "method", "fixed"};
+  std::vector<const SelectionOption*> ordered;
+  for (const std::string_view field : kFieldOrder)
+    for (const SelectionOption& option : SelectionOptionTable())
+      if (option.field == field) ordered.push_back(&option);
+  for (const SelectionOption& option : SelectionOptionTable())
+    if (std::find(kFieldOrder.begin(), kFieldOrder.end(), option.field) == kFieldOrder.end())
+      ordered.push_back(&option);
+  return ordered;
+}
+
+}  // namespace
 
 SelectOptions ResolveSelection(const SelectionSettings& settings, const SelectionRequest& request,
                                uint64_t seed, std::span<const Candidate> candidates,
@@ -37,7 +58,6 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
   }
   options.k = requested_objective ? request.k.value_or(1) : settings.k;
   options.budget = requested_objective ? request.budget : settings.budget;
-  const char* min_points_flag = request.min_density ? "--min-density" : "--min-points";
   options.min_points =
       detail::ResolveMinPoints(request.min_points, request.min_density, cell_size);
   options.minimize_cost = request.cheapest;
@@ -77,27 +97,12 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
     options.Validate(candidates.size());
   } catch (const FieldError& e) {
     // The first field at fault that the request gave names its flag; else the scene's own.
-    const std::array<std::pair<const char*, bool>, 11> given = {{
-        {"minimize_cost", request.cheapest},
-        {"min_points", has_min_points},
-        {"n", request.n.has_value()},
-        {"k", request.k.has_value()},
-        {"goal", request.goal.has_value()},
-        {"budget", request.budget.has_value()},
-        {"ransac_iterations", request.ransac_iterations.has_value()},
-        {"ransac_stop_coverage", request.ransac_stop_coverage.has_value()},
-        {"time_limit", request.time_limit.has_value()},
-        {"method", request.method.has_value()},
-        {"fixed", request.keep_existing},
-    }};
-    const std::array<const char*, 11> flags = {
-        "--cheapest", min_points_flag, "-n",     "--k",          "--goal",   "--budget",
-        "--iterations",  "--stop", "--time-limit", "--method", "--keep-existing"};
-    for (size_t i = 0; i < given.size(); ++i) {
-      const bool is_at_fault = std::find(e.fields().begin(), e.fields().end(), given[i].first) !=
-                               e.fields().end();
-      if (is_at_fault && given[i].second) throw InputError(AtPlace(flags[i], 0, e.what()));
-    }
+    const auto is_at_fault = [&](std::string_view field) {
+      return std::find(e.fields().begin(), e.fields().end(), field) != e.fields().end();
+    };
+    for (const SelectionOption* option : OptionsInBlameOrder())
+      if (is_at_fault(option->field) && option->GivenIn(request))
+        throw InputError(AtPlace(std::string(option->flag), 0, e.what()));
     // Else the scene's line of the first field at fault that the scene gives.
     for (const std::string& field : e.fields()) {
       if (const auto line = settings.lines.find(field); line != settings.lines.end())

@@ -509,8 +509,8 @@ std::string ReportJson(const Report& report) {
     // Point density (docs/constraints.md): the points a cell needs, and the density given.
     const double face_cm2 = std::pow(100.0 * data.reference.cell_size, 2);
     ordered_json density = {{"points", *p->min_points}, {"cell_face_cm2", face_cm2}};
-    if (report.inputs && report.inputs->min_density)
-      density["per_cm2"] = *report.inputs->min_density;
+    if (report.inputs && report.inputs->selection.min_density)
+      density["per_cm2"] = *report.inputs->selection.min_density;
     j["min_points"] = std::move(density);
   }
   if (report.robustness) j["robustness"] = RobustnessJson(*report.robustness, data);

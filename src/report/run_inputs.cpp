@@ -3,6 +3,9 @@
 
 #include <fmt/format.h>
 
+#include <type_traits>
+#include <variant>
+
 #include "util/cell_size.hpp"
 #include "vantage/error.hpp"
 
@@ -80,6 +83,16 @@ class Reader {
     *out = Vec3(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
   }
 
+  // `text` of `key` parsed by `parse`; its InputError (which lists the valid names) naming the key.
+  template <typename Parse>
+  auto Parsed(const char* key, const std::string& text, Parse parse) const {
+    try {
+      return parse(text);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: inputs.{}: {}", where_, key, e.what()));
+    }
+  }
+
  private:
   [[noreturn]] void Fail(const char* key, const char* what) const {
     throw InputError(fmt::format("{}: inputs.{} must be {} — give a report.json written by vantage",
@@ -88,6 +101,71 @@ class Reader {
   const json& j_;
   std::string where_;
 };
+
+// The selection options as SelectionOptionTable() names them, in its order, then the
+// installation constraints; a flag only when set.
+void PutSelection(ordered_json* j, const SelectionRequest& request) {
+  for (const SelectionOption& option : SelectionOptionTable()) {
+    const std::string key(option.input);
+    std::visit(
+        [&](auto pointer) {
+          const auto& value = request.*pointer;
+          using Value = std::decay_t<decltype(value)>;
+          if constexpr (std::is_same_v<Value, bool>) {
+            if (value) (*j)[key] = true;
+          } else if constexpr (std::is_same_v<Value, std::optional<Method>>) {
+            if (value) (*j)[key] = MethodName(*value);
+          } else if constexpr (std::is_same_v<Value, std::optional<OverStates>>) {
+            if (value) (*j)[key] = OverStatesName(*value);
+          } else {
+            Put(j, key.c_str(), value);
+          }
+        },
+        option.member);
+  }
+  const ConstraintOptions& c = request.constraints;
+  Put(j, "interference", c.interference);
+  Put(j, "interference_overlap", c.interference_overlap);
+  Put(j, "calibration_overlap", c.calibration_overlap);
+  Put(j, "calibration_overlap_frac", c.calibration_overlap_frac);
+}
+
+void ReadSelection(const Reader& r, SelectionRequest* request) {
+  for (const SelectionOption& option : SelectionOptionTable()) {
+    const std::string key(option.input);
+    std::visit(
+        [&](auto pointer) {
+          auto& value = request->*pointer;
+          using Value = std::decay_t<decltype(value)>;
+          if constexpr (std::is_same_v<Value, bool>) {
+            r.Boolean(key.c_str(), &value);
+          } else if constexpr (std::is_same_v<Value, std::optional<int>>) {
+            r.Integer(key.c_str(), &value);
+          } else if constexpr (std::is_same_v<Value, std::optional<int64_t>>) {
+            std::optional<int> whole;  // the range a run writes (ResolveMinPoints checks it)
+            r.Integer(key.c_str(), &whole);
+            if (whole) value = *whole;
+          } else if constexpr (std::is_same_v<Value, std::optional<double>>) {
+            r.Number(key.c_str(), &value);
+          } else {
+            std::optional<std::string> name;
+            r.String(key.c_str(), &name);
+            if (name) value = r.Parsed(key.c_str(), *name, [](const std::string& text) {
+              if constexpr (std::is_same_v<Value, std::optional<Method>>)
+                return ParseMethod(text);
+              else
+                return ParseOverStates(text);
+            });
+          }
+        },
+        option.member);
+  }
+  ConstraintOptions& c = request->constraints;
+  r.Boolean("interference", &c.interference);
+  r.Number("interference_overlap", &c.interference_overlap);
+  r.Unsigned("calibration_overlap", &c.calibration_overlap);
+  r.Number("calibration_overlap_frac", &c.calibration_overlap_frac);
+}
 
 }  // namespace
 
@@ -111,23 +189,7 @@ ordered_json RunInputsJson(const RunInputs& in) {
   if (in.physical) j["sensor_model"] = "physical";
   Put(&j, "max_incidence_deg", in.quality.max_incidence_deg);
   if (in.quality.max_depth_noise) j["max_depth_noise_mm"] = *in.quality.max_depth_noise * 1000.0;
-  Put(&j, "n", in.n);
-  Put(&j, "method", in.method);
-  Put(&j, "ransac_iterations", in.ransac_iterations);
-  Put(&j, "ransac_stop_coverage", in.ransac_stop_coverage);
-  Put(&j, "time_limit", in.time_limit);
-  Put(&j, "goal", in.goal);
-  Put(&j, "k", in.k);
-  Put(&j, "budget", in.budget);
-  if (in.cheapest) j["cheapest"] = true;
-  Put(&j, "min_points", in.min_points);
-  Put(&j, "min_density", in.min_density);
-  Put(&j, "over_states", in.over_states);
-  if (in.keep_existing) j["keep_existing"] = true;
-  Put(&j, "interference", in.interference);
-  Put(&j, "interference_overlap", in.interference_overlap);
-  Put(&j, "calibration_overlap", in.calibration_overlap);
-  Put(&j, "calibration_overlap_frac", in.calibration_overlap_frac);
+  PutSelection(&j, in.selection);
   if (in.refine) j["refine"] = true;
   Put(&j, "refine_rounds", in.refine_rounds);
   Put(&j, "fov_tolerance_deg", in.fov_tolerance_deg);
@@ -174,23 +236,7 @@ RunInputs ParseRunInputs(const json& j, const std::string& where) {
   std::optional<double> noise_mm;
   r.Number("max_depth_noise_mm", &noise_mm);
   if (noise_mm) in.quality.max_depth_noise = *noise_mm / 1000.0;
-  r.Integer("n", &in.n);
-  r.String("method", &in.method);
-  r.Integer("ransac_iterations", &in.ransac_iterations);
-  r.Number("ransac_stop_coverage", &in.ransac_stop_coverage);
-  r.Number("time_limit", &in.time_limit);
-  r.Number("goal", &in.goal);
-  r.Integer("k", &in.k);
-  r.Number("budget", &in.budget);
-  r.Boolean("cheapest", &in.cheapest);
-  r.Integer("min_points", &in.min_points);
-  r.Number("min_density", &in.min_density);
-  r.String("over_states", &in.over_states);
-  r.Boolean("keep_existing", &in.keep_existing);
-  r.Boolean("interference", &in.interference);
-  r.Number("interference_overlap", &in.interference_overlap);
-  r.Unsigned("calibration_overlap", &in.calibration_overlap);
-  r.Number("calibration_overlap_frac", &in.calibration_overlap_frac);
+  ReadSelection(r, &in.selection);
   r.Boolean("refine", &in.refine);
   r.Integer("refine_rounds", &in.refine_rounds);
   r.Number("fov_tolerance_deg", &in.fov_tolerance_deg);
