@@ -25,6 +25,7 @@
 #include "util/run_files.hpp"
 #include "util/words.hpp"
 #include "vantage/error.hpp"
+#include "vantage/mesh_weld.hpp"
 #include "vantage/scene.hpp"
 
 namespace vantage {
@@ -138,36 +139,9 @@ void AddQuad(TriangleMesh* mesh, uint32_t a, uint32_t b, uint32_t c, uint32_t d)
 template <class At>
 std::vector<Vec3> CompactVerticesOf(size_t count, const At& at,
                                     std::vector<std::array<uint32_t, 3>>* triangles) {
-  // + 0.0 turns -0.0 into +0.0, so that equal bits are exactly the doubles that compare equal
-  // (the vertices are finite: ReadMeshFile and WorldPointProblem refuse the others).
-  using Key = std::array<double, 3>;
-  struct KeyHash {
-    size_t operator()(const Key& k) const {
-      uint64_t bits[3];
-      std::memcpy(bits, k.data(), sizeof(bits));
-      uint64_t h = (bits[0] ^ (bits[0] >> 31)) * 0x9E3779B97F4A7C15ull;
-      h = (h ^ (h >> 29) ^ bits[1]) * 0xBF58476D1CE4E5B9ull;
-      h = (h ^ (h >> 32) ^ bits[2]) * 0x94D049BB133111EBull;
-      return static_cast<size_t>(h ^ (h >> 31));
-    }
-  };
-  // Each vertex's first equal one, from a table of vertex indices in open addressing (at most
-  // half full; no allocation per vertex, as the std::unordered_map before it had).
+  // The vertices are finite: ReadMeshFile and WorldPointProblem refuse the others.
+  const std::vector<uint32_t> same_as = FirstEqualPositions(count, at);
   constexpr uint32_t kUnused = UINT32_MAX;
-  size_t capacity = 16;
-  while (capacity < 2 * count) capacity *= 2;
-  std::vector<uint32_t> first_at(capacity, kUnused);
-  std::vector<uint32_t> same_as(count);
-  const KeyHash hash;
-  for (uint32_t i = 0; i < count; ++i) {
-    const Vec3 v = at(i);
-    const Key key{v.x() + 0.0, v.y() + 0.0, v.z() + 0.0};
-    size_t slot = hash(key) & (capacity - 1);
-    while (first_at[slot] != kUnused && at(first_at[slot]) != v)
-      slot = (slot + 1) & (capacity - 1);
-    if (first_at[slot] == kUnused) first_at[slot] = i;
-    same_as[i] = first_at[slot];
-  }
   std::vector<uint32_t> new_index(count, kUnused);
   std::vector<Vec3> kept;
   for (auto& triangle : *triangles) {
