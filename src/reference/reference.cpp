@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <bit>
 #include <limits>
 #include <optional>
 #include <span>
@@ -597,6 +598,27 @@ using Listing = std::vector<uint64_t>;
 static_assert(kMaxExposureGridCells <= (uint64_t{1} << 32));
 uint64_t Listed(uint64_t key, uint32_t triangle) { return key << 32 | triangle; }
 
+// Sorts a listing by its entries' value: an LSD radix sort over the bits that can vary (the
+// triangle's lowest `triangle_bits`, the key's `key_bits` above bit 32), 11 at a time, in place
+// of a comparison sort (the walls' listing sort was a seventh of the reference stage).
+void SortListing(Listing* listing, int triangle_bits, int key_bits) {
+  constexpr int kDigit = 11;
+  std::vector<uint64_t> scratch(listing->size());
+  const auto pass = [&](int shift, int bits) {
+    std::array<uint32_t, (1 << kDigit) + 1> start{};
+    const uint64_t mask = (uint64_t{1} << bits) - 1;
+    for (const uint64_t entry : *listing) ++start[((entry >> shift) & mask) + 1];
+    for (size_t d = 1; d < start.size(); ++d) start[d] += start[d - 1];
+    for (const uint64_t entry : *listing) scratch[start[(entry >> shift) & mask]++] = entry;
+    listing->swap(scratch);
+  };
+  for (int low = 0; low < triangle_bits; low += kDigit) pass(low, std::min(kDigit, triangle_bits - low));
+  for (int low = 0; low < key_bits; low += kDigit) pass(32 + low, std::min(kDigit, key_bits - low));
+}
+
+// The bits that hold every value below `count`.
+int BitsFor(uint64_t count) { return count <= 1 ? 0 : std::bit_width(count - 1); }
+
 template <typename Visit>
 void ForEachListed(const Listing& listing, uint64_t key, const Visit& visit) {
   auto it = std::lower_bound(listing.begin(), listing.end(), Listed(key, 0));
@@ -605,11 +627,12 @@ void ForEachListed(const Listing& listing, uint64_t key, const Visit& visit) {
 
 class ExposureGrid {
  public:
-  ExposureGrid(const Scene& scene, double cell_size, const ExposureBox& box,
-               const TargetCells& target_cells)
+  // The grid's first half, which needs no target cell listed: the closed objects, the triangles
+  // near the box, every wall but the targets' (Finish) and the columns. It can run while
+  // BuildReference lists the target cells.
+  ExposureGrid(const Scene& scene, double cell_size, const ExposureBox& box)
       : scene_(scene),
         cell_size_(cell_size),
-        target_cells_(target_cells),
         box_(box),
         grid_(box.Size(), kFree) {
     // Closed only matters for an object reaching the box's columns (NearBox): the others are not
@@ -647,6 +670,24 @@ class ExposureGrid {
                           cell_tris_[i] = Tri(tris_[i]);
                       });
     ListAndWall();
+  }
+
+  // The targets' walls from their listed cells (the same blocks BuildReference visited, not
+  // clipped again), then the solids, the flood and the near-outside flags.
+  void Finish(const TargetCells& target_cells) {
+    tbb::enumerable_thread_specific<Listing> per_thread;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, target_walls_.size(), 256),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        Listing& cells = per_thread.local();
+                        for (size_t j = range.begin(); j != range.end(); ++j) {
+                          const uint32_t i = target_walls_[j];
+                          for (const uint64_t key : target_cells.Of(tris_[i].object, tris_[i].index))
+                            Wall(UnpackVoxel(key), i, &cells);
+                        }
+                      });
+    for (const Listing& cells : per_thread) cells_.insert(cells_.end(), cells.begin(), cells.end());
+    // Sorted: the same listing whatever the threads did (the pairs are distinct).
+    SortListing(&cells_, BitsFor(tris_.size()), BitsFor(box_.Size()));
     FillSolids();
     Flood();
     MarkNearOutside();
@@ -685,13 +726,24 @@ class ExposureGrid {
     return true;
   }
 
-  // Every surface is a wall; each cell lists its triangles, each column its closed ones.
+  // A cell of triangle i's surface: a wall, listed.
+  void Wall(const Cell& c, uint32_t i, Listing* cells) {
+    const uint64_t index = box_.Index(c);
+    std::atomic_ref<uint8_t>(grid_[index]).store(kWall, std::memory_order_relaxed);
+    cells->push_back(Listed(index, i));
+  }
+
+  // Every surface is a wall; each cell lists its triangles, each column its closed ones. A
+  // target triangle whose cells all lie in the box is left to Finish.
   void ListAndWall() {
-    tbb::enumerable_thread_specific<std::pair<Listing, Listing>> per_thread;
+    struct Local {
+      Listing cells, columns;
+      std::vector<uint32_t> target_walls;
+    };
+    tbb::enumerable_thread_specific<Local> per_thread;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, tris_.size(), 256),
                       [&](const tbb::blocked_range<size_t>& range) {
-      Listing& cells = per_thread.local().first;
-      Listing& columns = per_thread.local().second;
+      Local& local = per_thread.local();
       Polygon poly;
       for (size_t i = range.begin(); i != range.end(); ++i) {
         const CellTri& t = cell_tris_[i];
@@ -705,38 +757,33 @@ class ExposureGrid {
           inside = inside && lo[a] <= hi[a];
           whole = whole && lo[a] == low && hi[a] == high;
         }
-        const auto wall = [&](const Cell& c) {
-          const uint64_t index = box_.Index(c);
-          std::atomic_ref<uint8_t>(grid_[index]).store(kWall, std::memory_order_relaxed);
-          cells.push_back(Listed(index, static_cast<uint32_t>(i)));
-        };
         if (inside && whole && scene_.objects[tris_[i].object].is_target()) {
-          // The same block of cells that BuildReference visited: its cells, not clipped again.
-          for (const uint64_t key : target_cells_.Of(tris_[i].object, tris_[i].index))
-            wall(UnpackVoxel(key));
+          local.target_walls.push_back(static_cast<uint32_t>(i));
         } else if (inside) {
-          VisitBlock(t.v, lo, hi, &poly, wall);
+          VisitBlock(t.v, lo, hi, &poly,
+                     [&](const Cell& c) { Wall(c, static_cast<uint32_t>(i), &local.cells); });
         }
         if (!t.closed) continue;
         for (int64_t x = lo[0]; x <= hi[0]; ++x)
           for (int64_t y = lo[1]; y <= hi[1]; ++y)
-            columns.push_back(Listed(box_.Column(x, y), static_cast<uint32_t>(i)));
+            local.columns.push_back(Listed(box_.Column(x, y), static_cast<uint32_t>(i)));
       }
     });
-    for (const auto& [cells, columns] : per_thread)
-      cells_.insert(cells_.end(), cells.begin(), cells.end());
-    // Sorted: the same listing whatever the threads did (the pairs are distinct).
-    tbb::parallel_sort(cells_.begin(), cells_.end());
+    for (const Local& local : per_thread) {
+      cells_.insert(cells_.end(), local.cells.begin(), local.cells.end());
+      target_walls_.insert(target_walls_.end(), local.target_walls.begin(),
+                           local.target_walls.end());
+    }
     // Columns as offsets into one array (each column's triangles by index), read without a
     // search: every free cell's column is asked for its crossings.
     column_start_.assign(static_cast<size_t>(box_.n[0] * box_.n[1]) + 1, 0);
-    for (const auto& listed : per_thread)
-      for (const uint64_t entry : listed.second) ++column_start_[(entry >> 32) + 1];
+    for (const Local& local : per_thread)
+      for (const uint64_t entry : local.columns) ++column_start_[(entry >> 32) + 1];
     for (size_t c = 1; c < column_start_.size(); ++c) column_start_[c] += column_start_[c - 1];
     column_tris_.resize(column_start_.back());
     std::vector<uint32_t> filled(column_start_.begin(), column_start_.end() - 1);
-    for (const auto& listed : per_thread)
-      for (const uint64_t entry : listed.second)
+    for (const Local& local : per_thread)
+      for (const uint64_t entry : local.columns)
         column_tris_[filled[entry >> 32]++] = static_cast<uint32_t>(entry);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, column_start_.size() - 1, 1024),
                       [&](const tbb::blocked_range<size_t>& range) {
@@ -900,13 +947,13 @@ class ExposureGrid {
 
   const Scene& scene_;
   double cell_size_;
-  const TargetCells& target_cells_;
   std::vector<char> closed_;  // per object: IsClosed
   ExposureBox box_;
   std::vector<uint8_t> grid_;
   std::vector<TriRef> tris_;
   std::vector<CellTri> cell_tris_;     // tris_ in cell units
   Listing cells_;                      // grid index -> triangles touching the cell
+  std::vector<uint32_t> target_walls_;  // tris_ whose walls Finish takes from the listed cells
   std::vector<uint32_t> column_start_;  // column -> its first entry in column_tris_
   std::vector<uint32_t> column_tris_;   // closed triangles over each column, by index
 };
@@ -999,7 +1046,8 @@ std::vector<uint8_t> ComputeExposure(const Scene& scene, const Reference& refere
   if (!box) return {};
   TargetCells cells = ListTargetCells(scene, reference.cell_size);
   IndexAmong(reference.keys, &cells);
-  const ExposureGrid grid(scene, reference.cell_size, *box, cells);
+  ExposureGrid grid(scene, reference.cell_size, *box);
+  grid.Finish(cells);
   return ExposureOf(scene, reference, grid, cells);
 }
 
@@ -1034,11 +1082,15 @@ Reference BuildReference(const Scene& scene, const ReferenceOptions& options) {
           kMaxExposureGridCells, options.cell_size));
   }
 
-  TargetCells cells = ListTargetCells(scene, options.cell_size);
-  // The exposure grid needs the listed cells only: it is built while R's keys are sorted out.
+  // The exposure grid is built beside the target cells' listing and then beside R's keys: only
+  // its targets' walls need the listed cells (the two halves keep both cores busy where the
+  // listing's or the keys' work is serial).
   std::optional<ExposureGrid> grid;
   tbb::task_group building;
-  if (exposure_box) building.run([&] { grid.emplace(scene, options.cell_size, *exposure_box, cells); });
+  if (exposure_box) building.run([&] { grid.emplace(scene, options.cell_size, *exposure_box); });
+  TargetCells cells = ListTargetCells(scene, options.cell_size);
+  building.wait();
+  if (grid) building.run([&] { grid->Finish(cells); });
   // Sorted: the result does not depend on how the work was split between threads.
   reference.keys = DistinctSorted(cells.keys);
   IndexAmong(reference.keys, &cells);
