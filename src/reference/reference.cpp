@@ -857,11 +857,16 @@ class ExposureGrid {
   void MarkNearOutside() {
     const int64_t stride[3] = {box_.n[1] * box_.n[2], box_.n[2], 1};
     const auto pass = [&](int axis, uint8_t has, uint8_t mark) {
-      tbb::parallel_for(int64_t{0}, box_.n[0], [&](int64_t x) {
-        for (int64_t y = 0; y < box_.n[1]; ++y)
-          for (int64_t z = 0; z < box_.n[2]; ++z) {
-            const int64_t at[3] = {x, y, z};
-            const int64_t index = x * stride[0] + y * stride[1] + z;
+      // Each thread takes whole lines along `axis` (split by another axis), so a cell is read
+      // and written by the one thread whose line holds it.
+      const int split = axis == 0 ? 1 : 0;
+      tbb::parallel_for(int64_t{0}, box_.n[split], [&](int64_t s) {
+        int64_t at[3] = {0, 0, 0};
+        at[split] = s;
+        const int other_axis = 3 - axis - split;
+        for (at[other_axis] = 0; at[other_axis] < box_.n[other_axis]; ++at[other_axis])
+          for (at[axis] = 0; at[axis] < box_.n[axis]; ++at[axis]) {
+            const int64_t index = at[0] * stride[0] + at[1] * stride[1] + at[2];
             bool near = false;
             for (int step = -1; step <= 1 && !near; ++step) {
               if (at[axis] + step < 0 || at[axis] + step >= box_.n[axis]) continue;
