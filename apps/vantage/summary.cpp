@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "vantage/selection_options.hpp"
 
 namespace vantage::cli {
 namespace {
@@ -363,6 +364,12 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
           "count such cells)\n",
           *first.min_points, *first.min_points / face_cm2, face_cm2);
     }
+  }
+  // The objectives the selection options' table describes itself (a row with a summary line).
+  if (report.inputs) {
+    for (const SelectionOption& option : SelectionOptionTable())
+      if (option.summary && option.GivenIn(report.inputs->selection))
+        fmt::print("objective        {}\n", option.summary(report.inputs->selection));
   }
   if (data.quality.active()) {
     std::vector<std::string> limits;

@@ -231,6 +231,11 @@ struct Report {
   std::optional<RefinementInfo> refinement;
   /// Set for a scene with states; `data` then holds the first state's reference and sets.
   std::optional<StatesInfo> states;
+  /// Whether the results' coverage aggregates groups of cells: over the scene's states, or by
+  /// an objective of the inputs whose row says so (SelectionOption::aggregates_groups). What
+  /// re-counts the cells of `data` as one set (plain and ideal coverage per result, robustness,
+  /// pose tolerance) is then not comparable with it, and is left out.
+  bool CountsGroups() const;
   /// What shaped the run (report.json `inputs`); absent for reports built by hand.
   std::optional<RunInputs> inputs;
   /// Set when any installation constraint is on (report.json `constraints`, per result too).

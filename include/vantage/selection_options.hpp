@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 #include <variant>
 
@@ -79,6 +80,13 @@ struct SelectionOption {
   std::string_view field;
   std::string_view help;  ///< the CLI's help
   Member member;
+  /// An objective's line in the run's summary (after "objective"), when given; null for the
+  /// options the summary describes by their results (goal, k, budget, min_points).
+  std::string (*summary)(const SelectionRequest& request) = nullptr;
+  /// An objective whose coverage aggregates groups of R's cells (as selection over states does):
+  /// its report leaves out what re-counts all cells as one set (Report::CountsGroups), and
+  /// optimize refuses it beside the scene's states, --refine, --by-type and an arm's tour.
+  bool aggregates_groups = false;
 
   /// Whether `request` gives this option (a value, or the flag set).
   bool GivenIn(const SelectionRequest& request) const;

@@ -143,7 +143,13 @@ std::optional<uint32_t> ResolveMinPoints(std::optional<int64_t> min_points,
 void CheckSelectionTime(std::span<const Observation> observations, const SelectOptions& options,
                         size_t state_count, double limit_seconds, const std::string& source);
 
-/// Runs selection: over the states (SelectOverStates) when the scene has them, else Select.
+/// Selection on one matrix (optimize without states, `select FILE`): `report`'s results and the
+/// coverage curve beside them. The one place a request's objective meets the matrix.
+void SelectOnMatrix(const VisibilityFile& data, const SelectionRequest& request,
+                    const SelectOptions& options, Report* report);
+
+/// Runs selection: over the states (SelectOverStates) when the scene has them, else
+/// SelectOnMatrix.
 /// Fills `report`'s results and states block. With report->constraints set, selection obeys them.
 void SelectResults(const ObservedScene& observed, const SelectionRequest& request,
                    const SelectOptions& options, Report* report);

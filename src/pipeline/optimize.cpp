@@ -104,6 +104,22 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
     throw InputError(AtPlace("--over-states", 0,
                              "the scene has no states — add a `states:` list "
                              "(docs/scene-format.md) or drop --over-states"));
+  for (const SelectionOption& option : SelectionOptionTable()) {
+    // An objective over groups of cells (aggregates_groups): not beside the scene's own groups
+    // (its states), nor with what chooses or re-scores by the coverage of all cells together.
+    if (!option.aggregates_groups || !option.GivenIn(options.selection)) continue;
+    const char* conflict = has_states              ? "the scene's states"
+                           : options.refine         ? "--refine"
+                           : options.by_type        ? "--by-type"
+                           : options.arm.cycle_time ? "--cycle-time"
+                           : options.arm.track      ? "--track"
+                                                    : nullptr;
+    if (conflict)
+      throw InputError(AtPlace(std::string(option.flag), 0,
+                               fmt::format("counts an aggregate of groups of cells, which {} does "
+                                           "not — drop one of {} and {}",
+                                           conflict, option.flag, conflict)));
+  }
   if (has_states && options.refine && !prepared.state_candidates.empty())
     throw InputError(AtPlace("--refine", 0,
                              "refinement over scene states whose sensors move with a robot is not "
@@ -269,8 +285,9 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
                                        detail::ScoringOf(data, *report.inputs), &notes);
     run.export_warnings = notes;
     report.notes.insert(report.notes.end(), notes.begin(), notes.end());
-    // Robustness reads `data`, the first state's sets: not meaningful over states.
-    if (!report.states) {
+    // Robustness reads `data`, the first state's sets: not meaningful over states (nor for an
+    // objective over groups of cells: it counts all cells together).
+    if (!report.CountsGroups()) {
       RobustnessOptions robustness = options.robustness;
       robustness.kept = select.fixed;  // installed sensors get no alternative
       report.robustness = AssessRobustness(data, report.results, report.primary,

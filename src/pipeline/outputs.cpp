@@ -73,6 +73,8 @@ void AddPoseTolerance(const std::optional<PoseToleranceOptions>& options, const 
   std::string skipped;
   if (report->states) {
     skipped = "the results count over scene states";
+  } else if (report->CountsGroups()) {
+    skipped = "the results count an aggregate of groups of cells, not all cells together";
   } else if (!rays) {
     skipped = "the scene no longer loads from here, and its geometry is needed to re-trace";
   }

@@ -86,9 +86,7 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   const SelectOptions& select = resolved.options;  // constraints included
   Report& report = run.report;
   report.constraints = std::move(resolved.constraints);
-  report.results = detail::SelectExplained(data.observations, data.reference, select);
-  report.curve =
-      CoverageCurve(data.observations, data.reference.size(), select, report.results);
+  detail::SelectOnMatrix(data, options.selection, select, &report);
   timings.select = detail::SecondsSince(select_start);
   timings.total = detail::SecondsSince(start);
   report.scene = data.scene;
@@ -115,7 +113,7 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
       scene.objects.empty() || (report.primary < 0 && !options.pose_tolerance)
           ? nullptr
           : std::make_unique<RayScene>(scene);
-  if (report.primary >= 0) {
+  if (report.primary >= 0 && !report.CountsGroups()) {  // robustness counts all cells
     RobustnessOptions robustness = options.robustness;
     robustness.kept = select.fixed;  // installed sensors get no alternative
     report.robustness = AssessRobustness(data, report.results, report.primary, rays.get(),

@@ -212,15 +212,18 @@ std::vector<Selection> SelectExplained(std::span<const Observation> observations
   }
 }
 
+void SelectOnMatrix(const VisibilityFile& data, [[maybe_unused]] const SelectionRequest& request,
+                    const SelectOptions& options, Report* report) {
+  report->results = SelectExplained(data.observations, data.reference, options);
+  report->curve = CoverageCurve(data.observations, data.reference.size(), options, report->results);
+}
+
 void SelectResults(const ObservedScene& observed, const SelectionRequest& request,
                    const SelectOptions& given, Report* report) {
   SelectOptions options = given;
   if (report->constraints) options.constraints = report->constraints->constraints;
   if (observed.states.empty()) {
-    report->results =
-        SelectExplained(observed.data.observations, observed.data.reference, options);
-    report->curve = CoverageCurve(observed.data.observations, observed.data.reference.size(),
-                                  options, report->results);
+    SelectOnMatrix(observed.data, request, options, report);
     return;
   }
   const OverStates over = request.over_states.value_or(OverStates::kMean);

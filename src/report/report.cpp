@@ -337,6 +337,14 @@ const std::vector<uint32_t>& Report::PrimaryChosen() const {
   return primary >= 0 ? results.at(static_cast<size_t>(primary)).chosen : kNone;
 }
 
+bool Report::CountsGroups() const {
+  if (states) return true;
+  if (!inputs) return false;
+  for (const SelectionOption& option : SelectionOptionTable())
+    if (option.aggregates_groups && option.GivenIn(inputs->selection)) return true;
+  return false;
+}
+
 void DeriveReport(Report* report) {
   VANTAGE_CHECK(report->data != nullptr);
   const VisibilityFile& data = *report->data;
@@ -350,8 +358,9 @@ void DeriveReport(Report* report) {
     const CoverageEvaluator plain_evaluator(plain, reference_size);
     for (const Observation& o : plain)
       report->candidate_plain_coverage.push_back(Fraction(o.reference_indices.size(), reference_size));
-    // With states, `data` holds the first state's sets only: no plain coverage of a result.
-    if (!report->states) {
+    // With states, `data` holds the first state's sets only: no plain coverage of a result (nor
+    // where an objective's coverage aggregates groups of cells).
+    if (!report->CountsGroups()) {
       for (const Selection& s : report->results)
         report->result_plain_coverage.push_back(plain_evaluator.Coverage(s.chosen, s.k));
     }
@@ -363,7 +372,7 @@ void DeriveReport(Report* report) {
     const CoverageEvaluator ideal_evaluator(ideal, reference_size);
     for (const Observation& o : ideal)
       report->candidate_ideal_coverage.push_back(Fraction(o.reference_indices.size(), reference_size));
-    if (!report->states) {
+    if (!report->CountsGroups()) {
       for (const Selection& s : report->results)
         report->result_ideal_coverage.push_back(ideal_evaluator.Coverage(s.chosen, s.k));
     }
