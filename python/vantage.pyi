@@ -331,6 +331,7 @@ def optimize(
     track: bool = False,
     move_penalty: Optional[float] = None,
     state_interval: Optional[float] = None,
+    over_parts: Optional[str] = None,
 ) -> dict[str, Any]:
     """`vantage optimize SCENE`: the same files into `out`; returns report.json as a dict."""
 
@@ -361,6 +362,7 @@ def select(
     calibration_overlap_frac: Optional[float] = None,
     min_points: Optional[int] = None,
     min_density: Optional[float] = None,
+    over_parts: Optional[str] = None,
 ) -> dict[str, Any]:
     """`vantage select FILE`: the same files into `out`; returns report.json as a dict."""
 

@@ -1470,7 +1470,7 @@ void Bind(py::module_& m) {
          const py::object& cycle_time, const py::object& joint_speed, const py::object& frames,
          const py::object& motion_resolution, const py::object& plan_time,
          const py::object& track, const py::object& move_penalty,
-         const py::object& state_interval) {
+         const py::object& state_interval, const py::object& over_parts) {
         const bool refine = FlagOf(refine_value, "refine", false);
         const std::optional<int> refine_rounds = IntOf(refine_rounds_value, "refine_rounds");
         OptimizeOptions options;
@@ -1483,7 +1483,8 @@ void Bind(py::module_& m) {
             {{"n", &n}, {"method", &method}, {"iterations", &iterations}, {"stop", &stop},
              {"time_limit", &time_limit}, {"goal", &goal}, {"cheapest", &cheapest}, {"k", &k},
              {"budget", &budget}, {"min_points", &min_points}, {"min_density", &min_density},
-             {"over_states", &over_states}, {"keep_existing", &keep_existing}});
+             {"over_states", &over_states}, {"over_parts", &over_parts},
+             {"keep_existing", &keep_existing}});
         SetConstraintKeywords(&options.selection.constraints, interference, interference_overlap,
                               calibration_overlap, calibration_overlap_frac);
         options.robustness = RobustnessOf(fov_tolerance, alternatives_within);
@@ -1530,7 +1531,7 @@ void Bind(py::module_& m) {
       py::arg("joint_speed") = py::none(), py::arg("frames") = py::none(),
       py::arg("motion_resolution") = py::none(), py::arg("plan_time") = py::none(),
       py::arg("track") = false, py::arg("move_penalty") = py::none(),
-      py::arg("state_interval") = py::none(),
+      py::arg("state_interval") = py::none(), py::arg("over_parts") = py::none(),
       "The whole pipeline, as `vantage optimize SCENE`: the same outputs (report.json,\n"
       "report.html, candidates.csv, ...) written atomically into the folder `out` (None: none\n"
       "written). Returns report.json as a dict (docs/outputs.md).\n\n"
@@ -1544,7 +1545,8 @@ void Bind(py::module_& m) {
       "exposed_only, physical (True: --physical, False: --ideal, None: the default),\n"
       "max_seconds, cheapest, keep_existing, pose_tolerance ((metres, degrees): --pose-tolerance\n"
       "P,A), pose_samples, by_type, and a camera on an arm's cycle_time [s], joint_speed,\n"
-      "frames, motion_resolution, plan_time [s], track, move_penalty, state_interval [s].\n"
+      "frames, motion_resolution, plan_time [s], track, move_penalty, state_interval [s],\n"
+      "over_parts ('mean'/'min': the parts' coverages' mean or worst).\n"
       "None keeps the scene's setting (or the CLI's default).");
 
   m.def(
@@ -1558,14 +1560,16 @@ void Bind(py::module_& m) {
          const py::object& pose_samples, const py::object& threads,
          const py::object& interference, const py::object& interference_overlap,
          const py::object& calibration_overlap, const py::object& calibration_overlap_frac,
-         const py::object& min_points, const py::object& min_density) {
+         const py::object& min_points, const py::object& min_density,
+         const py::object& over_parts) {
         SelectFileOptions options;
         options.visibility_file = PathOf(file, "file");
         options.selection = RequestOf(
             {{"n", &n}, {"method", &method}, {"iterations", &iterations}, {"stop", &stop},
              {"time_limit", &time_limit}, {"goal", &goal}, {"cheapest", &cheapest}, {"k", &k},
              {"budget", &budget}, {"min_points", &min_points}, {"min_density", &min_density},
-             {"over_states", &over_states}, {"keep_existing", &keep_existing}});
+             {"over_states", &over_states}, {"over_parts", &over_parts},
+             {"keep_existing", &keep_existing}});
         SetConstraintKeywords(&options.selection.constraints, interference, interference_overlap,
                               calibration_overlap, calibration_overlap_frac);
         options.seed = UnsignedOf(seed, "seed");
@@ -1590,7 +1594,7 @@ void Bind(py::module_& m) {
       py::arg("threads") = py::none(), py::arg("interference") = py::none(),
       py::arg("interference_overlap") = py::none(), py::arg("calibration_overlap") = py::none(),
       py::arg("calibration_overlap_frac") = py::none(), py::arg("min_points") = py::none(),
-      py::arg("min_density") = py::none(),
+      py::arg("min_density") = py::none(), py::arg("over_parts") = py::none(),
       "`vantage select FILE`: selection from a .vis file (Visibility.save(), `vantage\n"
       "observe --out`) with the assessment of the CLI's run, robustness and pose tolerance\n"
       "included, its files written atomically into `out` (None: none). Returns report.json\n"

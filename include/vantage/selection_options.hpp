@@ -56,6 +56,9 @@ struct SelectionRequest {
   /// --min-density [points per cm²]: min_points = ceil(D · F² in cm²), F the cell edge.
   std::optional<double> min_density;
   std::optional<OverStates> over_states;       ///< --over-states, for a scene with states
+  /// --over-parts: maximise the mean or the worst of the target parts' coverages
+  /// (Reference::part_of), each part weighted alike, instead of the coverage of all cells.
+  std::optional<OverStates> over_parts;
   /// --keep-existing: every answer holds the explicitly declared sensors (candidates of no
   /// population: a world's cameras, a YAML scene's `sensors:`), SelectOptions::fixed.
   bool keep_existing = false;
@@ -94,7 +97,7 @@ struct SelectionOption {
 
 /// Every option of SelectionRequest but the constraints, in the order of `--help` (and of
 /// report.json's `inputs`): cli_names, flag, keyword, input, field, help, member.
-inline constexpr std::array<SelectionOption, 13> kSelectionOptions = {{
+inline constexpr std::array<SelectionOption, 14> kSelectionOptions = {{
     {"-n,--sensors", "-n", "n", "n", "n", "number of sensors wanted (default: the scene's)",
      &SelectionRequest::n},
     {"--method", "--method", "method", "method", "method",
@@ -140,6 +143,15 @@ inline constexpr std::array<SelectionOption, 13> kSelectionOptions = {{
      "a scene with states: maximise the mean or the worst (min) coverage over them (default "
      "mean)",
      &SelectionRequest::over_states},
+    {"--over-parts", "--over-parts", "over_parts", "over_parts", "over_parts",
+     "objective: maximise the mean or the worst (min) of the target parts' coverages, each part "
+     "alike (not with states, --refine, --by-type or an arm's tour)",
+     &SelectionRequest::over_parts,
+     [](const SelectionRequest& request) {
+       return std::string(request.over_parts == OverStates::kMin ? "the worst" : "the mean") +
+              " of the target parts' coverages (coverages below are that; each part's follows)";
+     },
+     true},
     {"--keep-existing", "--keep-existing", "keep_existing", "keep_existing", "fixed",
      "every answer keeps the sensors the scene declares (a gz-sim world's cameras, a YAML "
      "scene's `sensors:`) and adds to them; -n counts them",

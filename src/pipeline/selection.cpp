@@ -212,10 +212,68 @@ std::vector<Selection> SelectExplained(std::span<const Observation> observations
   }
 }
 
-void SelectOnMatrix(const VisibilityFile& data, [[maybe_unused]] const SelectionRequest& request,
+namespace {
+
+// The target parts as the groups that selection over states aggregates (--over-parts): part p's
+// cells of R, renumbered in key order, are group p's R, and each candidate's observations
+// (points included) are restricted to them. A part without cells in R (--exposed-only can leave
+// one none) is no group. Keys outside R belong to no part: a group's paper coverage is its
+// coverage.
+struct PartGroups {
+  std::vector<std::vector<Observation>> observations;  // per group, per candidate
+  std::vector<StateObservations> groups;
+};
+
+PartGroups GroupsByPart(const VisibilityFile& data) {
+  const Reference& reference = data.reference;
+  if (reference.part_of.size() != reference.size())
+    throw InputError(AtPlace("--over-parts", 0,
+                             "the visibility matrix records no target part per cell (a .vis file "
+                             "before format 6, or a matrix from elsewhere) — observe the scene "
+                             "again, or drop --over-parts"));
+  std::vector<uint32_t> index_in_part(reference.size());
+  std::vector<size_t> part_size(reference.part_names.size(), 0);
+  for (size_t cell = 0; cell < reference.size(); ++cell)
+    index_in_part[cell] = static_cast<uint32_t>(part_size[reference.part_of[cell]]++);
+  std::vector<std::vector<Observation>> by_part(part_size.size(),
+                                                std::vector<Observation>(data.observations.size()));
+  for (size_t i = 0; i < data.observations.size(); ++i) {
+    const Observation& seen = data.observations[i];
+    for (size_t j = 0; j < seen.reference_indices.size(); ++j) {
+      const uint32_t cell = seen.reference_indices[j];
+      Observation& part = by_part[reference.part_of[cell]][i];
+      part.reference_indices.push_back(index_in_part[cell]);
+      if (seen.has_point_counts()) part.reference_hits.push_back(seen.reference_hits[j]);
+    }
+  }
+  PartGroups parts;
+  for (size_t p = 0; p < part_size.size(); ++p) {
+    if (part_size[p] == 0) continue;
+    parts.observations.push_back(std::move(by_part[p]));
+  }
+  size_t group = 0;
+  for (size_t p = 0; p < part_size.size(); ++p) {
+    if (part_size[p] == 0) continue;
+    parts.groups.push_back({reference.part_names[p], part_size[p], parts.observations[group++]});
+  }
+  return parts;
+}
+
+}  // namespace
+
+void SelectOnMatrix(const VisibilityFile& data, const SelectionRequest& request,
                     const SelectOptions& options, Report* report) {
-  report->results = SelectExplained(data.observations, data.reference, options);
-  report->curve = CoverageCurve(data.observations, data.reference.size(), options, report->results);
+  if (!request.over_parts) {
+    report->results = SelectExplained(data.observations, data.reference, options);
+    report->curve =
+        CoverageCurve(data.observations, data.reference.size(), options, report->results);
+    return;
+  }
+  // Each part's coverage is in the report's parts table; `coverage` is their mean or minimum.
+  // No curve: it would count all cells together.
+  const PartGroups parts = GroupsByPart(data);
+  for (StateSelection& result : SelectOverStates(parts.groups, *request.over_parts, options))
+    report->results.push_back(std::move(result.selection));
 }
 
 void SelectResults(const ObservedScene& observed, const SelectionRequest& request,

@@ -45,7 +45,7 @@ KINDS = {
     "random_roll": BOOL, "cull": BOOL, "refine": BOOL, "interference": BOOL,
     "physical": BOOL, "exposed_only": BOOL, "cheapest": BOOL, "keep_existing": BOOL,
     "by_type": BOOL, "track": BOOL, "frusta": BOOL, "from_below": BOOL, "legend": BOOL,
-    "method": TEXT, "over_states": TEXT,
+    "method": TEXT, "over_states": TEXT, "over_parts": TEXT,
     "observation_point": POINT, "eye": POINT, "look_at": POINT, "pose_tolerance": PAIR,
     "out": PATH, "constellation": PATH, "file": PATH, "run": PATH, "png": PATH,
     "model_path": PATHS, "resource_path": PATHS, "package_path": PATHS,

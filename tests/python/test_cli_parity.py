@@ -13,6 +13,7 @@ from vis_format import read_vis
 
 ARM_WRIST = ROOT / "examples" / "scenes" / "arm_wrist_camera.yaml"
 ARM_TRACK = ROOT / "examples" / "scenes" / "arm_track_hand.yaml"
+DEEP_BIN = ROOT / "examples" / "scenes" / "deep_bin.yaml"
 QUICK = (["-n", 2, "--method", "greedy"], {"n": 2, "method": "greedy"})
 
 # (id, scene, CLI flags, keywords): each run once by the CLI and once by vantage.optimize.
@@ -29,6 +30,7 @@ CASES = [
     ("pose_tolerance", EXAMPLE, ["--pose-tolerance", "0.02,2", "--pose-samples", 6],
      {"pose_tolerance": (0.02, 2), "pose_samples": 6}),
     ("by_type", EXAMPLE, ["--by-type"], {"by_type": True}),
+    ("over_parts", DEEP_BIN, ["--over-parts", "min"], {"over_parts": "min"}),
     ("max_seconds", EXAMPLE, ["--max-seconds", 3600], {"max_seconds": 3600}),
     ("cycle_time", ARM_WRIST, ["--cycle-time", 6, "--joint-speed", 2, "--frames", 2,
                                "--motion-resolution", 0.02, "--plan-time", 1],
