@@ -32,11 +32,6 @@ constexpr double kRegionTolerance = 1e-9;
 constexpr double kSamePosition = 1e-9;
 constexpr double kSameAngle = 1e-9;
 
-std::shared_ptr<spdlog::logger> Logger() {
-  auto logger = spdlog::get("vantage");
-  return logger ? logger : spdlog::default_logger();
-}
-
 bool InRange(double value, double lo, double hi) {
   return value >= lo - kRegionTolerance && value <= hi + kRegionTolerance;
 }
@@ -462,7 +457,7 @@ RefineResult Refine(const RayScene& rays,
       const bool is_improved = IsBetter(best, current, objective);
       current = std::move(best);
       result.history.push_back(current.coverage);
-      Logger()->debug("refine: round {}: {} new candidates, coverage {:.4f}, step {:.4f} m", round,
+      spdlog::debug("refine: round {}: {} new candidates, coverage {:.4f}, step {:.4f} m", round,
                       seen.size(), current.coverage, move);
       if (is_improved) {
         halvings = 0;

@@ -629,7 +629,7 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Ransac(size_t n, int iterations) c
   answer.chosen = ConstrainedRansac(scorer_, feasible_, n, iterations,
                                     ransac_stop_coverage_, seed_, model_.fixed);
   if (answer.chosen.empty()) {
-    SelectLogger()->warn(
+    spdlog::warn(
         "ransac, n = {}: none of its {} draws satisfies the constraints; reporting the "
         "constrained greedy answer",
         n, iterations);
@@ -657,9 +657,9 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Greedy(size_t n) {
   }
   if (!HasBudget() && greedy_.size() < n) {
     if (greedy_.size() == 1) {
-      SelectLogger()->warn("greedy, n = {}: only 1 sensor satisfies the constraints", n);
+      spdlog::warn("greedy, n = {}: only 1 sensor satisfies the constraints", n);
     } else {
-      SelectLogger()->warn("greedy, n = {}: only {} sensors satisfy the constraints together", n,
+      spdlog::warn("greedy, n = {}: only {} sensors satisfy the constraints together", n,
                      greedy_.size());
     }
   }
@@ -785,9 +785,9 @@ ConstrainedAnswer ConstrainedMethods<Scorer>::Exact(double time_limit) const {
     answer.log = [what = fmt::format("exact{}, {}", over_states, which), note,
                   proven = answer.proven_optimal] {
       if (!proven) {
-        SelectLogger()->warn("{}: {}; reporting the best answer found and a bound", what, note);
+        spdlog::warn("{}: {}; reporting the best answer found and a bound", what, note);
       } else {
-        SelectLogger()->debug("{}: {}", what, note);
+        spdlog::debug("{}: {}", what, note);
       }
     };
   }

@@ -334,7 +334,7 @@ class GoalMethods final : public detail::MethodSteps<StateSelection> {
       const Clock::time_point t = Clock::now();
       const detail::ExactAnswer exact = detail::SolveExactModel(model_, greedy_, seconds);
       if (!exact.proven_optimal && !exact.note.empty()) {
-        detail::SelectLogger()->warn(
+        spdlog::warn(
             "exact{}, goal {:g}: {}; reporting the best answer found and a bound",
             states_.size() == 1 ? "" : " over states", *options_.goal, exact.note);
       }

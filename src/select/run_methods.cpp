@@ -16,11 +16,6 @@
 
 namespace vantage::detail {
 
-std::shared_ptr<spdlog::logger> SelectLogger() {
-  std::shared_ptr<spdlog::logger> logger = spdlog::get("vantage");
-  return logger ? logger : spdlog::default_logger();
-}
-
 namespace {
 
 // One exact run of `all`: its job, and its place in the results.
@@ -116,7 +111,7 @@ std::vector<Result> RunMethods(MethodSteps<Result>& steps, const SelectOptions& 
   if (std::optional<Result> head = steps.TableHead()) results.push_back(std::move(*head));
   const AllExactTime exact_time(candidates, limit, options.n);
   if (!exact_time.runs()) {
-    SelectLogger()->info("select: exact skipped in 'all' ({} candidates > {}); use --method exact",
+    spdlog::info("select: exact skipped in 'all' ({} candidates > {}); use --method exact",
                    candidates, AllExactTime::kMaxCandidates);
   }
   std::vector<ExactRun<Result>> exact_runs;

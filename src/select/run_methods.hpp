@@ -8,17 +8,12 @@
 #include <chrono>
 #include <cstddef>
 #include <functional>
-#include <memory>
 #include <optional>
-
-#include <spdlog/spdlog.h>
 
 #include "vantage/select.hpp"
 
 namespace vantage::detail {
 
-/// The "vantage" logger the CLI sets up, or spdlog's default one (the library used alone).
-std::shared_ptr<spdlog::logger> SelectLogger();
 
 /// One exact run's answer, and what it has to say, logged once every lane is done (in n order).
 template <class Result>
