@@ -32,8 +32,7 @@ struct RayScene::Impl {
 namespace {
 
 void ReportEmbreeError(void* /*user*/, RTCError code, const char* message) {
-  spdlog::get("vantage") ? spdlog::get("vantage")->error("embree error {}: {}", static_cast<int>(code), message)
-                         : spdlog::error("embree error {}: {}", static_cast<int>(code), message);
+  spdlog::error("embree error {}: {}", static_cast<int>(code), message);
 }
 
 /// The point at Embree's barycentric coordinates (u, v) on the scene's own double triangle,
