@@ -172,7 +172,9 @@ bool InApertureField(const SensorType& camera, const SecondAperture& aperture, c
 class ApertureField {
  public:
   ApertureField(const SensorType& camera, const SecondAperture& aperture);
-  bool Contains(const Vec3& p_body) const {
+  // Always inlined: called out of line from observe's per-hit loop, the point went through memory
+  // (its halves stored, then loaded as one 16-byte word: a store-forwarding stall on every hit).
+  [[gnu::always_inline]] bool Contains(const Vec3& p_body) const {
     // Without toe-in the rotation is the identity (cos 0 = 1, sin 0 = 0): on a finite point its
     // product changes at most a zero's sign, which no test below reads (on an infinite one,
     // 0 · inf makes NaN, so the product is kept there).
@@ -189,7 +191,7 @@ class ApertureField {
 
  private:
   // 1 inside, 0 outside, -1 too close to the edge (or out of range) to tell without Exactly.
-  int Quickly(const Vec3& p) const {
+  [[gnu::always_inline]] int Quickly(const Vec3& p) const {
     constexpr double kMargin = 0x1p-30, kLow = 1e-140, kHigh = 1e140;
     const double x = p.x(), ay = std::abs(p.y()), az = std::abs(p.z());
     if (!(x > kLow && x < kHigh && ay < kHigh && az < kHigh)) return -1;
@@ -240,6 +242,11 @@ class ApertureField {
   bool quick_cone_ = false, quick_frustum_ = false, quick_image_ = false;
 };
 
+/// The image-plane slopes of the ray through the centre of pixel (u, v): rightward (u + 0.5 - cx)
+/// / fx and downward (v + 0.5 - cy) / fy. PixelRayInBody is (1, -right, -down); a caller that
+/// walks an image computes each column's and row's quotient once (observe).
+inline double PixelRight(const SensorType& type, int u) { return (u + 0.5 - type.cx) / type.fx; }
+inline double PixelDown(const SensorType& type, int v) { return (v + 0.5 - type.cy) / type.fy; }
 /// Body-frame direction of the ray through the centre of pixel (u, v), scaled so that its x
 /// (depth) component is 1: a hit at ray parameter t has depth t.
 Vec3 PixelRayInBody(const SensorType& type, int u, int v);

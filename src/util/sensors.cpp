@@ -489,9 +489,7 @@ std::string MatchCatalogId(const SensorType& type) {
 
 Vec3 PixelRayInBody(const SensorType& type, int u, int v) {
   // Optical frame (x right, y down, z forward) -> body (x forward, y left, z up).
-  const double x_right = (u + 0.5 - type.cx) / type.fx;
-  const double y_down = (v + 0.5 - type.cy) / type.fy;
-  return Vec3(1.0, -x_right, -y_down);
+  return Vec3(1.0, -PixelRight(type, u), -PixelDown(type, v));
 }
 
 std::optional<Eigen::Vector2d> ProjectBodyPoint(const SensorType& type, const Vec3& p_body) {
