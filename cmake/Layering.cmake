@@ -6,7 +6,7 @@ set(VANTAGE_STAGES util scene reference candidates visibility observe select ass
     pipeline distribute)
 
 # Public headers (include/vantage/<name>.hpp) by owning stage.
-set(VANTAGE_HEADERS_util types error rng sensors settings interrupt words output_guard)
+set(VANTAGE_HEADERS_util types error rng sensors settings scene_settings interrupt words output_guard)
 set(VANTAGE_HEADERS_scene scene population scene_states robot problem mesh_weld)
 set(VANTAGE_HEADERS_reference reference)
 set(VANTAGE_HEADERS_candidates candidates arm)

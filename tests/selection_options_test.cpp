@@ -153,6 +153,92 @@ TEST(SelectionOptions, TheFlagAtFaultIsNamed) {
   EXPECT_EQ(blamed(too_many), "-n");
 }
 
+// The request's options reach SelectOptions through their rows: each value given lands in its
+// field as given, the converted ones (min_points, keep_existing) as the pipeline derives them.
+TEST(SelectionOptions, EveryGivenValueReachesItsField) {
+  SelectionRequest request;
+  request.n = 3;
+  request.method = Method::kGreedy;
+  request.ransac_iterations = 250;
+  request.ransac_stop_coverage = 0.75;
+  request.time_limit = 12.5;
+  request.goal = 0.6;
+  request.cheapest = true;
+  request.min_density = 2.5;  // 2.5 per cm² on a 2 cm cell's 4 cm² face: 10 points
+  std::vector<Candidate> candidates(4);
+  for (Candidate& candidate : candidates) {
+    candidate.sensor.cost = 100;
+    candidate.sensor.cost_given = true;
+    candidate.type_id = "custom";
+    candidate.sensor.id = "custom";
+    candidate.population = "grid";
+  }
+  candidates[2].population.clear();  // declared by the scene
+  request.keep_existing = true;
+  SelectionSettings scene;
+  scene.n = 2;
+  scene.ransac_iterations = 9;
+  scene.budget = 300;  // an objective given: the scene's is not taken
+  const SelectOptions options =
+      ResolveSelection(scene, request, 7, candidates, "scene.yaml", Method::kAll, 0.02);
+  EXPECT_EQ(options.n, 3);
+  EXPECT_EQ(options.method, Method::kGreedy);
+  EXPECT_EQ(options.ransac_iterations, 250);
+  EXPECT_EQ(options.ransac_stop_coverage, 0.75);
+  EXPECT_EQ(options.time_limit, 12.5);
+  EXPECT_EQ(options.goal, 0.6);
+  EXPECT_EQ(options.goal_source, "--goal");
+  EXPECT_TRUE(options.minimize_cost);
+  EXPECT_EQ(options.k, 1);
+  EXPECT_FALSE(options.budget);
+  EXPECT_EQ(options.min_points, 10u);
+  EXPECT_EQ(options.fixed, std::vector<uint32_t>{2});
+  EXPECT_EQ(options.costs, std::vector<double>(4, 100));
+  EXPECT_EQ(options.seed, 7u);
+}
+
+// What the request leaves unset comes from the scene: its objective (goal, k, budget) only when
+// the request gives none of goal, k, budget, min_points, min_density.
+TEST(SelectionOptions, TheSceneFillsWhatTheRequestLeavesUnset) {
+  const std::vector<Candidate> candidates(5);
+  SelectionSettings scene;
+  scene.n = 4;
+  scene.method = Method::kLocal;
+  scene.ransac_iterations = 9;
+  scene.ransac_stop_coverage = 0.5;
+  scene.k = 3;
+  scene.lines["k"] = 12;
+  const SelectOptions from_scene =
+      ResolveSelection(scene, SelectionRequest{}, 1, candidates, "scene.yaml", Method::kAll);
+  EXPECT_EQ(from_scene.n, 4);
+  EXPECT_EQ(from_scene.method, Method::kLocal);
+  EXPECT_EQ(from_scene.ransac_iterations, 9);
+  EXPECT_EQ(from_scene.ransac_stop_coverage, 0.5);
+  EXPECT_EQ(from_scene.k, 3);
+  EXPECT_EQ(from_scene.time_limit, 60);
+  EXPECT_FALSE(from_scene.goal);
+  SelectionRequest points;  // an objective: the scene's k is dropped
+  points.min_points = 5;
+  const SelectOptions over_points =
+      ResolveSelection(scene, points, 1, candidates, "scene.yaml", Method::kAll);
+  EXPECT_EQ(over_points.k, 1);
+  EXPECT_EQ(over_points.min_points, 5u);
+  EXPECT_EQ(over_points.n, 4);
+  scene.method.reset();
+  scene.k = 1;
+  scene.goal = 0.5;
+  scene.lines["goal"] = 14;
+  SelectionRequest method;  // not an objective: the scene's goal stays, named by its line
+  method.method = Method::kGreedy;
+  const SelectOptions over_goal =
+      ResolveSelection(scene, method, 1, candidates, "scene.yaml", Method::kAll);
+  EXPECT_EQ(over_goal.goal, 0.5);
+  EXPECT_EQ(over_goal.goal_source, "scene.yaml:14");
+  EXPECT_EQ(over_goal.method, Method::kGreedy);
+  EXPECT_EQ(ResolveSelection(scene, SelectionRequest{}, 1, candidates, "s", Method::kExact).method,
+            Method::kExact);
+}
+
 // Every row is a flag of optimize and select, with its help (the CLI is built from the table).
 TEST(SelectionOptions, EveryRowIsAFlag) {
   for (const char* command : {"optimize", "select"}) {

@@ -83,6 +83,17 @@ struct SelectionOption {
   std::string_view field;
   std::string_view help;  ///< the CLI's help
   Member member;
+  /// The SelectOptions field the option's value goes to as it is (ResolveSelection copies every
+  /// given option by its row); monostate for those the pipeline converts (min_points and
+  /// min_density with the cell size, keep_existing into the kept candidates) or reads itself
+  /// (over_states, over_parts).
+  using Target = std::variant<std::monostate, int SelectOptions::*, double SelectOptions::*,
+                              std::optional<double> SelectOptions::*, bool SelectOptions::*,
+                              Method SelectOptions::*>;
+  Target target;
+  /// Part of the model's objective: given, it replaces the scene's objective settings (goal, k,
+  /// budget) altogether, so --k 2 over a scene's goal works.
+  bool objective = false;
   /// An objective's line in the run's summary (after "objective"), when given; null for the
   /// options the summary describes by their results (goal, k, budget, min_points).
   std::string (*summary)(const SelectionRequest& request) = nullptr;
@@ -93,60 +104,67 @@ struct SelectionOption {
 
   /// Whether `request` gives this option (a value, or the flag set).
   bool GivenIn(const SelectionRequest& request) const;
+  /// Copies the option's value, when `request` gives it, into its SelectOptions field (target);
+  /// nothing for a row without a target.
+  void ApplyTo(const SelectionRequest& request, SelectOptions* options) const;
 };
 
 /// Every option of SelectionRequest but the constraints, in the order of `--help` (and of
-/// report.json's `inputs`): cli_names, flag, keyword, input, field, help, member.
+/// report.json's `inputs`): cli_names, flag, keyword, input, field, help, member, target,
+/// objective, summary, aggregates_groups.
 inline constexpr std::array<SelectionOption, 14> kSelectionOptions = {{
     {"-n,--sensors", "-n", "n", "n", "n", "number of sensors wanted (default: the scene's)",
-     &SelectionRequest::n},
+     &SelectionRequest::n, &SelectOptions::n},
     {"--method", "--method", "method", "method", "method",
      "best | ransac | greedy | local | exact | all (default: the scene's, else all: every "
      "method, compared)",
-     &SelectionRequest::method},
+     &SelectionRequest::method, &SelectOptions::method},
     {"--iterations", "--iterations", "iterations", "ransac_iterations", "ransac_iterations",
      "RANSAC iteration cap (default: the scene's); --method all runs it at the N asked and "
      "shares 5e5 drawn sensors among the smaller N's",
-     &SelectionRequest::ransac_iterations},
+     &SelectionRequest::ransac_iterations, &SelectOptions::ransac_iterations},
     {"--stop", "--stop", "stop", "ransac_stop_coverage", "ransac_stop_coverage",
      "RANSAC stops at this coverage, fraction 0..1 (default: the scene's)",
-     &SelectionRequest::ransac_stop_coverage},
+     &SelectionRequest::ransac_stop_coverage,
+     &SelectOptions::ransac_stop_coverage},
     {"--time-limit", "--time-limit", "time_limit", "time_limit", "time_limit",
      "seconds for the exact method, the greedy and local search it starts from included "
      "(default: 60); --method all runs its N's on up to 2 threads at once, each thread's N's "
      "sharing the smaller of it and 6 s of wall time, each N an equal part of what that thread "
      "has left for the N's it still expects",
-     &SelectionRequest::time_limit},
+     &SelectionRequest::time_limit, &SelectOptions::time_limit},
     {"--goal", "--goal", "goal", "goal", "goal",
      "objective: the fewest sensors whose coverage reaches this fraction 0..1 (set cover)",
-     &SelectionRequest::goal},
+     &SelectionRequest::goal, &SelectOptions::goal, true},
     {"--cheapest", "--cheapest", "cheapest", "cheapest", "minimize_cost",
      "with --goal: the cheapest sensors (their types' cost) reaching it, not the fewest",
-     &SelectionRequest::cheapest},
+     &SelectionRequest::cheapest, &SelectOptions::minimize_cost},
     {"--k", "--k", "k", "k", "k",
      "objective: k-coverage, a cell counts once k chosen sensors see it (k >= 2); with --goal "
      "or --budget: the goal or the budget's coverage counts cells seen k times",
-     &SelectionRequest::k},
+     &SelectionRequest::k, &SelectOptions::k, true},
     {"--budget", "--budget", "budget", "budget", "budget",
      "objective: the most coverage for a total sensor cost within this budget (counted k times "
      "with --k, in points with --min-points)",
-     &SelectionRequest::budget},
+     &SelectionRequest::budget, &SelectOptions::budget, true},
     {"--min-points", "--min-points", "min_points", "min_points", "min_points",
      "point density: a cell counts once the chosen sensors together put at least this many "
      "pixels' hits in it (1..65535; docs/constraints.md)",
-     &SelectionRequest::min_points},
+     &SelectionRequest::min_points, {}, true},
     {"--min-density", "--min-density", "min_density", "min_density", "min_points",
      "point density in points per cm² of a cell's face (F²), converted to --min-points = "
      "ceil(D * F²)",
-     &SelectionRequest::min_density},
+     &SelectionRequest::min_density, {}, true},
     {"--over-states", "--over-states", "over_states", "over_states", "over_states",
      "a scene with states: maximise the mean or the worst (min) coverage over them (default "
      "mean)",
-     &SelectionRequest::over_states},
+     &SelectionRequest::over_states, {}},
     {"--over-parts", "--over-parts", "over_parts", "over_parts", "over_parts",
      "objective: maximise the mean or the worst (min) of the target parts' coverages, each part "
      "alike (not with states, --refine, --by-type or an arm's tour)",
      &SelectionRequest::over_parts,
+     {},
+     false,
      [](const SelectionRequest& request) {
        return std::string(request.over_parts == OverStates::kMin ? "the worst" : "the mean") +
               " of the target parts' coverages (coverages below are that; each part's follows)";
@@ -155,11 +173,16 @@ inline constexpr std::array<SelectionOption, 14> kSelectionOptions = {{
     {"--keep-existing", "--keep-existing", "keep_existing", "keep_existing", "fixed",
      "every answer keeps the sensors the scene declares (a gz-sim world's cameras, a YAML "
      "scene's `sensors:`) and adds to them; -n counts them",
-     &SelectionRequest::keep_existing},
+     &SelectionRequest::keep_existing, {}},
 }};
 
 /// kSelectionOptions.
 std::span<const SelectionOption> SelectionOptionTable();
+/// `request` with the scene's setting (scene_settings.hpp) of each option it leaves unset,
+/// matched by field; none of the scene's objective settings (goal, k, budget) when the request
+/// gives an objective option (SelectionOption::objective).
+SelectionRequest RequestOverScene(const SelectionRequest& request,
+                                  const SelectionSettings& scene);
 /// The row whose Python keyword is `keyword`; InternalError when none is.
 const SelectionOption& SelectionOptionOfKeyword(std::string_view keyword);
 

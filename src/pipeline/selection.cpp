@@ -38,29 +38,20 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
                                uint64_t seed, std::span<const Candidate> candidates,
                                const std::string& source, Method default_method,
                                double cell_size) {
+  // The request over the scene's settings, each option copied into its field by its row.
+  const SelectionRequest given = RequestOverScene(request, settings);
   SelectOptions options;
-  options.n = request.n.value_or(settings.n);
-  options.method = request.method.value_or(settings.method.value_or(default_method));
-  options.ransac_iterations = request.ransac_iterations.value_or(settings.ransac_iterations);
-  options.ransac_stop_coverage =
-      request.ransac_stop_coverage.value_or(settings.ransac_stop_coverage);
+  options.method = default_method;
   options.seed = seed;
-  options.time_limit = request.time_limit.value_or(options.time_limit);
-  // An objective in the request replaces the scene's (so --k 2 over a scene's goal works).
-  const bool has_min_points = request.min_points || request.min_density;
-  const bool requested_objective = request.goal || request.k || request.budget || has_min_points;
-  options.goal = requested_objective ? request.goal : settings.goal;
+  for (const SelectionOption& option : SelectionOptionTable()) option.ApplyTo(given, &options);
   if (options.goal && !request.goal) {
     const auto line = settings.lines.find("goal");
     options.goal_source = line == settings.lines.end() || line->second <= 0
                               ? source
                               : fmt::format("{}:{}", source, line->second);
   }
-  options.k = requested_objective ? request.k.value_or(1) : settings.k;
-  options.budget = requested_objective ? request.budget : settings.budget;
   options.min_points =
       detail::ResolveMinPoints(request.min_points, request.min_density, cell_size);
-  options.minimize_cost = request.cheapest;
   if (options.budget || options.minimize_cost) {
     options.costs.reserve(candidates.size());
     for (const Candidate& c : candidates) {
