@@ -1016,6 +1016,27 @@ const BadScene kBadScenes[] = {
     {"n_zero", "settings:\n  n: 0\n", 2, "settings.n"},
     {"n_fraction", "settings:\n  n: 2.5\n", 2, "whole number"},
     {"stop_coverage_percent", "settings:\n  ransac: {stop_coverage: 80}\n", 2, "[0, 1]"},
+    // The selection settings read from their rows (scene_settings.hpp): the messages as the
+    // readers spelled them per key before.
+    {"stop_coverage_message", "settings:\n  ransac: {stop_coverage: 80}\n", 2,
+     "settings.ransac.stop_coverage = 80 is a fraction — give a value in [0, 1] (e.g. 0.8 for "
+     "80 %)"},
+    {"ransac_iterations_zero", "settings:\n  ransac:\n    iterations: 0\n", 3,
+     "settings.ransac.iterations = 0 is too small — give at least 1"},
+    {"ransac_unknown_key", "settings:\n  ransac: {iteration: 5}\n", 2,
+     "unknown key 'iteration' in settings.ransac — did you mean 'iterations'?"},
+    {"goal_above_one", "settings:\n  goal: 1.5\n", 2,
+     "settings.goal = 1.5 is a coverage fraction — give a value in (0, 1], e.g. 0.9 for 90 %"},
+    {"goal_zero", "settings:\n  goal: 0\n", 2, "settings.goal = 0 is a coverage fraction"},
+    {"k_zero", "settings:\n  k: 0\n", 2, "settings.k = 0 is too small — give at least 1"},
+    {"budget_negative", "settings:\n  budget: -3\n", 2,
+     "settings.budget = -3 must be >= 0 — the most the sensors may cost together"},
+    {"two_objectives", "settings:\n  goal: 0.5\n  k: 2\n", 3,
+     "settings.goal, settings.k >= 2 and settings.budget are separate objectives — give only "
+     "one of them"},
+    {"method_unknown_far", "settings:\n  method: zzzzzzzz\n", 2,
+     "settings.method 'zzzzzzzz' is unknown — valid: 'best', 'ransac', 'greedy', 'local', "
+     "'exact', 'all'"},
     {"unknown_method", "settings:\n  method: gredy\n", 2, "did you mean 'greedy'?"},
     {"random_roll_not_bool", "settings:\n  random_roll: maybe\n", 2, "true or false"},
     {"observation_point_short", "settings:\n  observation_point: [1, 2]\n", 2, "3 numbers"},

@@ -15,10 +15,12 @@
 #include <optional>
 #include <set>
 #include <tuple>
+#include <type_traits>
 #include <sstream>
 #include <string>
 #include <string_view>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "scene/scaled_mesh_cache.hpp"
@@ -28,6 +30,7 @@
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
 #include "vantage/robot.hpp"
+#include "vantage/scene_settings.hpp"
 #include "vantage/scene_states.hpp"
 #include "vantage/settings.hpp"
 
@@ -263,7 +266,9 @@ class SceneReader {
 
   // Sections.
   void ReadSettings(const Value& input);
-  void ReadRansac(const Value& input);
+  /// One selection setting (its row) from its key's value; whether it counts as an objective
+  /// where the row is one (given, or a whole number of 2 or more).
+  bool ReadSelectionSetting(const SceneSelectionSetting& setting, const Value& v);
   void ReadSensorTypes(const Value& input);
   std::optional<SensorType> ReadSensorType(const Value& input);
   const SensorType* ReadBase(const Fields& fields, const std::string& what);
@@ -639,24 +644,6 @@ void SceneReader::ReadSettings(const Value& input) {
       }
     }
   }
-  for (const char* key : {"n", "method", "goal", "k", "budget"}) {
-    if (const auto v = fields.Get(key)) p.selection.lines[key] = v->line;
-  }
-  if (const auto v = fields.Get("n")) {
-    if (const auto n = Integer(*v, "settings.n", 1, std::numeric_limits<int>::max()))
-      p.selection.n = static_cast<int>(*n);
-  }
-  if (const auto v = fields.Get("method")) {
-    if (const auto method = Text(*v, "settings.method")) {
-      try {
-        p.selection.method = ParseMethod(*method);
-      } catch (const InputError&) {
-        Error(v->line,
-              fmt::format("settings.method '{}' is unknown — {}", *method,
-                          Suggest(*method, {"best", "ransac", "greedy", "local", "exact", "all"})));
-      }
-    }
-  }
   if (const auto v = fields.Get("observation_point")) {
     if (const auto point = Vector(*v, "settings.observation_point")) {
       // Every candidate's look-at direction starts here: the same range as --observation-point.
@@ -673,46 +660,42 @@ void SceneReader::ReadSettings(const Value& input) {
   if (const auto v = fields.Get("seed")) {
     if (const auto seed = Unsigned(*v, "settings.seed")) p.seed = *seed;
   }
-  if (const auto v = fields.Get("ransac")) ReadRansac(*v);
-  // Objectives beyond coverage (SYSTEM.md, Select): at most one of goal, k >= 2, budget.
+  // The selection settings, by their rows (scene_settings.hpp); those under `ransac:` in that
+  // map. Objectives beyond coverage (SYSTEM.md, Select): at most one of them.
+  std::optional<Fields> ransac;
   int objectives = 0;
   int objective_line = 0;
-  if (const auto v = fields.Get("goal")) {
-    const auto goal = Number(*v, "settings.goal");
-    if (goal && !(*goal > 0 && *goal <= 1)) {
-      Error(v->line, fmt::format("settings.goal = {} is a coverage fraction — give a value in "
-                                 "(0, 1], e.g. 0.9 for 90 %",
-                                 *goal));
-    } else if (goal) {
-      p.selection.goal = *goal;
+  std::string objective_names;
+  for (const SceneSelectionSetting& setting : kSceneSelectionSettings) {
+    std::string_view key = setting.yaml_key;
+    const Fields* section = &fields;
+    if (key.starts_with("ransac.")) {
+      const auto v = fields.Get("ransac");
+      if (!v) continue;
+      if (!ransac)
+        ransac.emplace(*v, "settings.ransac",
+                       std::initializer_list<std::string_view>{"iterations", "stop_coverage"},
+                       &reporter_);
+      section = &*ransac;
+      key.remove_prefix(std::string_view("ransac.").size());
     }
-    ++objectives;
-    objective_line = v->line;
-  }
-  if (const auto v = fields.Get("k")) {
-    if (const auto k = Integer(*v, "settings.k", 1, std::numeric_limits<int>::max())) {
-      p.selection.k = static_cast<int>(*k);
-      if (*k >= 2) {
+    if (setting.objective) {
+      const bool count = std::holds_alternative<int SelectionSettings::*>(setting.member);
+      objective_names += fmt::format("{}settings.{}{}", objective_names.empty() ? "" : ", ",
+                                     setting.yaml_key, count ? " >= 2" : "");
+    }
+    if (const auto v = section->Get(key)) {
+      if (ReadSelectionSetting(setting, *v) && setting.objective) {
         ++objectives;
         objective_line = v->line;
       }
     }
   }
-  if (const auto v = fields.Get("budget")) {
-    const auto budget = Number(*v, "settings.budget");
-    if (budget && !(*budget >= 0)) {
-      Error(v->line, fmt::format("settings.budget = {} must be >= 0 — the most the sensors may "
-                                 "cost together",
-                                 *budget));
-    } else if (budget) {
-      p.selection.budget = *budget;
-    }
-    ++objectives;
-    objective_line = v->line;
-  }
   if (objectives > 1) {
-    Error(objective_line, "settings.goal, settings.k >= 2 and settings.budget are separate "
-                          "objectives — give only one of them");
+    // "a, b, c" -> "a, b and c"
+    if (const size_t comma = objective_names.rfind(", "); comma != std::string::npos)
+      objective_names.replace(comma, 2, " and ");
+    Error(objective_line, objective_names + " are separate objectives — give only one of them");
   }
   if (const auto v = fields.Get("expected_candidates")) {
     if (const auto count =
@@ -721,28 +704,41 @@ void SceneReader::ReadSettings(const Value& input) {
   }
 }
 
-void SceneReader::ReadRansac(const Value& input) {
-  const Fields fields(input, "settings.ransac", {"iterations", "stop_coverage"}, &reporter_);
-  for (const auto& [key, field] : {std::pair<const char*, const char*>{"iterations",
-                                                                       "ransac_iterations"},
-                                    {"stop_coverage", "ransac_stop_coverage"}}) {
-    if (const auto v = fields.Get(key)) problem_->selection.lines[field] = v->line;
-  }
-  if (const auto v = fields.Get("iterations")) {
-    if (const auto n =
-            Integer(*v, "settings.ransac.iterations", 1, std::numeric_limits<int>::max()))
-      problem_->selection.ransac_iterations = static_cast<int>(*n);
-  }
-  if (const auto v = fields.Get("stop_coverage")) {
-    const auto c = Number(*v, "settings.ransac.stop_coverage");
-    if (c && (*c < 0 || *c > 1)) {
-      Error(v->line, fmt::format("settings.ransac.stop_coverage = {} is a fraction — give a "
-                                 "value in [0, 1] (e.g. 0.8 for 80 %)",
-                                 *c));
-    } else if (c) {
-      problem_->selection.ransac_stop_coverage = *c;
-    }
-  }
+bool SceneReader::ReadSelectionSetting(const SceneSelectionSetting& setting, const Value& v) {
+  const std::string name = "settings." + std::string(setting.yaml_key);
+  SelectionSettings& selection = problem_->selection;
+  // Its line, for errors found after the scene is read (n above the candidates).
+  selection.lines[std::string(setting.field)] = v.line;
+  return std::visit(
+      [&](auto member) -> bool {
+        using Held = std::decay_t<decltype(selection.*member)>;
+        if constexpr (std::is_same_v<Held, int>) {
+          const auto n = Integer(v, name, static_cast<int64_t>(setting.low),
+                                 std::numeric_limits<int>::max());
+          if (n) selection.*member = static_cast<int>(*n);
+          return n && *n >= 2;  // a whole number counts as an objective from 2 on (k)
+        } else if constexpr (std::is_same_v<Held, std::optional<Method>>) {
+          if (const auto text = Text(v, name)) {
+            try {
+              selection.*member = ParseMethod(*text);
+            } catch (const InputError&) {
+              Error(v.line, fmt::format(
+                                "{} '{}' is unknown — {}", name, *text,
+                                Suggest(*text, {"best", "ransac", "greedy", "local", "exact", "all"})));
+            }
+          }
+          return true;
+        } else {  // a number in its range
+          const auto number = Number(v, name);
+          if (number && setting.OutOfRange(*number)) {
+            Error(v.line, fmt::format("{} = {} {}", name, *number, setting.out_of_range));
+          } else if (number) {
+            selection.*member = *number;
+          }
+          return true;
+        }
+      },
+      setting.member);
 }
 
 // ----- sensor types --------------------------------------------------------------------------

@@ -23,6 +23,7 @@
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
 #include "vantage/scene.hpp"
+#include "vantage/scene_settings.hpp"
 #include "vantage/types.hpp"
 
 namespace vantage::detail::gazebo {
@@ -231,6 +232,10 @@ class Loader {
                     const Doc& doc,
                     int line);
   void ReadPlugin();
+  /// A selection setting's plugin parameter (its row in scene_settings.hpp); whole numbers up
+  /// to `max_count`.
+  void ReadSelectionSetting(const Doc& doc, const XmlElement& e,
+                            const SceneSelectionSetting& setting, int64_t max_count);
   void ReadSegmentationColour(const Doc& doc, const XmlElement& e);
   void ReadPopulation(const Doc& doc, const XmlElement& e);
   /// <vantage:keep_out> and <vantage:min_separation>, siblings of <population> (mounting.cpp).

@@ -9,24 +9,39 @@
 #include <map>
 #include <set>
 #include <string>
+#include <string_view>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "scene/sdf/loader.hpp"
 #include "scene/sdf/text.hpp"
 #include "util/cell_size.hpp"
+#include "vantage/error.hpp"
+#include "vantage/scene_settings.hpp"
 
 namespace vantage::detail::gazebo {
+namespace {
+
+// The selection setting whose plugin parameter is `name`, else null.
+const SceneSelectionSetting* SettingOfParameter(std::string_view name) {
+  for (const SceneSelectionSetting& setting : kSceneSelectionSettings)
+    if (setting.plugin_parameter == name) return &setting;
+  return nullptr;
+}
+
+}  // namespace
 
 void Loader::ReadPlugin() {
-  static const std::set<std::string> kKnown = {"numberOfIntendedSensors",
-                                               "ransacNumberOfIterations",
-                                               "ransacSurfacePercentageStopThreshold",
-                                               "voxelGridFilterLeafSize",
-                                               "sensorOrientationRandomRoll",
-                                               "sensorDataSegmentationColorRGB",
-                                               "sceneModelPath",
-                                               "observationPoint",
-                                               "numberOfSamplingSensors"};
+  // The selection settings' parameters come from their rows (scene_settings.hpp).
+  static const std::set<std::string> kKnown = [] {
+    std::set<std::string> known = {"voxelGridFilterLeafSize",        "sensorOrientationRandomRoll",
+                                   "sensorDataSegmentationColorRGB", "sceneModelPath",
+                                   "observationPoint",               "numberOfSamplingSensors"};
+    for (const SceneSelectionSetting& setting : kSceneSelectionSettings)
+      if (!setting.plugin_parameter.empty()) known.emplace(setting.plugin_parameter);
+    return known;
+  }();
   const Doc& doc = *world_doc_;
   // Any <plugin> of the world file, at any depth, with these children.
   std::vector<const XmlElement*> stack = {world_};
@@ -63,32 +78,11 @@ void Loader::ReadPlugin() {
       }
       const XmlElement* e = &child;
       const std::string& name = child.name;
-      // The selection settings' lines, for errors found after deployment (n above the
-      // candidates). The plugin is read from the world file, the problem's source.
-      static const std::map<std::string, std::string> kFields = {
-          {"numberOfIntendedSensors", "n"},
-          {"ransacNumberOfIterations", "ransac_iterations"},
-          {"ransacSurfacePercentageStopThreshold", "ransac_stop_coverage"}};
-      if (const auto field = kFields.find(name); field != kFields.end())
-        problem_.selection.lines[field->second] = e->line;
-      if (name == "numberOfIntendedSensors") {
-        if (const auto v = Integer(doc, *e, 1, kMaxCount))
-          problem_.selection.n = static_cast<int>(*v);
-      } else if (name == "ransacNumberOfIterations") {
-        if (const auto v = Integer(doc, *e, 1, kMaxCount))
-          problem_.selection.ransac_iterations = static_cast<int>(*v);
+      if (const SceneSelectionSetting* setting = SettingOfParameter(name)) {
+        ReadSelectionSetting(doc, *e, *setting, kMaxCount);
       } else if (name == "numberOfSamplingSensors") {
         if (const auto v = Integer(doc, *e, 1, kMaxCount))
           problem_.expected_candidates = static_cast<int>(*v);
-      } else if (name == "ransacSurfacePercentageStopThreshold") {
-        if (const auto v = Number(doc, *e, "90")) {
-          if (*v < 0 || *v > 100) {
-            Error(doc, e->line,
-                  fmt::format("<{}> {} must be a percentage from 0 to 100", name, e->Trimmed()));
-          } else {
-            problem_.selection.ransac_stop_coverage = *v / 100.0;
-          }
-        }
       } else if (name == "voxelGridFilterLeafSize") {
         if (const auto v = PositiveNumber(doc, *e, "0.005")) {
           // The same range as a YAML scene's cell_size, named at its line (issue 15: 1e300 was
@@ -122,6 +116,38 @@ void Loader::ReadPlugin() {
   }
   if (!params.contains("sensorDataSegmentationColorRGB") && !plugins.empty())
     segmentation_site_ = Site{doc.xml.path, plugins.front()->line};
+}
+
+void Loader::ReadSelectionSetting(const Doc& doc, const XmlElement& e,
+                                  const SceneSelectionSetting& setting, int64_t max_count) {
+  // Its line, for errors found after deployment (n above the candidates). The plugin is read
+  // from the world file, the problem's source.
+  SelectionSettings& selection = problem_.selection;
+  selection.lines[std::string(setting.field)] = e.line;
+  std::visit(
+      [&](auto member) {
+        using Held = std::decay_t<decltype(selection.*member)>;
+        if constexpr (std::is_same_v<Held, int>) {
+          if (const auto v = Integer(doc, e, static_cast<int64_t>(setting.low), max_count))
+            selection.*member = static_cast<int>(*v);
+        } else if constexpr (std::is_same_v<Held, std::optional<Method>>) {
+          throw InternalError("the plugin has no method parameter: " + e.name);
+        } else {  // a number, in percent where the row says so
+          const double scale = setting.plugin_percent ? 100.0 : 1.0;
+          const auto v = Number(doc, e, setting.plugin_example);
+          if (!v) return;
+          if (setting.OutOfRange(*v, scale)) {
+            Error(doc, e.line,
+                  setting.plugin_percent
+                      ? fmt::format("<{}> {} must be a percentage from {:g} to {:g}", e.name,
+                                    e.Trimmed(), setting.low * scale, setting.high * scale)
+                      : fmt::format("<{}> {} {}", e.name, e.Trimmed(), setting.out_of_range));
+          } else {
+            selection.*member = *v / scale;
+          }
+        }
+      },
+      setting.member);
 }
 
 void Loader::ReadSegmentationColour(const Doc& doc, const XmlElement& e) {
