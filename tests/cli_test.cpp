@@ -92,6 +92,68 @@ TEST(Cli, ObserveThenSelectEqualsOptimize) {
   EXPECT_EQ(whole["candidates"], halves["candidates"]);
 }
 
+// The current folder, changed for one scope: a command run from another folder than observe's.
+class InFolder {
+ public:
+  explicit InFolder(const std::filesystem::path& folder) : before_(std::filesystem::current_path()) {
+    std::filesystem::current_path(folder);
+  }
+  ~InFolder() { std::filesystem::current_path(before_); }
+  InFolder(const InFolder&) = delete;
+  InFolder& operator=(const InFolder&) = delete;
+
+ private:
+  std::filesystem::path before_;
+};
+
+// The .vis names the scene as observe read it (format 10): `select` run from another folder, and
+// of a Gazebo world that needs --model-path, reloads the same scene, so robustness's shrunk fields
+// of view (re-traced on its geometry) equal optimize's on the scene itself; report.json's inputs
+// name it absolutely, so `render` of select's folder finds it too. Before, the path as typed was
+// looked up from select's folder and the world's models in no folder: both re-traces were skipped.
+TEST(Cli, SelectReloadsTheSceneObserveRead) {
+  test::TempDir dir;
+  const std::filesystem::path data = std::filesystem::path(test::DataPath("cli")).parent_path();
+  const std::string models = (data / "worlds" / "models").string();
+  const std::string world = dir.File("world/cell.world");  // away from its models
+  std::filesystem::create_directories(dir.File("world"));
+  std::filesystem::copy_file(data / "worlds" / "export.world", world);
+  std::filesystem::create_directories(dir.File("elsewhere"));
+  struct Case {
+    std::string name, scene, relative_scene, load;
+  };
+  for (const Case& c : {Case{"yaml", Scene(), "cli/cube_cell.yaml", ""},
+                        Case{"world", world, "world/cell.world", " --model-path " + models}}) {
+    SCOPED_TRACE(c.name);
+    const std::string whole = dir.File(c.name + "_whole");
+    ASSERT_EQ(RunVantage("optimize " + c.scene + c.load + " -n 2 --method greedy --out " + whole)
+                  .exit_code,
+              0);
+    const std::string vis = dir.File(c.name + ".vis");
+    {
+      InFolder observe_folder(c.name == "yaml" ? data : std::filesystem::path(dir.path()));
+      const auto observe = RunVantage("observe " + c.relative_scene + c.load + " --out " + vis);
+      ASSERT_EQ(observe.exit_code, 0) << observe.err;
+    }
+    const std::string halves = dir.File(c.name + "_halves");
+    {
+      InFolder select_folder(dir.File("elsewhere"));
+      const auto select = RunVantage("select " + vis + " -n 2 --method greedy --out " + halves);
+      ASSERT_EQ(select.exit_code, 0) << select.err;
+      EXPECT_EQ(select.err.find("without meshes"), std::string::npos) << select.err;
+    }
+    const json expected = json::parse(test::ReadText(whole + "/report.json"));
+    const json got = json::parse(test::ReadText(halves + "/report.json"));
+    ASSERT_TRUE(expected["robustness"].contains("fov_shrunk_coverage")) << expected["robustness"];
+    EXPECT_EQ(got["robustness"].value("fov_shrunk_coverage", -1.0),
+              expected["robustness"]["fov_shrunk_coverage"].get<double>());
+    EXPECT_EQ(got["inputs"]["scene"], expected["inputs"]["scene"]);
+    EXPECT_EQ(got["inputs"].value("model_paths", json::array()),
+              expected["inputs"].value("model_paths", json::array()));
+    EXPECT_EQ(got["scene"], c.relative_scene);  // the report names it as observe was given it
+  }
+}
+
 TEST(Cli, EvaluateReproducesTheChosenCoverage) {
   test::TempDir dir;
   ASSERT_EQ(RunVantage("optimize " + Scene() + " -n 3 --method greedy --out " + dir.File("o")).exit_code, 0);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -172,6 +173,55 @@ uint64_t Fnv1a64(const std::string& bytes) {
   return h;
 }
 
+// The bytes of a format-9 file (docs/outputs.md) from a version-10 one saved without how the
+// scene was read (SmallData: no scene path, no folders, targets or cell size): less its last 52
+// zero bytes (an empty string and four empty lists, u64 0 each, and an absent optional, u32 0 and
+// f64 0), with version 9 and the checksum recomputed here (FNV-1a 64).
+std::string AsVersion9(const std::string& bytes) {
+  std::string body = bytes.substr(0, bytes.size() - 8);
+  EXPECT_EQ(body.substr(body.size() - 52), std::string(52, '\0'));
+  body.erase(body.size() - 52);
+  body[8] = 9;
+  const uint64_t h = Fnv1a64(body);
+  return body + std::string(reinterpret_cast<const char*>(&h), 8);
+}
+
+// A format-10 file keeps how observe read the scene: the absolute path, the folders, targets and
+// the cell size override, so that `select` reloads it from any folder. They are not part of the
+// fingerprint (shards observed from other folders agree). The same file as format 9 reads without
+// them; a stored cell size that no run could have given is a corrupt file.
+TEST(VisibilityFile, Version10KeepsHowTheSceneWasRead) {
+  test::TempDir dir;
+  VisibilityFile data = SmallData();
+  data.scene_path = "/cell/scene.yaml";
+  data.load.model_paths = {"/cell/models", "/more/models"};
+  data.load.resource_paths = {"/cell/media"};
+  data.load.package_paths = {"/ws/src"};
+  data.load.targets = {"motor", "bin"};
+  data.load.cell_size = 0.004;
+  SaveVisibilityFile(dir.File("new.vis"), data);
+  const VisibilityFile back = LoadVisibilityFile(dir.File("new.vis"));
+  EXPECT_EQ(back.scene_path, "/cell/scene.yaml");
+  EXPECT_EQ(back.load.model_paths, data.load.model_paths);
+  EXPECT_EQ(back.load.resource_paths, data.load.resource_paths);
+  EXPECT_EQ(back.load.package_paths, data.load.package_paths);
+  EXPECT_EQ(back.load.targets, data.load.targets);
+  EXPECT_EQ(back.load.cell_size, std::optional<double>(0.004));
+  EXPECT_EQ(VisibilityFingerprint(back), VisibilityFingerprint(SmallData()));
+  SaveVisibilityFile(dir.File("plain.vis"), SmallData());
+  test::WriteText(dir.File("v9.vis"), AsVersion9(test::ReadText(dir.File("plain.vis"))));
+  const VisibilityFile old = LoadVisibilityFile(dir.File("v9.vis"));
+  EXPECT_TRUE(old.scene_path.empty());
+  EXPECT_TRUE(old.load.model_paths.empty());
+  EXPECT_FALSE(old.load.cell_size.has_value());
+  EXPECT_EQ(old.observations[1].reference_indices, SmallData().observations[1].reference_indices);
+  for (const double bad : {0.0, -0.005, std::numeric_limits<double>::infinity()}) {
+    data.load.cell_size = bad;
+    SaveVisibilityFile(dir.File("bad.vis"), data);
+    EXPECT_THROW(LoadVisibilityFile(dir.File("bad.vis")), InputError) << bad;
+  }
+}
+
 // The bytes of a format-8 file (docs/outputs.md) from a version-9 one whose sensors' costs are all
 // given: less each candidate's last 4 bytes (u32 0), before the next one's name or, for the last,
 // before the mounting (40 zero bytes) and parts (36) sections, with version 8 and the checksum
@@ -271,7 +321,7 @@ TEST(VisibilityFile, Version8KeepsIncidenceTermAndFlyingThreshold) {
   const std::vector<std::string> names = {"cam0", "cam1", "cam2"};
   const VisibilityFile plain = SmallData();
   SaveVisibilityFile(dir.File("plain.vis"), plain);
-  test::WriteText(dir.File("v7.vis"), AsVersion7(AsVersion8(test::ReadText(dir.File("plain.vis")), names), names));
+  test::WriteText(dir.File("v7.vis"), AsVersion7(AsVersion8(AsVersion9(test::ReadText(dir.File("plain.vis"))), names), names));
   const VisibilityFile old = LoadVisibilityFile(dir.File("v7.vis"));
   ASSERT_EQ(old.candidates.size(), 3u);
   for (size_t i = 0; i < 3; ++i) {
@@ -302,7 +352,7 @@ TEST(VisibilityFile, Version9KeepsWhetherTheCostIsGiven) {
   const std::vector<std::string> names = {"cam0", "cam1", "cam2"};
   const VisibilityFile plain = SmallData();
   SaveVisibilityFile(dir.File("plain.vis"), plain);
-  const std::string bytes = test::ReadText(dir.File("plain.vis"));
+  const std::string bytes = AsVersion9(test::ReadText(dir.File("plain.vis")));
   test::WriteText(dir.File("v8.vis"), AsVersion8(bytes, names));
   EXPECT_EQ(test::ReadText(dir.File("v8.vis")).size(), bytes.size() - 3 * 4);
   const VisibilityFile old = LoadVisibilityFile(dir.File("v8.vis"));
@@ -364,7 +414,7 @@ TEST(VisibilityFile, Version4LoadsWithoutMountingRulesAndSelectsAsBefore) {
   for (const Candidate& c : data.candidates) positions.push_back(c.world_from_body.position);
   const std::vector<std::string> names = {"cam0", "cam1", "cam2"};
   test::WriteText(dir.File("v4.vis"),
-                  AsVersion4(AsVersion5(AsVersion7(AsVersion8(test::ReadText(dir.File("new.vis")), names), names),
+                  AsVersion4(AsVersion5(AsVersion7(AsVersion8(AsVersion9(test::ReadText(dir.File("new.vis"))), names), names),
                                         positions, names, data.reference.cell_size),
                              positions));
   const VisibilityFile old = LoadVisibilityFile(dir.File("v4.vis"));
@@ -420,7 +470,7 @@ TEST(VisibilityFile, OldVersionLoadsWithoutCountsAndMinPointsRefusesIt) {
   const std::vector<std::string> names = {"cam0", "cam1", "cam2"};
   std::vector<Vec3> positions;
   for (const Candidate& c : data.candidates) positions.push_back(c.world_from_body.position);
-  const std::string v5 = AsVersion5(AsVersion7(AsVersion8(test::ReadText(dir.File("new.vis")), names), names),
+  const std::string v5 = AsVersion5(AsVersion7(AsVersion8(AsVersion9(test::ReadText(dir.File("new.vis"))), names), names),
                                     positions, names, data.reference.cell_size);
   test::WriteText(dir.File("old.vis"), AsVersion3(AsVersion4(v5, positions), names));
   const VisibilityFile old = LoadVisibilityFile(dir.File("old.vis"));
@@ -455,7 +505,7 @@ TEST(VisibilityFile, CorruptTruncatedOrForeignFilesAreInputErrors) {
   test::WriteText(dir.File("short.vis"), good.substr(0, good.size() / 3));
   test::WriteText(dir.File("text.vis"), "hello, not a matrix\n");
   std::string other_version = good;
-  other_version[8] = 10;  // one past the current format (9)
+  other_version[8] = 11;  // one past the current format (10)
   test::WriteText(dir.File("version.vis"), other_version);
   for (const char* name : {"flipped.vis", "short.vis", "text.vis", "version.vis", "missing.vis"}) {
     try {

@@ -102,6 +102,7 @@ Problem LoadScene(const SceneInput& input);
 /// A loaded and deployed scene, before any ray is cast.
 struct PreparedScene {
   Problem problem;                   ///< overrides applied; `scene` is the first state's
+  LoadOptions load;                  ///< the options the scene was read with (kept in the .vis)
   std::vector<Scene> state_scenes;   ///< one per state of problem.states (empty: no states)
   /// One per state when a state moves sensors (SceneState::sensor_poses: sensors on a robot
   /// link), each state's candidates; empty when every state has `candidates`. `candidates` are

@@ -34,6 +34,13 @@ struct VisibilityFile {
   MountingRules mounting;
   /// How many candidates the keep-out boxes excluded before observing (not in `candidates`).
   uint64_t kept_out = 0;
+  /// How observe read the scene (format version 10; older files and external matrices: empty):
+  /// its absolute path, and the options given with their folders absolute, so that `vantage
+  /// select` reloads the same scene from any folder (the page's meshes, the re-traced fields of
+  /// view and pose tolerance) where `scene`, as typed, named it from observe's folder only. Left
+  /// out of the fingerprint: shards of one run observed from other folders still agree.
+  std::string scene_path;
+  LoadOptions load;
 };
 
 /// Writes the versioned binary file (magic, version, payload, FNV-1a 64 checksum) atomically.

@@ -158,6 +158,11 @@ void SelectResults(const ObservedScene& observed, const SelectionRequest& reques
 /// scores constellation.sdf again).
 ScoringOptions ScoringOf(const VisibilityFile& data, const RunInputs& inputs);
 
+/// `path` absolute and lexically normal (as given where the current folder cannot be read).
+std::string AbsoluteText(const std::string& path);
+/// `load` with its model, resource and package folders absolute.
+LoadOptions AbsoluteFolders(LoadOptions load);
+
 /// The run's inputs block: the scene input with absolute paths and the observe options.
 RunInputs InputsOf(const std::string& command, const SceneInput& scene,
                    const ObserveOptions& observe);

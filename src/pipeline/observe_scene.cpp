@@ -409,6 +409,8 @@ ObservedScene ObservePrepared(PreparedScene prepared, const ObserveOptions& give
 
   VisibilityFile& data = result.data;
   data.scene = problem.source;
+  data.scene_path = detail::AbsoluteText(problem.source);
+  data.load = detail::AbsoluteFolders(prepared.load);
   data.seed = problem.seed;
   data.selection = problem.selection;
   data.reference = std::move(reference);

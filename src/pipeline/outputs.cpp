@@ -17,22 +17,19 @@
 
 namespace vantage {
 namespace detail {
-namespace {
 
-std::string Absolute(const std::string& path) {
+std::string AbsoluteText(const std::string& path) {
   if (path.empty()) return path;
   std::error_code error;
   const std::filesystem::path absolute = std::filesystem::absolute(path, error);
   return error ? path : absolute.lexically_normal().string();
 }
 
-std::vector<std::string> Absolute(const std::vector<std::string>& paths) {
-  std::vector<std::string> result;
-  for (const std::string& path : paths) result.push_back(Absolute(path));
-  return result;
+LoadOptions AbsoluteFolders(LoadOptions load) {
+  for (auto* list : {&load.model_paths, &load.resource_paths, &load.package_paths})
+    for (std::string& path : *list) path = AbsoluteText(path);
+  return load;
 }
-
-}  // namespace
 
 ScoringOptions ScoringOf(const VisibilityFile& data, const RunInputs& inputs) {
   ScoringOptions scoring;
@@ -47,12 +44,13 @@ RunInputs InputsOf(const std::string& command, const SceneInput& scene,
                    const ObserveOptions& observe) {
   RunInputs inputs;
   inputs.command = command;
-  inputs.scene = Absolute(scene.path);
-  inputs.model_paths = Absolute(scene.load.model_paths);
-  inputs.resource_paths = Absolute(scene.load.resource_paths);
-  inputs.package_paths = Absolute(scene.load.package_paths);
-  inputs.targets = scene.load.targets;
-  inputs.cell_size = scene.load.cell_size;
+  inputs.scene = AbsoluteText(scene.path);
+  const LoadOptions load = AbsoluteFolders(scene.load);
+  inputs.model_paths = load.model_paths;
+  inputs.resource_paths = load.resource_paths;
+  inputs.package_paths = load.package_paths;
+  inputs.targets = load.targets;
+  inputs.cell_size = load.cell_size;
   inputs.seed = scene.seed;
   inputs.observation_point = scene.observation_point;
   inputs.random_roll = scene.random_roll;

@@ -192,6 +192,7 @@ PreparedScene Prepare(const SceneInput& input) {
   PreparedScene prepared;
   Problem& problem = prepared.problem;
   problem = LoadScene(input);
+  prepared.load = input.load;
 
   DeployOptions deploy;
   deploy.observation_point = problem.observation_point;

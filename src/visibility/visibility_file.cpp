@@ -41,8 +41,11 @@ namespace {
 // a catalog entry whose vendor publishes no price, or a type based on one without a `cost:`), so
 // that `select --budget/--cheapest` refuses such a type as optimize does (issue 43). Older files
 // read as before: the cost given unless the type id names an unpriced catalog entry.
+// Version 10 adds, last, how observe read the scene: its absolute path, the model, resource and
+// package folders (absolute), the --target names and the --cell-size override, so that `select`
+// reloads the scene from any folder. Older files read without them (the scene as typed).
 constexpr char kMagic[8] = {'V', 'A', 'N', 'T', 'V', 'I', 'S', '\0'};
-constexpr uint32_t kFormatVersion = 9;
+constexpr uint32_t kFormatVersion = 10;
 constexpr uint32_t kOldestReadVersion = 1;
 
 void WriteOptional(detail::BinaryWriter* w, const std::optional<double>& value) {
@@ -236,6 +239,39 @@ void ReadParts(detail::BinaryReader* r, const Corrupt& corrupt, Reference* refer
     throw corrupt("the reference's cells left out do not match its parts");
 }
 
+void WriteStrings(detail::BinaryWriter* w, const std::vector<std::string>& strings) {
+  w->U64(strings.size());
+  for (const std::string& s : strings) w->Str(s);
+}
+
+std::vector<std::string> ReadStrings(detail::BinaryReader* r) {
+  const uint64_t count = r->U64();
+  r->CheckCount(count, 8);
+  std::vector<std::string> strings;
+  for (uint64_t i = 0; i < count; ++i) strings.push_back(r->Str());
+  return strings;
+}
+
+// How the scene was read (version 10): the absolute path, the folders, targets and cell size.
+void WriteSceneLoad(detail::BinaryWriter* w, const std::string& scene_path, const LoadOptions& load) {
+  w->Str(scene_path);
+  for (const auto* list : {&load.model_paths, &load.resource_paths, &load.package_paths, &load.targets})
+    WriteStrings(w, *list);
+  WriteOptional(w, load.cell_size);
+}
+
+template <typename Corrupt>
+void ReadSceneLoad(detail::BinaryReader* r, const Corrupt& corrupt, VisibilityFile* file) {
+  file->scene_path = r->Str();
+  LoadOptions& load = file->load;
+  for (auto* list : {&load.model_paths, &load.resource_paths, &load.package_paths, &load.targets})
+    *list = ReadStrings(r);
+  // Reloading checks it as --cell-size is checked; here only what no run could have written.
+  load.cell_size = ReadOptional(r, "the cell size override", corrupt);
+  if (load.cell_size && !(*load.cell_size > 0.0 && std::isfinite(*load.cell_size)))
+    throw corrupt("the cell size override is not a positive length");
+}
+
 bool StrictlyIncreasing(const std::vector<uint64_t>& keys) {
   return std::adjacent_find(keys.begin(), keys.end(),
                             [](uint64_t a, uint64_t b) { return a >= b; }) == keys.end();
@@ -298,6 +334,10 @@ std::string EncodeVisibilityFile(const VisibilityFile& file, bool observations) 
   }
   WriteMounting(&w, file.mounting, file.kept_out);
   WriteParts(&w, file.reference);
+  // Format 10: how the scene was read; empty in the fingerprint (see VisibilityFile::load).
+  static const LoadOptions kNoLoad;
+  WriteSceneLoad(&w, observations ? file.scene_path : std::string(),
+                 observations ? file.load : kNoLoad);
   w.U64(detail::Fnv1a64(w.data()));
   return w.data();
 }
@@ -480,6 +520,7 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
   }
   if (version >= 5) ReadMounting(&r, corrupt, &file.mounting, &file.kept_out);
   if (version >= 6) ReadParts(&r, corrupt, &file.reference);
+  if (version >= 10) ReadSceneLoad(&r, corrupt, &file);
   if (!r.AtEnd()) throw corrupt("trailing bytes after the payload");
   return file;
 }

@@ -1,5 +1,6 @@
 """vantage.optimize writes what `vantage optimize` writes (report.json equal, timings aside)."""
 
+import os
 import pathlib
 
 import pytest
@@ -157,7 +158,10 @@ def test_visibility_file_keeps_the_mounting_rules(cli_example, tmp_path):
     scene, kept_out = constrained_example(cli_example, tmp_path)
     run_cli("observe", scene, "--out", tmp_path / "c.vis")
     raw = read_vis(tmp_path / "c.vis")
-    assert raw.version == 9
+    assert raw.version == 10
+    # How observe read the scene (format 10): absolute, so that select reloads it from anywhere.
+    assert raw.scene_path == os.path.abspath(scene) and os.path.isabs(raw.scene_path)
+    assert raw.model_paths == [] and raw.targets == [] and raw.cell_size_override is None
     assert len(raw.part_of) == len(raw.keys) and len(raw.exposed) == len(raw.keys)
     assert set(raw.part_of) <= set(range(len(raw.part_names)))
     assert raw.min_separation == 0.3

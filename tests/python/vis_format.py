@@ -38,6 +38,12 @@ class VisFile:
     exposed_only: bool = False  # unexposed cells left out of R (version 6)
     left_out: list = dataclasses.field(default_factory=list)  # per part, cells left out (version 6)
     physical: bool = False  # observed with the physical sensor model (version 7)
+    scene_path: str = ""  # the scene's absolute path, as observe read it (version 10)
+    model_paths: list = dataclasses.field(default_factory=list)  # absolute (version 10)
+    resource_paths: list = dataclasses.field(default_factory=list)  # absolute (version 10)
+    package_paths: list = dataclasses.field(default_factory=list)  # absolute (version 10)
+    targets: list = dataclasses.field(default_factory=list)  # --target names (version 10)
+    cell_size_override: object = None  # --cell-size [m] (version 10)
 
 
 class _Reader:
@@ -92,7 +98,7 @@ def fnv1a64(data):
 
 
 def read_vis(path):
-    """The sets of a format-4, 5 or 6 .vis file, its checksum verified."""
+    """The sets of a format-4 to 10 .vis file, its checksum verified."""
     with open(path, "rb") as f:
         data = f.read()
     assert data[:8] == b"VANTVIS\0", "not a vantage visibility file"
@@ -101,7 +107,7 @@ def read_vis(path):
     r = _Reader(data[:-8])
     r.at = 8
     version = r.u32()
-    assert version in (4, 5, 6, 7, 8, 9), f"format version {version}"
+    assert version in (4, 5, 6, 7, 8, 9, 10), f"format version {version}"
     scene, seed = r.string(), r.u64()
     r.u32(), r.u32(), r.f64()  # n, RANSAC iterations and stop coverage
     r.string(), r.optional(), r.u32(), r.optional()  # method, goal, k, budget
@@ -166,6 +172,11 @@ def read_vis(path):
         vis.exposed = r.u32s()
         vis.exposed_only = r.u32() != 0
         vis.left_out = r.u64s()
+    if version >= 10:  # how observe read the scene, so that `select` reloads it from any folder
+        vis.scene_path = r.string()  # absolute
+        vis.model_paths, vis.resource_paths, vis.package_paths, vis.targets = (
+            [r.string() for _ in range(r.u64())] for _ in range(4))
+        vis.cell_size_override = r.optional()
     assert r.at == len(r.data), "trailing bytes"
     return vis
 
