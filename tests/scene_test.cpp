@@ -17,7 +17,9 @@
 #include <random>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "scene/plain_obj.hpp"
@@ -26,6 +28,7 @@
 #include "test_util.hpp"
 #include "vantage/error.hpp"
 #include "vantage/problem.hpp"
+#include "vantage/scene_settings.hpp"
 
 namespace vantage {
 namespace {
@@ -1206,6 +1209,49 @@ INSTANTIATE_TEST_SUITE_P(Scene,
                          [](const ::testing::TestParamInfo<BadScene>& info) {
                            return std::string(info.param.name);
                          });
+
+// Every selection setting's row (scene_settings.hpp) is a key the YAML reader allows and reads:
+// a valid value lands in its member with its line, a word in its place is refused naming the key.
+TEST(YamlScene, EverySelectionSettingRowIsReadAtItsKey) {
+  for (const SceneSelectionSetting& setting : kSceneSelectionSettings) {
+    const std::string key(setting.yaml_key);
+    const bool in_ransac = key.starts_with("ransac.");
+    const auto scene = [&](const std::string& value) {
+      return in_ransac ? fmt::format("settings:\n  ransac:\n    {}: {}\n", key.substr(7), value)
+                       : fmt::format("settings:\n  {}: {}\n", key, value);
+    };
+    const int line = in_ransac ? 3 : 2;
+    const bool is_count = std::holds_alternative<int SelectionSettings::*>(setting.member);
+    const bool is_method =
+        std::holds_alternative<std::optional<Method> SelectionSettings::*>(setting.member);
+    TempDir dir;
+    const std::string path = dir.File("s.yaml");
+    WriteText(path, scene(is_count ? "3" : is_method ? "local" : "0.25") + kValidObjects);
+    const Problem problem = LoadYamlScene(path);
+    const SelectionSettings& selection = problem.selection;
+    std::visit(
+        [&](auto member) {
+          using Held = std::decay_t<decltype(selection.*member)>;
+          if constexpr (std::is_same_v<Held, int>)
+            EXPECT_EQ(selection.*member, 3) << key;
+          else if constexpr (std::is_same_v<Held, std::optional<Method>>)
+            EXPECT_EQ(selection.*member, Method::kLocal) << key;
+          else
+            EXPECT_EQ(selection.*member, 0.25) << key;
+        },
+        setting.member);
+    EXPECT_EQ(selection.lines.at(std::string(setting.field)), line) << key;
+    WriteText(path, scene("zz") + kValidObjects);
+    try {
+      LoadYamlScene(path);
+      ADD_FAILURE() << key << ": a word accepted";
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.rfind(fmt::format("{}:{}: settings.{}", path, line, key), 0), 0u)
+          << message;
+    }
+  }
+}
 
 TEST(YamlScene, CollectsEveryProblemBeforeThrowing) {
   TempDir dir;
