@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <utility>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -173,6 +175,13 @@ uint64_t Fnv1a64(const std::string& bytes) {
   return h;
 }
 
+// `body` (a file less its checksum) as format `version`, its FNV-1a 64 checksum recomputed here.
+std::string Sealed(std::string body, char version) {
+  body[8] = version;
+  const uint64_t h = Fnv1a64(body);
+  return body + std::string(reinterpret_cast<const char*>(&h), 8);
+}
+
 // The bytes of a format-9 file (docs/outputs.md) from a version-10 one saved without how the
 // scene was read (SmallData: no scene path, no folders, targets or cell size): less its last 52
 // zero bytes (an empty string and four empty lists, u64 0 each, and an absent optional, u32 0 and
@@ -181,9 +190,7 @@ std::string AsVersion9(const std::string& bytes) {
   std::string body = bytes.substr(0, bytes.size() - 8);
   EXPECT_EQ(body.substr(body.size() - 52), std::string(52, '\0'));
   body.erase(body.size() - 52);
-  body[8] = 9;
-  const uint64_t h = Fnv1a64(body);
-  return body + std::string(reinterpret_cast<const char*>(&h), 8);
+  return Sealed(std::move(body), 9);
 }
 
 // A format-10 file keeps how observe read the scene: the absolute path, the folders, targets and
@@ -239,9 +246,7 @@ std::string AsVersion8(const std::string& bytes, const std::vector<std::string>&
     EXPECT_EQ(body.substr(at, 4), zero);
     body.erase(at, 4);
   }
-  body[8] = 8;
-  const uint64_t h = Fnv1a64(body);
-  return body + std::string(reinterpret_cast<const char*>(&h), 8);
+  return Sealed(std::move(body), 8);
 }
 
 // The bytes of a format-7 file (docs/outputs.md) from a version-8 one whose sensors have no
@@ -261,9 +266,7 @@ std::string AsVersion7(const std::string& bytes, const std::vector<std::string>&
     EXPECT_EQ(body.substr(at, 20), zero);
     body.erase(at, 20);
   }
-  body[8] = 7;
-  const uint64_t h = Fnv1a64(body);
-  return body + std::string(reinterpret_cast<const char*>(&h), 8);
+  return Sealed(std::move(body), 7);
 }
 
 // The bytes of a format-5 file (docs/outputs.md) from a version-7 one whose sensors have no
@@ -300,9 +303,7 @@ std::string AsVersion5(const std::string& bytes, const std::vector<Vec3>& positi
   EXPECT_NE(cell, std::string::npos);
   EXPECT_EQ(body.substr(cell - 4, 4), std::string(4, '\0'));
   body.erase(cell - 4, 4);
-  body[8] = 5;
-  const uint64_t h = Fnv1a64(body);
-  return body + std::string(reinterpret_cast<const char*>(&h), 8);
+  return Sealed(std::move(body), 5);
 }
 
 // A format-8 file keeps each sensor's noise incidence term and flying-pixel threshold; the same
@@ -399,9 +400,7 @@ std::string AsVersion4(const std::string& bytes, const std::vector<Vec3>& positi
     EXPECT_EQ(body.substr(at - 4, 4), std::string(4, '\0'));
     body.erase(at - 4, 4);
   }
-  body[8] = 4;
-  const uint64_t h = Fnv1a64(body);
-  return body + std::string(reinterpret_cast<const char*>(&h), 8);
+  return Sealed(std::move(body), 4);
 }
 
 // A format-4 file (written before mounting rules were kept) loads with none and every sensor's
@@ -458,9 +457,7 @@ std::string AsVersion3(std::string bytes, const std::vector<std::string>& names)
     EXPECT_EQ(body.substr(at, 8), zero);
     body.erase(at, 8);
   }
-  body[8] = 3;
-  const uint64_t h = Fnv1a64(body);
-  return body + std::string(reinterpret_cast<const char*>(&h), 8);
+  return Sealed(std::move(body), 3);
 }
 
 TEST(VisibilityFile, OldVersionLoadsWithoutCountsAndMinPointsRefusesIt) {
