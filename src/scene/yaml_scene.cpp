@@ -135,6 +135,11 @@ class Fields {
          std::string context,
          std::initializer_list<std::string_view> allowed,
          Reporter* reporter)
+      : Fields(input, std::move(context), std::vector<std::string_view>(allowed), reporter) {}
+  Fields(const Value& input,
+         std::string context,
+         const std::vector<std::string_view>& allowed,
+         Reporter* reporter)
       : context_(std::move(context)), line_(input.line) {
     const YAML::Node& node = input.node;
     if (node.IsNull()) return;  // an empty section: every key absent
@@ -663,6 +668,10 @@ void SceneReader::ReadSettings(const Value& input) {
   // The selection settings, by their rows (scene_settings.hpp); those under `ransac:` in that
   // map. Objectives beyond coverage (SYSTEM.md, Select): at most one of them.
   std::optional<Fields> ransac;
+  std::vector<std::string_view> ransac_keys;  // the keys of `settings.ransac`, from the rows
+  for (const SceneSelectionSetting& setting : kSceneSelectionSettings)
+    if (setting.yaml_key.starts_with("ransac."))
+      ransac_keys.push_back(setting.yaml_key.substr(std::string_view("ransac.").size()));
   int objectives = 0;
   int objective_line = 0;
   std::string objective_names;
@@ -672,10 +681,7 @@ void SceneReader::ReadSettings(const Value& input) {
     if (key.starts_with("ransac.")) {
       const auto v = fields.Get("ransac");
       if (!v) continue;
-      if (!ransac)
-        ransac.emplace(*v, "settings.ransac",
-                       std::initializer_list<std::string_view>{"iterations", "stop_coverage"},
-                       &reporter_);
+      if (!ransac) ransac.emplace(*v, "settings.ransac", ransac_keys, &reporter_);
       section = &*ransac;
       key.remove_prefix(std::string_view("ransac.").size());
     }
