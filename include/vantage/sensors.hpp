@@ -181,15 +181,19 @@ class ApertureField {
     const Vec3 d = p_body - centre_;
     constexpr double kMax = std::numeric_limits<double>::max();
     const bool finite = std::abs(d.x()) <= kMax && std::abs(d.y()) <= kMax && std::abs(d.z()) <= kMax;
-    const Vec3 p = turned_ || !finite ? Vec3(aperture_from_body_ * d) : d;
-    if (!(p.x() > 0)) return false;
-    const int verdict = Quickly(p);
-    return verdict < 0 ? Exactly(p) : verdict != 0;
+    // The turned (or non-finite) case out of line: a select between d and the product copied d
+    // through the stack on every hit.
+    if (turned_ || !finite) return ContainsTurned(d);
+    if (!(d.x() > 0)) return false;
+    const int verdict = Quickly(d);
+    return verdict < 0 ? Exactly(d) : verdict != 0;
   }
   /// The division formula, for a point already in the aperture's frame with x > 0.
   bool Exactly(const Vec3& p) const;
 
  private:
+  // Contains for d = p_body - centre_ where the rotation must be applied.
+  bool ContainsTurned(const Vec3& d) const;
   // 1 inside, 0 outside, -1 too close to the edge (or out of range) to tell without Exactly.
   [[gnu::always_inline]] int Quickly(const Vec3& p) const {
     constexpr double kMargin = 0x1p-30, kLow = 1e-140, kHigh = 1e140;
@@ -217,14 +221,14 @@ class ApertureField {
     if (!quick_image_) return -1;
     // u = cx - fx y / x, v = cy - fy z / x; times x: u x = cx x - fx y.
     const double ux = cx_ * x - fx_ * p.y(), vx = cy_ * x - fy_ * p.z();
-    const double su = std::abs(cx_ * x) + std::abs(fx_ * p.y()) + width_ * x;
-    const double sv = std::abs(cy_ * x) + std::abs(fy_ * p.z()) + height_ * x;
+    const double su = std::abs(cx_ * x) + std::abs(fx_ * p.y()) + image_width_ * x;
+    const double sv = std::abs(cy_ * x) + std::abs(fy_ * p.z()) + image_height_ * x;
     // both(both(sign(ux, su), sign(w x - ux, su)), both(sign(vx, sv), sign(h x - vx, sv))),
     // each comparison made and the four combined without a branch (the scales are >= 0, so no
     // term is both above its margin and below its negative): 0 where one lies below, 1 where
     // all lie above, else -1.
     const double mu = su * kMargin, mv = sv * kMargin;
-    const double right = width_ * x - ux, bottom = height_ * x - vx;
+    const double right = image_width_ * x - ux, bottom = image_height_ * x - vx;
     const bool below = (ux < -mu) | (right < -mu) | (vx < -mv) | (bottom < -mv);
     const bool above = (ux > mu) & (right > mu) & (vx > mv) & (bottom > mv);
     return below ? 0 : above ? 1 : -1;
@@ -237,6 +241,7 @@ class ApertureField {
   double tan_half_h_ = 0, tan_half_v_ = 0;  // > 0: a frustum
   double fx_, fy_, cx_, cy_;              // else an image: the aperture's or the camera's
   int width_, height_;
+  double image_width_, image_height_;  // the same, converted once (exact) for Quickly
   // Quickly's own: tan(half_cone_), and whether its products stay in range for this field.
   double tan_half_cone_ = 0;
   bool quick_cone_ = false, quick_frustum_ = false, quick_image_ = false;

@@ -250,6 +250,8 @@ ApertureField::ApertureField(const SensorType& camera, const SecondAperture& ape
   cy_ = own ? aperture.cy : camera.cy;
   width_ = own ? aperture.width : camera.width;
   height_ = own ? aperture.height : camera.height;
+  image_width_ = width_;
+  image_height_ = height_;
   // Quickly's products (x, |y|, |z| in (1e-140, 1e140)) stay normal and finite, and its margin
   // covers the roundings of tan and atan, while the field's constants lie in these ranges. A cone
   // wider than 3 rad has atan's flat end at its edge: always Exactly.
@@ -261,6 +263,13 @@ ApertureField::ApertureField(const SensorType& camera, const SecondAperture& ape
   quick_frustum_ = tan_half_h_ > 0 && moderate(tan_half_h_) && moderate(tan_half_v_);
   quick_image_ = moderate(fx_) && moderate(fy_) && std::abs(cx_) < 1e100 &&
                  std::abs(cy_) < 1e100 && width_ > 0 && height_ > 0;
+}
+
+bool ApertureField::ContainsTurned(const Vec3& d) const {
+  const Vec3 p = aperture_from_body_ * d;
+  if (!(p.x() > 0)) return false;
+  const int verdict = Quickly(p);
+  return verdict < 0 ? Exactly(p) : verdict != 0;
 }
 
 bool ApertureField::Exactly(const Vec3& p) const {
