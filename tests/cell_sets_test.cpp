@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -108,15 +109,21 @@ TEST(CellOfPoint, GuessedAxisEqualsTheDivision) {
       }
     }
     EXPECT_GT(checked, 100000u);
-    // A walk along a row of hits, each guessing the last one's cell (as observe does).
+    // A walk along a row of hits, each guessing the last one's cell (as observe does), with
+    // the guess also given as doubles kept from the last cell (observe's Near).
     std::uniform_real_distribution<double> step(0.0, 2.5 * std::min(cell, 1.0));
     VoxelIndex last{0, 0, 0};
+    std::array<double, 3> last_below{0, 0, 0};
     Vec3 p(-2.0, 0.5, -0.25);
     for (int i = 0; i < 20000; ++i) {
       p += Vec3(step(rng), -0.5 * step(rng), 0.25 * step(rng));
       const VoxelIndex got = cell_of.Near(p, last);
       for (int a = 0; a < 3; ++a) ASSERT_EQ(got[a], DividedCell(p[a], cell)) << p[a] << " " << cell;
-      if (VoxelIndexFits(got)) last = got;
+      ASSERT_EQ(cell_of.Near(p, last, last_below), got);
+      if (VoxelIndexFits(got)) {
+        last = got;
+        for (int a = 0; a < 3; ++a) last_below[a] = static_cast<double>(got[a]);
+      }
     }
   }
 }

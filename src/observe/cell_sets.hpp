@@ -3,6 +3,7 @@
 /// with a multiply instead of three divisions, and the cells of one candidate's hits split by R
 /// with a shared hash of R's keys and per-worker marks over R, instead of sorting every image's
 /// keys. Both give exactly what VoxelKeyOf and a sort + merge against R give.
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -48,9 +49,11 @@ class CellOfPoint {
   /// with it, so Axis would return it; otherwise Axis decides. A guess outside (q - 1, q + 1)
   /// fails the test: q - guess or guess + 1 - q is then at most 0 however it rounds. Saves the
   /// floor (and its sign-dependent branch) for the hits that stay in their neighbour's cell.
-  int64_t Axis(double x, int64_t guess) const {
+  int64_t Axis(double x, int64_t guess) const { return Axis(x, guess, static_cast<double>(guess)); }
+  /// Axis(x, guess) with the guess also as a double (`below`, its exact conversion), kept by a
+  /// caller that tries the same guess on many hits.
+  int64_t Axis(double x, int64_t guess, double below) const {
     const double q = x * inverse_;
-    const double below = static_cast<double>(guess);
     const double margin = std::abs(q) * 0x1p-50 + 0x1p-1000;
     if (!divide_ && q - below > margin && below + 1.0 - q > margin) return guess;
     return Axis(x);
@@ -58,6 +61,11 @@ class CellOfPoint {
   /// The cell of `p`, trying `guess`'s index on each axis (Axis(x, guess)).
   VoxelIndex Near(const Vec3& p, const VoxelIndex& guess) const {
     return {Axis(p.x(), guess[0]), Axis(p.y(), guess[1]), Axis(p.z(), guess[2])};
+  }
+  /// Near with `below` the guess's indices as doubles (exact conversions, see Axis).
+  VoxelIndex Near(const Vec3& p, const VoxelIndex& guess, const std::array<double, 3>& below) const {
+    return {Axis(p.x(), guess[0], below[0]), Axis(p.y(), guess[1], below[1]),
+            Axis(p.z(), guess[2], below[2])};
   }
 
  private:

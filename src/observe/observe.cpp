@@ -106,23 +106,30 @@ class PixelJudge {
     }
     for (int lane = 0; lane < batch.active; ++lane) {
       if (!batch.is_target[lane]) continue;
-      Take(batch.t[lane], true, Vec3(batch.dir[0][lane], batch.dir[1][lane], batch.dir[2][lane]),
-           LaneNormal(batch, lane), LanePoint(batch, lane), false, ask_aperture ? seen[lane] : -1);
+      Take(
+          batch.t[lane], true,
+          [&] { return Vec3(batch.dir[0][lane], batch.dir[1][lane], batch.dir[2][lane]); },
+          [&] { return LaneNormal(batch, lane); }, LanePoint(batch, lane), false,
+          ask_aperture ? seen[lane] : -1);
     }
   }
 
-  // One pixel's first hit at depth t (ray d, normal n, point p where it is a target); `flying`:
-  // the flying-pixel filter drops it. `seen`: SeenByAperture(p, n) when known (0 or 1), else -1.
-  void Take(float t, bool is_target, const Vec3& d, const Vec3& n, const Vec3& p, bool flying,
-            int seen = -1) {
+  // One pixel's first hit at depth t (ray direction_of(), normal normal_of(), point p where it
+  // is a target); `flying`: the flying-pixel filter drops it. `seen`: SeenByAperture(p, n) when
+  // known (0 or 1), else -1. The direction and normal are made only where the quality filter or
+  // SeenByAperture reads them (made for every hit, their doubles were stored and never read).
+  template <class DirectionOf, class NormalOf>
+  void Take(float t, bool is_target, const DirectionOf& direction_of, const NormalOf& normal_of,
+            const Vec3& p, bool flying, int seen = -1) {
     if (!is_target || t < sensor_.near || t > sensor_.far) return;
     // Neighbouring pixels' hits mostly share a cell: the last hit's index is tried first, and
     // when it is the cell its key is known (it fitted).
     // Its index in R is looked up once, for every set the hit goes to.
-    const VoxelIndex index = cell_of_.Near(p, last_cell_);
+    const VoxelIndex index = cell_of_.Near(p, last_cell_, last_cell_below_);
     if (index != last_cell_) {
       VANTAGE_CHECK(VoxelIndexFits(index));
       last_cell_ = index;
+      for (int a = 0; a < 3; ++a) last_cell_below_[a] = static_cast<double>(index[a]);
       last_key_ = detail::PackFittingVoxel(index);
       last_found_ = index_.Find(last_key_);
     }
@@ -130,12 +137,14 @@ class PixelJudge {
     const int64_t found = last_found_;
     bool passes = true;
     if (quality_.max_incidence_deg) {
+      const Vec3 d = direction_of(), n = normal_of();
       const double norms = d.norm() * n.norm();
       passes = norms > 0 && std::abs(d.dot(n)) >= min_cos_incidence_ * norms;
     }
     if (passes && noise_) {
       double sigma = noise_->Sigma(t);
       if (noise_->incidence != 0) {  // Nguyen et al.'s term: grows toward grazing incidence
+        const Vec3 d = direction_of(), n = normal_of();
         const double norms = d.norm() * n.norm();
         const double cos_theta = norms > 0 ? std::min(1.0, std::abs(d.dot(n)) / norms) : 0.0;
         sigma = noise_->Sigma(t, std::acos(cos_theta));
@@ -155,7 +164,7 @@ class PixelJudge {
     // Stereo cannot match nearer than its disparity search reaches; the aperture must have the
     // point in its field and lie on the side of the surface the camera sees.
     if (t < physical_.nearest) return;
-    if (!(seen < 0 ? SeenByAperture(p, n) : seen != 0)) return;
+    if (!(seen < 0 ? SeenByAperture(p, normal_of()) : seen != 0)) return;
     const Vec3 segment = p - physical_.centre;
     for (int a = 0; a < 3; ++a) segments_.dir[a][queued_] = static_cast<float>(segment[a]);
     segments_.query[queued_] = true;
@@ -251,6 +260,7 @@ class PixelJudge {
   const detail::CellIndex& index_;
   // The last hit's cell, its key and its index in R (a cell that fits; any such cell to start).
   VoxelIndex last_cell_{0, 0, 0};
+  std::array<double, 3> last_cell_below_{0, 0, 0};  // last_cell_ as doubles (Near's guess)
   uint64_t last_key_ = detail::PackFittingVoxel(VoxelIndex{0, 0, 0});
   int64_t last_found_ = index_.Find(last_key_);
   OcclusionBatch segments_;
@@ -394,8 +404,9 @@ void ObserveWithFlyingFilter(const RayScene& rays, const Candidate& candidate,
         const auto& d = row->dir[i];
         const auto& n = row->normal[i];
         const auto& p = row->point[i];
-        judge->Take(t, true, Vec3(d[0], d[1], d[2]), Vec3(n[0], n[1], n[2]), Vec3(p[0], p[1], p[2]),
-                    flying);
+        judge->Take(
+            t, true, [&] { return Vec3(d[0], d[1], d[2]); }, [&] { return Vec3(n[0], n[1], n[2]); },
+            Vec3(p[0], p[1], p[2]), flying);
       }
     }
   }
