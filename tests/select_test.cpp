@@ -220,6 +220,71 @@ TEST(Select, ValidateRejectsBadOptions) {
   }
 }
 
+// The kind of each combination of the model's terms, written out here from select.hpp's
+// contract (what a cell needs, how an answer is scored and named, what bounds it, which methods
+// apply), against KindFor and against what Validate accepts.
+TEST(SelectionModel, KindOfEveryCombination) {
+  using Limit = detail::SelectionKind::Limit;
+  struct Case {
+    const char* name;
+    std::optional<double> goal;
+    std::optional<double> budget;
+    int k;
+    std::optional<uint32_t> min_points;
+    const char* objective;
+    int threshold, scored_k;
+    Limit limit;
+    bool on_one_state;
+    std::vector<Method> methods;
+  };
+  const std::vector<Method> coverage_methods = {Method::kBest,  Method::kRansac, Method::kGreedy,
+                                                Method::kLocal, Method::kExact,  Method::kAll};
+  const std::vector<Method> no_best = {Method::kRansac, Method::kGreedy, Method::kLocal,
+                                       Method::kExact, Method::kAll};
+  const std::vector<Method> goal_methods = {Method::kRansac, Method::kGreedy, Method::kExact,
+                                            Method::kAll};
+  const std::vector<Case> cases = {
+      {"coverage", {}, {}, 1, {}, "coverage", 1, 1, Limit::kSensors, false, coverage_methods},
+      {"k 2", {}, {}, 2, {}, "k-coverage", 2, 2, Limit::kSensors, false, no_best},
+      {"points 3", {}, {}, 1, 3u, "min-points", 3, 1, Limit::kSensors, false, no_best},
+      {"points 1", {}, {}, 1, 1u, "min-points", 1, 1, Limit::kSensors, false, no_best},
+      {"goal", 0.5, {}, 1, {}, "set-cover", 1, 1, Limit::kGoal, true, goal_methods},
+      {"goal k 2", 0.5, {}, 2, {}, "set-cover", 2, 2, Limit::kGoal, true, goal_methods},
+      {"goal points 2", 0.5, {}, 1, 2u, "set-cover", 2, 1, Limit::kGoal, true, goal_methods},
+      {"budget", {}, 2.0, 1, {}, "budget", 1, 1, Limit::kBudget, false, no_best},
+      {"budget k 2", {}, 2.0, 2, {}, "budget", 2, 2, Limit::kBudget, true, no_best},
+      {"budget points 1", {}, 2.0, 1, 1u, "budget", 1, 1, Limit::kBudget, true, no_best},
+  };
+  for (const Case& c : cases) {
+    SelectOptions o;
+    o.n = 3;
+    o.goal = c.goal;
+    o.budget = c.budget;
+    o.k = c.k;
+    o.min_points = c.min_points;
+    o.costs.assign(5, 1.0);
+    const detail::SelectionKind kind = detail::KindFor(o);
+    EXPECT_EQ(ObjectiveName(kind.objective), c.objective) << c.name;
+    EXPECT_EQ(kind.threshold, c.threshold) << c.name;
+    EXPECT_EQ(detail::Threshold(o), c.threshold) << c.name;
+    EXPECT_EQ(kind.k, c.scored_k) << c.name;
+    EXPECT_EQ(kind.min_points, c.min_points) << c.name;
+    EXPECT_EQ(kind.limit, c.limit) << c.name;
+    EXPECT_EQ(kind.on_one_state, c.on_one_state) << c.name;
+    for (const Method m : coverage_methods) {
+      o.method = m;
+      o.n = m == Method::kBest ? 1 : 3;  // best is the n = 1 answer
+      const bool applies = std::find(c.methods.begin(), c.methods.end(), m) != c.methods.end();
+      EXPECT_EQ(kind.Applies(m), applies) << c.name << " " << MethodName(m);
+      if (applies) {
+        EXPECT_NO_THROW(o.Validate(5)) << c.name << " " << MethodName(m);
+      } else {
+        EXPECT_THROW(o.Validate(5), InputError) << c.name << " " << MethodName(m);
+      }
+    }
+  }
+}
+
 TEST(Select, MoreSensorsThanCandidatesIsInputError) {
   const std::vector<Observation> obs = {Obs({0}), Obs({1})};
   const CoverageEvaluator evaluator(obs, 2);

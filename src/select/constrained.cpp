@@ -830,14 +830,13 @@ class CellsRun final : public MethodSteps<Selection> {
   }
   /// Plain coverage: the best single candidate, or (kept sensors) the best single addition.
   std::optional<Selection> TableHead() override {
-    if (options_.objective() != Objective::kCoverage) return std::nullopt;
+    if (!KindFor(options_).Applies(Method::kBest)) return std::nullopt;
     if (options_.fixed.empty()) return SelectBest(evaluator_);
     return BestAddition();
   }
   /// k-coverage from n = k; below the kept sensors and their chain no answer exists.
   size_t FirstN() const override {
-    const size_t k =
-        options_.objective() == Objective::kKCoverage ? static_cast<size_t>(options_.k) : 1;
+    const auto k = static_cast<size_t>(KindFor(options_).k);
     return std::max({k, options_.fixed.size() + 1, kept_start_.size()});
   }
   Selection Ransac(size_t n, int iterations) override {
@@ -973,11 +972,10 @@ std::vector<Selection> ConstrainedCurve(std::span<const Observation> observation
                                         const std::vector<Selection>& results,
                                         int first_n,
                                         int last_n) {
-  const int k = Threshold(options);
-  const bool is_k = options.objective() == Objective::kKCoverage;
+  const int k = KindFor(options).k;
   const auto has = [&](const std::string& method, int n) {
     return std::any_of(results.begin(), results.end(), [&](const Selection& s) {
-      return s.method == method && s.n == n && s.k == (is_k ? k : 1);
+      return s.method == method && s.n == n && s.k == k;
     });
   };
   const CoverageEvaluator evaluator(observations, reference_size);

@@ -5,6 +5,7 @@
 #include "select/constrained.hpp"
 #include "select/coverage_matrix.hpp"
 #include "select/methods.hpp"
+#include "select/model.hpp"
 #include "select/scorer.hpp"
 #include "vantage/error.hpp"
 #include "vantage/select.hpp"
@@ -19,12 +20,13 @@ Selection ScoreChosen(const CoverageEvaluator& evaluator, std::vector<uint32_t> 
 std::vector<uint32_t> ImproveBySwaps(std::span<const Observation> observations,
                                      size_t reference_size, std::vector<uint32_t> start,
                                      const SelectOptions& options) {
-  const Objective objective = options.objective();
-  VANTAGE_CHECK(objective != Objective::kSetCover);
+  const detail::SelectionKind kind = detail::KindFor(options);
+  VANTAGE_CHECK(kind.limit != detail::SelectionKind::Limit::kGoal);
+  const bool budget = kind.limit == detail::SelectionKind::Limit::kBudget;
   const detail::CoverageMatrix matrix = detail::MatrixFor(observations, reference_size, options);
   // A budget counted k times or in points has no swap search of its own: ConstrainedLocal's,
   // which scores every trial by the threshold (no constraints: every set is feasible).
-  const bool budget_threshold = objective == Objective::kBudget && detail::Threshold(options) > 1;
+  const bool budget_threshold = budget && kind.threshold > 1;
   if (!options.constraints.empty() || !options.fixed.empty() || budget_threshold) {
     // Swaps that keep the installation constraints and the kept sensors (first, never swapped
     // out), as method local under them.
@@ -36,23 +38,22 @@ std::vector<uint32_t> ImproveBySwaps(std::span<const Observation> observations,
     start.insert(start.begin(), fixed.begin(), fixed.end());
     detail::Capacity capacity;
     capacity.n = static_cast<size_t>(options.n);
-    if (objective == Objective::kBudget) {
+    if (budget) {
       capacity.n = matrix.candidate_count();
       capacity.costs = options.costs;
       capacity.budget = *options.budget;
     }
-    return detail::ConstrainedLocal(detail::CellScorer(matrix, detail::Threshold(options)),
+    return detail::ConstrainedLocal(detail::CellScorer(matrix, kind.threshold),
                                     feasible, std::move(start), capacity, fixed.size());
   }
-  if (objective == Objective::kMinPoints)
-    return detail::PointsLocalSearch(matrix, std::move(start), detail::Threshold(options));
+  if (kind.min_points && !budget)
+    return detail::PointsLocalSearch(matrix, std::move(start), kind.threshold);
   detail::LocalOptions local;
-  if (objective == Objective::kBudget) {
+  if (budget) {
     local.costs = options.costs;
     local.budget = *options.budget;
   }
-  const int k = objective == Objective::kKCoverage ? options.k : 1;
-  return detail::LocalSearch(detail::CellScorer(matrix, k), std::move(start), local);
+  return detail::LocalSearch(detail::CellScorer(matrix, kind.k), std::move(start), local);
 }
 
 }  // namespace vantage

@@ -7,6 +7,7 @@
 #include <limits>
 #include <vector>
 
+#include "select/model.hpp"
 #include "vantage/error.hpp"
 #include "vantage/select.hpp"
 
@@ -82,34 +83,21 @@ void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
                       *o.budget, cheapest));
     }
   }
-  const Objective objective = o.objective();
-  if (objective == Objective::kKCoverage && o.n < o.k) {
+  const detail::SelectionKind kind = detail::KindFor(o);
+  if (kind.limit == detail::SelectionKind::Limit::kSensors && o.n < kind.k) {
     throw FieldError({"n", "k"}, fmt::format(
         "n = {} is below k = {}: a cell counts only once k chosen sensors see it — raise -n to at "
         "least {}",
         o.n, o.k, o.k));
   }
-  std::vector<Method> allowed;
-  switch (objective) {
-    case Objective::kCoverage:
-      return;
-    case Objective::kSetCover:
-      allowed = {Method::kRansac, Method::kGreedy, Method::kExact, Method::kAll};
-      break;
-    case Objective::kKCoverage:
-    case Objective::kMinPoints:
-      allowed = {Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact, Method::kAll};
-      break;
-    case Objective::kBudget:
-      allowed = {Method::kRansac, Method::kGreedy, Method::kLocal, Method::kExact, Method::kAll};
-      break;
-  }
-  if (std::find(allowed.begin(), allowed.end(), o.method) != allowed.end()) return;
+  // The methods that apply are the kind's (KindFor, beside the model).
+  if (kind.Applies(o.method)) return;
+  const std::vector<Method>& allowed = kind.methods;
   std::string names;
   for (const Method m : allowed) names += (names.empty() ? "" : ", ") + MethodName(m);
   throw FieldError({"method", "goal", "k", "budget"},
                    fmt::format("method '{}' does not apply to the {} objective — use one of {}",
-                               MethodName(o.method), ObjectiveName(objective), names));
+                               MethodName(o.method), ObjectiveName(kind.objective), names));
 }
 
 }  // namespace
@@ -175,10 +163,9 @@ void SelectOptions::Validate(size_t candidate_count) const {
     throw FieldError({"fixed"}, "fixed: the kept candidates must be distinct candidate indices");
   }
   if (fixed.empty()) return;
-  const bool chooses_n = objective() == Objective::kCoverage ||
-                         objective() == Objective::kKCoverage ||
-                         objective() == Objective::kMinPoints;
-  if (chooses_n && static_cast<size_t>(n) < fixed.size()) {
+  const detail::SelectionKind kind = detail::KindFor(*this);
+  if (kind.limit == detail::SelectionKind::Limit::kSensors &&
+      static_cast<size_t>(n) < fixed.size()) {
     throw FieldError({"n"}, fmt::format("n = {} is below the {} sensors kept — give n >= {}", n,
                                         fixed.size(), fixed.size()));
   }
@@ -192,7 +179,7 @@ void SelectOptions::Validate(size_t candidate_count) const {
     }
   }
   if (method == Method::kBest && static_cast<size_t>(n) != fixed.size() + 1 &&
-      objective() == Objective::kCoverage) {
+      kind.Applies(Method::kBest)) {
     throw FieldError({"method", "n"},
                      fmt::format("method best adds one sensor to the {} kept — give n = {}",
                                  fixed.size(), fixed.size() + 1));

@@ -118,8 +118,8 @@ std::vector<uint32_t> RansacFitted(const CoverageMatrix& matrix, const FittedDra
 /// Sum of `costs` over `chosen`.
 double TotalCost(std::span<const double> costs, std::span<const uint32_t> chosen);
 
-/// What a cell needs to count under the objective of `options`: k (k-coverage), min_points
-/// (min-points), else 1.
+/// What a cell needs to count under `options`: min_points when counted in points, else k
+/// (KindFor(options).threshold, model.hpp).
 int Threshold(const SelectOptions& options);
 
 /// The matrix the methods run on for `options`: with min_points, the one with point counts.

@@ -23,6 +23,31 @@ class Feasibility;
 /// How an element's cells are valued: one state's cells, or the mean or min over states.
 enum class ModelValue { kCells, kMean, kMin };
 
+/// What kind of question `options` ask, decided once here (KindFor) and read by Validate (the
+/// methods that apply), Threshold and ModelFor (what a cell needs), the scorers (how an answer is
+/// scored and named) and RunMethods (which methods "all" runs): a new combination of the existing
+/// terms changes this and Validate's refusals, not those readers.
+struct SelectionKind {
+  Objective objective = Objective::kCoverage;  ///< its name in report.json (ObjectiveName)
+  /// What a cell needs to count: `k` seers, or (counted in points) min_points pixels' hits.
+  int threshold = 1;
+  /// The k an answer is scored with: seers a cell needs (1 when it is counted in points).
+  int k = 1;
+  std::optional<uint32_t> min_points;  ///< counted in points: the points a cell needs
+  /// What bounds an answer: n sensors (the coverage kinds: "all" runs every n from `k`), a
+  /// budget, or a goal to reach at the least count or cost.
+  enum class Limit { kSensors, kBudget, kGoal } limit = Limit::kSensors;
+  std::vector<Method> methods;  ///< the methods that apply (Method::kAll among them)
+  /// Select runs it on the states' model with the scene as its one state (over_states.cpp:
+  /// every goal, and a budget counted k times or in points), not on the cells' methods
+  /// (constrained.cpp).
+  bool on_one_state = false;
+  bool Applies(Method method) const;
+};
+
+/// The kind `options` ask (any options: Validate reads it before it has accepted them).
+SelectionKind KindFor(const SelectOptions& options);
+
 /// One selection question over `matrix` and its rules.
 struct SelectionModel {
   const CoverageMatrix* matrix = nullptr;

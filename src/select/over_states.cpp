@@ -182,8 +182,9 @@ StateSelection Scored(std::span<const StateObservations> states,
                       Method method,
                       std::vector<uint32_t> chosen,
                       double seconds,
-                      std::optional<uint32_t> min_points = std::nullopt,
-                      int k = 1) {
+                      const detail::SelectionKind& kind = {}) {
+  const std::optional<uint32_t> min_points = kind.min_points;
+  const int k = kind.k;
   StateSelection result;
   for (const StateObservations& state : states) {
     const CoverageEvaluator evaluator(state.observations, state.reference_size);
@@ -205,37 +206,28 @@ StateSelection Scored(std::span<const StateObservations> states,
   s.coverage = Aggregate(result.state_coverage, over);
   s.paper_coverage = Aggregate(result.state_paper_coverage, over);
   s.seconds = seconds;
-  s.objective = ObjectiveName(min_points ? Objective::kMinPoints
-                              : k >= 2    ? Objective::kKCoverage
-                                          : Objective::kCoverage);
+  s.objective = ObjectiveName(kind.objective);
   s.min_points = min_points;
   s.k = k;
   return result;
 }
 
-// A goal's or a budget's fields on a result scored by Scored (objective, goal, budget, cost).
-void MarkObjective(const SelectOptions& options, StateSelection* result) {
-  Selection& s = result->selection;
-  if (options.goal) {
-    s.objective = ObjectiveName(Objective::kSetCover);
-    s.goal = options.goal;
-    if (options.minimize_cost) s.cost = detail::TotalCost(options.costs, s.chosen);
-  } else if (options.budget) {
-    s.objective = ObjectiveName(Objective::kBudget);
-    s.budget = options.budget;
-    s.cost = detail::TotalCost(options.costs, s.chosen);
-  }
-}
-
-// An answer scored as `options` count it: k seers or the points, and a goal's or a budget's
-// fields (Scored, then MarkObjective).
+// An answer scored as `options` count it (their kind: k seers or the points, the objective's
+// name), with a goal's or a budget's fields (goal, budget, cost).
 StateSelection ScoredFor(const SelectOptions& options, std::span<const StateObservations> states,
                          OverStates over, Method method, std::vector<uint32_t> chosen,
                          double seconds) {
-  StateSelection s = Scored(states, over, method, std::move(chosen), seconds, options.min_points,
-                            options.min_points ? 1 : options.k);
-  MarkObjective(options, &s);
-  return s;
+  const detail::SelectionKind kind = detail::KindFor(options);
+  StateSelection result = Scored(states, over, method, std::move(chosen), seconds, kind);
+  Selection& s = result.selection;
+  if (kind.limit == detail::SelectionKind::Limit::kGoal) {
+    s.goal = options.goal;
+    if (options.minimize_cost) s.cost = detail::TotalCost(options.costs, s.chosen);
+  } else if (kind.limit == detail::SelectionKind::Limit::kBudget) {
+    s.budget = options.budget;
+    s.cost = detail::TotalCost(options.costs, s.chosen);
+  }
+  return result;
 }
 
 // The selection model over the states `scorer` scores (its threshold and aggregate), with the

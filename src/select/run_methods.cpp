@@ -12,6 +12,7 @@
 #include <spdlog/spdlog.h>
 
 #include "select/methods.hpp"
+#include "select/model.hpp"
 #include "vantage/select_states.hpp"
 
 namespace vantage::detail {
@@ -63,7 +64,8 @@ void RunExactLanes(size_t lanes, double time_limit, std::vector<ExactRun<Result>
 template <class Result>
 std::vector<Result> RunMethods(MethodSteps<Result>& steps, const SelectOptions& options,
                                size_t candidates, std::chrono::steady_clock::time_point began) {
-  const Objective objective = options.objective();
+  const SelectionKind kind = KindFor(options);
+  const bool local = kind.Applies(Method::kLocal);
   const auto n = static_cast<size_t>(options.n);
   const double limit = options.time_limit;
   const auto exact_now = [&](double seconds) {
@@ -83,7 +85,7 @@ std::vector<Result> RunMethods(MethodSteps<Result>& steps, const SelectOptions& 
       return {steps.Local()};
     case Method::kExact:
       steps.Greedy(n);
-      if (objective != Objective::kSetCover) steps.Local();
+      if (local) steps.Local();
       // The time limit bounds the whole method: the matrix, greedy and local it started from
       // count (at least a tenth of the limit is left to exact itself).
       return {exact_now(std::max(0.1 * limit, limit - SecondsSince(began)))};
@@ -92,14 +94,9 @@ std::vector<Result> RunMethods(MethodSteps<Result>& steps, const SelectOptions& 
   }
 
   // "all" for one goal or one budget: no n to vary.
-  if (objective == Objective::kSetCover) {
+  if (kind.limit != SelectionKind::Limit::kSensors) {
     std::vector<Result> results{steps.Greedy(n)};
-    results.push_back(exact_now(limit));
-    return results;
-  }
-  if (objective == Objective::kBudget) {
-    std::vector<Result> results{steps.Greedy(n)};
-    results.push_back(steps.Local());
+    if (local) results.push_back(steps.Local());
     results.push_back(exact_now(limit));
     return results;
   }

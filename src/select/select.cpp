@@ -44,20 +44,6 @@ double SecondsSince(Clock::time_point start) {
 
 namespace detail {
 
-int Threshold(const SelectOptions& options) {
-  switch (options.objective()) {
-    case Objective::kKCoverage:
-      return options.k;
-    case Objective::kMinPoints:
-      return static_cast<int>(*options.min_points);
-    case Objective::kSetCover:  // a goal or a budget of k-covered cells, or of cells with the
-    case Objective::kBudget:    // points
-      return options.min_points ? static_cast<int>(*options.min_points) : options.k;
-    default:
-      return 1;
-  }
-}
-
 CoverageMatrix MatrixFor(std::span<const Observation> observations, size_t reference_size,
                          const SelectOptions& options) {
   if (!options.min_points) return CoverageMatrix(observations, reference_size);
@@ -91,32 +77,27 @@ namespace detail {
 
 Selection ScoreSelection(const CoverageEvaluator& evaluator, std::vector<uint32_t> chosen,
                          const std::string& method, const SelectOptions& options) {
-  const Objective objective = options.objective();
-  // A goal and a budget count cells seen k times too (--k with --goal or --budget).
-  const int k = objective == Objective::kKCoverage || objective == Objective::kSetCover ||
-                        objective == Objective::kBudget
-                    ? options.k
-                    : 1;
+  const SelectionKind kind = KindFor(options);
   Selection s;
   s.method = method;
   s.n = static_cast<int>(chosen.size());
   s.chosen = std::move(chosen);
-  s.coverage = evaluator.Coverage(s.chosen, k);
-  s.paper_coverage = evaluator.PaperCoverage(s.chosen, k);
-  if (options.min_points) {
+  s.coverage = evaluator.Coverage(s.chosen, kind.k);
+  s.paper_coverage = evaluator.PaperCoverage(s.chosen, kind.k);
+  if (kind.min_points) {
     // Counts are kept for R's cells only: the keys outside R count as seen (docs/constraints.md).
     const double outside = s.paper_coverage - s.coverage;
-    s.coverage = evaluator.PointCoverage(s.chosen, *options.min_points);
+    s.coverage = evaluator.PointCoverage(s.chosen, *kind.min_points);
     s.paper_coverage = s.coverage + outside;
-    s.min_points = options.min_points;
+    s.min_points = kind.min_points;
   }
-  s.objective = ObjectiveName(objective);
-  s.k = k;
-  if (objective == Objective::kSetCover) {
+  s.objective = ObjectiveName(kind.objective);
+  s.k = kind.k;
+  if (kind.limit == SelectionKind::Limit::kGoal) {
     s.goal = options.goal;
     if (options.minimize_cost) s.cost = TotalCost(options.costs, s.chosen);
   }
-  if (objective == Objective::kBudget) {
+  if (kind.limit == SelectionKind::Limit::kBudget) {
     s.budget = options.budget;
     s.cost = TotalCost(options.costs, s.chosen);
   }
@@ -164,18 +145,12 @@ Selection SelectGreedy(const CoverageEvaluator& evaluator, int n) {
 
 namespace {
 
-// Whether `options` is a question the methods on the cells (SelectConstrained) do not ask, and
-// the states' model (over_states.cpp) does, with the scene as its one state: every goal (the one
-// model's GoalMethods: kept sensors fixed at 1, a threshold per cell, costs, the rules; on the
-// plain matrix its own set cover) and a budget counted k times or in points.
-bool OnOneStateOfTheModel(const SelectOptions& o) {
-  const bool threshold = o.k >= 2 || o.min_points.has_value();
-  return o.goal || (o.budget && threshold);
-}
-
-// Those combinations on the scene as one state: with one state the states' mean is the state's
-// coverage (in units of 1 / |R|, exact), so the answers, bounds and proofs of SelectOverStates
-// are those of the one state's problem. Each answer is scored again here, as every Select
+// The questions the methods on the cells (SelectConstrained) do not ask, and the states' model
+// (over_states.cpp) does (SelectionKind::on_one_state): every goal (the one model's GoalMethods:
+// kept sensors fixed at 1, a threshold per cell, costs, the rules; on the plain matrix its own set
+// cover) and a budget counted k times or in points. Those combinations on the scene as one
+// state: with one state the states' mean is the state's coverage (in units of 1 / |R|, exact),
+// so the answers, bounds and proofs of SelectOverStates are those of the one state's problem. Each answer is scored again here, as every Select
 // answer is (ScoreSelection: coverage, k, cost, goal or budget), its bounds and proof kept.
 std::vector<Selection> SelectOnOneState(std::span<const Observation> observations,
                                         size_t reference_size, const SelectOptions& options) {
@@ -212,7 +187,7 @@ std::vector<Selection> Select(std::span<const Observation> observations,
                               size_t reference_size,
                               const SelectOptions& options) {
   options.Validate(observations.size());
-  if (OnOneStateOfTheModel(options)) return SelectOnOneState(observations, reference_size, options);
+  if (detail::KindFor(options).on_one_state) return SelectOnOneState(observations, reference_size, options);
   const CoverageEvaluator evaluator(observations, reference_size);
   // With kept sensors, SelectConstrained adds the best single one.
   if (options.method == Method::kBest && options.fixed.empty()) return {SelectBest(evaluator)};
@@ -225,12 +200,12 @@ std::vector<Selection> Select(std::span<const Observation> observations,
 std::vector<Selection> CoverageCurve(std::span<const Observation> observations,
                                      size_t reference_size, const SelectOptions& options,
                                      const std::vector<Selection>& results, int up_to) {
-  const Objective objective = options.objective();
-  if (objective == Objective::kSetCover || objective == Objective::kBudget) return {};
+  const detail::SelectionKind kind = detail::KindFor(options);
+  if (kind.limit != detail::SelectionKind::Limit::kSensors) return {};
   int last_n = up_to;
   for (const Selection& s : results) last_n = std::max(last_n, s.n);
   last_n = std::min(last_n, static_cast<int>(observations.size()));
-  const int first_n = objective == Objective::kKCoverage ? options.k : 1;
+  const int first_n = kind.k;
   if (last_n < first_n) return {};
   if (options.min_points) RequirePointCounts(observations);
   return detail::ConstrainedCurve(observations, reference_size, options, results, first_n,
