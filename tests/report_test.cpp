@@ -196,7 +196,8 @@ std::string AsVersion9(const std::string& bytes) {
 // A format-10 file keeps how observe read the scene: the absolute path, the folders, targets and
 // the cell size override, so that `select` reloads it from any folder. They are not part of the
 // fingerprint (shards observed from other folders agree). The same file as format 9 reads without
-// them; a stored cell size that no run could have given is a corrupt file.
+// them; a stored cell size that no run could have given (CellSizeProblem, as --cell-size) is a
+// corrupt file.
 TEST(VisibilityFile, Version10KeepsHowTheSceneWasRead) {
   test::TempDir dir;
   VisibilityFile data = SmallData();
@@ -222,7 +223,8 @@ TEST(VisibilityFile, Version10KeepsHowTheSceneWasRead) {
   EXPECT_TRUE(old.load.model_paths.empty());
   EXPECT_FALSE(old.load.cell_size.has_value());
   EXPECT_EQ(old.observations[1].reference_indices, SmallData().observations[1].reference_indices);
-  for (const double bad : {0.0, -0.005, std::numeric_limits<double>::infinity()}) {
+  for (const double bad : {0.0, -0.005, 1e-300, 1e300, std::numeric_limits<double>::infinity(),
+                           std::numeric_limits<double>::quiet_NaN()}) {
     data.load.cell_size = bad;
     SaveVisibilityFile(dir.File("bad.vis"), data);
     EXPECT_THROW(LoadVisibilityFile(dir.File("bad.vis")), InputError) << bad;

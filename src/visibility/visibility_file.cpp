@@ -266,10 +266,13 @@ void ReadSceneLoad(detail::BinaryReader* r, const Corrupt& corrupt, VisibilityFi
   LoadOptions& load = file->load;
   for (auto* list : {&load.model_paths, &load.resource_paths, &load.package_paths, &load.targets})
     *list = ReadStrings(r);
-  // Reloading checks it as --cell-size is checked; here only what no run could have written.
+  // Checked as --cell-size is (observe refused any other), so that the file is blamed, not an
+  // option nobody gave when `select` reloads the scene.
   load.cell_size = ReadOptional(r, "the cell size override", corrupt);
-  if (load.cell_size && !(*load.cell_size > 0.0 && std::isfinite(*load.cell_size)))
-    throw corrupt("the cell size override is not a positive length");
+  if (load.cell_size) {
+    if (const std::string problem = detail::CellSizeProblem(*load.cell_size); !problem.empty())
+      throw corrupt("the cell size override: " + problem);
+  }
 }
 
 bool StrictlyIncreasing(const std::vector<uint64_t>& keys) {
