@@ -156,15 +156,14 @@ TEST(SelectionOptions, TheFlagAtFaultIsNamed) {
 // The request's options reach SelectOptions through their rows: each value given lands in its
 // field as given, the converted ones (min_points, keep_existing) as the pipeline derives them.
 TEST(SelectionOptions, EveryGivenValueReachesItsField) {
-  SelectionRequest request;
-  request.n = 3;
+  // Every option given, less those this objective (a goal, at the cheapest) cannot take with it.
+  SelectionRequest request = EveryOptionGiven();
   request.method = Method::kGreedy;
-  request.ransac_iterations = 250;
-  request.ransac_stop_coverage = 0.75;
-  request.time_limit = 12.5;
-  request.goal = 0.6;
-  request.cheapest = true;
-  request.min_density = 2.5;  // 2.5 per cm² on a 2 cm cell's 4 cm² face: 10 points
+  request.k.reset();
+  request.budget.reset();
+  request.min_points.reset();  // min_density gives it: 2.5 per cm² on a 2 cm cell's 4 cm² face: 10
+  request.over_states.reset();
+  request.constraints = {};
   std::vector<Candidate> candidates(4);
   for (Candidate& candidate : candidates) {
     candidate.sensor.cost = 100;
