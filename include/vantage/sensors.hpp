@@ -184,9 +184,7 @@ class ApertureField {
     // The turned (or non-finite) case out of line: a select between d and the product copied d
     // through the stack on every hit.
     if (turned_ || !finite) return ContainsTurned(d);
-    if (!(d.x() > 0)) return false;
-    const int verdict = Quickly(d);
-    return verdict < 0 ? Exactly(d) : verdict != 0;
+    return ContainsInFrame(d);
   }
   /// The division formula, for a point already in the aperture's frame with x > 0.
   bool Exactly(const Vec3& p) const;
@@ -194,6 +192,12 @@ class ApertureField {
  private:
   // Contains for d = p_body - centre_ where the rotation must be applied.
   bool ContainsTurned(const Vec3& d) const;
+  // Contains of a point p already in the aperture's frame: Quickly, else Exactly.
+  [[gnu::always_inline]] bool ContainsInFrame(const Vec3& p) const {
+    if (!(p.x() > 0)) return false;
+    const int verdict = Quickly(p);
+    return verdict < 0 ? Exactly(p) : verdict != 0;
+  }
   // 1 inside, 0 outside, -1 too close to the edge (or out of range) to tell without Exactly.
   [[gnu::always_inline]] int Quickly(const Vec3& p) const {
     constexpr double kMargin = 0x1p-30, kLow = 1e-140, kHigh = 1e140;

@@ -162,6 +162,9 @@ ScoringOptions ScoringOf(const VisibilityFile& data, const RunInputs& inputs);
 std::string AbsoluteText(const std::string& path);
 /// `load` with its model, resource and package folders absolute.
 LoadOptions AbsoluteFolders(LoadOptions load);
+/// An inputs block's scene: its path and how it is read (`load`'s folders, targets, cell size),
+/// as given, so that `render` and `evaluate` of the run's folder reload it.
+void SetSceneInputs(const std::string& scene, const LoadOptions& load, RunInputs* inputs);
 
 /// The run's inputs block: the scene input with absolute paths and the observe options.
 RunInputs InputsOf(const std::string& command, const SceneInput& scene,

@@ -31,6 +31,15 @@ LoadOptions AbsoluteFolders(LoadOptions load) {
   return load;
 }
 
+void SetSceneInputs(const std::string& scene, const LoadOptions& load, RunInputs* inputs) {
+  inputs->scene = scene;
+  inputs->model_paths = load.model_paths;
+  inputs->resource_paths = load.resource_paths;
+  inputs->package_paths = load.package_paths;
+  inputs->targets = load.targets;
+  inputs->cell_size = load.cell_size;
+}
+
 ScoringOptions ScoringOf(const VisibilityFile& data, const RunInputs& inputs) {
   ScoringOptions scoring;
   scoring.cell_size = data.reference.cell_size;
@@ -44,13 +53,7 @@ RunInputs InputsOf(const std::string& command, const SceneInput& scene,
                    const ObserveOptions& observe) {
   RunInputs inputs;
   inputs.command = command;
-  inputs.scene = AbsoluteText(scene.path);
-  const LoadOptions load = AbsoluteFolders(scene.load);
-  inputs.model_paths = load.model_paths;
-  inputs.resource_paths = load.resource_paths;
-  inputs.package_paths = load.package_paths;
-  inputs.targets = load.targets;
-  inputs.cell_size = load.cell_size;
+  SetSceneInputs(AbsoluteText(scene.path), AbsoluteFolders(scene.load), &inputs);
   inputs.seed = scene.seed;
   inputs.observation_point = scene.observation_point;
   inputs.random_roll = scene.random_roll;

@@ -17,14 +17,12 @@ namespace {
 // as observe read it (its absolute path, folders, targets and cell size: format 10), or from the
 // path as typed in older files, when it is still there; otherwise (or when it no longer loads)
 // the page shows voxels and sensors only. `visibility_file` names where the folders came from.
-Scene ReportScene(const VisibilityFile& data, const std::string& visibility_file) {
-  const std::string& path = data.scene_path.empty() ? data.scene : data.scene_path;
+Scene ReportScene(const std::string& path, LoadOptions load, const std::string& visibility_file) {
   std::error_code error;
   if (path.empty() || !std::filesystem::exists(path, error)) {
     spdlog::info("report.html without meshes: scene '{}' not found from here", path);
     return {};
   }
-  LoadOptions load = data.load;
   const std::string origin = fmt::format("{}: the scene's", visibility_file);
   load.model_paths_origin = origin + " model paths";
   load.resource_paths_origin = origin + " resource paths";
@@ -104,13 +102,9 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   RunInputs inputs;
   inputs.command = "select";
   inputs.visibility_file = detail::AbsolutePath(options.visibility_file).string();
-  // As observe read the scene, so that `render` and `evaluate` of this folder reload it too.
-  inputs.scene = data.scene_path.empty() ? data.scene : data.scene_path;
-  inputs.model_paths = data.load.model_paths;
-  inputs.resource_paths = data.load.resource_paths;
-  inputs.package_paths = data.load.package_paths;
-  inputs.targets = data.load.targets;
-  inputs.cell_size = data.load.cell_size;
+  // As observe read the scene (format 10; older files: the path as typed).
+  const std::string& scene_path = data.scene_path.empty() ? data.scene : data.scene_path;
+  detail::SetSceneInputs(scene_path, data.load, &inputs);
   inputs.cull = true;
   inputs.quality = data.quality;
   inputs.physical = data.physical;
@@ -120,7 +114,7 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   inputs.alternatives_within = 100.0 * options.robustness.within;
   report.inputs = std::move(inputs);
   DeriveReport(&report);
-  const Scene scene = ReportScene(data, options.visibility_file);
+  const Scene scene = ReportScene(scene_path, data.load, options.visibility_file);
   // The shrunk fields of view and the pose tolerance need the geometry: only when the scene
   // still loads from here.
   const std::unique_ptr<RayScene> rays =

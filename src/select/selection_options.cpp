@@ -65,9 +65,8 @@ SelectionRequest RequestOverScene(const SelectionRequest& request,
           [&](auto to, auto from) {
             using Given = std::decay_t<decltype(merged.*to)>;
             using Declared = std::decay_t<decltype(scene.*from)>;
-            if constexpr (std::is_same_v<Given, Declared>) {  // both optional
-              merged.*to = scene.*from;
-            } else if constexpr (kOptionalOf<Given, Declared>) {
+            // Both optional, or the scene's a plain value the request holds as optional.
+            if constexpr (std::is_same_v<Given, Declared> || kOptionalOf<Given, Declared>) {
               merged.*to = scene.*from;
             } else {
               throw InternalError("scene setting " + std::string(setting.field) +

@@ -266,10 +266,7 @@ ApertureField::ApertureField(const SensorType& camera, const SecondAperture& ape
 }
 
 bool ApertureField::ContainsTurned(const Vec3& d) const {
-  const Vec3 p = aperture_from_body_ * d;
-  if (!(p.x() > 0)) return false;
-  const int verdict = Quickly(p);
-  return verdict < 0 ? Exactly(p) : verdict != 0;
+  return ContainsInFrame(aperture_from_body_ * d);
 }
 
 bool ApertureField::Exactly(const Vec3& p) const {

@@ -204,11 +204,24 @@ SensorType ReadSensor(detail::BinaryReader* r) {
   return s;
 }
 
+// A list of strings: its count (u64), then each (versions 6 and 10).
+void WriteStrings(detail::BinaryWriter* w, const std::vector<std::string>& strings) {
+  w->U64(strings.size());
+  for (const std::string& s : strings) w->Str(s);
+}
+
+std::vector<std::string> ReadStrings(detail::BinaryReader* r) {
+  const uint64_t count = r->U64();
+  r->CheckCount(count, 8);
+  std::vector<std::string> strings;
+  for (uint64_t i = 0; i < count; ++i) strings.push_back(r->Str());
+  return strings;
+}
+
 // R's parts and exposure (version 6): part names, each cell's part, each cell's exposure (as
 // u32s), whether unexposed cells were left out, and how many per part.
 void WriteParts(detail::BinaryWriter* w, const Reference& reference) {
-  w->U64(reference.part_names.size());
-  for (const std::string& name : reference.part_names) w->Str(name);
+  WriteStrings(w, reference.part_names);
   w->U32Vector(reference.part_of);
   w->U32Vector(std::vector<uint32_t>(reference.exposed.begin(), reference.exposed.end()));
   w->U32(reference.exposed_only ? 1 : 0);
@@ -217,9 +230,8 @@ void WriteParts(detail::BinaryWriter* w, const Reference& reference) {
 
 template <typename Corrupt>
 void ReadParts(detail::BinaryReader* r, const Corrupt& corrupt, Reference* reference) {
-  const uint64_t count = r->U64();
-  r->CheckCount(count, 8);
-  for (uint64_t i = 0; i < count; ++i) reference->part_names.push_back(r->Str());
+  reference->part_names = ReadStrings(r);
+  const uint64_t count = reference->part_names.size();
   reference->part_of = r->U32Vector();
   const std::vector<uint32_t> exposed = r->U32Vector();
   reference->exposed_only = r->U32() != 0;
@@ -237,19 +249,6 @@ void ReadParts(detail::BinaryReader* r, const Corrupt& corrupt, Reference* refer
   reference->exposed.assign(exposed.begin(), exposed.end());
   if (reference->exposed_only ? reference->left_out.size() != count : !reference->left_out.empty())
     throw corrupt("the reference's cells left out do not match its parts");
-}
-
-void WriteStrings(detail::BinaryWriter* w, const std::vector<std::string>& strings) {
-  w->U64(strings.size());
-  for (const std::string& s : strings) w->Str(s);
-}
-
-std::vector<std::string> ReadStrings(detail::BinaryReader* r) {
-  const uint64_t count = r->U64();
-  r->CheckCount(count, 8);
-  std::vector<std::string> strings;
-  for (uint64_t i = 0; i < count; ++i) strings.push_back(r->Str());
-  return strings;
 }
 
 // How the scene was read (version 10): the absolute path, the folders, targets and cell size.
