@@ -148,9 +148,16 @@ TEST(ObjectivesCli, BudgetUsesTheScenesCostsAndIsNeverExceeded) {
   test::TempDir dir;
   // Every camera costs 250: a budget of 600 affords two.
   const std::string scene = SceneWith(dir, "", "250");
-  const auto run = RunVantage("optimize " + scene + " --budget 600 --out " + dir.File("o"));
+  const auto run = RunVantage("optimize " + scene +
+                              " --budget 600 --alternatives-within 100 --out " + dir.File("o"));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const json report = Report(dir.File("o"));
+  // Its one-sensor alternatives (any within 100 points) keep the budget and say what they cost:
+  // two cameras, 500.
+  const json& alternatives = report["robustness"]["alternatives"];
+  EXPECT_EQ(alternatives.size(), 2u);
+  for (const json& a : alternatives) EXPECT_DOUBLE_EQ(a["cost"].get<double>(), 500);
+  EXPECT_NE(run.out.find(", cost 500 (+0)"), std::string::npos) << run.out;
   ASSERT_EQ(report["results"].size(), 3u);  // greedy, local, exact
   for (const json& r : report["results"]) {
     ExpectSchemaKeys(r);

@@ -83,12 +83,18 @@ void PrintRobustness(const VisibilityFile& data,
         "                 (a narrower field of view can also raise coverage: the same pixels, "
         "denser)\n");
   for (const Alternative& a : robustness.alternatives) {
-    fmt::print("alternative      {} instead of {}: {:.2f} % ({:+.2f})\n", name(a.replacement),
-               name(a.replaced), 100.0 * a.coverage, 100.0 * (a.coverage - result.coverage));
+    const std::string cost =
+        a.cost && result.cost
+            ? fmt::format(", cost {:g} ({:+g})", *a.cost, *a.cost - *result.cost)
+            : std::string();
+    fmt::print("alternative      {} instead of {}: {:.2f} % ({:+.2f}){}\n", name(a.replacement),
+               name(a.replaced), 100.0 * a.coverage, 100.0 * (a.coverage - result.coverage),
+               cost);
   }
-  if (robustness.alternatives.empty() && !result.budget)
-    fmt::print("alternative      none within {:g} points by replacing one sensor\n",
-               100.0 * robustness.alternatives_within);
+  if (robustness.alternatives.empty())
+    fmt::print("alternative      none within {:g} points by replacing one sensor{}\n",
+               100.0 * robustness.alternatives_within,
+               result.budget ? " within the budget" : "");
 }
 
 // What all candidates reach together, and the share of R no viewpoint can see: why a goal above

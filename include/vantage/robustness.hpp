@@ -26,6 +26,8 @@ struct Alternative {
   uint32_t replaced = 0;         ///< the chosen sensor it drops
   uint32_t replacement = 0;      ///< the candidate it takes instead
   double coverage = 0;
+  /// Its total cost, where the result's objective prices the sensors (a budget, --cheapest).
+  std::optional<double> cost;
 };
 
 /// Everything report.json, the summary and report.html show about one result.
@@ -49,16 +51,28 @@ std::vector<SensorFailure> SensorFailures(const CoverageEvaluator& evaluator,
                                           std::span<const uint32_t> chosen, int k = 1,
                                           std::optional<uint32_t> min_points = std::nullopt);
 
-/// The best single-sensor replacement for each chosen sensor whose coverage (k-coverage) is at
-/// least coverage(chosen) - `within` and, when `at_least` is given, reaches it (set cover's goal);
-/// best first, ties by the replaced sensor's position. Coverage counts as in SensorFailures.
-/// A chosen sensor listed in `kept` (installed) is never replaced. Deterministic.
+/// What a one-sensor replacement must keep, and how the replacements of a slot are ranked.
+struct AlternativeRules {
+  int k = 1;                           ///< coverage counts cells seen k times
+  std::optional<uint32_t> min_points;  ///< or cells with this many points
+  double within = 0.01;                ///< coverage (fraction) an alternative may lose
+  std::optional<double> at_least;      ///< set cover's goal: the coverage it must still reach
+  std::span<const uint32_t> kept;      ///< installed: never replaced
+  /// Per candidate, where the objective prices the sensors; empty: unpriced.
+  std::span<const double> costs;
+  std::optional<double> budget;  ///< with `costs`: the total an alternative must stay within
+  /// With `costs` (--cheapest): a slot's best replacement is the cheapest one that keeps the
+  /// rules (then the most coverage), instead of the one with the most coverage.
+  bool cheapest = false;
+};
+
+/// The best single-sensor replacement for each chosen sensor that keeps `rules`: coverage at
+/// least coverage(chosen) - within, the goal, the budget; best first (most coverage, or with
+/// `cheapest` least cost), ties by the replaced sensor's position. Coverage counts as in
+/// SensorFailures. Deterministic.
 std::vector<Alternative> NearOptimalAlternatives(const CoverageEvaluator& evaluator,
-                                                 std::span<const uint32_t> chosen, int k,
-                                                 double within,
-                                                 std::optional<double> at_least = std::nullopt,
-                                                 std::optional<uint32_t> min_points = std::nullopt,
-                                                 std::span<const uint32_t> kept = {});
+                                                 std::span<const uint32_t> chosen,
+                                                 const AlternativeRules& rules);
 
 /// The candidates with both fields of view narrowed by `tolerance_deg` (resolution and principal
 /// point kept, focal lengths grown), as a unit whose optics are at the datasheet's low end.
@@ -71,6 +85,9 @@ struct RobustnessOptions {
   double within = 0.01;          ///< coverage (fraction) an alternative may lose, in [0, 1]
   /// Candidates already installed (--keep-existing): no alternative replaces them.
   std::vector<uint32_t> kept;
+  /// Per candidate: the prices a budget or --cheapest result was selected with (empty: none), so
+  /// its alternatives keep the budget, or rank by cost, and say what they cost.
+  std::vector<double> costs;
   /// InputError naming the option (--fov-tolerance, --alternatives-within).
   void Validate() const;
 };

@@ -90,19 +90,43 @@ class CoverageWithOneMore {
 
 }  // namespace
 
+namespace {
+
+double TotalCostOf(std::span<const double> costs, std::span<const uint32_t> chosen) {
+  double total = 0;
+  for (const uint32_t i : chosen) total += costs[i];
+  return total;
+}
+
+}  // namespace
+
 std::vector<Alternative> NearOptimalAlternatives(const CoverageEvaluator& evaluator,
-                                                 std::span<const uint32_t> chosen, int k,
-                                                 double within, std::optional<double> at_least,
-                                                 std::optional<uint32_t> min_points,
-                                                 std::span<const uint32_t> kept) {
-  const double best = evaluator.CoverageUnder(chosen, k, min_points);
+                                                 std::span<const uint32_t> chosen,
+                                                 const AlternativeRules& rules) {
   const auto candidate_count = static_cast<uint32_t>(evaluator.observations().size());
+  const bool priced = !rules.costs.empty();
+  VANTAGE_CHECK(!priced || rules.costs.size() == candidate_count);
+  const double best = evaluator.CoverageUnder(chosen, rules.k, rules.min_points);
+  const double chosen_cost = priced ? TotalCostOf(rules.costs, chosen) : 0.0;
+  // A small tolerance keeps ties at exactly `within`, the goal or the budget from depending on
+  // float rounding.
+  const auto keeps_rules = [&](const Alternative& a) {
+    if (a.coverage < best - rules.within - 1e-12) return false;
+    if (rules.at_least && a.coverage < *rules.at_least) return false;
+    return !(rules.budget && a.cost && *a.cost > *rules.budget * (1 + 1e-12));
+  };
+  // Strictly better replacements first; ties keep the lower candidate index.
+  const auto better = [&](const Alternative& a, const Alternative& b) {
+    if (rules.cheapest && *a.cost != *b.cost) return *a.cost < *b.cost;
+    return a.coverage > b.coverage;
+  };
   std::vector<Alternative> alternatives;
   std::vector<uint32_t> swapped(chosen.begin(), chosen.end());
   std::vector<uint32_t> others;
-  CoverageWithOneMore counter(evaluator, k, min_points);
+  CoverageWithOneMore counter(evaluator, rules.k, rules.min_points);
   for (size_t slot = 0; slot < chosen.size(); ++slot) {
-    if (std::find(kept.begin(), kept.end(), chosen[slot]) != kept.end()) continue;  // installed
+    if (std::find(rules.kept.begin(), rules.kept.end(), chosen[slot]) != rules.kept.end())
+      continue;  // installed
     others.assign(chosen.begin(), chosen.end());
     others.erase(others.begin() + static_cast<std::ptrdiff_t>(slot));
     counter.SetOthers(others);
@@ -110,20 +134,18 @@ std::vector<Alternative> NearOptimalAlternatives(const CoverageEvaluator& evalua
     for (uint32_t j = 0; j < candidate_count; ++j) {
       if (std::find(chosen.begin(), chosen.end(), j) != chosen.end()) continue;
       swapped[slot] = j;
-      const double coverage = counter.With(j);
-      // Strictly better replacements first; ties keep the lower candidate index.
-      if (!best_for_slot || coverage > best_for_slot->coverage)
-        best_for_slot = Alternative{swapped, chosen[slot], j, coverage};
+      Alternative a{swapped, chosen[slot], j, counter.With(j), std::nullopt};
+      if (priced) a.cost = chosen_cost - rules.costs[chosen[slot]] + rules.costs[j];
+      // Unpriced, the rules are checked on the slot's best only (the same answer: its coverage
+      // is the most any replacement keeps); priced, the best must be among those keeping them.
+      if (priced && !keeps_rules(a)) continue;
+      if (!best_for_slot || better(a, *best_for_slot)) best_for_slot = std::move(a);
     }
     swapped[slot] = chosen[slot];
-    if (!best_for_slot) continue;
-    // A small tolerance keeps ties at exactly `within` from depending on float rounding.
-    if (best_for_slot->coverage < best - within - 1e-12) continue;
-    if (at_least && best_for_slot->coverage < *at_least) continue;
+    if (!best_for_slot || !keeps_rules(*best_for_slot)) continue;
     alternatives.push_back(std::move(*best_for_slot));
   }
-  std::stable_sort(alternatives.begin(), alternatives.end(),
-                   [](const Alternative& a, const Alternative& b) { return a.coverage > b.coverage; });
+  std::stable_sort(alternatives.begin(), alternatives.end(), better);
   return alternatives;
 }
 
@@ -168,10 +190,22 @@ Robustness AssessRobustness(const VisibilityFile& data, const std::vector<Select
     if (!r.worst || f.coverage < r.worst->coverage) r.worst = f;
   }
   r.alternatives_within = options.within;
-  if (!result.budget)
-    r.alternatives =
-        NearOptimalAlternatives(evaluator, result.chosen, result.k, options.within, result.goal,
-                                result.min_points, options.kept);
+  // A priced result (a budget, --cheapest) keeps its budget and ranks by cost with the prices it
+  // was selected with; without them (a caller that has none) a budget result lists none.
+  const bool priced = result.cost.has_value() && !options.costs.empty();
+  if (priced || !result.budget) {
+    AlternativeRules rules{.k = result.k,
+                           .min_points = result.min_points,
+                           .within = options.within,
+                           .at_least = result.goal,
+                           .kept = options.kept};
+    if (priced) {
+      rules.costs = options.costs;
+      rules.budget = result.budget;
+      rules.cheapest = !result.budget;
+    }
+    r.alternatives = NearOptimalAlternatives(evaluator, result.chosen, rules);
+  }
   if (rays && !result.chosen.empty()) {
     std::vector<Candidate> chosen;
     for (uint32_t i : result.chosen) chosen.push_back(data.candidates.at(i));

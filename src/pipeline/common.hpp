@@ -125,9 +125,12 @@ InstallConstraints ConstraintsOverGrown(const ConstraintsInfo& info,
                                         std::span<const Candidate> candidates,
                                         std::span<const Observation> observations);
 
-/// Removes the one-sensor alternatives that break the constraints selection obeyed.
-void DropInfeasibleAlternatives(const ConstraintsInfo& info, const VisibilityFile& data,
-                                Robustness* robustness);
+/// report->robustness: AssessRobustness of the primary result with what its selection (`select`)
+/// obeyed: kept sensors never replaced, the budget or --cheapest's prices, and the installation
+/// rules (report->constraints: alternatives that break them are dropped).
+void AddRobustness(const VisibilityFile& data, const SelectOptions& select,
+                   RobustnessOptions robustness, const RayScene* rays,
+                   const ObserveOptions& observe, Report* report);
 
 /// The points a cell needs from --min-points, or from --min-density on cells of edge `cell_size`
 /// (MinPointsOfDensity); unset when neither is given. InputError naming the option for a value

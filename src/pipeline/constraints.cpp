@@ -276,12 +276,18 @@ InstallConstraints ConstraintsOverGrown(const ConstraintsInfo& info,
   return grown;
 }
 
-void DropInfeasibleAlternatives(const ConstraintsInfo& info, const VisibilityFile& data,
-                                Robustness* robustness) {
-  if (!info.is_applied) return;
-  std::erase_if(robustness->alternatives, [&](const Alternative& a) {
-    const ConstraintCheck check = CheckConstraints(data.observations, a.chosen, info.constraints);
-    return !check.conflicts.empty() || (info.constraints.calibration && !check.connected());
+void AddRobustness(const VisibilityFile& data, const SelectOptions& select,
+                   RobustnessOptions robustness, const RayScene* rays,
+                   const ObserveOptions& observe, Report* report) {
+  robustness.kept = select.fixed;   // installed sensors get no alternative
+  robustness.costs = select.costs;  // a budget kept, --cheapest ranked by cost
+  report->robustness =
+      AssessRobustness(data, report->results, report->primary, rays, observe, robustness);
+  if (!report->constraints || !report->constraints->is_applied) return;
+  const InstallConstraints& rules = report->constraints->constraints;
+  std::erase_if(report->robustness->alternatives, [&](const Alternative& a) {
+    const ConstraintCheck check = CheckConstraints(data.observations, a.chosen, rules);
+    return !check.conflicts.empty() || (rules.calibration && !check.connected());
   });
 }
 

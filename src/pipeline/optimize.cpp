@@ -288,12 +288,8 @@ RunResult FinishOptimize(const OptimizeOptions& options, OptimizeObserved first)
     // Robustness reads `data`, the first state's sets: not meaningful over states (nor for an
     // objective over groups of cells: it counts all cells together).
     if (!report.CountsGroups()) {
-      RobustnessOptions robustness = options.robustness;
-      robustness.kept = select.fixed;  // installed sensors get no alternative
-      report.robustness = AssessRobustness(data, report.results, report.primary,
-                                           observed.rays.get(), options.observe, robustness);
-      if (report.constraints)
-        detail::DropInfeasibleAlternatives(*report.constraints, data, &*report.robustness);
+      detail::AddRobustness(data, select, options.robustness, observed.rays.get(),
+                            options.observe, &report);
     }
   }
   detail::AddPoseTolerance(options.pose_tolerance, observed.rays.get(), options.observe, &report);

@@ -122,12 +122,8 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
           ? nullptr
           : std::make_unique<RayScene>(scene);
   if (report.primary >= 0 && !report.CountsGroups()) {  // robustness counts all cells
-    RobustnessOptions robustness = options.robustness;
-    robustness.kept = select.fixed;  // installed sensors get no alternative
-    report.robustness = AssessRobustness(data, report.results, report.primary, rays.get(),
-                                         ObserveOptions{}, robustness);
-    if (report.constraints)
-      detail::DropInfeasibleAlternatives(*report.constraints, data, &*report.robustness);
+    detail::AddRobustness(data, select, options.robustness, rays.get(), ObserveOptions{},
+                          &report);
   }
   detail::AddPoseTolerance(options.pose_tolerance, rays.get(), ObserveOptions{}, &report);
   detail::FinishRun(scene, {}, &run);

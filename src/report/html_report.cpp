@@ -556,6 +556,7 @@ std::optional<std::string> BuildPage(const Report& report, const Scene& scene,
       r["optimal"] = s.proven_optimal;
     }
     if (!s.state_coverage.empty()) r["state_coverage"] = s.state_coverage;
+    if (s.cost) r["cost"] = *s.cost;  // a budget or --cheapest: the robustness table's costs
     return r;
   };
   // A camera on an arm (issue 45): each answer's tour time, home to home (the chart of coverage

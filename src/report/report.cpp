@@ -193,10 +193,12 @@ ordered_json RobustnessJson(const Robustness& robustness, const VisibilityFile& 
   for (const Alternative& a : robustness.alternatives) {
     ordered_json sensors = ordered_json::array();
     for (uint32_t index : a.chosen) sensors.push_back(name(index));
-    alternatives.push_back({{"sensors", std::move(sensors)},
-                            {"replaced", name(a.replaced)},
-                            {"replacement", name(a.replacement)},
-                            {"coverage", a.coverage}});
+    ordered_json alternative = {{"sensors", std::move(sensors)},
+                                {"replaced", name(a.replaced)},
+                                {"replacement", name(a.replacement)},
+                                {"coverage", a.coverage}};
+    if (a.cost) alternative["cost"] = *a.cost;
+    alternatives.push_back(std::move(alternative));
   }
   j["alternatives"] = std::move(alternatives);
   return j;

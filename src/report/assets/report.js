@@ -238,15 +238,22 @@
       var rows = rb.sensor_failures.filter(function () { return base.n >= 2; }).map(function (f) {
         return {what: 'fails', sensor: f.sensor, other: '', coverage: f.coverage, change: f.coverage - base.coverage};
       }).concat(rb.alternatives.map(function (a) {
-        return {what: 'replaced by', sensor: a.replaced, other: a.replacement, coverage: a.coverage, change: a.coverage - base.coverage};
+        return {what: 'replaced by', sensor: a.replaced, other: a.replacement, coverage: a.coverage, change: a.coverage - base.coverage,
+                cost: a.cost};
       }));
-      makeTable(document.getElementById('robustness-table'), [
+      var robustnessColumns = [
         {label: 'sensor', value: function (r) { return r.sensor; }},
         {label: 'event', value: function (r) { return r.what; }},
         {label: 'replacement', value: function (r) { return r.other; }},
         {label: 'coverage', num: true, value: function (r) { return r.coverage; }, show: pct},
         {label: 'change [points]', num: true, value: function (r) { return 100 * r.change; }, show: function (v) { return fix(v, 2); }}
-      ], rows);
+      ];
+      // A priced result (a budget, --cheapest): what each alternative costs beside its own cost.
+      if (base.cost !== undefined && base.cost !== null)
+        robustnessColumns.push({label: 'cost (this: ' + fix(base.cost, 2) + ')', num: true,
+                                value: function (r) { return r.cost === undefined ? null : r.cost; },
+                                show: function (v) { return v === null ? '' : fix(v, 2); }});
+      makeTable(document.getElementById('robustness-table'), robustnessColumns, rows);
     }
 
     document.getElementById('candidates-title').textContent = 'Candidates (' + D.candidates.length + ')';
