@@ -381,6 +381,13 @@ TEST(Robot, BadUrdfIsReportedAtItsLine) {
 
   error = LoadError(ArmScene(dir.File("missing.urdf"), "      {}"));
   EXPECT_NE(error.find("missing.urdf: cannot open the URDF file"), std::string::npos) << error;
+  // An arm population on that robot is not blamed for what the robot's loss left unread: its
+  // `count` (halton sampling) was refused as "the views are arm.configurations".
+  error = LoadError(ArmScene(dir.File("missing.urdf"), "      {}") +
+                    "populations:\n  - name: views\n    type: intel_realsense_d415\n"
+                    "    count: 5\n    arm: {robot: arm, link: a, sampling: halton}\n");
+  EXPECT_NE(error.find("missing.urdf: cannot open the URDF file"), std::string::npos) << error;
+  EXPECT_EQ(error.find("remove `count`"), std::string::npos) << error;
 }
 
 // A mimic chain that comes back to its start has no position to follow (LinkPoses would walk it
@@ -505,6 +512,52 @@ TEST(Robot, JointAxesOfAnyFiniteLength) {
   write("0 0 1e-13");
   const std::string error = LoadError(ArmScene(urdf, "      {}"));
   EXPECT_NE(error.find("axis.urdf:3: joint 'j' has a zero <axis> (shorter than 1e-12)"),
+            std::string::npos)
+      << error;
+}
+
+// Session 33's sweep: upper="1e300" on a revolute joint loaded, and the tour's planner then
+// divided its motion resolution by the joint range's length (inf): OMPL refused a segment
+// fraction of 0 and the run stopped as an internal error (exit 1). A limit or a mimic factor
+// beyond ±1e6 is refused at the joint's line; ±1e6 itself loads.
+TEST(Robot, JointLimitsAndMimicFactorsBeyondAMillionAreRefused) {
+  test::TempDir dir;
+  const std::string urdf = dir.File("limits.urdf");
+  const auto error_with = [&](const std::string& type, const std::string& limit,
+                              const std::string& mimic) {
+    test::WriteText(
+        urdf,
+        fmt::format("<robot name=\"r\">\n  <link name=\"base\"/><link name=\"l1\"/>"
+                    "<link name=\"l2\"/>\n"
+                    "  <joint name=\"j\" type=\"{}\"><parent link=\"base\"/>"
+                    "<child link=\"l1\"/><axis xyz=\"0 0 1\"/>{}</joint>\n"
+                    "  <joint name=\"follower\" type=\"revolute\"><parent link=\"l1\"/>"
+                    "<child link=\"l2\"/><axis xyz=\"0 0 1\"/>"
+                    "<limit lower=\"-1\" upper=\"1\" velocity=\"1\" effort=\"1\"/>{}"
+                    "</joint>\n</robot>\n",
+                    type, limit, mimic));
+    return LoadError(ArmScene(urdf, "      {}"));
+  };
+  const auto limit = [](const std::string& lower, const std::string& upper) {
+    return "<limit lower=\"" + lower + "\" upper=\"" + upper +
+           "\" velocity=\"1\" effort=\"1\"/>";
+  };
+  EXPECT_EQ(error_with("revolute", limit("-1e6", "1e6"), ""), "no error");
+  std::string error = error_with("revolute", limit("-1", "1e300"), "");
+  EXPECT_NE(error.find("limits.urdf:3: joint 'j': its <limit> 1e+300 is beyond the ±1e+06 rad "
+                       "that vantage samples and plans over"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("type=\"continuous\""), std::string::npos) << error;
+  error = error_with("prismatic", limit("-2e6", "1"), "");
+  EXPECT_NE(error.find("limits.urdf:3: joint 'j': its <limit> -2000000 is beyond the ±1e+06 m"),
+            std::string::npos)
+      << error;
+  EXPECT_EQ(error_with("revolute", limit("-1", "1"), "<mimic joint=\"j\" multiplier=\"1e6\"/>"),
+            "no error");
+  error = error_with("revolute", limit("-1", "1"), "<mimic joint=\"j\" multiplier=\"1e300\"/>");
+  EXPECT_NE(error.find("limits.urdf:4: joint 'follower': its <mimic> multiplier 1e+300 and "
+                       "offset 0 must lie within ±1e+06"),
             std::string::npos)
       << error;
 }

@@ -25,6 +25,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The largest joint limit, mimic offset or mimic factor taken [rad, m, or 1]: far beyond any
+// real joint's travel, small enough that ranges, their squares and the planner's steps stay
+// finite and resolvable.
+constexpr double kMaxJointTravel = 1e6;
+
 // ----- reading -------------------------------------------------------------------------------
 
 /// Collects urdfdom's console_bridge messages while it parses (it reports errors only there),
@@ -363,11 +368,32 @@ RobotModel LoadUrdf(const std::string& path) {
         out.axis = *axis;
       }
       if (joint->limits &&
-          (out.type == RobotJoint::Type::kRevolute || out.type == RobotJoint::Type::kPrismatic))
+          (out.type == RobotJoint::Type::kRevolute || out.type == RobotJoint::Type::kPrismatic)) {
         out.limits = std::make_pair(joint->limits->lower, joint->limits->upper);
+        // Sampling, inverse kinematics and the planner's motion resolution divide by the range:
+        // upper="1e300" made OMPL's segment fraction 0 and stopped the run as an internal error.
+        for (const double limit : {joint->limits->lower, joint->limits->upper}) {
+          if (std::abs(limit) <= kMaxJointTravel) continue;
+          diag.Error(out.line,
+                     fmt::format("joint '{}': its <limit> {} is beyond the ±{:g} {} that vantage "
+                                 "samples and plans over — give the joint's real travel{}",
+                                 joint->name, limit, kMaxJointTravel,
+                                 out.type == RobotJoint::Type::kRevolute ? "rad" : "m",
+                                 out.type == RobotJoint::Type::kRevolute
+                                     ? ", or type=\"continuous\" for a joint without limits"
+                                     : ""));
+          break;
+        }
+      }
       if (joint->limits && std::isfinite(joint->limits->velocity) && joint->limits->velocity > 0)
         out.velocity = joint->limits->velocity;
-      if (joint->mimic) {
+      if (joint->mimic && !(std::abs(joint->mimic->multiplier) <= kMaxJointTravel &&
+                            std::abs(joint->mimic->offset) <= kMaxJointTravel)) {
+        diag.Error(out.line, fmt::format("joint '{}': its <mimic> multiplier {} and offset {} "
+                                         "must lie within ±{:g} — fix the URDF",
+                                         joint->name, joint->mimic->multiplier,
+                                         joint->mimic->offset, kMaxJointTravel));
+      } else if (joint->mimic) {
         out.mimic = joint->mimic->joint_name;
         out.mimic_multiplier = joint->mimic->multiplier;
         out.mimic_offset = joint->mimic->offset;

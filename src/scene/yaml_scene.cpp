@@ -1709,7 +1709,8 @@ std::optional<Population> SceneReader::ReadPopulation(const Value& input) {
       } else if (const auto n = Integer(*count, what + ".count", 1, 1'000'000)) {
         population.count = static_cast<int>(*n);
       }
-    } else if (const auto count = fields.Get("count")) {
+    } else if (const auto count = fields.Get("count"); count && population.arm) {
+      // Only once the mount was read: a robot that failed to load left no sampling to blame.
       Error(count->line, fmt::format("{}: the views are arm.configurations — remove `count`",
                                      what));
     }
