@@ -18,11 +18,13 @@
 
 #include "test_util.hpp"
 #include "vantage/arm.hpp"
+#include "vantage/error.hpp"
 #include "vantage/observe.hpp"
 #include "vantage/pipeline.hpp"
 #include "vantage/reference.hpp"
 #include "vantage/tour.hpp"
 #include "vantage/track.hpp"
+#include "vantage/visibility_file.hpp"
 
 namespace vantage {
 namespace {
@@ -819,6 +821,135 @@ sensors:
   EXPECT_EQ(no_arm.exit_code, 2) << no_arm.err;
   EXPECT_NE(no_arm.err.find("--arm-view: the run has no views.yaml"), std::string::npos)
       << no_arm.err;
+}
+
+// ----- select FILE of a camera on an arm --------------------------------------------------------
+
+/// The arm example (examples/scenes/arm_wrist_camera.yaml) copied into `dir` with its URDF named
+/// absolutely, so that the copy can be edited after observe.
+std::string WristExampleIn(const TempDir& dir) {
+  std::string scene =
+      test::ReadText(std::string(VANTAGE_SOURCE_DIR) + "/examples/scenes/arm_wrist_camera.yaml");
+  const std::string urdf = "urdf: ../robots/ur5e_class_arm.urdf";
+  scene.replace(scene.find(urdf), urdf.size(),
+                "urdf: " + std::string(VANTAGE_SOURCE_DIR) + "/examples/robots/ur5e_class_arm.urdf");
+  WriteText(dir.File("arm.yaml"), scene);
+  return dir.File("arm.yaml");
+}
+
+TEST(ArmSelectTest, SelectOfTheObservedFileGivesTheToursOfOptimize) {
+  // optimize is the independent path: it draws, reaches and times the views from the scene
+  // itself; select has only the file's stored joints and the reloaded robot.
+  TempDir dir;
+  const std::string scene = WristExampleIn(dir);
+  const auto observe = test::RunVantage("observe " + scene + " --out " + dir.File("arm.vis"));
+  ASSERT_EQ(observe.exit_code, 0) << observe.err;
+  for (const std::string flags : {"-n 3 --method greedy",
+                                  "--goal 0.5 --method greedy --joint-speed 2 --frames 3",
+                                  "--cycle-time 6 --joint-speed 2 --frames 2 "
+                                  "--motion-resolution 0.02 --plan-time 1"}) {
+    SCOPED_TRACE(flags);
+    const std::string o = dir.File("o"), s = dir.File("s");
+    std::filesystem::remove_all(o);
+    std::filesystem::remove_all(s);
+    const auto optimize = test::RunVantage("optimize " + scene + " " + flags + " --out " + o);
+    ASSERT_EQ(optimize.exit_code, 0) << optimize.err;
+    const auto select =
+        test::RunVantage("select " + dir.File("arm.vis") + " " + flags + " --out " + s);
+    ASSERT_EQ(select.exit_code, 0) << select.err;
+    const auto by_optimize = nlohmann::json::parse(test::ReadText(o + "/report.json"));
+    const auto by_select = nlohmann::json::parse(test::ReadText(s + "/report.json"));
+    ASSERT_FALSE(by_optimize["results"].empty());
+    ASSERT_EQ(by_select["results"].size(), by_optimize["results"].size());
+    for (size_t r = 0; r < by_optimize["results"].size(); ++r) {
+      const auto& want = by_optimize["results"][r];
+      const auto& got = by_select["results"][r];
+      EXPECT_EQ(got["method"], want["method"]);
+      EXPECT_EQ(got["sensors"], want["sensors"]);
+      ASSERT_TRUE(want.contains("tour")) << want.dump();
+      EXPECT_EQ(got["tour"], want["tour"]);  // order, seconds, method, moves
+      const double seconds = got["tour"]["seconds"].get<double>();
+      EXPECT_NE(select.out.find(fmt::format("tour {:.2f} s", seconds)), std::string::npos)
+          << select.out;
+    }
+    ASSERT_EQ(by_select["curve"].size(), by_optimize["curve"].size());
+    for (size_t r = 0; r < by_optimize["curve"].size(); ++r)
+      EXPECT_EQ(by_select["curve"][r].value("tour", nlohmann::json()),
+                by_optimize["curve"][r].value("tour", nlohmann::json()));
+    EXPECT_EQ(by_select.value("cycle_time", nlohmann::json()),
+              by_optimize.value("cycle_time", nlohmann::json()));
+    for (const char* file : {"/views.yaml", "/trajectory.json"})
+      EXPECT_EQ(test::ReadText(s + file), test::ReadText(o + file)) << file;
+  }
+}
+
+TEST(ArmSelectTest, AFileThatNoLongerFitsItsSceneIsRefusedAndAnOldOneSelectsWithoutTours) {
+  TempDir dir;
+  const std::string scene = WristExampleIn(dir);
+  ASSERT_EQ(test::RunVantage("observe " + scene + " --out " + dir.File("arm.vis")).exit_code, 0);
+  const VisibilityFile observed = LoadVisibilityFile(dir.File("arm.vis"));
+  ASSERT_EQ(observed.arm_views.size(), observed.candidates.size());
+  // Exit 2 naming the file and the candidate, before any selection, nothing written.
+  const auto refused = [&](const std::string& file, const std::string& words) {
+    const auto run =
+        test::RunVantage("select " + file + " -n 2 --method greedy --out " + dir.File("bad"));
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+    EXPECT_NE(run.err.find(file + ": candidate '"), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find(words), std::string::npos) << run.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.File("bad")));
+  };
+  // A joint too few for the robot (a tampered or foreign file).
+  VisibilityFile tampered = observed;
+  for (auto& view : tampered.arm_views) {
+    ASSERT_TRUE(view.has_value());  // every candidate of the example is on the arm
+    ASSERT_EQ(view->joint_names.size(), 6u);
+    view->joint_names.pop_back();
+    view->joints.pop_back();
+  }
+  SaveVisibilityFile(dir.File("tampered.vis"), tampered);
+  refused(dir.File("tampered.vis"), "robot 'arm' had 5 joints");
+  // Another robot name.
+  VisibilityFile renamed = observed;
+  for (auto& view : renamed.arm_views) view->robot = "other_arm";
+  SaveVisibilityFile(dir.File("renamed.vis"), renamed);
+  refused(dir.File("renamed.vis"), "its robot was 'other_arm'");
+  // The scene edited since observe: the arm's base 5 cm along x puts every camera elsewhere.
+  const std::string original = test::ReadText(scene);
+  std::string moved = original;
+  const std::string robot = "  - name: arm\n";
+  moved.insert(moved.find(robot) + robot.size(), "    pose: {xyz: [0.05, 0, 0]}\n");
+  WriteText(scene, moved);
+  refused(dir.File("arm.vis"), "put the camera 0.05 m");
+  WriteText(scene, original);
+
+  // A file as vantage before format 11 wrote it (no arm views: version 10) still selects, as it
+  // did, without tours, and says why.
+  VisibilityFile old = observed;
+  old.arm_views.clear();
+  SaveVisibilityFile(dir.File("old.vis"), old);
+  EXPECT_EQ(test::ReadText(dir.File("old.vis"))[8], 10);
+  const auto selected = test::RunVantage("select " + dir.File("old.vis") +
+                                         " -n 2 --method greedy --out " + dir.File("old"));
+  ASSERT_EQ(selected.exit_code, 0) << selected.err;
+  EXPECT_NE(selected.err.find("written before format 11"), std::string::npos) << selected.err;
+  const auto report = nlohmann::json::parse(test::ReadText(dir.File("old/report.json")));
+  ASSERT_FALSE(report["results"].empty());
+  for (const auto& result : report["results"]) EXPECT_FALSE(result.contains("tour"));
+  EXPECT_FALSE(std::filesystem::exists(dir.File("old/views.yaml")));
+  const auto cycle = test::RunVantage("select " + dir.File("old.vis") + " --cycle-time 5 --out " +
+                                      dir.File("bad"));
+  EXPECT_EQ(cycle.exit_code, 2) << cycle.err;
+  EXPECT_NE(cycle.err.find("--cycle-time: "), std::string::npos) << cycle.err;
+  // One state per file: --track is optimize's.
+  SelectFileOptions track;
+  track.visibility_file = dir.File("arm.vis");
+  track.arm.track = true;
+  try {
+    SelectFromFile(track);
+    ADD_FAILURE() << "--track accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("--track: ", 0), 0u) << e.what();
+  }
 }
 
 // ----- the arm occludes its own camera -------------------------------------------------------

@@ -178,6 +178,32 @@ TEST(Shards, MergedPartsAreTheOneProcessFile) {
   EXPECT_LE(heaviest_part, total / 3 + largest);
 }
 
+TEST(Shards, MergedPartsOfAnArmSceneKeepEachArmView) {
+  // Format 11 (issue 45): the parts carry the arm views of every candidate, and the merged file
+  // is the one-process file, arm section included, so that `select` of it gives the tours.
+  test::TempDir dir;
+  const std::string scene =
+      std::string(VANTAGE_SOURCE_DIR) + "/examples/scenes/arm_wrist_camera.yaml";
+  auto run = RunVantage("-q observe " + scene + " --out " + dir.File("one.vis"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  for (int i : {1, 0}) {
+    run = RunVantage(fmt::format("-q observe {} --shard {}/2 --out {}", scene, i,
+                                 dir.File(fmt::format("part_{}.vis", i))));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+  }
+  run = RunVantage("merge " + dir.File("part_1.vis") + " " + dir.File("part_0.vis") + " --out " +
+                   dir.File("all.vis"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(Bytes(dir.File("all.vis")), Bytes(dir.File("one.vis")));
+  const VisibilityFile all = LoadVisibilityFile(dir.File("all.vis"));
+  ASSERT_EQ(all.arm_views.size(), all.candidates.size());
+  for (const auto& view : all.arm_views) {
+    ASSERT_TRUE(view.has_value());
+    EXPECT_EQ(view->robot, "arm");
+    EXPECT_EQ(view->joints.size(), 6u);
+  }
+}
+
 TEST(Shards, MergeRefusesForeignMissingAndRepeatedParts) {
   test::TempDir dir;
   const auto observe = [&](const std::string& flags, const std::string& name) {

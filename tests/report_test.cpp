@@ -231,6 +231,93 @@ TEST(VisibilityFile, Version10KeepsHowTheSceneWasRead) {
   }
 }
 
+// Format 11 keeps each camera on an arm's configuration (issue 45), in the layout docs/outputs.md
+// gives, built here byte by byte; a file of fixed cameras stays version 10.
+TEST(VisibilityFile, Version11KeepsEachArmViewAndFixedCamerasStayVersion10) {
+  test::TempDir dir;
+  SaveVisibilityFile(dir.File("fixed.vis"), SmallData());
+  EXPECT_EQ(test::ReadText(dir.File("fixed.vis"))[8], 10);
+  VisibilityFile data = SmallData();
+  auto body = std::make_shared<ArmBody>();
+  body->robot = "arm";
+  body->joint_names = {"shoulder", "elbow"};
+  const std::vector<std::vector<double>> joints = {{0.25, -1.5}, {}, {3.0, 0.125}};
+  for (size_t i : {0u, 2u}) {
+    auto pose = std::make_shared<ArmPose>();
+    pose->body = body;
+    pose->joints = joints[i];
+    data.candidates[i].arm = pose;
+  }
+  SaveVisibilityFile(dir.File("arm.vis"), data);
+  const std::string bytes = test::ReadText(dir.File("arm.vis"));
+  EXPECT_EQ(bytes[8], 11);
+  // The arm section, last before the checksum: one arm ("arm", its two joints), then per
+  // candidate its row (1, 0, 1) and the joints of those on it.
+  std::string tail;
+  const auto u32 = [&](uint32_t v) { tail.append(reinterpret_cast<const char*>(&v), 4); };
+  const auto u64 = [&](uint64_t v) { tail.append(reinterpret_cast<const char*>(&v), 8); };
+  const auto f64 = [&](double v) { tail.append(reinterpret_cast<const char*>(&v), 8); };
+  const auto str = [&](const std::string& text) {
+    u64(text.size());
+    tail += text;
+  };
+  u64(1);
+  str("arm");
+  u64(2);
+  str("shoulder");
+  str("elbow");
+  u32(1);
+  f64(0.25);
+  f64(-1.5);
+  u32(0);
+  u32(1);
+  f64(3.0);
+  f64(0.125);
+  ASSERT_GT(bytes.size(), tail.size() + 8);
+  EXPECT_EQ(bytes.substr(bytes.size() - 8 - tail.size(), tail.size()), tail);
+  // Everything before it is the version-10 file's (the version byte and checksum aside).
+  const std::string fixed = test::ReadText(dir.File("fixed.vis"));
+  EXPECT_EQ(bytes.substr(9, bytes.size() - 8 - tail.size() - 9), fixed.substr(9, fixed.size() - 17));
+
+  const VisibilityFile back = LoadVisibilityFile(dir.File("arm.vis"));
+  ASSERT_EQ(back.arm_views.size(), 3u);
+  EXPECT_EQ(back.arm_views[0], (StoredArmView{"arm", {"shoulder", "elbow"}, {0.25, -1.5}}));
+  EXPECT_FALSE(back.arm_views[1].has_value());
+  EXPECT_EQ(back.arm_views[2], (StoredArmView{"arm", {"shoulder", "elbow"}, {3.0, 0.125}}));
+  for (const Candidate& c : back.candidates) EXPECT_EQ(c.arm, nullptr);  // select rebuilds it
+  // Read back and written again (a merge, the Python module's save): the same bytes.
+  SaveVisibilityFile(dir.File("again.vis"), back);
+  EXPECT_EQ(test::ReadText(dir.File("again.vis")), bytes);
+  // The arm views are part of what shards must agree on.
+  EXPECT_NE(VisibilityFingerprint(back), VisibilityFingerprint(SmallData()));
+
+  // Corrupt sections (checksum valid): a row beyond the arms, a joint that is no number, an
+  // empty arm table, a camera on an arm of no population.
+  const std::string head = bytes.substr(0, bytes.size() - 8 - tail.size());
+  const auto refused = [&](std::string section, const std::string& words) {
+    test::WriteText(dir.File("bad.vis"), Sealed(head + section, 11));
+    try {
+      LoadVisibilityFile(dir.File("bad.vis"));
+      ADD_FAILURE() << "accepted: " << words;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("bad.vis"), std::string::npos) << e.what();
+    }
+  };
+  std::string row_beyond = tail;
+  row_beyond[tail.size() - 4 - 16 - 4 - 4 - 16] = 2;  // candidate 0's row
+  refused(row_beyond, "its arm 2 is not one of the file's 1");
+  std::string nan_joint = tail;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  nan_joint.replace(tail.size() - 8, 8, reinterpret_cast<const char*>(&nan), 8);
+  refused(nan_joint, "joint 'elbow' at nan is not a finite position");
+  refused(std::string(8, '\0') + std::string(12, '\0'), "its arm configurations name no arm");
+  VisibilityFile orphan = data;
+  orphan.candidates[2].population.clear();
+  SaveVisibilityFile(dir.File("orphan.vis"), orphan);
+  EXPECT_THROW(LoadVisibilityFile(dir.File("orphan.vis")), InputError);
+}
+
 // The bytes of a format-8 file (docs/outputs.md) from a version-9 one whose sensors' costs are all
 // given: less each candidate's last 4 bytes (u32 0), before the next one's name or, for the last,
 // before the mounting (40 zero bytes) and parts (36) sections, with version 8 and the checksum

@@ -56,24 +56,7 @@ void SetupOptimize(CLI::App* parent) {
           ->capture_default_str();
   // A camera on an arm (docs/arm.md): how its tours are timed.
   ArmTourOptions& arm = flags->options.arm;
-  app->add_option("--cycle-time", arm.cycle_time,
-                  "a camera on an arm: the most coverage (greedy) whose tour, home to home with "
-                  "each view's acquisition, fits this many seconds");
-  app->add_option("--joint-speed", arm.joint_speed,
-                  "a camera on an arm: every joint's speed [rad/s or m/s] for the tour (default: "
-                  "each joint's URDF <limit velocity>)");
-  app->add_option("--frames", arm.frames,
-                  "a camera on an arm: frames taken at each view (acquisition = frames / fps)")
-      ->check(NumberFrom(1, 100000, ValueKind::kWholeNumber))
-      ->capture_default_str();
-  app->add_option("--motion-resolution", arm.resolution,
-                  "a camera on an arm: the step [rad or m] at which a straight joint-space move "
-                  "is checked for collisions")
-      ->capture_default_str();
-  app->add_option("--plan-time", arm.plan_seconds,
-                  "a camera on an arm: the most seconds spent planning around one colliding move "
-                  "(OMPL RRT-Connect; its sample budget usually ends it first)")
-      ->capture_default_str();
+  AddArmTourFlags(app, &arm);
   app->add_flag("--track", arm.track,
                 "a camera on an arm follows the scene's states (in time order): one view per "
                 "state, the exact most summed coverage minus --move-penalty per second of motion");

@@ -32,6 +32,7 @@ void SetupSelect(CLI::App* parent) {
   AddSelectionFlags(app, &flags->options.selection);
   AddRobustnessFlags(app, &flags->options.robustness);
   AddPoseToleranceFlags(app, &flags->options.pose_tolerance);
+  AddArmTourFlags(app, &flags->options.arm);  // a file of a camera on an arm (format 11)
   app->add_option("--seed", flags->options.seed,
                   "random seed (default: the one stored in the file)");
   app->add_option("-o,--out", flags->out, "output folder, default ./vantage_out (vantage's files in it are replaced "

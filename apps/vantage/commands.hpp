@@ -32,6 +32,9 @@ void AddPointDensityFlags(CLI::App* app, std::optional<int64_t>* min_points,
                           std::optional<double>* min_density);
 /// --fov-tolerance, --alternatives-within (points, stored as a fraction).
 void AddRobustnessFlags(CLI::App* app, RobustnessOptions* robustness);
+/// A camera on an arm's tour (optimize, select): --cycle-time, --joint-speed, --frames,
+/// --motion-resolution, --plan-time.
+void AddArmTourFlags(CLI::App* app, ArmTourOptions* arm);
 /// --pose-tolerance P,A and --pose-samples S (optimize, select, evaluate).
 void AddPoseToleranceFlags(CLI::App* app, std::optional<PoseToleranceOptions>* tolerance);
 /// The summary's per-part table (results[shown]) and pose-tolerance lines; evaluate prints them

@@ -103,6 +103,7 @@ struct ArmSetup {
   int line = 0;
   std::shared_ptr<const ArmKinematics> kinematics;
   std::shared_ptr<const ArmCollisions> collisions;
+  std::shared_ptr<const ArmBody> body;  ///< the robot's link meshes, shared by its views
   std::vector<double> home;  ///< the tour's start and end: `home:`, else the robot's joints
   /// Each joint's <limit velocity> [rad/s or m/s] (0 where the URDF gives none).
   std::vector<double> speeds;
@@ -144,6 +145,11 @@ std::vector<double> HaltonPoint(uint64_t index, size_t dimensions);
 std::vector<std::vector<double>> DrawConfigurations(const Population& population,
                                                     const ArmKinematics& kinematics,
                                                     uint64_t seed, uint32_t population_index);
+
+/// Each population's arm (its kinematics, collisions with `problem`'s cell, body, home and
+/// speeds) in population order, as ApplyArms builds it, without drawing or reaching any view:
+/// what `vantage select` rebuilds the arm views of a visibility file with (issue 45).
+std::vector<ArmSetup> ArmSetupsOf(const Problem& problem);
 
 /// `deployed` (DeployCandidates: the regions' poses, kind-`arm` populations left out) with the
 /// arms applied: each `reach:` population's poses kept where IK puts the camera there (its pose

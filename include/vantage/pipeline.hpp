@@ -264,6 +264,9 @@ struct SelectFileOptions {
   RobustnessOptions robustness;
   /// --pose-tolerance, assessed when the file's scene still loads (its geometry re-traces).
   std::optional<PoseToleranceOptions> pose_tolerance;
+  /// A camera on an arm (a file of format 11 whose scene still loads): each result's tour and
+  /// --cycle-time, as `optimize` gives them (--track needs states, which a file does not hold).
+  ArmTourOptions arm;
 };
 RunResult SelectFromFile(const SelectFileOptions& options);
 

@@ -14,6 +14,16 @@
 
 namespace vantage {
 
+/// A camera on an arm as a visibility file keeps it (format version 11): the robot that carries
+/// it, the robot's settable joints (ArmBody::joint_names) and the view's configuration. The link
+/// poses and meshes are not kept: `vantage select` rebuilds them from the reloaded scene's robot.
+struct StoredArmView {
+  std::string robot;
+  std::vector<std::string> joint_names;
+  std::vector<double> joints;  ///< one per joint name [rad or m]
+  bool operator==(const StoredArmView&) const = default;
+};
+
 /// Everything `vantage select` needs to rerun selection without re-rendering.
 struct VisibilityFile {
   std::string scene;  ///< path of the scene it came from
@@ -41,9 +51,20 @@ struct VisibilityFile {
   /// out of the fingerprint: shards of one run observed from other folders still agree.
   std::string scene_path;
   LoadOptions load;
+  /// Per candidate, its arm configuration as read from the file (format version 11; empty when
+  /// the file holds none: every older file, and every file of fixed cameras only). Candidates read
+  /// from a file have no Candidate::arm; `vantage select` gives them one from these and the
+  /// reloaded scene. The writer takes a candidate's Candidate::arm where it has one, else this.
+  std::vector<std::optional<StoredArmView>> arm_views;
 };
 
-/// Writes the versioned binary file (magic, version, payload, FNV-1a 64 checksum) atomically.
+/// A candidate's arm configuration as the file keeps it: from Candidate::arm when set, else from
+/// `arm_views` (a file read back); nullopt for a fixed camera.
+std::optional<StoredArmView> StoredArmViewOf(const VisibilityFile& file, size_t candidate);
+
+/// Writes the versioned binary file (magic, version, payload, FNV-1a 64 checksum) atomically:
+/// format version 11 when some candidate is on an arm, else 10 (the same bytes as before arms
+/// were kept, which older vantage builds still read).
 void SaveVisibilityFile(const std::string& path, const VisibilityFile& file);
 /// Reads it back; InputError naming the file when it is not one, corrupt, or another version.
 VisibilityFile LoadVisibilityFile(const std::string& path);

@@ -176,11 +176,8 @@ std::vector<std::vector<double>> DrawConfigurations(const Population& population
   return configurations;
 }
 
-ArmViews ApplyArms(const Problem& problem, std::vector<Candidate> deployed, uint64_t seed) {
-  ArmViews result;
-  // Each population's arm, built once.
-  std::map<std::string, size_t> arm_of_population;
-  std::vector<std::shared_ptr<const ArmBody>> bodies;
+std::vector<ArmSetup> ArmSetupsOf(const Problem& problem) {
+  std::vector<ArmSetup> arms;
   for (const Population& population : problem.populations) {
     if (!population.arm) continue;
     const ArmMount& arm = *population.arm;
@@ -203,10 +200,22 @@ ArmViews ApplyArms(const Problem& problem, std::vector<Candidate> deployed, uint
     }
     for (const std::string& name : kinematics->joint_names())
       setup.speeds.push_back(robot.model.FindJoint(name)->velocity);
-    bodies.push_back(BodyOf(robot, *kinematics));
+    setup.body = BodyOf(robot, *kinematics);
     setup.kinematics = std::move(kinematics);
-    arm_of_population[population.name] = result.arms.size();
-    result.arms.push_back(std::move(setup));
+    arms.push_back(std::move(setup));
+  }
+  return arms;
+}
+
+ArmViews ApplyArms(const Problem& problem, std::vector<Candidate> deployed, uint64_t seed) {
+  ArmViews result;
+  // Each population's arm, built once.
+  result.arms = ArmSetupsOf(problem);
+  std::map<std::string, size_t> arm_of_population;
+  std::vector<std::shared_ptr<const ArmBody>> bodies;
+  for (const ArmSetup& setup : result.arms) {
+    arm_of_population[setup.population] = bodies.size();
+    bodies.push_back(setup.body);
   }
   const auto judge = [&](const ArmSetup& setup, const ArmMount& arm, Verdict* v) {
     v->links = setup.kinematics->LinkPosesAt(v->q);

@@ -227,6 +227,15 @@ class ArmAtViews {
   std::shared_ptr<const ArmKinematics> kinematics_;
 };
 
+/// `select FILE` of cameras on arms (src/pipeline/arm_select.cpp): the arms of `problem` (the
+/// reloaded scene) that `data`'s stored arm views are on, each such candidate given its ArmPose
+/// at its stored joints, and those robots taken out of problem->scene (as Prepare does).
+/// InputError naming `visibility_file`, before any work, when a view does not fit the scene:
+/// its population has no arm, another robot or other joints, or its joints put the camera
+/// elsewhere than where it was observed (the scene was edited since observe).
+std::vector<ArmSetup> RebuildArmViews(Problem* problem, const std::string& visibility_file,
+                                      VisibilityFile* data);
+
 /// --track (before any ray): InputError naming --track without states or without an arm, at a
 /// state's line when no view of the arm is collision-free in it, naming --state-interval when no
 /// sequence fits it even at the straight moves' times; sets the arms' per-state collisions.

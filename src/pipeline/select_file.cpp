@@ -13,15 +13,17 @@
 namespace vantage {
 namespace {
 
-// The scene's meshes for report.html, the shrunk fields of view and the pose tolerance: reloaded
-// as observe read it (its absolute path, folders, targets and cell size: format 10), or from the
-// path as typed in older files, when it is still there; otherwise (or when it no longer loads)
-// the page shows voxels and sensors only. `visibility_file` names where the folders came from.
-Scene ReportScene(const std::string& path, LoadOptions load, const std::string& visibility_file) {
+// The scene as observe read it (its absolute path, folders, targets and cell size: format 10),
+// or from the path as typed in older files, when it is still there: for report.html's meshes,
+// the shrunk fields of view and the pose tolerance, and the arms of a camera on an arm. nullopt
+// (logged, `without` says what goes) when it is not found from here or no longer loads.
+// `visibility_file` names where the folders came from.
+std::optional<Problem> ReloadScene(const std::string& path, LoadOptions load,
+                                   const std::string& visibility_file, const std::string& without) {
   std::error_code error;
   if (path.empty() || !std::filesystem::exists(path, error)) {
-    spdlog::info("report.html without meshes: scene '{}' not found from here", path);
-    return {};
+    spdlog::info("{}: scene '{}' not found from here", without, path);
+    return std::nullopt;
   }
   const std::string origin = fmt::format("{}: the scene's", visibility_file);
   load.model_paths_origin = origin + " model paths";
@@ -29,10 +31,10 @@ Scene ReportScene(const std::string& path, LoadOptions load, const std::string& 
   load.package_paths_origin = origin + " package paths";
   load.targets_origin = origin + " targets";
   try {
-    return LoadProblem(path, load).scene;
+    return LoadProblem(path, load);
   } catch (const InputError& e) {
-    spdlog::warn("report.html without meshes: {}", e.what());
-    return {};
+    spdlog::warn("{}: {}", without, e.what());
+    return std::nullopt;
   }
 }
 
@@ -72,6 +74,7 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   options.robustness.Validate();
   if (options.pose_tolerance) options.pose_tolerance->Validate();
+  options.arm.Validate();
   RunResult run;
   run.data = std::make_unique<VisibilityFile>(LoadVisibilityFile(options.visibility_file));
   const VisibilityFile& data = *run.data;
@@ -79,20 +82,65 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
     return AtPlace(options.visibility_file, 0,
                    fmt::format("candidate {} ('{}')", i, data.candidates[i].name));
   });
-  Timings timings;
-  timings.load = detail::SecondsSince(start);
   if (options.selection.over_states)
     throw InputError(AtPlace("--over-states", 0,
                              "a visibility file holds one state — run `vantage optimize` on the "
                              "scene with states instead"));
+  if (options.arm.track)
+    throw InputError(AtPlace("--track", 0,
+                             "a visibility file holds one state — run `vantage optimize` on the "
+                             "scene with states and --track instead"));
+  // As observe read the scene (format 10; older files: the path as typed).
+  const std::string& scene_path = data.scene_path.empty() ? data.scene : data.scene_path;
+  // A camera on an arm (format 11): the scene reloaded now, before any work, its arms rebuilt
+  // and checked against the stored views (issue 45).
+  std::optional<Problem> problem;
+  std::vector<ArmSetup> arms;
+  if (!data.arm_views.empty()) {
+    problem = ReloadScene(scene_path, data.load, options.visibility_file,
+                          "no tours and report.html without meshes");
+    if (problem) arms = detail::RebuildArmViews(&*problem, options.visibility_file, run.data.get());
+  }
+  Timings timings;
+  timings.load = detail::SecondsSince(start);
+  if (options.arm.cycle_time) {
+    if (arms.empty())
+      throw InputError(AtPlace(
+          "--cycle-time", 0,
+          data.arm_views.empty()
+              ? fmt::format("{} holds no camera on an arm — --cycle-time times an arm's tour; "
+                            "observe a scene with an `arm` population (docs/arm.md; a file "
+                            "written before format 11 does not keep the arm's views: observe "
+                            "it again)",
+                            options.visibility_file)
+              : fmt::format("the scene of {} ({}) does not load from here, and the arm's tour "
+                            "needs its robot and cell",
+                            options.visibility_file, scene_path)));
+    for (const SelectionOption& option : SelectionOptionTable()) {
+      if (option.aggregates_groups && option.GivenIn(options.selection))
+        throw InputError(AtPlace(std::string(option.flag), 0,
+                                 fmt::format("counts an aggregate of groups of cells, which "
+                                             "--cycle-time does not — drop one of {} and "
+                                             "--cycle-time",
+                                             option.flag)));
+    }
+  }
   const auto select_start = std::chrono::steady_clock::now();
   MatrixSelection resolved =
       ResolveMatrixSelection(data, options.selection, options.seed.value_or(data.seed),
                              Method::kAll, options.visibility_file);
   const SelectOptions& select = resolved.options;  // constraints included
+  if (!arms.empty()) detail::CheckArmTourInputs(data.candidates, arms, options.arm, select.seed);
   Report& report = run.report;
   report.constraints = std::move(resolved.constraints);
-  detail::SelectOnMatrix(data, options.selection, select, &report);
+  if (options.arm.cycle_time) {
+    // As optimize: the most coverage whose tour fits the cycle time replaces the methods.
+    report.results.push_back(
+        detail::CycleTimeSelection(data, arms, options.arm, select.seed));
+    report.cycle_time = options.arm.cycle_time;
+  } else {
+    detail::SelectOnMatrix(data, options.selection, select, &report);
+  }
   timings.select = detail::SecondsSince(select_start);
   timings.total = detail::SecondsSince(start);
   report.scene = data.scene;
@@ -102,8 +150,6 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   RunInputs inputs;
   inputs.command = "select";
   inputs.visibility_file = detail::AbsolutePath(options.visibility_file).string();
-  // As observe read the scene (format 10; older files: the path as typed).
-  const std::string& scene_path = data.scene_path.empty() ? data.scene : data.scene_path;
   detail::SetSceneInputs(scene_path, data.load, &inputs);
   inputs.cull = true;
   inputs.quality = data.quality;
@@ -113,8 +159,19 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   inputs.fov_tolerance_deg = options.robustness.fov_tolerance_deg;
   inputs.alternatives_within = 100.0 * options.robustness.within;
   report.inputs = std::move(inputs);
+  detail::AddArmTours(data.candidates, arms, options.arm, &report);
   DeriveReport(&report);
-  const Scene scene = ReportScene(scene_path, data.load, options.visibility_file);
+  if (data.arm_views.empty()) {
+    problem = ReloadScene(scene_path, data.load, options.visibility_file,
+                          "report.html without meshes");
+    if (problem && std::any_of(problem->populations.begin(), problem->populations.end(),
+                               [](const Population& p) { return p.arm.has_value(); }))
+      spdlog::warn("{}: its scene has a camera on an arm, but the file (written before format "
+                   "11) does not keep the arm's views: no tours — observe the scene again for "
+                   "them",
+                   options.visibility_file);
+  }
+  const Scene scene = problem ? std::move(problem->scene) : Scene{};
   // The shrunk fields of view and the pose tolerance need the geometry: only when the scene
   // still loads from here.
   const std::unique_ptr<RayScene> rays =

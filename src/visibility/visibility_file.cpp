@@ -44,8 +44,13 @@ namespace {
 // Version 10 adds, last, how observe read the scene: its absolute path, the model, resource and
 // package folders (absolute), the --target names and the --cell-size override, so that `select`
 // reloads the scene from any folder. Older files read without them (the scene as typed).
+// Version 11 adds, last, each candidate's arm configuration (issue 45: the robot, its joints'
+// names, the view's joints), so that `select` gives each result its tour as `optimize` does. It
+// is written only when some candidate is on an arm: a file of fixed cameras stays version 10,
+// byte for byte as before, and older vantage builds still read it.
 constexpr char kMagic[8] = {'V', 'A', 'N', 'T', 'V', 'I', 'S', '\0'};
-constexpr uint32_t kFormatVersion = 10;
+constexpr uint32_t kFormatVersion = 11;
+constexpr uint32_t kFixedCamerasVersion = 10;  // written when no candidate is on an arm
 constexpr uint32_t kOldestReadVersion = 1;
 
 void WriteOptional(detail::BinaryWriter* w, const std::optional<double>& value) {
@@ -274,6 +279,87 @@ void ReadSceneLoad(detail::BinaryReader* r, const Corrupt& corrupt, VisibilityFi
   }
 }
 
+// The candidates' arm configurations (version 11): the distinct arms (robot, joint names) in
+// order of first use, then per candidate 0 (a fixed camera) or 1 + its arm's row, and that
+// arm's joints.
+void WriteArmViews(detail::BinaryWriter* w, const VisibilityFile& file) {
+  std::vector<StoredArmView> arms;
+  std::vector<std::optional<StoredArmView>> views;
+  std::vector<uint32_t> row;
+  for (size_t i = 0; i < file.candidates.size(); ++i) {
+    views.push_back(StoredArmViewOf(file, i));
+    row.push_back(0);
+    if (!views.back()) continue;
+    const StoredArmView& view = *views.back();
+    VANTAGE_CHECK(view.joints.size() == view.joint_names.size());
+    const auto same = std::find_if(arms.begin(), arms.end(), [&](const StoredArmView& arm) {
+      return arm.robot == view.robot && arm.joint_names == view.joint_names;
+    });
+    row.back() = static_cast<uint32_t>(same - arms.begin()) + 1;
+    if (same == arms.end()) arms.push_back({view.robot, view.joint_names, {}});
+  }
+  w->U64(arms.size());
+  for (const StoredArmView& arm : arms) {
+    w->Str(arm.robot);
+    WriteStrings(w, arm.joint_names);
+  }
+  for (size_t i = 0; i < views.size(); ++i) {
+    w->U32(row[i]);
+    if (views[i])
+      for (double q : views[i]->joints) w->F64(q);
+  }
+}
+
+template <typename Corrupt>
+void ReadArmViews(detail::BinaryReader* r, const Corrupt& corrupt, VisibilityFile* file) {
+  const uint64_t count = r->U64();
+  r->CheckCount(count, 16);
+  // Written only for a file with a camera on an arm.
+  if (count == 0) throw corrupt("its arm configurations name no arm");
+  std::vector<StoredArmView> arms;
+  for (uint64_t a = 0; a < count; ++a) {
+    StoredArmView arm;
+    arm.robot = r->Str();
+    arm.joint_names = ReadStrings(r);
+    const std::string where = fmt::format("arm {} ('{}')", a, detail::Escaped(arm.robot));
+    std::vector<const std::string*> texts{&arm.robot};
+    for (const std::string& name : arm.joint_names) texts.push_back(&name);
+    for (const std::string* text : texts) {
+      if (detail::FirstNonUtf8Byte(*text) != std::string::npos)
+        throw corrupt(where + ": its robot or a joint's name is not UTF-8");
+      if (const std::string problem = detail::NameProblem(*text); !problem.empty() || text->empty())
+        throw corrupt(fmt::format("{}: its robot or joint name '{}' {}", where,
+                                  detail::Escaped(*text), problem.empty() ? "is empty" : problem));
+    }
+    if (arm.joint_names.empty()) throw corrupt(where + ": it has no joint");
+    if (std::set<std::string>(arm.joint_names.begin(), arm.joint_names.end()).size() !=
+        arm.joint_names.size())
+      throw corrupt(where + ": a joint is named twice");
+    arms.push_back(std::move(arm));
+  }
+  file->arm_views.assign(file->candidates.size(), std::nullopt);
+  for (size_t i = 0; i < file->candidates.size(); ++i) {
+    const uint32_t row = r->U32();
+    if (row == 0) continue;
+    const Candidate& c = file->candidates[i];
+    const std::string where = fmt::format("candidate {} ('{}')", i, c.name);
+    if (row > arms.size())
+      throw corrupt(fmt::format("{}: its arm {} is not one of the file's {}", where, row,
+                                arms.size()));
+    // `select` finds the arm by the candidate's population, as optimize does.
+    if (c.population.empty()) throw corrupt(where + ": a camera on an arm of no population");
+    StoredArmView view = arms[row - 1];
+    for (size_t j = 0; j < view.joint_names.size(); ++j) {
+      const double q = r->F64();
+      if (!std::isfinite(q) || std::abs(q) > 1e6)
+        throw corrupt(fmt::format("{}: joint '{}' at {} is not a finite position", where,
+                                  view.joint_names[j], q));
+      view.joints.push_back(q);
+    }
+    file->arm_views[i] = std::move(view);
+  }
+}
+
 bool StrictlyIncreasing(const std::vector<uint64_t>& keys) {
   return std::adjacent_find(keys.begin(), keys.end(),
                             [](uint64_t a, uint64_t b) { return a >= b; }) == keys.end();
@@ -282,9 +368,12 @@ bool StrictlyIncreasing(const std::vector<uint64_t>& keys) {
 // The whole file (magic to checksum); with `observations` false, every observation written empty
 // (the fingerprint of what the matrix was made from).
 std::string EncodeVisibilityFile(const VisibilityFile& file, bool observations) {
+  bool on_arms = false;
+  for (size_t i = 0; i < file.candidates.size() && !on_arms; ++i)
+    on_arms = StoredArmViewOf(file, i).has_value();
   detail::BinaryWriter w;
   w.Bytes(kMagic, sizeof(kMagic));
-  w.U32(kFormatVersion);
+  w.U32(on_arms ? kFormatVersion : kFixedCamerasVersion);
   w.Str(file.scene);
   w.U64(file.seed);
   const SelectionSettings& settings = file.selection;
@@ -340,6 +429,7 @@ std::string EncodeVisibilityFile(const VisibilityFile& file, bool observations) 
   static const LoadOptions kNoLoad;
   WriteSceneLoad(&w, observations ? file.scene_path : std::string(),
                  observations ? file.load : kNoLoad);
+  if (on_arms) WriteArmViews(&w, file);  // format 11
   w.U64(detail::Fnv1a64(w.data()));
   return w.data();
 }
@@ -523,6 +613,7 @@ VisibilityFile DecodeVisibilityFile(const std::string& bytes, const std::string&
   if (version >= 5) ReadMounting(&r, corrupt, &file.mounting, &file.kept_out);
   if (version >= 6) ReadParts(&r, corrupt, &file.reference);
   if (version >= 10) ReadSceneLoad(&r, corrupt, &file);
+  if (version >= 11) ReadArmViews(&r, corrupt, &file);
   if (!r.AtEnd()) throw corrupt("trailing bytes after the payload");
   return file;
 }
@@ -534,6 +625,14 @@ constexpr char kShardMagic[8] = {'V', 'A', 'N', 'T', 'P', 'R', 'T', '\0'};
 constexpr uint32_t kShardVersion = 2;
 
 }  // namespace
+
+std::optional<StoredArmView> StoredArmViewOf(const VisibilityFile& file, size_t candidate) {
+  const Candidate& c = file.candidates.at(candidate);
+  if (c.arm && c.arm->body)
+    return StoredArmView{c.arm->body->robot, c.arm->body->joint_names, c.arm->joints};
+  if (candidate < file.arm_views.size()) return file.arm_views[candidate];
+  return std::nullopt;
+}
 
 void SaveVisibilityFile(const std::string& path, const VisibilityFile& file) {
   detail::WriteFileAtomically(path, EncodeVisibilityFile(file, true));

@@ -4,6 +4,7 @@ report.json that the `vantage` binary, run here, writes for the same flags (timi
 each refusal is the CLI's."""
 
 import pathlib
+import re
 
 import pytest
 
@@ -299,3 +300,27 @@ def test_render_refusals(tmp_path):
     with pytest.raises(vantage.InputError, match="--arm-view"):
         vantage.render(tmp_path / "run", arm_view=2, width=16, height=16)
     assert not (tmp_path / "run" / "view.png").exists()
+
+
+def test_arm_views_kept_in_the_vis_are_optimizes(tmp_path):
+    """The .vis of an arm scene (format 11) keeps each view's joints: read by the independent
+    reader they are the positions optimize's views.yaml gives the same views (written to 9
+    significant digits), and `select` of the file gives optimize's views.yaml byte for byte."""
+    run_cli("observe", ARM_WRIST, "--out", tmp_path / "arm.vis")
+    raw = read_vis(tmp_path / "arm.vis")
+    assert raw.version == 11
+    assert all(c.arm is not None for c in raw.candidates)  # every population is on the arm
+    by_name = {c.name: c for c in raw.candidates}
+    run_cli("optimize", ARM_WRIST, "-n", 4, "--method", "greedy", "--out", tmp_path / "o")
+    views = (tmp_path / "o" / "views.yaml").read_text(encoding="utf-8")
+    (joint_names,) = re.findall(r"^joint_names: \[(.*)\]$", views, re.M)
+    listed = re.findall(r"^  - name: (\S+)\n    positions: \[(.*)\]$", views, re.M)
+    assert len(listed) == 4
+    for name, positions in listed:
+        robot, names, joints = by_name[name].arm
+        assert robot == "arm" and names == joint_names.split(", ")
+        assert joints == pytest.approx([float(p) for p in positions.split(", ")], rel=1e-8,
+                                       abs=1e-12)
+    run_cli("select", tmp_path / "arm.vis", "-n", 4, "--method", "greedy",
+            "--out", tmp_path / "s")
+    assert (tmp_path / "s" / "views.yaml").read_text(encoding="utf-8") == views

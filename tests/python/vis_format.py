@@ -19,6 +19,8 @@ class VisCandidate:
     interferes: object = None  # the type's `interferes:` (version 5), None when unset
     cost: float = 1.0  # the sensor type's unit cost (the budget objective)
     cost_given: bool = True  # False: no price given, cost is a placeholder (version 9)
+    # A camera on an arm (version 11): (robot, joint names, joints), None for a fixed camera.
+    arm: object = None
 
 
 @dataclasses.dataclass
@@ -98,7 +100,7 @@ def fnv1a64(data):
 
 
 def read_vis(path):
-    """The sets of a format-4 to 10 .vis file, its checksum verified."""
+    """The sets of a format-4 to 11 .vis file, its checksum verified."""
     with open(path, "rb") as f:
         data = f.read()
     assert data[:8] == b"VANTVIS\0", "not a vantage visibility file"
@@ -107,7 +109,7 @@ def read_vis(path):
     r = _Reader(data[:-8])
     r.at = 8
     version = r.u32()
-    assert version in (4, 5, 6, 7, 8, 9, 10), f"format version {version}"
+    assert version in (4, 5, 6, 7, 8, 9, 10, 11), f"format version {version}"
     scene, seed = r.string(), r.u64()
     r.u32(), r.u32(), r.f64()  # n, RANSAC iterations and stop coverage
     r.string(), r.optional(), r.u32(), r.optional()  # method, goal, k, budget
@@ -177,6 +179,19 @@ def read_vis(path):
         vis.model_paths, vis.resource_paths, vis.package_paths, vis.targets = (
             [r.string() for _ in range(r.u64())] for _ in range(4))
         vis.cell_size_override = r.optional()
+    if version >= 11:  # each camera on an arm's configuration (written only when there is one)
+        arms = []
+        for _ in range(r.u64()):  # the distinct arms: robot, joint names
+            robot = r.string()
+            arms.append((robot, [r.string() for _ in range(r.u64())]))
+        assert arms, "format 11 without an arm"
+        for candidate in vis.candidates:
+            row = r.u32()  # 0 a fixed camera, else 1 + its arm's row
+            assert row <= len(arms), f"arm row {row}"
+            if row:
+                robot, joint_names = arms[row - 1]
+                joints = list(r.take(f"<{len(joint_names)}d"))
+                candidate.arm = (robot, joint_names, joints)
     assert r.at == len(r.data), "trailing bytes"
     return vis
 
