@@ -363,6 +363,11 @@ def select(
     min_points: Optional[int] = None,
     min_density: Optional[float] = None,
     over_parts: Optional[str] = None,
+    cycle_time: Optional[float] = None,
+    joint_speed: Optional[float] = None,
+    frames: Optional[int] = None,
+    motion_resolution: Optional[float] = None,
+    plan_time: Optional[float] = None,
 ) -> dict[str, Any]:
     """`vantage select FILE`: the same files into `out`; returns report.json as a dict."""
 

@@ -1561,7 +1561,9 @@ void Bind(py::module_& m) {
          const py::object& interference, const py::object& interference_overlap,
          const py::object& calibration_overlap, const py::object& calibration_overlap_frac,
          const py::object& min_points, const py::object& min_density,
-         const py::object& over_parts) {
+         const py::object& over_parts, const py::object& cycle_time,
+         const py::object& joint_speed, const py::object& frames,
+         const py::object& motion_resolution, const py::object& plan_time) {
         SelectFileOptions options;
         options.visibility_file = PathOf(file, "file");
         options.selection = RequestOf(
@@ -1575,6 +1577,9 @@ void Bind(py::module_& m) {
         options.seed = UnsignedOf(seed, "seed");
         options.robustness = RobustnessOf(fov_tolerance, alternatives_within);
         options.pose_tolerance = PoseToleranceOf(pose_tolerance, pose_samples);
+        // A file of a camera on an arm (format 11): its tours, as select FILE's flags.
+        options.arm = ArmTourOf(cycle_time, joint_speed, frames, motion_resolution, plan_time,
+                                py::none(), py::none(), py::none());
         const std::optional<std::string> out_dir = OutDirOf(out);
         const std::string report = WithoutGil(threads, [&] {
           const RunResult run = SelectFromFile(options);
@@ -1595,12 +1600,17 @@ void Bind(py::module_& m) {
       py::arg("interference_overlap") = py::none(), py::arg("calibration_overlap") = py::none(),
       py::arg("calibration_overlap_frac") = py::none(), py::arg("min_points") = py::none(),
       py::arg("min_density") = py::none(), py::arg("over_parts") = py::none(),
+      py::arg("cycle_time") = py::none(), py::arg("joint_speed") = py::none(),
+      py::arg("frames") = py::none(), py::arg("motion_resolution") = py::none(),
+      py::arg("plan_time") = py::none(),
       "`vantage select FILE`: selection from a .vis file (Visibility.save(), `vantage\n"
       "observe --out`) with the assessment of the CLI's run, robustness and pose tolerance\n"
       "included, its files written atomically into `out` (None: none). Returns report.json\n"
       "as a dict. Keywords as optimize()'s selection keywords (method None: 'all'), plus\n"
       "seed (None: the file's), fov_tolerance, alternatives_within, pose_tolerance,\n"
-      "pose_samples. For one result as an object, use Visibility.select().");
+      "pose_samples, and for a camera on an arm (docs/arm.md) cycle_time [s], joint_speed,\n"
+      "frames, motion_resolution, plan_time [s]. For one result as an object, use\n"
+      "Visibility.select().");
 
   m.def(
       "evaluate",

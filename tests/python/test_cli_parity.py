@@ -324,3 +324,20 @@ def test_arm_views_kept_in_the_vis_are_optimizes(tmp_path):
     run_cli("select", tmp_path / "arm.vis", "-n", 4, "--method", "greedy",
             "--out", tmp_path / "s")
     assert (tmp_path / "s" / "views.yaml").read_text(encoding="utf-8") == views
+
+
+def test_select_of_an_arm_file_as_cli(tmp_path):
+    """vantage.select of a format-11 file with an arm's tour keywords gives the CLI's report
+    (the cycle-time choice and its tour) and views.yaml for the same flags."""
+    run_cli("observe", ARM_WRIST, "--out", tmp_path / "arm.vis")
+    run_cli("select", tmp_path / "arm.vis", "--cycle-time", 6, "--joint-speed", 2, "--frames", 2,
+            "--motion-resolution", 0.02, "--plan-time", 1, "--out", tmp_path / "cli")
+    returned = vantage.select(tmp_path / "arm.vis", out=tmp_path / "py", cycle_time=6,
+                              joint_speed=2, frames=2, motion_resolution=0.02, plan_time=1)
+    report = read_report(tmp_path / "cli")
+    assert normalised(returned) == normalised(report)
+    (result,) = report["results"]
+    assert result["method"] == "cycle-time" and report["cycle_time"] == 6
+    assert 0 < result["tour"]["seconds"] <= 6  # the tour's time, not a timing
+    assert (tmp_path / "py" / "views.yaml").read_text(encoding="utf-8") == \
+        (tmp_path / "cli" / "views.yaml").read_text(encoding="utf-8")
