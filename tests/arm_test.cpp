@@ -920,6 +920,19 @@ TEST(ArmSelectTest, AFileThatNoLongerFitsItsSceneIsRefusedAndAnOldOneSelectsWith
   moved.insert(moved.find(robot) + robot.size(), "    pose: {xyz: [0.05, 0, 0]}\n");
   WriteText(scene, moved);
   refused(dir.File("arm.vis"), "put the camera 0.05 m");
+  // The scene gone: the selection as before, without tours, and a warning; --cycle-time refused.
+  std::filesystem::remove(scene);
+  const auto away = test::RunVantage("select " + dir.File("arm.vis") +
+                                     " -n 2 --method greedy --out " + dir.File("away"));
+  ASSERT_EQ(away.exit_code, 0) << away.err;
+  EXPECT_NE(away.err.find("its cameras on an arm get no tours"), std::string::npos) << away.err;
+  for (const auto& result :
+       nlohmann::json::parse(test::ReadText(dir.File("away/report.json")))["results"])
+    EXPECT_FALSE(result.contains("tour"));
+  const auto timed = test::RunVantage("select " + dir.File("arm.vis") + " --cycle-time 5 --out " +
+                                      dir.File("bad"));
+  EXPECT_EQ(timed.exit_code, 2) << timed.err;
+  EXPECT_NE(timed.err.find("--cycle-time: the scene of"), std::string::npos) << timed.err;
   WriteText(scene, original);
 
   // A file as vantage before format 11 wrote it (no arm views: version 10) still selects, as it

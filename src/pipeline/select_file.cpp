@@ -99,7 +99,13 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   if (!data.arm_views.empty()) {
     problem = ReloadScene(scene_path, data.load, options.visibility_file,
                           "no tours and report.html without meshes");
-    if (problem) arms = detail::RebuildArmViews(&*problem, options.visibility_file, run.data.get());
+    if (problem) {
+      arms = detail::RebuildArmViews(&*problem, options.visibility_file, run.data.get());
+    } else {
+      spdlog::warn("{}: its cameras on an arm get no tours: their robot and cell are the scene's "
+                   "({}), which does not load from here",
+                   options.visibility_file, scene_path);
+    }
   }
   Timings timings;
   timings.load = detail::SecondsSince(start);
