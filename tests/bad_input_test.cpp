@@ -950,6 +950,13 @@ TEST_F(BadInput, CommandLineOptions) {
        "--alternatives-within:", "500 is out of range — give a number from 0 to 100"},
       {"zero_refine_rounds", "optimize " + scene + " --refine --refine-rounds 0", "--refine-rounds:",
        "0 is out of range — give a whole number from 1 to 100"},
+      // A camera on an arm's tour (session 33): --motion-resolution 1e-300 overflowed the step
+      // count and left every straight move unchecked; --joint-speed 1e-300 printed tours of
+      // 10^300 seconds digit by digit.
+      {"tiny_motion_resolution", "optimize " + scene + " --motion-resolution 1e-300",
+       "--motion-resolution", "1e-300 is not a step in [0.0001, 1] [rad or m]"},
+      {"tiny_joint_speed", "optimize " + scene + " --joint-speed 1e-300", "--joint-speed",
+       "1e-300 is not a speed from 1e-06 to 1e+06 [rad/s or m/s]"},
       {"unknown_option", "optimize " + scene + " --frobnicate", "unknown option '--frobnicate'",
        "`vantage help optimize` lists the options"},
       // Typos name the word and the nearest option (issue 16: CLI11 said "The following arguments

@@ -555,6 +555,13 @@ TEST(Robot, JointLimitsAndMimicFactorsBeyondAMillionAreRefused) {
       << error;
   EXPECT_EQ(error_with("revolute", limit("-1", "1"), "<mimic joint=\"j\" multiplier=\"1e6\"/>"),
             "no error");
+  // A <limit velocity> the tour cannot time with: 1e-300 rad/s made tours of 10^300 s.
+  const std::string slow = "<limit lower=\"-1\" upper=\"1\" velocity=\"1e-300\" effort=\"1\"/>";
+  error = error_with("revolute", slow, "");
+  EXPECT_NE(error.find("limits.urdf:3: joint 'j': its <limit velocity> 1e-300 is not a speed "
+                       "from 1e-06 to 1e+06 [rad/s or m/s]"),
+            std::string::npos)
+      << error;
   error = error_with("revolute", limit("-1", "1"), "<mimic joint=\"j\" multiplier=\"1e300\"/>");
   EXPECT_NE(error.find("limits.urdf:4: joint 'follower': its <mimic> multiplier 1e+300 and "
                        "offset 0 must lie within ±1e+06"),

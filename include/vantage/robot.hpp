@@ -13,6 +13,12 @@
 
 namespace vantage {
 
+/// The joint speeds a tour is timed with [rad/s or m/s] (a URDF's <limit velocity>, --joint-speed):
+/// slower than 1e-6 a tour's seconds outgrow any print and any cycle time; faster than 1e6 no
+/// arm moves.
+constexpr double kMinJointSpeed = 1e-6;
+constexpr double kMaxJointSpeed = 1e6;
+
 /// One joint of a URDF robot (urdfdom's `urdf::Joint`, converted).
 struct RobotJoint {
   enum class Type { kRevolute, kContinuous, kPrismatic, kFixed, kFloating, kPlanar };

@@ -355,6 +355,9 @@ bool StraightMotionIsFree(const ArmKinematics& kinematics, const ArmCollisions& 
   VANTAGE_CHECK(resolution > 0 && from.size() == to.size());
   double largest = 0;
   for (size_t i = 0; i < from.size(); ++i) largest = std::max(largest, std::abs(to[i] - from[i]));
+  // A count beyond 2^53 is no whole number and beyond 2^64 no size_t: the move would go
+  // unchecked (ArmTourOptions::Validate keeps resolution >= 1e-4 and limits within ±1e6).
+  VANTAGE_CHECK(largest / resolution < 0x1p53);
   const auto steps = static_cast<size_t>(std::ceil(largest / resolution));
   std::vector<double> q(from.size());
   for (size_t s = 0; s <= steps; ++s) {

@@ -28,11 +28,11 @@ void ArmTourOptions::Validate() const {
                              fmt::format("{} is not a positive number of seconds — give e.g. "
                                          "--cycle-time 20",
                                          *cycle_time)));
-  if (joint_speed && !(std::isfinite(*joint_speed) && *joint_speed > 0))
+  if (joint_speed && !(*joint_speed >= kMinJointSpeed && *joint_speed <= kMaxJointSpeed))
     throw InputError(AtPlace("--joint-speed", 0,
-                             fmt::format("{} is not a positive speed [rad/s or m/s] — give e.g. "
-                                         "--joint-speed 1.0",
-                                         *joint_speed)));
+                             fmt::format("{} is not a speed from {:g} to {:g} [rad/s or m/s] — "
+                                         "give e.g. --joint-speed 1.0",
+                                         *joint_speed, kMinJointSpeed, kMaxJointSpeed)));
   if (frames < 1 || frames > 100000)
     throw InputError(AtPlace("--frames", 0,
                              fmt::format("{} is not a number of frames from 1 to 100000", frames)));
@@ -41,9 +41,11 @@ void ArmTourOptions::Validate() const {
                              fmt::format("{} is not a number of seconds in (0, 3600] — give e.g. "
                                          "--plan-time 2",
                                          plan_seconds)));
-  if (!(std::isfinite(resolution) && resolution > 0 && resolution <= 1))
+  // Below 1e-4 a move's checks outnumber what any run can do (6 rad: 60,000 poses at 1e-4);
+  // 1e-300 overflowed the step count and left moves unchecked.
+  if (!(resolution >= 1e-4 && resolution <= 1))
     throw InputError(AtPlace("--motion-resolution", 0,
-                             fmt::format("{} is not a step in (0, 1] [rad or m]", resolution)));
+                             fmt::format("{} is not a step in [0.0001, 1] [rad or m]", resolution)));
   if (move_penalty && !track)
     throw InputError(AtPlace("--move-penalty", 0,
                              "only --track weighs the moves between states — add --track, or "

@@ -385,8 +385,14 @@ RobotModel LoadUrdf(const std::string& path) {
           break;
         }
       }
-      if (joint->limits && std::isfinite(joint->limits->velocity) && joint->limits->velocity > 0)
+      if (joint->limits && std::isfinite(joint->limits->velocity) && joint->limits->velocity > 0) {
         out.velocity = joint->limits->velocity;
+        if (!(out.velocity >= kMinJointSpeed && out.velocity <= kMaxJointSpeed))
+          diag.Error(out.line, fmt::format("joint '{}': its <limit velocity> {} is not a speed "
+                                           "from {:g} to {:g} [rad/s or m/s] — fix the URDF",
+                                           joint->name, out.velocity, kMinJointSpeed,
+                                           kMaxJointSpeed));
+      }
       if (joint->mimic && !(std::abs(joint->mimic->multiplier) <= kMaxJointTravel &&
                             std::abs(joint->mimic->offset) <= kMaxJointTravel)) {
         diag.Error(out.line, fmt::format("joint '{}': its <mimic> multiplier {} and offset {} "
