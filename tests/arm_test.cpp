@@ -1173,6 +1173,47 @@ TEST_F(ArmBadInputTest, HomeInCollisionOrCutOffIsRefusedBeforeAnyRay) {
   EXPECT_FALSE(std::filesystem::exists(dir_.File("out")));
 }
 
+// A cycle time shorter than every one-view tour holds no view: refused before any ray, naming the
+// quickest. Truth: the slider at 0.5 m/s from home x = 1 to the view at x = 1.2 and back is
+// 2 * 0.2 / 0.5 = 0.8 s of motion, plus one frame (the view at x = 1.5 takes 2 s). It ran to an
+// empty answer ("cycle-time n=0 0.00 %").
+TEST_F(ArmBadInputTest, ACycleTimeThatHoldsNoViewIsRefusedBeforeAnyRay) {
+  WriteText(dir_.File("arm.urdf"), SliderUrdf(R"(<box size="0.2 0.2 0.2"/>)"));
+  WriteText(dir_.File("scene.yaml"),
+            SliderTourScene("[{x: 1.5}, {x: 1.2}]", "      home: {x: 1.0}\n"));
+  auto run = test::RunVantage("optimize " + dir_.File("scene.yaml") +
+                              " --cycle-time 0.79 --out " + dir_.File("out"));
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  EXPECT_NE(run.err.find("--cycle-time: no view (on straight moves at the joints' speeds) fits "
+                         "in 0.79 s: the quickest tour of one, home -> 'wrist_1' -> home on "
+                         "robot 'arm' with its acquisition, takes at least 0.8"),
+            std::string::npos)
+      << run.err;
+  EXPECT_EQ(run.err.find("rays"), std::string::npos) << "refused after casting rays: " << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("out")));
+  // One second holds that view (and not the other: 2 s).
+  run = test::RunVantage("optimize " + dir_.File("scene.yaml") + " --cycle-time 1 --out " +
+                         dir_.File("out"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json report = nlohmann::json::parse(test::ReadText(dir_.File("out/report.json")));
+  ASSERT_EQ(report["results"].size(), 1u);
+  EXPECT_EQ(report["results"][0]["sensors"], nlohmann::json::array({"wrist_1"}));
+  // After the rays: the view beside home (x = 2.9, 0.4 s) fits but sees neither target (its
+  // field reaches x = 2.4 at the targets' depth); the one that sees the right target is
+  // 2 * 1.3 / 0.5 = 5.2 s away. Refused naming that one, nothing written.
+  WriteText(dir_.File("scene.yaml"),
+            SliderTourScene("[{x: 1.5}, {x: 2.9}]", "      home: {x: 2.8}\n"));
+  run = test::RunVantage("optimize " + dir_.File("scene.yaml") + " --cycle-time 1 --out " +
+                         dir_.File("out2"));
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  EXPECT_NE(run.err.find("--cycle-time: no view that sees the targets fits in 1 s: the quickest "
+                         "tour of one, home -> 'wrist_0' -> home on robot 'arm' with its "
+                         "acquisition, takes at least 5.2"),
+            std::string::npos)
+      << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("out2")));
+}
+
 TEST_F(ArmBadInputTest, ATourThatCannotBeConnectedWritesNothing) {
   WriteText(dir_.File("arm.urdf"), SliderUrdf(R"(<box size="0.2 0.2 0.2"/>)"));
   // Home on the right with one view; the other view on the left, where only the left target is

@@ -316,6 +316,65 @@ std::string ConfigurationWords(const ArmSetup& arm, const std::vector<double>& q
 /// starts and ends there). A straight move to any view that is free settles it; else the
 /// planner tries the kHomePlanTries nearest views. Refused when none connects and every view was
 /// tried; with more views the tour's own check after selection decides (a warning says so).
+/// --cycle-time's views: those of the first arm (its robot's, whatever their population).
+std::pair<const ArmSetup*, std::vector<uint32_t>> CycleTimeViews(
+    const std::vector<Candidate>& candidates, const std::vector<ArmSetup>& arms) {
+  const ArmSetup* arm = nullptr;
+  std::vector<uint32_t> views;
+  for (uint32_t i = 0; i < candidates.size(); ++i) {
+    const ArmSetup* of = SetupOf(arms, candidates[i]);
+    if (!of) continue;
+    if (!arm) arm = of;
+    if (of->robot == arm->robot) views.push_back(i);
+  }
+  if (!arm)
+    throw InputError(AtPlace("--cycle-time", 0,
+                             "no candidate is on an arm — --cycle-time times an arm's tour; add "
+                             "an `arm` population (docs/arm.md)"));
+  return {arm, std::move(views)};
+}
+
+/// The quickest one-view tour under `times` (home, view k with its acquisition, home) among the
+/// views `counts` accepts: (k, seconds), or none.
+template <class Counts>
+std::optional<std::pair<size_t, double>> QuickestOneViewTour(const TourTimes& times,
+                                                             const Counts& counts) {
+  const size_t home = times.views();
+  std::optional<std::pair<size_t, double>> quickest;
+  for (size_t k = 0; k < times.views(); ++k) {
+    if (!counts(k)) continue;
+    const double seconds = times.motion[home][k] + times.acquisition[k] + times.motion[k][home];
+    if (!quickest || seconds < quickest->second) quickest = {k, seconds};
+  }
+  return quickest;
+}
+
+/// --cycle-time's refusal when no view fits: `quickest` from QuickestOneViewTour; `which` says
+/// which views were weighed.
+InputError NoViewFits(const std::vector<Candidate>& candidates, const std::vector<uint32_t>& views,
+                      const ArmSetup& arm, double cycle_time, const std::string& which,
+                      const std::pair<size_t, double>& quickest) {
+  return InputError(AtPlace(
+      "--cycle-time", 0,
+      fmt::format("no {} fits in {:g} s: the quickest tour of one, home -> '{}' -> home on robot "
+                  "'{}' with its acquisition, takes at least {:.3f} s — give a longer --cycle-time",
+                  which, cycle_time, candidates[views[quickest.first]].name, arm.robot,
+                  quickest.second)));
+}
+
+/// Before any ray: a cycle time shorter than every one-view tour on straight moves (no tour is
+/// quicker) can hold no view. It ran to an empty answer, "cycle-time n=0 0.00 %", saying nothing
+/// of why.
+void CheckCycleTimeHoldsAView(const std::vector<Candidate>& candidates,
+                              const std::vector<ArmSetup>& arms, const ArmTourOptions& options) {
+  const auto [arm, views] = CycleTimeViews(candidates, arms);
+  const TourTimes times = StraightTimes(candidates, views, *arm, options);
+  const auto quickest = QuickestOneViewTour(times, [](size_t) { return true; });
+  if (quickest && *options.cycle_time < quickest->second)
+    throw NoViewFits(candidates, views, *arm, *options.cycle_time,
+                     "view (on straight moves at the joints' speeds)", *quickest);
+}
+
 void CheckArmHome(const std::vector<Candidate>& candidates, const ArmSetup& arm,
                   const ArmTourOptions& options, uint64_t seed) {
   std::string pair;
@@ -389,6 +448,7 @@ void CheckArmTourInputs(const std::vector<Candidate>& candidates,
     }
   }
   for (const ArmSetup& arm : arms) CheckArmHome(candidates, arm, options, seed);
+  if (options.cycle_time) CheckCycleTimeHoldsAView(candidates, arms, options);
 }
 
 void AddArmTours(const std::vector<Candidate>& candidates, const std::vector<ArmSetup>& arms,
@@ -436,19 +496,7 @@ Selection CycleTimeSelection(const VisibilityFile& data, const std::vector<ArmSe
                              const ArmTourOptions& options, uint64_t seed) {
   VANTAGE_CHECK(options.cycle_time.has_value());
   const auto start = std::chrono::steady_clock::now();
-  // The views of the first arm, with their observations.
-  const ArmSetup* arm = nullptr;
-  std::vector<uint32_t> views;
-  for (uint32_t i = 0; i < data.candidates.size(); ++i) {
-    const ArmSetup* of = SetupOf(arms, data.candidates[i]);
-    if (!of) continue;
-    if (!arm) arm = of;
-    if (of->robot == arm->robot) views.push_back(i);
-  }
-  if (!arm)
-    throw InputError(AtPlace("--cycle-time", 0,
-                             "no candidate is on an arm — --cycle-time times an arm's tour; add "
-                             "an `arm` population (docs/arm.md)"));
+  const auto [arm, views] = CycleTimeViews(data.candidates, arms);
   std::vector<Observation> observations;
   for (uint32_t i : views) observations.push_back(data.observations[i]);
   TourTimes times = StraightTimes(data.candidates, views, *arm, options);
@@ -459,6 +507,19 @@ Selection CycleTimeSelection(const VisibilityFile& data, const std::vector<ArmSe
                                          *options.cycle_time);
     if (result.chosen.empty()) break;
     if (checker.Check(result.tour.order, &times)) break;
+  }
+  if (result.chosen.empty()) {
+    // Every view that sees a target cell needs longer (its moves as checked so far, the others
+    // straight: at least that long). Only views that see nothing may fit: nothing to report.
+    const auto quickest = QuickestOneViewTour(
+        times, [&](size_t k) { return !observations[k].reference_indices.empty(); });
+    if (!quickest)
+      throw InputError(AtPlace("--cycle-time", 0,
+                               fmt::format("none of the {} views on robot '{}' sees a target "
+                                           "cell — nothing to time",
+                                           views.size(), arm->robot)));
+    throw NoViewFits(data.candidates, views, *arm, *options.cycle_time,
+                     "view that sees the targets", *quickest);
   }
   Selection selection;
   selection.method = "cycle-time";
