@@ -310,7 +310,11 @@ TEST(VisibilityFile, Version11KeepsEachArmViewAndFixedCamerasStayVersion10) {
   std::string nan_joint = tail;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   nan_joint.replace(tail.size() - 8, 8, reinterpret_cast<const char*>(&nan), 8);
-  refused(nan_joint, "joint 'elbow' at nan is not a finite position");
+  refused(nan_joint, "joint 'elbow' at nan is not a position within ±1e6 [rad or m]");
+  std::string far_joint = tail;
+  const double far = 1e300;
+  far_joint.replace(tail.size() - 8, 8, reinterpret_cast<const char*>(&far), 8);
+  refused(far_joint, "joint 'elbow' at 1e+300 is not a position within ±1e6 [rad or m]");
   refused(std::string(8, '\0') + std::string(12, '\0'), "its arm configurations name no arm");
   VisibilityFile orphan = data;
   orphan.candidates[2].population.clear();

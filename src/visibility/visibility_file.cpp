@@ -351,9 +351,10 @@ void ReadArmViews(detail::BinaryReader* r, const Corrupt& corrupt, VisibilityFil
     StoredArmView view = arms[row - 1];
     for (size_t j = 0; j < view.joint_names.size(); ++j) {
       const double q = r->F64();
-      if (!std::isfinite(q) || std::abs(q) > 1e6)
-        throw corrupt(fmt::format("{}: joint '{}' at {} is not a finite position", where,
-                                  view.joint_names[j], q));
+      // As the URDF's limits are (urdf_robot.cpp): within ±1e6 rad or m.
+      if (!(std::abs(q) <= 1e6))
+        throw corrupt(fmt::format("{}: joint '{}' at {} is not a position within ±1e6 [rad or m]",
+                                  where, view.joint_names[j], q));
       view.joints.push_back(q);
     }
     file->arm_views[i] = std::move(view);
