@@ -57,6 +57,19 @@ double CountedCoverage(const std::vector<Observation>& sets, const std::vector<u
   return static_cast<double>(covered) / static_cast<double>(cells);
 }
 
+// Each candidate sees each of `cells` cells with chance 1/3, with 1..5 points there.
+std::vector<Observation> RandomSets(std::mt19937* rng, size_t cells, uint32_t candidates) {
+  std::vector<Observation> sets(candidates);
+  for (Observation& o : sets) {
+    for (uint32_t cell = 0; cell < cells; ++cell) {
+      if ((*rng)() % 3 != 0) continue;
+      o.reference_indices.push_back(cell);
+      o.reference_hits.push_back(1 + (*rng)() % 5);
+    }
+  }
+  return sets;
+}
+
 // Random instances, k = 1..3 and point counts: every slot's best replacement (within any
 // tolerance: 1) has the coverage counted here, and no other candidate does better in that slot.
 TEST(Robustness, AlternativesMatchCountingEverySwap) {
@@ -64,14 +77,7 @@ TEST(Robustness, AlternativesMatchCountingEverySwap) {
   for (int instance = 0; instance < 60; ++instance) {
     const size_t cells = 5 + rng() % 30;
     const uint32_t candidates = 4 + rng() % 8;
-    std::vector<Observation> sets(candidates);
-    for (Observation& o : sets) {
-      for (uint32_t cell = 0; cell < cells; ++cell) {
-        if (rng() % 3 != 0) continue;
-        o.reference_indices.push_back(cell);
-        o.reference_hits.push_back(1 + rng() % 5);
-      }
-    }
+    const std::vector<Observation> sets = RandomSets(&rng, cells, candidates);
     const CoverageEvaluator evaluator(sets, cells);
     const int k = 1 + instance % 3;
     const std::optional<uint32_t> min_points =
@@ -178,10 +184,7 @@ TEST(Robustness, PricedAlternativesMatchEverySwap) {
   for (int instance = 0; instance < 80; ++instance) {
     const size_t cells = 5 + rng() % 25;
     const uint32_t candidates = 4 + rng() % 8;
-    std::vector<Observation> sets(candidates);
-    for (Observation& o : sets)
-      for (uint32_t cell = 0; cell < cells; ++cell)
-        if (rng() % 3 == 0) o.reference_indices.push_back(cell);
+    const std::vector<Observation> sets = RandomSets(&rng, cells, candidates);
     std::vector<double> costs(candidates);
     for (double& c : costs) c = 1 + static_cast<double>(rng() % 9);
     const CoverageEvaluator evaluator(sets, cells);
