@@ -130,7 +130,11 @@
                            value: function (r) { return r.plain_coverage; }, show: pct}] : [])
      .concat(D.states ? D.states.names.map(function (name, k) {
        return {label: 'state ' + name, num: true, value: function (r) { return r.state_coverage[k]; }, show: pct};
-     }) : []), D.results.concat(D.curve.map(function (r) {
+     }) : [])
+     // A budget or --cheapest: what each answer costs.
+     .concat(D.results.some(function (r) { return r.cost !== undefined; })
+       ? [{label: 'cost', num: true, value: function (r) { return r.cost === undefined ? null : r.cost; },
+           show: function (v) { return v === null ? '' : fix(v, 2); }}] : []), D.results.concat(D.curve.map(function (r) {
        var row = {curve: true}; for (var key in r) row[key] = r[key];
        return row;
      })));
