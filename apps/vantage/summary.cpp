@@ -402,7 +402,9 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
         "states           {} over {} states ({}): coverages below are the {} of the states' "
         "coverages, listed after each\n",
         report.states->over, names.size(), elided(names, ", "),
-        report.states->over == "min" ? "worst" : "mean");
+        report.states->over == "min"   ? "worst"
+        : report.states->over == "sum" ? "cell-weighted mean (all their cells together)"
+                                       : "mean");
     fmt::print("                 (reference and best single above: state '{}')\n", names.front());
   }
   // One line per method at its largest n: the constellation it recommends.

@@ -1,8 +1,9 @@
 #pragma once
 /// Selection over the states of a changing scene (issue 9; the states themselves are
 /// scene_states.hpp). The same candidates observe every state; selection maximises the mean or
-/// the worst case of the per-state coverage. Each state has its own reference set R_s and its own
-/// visibility matrix; the matrices simply stack (docs/scene-format.md, States).
+/// the worst case of the per-state coverage, or the coverage of all states' cells together. Each
+/// state has its own reference set R_s and its own visibility matrix; the matrices simply stack
+/// (docs/scene-format.md, States).
 #include <cstddef>
 #include <span>
 #include <string>
@@ -13,9 +14,11 @@
 
 namespace vantage {
 
-/// What selection over states maximises (`--over-states mean|min`).
-enum class OverStates { kMean, kMin };
-/// "mean" or "min"; InputError naming `--over-states` and listing mean|min otherwise.
+/// What selection over states maximises (`--over-states mean|min|sum`): the mean of the states'
+/// coverages, the least of them, or the sum: all states' cells counted together,
+/// Σ_s covered_s / Σ_s |R_s| (the mean weighted by |R_s|: a larger state weighs more).
+enum class OverStates { kMean, kMin, kSum };
+/// "mean", "min" or "sum"; InputError naming `--over-states` and listing them otherwise.
 OverStates ParseOverStates(const std::string& name);
 std::string OverStatesName(OverStates over);
 
@@ -30,7 +33,7 @@ struct StateObservations {
 
 /// A selection scored over states.
 struct StateSelection {
-  /// coverage = the aggregate (mean or min over states) of |∪O_s ∩ R_s| / |R_s|;
+  /// coverage = the aggregate (mean, min or sum over states) of |∪O_s ∩ R_s| / |R_s|;
   /// paper_coverage = the same aggregate of each state's |∪O_s| / |R_s| (keys outside R_s
   /// included); objective = "coverage".
   Selection selection;

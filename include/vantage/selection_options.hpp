@@ -156,8 +156,8 @@ inline constexpr std::array<SelectionOption, 14> kSelectionOptions = {{
      "ceil(D * F²)",
      &SelectionRequest::min_density, {}, true},
     {"--over-states", "--over-states", "over_states", "over_states", "over_states",
-     "a scene with states: maximise the mean or the worst (min) coverage over them (default "
-     "mean)",
+     "a scene with states: maximise the mean or the worst (min) coverage over them, or the "
+     "coverage of all their cells together (sum: a larger state weighs more) (default mean)",
      &SelectionRequest::over_states, {}},
     {"--over-parts", "--over-parts", "over_parts", "over_parts", "over_parts",
      "objective: maximise the mean or the worst (min) of the target parts' coverages, each part "

@@ -40,6 +40,12 @@ SelectOptions ResolveSelection(const SelectionSettings& settings, const Selectio
                                double cell_size) {
   // The request over the scene's settings, each option copied into its field by its row.
   const SelectionRequest given = RequestOverScene(request, settings);
+  // The parts partition R: their cells counted together are R's, and their sum its coverage.
+  if (request.over_parts == OverStates::kSum)
+    throw InputError(AtPlace("--over-parts", 0,
+                             "sum counts every part's cells together, which is the coverage of "
+                             "all cells (the default objective) — drop --over-parts, or give "
+                             "mean or min"));
   SelectOptions options;
   options.method = default_method;
   options.seed = seed;

@@ -531,13 +531,13 @@ template std::vector<uint32_t> ConstrainedRansac(const StatesScorer&,
 
 namespace {
 
-// How the model values a scorer's cells: one state's, or the mean or min over the states.
+// How the model values a scorer's cells: one state's, or its aggregate over the states.
 template <MethodScorer Scorer>
 ModelValue ValueOf(const Scorer& scorer) {
   if constexpr (Scorer::kCells) {
     return ModelValue::kCells;
   } else {
-    return scorer.over() == OverStates::kMin ? ModelValue::kMin : ModelValue::kMean;
+    return ValueOver(scorer.over());
   }
 }
 

@@ -73,7 +73,7 @@ enum class Kind {
   kThreshold,    // cells, n sensors, k >= 2 or point counts
   kBudget,       // cells within a budget
   kRules,        // cells under rules or with kept sensors (n or a budget)
-  kStates,       // the mean or min over states, n sensors, k = 1, no rules or kept sensors
+  kStates,       // an aggregate over states, n sensors, k = 1, no rules or kept sensors
   kStatesRules,  // over states with rules, kept sensors, a budget or a threshold
   kGoal,         // the least cost reaching cells
   kStatesGoal,   // the least cost reaching an aggregate over states
@@ -151,9 +151,7 @@ class Objective {
   explicit Objective(const SelectionModel& model)
       : model_(model), matrix_(*model.matrix), kind_(KindOf(model)) {
     if (model.value != ModelValue::kCells) {
-      states_.emplace(matrix_,
-                      model.value == ModelValue::kMin ? OverStates::kMin : OverStates::kMean,
-                      model.threshold);
+      states_.emplace(matrix_, OverOf(model.value), model.threshold);
     }
     most_ = MostSensors();
   }

@@ -228,18 +228,24 @@ MilpAnswer BuildAndSolve(const SelectionModel& milp, const std::vector<uint32_t>
   // CBC's objective (about cells of the largest state: its tolerances suit magnitudes >= 1).
   size_t largest = 1;
   for (size_t st = 0; st < states; ++st) largest = std::max(largest, matrix.StateReferenceSize(st));
+  // The sum counts cells, over all of R: CBC's objective and its goal row are in cells.
   const bool by_min = milp.value == ModelValue::kMin;
+  const bool by_sum = milp.value == ModelValue::kSum;
+  const auto all_cells = static_cast<double>(std::max<size_t>(matrix.reference_size(), 1));
   const double scale = milp.value == ModelValue::kCells ? 1.0
-                       : by_min ? static_cast<double>(largest)
+                       : by_min                         ? static_cast<double>(largest)
+                       : by_sum                         ? all_cells
                                 : static_cast<double>(largest) * static_cast<double>(states);
   const auto value_of = [&](int64_t c) {
     if (milp.value == ModelValue::kCells) return class_weight[c];
+    if (by_sum) return class_weight[c] / all_cells;
     const size_t st = class_state[c];
     const double unit = 1.0 / static_cast<double>(matrix.StateReferenceSize(st)) /
                         (by_min ? 1.0 : static_cast<double>(states));
     return class_weight[c] * unit;
   };
-  // Goal rows: cells (one state, or each state's for min) or the mean times `scale`.
+  // Goal rows: cells (one state, each state's for min, all states' for the sum) or the mean
+  // times `scale`.
   const auto goal_value_of = [&](int64_t c) {
     if (milp.value != ModelValue::kMean) return class_weight[c];
     return class_weight[c] * static_cast<double>(largest) /
@@ -320,7 +326,8 @@ MilpAnswer BuildAndSolve(const SelectionModel& milp, const std::vector<uint32_t>
       continue;
     }
     if (folds(c)) continue;
-    y_of[c] = model.AddColumn(0, 1, maximise && !by_min ? value_of(c) * scale : 0.0, integer_y);
+    const double objective = by_sum ? class_weight[c] : value_of(c) * scale;
+    y_of[c] = model.AddColumn(0, 1, maximise && !by_min ? objective : 0.0, integer_y);
     for (const auto& [q, points] : seers[c]) terms.emplace_back(q, -static_cast<double>(points));
     terms.emplace_back(y_of[c], static_cast<double>(threshold));
     model.AddRow(terms, -kInfinity, 0.0);
@@ -432,8 +439,9 @@ MilpAnswer BuildAndSolve(const SelectionModel& milp, const std::vector<uint32_t>
   // CBC notices its limit only between steps and overran it by up to 5 s in 60 (the 450-candidate
   // bench world): it gets kCbcTimeShare of the time, so that the whole method stays within it.
   cbc_api.cbc_set_maximum_seconds(cbc, kCbcTimeShare * time_limit);
-  if (maximise && milp.value != ModelValue::kCells) {
-    // Aggregates are fractions with no common grain worth relying on: prove to round-off only.
+  if (maximise && milp.value != ModelValue::kCells && !by_sum) {
+    // Aggregates are fractions with no common grain worth relying on: prove to round-off only
+    // (the sum's objective is whole cells).
     cbc_api.cbc_set_allowable_gap(cbc, 1e-10 * scale);
     cbc_api.cbc_set_allowable_fraction_gap(cbc, 0.0);
   } else if (maximise || !has_costs || AllWhole(milp.costs)) {

@@ -7,7 +7,8 @@
 ///   threshold   T y_c <= sum_{i sees c} min(count_ic, T) x_i   (T = 1 coverage, k seers, or
 ///                                                               min_points pixels' hits)
 ///   value       v_c = w_c cells (one state), w_c / (S |R_s|) (mean over states), w_c / |R_s|
-///               (min over states: per state s, its share sum_{c in s} v_c y_c)
+///               (min over states: per state s, its share sum_{c in s} v_c y_c), w_c / sum_s |R_s|
+///               (sum over states: every state's cells alike)
 ///   maximise    sum_c v_c y_c           (min: max t, t <= each state's share)
 ///     s.t.      sum_i r_i x_i <= capacity      (r = 1: n sensors; r = cost: a budget)
 ///   or minimise sum_i cost_i x_i (unit: the fewest sensors)

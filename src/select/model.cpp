@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "select/methods.hpp"
+#include "vantage/error.hpp"
 
 namespace vantage::detail {
 
@@ -47,6 +48,23 @@ SelectionKind KindFor(const SelectOptions& options) {
 
 bool SelectionKind::Applies(Method method) const {
   return std::find(methods.begin(), methods.end(), method) != methods.end();
+}
+
+ModelValue ValueOver(OverStates over) {
+  switch (over) {
+    case OverStates::kMean: return ModelValue::kMean;
+    case OverStates::kMin: return ModelValue::kMin;
+    case OverStates::kSum: return ModelValue::kSum;
+  }
+  VANTAGE_CHECK(false);
+  return ModelValue::kMean;
+}
+
+OverStates OverOf(ModelValue value) {
+  VANTAGE_CHECK(value != ModelValue::kCells);
+  return value == ModelValue::kMin ? OverStates::kMin
+         : value == ModelValue::kSum ? OverStates::kSum
+                                     : OverStates::kMean;
 }
 
 int Threshold(const SelectOptions& options) { return KindFor(options).threshold; }

@@ -1,11 +1,11 @@
 #pragma once
 /// The selection model: what every exact solve is asked (SYSTEM.md, Select). Cells carry weights
 /// and a threshold (seen by k sensors, or min_points pixels' hits), grouped by state and valued as
-/// one state's cells or the mean or minimum over states; candidates carry costs. The objective is
-/// the most value within a capacity (n sensors, or a budget with costs), or the least cost that
-/// reaches a goal; kept candidates are fixed, and the rules (conflicting pairs, calibration
-/// connectivity) restrict the sets. milp.hpp builds it as one MILP; exact.cpp's SolveExactModel
-/// is the one exact driver over it.
+/// one state's cells or the mean, minimum or sum over states; candidates carry costs. The
+/// objective is the most value within a capacity (n sensors, or a budget with costs), or the
+/// least cost that reaches a goal; kept candidates are fixed, and the rules (conflicting pairs,
+/// calibration connectivity) restrict the sets. milp.hpp builds it as one MILP; exact.cpp's
+/// SolveExactModel is the one exact driver over it.
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -15,13 +15,19 @@
 
 #include "select/coverage_matrix.hpp"
 #include "vantage/select.hpp"
+#include "vantage/select_states.hpp"
 
 namespace vantage::detail {
 
 class Feasibility;
 
-/// How an element's cells are valued: one state's cells, or the mean or min over states.
-enum class ModelValue { kCells, kMean, kMin };
+/// How an element's cells are valued: one state's cells, or over states the mean, the minimum, or
+/// the sum (every state's cells together, Σ covered_s / Σ |R_s|: the mean weighted by |R_s|).
+enum class ModelValue { kCells, kMean, kMin, kSum };
+
+/// The value of `over` (kMean, kMin, kSum), and the aggregate of a value over states (not kCells).
+ModelValue ValueOver(OverStates over);
+OverStates OverOf(ModelValue value);
 
 /// What kind of question `options` ask, decided once here (KindFor) and read by Validate (the
 /// methods that apply), Threshold and ModelFor (what a cell needs), the scorers (how an answer is
@@ -58,8 +64,8 @@ struct SelectionModel {
   std::span<const double> costs;
   /// Maximise within sum_i r_i x_i <= capacity (n, or the budget with `costs`).
   double capacity = 0;
-  /// Minimise cost reaching this value instead: cells (kCells), the mean (a fraction) or each
-  /// state's share (kMin).
+  /// Minimise cost reaching this value instead: cells (kCells), the mean or the sum (a fraction)
+  /// or each state's share (kMin).
   std::optional<double> goal;
   std::span<const uint32_t> fixed;     ///< kept sensors: x = 1
   const Feasibility* rules = nullptr;  ///< conflicts and connectivity, or none

@@ -384,7 +384,12 @@ double StatesLagrangianBound(const CoverageMatrix& matrix,
                              double seconds) {
   const auto begin = std::chrono::steady_clock::now();
   const size_t states = matrix.state_count();
+  // The mean weighs each state's share alike; the sum is the mean weighted by |R_s|.
   std::vector<double> multipliers(states, 1.0);
+  if (over == OverStates::kSum) {
+    for (size_t s = 0; s < states; ++s)
+      multipliers[s] = static_cast<double>(matrix.StateReferenceSize(s));
+  }
   const int rounds = over == OverStates::kMin && states > 1 ? kMinRounds : 1;
   double best = std::numeric_limits<double>::infinity();
   double rate = kStartRate;
@@ -452,8 +457,9 @@ double RowSumGoalBound(const StatesScorer& scorer, std::span<const double> costs
   // Slack below the goal: GoalReached's 1e-9 and some round-off, so the bound stays proven.
   const double target = goal - 1e-9 - 1e-12;
   double others = 0;
-  if (scorer.over() == OverStates::kMean) {
+  if (scorer.over() != OverStates::kMin) {
     const auto share = [&](const StateTally& t) {
+      if (scorer.over() == OverStates::kSum) return scorer.Fraction(t);
       double sum = 0;
       for (size_t st = 0; st < states; ++st)
         sum += static_cast<double>(t[st]) / static_cast<double>(matrix.StateReferenceSize(st));

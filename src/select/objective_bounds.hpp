@@ -93,8 +93,9 @@ size_t SetCoverLpLowerBound(const CoverageMatrix& matrix,
 
 /// A proven upper bound on the aggregate `over` (a fraction) of any n sensors over the states of
 /// the stacked `matrix`: the least CoverageLp bound, over G = 2^40, of the weights
-/// ceil(G a_s w_e / |R_s|) for the state multipliers a tried (mean: a = 1/S; min: a on the simplex,
-/// from uniform by exponentiated-gradient steps), within `seconds`; +inf when no steps fit.
+/// ceil(G a_s w_e / |R_s|) for the state multipliers a tried (mean: a = 1/S; sum: a_s = |R_s| /
+/// sum |R|; min: a on the simplex, from uniform by exponentiated-gradient steps), within
+/// `seconds`; +inf when no steps fit.
 /// `start` (n sensors) is the Polyak target.
 double StatesLagrangianBound(const CoverageMatrix& matrix,
                              OverStates over,
@@ -104,7 +105,7 @@ double StatesLagrangianBound(const CoverageMatrix& matrix,
 
 /// A proven lower bound on the cost (`costs`; empty: the count) of any set that holds `fixed`
 /// and whose aggregate over states reaches `goal`: coverage is subadditive, so the others must
-/// together bring, per state (min) or in sum (mean), what the kept sensors lack; a fractional
+/// together bring, per state (min) or in sum (mean, sum), what the kept sensors lack; a fractional
 /// knapsack over each candidate's whole row is the cheapest way to bring it.
 double RowSumGoalBound(const StatesScorer& scorer, std::span<const double> costs, double goal,
                        std::span<const uint32_t> fixed);

@@ -38,10 +38,13 @@ using detail::SecondsSince;
 OverStates ParseOverStates(const std::string& name) {
   if (name == "mean") return OverStates::kMean;
   if (name == "min") return OverStates::kMin;
-  throw InputError(fmt::format("--over-states '{}' is unknown — use mean or min", name));
+  if (name == "sum") return OverStates::kSum;
+  throw InputError(fmt::format("--over-states '{}' is unknown — use mean, min or sum", name));
 }
 
-std::string OverStatesName(OverStates over) { return over == OverStates::kMean ? "mean" : "min"; }
+std::string OverStatesName(OverStates over) {
+  return over == OverStates::kMean ? "mean" : over == OverStates::kMin ? "min" : "sum";
+}
 
 // ----- the scorer ------------------------------------------------------------------------------
 
@@ -64,10 +67,11 @@ Int Gcd(Int a, Int b) {
 StatesScorer::StatesScorer(const CoverageMatrix& matrix, OverStates over, int threshold)
     : matrix_(&matrix), over_(over), threshold_(threshold) {
   const size_t states = matrix.state_count();
-  // Common denominator L = lcm(|R_s|) when S · L fits comfortably, else fixed point 2^62.
+  // Common denominator L = lcm(|R_s|) when S · L fits comfortably, else fixed point 2^62. The
+  // sum counts cells: its unit is one cell of any state (L = 1 for all, always exact).
   constexpr Int kLimit = Int{1} << 96;
   Int lcm = 1;
-  for (size_t s = 0; s < states; ++s) {
+  for (size_t s = 0; s < states && over != OverStates::kSum; ++s) {
     const auto r = static_cast<Int>(matrix.StateReferenceSize(s));
     if (r == 0) continue;  // an empty R_s: every set covers 0 of it (unit 0)
     const Int next = lcm / Gcd(lcm, r) * r;
@@ -80,7 +84,7 @@ StatesScorer::StatesScorer(const CoverageMatrix& matrix, OverStates over, int th
   exact_ = lcm != 0;
   for (size_t s = 0; s < states; ++s) {
     const size_t r = matrix.StateReferenceSize(s);
-    unit_.push_back(exact_ && r > 0 ? lcm / static_cast<Int>(r) : 0);
+    unit_.push_back(over == OverStates::kSum ? 1 : exact_ && r > 0 ? lcm / static_cast<Int>(r) : 0);
   }
   state_of_.resize(matrix.element_count());
   for (size_t s = 0; s < states; ++s) {
@@ -148,11 +152,17 @@ StatesScorer::Score StatesScorer::ScoreOf(const Tally& cells) const {
     sum += u;
     least = s == 0 ? u : std::min(least, u);
   }
-  if (over_ == OverStates::kMean) return Score{sum, 0};
+  if (over_ != OverStates::kMin) return Score{sum, 0};
   return Score{least, sum};
 }
 
 double StatesScorer::Fraction(const Tally& cells) const {
+  if (over_ == OverStates::kSum) {  // all cells over all of R, one division
+    uint64_t covered = 0;
+    for (size_t s = 0; s < cells.size(); ++s) covered += cells[s];
+    const size_t r = matrix_->reference_size();
+    return r ? static_cast<double>(covered) / static_cast<double>(r) : 0.0;
+  }
   double sum = 0, least = 1;
   for (size_t s = 0; s < cells.size(); ++s) {
     const size_t r = matrix_->StateReferenceSize(s);
@@ -170,8 +180,21 @@ double StatesScorer::Fraction(const Tally& cells) const {
 
 namespace {
 
-double Aggregate(const std::vector<double>& values, OverStates over) {
+// The states' `values` (each a share of its R_s) aggregated as `over` asks.
+double Aggregate(const std::vector<double>& values, OverStates over,
+                 std::span<const StateObservations> states) {
   if (over == OverStates::kMin) return *std::min_element(values.begin(), values.end());
+  if (over == OverStates::kSum) {
+    // Each share is a whole number of cells over |R_s|: those cells over all of R, one division
+    // (one state: its own share).
+    double cells = 0, reference = 0;
+    for (size_t s = 0; s < values.size(); ++s) {
+      const auto r = static_cast<double>(states[s].reference_size);
+      cells += std::round(values[s] * r);
+      reference += r;
+    }
+    return values.size() == 1 ? values.front() : cells / reference;
+  }
   double sum = 0;
   for (const double v : values) sum += v;  // state order: the same every time
   return sum / static_cast<double>(values.size());
@@ -203,8 +226,8 @@ StateSelection Scored(std::span<const StateObservations> states,
   s.method = MethodName(method);
   s.n = static_cast<int>(chosen.size());
   s.chosen = std::move(chosen);
-  s.coverage = Aggregate(result.state_coverage, over);
-  s.paper_coverage = Aggregate(result.state_paper_coverage, over);
+  s.coverage = Aggregate(result.state_coverage, over, states);
+  s.paper_coverage = Aggregate(result.state_paper_coverage, over, states);
   s.seconds = seconds;
   s.objective = ObjectiveName(kind.objective);
   s.min_points = min_points;
@@ -235,9 +258,7 @@ StateSelection ScoredFor(const SelectOptions& options, std::span<const StateObse
 detail::SelectionModel StatesModel(const detail::StatesScorer& scorer,
                                    const detail::Feasibility* rules,
                                    const SelectOptions& options, size_t n) {
-  const detail::ModelValue value = scorer.over() == OverStates::kMin ? detail::ModelValue::kMin
-                                                                     : detail::ModelValue::kMean;
-  return detail::ModelFor(options, scorer.matrix(), value, n, rules);
+  return detail::ModelFor(options, scorer.matrix(), detail::ValueOver(scorer.over()), n, rules);
 }
 
 // The methods for a goal, on the goal's model (GoalModel): the least cost (with unit costs the

@@ -100,16 +100,18 @@ class StateTally {
 
 /// Selection over the states of a scene, on their stacked matrix: the fractions c_s / |R_s| of
 /// the covered cells c_s of each state s, aggregated by their mean, or by their minimum with ties
-/// broken by the mean (then, in every method, by the lower index). The fractions are compared
-/// exactly: each is a whole number of units 1 / L, L = lcm(|R_s|) (fixed point 2^-62 when L is too
-/// large), so no floating-point summation order can change a choice. With exact units the mean is
-/// a coverage with weight L / |R_s| per cell of state s, and greedy is lazy as for plain coverage.
+/// broken by the mean (then, in every method, by the lower index), or the sum Σ c_s / Σ |R_s|
+/// (every cell of every state alike: a coverage of the stacked cells, in units of one cell). The
+/// fractions are compared exactly: each is a whole number of units 1 / L, L = lcm(|R_s|) (fixed
+/// point 2^-62 when L is too large), so no floating-point summation order can change a choice.
+/// With exact units the mean is a coverage with weight L / |R_s| per cell of state s, and greedy
+/// is lazy for it and the sum as for plain coverage.
 class StatesScorer {
  public:
   __extension__ typedef __int128 Int;  // exact scores: up to S · L < 2^127
   using Tally = StateTally;
-  /// Lexicographic: primary (mean: the sum of the fractions; min: the least fraction), then
-  /// secondary (min: the sum; mean: 0), each in units.
+  /// Lexicographic: primary (mean: the sum of the fractions; min: the least fraction; sum: the
+  /// cells), then secondary (min: the sum of the fractions; mean, sum: 0), each in units.
   struct Score {
     Int primary = 0;
     Int secondary = 0;
@@ -131,7 +133,7 @@ class StatesScorer {
   const CoverageMatrix& matrix() const { return *matrix_; }
   OverStates over() const { return over_; }
   int k() const { return threshold_; }
-  bool lazy() const { return over_ == OverStates::kMean && exact_; }
+  bool lazy() const { return over_ != OverStates::kMin && exact_; }
   Tally Zero() const { return StateTally(matrix_->state_count()); }
   void AddElement(uint32_t element, Tally* tally) const {
     (*tally)[state_of_[element]] += matrix_->Weight(element);

@@ -15,6 +15,7 @@ from vis_format import read_vis
 ARM_WRIST = ROOT / "examples" / "scenes" / "arm_wrist_camera.yaml"
 ARM_TRACK = ROOT / "examples" / "scenes" / "arm_track_hand.yaml"
 DEEP_BIN = ROOT / "examples" / "scenes" / "deep_bin.yaml"
+STATES = ROOT / "examples" / "scenes" / "bin_picking_states.yaml"
 QUICK = (["-n", 2, "--method", "greedy"], {"n": 2, "method": "greedy"})
 
 # (id, scene, CLI flags, keywords): each run once by the CLI and once by vantage.optimize.
@@ -32,6 +33,7 @@ CASES = [
      {"pose_tolerance": (0.02, 2), "pose_samples": 6}),
     ("by_type", EXAMPLE, ["--by-type"], {"by_type": True}),
     ("over_parts", DEEP_BIN, ["--over-parts", "min"], {"over_parts": "min"}),
+    ("over_states_sum", STATES, ["--over-states", "sum"], {"over_states": "sum"}),
     ("max_seconds", EXAMPLE, ["--max-seconds", 3600], {"max_seconds": 3600}),
     ("cycle_time", ARM_WRIST, ["--cycle-time", 6, "--joint-speed", 2, "--frames", 2,
                                "--motion-resolution", 0.02, "--plan-time", 1],
@@ -187,6 +189,7 @@ REFUSALS = [
     ({"cycle_time": 5}, ["--cycle-time", 5], "--cycle-time: "),
     ({"pose_tolerance": (2, 1)}, ["--pose-tolerance", "2,1"], "--pose-tolerance"),
     ({"max_seconds": -1}, ["--max-seconds", -1], "--max-seconds"),
+    ({"over_parts": "sum"}, ["--over-parts", "sum"], "--over-parts: "),
 ]
 
 
