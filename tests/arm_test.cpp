@@ -754,7 +754,11 @@ populations:
 )" + states,
           "--track", "--track: no candidate is on an arm");
   refused(arm, "--move-penalty 0.1", "--move-penalty: only --track");
-  refused(arm, "--track --state-interval -1", "--state-interval: -1 is not");
+  refused(arm, "--track --state-interval -1",
+          "--state-interval: -1 is not a number of seconds in (0, 1e6]");
+  // 1e300 was refused as "not a positive number of seconds".
+  refused(arm, "--track --state-interval 1e300",
+          "--state-interval: 1e+300 is not a number of seconds in (0, 1e6]");
   const std::string with_states = std::string(R"(objects:
   - {name: part, role: target, pose: {xyz: [0, 0, -2]}, box: {size: [0.1, 0.1, 0.1]}}
   - {name: box, box: {size: [0.1, 0.1, 0.1]}, pose: {xyz: [3, 0, 0]}}

@@ -64,8 +64,8 @@ void ArmTourOptions::Validate() const {
   if (state_interval && !(std::isfinite(*state_interval) && *state_interval > 0 &&
                           *state_interval <= 1e6))
     throw InputError(AtPlace("--state-interval", 0,
-                             fmt::format("{} is not a positive number of seconds — give e.g. "
-                                         "--state-interval 2",
+                             fmt::format("{} is not a number of seconds in (0, 1e6] — give "
+                                         "e.g. --state-interval 2",
                                          *state_interval)));
   if (track && cycle_time)
     throw InputError(AtPlace("--track", 0,
