@@ -883,6 +883,13 @@ TEST_F(BadInput, CommandLineOptions) {
        "--cell-size", "makes a reference R of about 6e+10 cells"},
       {"scene_cell_size_too_fine_for_memory", "optimize " + fine + " --max-memory 16000",
        fine + ": a cell size of 1e-05 m (the scene's cell_size)", "makes a reference R"},
+      // Session 33: a million candidates' visibility lists over a small R were blamed on the
+      // cell size ("a cell size of 0.01 m makes a reference R of about 1.3e+03 cells ... use a
+      // larger cell_size"); the candidates come first now.
+      {"many_candidates_for_memory",
+       "optimize " + Write("many.yaml", CubeCellWith("count: 10", "count: 1000000")) +
+           " --max-memory 2000",
+       "many.yaml: this run needs about", "— use fewer candidates, lower resolutions"},
       {"negative_threads", "--threads -3 optimize " + scene, "--threads:",
        "-3 is negative — give a whole number from 0 to 4096"},
       {"negative_threads_after", "optimize " + scene + " --threads -3", "--threads:",

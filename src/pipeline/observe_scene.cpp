@@ -262,8 +262,13 @@ void CheckReferenceMemory(const PreparedScene& prepared, double limit_mib) {
   spdlog::debug("reference estimate: about {:.3g} cells, {:.0f} MiB with them", cells,
                 with_r / kMiB);
   if (total / kMiB <= limit_mib) return;
-  if (with_r < others) {
-    CheckMemory(later, limit_mib, problem.source);  // the images dominate: the general message
+  // The images dominate, or the candidates' visibility lists do (a population's count of 10^6
+  // was blamed on the cell size): the general message, which names the candidates first.
+  const double per_candidate = static_cast<double>(later.observations + later.selection);
+  const bool lists_dominate = per_candidate > (8.0 + 64.0) * cells &&
+                              static_cast<double>(later.Total()) / kMiB > limit_mib;
+  if (with_r < others || lists_dominate) {
+    CheckMemory(later, limit_mib, problem.source);
     return;
   }
   const bool from_option = prepared.cell_size_from_option;
