@@ -886,6 +886,10 @@ TEST_F(BadInput, CommandLineOptions) {
       // Session 33: a million candidates' visibility lists over a small R were blamed on the
       // cell size ("a cell size of 0.01 m makes a reference R of about 1.3e+03 cells ... use a
       // larger cell_size"); the candidates come first now.
+      {"tiny_fps_in_file",
+       "optimize " + Write("tiny_fps.yaml", CubeCellWith("range: [0.1, 3.0]",
+                                                        "range: [0.1, 3.0]\n    fps: 1e-300")),
+       "tiny_fps.yaml:", "fps = 1e-300 must be a frame rate from 1e-06 to 1e+06 Hz"},
       {"many_candidates_for_memory",
        "optimize " + Write("many.yaml", CubeCellWith("count: 10", "count: 1000000")) +
            " --max-memory 2000",
@@ -1167,6 +1171,9 @@ TEST_F(BadInput, VisibilityFiles) {
   const std::string cell_huge = cell("cell_huge", 1e300);
   const std::string nan_fps = changed(
       "nan_fps", [&](VisibilityFile* f) { f->candidates[1].sensor.fps = nan; });
+  // Session 33: 1e-300 Hz made an arm's tour wait 10^300 s at each view.
+  const std::string tiny_fps = changed(
+      "tiny_fps", [&](VisibilityFile* f) { f->candidates[1].sensor.fps = 1e-300; });
   const std::string stored_k =
       changed("stored_k", [](VisibilityFile* f) { f->selection.k = 99; });
   // Issue 15: an unknown method stored in the file named neither the file nor the field. The
@@ -1206,6 +1213,8 @@ TEST_F(BadInput, VisibilityFiles) {
       {"vis_huge_cell_size", "select " + cell_huge, cell_huge + ":",
        "cell_size = 1e+300 m is larger than the world vantage ray casts"},
       {"vis_nan_fps", "select " + nan_fps, nan_fps + ": " + candidate, "fps = nan must be"},
+      {"vis_tiny_fps", "select " + tiny_fps, tiny_fps + ": " + candidate,
+       "fps = 1e-300 must be a frame rate from 1e-06 to 1e+06 Hz (0: not given)"},
       {"vis_stored_settings", "select " + stored_k,
        stored_k + " (settings stored from " + data.scene + "):", "n = 2 is below k = 99"},
   });

@@ -329,8 +329,9 @@ void SensorType::Validate(const std::string& where) const {
     }
   }
   if (!std::isfinite(cost) || cost < 0) fail(fmt::format("cost = {} must be >= 0", cost));
-  if (!std::isfinite(fps) || fps < 0)
-    fail(fmt::format("fps = {} must be a frame rate >= 0 (0: not given)", fps));
+  // An arm's tour waits frames / fps at each view: 1e-300 Hz made tours of 10^300 s.
+  if (!(fps == 0 || (fps >= 1e-6 && fps <= 1e6)))
+    fail(fmt::format("fps = {} must be a frame rate from 1e-06 to 1e+06 Hz (0: not given)", fps));
   if (second_aperture) {
     const std::string problem = SecondApertureProblem(*this, *second_aperture);
     if (!problem.empty()) fail("second_aperture: " + problem);
