@@ -371,10 +371,12 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
           *first.min_points, *first.min_points / face_cm2, face_cm2);
     }
   }
-  // The objectives the selection options' table describes itself (a row with a summary line).
+  // The objectives the selection options' table describes itself (a row with a summary line);
+  // over states, groups of cells are every state's, and the states' line says so.
   if (report.inputs) {
     for (const SelectionOption& option : SelectionOptionTable())
-      if (option.summary && option.GivenIn(report.inputs->selection))
+      if (option.summary && option.GivenIn(report.inputs->selection) &&
+          !(report.states && option.aggregates_groups))
         fmt::print("objective        {}\n", option.summary(report.inputs->selection));
   }
   if (data.quality.active()) {
@@ -398,13 +400,19 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
   if (report.states && !report.track) {
     std::vector<std::string> names;
     for (const StatesInfo::State& state : report.states->states) names.push_back(state.name);
-    fmt::print(
-        "states           {} over {} states ({}): coverages below are the {} of the states' "
-        "coverages, listed after each\n",
-        report.states->over, names.size(), elided(names, ", "),
-        report.states->over == "min"   ? "worst"
-        : report.states->over == "sum" ? "cell-weighted mean (all their cells together)"
-                                       : "mean");
+    const std::string& over = report.states->over;
+    const std::string aggregate = over == "min"   ? "worst"
+                                  : over == "sum" ? "cell-weighted mean (all their cells together)"
+                                                  : "mean";
+    // --over-parts: one aggregation over every state's target parts.
+    const std::string what =
+        report.inputs && report.inputs->selection.over_parts
+            ? fmt::format("the {} of every state's target parts' coverages, each state's coverage",
+                          aggregate)
+            : fmt::format("the {} of the states' coverages", aggregate);
+    fmt::print("states           {} over {} states ({}): coverages below are {}, listed after "
+               "each\n",
+               over, names.size(), elided(names, ", "), what);
     fmt::print("                 (reference and best single above: state '{}')\n", names.front());
   }
   // One line per method at its largest n: the constellation it recommends.

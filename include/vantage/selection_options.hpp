@@ -99,7 +99,8 @@ struct SelectionOption {
   std::string (*summary)(const SelectionRequest& request) = nullptr;
   /// An objective whose coverage aggregates groups of R's cells (as selection over states does):
   /// its report leaves out what re-counts all cells as one set (Report::CountsGroups), and
-  /// optimize refuses it beside the scene's states, --refine, --by-type and an arm's tour.
+  /// optimize refuses it beside --refine, --by-type and an arm's tour (beside the scene's
+  /// states it aggregates every state's groups).
   bool aggregates_groups = false;
 
   /// Whether `request` gives this option (a value, or the flag set).
@@ -161,7 +162,8 @@ inline constexpr std::array<SelectionOption, 14> kSelectionOptions = {{
      &SelectionRequest::over_states, {}},
     {"--over-parts", "--over-parts", "over_parts", "over_parts", "over_parts",
      "objective: maximise the mean or the worst (min) of the target parts' coverages, each part "
-     "alike (not with states, --refine, --by-type or an arm's tour)",
+     "alike (with states: of every state's parts, as --over-states if given, which must match; "
+     "not with --refine, --by-type or an arm's tour)",
      &SelectionRequest::over_parts,
      {},
      false,

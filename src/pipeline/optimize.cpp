@@ -104,12 +104,24 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
     throw InputError(AtPlace("--over-states", 0,
                              "the scene has no states — add a `states:` list "
                              "(docs/scene-format.md) or drop --over-states"));
+  const std::optional<OverStates>& over_parts = options.selection.over_parts;
+  const std::optional<OverStates>& over_states = options.selection.over_states;
+  if (has_states && over_parts && over_states && *over_parts != *over_states)
+    // Two aggregations (the mean over states of the worst part) are a two-level objective.
+    throw InputError(AtPlace(
+        "--over-parts", 0,
+        fmt::format("{} with --over-states {} is a two-level objective (the {} over the states "
+                    "of the {} over each state's parts), which selection does not take — give "
+                    "both mean or both min (one aggregation over every state's parts), or drop "
+                    "one",
+                    OverStatesName(*over_parts), OverStatesName(*over_states),
+                    OverStatesName(*over_states), OverStatesName(*over_parts))));
   for (const SelectionOption& option : SelectionOptionTable()) {
-    // An objective over groups of cells (aggregates_groups): not beside the scene's own groups
-    // (its states), nor with what chooses or re-scores by the coverage of all cells together.
+    // An objective over groups of cells (aggregates_groups): beside the scene's states it runs
+    // over every state's groups; not with what chooses or re-scores by the coverage of all
+    // cells together.
     if (!option.aggregates_groups || !option.GivenIn(options.selection)) continue;
-    const char* conflict = has_states              ? "the scene's states"
-                           : options.refine         ? "--refine"
+    const char* conflict = options.refine           ? "--refine"
                            : options.by_type        ? "--by-type"
                            : options.arm.cycle_time ? "--cycle-time"
                            : options.arm.track      ? "--track"

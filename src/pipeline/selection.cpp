@@ -215,14 +215,17 @@ namespace {
 // cells of R, renumbered in key order, are group p's R, and each candidate's observations
 // (points included) are restricted to them. A part without cells in R (--exposed-only can leave
 // one none) is no group. Keys outside R belong to no part: a group's paper coverage is its
-// coverage.
+// coverage. A scene with states adds every state's parts ("state/part"): one aggregation over
+// every (state, part) group.
 struct PartGroups {
   std::vector<std::vector<Observation>> observations;  // per group, per candidate
-  std::vector<StateObservations> groups;
+  std::vector<std::string> names;
+  std::vector<size_t> sizes;              // cells of each group's R
+  std::vector<StateObservations> groups;  // views of the above, made once all are added
 };
 
-PartGroups GroupsByPart(const VisibilityFile& data) {
-  const Reference& reference = data.reference;
+void AddPartGroups(const Reference& reference, std::span<const Observation> observations,
+                   const std::string& prefix, PartGroups* parts) {
   if (reference.part_of.size() != reference.size())
     throw InputError(AtPlace("--over-parts", 0,
                              "the visibility matrix records no target part per cell (a .vis file "
@@ -233,9 +236,9 @@ PartGroups GroupsByPart(const VisibilityFile& data) {
   for (size_t cell = 0; cell < reference.size(); ++cell)
     index_in_part[cell] = static_cast<uint32_t>(part_size[reference.part_of[cell]]++);
   std::vector<std::vector<Observation>> by_part(part_size.size(),
-                                                std::vector<Observation>(data.observations.size()));
-  for (size_t i = 0; i < data.observations.size(); ++i) {
-    const Observation& seen = data.observations[i];
+                                                std::vector<Observation>(observations.size()));
+  for (size_t i = 0; i < observations.size(); ++i) {
+    const Observation& seen = observations[i];
     for (size_t j = 0; j < seen.reference_indices.size(); ++j) {
       const uint32_t cell = seen.reference_indices[j];
       Observation& part = by_part[reference.part_of[cell]][i];
@@ -243,17 +246,17 @@ PartGroups GroupsByPart(const VisibilityFile& data) {
       if (seen.has_point_counts()) part.reference_hits.push_back(seen.reference_hits[j]);
     }
   }
-  PartGroups parts;
   for (size_t p = 0; p < part_size.size(); ++p) {
     if (part_size[p] == 0) continue;
-    parts.observations.push_back(std::move(by_part[p]));
+    parts->observations.push_back(std::move(by_part[p]));
+    parts->names.push_back(prefix + reference.part_names[p]);
+    parts->sizes.push_back(part_size[p]);
   }
-  size_t group = 0;
-  for (size_t p = 0; p < part_size.size(); ++p) {
-    if (part_size[p] == 0) continue;
-    parts.groups.push_back({reference.part_names[p], part_size[p], parts.observations[group++]});
-  }
-  return parts;
+}
+
+void MakeGroupViews(PartGroups* parts) {
+  for (size_t g = 0; g < parts->observations.size(); ++g)
+    parts->groups.push_back({parts->names[g], parts->sizes[g], parts->observations[g]});
 }
 
 }  // namespace
@@ -268,7 +271,9 @@ void SelectOnMatrix(const VisibilityFile& data, const SelectionRequest& request,
   }
   // Each part's coverage is in the report's parts table; `coverage` is their mean or minimum.
   // No curve: it would count all cells together.
-  const PartGroups parts = GroupsByPart(data);
+  PartGroups parts;
+  AddPartGroups(data.reference, data.observations, "", &parts);
+  MakeGroupViews(&parts);
   for (StateSelection& result : SelectOverStates(parts.groups, *request.over_parts, options))
     report->results.push_back(std::move(result.selection));
 }
@@ -281,11 +286,28 @@ void SelectResults(const ObservedScene& observed, const SelectionRequest& reques
     SelectOnMatrix(observed.data, request, options, report);
     return;
   }
-  const OverStates over = request.over_states.value_or(OverStates::kMean);
+  // With --over-parts the states take its aggregation (optimize refuses two different ones).
+  const OverStates over =
+      request.over_states.value_or(request.over_parts.value_or(OverStates::kMean));
   std::vector<StateObservations> states;
   for (const ObservedState& state : observed.states)
     states.push_back({state.name, state.reference.size(), state.observations});
-  for (StateSelection& result : SelectOverStates(states, over, options)) {
+  // --over-parts: one aggregation over every state's parts; each result still lists each
+  // state's own coverage.
+  PartGroups parts;
+  if (request.over_parts) {
+    for (const ObservedState& state : observed.states)
+      AddPartGroups(state.reference, state.observations, state.name + "/", &parts);
+    MakeGroupViews(&parts);
+  }
+  const std::span<const StateObservations> groups =
+      request.over_parts ? std::span<const StateObservations>(parts.groups) : states;
+  for (StateSelection& result : SelectOverStates(groups, over, options)) {
+    if (request.over_parts) {
+      result.state_coverage = ScoreChosenOverStates(states, over, result.selection.chosen, "",
+                                                    options)
+                                  .state_coverage;
+    }
     result.selection.state_coverage = std::move(result.state_coverage);
     report->results.push_back(std::move(result.selection));
   }
