@@ -1133,7 +1133,11 @@ const BadScene kBadScenes[] = {
      "catalog id"},
     {"type_unknown_base", "sensor_types:\n  - id: mine\n    base: zedd\n", 3,
      "did you mean 'zed'?"},
-    {"type_negative_cost", "sensor_types:\n  - id: mine\n    base: zed\n    cost: -5\n", 4, ">= 0"},
+    {"type_negative_cost", "sensor_types:\n  - id: mine\n    base: zed\n    cost: -5\n", 4,
+     "cost = -5 must be from 0 to 1e+12"},
+    // Session 33: 1e308 each made two sensors cost inf, and exact's cost bound 0.
+    {"type_huge_cost", "sensor_types:\n  - id: mine\n    base: zed\n    cost: 1e308\n", 4,
+     "cost = 1e+308 must be from 0 to 1e+12"},
     {"population_without_count",
      "populations:\n  - name: p\n    type: zed\n    box: {size: [1, 1, 1]}\n", 2, "has no 'count'"},
     {"population_count_zero",

@@ -64,6 +64,9 @@ const char* KindName(SecondAperture::Kind kind);
 inline constexpr double kMaxBaseline = 1.0;
 /// The largest toe-in [rad] (45 deg): beyond it the apertures would barely share a field.
 inline constexpr double kMaxToeIn = 0.7853981633974483;
+/// The largest unit cost taken: a million candidates at it still sum to a finite, exactly
+/// compared total (1e308 each made two sensors cost inf and exact's bound 0).
+inline constexpr double kMaxUnitCost = 1e12;
 
 struct SensorType {
   std::string id;          ///< catalog id or a user/model name

@@ -12,6 +12,7 @@
 #include "pipeline/common.hpp"
 #include "util/words.hpp"
 #include "vantage/error.hpp"
+#include "vantage/sensors.hpp"
 
 namespace vantage {
 namespace {
@@ -138,9 +139,9 @@ void CheckMemory(const ExternalMatrix& m) {
 
 void CheckCosts(const std::vector<double>& costs) {
   for (size_t i = 0; i < costs.size(); ++i) {
-    if (!std::isfinite(costs[i]) || costs[i] < 0)
-      throw InputError(
-          fmt::format("costs[{}]: {} is not a cost — give a finite number >= 0", i, costs[i]));
+    if (!(costs[i] >= 0 && costs[i] <= kMaxUnitCost))
+      throw InputError(fmt::format("costs[{}]: {} is not a cost — give a number from 0 to {:g}",
+                                   i, costs[i], kMaxUnitCost));
   }
 }
 

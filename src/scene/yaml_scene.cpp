@@ -895,8 +895,9 @@ void SceneReader::ReadRangeAndCost(const Fields& fields,
   }
   if (const auto v = fields.Get("cost")) {
     const auto cost = Number(*v, what + ".cost");
-    if (cost && *cost < 0) {
-      Error(v->line, fmt::format("{}.cost = {} must be >= 0 — give the unit's price", what, *cost));
+    if (cost && !(*cost >= 0 && *cost <= kMaxUnitCost)) {
+      Error(v->line, fmt::format("{}.cost = {} must be from 0 to {:g} — give the unit's price",
+                                 what, *cost, kMaxUnitCost));
     } else if (cost) {
       type->cost = *cost;
       type->cost_given = true;  // a price given here, also over a catalog entry that has none

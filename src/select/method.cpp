@@ -10,6 +10,7 @@
 #include "select/model.hpp"
 #include "vantage/error.hpp"
 #include "vantage/select.hpp"
+#include "vantage/sensors.hpp"
 
 namespace vantage {
 namespace {
@@ -58,8 +59,9 @@ void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
                                    o.costs.size(), candidate_count));
     }
     for (const double c : o.costs) {
-      if (!(c >= 0.0) || !std::isfinite(c))
-        throw FieldError({"costs"}, fmt::format("sensor cost {} must be a number >= 0", c));
+      if (!(c >= 0.0 && c <= kMaxUnitCost))
+        throw FieldError({"costs"},
+                         fmt::format("sensor cost {} must be from 0 to {:g}", c, kMaxUnitCost));
     }
   }
   if (o.budget) {
@@ -72,8 +74,9 @@ void ValidateObjective(const SelectOptions& o, size_t candidate_count) {
     }
     double cheapest = std::numeric_limits<double>::infinity();
     for (const double c : o.costs) {
-      if (!(c >= 0.0) || !std::isfinite(c))
-        throw FieldError({"costs"}, fmt::format("sensor cost {} must be a number >= 0", c));
+      if (!(c >= 0.0 && c <= kMaxUnitCost))
+        throw FieldError({"costs"},
+                         fmt::format("sensor cost {} must be from 0 to {:g}", c, kMaxUnitCost));
       cheapest = std::min(cheapest, c);
     }
     if (*o.budget < cheapest) {

@@ -328,7 +328,8 @@ void SensorType::Validate(const std::string& where) const {
       }
     }
   }
-  if (!std::isfinite(cost) || cost < 0) fail(fmt::format("cost = {} must be >= 0", cost));
+  if (!(cost >= 0 && cost <= kMaxUnitCost))
+    fail(fmt::format("cost = {} must be from 0 to {:g}", cost, kMaxUnitCost));
   // An arm's tour waits frames / fps at each view: 1e-300 Hz made tours of 10^300 s.
   if (!(fps == 0 || (fps >= 1e-6 && fps <= 1e6)))
     fail(fmt::format("fps = {} must be a frame rate from 1e-06 to 1e+06 Hz (0: not given)", fps));

@@ -233,6 +233,8 @@ def duplicated():
     (dict(csr=SMALL, names="ab"), TypeError, "names: give a list of names"),
     (dict(csr=SMALL, names=["a", 2]), TypeError, "names[1]: give a str"),
     (dict(csr=SMALL, costs=[1.0, math.nan]), vantage.InputError, "costs[1]: nan is not a cost"),
+    (dict(csr=SMALL, costs=[1.0, 1e308]), vantage.InputError,
+     "costs[1]: 1e+308 is not a cost — give a number from 0 to 1e+12"),
     (dict(csr=SMALL, costs=[1.0, -2]), vantage.InputError, "costs[1]: -2"),
     (dict(csr=SMALL, costs=np.array([math.inf, 1.0])), vantage.InputError, "costs[0]: inf"),
     (dict(csr=SMALL, costs=[1.0, 1.0, 1.0]), vantage.InputError, "costs: 3 costs for 2 rows"),
