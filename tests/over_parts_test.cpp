@@ -105,6 +105,39 @@ TEST(OverParts, ExactIsTheEnumeratedOptimumAndTheOthersAreScoredAsTheyChose) {
   }
 }
 
+// The calibration rule joins two sensors by the cells of R they both see, whatever part those lie
+// in: it counted only the first part's cells (the first group's matrix). Parts {0, 1} and
+// {2, 3}; A sees 0 and 2, B sees 2 and 3, C sees 1. With one common cell joining, only A and B
+// are joined (cell 2, in part 1), so the one pair allowed is {A, B}: worst part 1/2.
+TEST(OverParts, TheCalibrationRuleCountsCommonCellsOfEveryPart) {
+  VisibilityFile data;
+  data.reference.keys = {0, 1, 2, 3};
+  data.reference.part_of = {0, 0, 1, 1};
+  data.reference.part_names = {"left", "right"};
+  data.observations.resize(3);
+  data.observations[0].reference_indices = {0, 2};
+  data.observations[1].reference_indices = {2, 3};
+  data.observations[2].reference_indices = {1};
+  SelectionRequest request;
+  request.over_parts = OverStates::kMin;
+  for (const Method method : {Method::kExact, Method::kGreedy, Method::kLocal}) {
+    SCOPED_TRACE(MethodName(method));
+    SelectOptions options;
+    options.n = 2;
+    options.method = method;
+    options.time_limit = 20;
+    options.constraints.calibration = CalibrationRule{.min_cells = 1};
+    Report report;
+    detail::SelectOnMatrix(data, request, options, &report);
+    ASSERT_FALSE(report.results.empty());
+    const Selection& s = report.results.back();
+    std::vector<uint32_t> chosen = s.chosen;
+    std::sort(chosen.begin(), chosen.end());
+    EXPECT_EQ(chosen, (std::vector<uint32_t>{0, 1}));
+    EXPECT_DOUBLE_EQ(s.coverage, 0.5);
+  }
+}
+
 TEST(OverParts, AMatrixWithoutPartsIsRefused) {
   VisibilityFile data = RandomMatrix(1, 4, 8, 2);
   data.reference.part_of.clear();

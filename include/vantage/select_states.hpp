@@ -62,9 +62,13 @@ struct StateSelection {
 /// InputError for a goal above what all candidates (or, under constraints, any feasible set)
 /// reach; for no state, states with different candidate counts, an empty R_s, or indices beyond R_s;
 /// and for what SelectOptions::Validate rejects.
+/// `calibration_cells`: the observations in whose common cells two sensors join under a
+/// calibration rule (options.constraints); empty: the first state's (the cell as installed).
+/// Groups that split one R (--over-parts) give the whole R's.
 std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> states,
                                              OverStates over,
-                                             const SelectOptions& options);
+                                             const SelectOptions& options,
+                                             std::span<const Observation> calibration_cells = {});
 
 /// `chosen` named `method`, scored over the states as SelectOverStates scores its answers (the
 /// aggregate, each state's coverage in state_coverage, the objective's fields); seconds 0, no

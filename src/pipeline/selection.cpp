@@ -274,7 +274,9 @@ void SelectOnMatrix(const VisibilityFile& data, const SelectionRequest& request,
   PartGroups parts;
   AddPartGroups(data.reference, data.observations, "", &parts);
   MakeGroupViews(&parts);
-  for (StateSelection& result : SelectOverStates(parts.groups, *request.over_parts, options))
+  // The calibration graph joins sensors by their common cells of all of R, not of one part.
+  for (StateSelection& result :
+       SelectOverStates(parts.groups, *request.over_parts, options, data.observations))
     report->results.push_back(std::move(result.selection));
 }
 
@@ -302,7 +304,9 @@ void SelectResults(const ObservedScene& observed, const SelectionRequest& reques
   }
   const std::span<const StateObservations> groups =
       request.over_parts ? std::span<const StateObservations>(parts.groups) : states;
-  for (StateSelection& result : SelectOverStates(groups, over, options)) {
+  // The calibration graph is the first state's, over all its cells (not its first part's).
+  for (StateSelection& result :
+       SelectOverStates(groups, over, options, observed.states.front().observations)) {
     if (request.over_parts) {
       result.state_coverage = ScoreChosenOverStates(states, over, result.selection.chosen, "",
                                                     options)

@@ -612,7 +612,8 @@ class StatesRun final : public detail::MethodSteps<StateSelection> {
 
 std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> states,
                                              OverStates over,
-                                             const SelectOptions& options) {
+                                             const SelectOptions& options,
+                                             std::span<const Observation> calibration_cells) {
   Validate(states, options);
   const Clock::time_point start = Clock::now();
   const detail::CoverageMatrix matrix = StatesMatrix(states, options);
@@ -623,9 +624,11 @@ std::vector<StateSelection> SelectOverStates(std::span<const StateObservations> 
 
   // Every objective but a goal runs the methods on the states' model (ConstrainedMethods over
   // the StatesScorer): under the installation rules (the calibration overlap graph is the first
-  // state's), from the kept sensors (their x fixed at 1 in the MILP), counted k times or in
-  // points; with none of these, the plain methods.
-  const detail::Feasibility feasible(states.front().observations, options.constraints);
+  // state's, or `calibration_cells`), from the kept sensors (their x fixed at 1 in the MILP),
+  // counted k times or in points; with none of these, the plain methods.
+  const detail::Feasibility feasible(
+      calibration_cells.empty() ? states.front().observations : calibration_cells,
+      options.constraints);
   const std::vector<uint32_t> kept_start = detail::KeptStart(feasible, options);
   if (options.goal)
     return GoalOverStates(states, over, options, scorer, feasible, kept_start, start);
