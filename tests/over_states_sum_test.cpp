@@ -25,72 +25,14 @@
 namespace vantage {
 namespace {
 
-std::vector<Observation> RandomInstance(uint64_t seed, size_t candidates, size_t cells, double p,
-                                        bool with_hits) {
-  Rng rng(seed, Stream::kTest, 0);
-  std::vector<Observation> obs(candidates);
-  for (Observation& o : obs) {
-    for (uint32_t c = 0; c < cells; ++c) {
-      if (rng.Uniform01() >= p) continue;
-      o.reference_indices.push_back(c);
-      if (with_hits) o.reference_hits.push_back(static_cast<uint16_t>(1 + rng.Below(3)));
-    }
-  }
-  return obs;
-}
-
-struct RandomStates {
-  std::vector<std::vector<Observation>> observed;
-  std::vector<size_t> sizes;
-  std::vector<StateObservations> states;
-};
-
-// State s has sizes[s] cells, its candidates drawn by RandomInstance(seed + s, ...).
-RandomStates MakeStates(uint64_t seed, std::vector<size_t> sizes, size_t candidates, double p,
-                        bool with_hits) {
-  RandomStates random;
-  random.sizes = std::move(sizes);
-  for (size_t s = 0; s < random.sizes.size(); ++s)
-    random.observed.push_back(RandomInstance(seed + s, candidates, random.sizes[s], p, with_hits));
-  for (size_t s = 0; s < random.sizes.size(); ++s)
-    random.states.push_back({"s" + std::to_string(s), random.sizes[s], random.observed[s]});
-  return random;
-}
-
-// Cells of R that `mask` brings to `threshold` (seers, or with `points` the summed hits).
-size_t Counted(const std::vector<Observation>& obs, uint32_t mask, uint32_t threshold,
-               bool points) {
-  std::map<uint32_t, uint32_t> sum;
-  for (uint32_t i = 0; i < obs.size(); ++i) {
-    if (!(mask >> i & 1)) continue;
-    for (size_t j = 0; j < obs[i].reference_indices.size(); ++j)
-      sum[obs[i].reference_indices[j]] += points ? obs[i].reference_hits[j] : 1;
-  }
-  return static_cast<size_t>(std::count_if(sum.begin(), sum.end(),
-                                            [&](const auto& e) { return e.second >= threshold; }));
-}
-
-uint32_t MaskOf(const std::vector<uint32_t>& chosen) {
-  uint32_t mask = 0;
-  for (const uint32_t i : chosen) mask |= 1u << i;
-  return mask;
-}
-
-std::vector<uint32_t> Members(uint32_t mask, size_t m) {
-  std::vector<uint32_t> set;
-  for (uint32_t i = 0; i < m; ++i)
-    if (mask >> i & 1) set.push_back(i);
-  return set;
-}
-
-int Size(uint32_t mask) { return __builtin_popcount(mask); }
-
-double CostOf(const std::vector<double>& costs, uint32_t mask) {
-  double total = 0;
-  for (uint32_t i = 0; i < costs.size(); ++i)
-    if (mask >> i & 1) total += costs[i];
-  return total;
-}
+using test::CostOf;
+using test::Counted;
+using test::MakeStates;
+using test::MaskOf;
+using test::Members;
+using test::RandomInstance;
+using test::RandomStates;
+using test::Size;
 
 // What each trial asks beside the sum.
 enum class Ask { kPlain, kK2, kPoints, kConflictsKept, kCalibration, kBudget, kGoal, kCheapest,

@@ -22,60 +22,21 @@
 namespace vantage {
 namespace {
 
-std::vector<Observation> RandomInstance(uint64_t seed, size_t candidates, size_t cells, double p,
-                                        bool with_hits) {
-  Rng rng(seed, Stream::kTest, 0);
-  std::vector<Observation> obs(candidates);
-  for (Observation& o : obs) {
-    for (uint32_t c = 0; c < cells; ++c) {
-      if (rng.Uniform01() >= p) continue;
-      o.reference_indices.push_back(c);
-      if (with_hits) o.reference_hits.push_back(static_cast<uint16_t>(1 + rng.Below(3)));
-    }
-  }
-  return obs;
-}
+using test::CostOf;
+using test::Counted;
+using test::MaskOf;
+using test::RandomInstance;
+using test::RandomStates;
+using test::Size;
 
 // Random scene states: state s has first_size + size_step·s cells and its candidates drawn by
-// RandomInstance(seed + s, ...); `states` views `observed` (moving the struct keeps the buffers).
-struct RandomStates {
-  std::vector<std::vector<Observation>> observed;
-  std::vector<size_t> sizes;
-  std::vector<StateObservations> states;
-};
-
+// RandomInstance(seed + s, ...).
 RandomStates MakeRandomStates(uint64_t seed, size_t state_count, size_t candidates,
                               size_t first_size, size_t size_step, double p, bool with_hits) {
-  RandomStates random;
-  for (size_t s = 0; s < state_count; ++s) {
-    random.sizes.push_back(first_size + size_step * s);
-    random.observed.push_back(RandomInstance(seed + s, candidates, random.sizes.back(), p, with_hits));
-  }
-  for (size_t s = 0; s < state_count; ++s)
-    random.states.push_back({"s" + std::to_string(s), random.sizes[s], random.observed[s]});
-  return random;
+  std::vector<size_t> sizes;
+  for (size_t s = 0; s < state_count; ++s) sizes.push_back(first_size + size_step * s);
+  return test::MakeStates(seed, std::move(sizes), candidates, p, with_hits);
 }
-
-// Cells of R that `mask` brings to `threshold` (seers, or with `points` the summed hits).
-size_t Counted(const std::vector<Observation>& obs, uint32_t mask, uint32_t threshold,
-               bool points) {
-  std::map<uint32_t, uint32_t> sum;
-  for (uint32_t i = 0; i < obs.size(); ++i) {
-    if (!(mask >> i & 1)) continue;
-    for (size_t j = 0; j < obs[i].reference_indices.size(); ++j)
-      sum[obs[i].reference_indices[j]] += points ? obs[i].reference_hits[j] : 1;
-  }
-  return static_cast<size_t>(std::count_if(sum.begin(), sum.end(),
-                                            [&](const auto& e) { return e.second >= threshold; }));
-}
-
-uint32_t MaskOf(const std::vector<uint32_t>& chosen) {
-  uint32_t mask = 0;
-  for (const uint32_t i : chosen) mask |= 1u << i;
-  return mask;
-}
-
-int Size(uint32_t mask) { return __builtin_popcount(mask); }
 
 // --k and --min-points with kept sensors (`--keep-existing`): the kept are fixed variables of
 // the same model, so every method adds the best it finds to them.
@@ -213,13 +174,6 @@ TEST(SelectionModel, KCoverageOverStatesMatchesEnumeration) {
   EXPECT_GT(checked, 40);
 }
 
-
-double CostOf(const std::vector<double>& costs, uint32_t mask) {
-  double total = 0;
-  for (uint32_t i = 0; i < costs.size(); ++i)
-    if (mask >> i & 1) total += costs[i];
-  return total;
-}
 
 // RANSAC for a budget and for a goal (fewest, or cheapest), with and without conflicting pairs:
 // every answer fits the budget (reaches the goal) and the pairs, is never better than the
