@@ -2002,8 +2002,14 @@ std::optional<ArmMount> SceneReader::ReadArmMount(const Value& input, const std:
     return std::nullopt;
   }
   arm.link = *link_name;
-  if (const auto v = fields.Get("mount"))
+  if (const auto v = fields.Get("mount")) {
     arm.link_from_camera = PoseOf(*v, what + ".mount").value_or(Pose{});
+    // An offset beyond what vantage ray casts put every view "out of reach" of the IK.
+    if (const std::string beyond = WorldPointProblem(arm.link_from_camera.position);
+        !beyond.empty())
+      Error(v->line, fmt::format("{}.mount: its offset {} — give the camera's place on the link",
+                                 what, beyond));
+  }
   // The movable joints between the root and the link: what can carry the camera.
   std::vector<const RobotJoint*> chain;
   for (std::string at = arm.link; at != model.root_link;) {
