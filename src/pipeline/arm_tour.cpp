@@ -91,6 +91,12 @@ std::vector<double> Speeds(const ArmSetup& arm, const ArmTourOptions& options) {
   return speeds;
 }
 
+/// A view's acquisition: its frames at the sensor's fps (none where no fps is given).
+double AcquisitionSeconds(const Candidate& view, const ArmTourOptions& options) {
+  const double fps = view.sensor.fps;
+  return fps > 0 ? options.frames / fps : 0.0;
+}
+
 /// Motion times among `views` (candidate indices, all on `arm`) and home, optimistic: the
 /// straight move's time, its collision not yet checked (LazyTour checks what a tour uses).
 TourTimes StraightTimes(const std::vector<Candidate>& candidates,
@@ -107,10 +113,8 @@ TourTimes StraightTimes(const std::vector<Candidate>& candidates,
     for (size_t b = a + 1; b <= n; ++b)
       times.motion[a][b] = times.motion[b][a] =
           MotionSeconds(configuration(a), configuration(b), speeds);
-  for (uint32_t view : views) {
-    const double fps = candidates[view].sensor.fps;
-    times.acquisition.push_back(fps > 0 ? options.frames / fps : 0.0);
-  }
+  for (uint32_t view : views)
+    times.acquisition.push_back(AcquisitionSeconds(candidates[view], options));
   return times;
 }
 
@@ -312,10 +316,6 @@ std::string ConfigurationWords(const ArmSetup& arm, const std::vector<double>& q
   return fmt::format("{}", fmt::join(words, ", "));
 }
 
-/// Before any ray: the arm's home must be free, and some view must be reachable from it (a tour
-/// starts and ends there). A straight move to any view that is free settles it; else the
-/// planner tries the kHomePlanTries nearest views. Refused when none connects and every view was
-/// tried; with more views the tour's own check after selection decides (a warning says so).
 /// --cycle-time's views: those of the first arm (its robot's, whatever their population).
 std::pair<const ArmSetup*, std::vector<uint32_t>> CycleTimeViews(
     const std::vector<Candidate>& candidates, const std::vector<ArmSetup>& arms) {
@@ -334,17 +334,16 @@ std::pair<const ArmSetup*, std::vector<uint32_t>> CycleTimeViews(
   return {arm, std::move(views)};
 }
 
-/// The quickest one-view tour under `times` (home, view k with its acquisition, home) among the
-/// views `counts` accepts: (k, seconds), or none.
-template <class Counts>
-std::optional<std::pair<size_t, double>> QuickestOneViewTour(const TourTimes& times,
+/// The quickest one-view tour (home, view k with its acquisition, home: `seconds(k)`) among the
+/// `views` views that `counts` accepts: (k, seconds), or none.
+template <class Seconds, class Counts>
+std::optional<std::pair<size_t, double>> QuickestOneViewTour(size_t views, const Seconds& seconds,
                                                              const Counts& counts) {
-  const size_t home = times.views();
   std::optional<std::pair<size_t, double>> quickest;
-  for (size_t k = 0; k < times.views(); ++k) {
+  for (size_t k = 0; k < views; ++k) {
     if (!counts(k)) continue;
-    const double seconds = times.motion[home][k] + times.acquisition[k] + times.motion[k][home];
-    if (!quickest || seconds < quickest->second) quickest = {k, seconds};
+    const double t = seconds(k);
+    if (!quickest || t < quickest->second) quickest = {k, t};
   }
   return quickest;
 }
@@ -368,13 +367,26 @@ InputError NoViewFits(const std::vector<Candidate>& candidates, const std::vecto
 void CheckCycleTimeHoldsAView(const std::vector<Candidate>& candidates,
                               const std::vector<ArmSetup>& arms, const ArmTourOptions& options) {
   const auto [arm, views] = CycleTimeViews(candidates, arms);
-  const TourTimes times = StraightTimes(candidates, views, *arm, options);
-  const auto quickest = QuickestOneViewTour(times, [](size_t) { return true; });
+  // Home and back on straight moves (MotionSeconds is symmetric): the home row only, not
+  // StraightTimes' every pair, which CycleTimeSelection builds after the rays.
+  const std::vector<double> speeds = Speeds(*arm, options);
+  const auto quickest = QuickestOneViewTour(
+      views.size(),
+      [&](size_t k) {
+        const Candidate& view = candidates[views[k]];
+        return 2 * MotionSeconds(arm->home, view.arm->joints, speeds) +
+               AcquisitionSeconds(view, options);
+      },
+      [](size_t) { return true; });
   if (quickest && *options.cycle_time < quickest->second)
     throw NoViewFits(candidates, views, *arm, *options.cycle_time,
                      "view (on straight moves at the joints' speeds)", *quickest);
 }
 
+/// Before any ray: the arm's home must be free, and some view must be reachable from it (a tour
+/// starts and ends there). A straight move to any view that is free settles it; else the
+/// planner tries the kHomePlanTries nearest views. Refused when none connects and every view was
+/// tried; with more views the tour's own check after selection decides (a warning says so).
 void CheckArmHome(const std::vector<Candidate>& candidates, const ArmSetup& arm,
                   const ArmTourOptions& options, uint64_t seed) {
   std::string pair;
@@ -511,8 +523,13 @@ Selection CycleTimeSelection(const VisibilityFile& data, const std::vector<ArmSe
   if (result.chosen.empty()) {
     // Every view that sees a target cell needs longer (its moves as checked so far, the others
     // straight: at least that long). Only views that see nothing may fit: nothing to report.
+    const size_t home = views.size();
     const auto quickest = QuickestOneViewTour(
-        times, [&](size_t k) { return !observations[k].reference_indices.empty(); });
+        views.size(),
+        [&](size_t k) {
+          return times.motion[home][k] + times.acquisition[k] + times.motion[k][home];
+        },
+        [&](size_t k) { return !observations[k].reference_indices.empty(); });
     if (!quickest)
       throw InputError(AtPlace("--cycle-time", 0,
                                fmt::format("none of the {} views on robot '{}' sees a target "
