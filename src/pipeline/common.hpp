@@ -146,6 +146,11 @@ std::optional<uint32_t> ResolveMinPoints(std::optional<int64_t> min_points,
 void CheckSelectionTime(std::span<const Observation> observations, const SelectOptions& options,
                         size_t state_count, double limit_seconds, const std::string& source);
 
+/// InputError naming the first objective over groups of cells (aggregates_groups, e.g.
+/// --over-parts) that `request` gives beside `conflict` (--refine, --cycle-time, ...: what chooses
+/// or re-scores by the coverage of all cells together); nothing when `conflict` is null.
+void RefuseGroupObjectiveBeside(const SelectionRequest& request, const char* conflict);
+
 /// Selection on one matrix (optimize without states, `select FILE`): `report`'s results and the
 /// coverage curve beside them. The one place a request's objective meets the matrix.
 void SelectOnMatrix(const VisibilityFile& data, const SelectionRequest& request,

@@ -116,22 +116,13 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
                     "one",
                     OverStatesName(*over_parts), OverStatesName(*over_states),
                     OverStatesName(*over_states), OverStatesName(*over_parts))));
-  for (const SelectionOption& option : SelectionOptionTable()) {
-    // An objective over groups of cells (aggregates_groups): beside the scene's states it runs
-    // over every state's groups; not with what chooses or re-scores by the coverage of all
-    // cells together.
-    if (!option.aggregates_groups || !option.GivenIn(options.selection)) continue;
-    const char* conflict = options.refine           ? "--refine"
-                           : options.by_type        ? "--by-type"
-                           : options.arm.cycle_time ? "--cycle-time"
-                           : options.arm.track      ? "--track"
-                                                    : nullptr;
-    if (conflict)
-      throw InputError(AtPlace(std::string(option.flag), 0,
-                               fmt::format("counts an aggregate of groups of cells, which {} does "
-                                           "not — drop one of {} and {}",
-                                           conflict, option.flag, conflict)));
-  }
+  // An objective over groups of cells: beside the scene's states it runs over every state's
+  // groups; not with what chooses or re-scores by the coverage of all cells together.
+  detail::RefuseGroupObjectiveBeside(options.selection, options.refine           ? "--refine"
+                                                        : options.by_type        ? "--by-type"
+                                                        : options.arm.cycle_time ? "--cycle-time"
+                                                        : options.arm.track      ? "--track"
+                                                                                 : nullptr);
   if (has_states && options.refine && !prepared.state_candidates.empty())
     throw InputError(AtPlace("--refine", 0,
                              "refinement over scene states whose sensors move with a robot is not "

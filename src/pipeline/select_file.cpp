@@ -122,14 +122,7 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
               : fmt::format("the scene of {} ({}) does not load from here, and the arm's tour "
                             "needs its robot and cell",
                             options.visibility_file, scene_path)));
-    for (const SelectionOption& option : SelectionOptionTable()) {
-      if (option.aggregates_groups && option.GivenIn(options.selection))
-        throw InputError(AtPlace(std::string(option.flag), 0,
-                                 fmt::format("counts an aggregate of groups of cells, which "
-                                             "--cycle-time does not — drop one of {} and "
-                                             "--cycle-time",
-                                             option.flag)));
-    }
+    detail::RefuseGroupObjectiveBeside(options.selection, "--cycle-time");
   }
   const auto select_start = std::chrono::steady_clock::now();
   MatrixSelection resolved =

@@ -261,6 +261,17 @@ void MakeGroupViews(PartGroups* parts) {
 
 }  // namespace
 
+void RefuseGroupObjectiveBeside(const SelectionRequest& request, const char* conflict) {
+  if (conflict == nullptr) return;
+  for (const SelectionOption& option : SelectionOptionTable()) {
+    if (!option.aggregates_groups || !option.GivenIn(request)) continue;
+    throw InputError(AtPlace(std::string(option.flag), 0,
+                             fmt::format("counts an aggregate of groups of cells, which {} does "
+                                         "not — drop one of {} and {}",
+                                         conflict, option.flag, conflict)));
+  }
+}
+
 void SelectOnMatrix(const VisibilityFile& data, const SelectionRequest& request,
                     const SelectOptions& options, Report* report) {
   if (!request.over_parts) {
