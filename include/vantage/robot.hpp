@@ -18,6 +18,10 @@ namespace vantage {
 /// arm moves.
 constexpr double kMinJointSpeed = 1e-6;
 constexpr double kMaxJointSpeed = 1e6;
+/// The largest joint limit, mimic offset or mimic factor taken, and a stored joint position
+/// [rad, m, or 1]: far beyond any real joint's travel, small enough that ranges, their squares
+/// and the planner's steps stay finite and resolvable.
+constexpr double kMaxJointTravel = 1e6;
 
 /// One joint of a URDF robot (urdfdom's `urdf::Joint`, converted).
 struct RobotJoint {

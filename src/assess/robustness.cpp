@@ -88,9 +88,6 @@ class CoverageWithOneMore {
   size_t base_ = 0;
 };
 
-}  // namespace
-
-namespace {
 
 double TotalCostOf(std::span<const double> costs, std::span<const uint32_t> chosen) {
   double total = 0;

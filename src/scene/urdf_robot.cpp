@@ -25,11 +25,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The largest joint limit, mimic offset or mimic factor taken [rad, m, or 1]: far beyond any
-// real joint's travel, small enough that ranges, their squares and the planner's steps stay
-// finite and resolvable.
-constexpr double kMaxJointTravel = 1e6;
-
 // ----- reading -------------------------------------------------------------------------------
 
 /// Collects urdfdom's console_bridge messages while it parses (it reports errors only there),

@@ -13,6 +13,7 @@
 #include "util/cell_size.hpp"
 #include "util/words.hpp"
 #include "vantage/error.hpp"
+#include "vantage/robot.hpp"
 #include "vantage/visibility_file.hpp"
 
 namespace vantage {
@@ -351,8 +352,8 @@ void ReadArmViews(detail::BinaryReader* r, const Corrupt& corrupt, VisibilityFil
     StoredArmView view = arms[row - 1];
     for (size_t j = 0; j < view.joint_names.size(); ++j) {
       const double q = r->F64();
-      // As the URDF's limits are (urdf_robot.cpp): within ±1e6 rad or m.
-      if (!(std::abs(q) <= 1e6))
+      // As the URDF's limits are (kMaxJointTravel).
+      if (!(std::abs(q) <= kMaxJointTravel))
         throw corrupt(fmt::format("{}: joint '{}' at {} is not a position within ±1e6 [rad or m]",
                                   where, view.joint_names[j], q));
       view.joints.push_back(q);
