@@ -1221,6 +1221,41 @@ TEST_F(ArmBadInputTest, ACycleTimeThatHoldsNoViewIsRefusedBeforeAnyRay) {
   EXPECT_FALSE(std::filesystem::exists(dir_.File("out2")));
 }
 
+// --cycle-time chooses by coverage within the tour's time only: a goal, a budget, k-coverage, a
+// point density or an installation constraint beside it were dropped without a word (session 34:
+// "--cycle-time 10 --k 2" gave the plain answer, "cycle-time n=7 78.68 %", as without --k).
+// Refused before any ray, from the command line, the scene's settings and for select FILE.
+TEST_F(ArmBadInputTest, ObjectivesBesideACycleTimeAreRefusedBeforeAnyRay) {
+  WriteText(dir_.File("arm.urdf"), SliderUrdf(R"(<box size="0.2 0.2 0.2"/>)"));
+  const std::string scene = SliderTourScene("[{x: 1.5}, {x: 1.2}]", "      home: {x: 1.0}\n");
+  WriteText(dir_.File("scene.yaml"), scene);
+  const auto refused = [&](const std::string& command, const std::string& conflict) {
+    SCOPED_TRACE(command);
+    const auto run = test::RunVantage(command + " --cycle-time 1 --out " + dir_.File("out"));
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+    EXPECT_NE(run.err.find("--cycle-time: --cycle-time chooses the views of most coverage whose "
+                           "tour fits it, which " + conflict + " does not"),
+              std::string::npos)
+        << run.err;
+    EXPECT_EQ(run.err.find("rays"), std::string::npos) << "refused after casting rays: " << run.err;
+    EXPECT_FALSE(std::filesystem::exists(dir_.File("out")));
+  };
+  const std::string optimize = "optimize " + dir_.File("scene.yaml");
+  refused(optimize + " --goal 0.5", "a coverage goal");
+  refused(optimize + " --budget 1000", "a budget");
+  refused(optimize + " --k 2 -n 2", "k-coverage");
+  refused(optimize + " --min-points 2", "a point density");
+  refused(optimize + " --calibration-overlap 1", "an installation constraint");
+  const auto observe =
+      test::RunVantage("observe " + dir_.File("scene.yaml") + " --out " + dir_.File("arm.vis"));
+  ASSERT_EQ(observe.exit_code, 0) << observe.err;
+  refused("select " + dir_.File("arm.vis") + " --k 2 -n 2", "k-coverage");
+  refused("select " + dir_.File("arm.vis") + " --goal 0.5", "a coverage goal");
+  // The scene's own goal counts as given.
+  WriteText(dir_.File("scene.yaml"), "settings: {goal: 0.5}\n" + scene);
+  refused(optimize, "a coverage goal");
+}
+
 TEST_F(ArmBadInputTest, ATourThatCannotBeConnectedWritesNothing) {
   WriteText(dir_.File("arm.urdf"), SliderUrdf(R"(<box size="0.2 0.2 0.2"/>)"));
   // Home on the right with one view; the other view on the left, where only the left target is

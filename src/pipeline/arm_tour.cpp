@@ -443,6 +443,31 @@ void CheckArmHome(const std::vector<Candidate>& candidates, const ArmSetup& arm,
 
 }  // namespace
 
+const char* ObjectiveBesideArmSelection(const SelectOptions& select,
+                                        const SelectionRequest& request) {
+  const ConstraintOptions& constraints = request.constraints;
+  return select.goal                                    ? "a coverage goal"
+         : select.budget                                ? "a budget"
+         : select.k > 1                                 ? "k-coverage"
+         : select.min_points                            ? "a point density"
+         : constraints.interference.value_or(false) || constraints.calibration_overlap ||
+                 constraints.calibration_overlap_frac
+             ? "an installation constraint"
+         : request.keep_existing ? "--keep-existing"
+                                 : nullptr;
+}
+
+void RefuseObjectiveBesideCycleTime(const SelectOptions& select,
+                                    const SelectionRequest& request) {
+  const char* conflict = ObjectiveBesideArmSelection(select, request);
+  if (conflict == nullptr) return;
+  throw InputError(AtPlace("--cycle-time", 0,
+                           fmt::format("--cycle-time chooses the views of most coverage whose "
+                                       "tour fits it, which {} does not — drop one of "
+                                       "--cycle-time and {}",
+                                       conflict, conflict)));
+}
+
 void CheckArmTourInputs(const std::vector<Candidate>& candidates,
                         const std::vector<ArmSetup>& arms, const ArmTourOptions& options,
                         uint64_t seed) {

@@ -203,6 +203,15 @@ void FinishRun(const Scene& scene, std::map<std::string, std::string> extra, Run
 void CheckArmTourInputs(const std::vector<Candidate>& candidates,
                         const std::vector<ArmSetup>& arms, const ArmTourOptions& options,
                         uint64_t seed);
+/// What --track and --cycle-time (each one criterion of its own: one view per state, the most
+/// coverage within a tour time) would leave unmet: the first objective or constraint that
+/// `select` (the scene's settings included) or `request` gives — "a coverage goal", "a budget",
+/// "k-coverage", "a point density", "an installation constraint", "--keep-existing"; null when
+/// none. Both refuse it before any ray, where --cycle-time had answered without it.
+const char* ObjectiveBesideArmSelection(const SelectOptions& select,
+                                        const SelectionRequest& request);
+/// InputError naming --cycle-time and ObjectiveBesideArmSelection's conflict, if any.
+void RefuseObjectiveBesideCycleTime(const SelectOptions& select, const SelectionRequest& request);
 /// report->tours: per result, the tour of its views on one arm (the first arm it uses); moves
 /// whose straight segment collides are planned around with report->seed. InputError at the
 /// arm's population, naming the move, when a tour cannot be connected (before any output).

@@ -168,19 +168,13 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
   }
   if (options.arm.cycle_time && (has_states || options.refine))
     throw InputError(AtPlace("--cycle-time", 0, "--cycle-time takes no --refine and no states"));
+  if (options.arm.cycle_time) detail::RefuseObjectiveBesideCycleTime(select, options.selection);
   if (options.arm.track) {
     // One view per state by coverage of one view: no other objective, no constraints.
-    const char* conflict = options.by_type                         ? "--by-type"
-                           : options.selection.over_states           ? "--over-states"
-                           : select.goal                             ? "a coverage goal"
-                           : select.budget                           ? "a budget"
-                           : select.k > 1                            ? "k-coverage"
-                           : select.min_points                       ? "a point density"
-                           : options.selection.constraints.interference.value_or(false) ||
-                                   options.selection.constraints.calibration_overlap ||
-                                   options.selection.constraints.calibration_overlap_frac
-                               ? "an installation constraint"
-                               : nullptr;
+    const char* conflict = options.by_type                 ? "--by-type"
+                           : options.selection.over_states ? "--over-states"
+                                                           : detail::ObjectiveBesideArmSelection(
+                                                                 select, options.selection);
     if (conflict)
       throw InputError(AtPlace("--track", 0,
                                fmt::format("--track scores one view per state by its coverage, "

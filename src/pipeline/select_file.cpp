@@ -129,6 +129,7 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
       ResolveMatrixSelection(data, options.selection, options.seed.value_or(data.seed),
                              Method::kAll, options.visibility_file);
   const SelectOptions& select = resolved.options;  // constraints included
+  if (options.arm.cycle_time) detail::RefuseObjectiveBesideCycleTime(select, options.selection);
   if (!arms.empty()) detail::CheckArmTourInputs(data.candidates, arms, options.arm, select.seed);
   Report& report = run.report;
   report.constraints = std::move(resolved.constraints);
