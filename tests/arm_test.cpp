@@ -1286,5 +1286,39 @@ TEST_F(ArmBadInputTest, ATourThatCannotBeConnectedWritesNothing) {
   EXPECT_EQ(files, std::vector<std::string>{"report.json"});
 }
 
+// render poses the links at views.yaml's positions: a hand-edited 1e300 m on the slider put its
+// link where Embree cannot trace (session 34: render aborted in Embree's `ray.valid()` assertion,
+// exit 134). A position outside the joint's limits [-3, 3] m is refused at the view's line; the
+// run's own file draws.
+TEST_F(ArmBadInputTest, RenderRefusesAViewOutsideItsJointsLimits) {
+  WriteText(dir_.File("arm.urdf"), SliderUrdf(R"(<box size="0.2 0.2 0.2"/>)"));
+  WriteText(dir_.File("scene.yaml"),
+            SliderTourScene("[{x: 1.5}, {x: 1.2}]", "      home: {x: 1.0}\n"));
+  const auto run = test::RunVantage("optimize " + dir_.File("scene.yaml") +
+                                    " -n 1 --method greedy --out " + dir_.File("out"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string views = test::ReadText(dir_.File("out/views.yaml"));
+  const std::string render = "render " + dir_.File("out") + " --width 64 --height 48 --png ";
+  ASSERT_EQ(test::RunVantage(render + dir_.File("good.png")).exit_code, 0);
+  const size_t at = views.find("positions: [");
+  ASSERT_NE(at, std::string::npos) << views;
+  const int line = 1 + static_cast<int>(std::count(views.begin(), views.begin() + at, '\n')) - 1;
+  for (const std::string position : {"1e300", "-3.5", "1e7"}) {
+    SCOPED_TRACE(position);
+    std::string edited = views;
+    edited.replace(at, views.find(']', at) + 1 - at, "positions: [" + position + "]");
+    WriteText(dir_.File("out/views.yaml"), edited);
+    const auto refused = test::RunVantage(render + dir_.File("bad.png"));
+    EXPECT_EQ(refused.exit_code, 2) << refused.err;
+    EXPECT_NE(refused.err.find(fmt::format("views.yaml:{}: view 'wrist_", line)), std::string::npos)
+        << refused.err;
+    EXPECT_NE(refused.err.find("joint 'x' at " + fmt::format("{}", std::stod(position)) +
+                               " is outside its limits [-3, 3] on robot 'arm'"),
+              std::string::npos)
+        << refused.err;
+    EXPECT_FALSE(std::filesystem::exists(dir_.File("bad.png")));
+  }
+}
+
 }  // namespace
 }  // namespace vantage

@@ -208,6 +208,7 @@ struct ArmViewsFile {
   std::vector<std::string> joint_names;
   std::vector<std::string> views;                 ///< candidate names, in tour (or state) order
   std::vector<std::vector<double>> positions;     ///< per view, one per joint name
+  std::vector<int> lines;                         ///< per view, its line in the file
 };
 /// Reads views.yaml (detail: src/report/arm_export.cpp). InputError at the file's line when it is
 /// not one vantage writes.

@@ -17,6 +17,7 @@
 #include "vantage/error.hpp"
 #include "vantage/interrupt.hpp"
 #include "vantage/pipeline.hpp"
+#include "vantage/robot.hpp"
 #include "vantage/tour.hpp"
 #include "vantage/track.hpp"
 
@@ -940,6 +941,24 @@ void ArmAtViews::Apply(Problem* problem, std::vector<Candidate>* sensors) {
                              fmt::format("its joint_names are not robot '{}''s ({}) — render the "
                                          "run with its own scene",
                                          views_.robot, fmt::join(kinematics->joint_names(), ", "))));
+  // Each view within its joints' limits, as every view a run writes is: a hand-edited 1e300 m on
+  // a prismatic joint put the links beyond what Embree traces (an abort in its ray assertion).
+  // The margin covers views.yaml's 9 significant digits.
+  const std::vector<std::pair<double, double>>& limits = kinematics->limits();
+  for (size_t v = 0; v < views_.views.size(); ++v) {
+    for (size_t j = 0; j < limits.size(); ++j) {
+      const double low = std::max(limits[j].first, -kMaxJointTravel);
+      const double high = std::min(limits[j].second, kMaxJointTravel);
+      const double q = views_.positions[v][j];
+      if (q >= low - 1e-6 && q <= high + 1e-6) continue;
+      throw InputError(AtPlace(path_, views_.lines[v],
+                               fmt::format("view '{}': joint '{}' at {} is outside its limits "
+                                           "[{:g}, {:g}] on robot '{}' — give the views.yaml a "
+                                           "vantage run wrote",
+                                           views_.views[v], views_.joint_names[j], q, low, high,
+                                           views_.robot)));
+    }
+  }
   auto body = std::make_shared<ArmBody>();
   body->robot = robot->name;
   for (const auto& [link, mesh] : robot->visual_meshes) {

@@ -221,6 +221,7 @@ ArmViewsFile ReadArmViews(const std::string& path) {
     for (const YAML::Node& view : root["views"]) {
       if (!view["name"] || !view["positions"]) throw bad(view, "a view needs `name` and `positions`");
       file.views.push_back(view["name"].as<std::string>());
+      file.lines.push_back(view.Mark().line + 1);
       file.positions.push_back(view["positions"].as<std::vector<double>>());
       if (file.positions.back().size() != file.joint_names.size())
         throw bad(view, fmt::format("view '{}' has {} positions for {} joint names",
