@@ -480,9 +480,10 @@ TEST(Robot, JointCyclesAreRefusedAtTheirJoint) {
   }
 }
 
-// urdfdom 3 logs a <visual> it cannot parse and drops it, returning the robot without that
-// occluder; vantage refuses the file at the link's line. A bad <collision> (never used) is not
-// an error.
+// urdfdom 3 logs a <visual> or <collision> it cannot parse and drops it, returning the robot
+// without that occluder or collision shape; vantage refuses the file at the link's line. (A bad
+// <collision> was let through while vantage used none; since the arm's collision checks read
+// them, a collision radius "nan" left the link checked with its visual instead, session 34.)
 // A joint's <axis> is a direction of any finite length (session 18, found by urdf_robot): the
 // length of (0, 1e190, 1) overflows a double, and normalising by it gave the joint a zero axis
 // that turned nothing, silently. Each axis below is loaded as the unit vector written out here,
@@ -569,7 +570,7 @@ TEST(Robot, JointLimitsAndMimicFactorsBeyondAMillionAreRefused) {
       << error;
 }
 
-TEST(Robot, UnparsableVisualIsRefusedNotDropped) {
+TEST(Robot, UnparsableVisualOrCollisionIsRefusedNotDropped) {
   test::TempDir dir;
   const auto robot_with = [&](const std::string& visual, const std::string& collision) {
     const std::string urdf = dir.File("one.urdf");
@@ -592,8 +593,16 @@ TEST(Robot, UnparsableVisualIsRefusedNotDropped) {
     EXPECT_NE(error.find("Could not parse visual element for Link [base]"), std::string::npos)
         << error;
   }
-  EXPECT_EQ(robot_with(good_box, "<geometry><capsule radius=\"0.1\" length=\"0.2\"/></geometry>"),
-            "no error");
+  for (const std::string& bad :
+       {std::string("<geometry><capsule radius=\"0.1\" length=\"0.2\"/></geometry>"),
+        std::string("<geometry><cylinder radius=\"nan\" length=\"0.2\"/></geometry>"),
+        std::string("<geometry><mesh filename=\"m.stl\" scale=\"nan 1 1\"/></geometry>")}) {
+    const std::string error = robot_with(good_box, bad);
+    EXPECT_NE(error.find("one.urdf:3: urdfdom: "), std::string::npos) << bad << "\n" << error;
+    EXPECT_NE(error.find("Could not parse collision element for Link [base]"), std::string::npos)
+        << error;
+  }
+  EXPECT_EQ(robot_with(good_box, good_box), "no error");
 }
 
 }  // namespace

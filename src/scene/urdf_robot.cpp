@@ -273,21 +273,12 @@ RobotModel LoadUrdf(const std::string& path) {
       model.reset();
       errors.push_back(e.what());
     }
-    // A <collision> urdfdom cannot parse is dropped as well, but vantage never uses
-    // collisions: drop its messages (the details logged before its summary line) too.
-    std::vector<std::string> group;
-    for (const std::string& error : log.errors()) {
-      group.push_back(error);
-      if (error.find("Could not parse") == std::string::npos) continue;
-      if (error.find("collision element") == std::string::npos)
-        errors.insert(errors.end(), group.begin(), group.end());
-      group.clear();
-    }
-    errors.insert(errors.end(), group.begin(), group.end());
+    errors.insert(errors.end(), log.errors().begin(), log.errors().end());
   }
-  // urdfdom 3 logs a visual it cannot parse (a box size of two numbers, a <sphere/> without
-  // radius, an unknown shape) and drops it, returning a model without it: an occluder missing
-  // silently. Any error it logged refuses the file.
+  // urdfdom 3 logs a visual or collision it cannot parse (a box size of two numbers, a <sphere/>
+  // without radius, an unknown shape, a radius "nan") and drops it, returning a model without
+  // it: an occluder missing silently, or a link whose collision checks (issue 45) fell back to
+  // its visuals or lost one of its shapes. Any error it logged refuses the file.
   if (!model || !errors.empty()) {
     Diagnostics diag(path);
     if (errors.empty()) errors.push_back("not a URDF robot");
