@@ -1111,6 +1111,9 @@ TEST_F(ArmBadInputTest, EachIsRefusedAtItsPlace) {
   Expect(kPlanarUrdf, head + "    arm: {robot: crane, link: tip}\n", "9", "no robot 'crane'");
   Expect(kPlanarUrdf, head + "    arm: {robot: arm, link: tool0}\n", "9", "no link 'tool0'");
   Expect(kPlanarUrdf, head + "    arm: {robot: arm, link: base}\n", "9", "nothing to move");
+  // Session 34: "joints must be a list of joint names, got a list".
+  Expect(kPlanarUrdf, head + "    arm: {robot: arm, link: tip, joints: []}\n", "9",
+         "population 'wrist'.arm.joints must be a list of joint names, got an empty list");
   // Session 33: a mount at 1e300 m read as "120 out of reach (inverse kinematics)".
   Expect(kPlanarUrdf, head + "    arm: {robot: arm, link: tip, mount: {xyz: [0, 0, 1e300]}}\n",
          "9", "population 'wrist'.arm.mount: its offset (0, 0, 1e+300) m, beyond the ±1e+09 m");

@@ -89,8 +89,9 @@ int LineOf(const YAML::Node& node) {
 
 std::string TextOf(const YAML::Node& node) {
   if (node.IsScalar()) return node.Scalar();
-  if (node.IsSequence()) return "a list";
-  if (node.IsMap()) return "a mapping";
+  // "must be a list ..., got a list" said nothing of what was wrong with `joints: []`.
+  if (node.IsSequence()) return node.size() == 0 ? "an empty list" : "a list";
+  if (node.IsMap()) return node.size() == 0 ? "an empty mapping" : "a mapping";
   return "nothing";
 }
 
