@@ -1108,6 +1108,8 @@ TEST_F(BadInput, VisibilityFiles) {
   const std::string newer = vis("newer", version);
   const std::string short_payload = vis("short_payload", cut);
   ExpectRejected({
+      {"tour_option_without_arm", "select " + good + " --frames 3", "--frames: " + good +
+       " holds no camera on an arm", "--frames times an arm's tour"},
       {"vis_missing", "select " + dir_.File("absent.vis"), dir_.File("absent.vis"), "cannot open"},
       {"vis_truncated", "select " + truncated, truncated, "checksum mismatch"},
       {"vis_corrupt", "select " + corrupt, corrupt, "checksum mismatch"},
@@ -1666,6 +1668,16 @@ TEST_F(BadInput, RangesNamedAndOptionsWithoutEffectRefused) {
        "--max-depth-noise", "is too small to hold in metres"},
       {"refine_rounds_alone", "optimize " + scene + " --refine-rounds 3", "--refine-rounds:",
        "only --refine runs rounds"},
+      // The arm's tour options where no camera is on an arm changed nothing (session 34: ran as
+      // without them); --cycle-time was the one refused.
+      {"joint_speed_without_arm", "optimize " + scene + " --joint-speed 2", "--joint-speed:",
+       "no candidate is on an arm — --joint-speed times an arm's tour"},
+      {"frames_without_arm", "optimize " + scene + " --frames 3", "--frames:",
+       "no candidate is on an arm — --frames times an arm's tour"},
+      {"motion_resolution_without_arm", "optimize " + scene + " --motion-resolution 0.1",
+       "--motion-resolution:", "no candidate is on an arm — --motion-resolution checks"},
+      {"plan_time_without_arm", "optimize " + scene + " --plan-time 1", "--plan-time:",
+       "no candidate is on an arm — --plan-time bounds the planning"},
       {"model_path_missing", "optimize " + scene + " --model-path " + dir_.File("nowhere"),
        "--model-path:", "'" + dir_.File("nowhere") + "' is not a folder"},
       {"resource_path_a_file", "optimize " + scene + " --resource-path " + scene,

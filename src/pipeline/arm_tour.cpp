@@ -458,6 +458,22 @@ const char* ObjectiveBesideArmSelection(const SelectOptions& select,
                                  : nullptr;
 }
 
+void RefuseTourOptionsWithoutArm(const ArmTourOptions& options, const std::string& why,
+                                 const std::string& fix) {
+  const ArmTourOptions defaults;
+  const auto [flag, what] =
+      options.cycle_time    ? std::pair("--cycle-time", "times an arm's tour")
+      : options.joint_speed ? std::pair("--joint-speed", "times an arm's tour")
+      : options.frames != defaults.frames ? std::pair("--frames", "times an arm's tour")
+      : options.resolution != defaults.resolution
+          ? std::pair("--motion-resolution", "checks an arm's moves")
+      : options.plan_seconds != defaults.plan_seconds
+          ? std::pair("--plan-time", "bounds the planning of an arm's moves")
+          : std::pair<const char*, const char*>(nullptr, nullptr);
+  if (flag == nullptr) return;
+  throw InputError(AtPlace(flag, 0, fmt::format("{} — {} {}; {}", why, flag, what, fix)));
+}
+
 void RefuseObjectiveBesideCycleTime(const SelectOptions& select,
                                     const SelectionRequest& request) {
   const char* conflict = ObjectiveBesideArmSelection(select, request);

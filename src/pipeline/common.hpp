@@ -210,6 +210,11 @@ void CheckArmTourInputs(const std::vector<Candidate>& candidates,
 /// none. Both refuse it before any ray, where --cycle-time had answered without it.
 const char* ObjectiveBesideArmSelection(const SelectOptions& select,
                                         const SelectionRequest& request);
+/// InputError naming the first tour option `options` gives (--cycle-time, --joint-speed, or
+/// --frames, --motion-resolution, --plan-time other than their defaults) in a run without a camera
+/// on an arm, where it could change nothing: "{flag}: {why} — {flag} {what it does}; {fix}".
+void RefuseTourOptionsWithoutArm(const ArmTourOptions& options, const std::string& why,
+                                 const std::string& fix);
 /// InputError naming --cycle-time and ObjectiveBesideArmSelection's conflict, if any.
 void RefuseObjectiveBesideCycleTime(const SelectOptions& select, const SelectionRequest& request);
 /// report->tours: per result, the tour of its views on one arm (the first arm it uses); moves

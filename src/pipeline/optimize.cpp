@@ -146,10 +146,10 @@ OptimizeObserved ObserveForOptimize(const OptimizeOptions& options) {
   }
   if (!prepared.arms.empty()) {
     detail::CheckArmTourInputs(prepared.candidates, prepared.arms, options.arm, select.seed);
-  } else if (options.arm.cycle_time) {
-    throw InputError(AtPlace("--cycle-time", 0,
-                             "no candidate is on an arm — --cycle-time times an arm's tour; add "
-                             "an `arm` population (docs/arm.md)"));
+  } else {
+    // Without an arm they change nothing (--joint-speed 2 on a fixed-camera scene ran as without).
+    detail::RefuseTourOptionsWithoutArm(options.arm, "no candidate is on an arm",
+                                        "add an `arm` population (docs/arm.md)");
   }
   if (options.by_type) {
     // Refused before any ray: each of these answers something other than "n sensors of a type".

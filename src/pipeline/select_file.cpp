@@ -109,19 +109,17 @@ RunResult SelectFromFile(const SelectFileOptions& options) {
   }
   Timings timings;
   timings.load = detail::SecondsSince(start);
+  if (data.arm_views.empty())
+    detail::RefuseTourOptionsWithoutArm(
+        options.arm, fmt::format("{} holds no camera on an arm", options.visibility_file),
+        "observe a scene with an `arm` population (docs/arm.md; a file written before format 11 "
+        "does not keep the arm's views: observe it again)");
   if (options.arm.cycle_time) {
     if (arms.empty())
-      throw InputError(AtPlace(
-          "--cycle-time", 0,
-          data.arm_views.empty()
-              ? fmt::format("{} holds no camera on an arm — --cycle-time times an arm's tour; "
-                            "observe a scene with an `arm` population (docs/arm.md; a file "
-                            "written before format 11 does not keep the arm's views: observe "
-                            "it again)",
-                            options.visibility_file)
-              : fmt::format("the scene of {} ({}) does not load from here, and the arm's tour "
-                            "needs its robot and cell",
-                            options.visibility_file, scene_path)));
+      throw InputError(AtPlace("--cycle-time", 0,
+                               fmt::format("the scene of {} ({}) does not load from here, and the "
+                                           "arm's tour needs its robot and cell",
+                                           options.visibility_file, scene_path)));
     detail::RefuseGroupObjectiveBeside(options.selection, "--cycle-time");
   }
   const auto select_start = std::chrono::steady_clock::now();
