@@ -131,7 +131,7 @@ inline constexpr std::array<SelectionOption, 14> kSelectionOptions = {{
     {"--time-limit", "--time-limit", "time_limit", "time_limit", "time_limit",
      "seconds for the exact method, the greedy and local search it starts from included "
      "(default: 60); --method all runs its N's on up to 2 threads at once, each thread's N's "
-     "sharing the smaller of it and 6 s of wall time, each N an equal part of what that thread "
+     "sharing the smaller of it and 9 s of wall time, each N an equal part of what that thread "
      "has left for the N's it still expects",
      &SelectionRequest::time_limit, &SelectOptions::time_limit},
     {"--goal", "--goal", "goal", "goal", "goal",
