@@ -5,6 +5,7 @@
 // vantage.InputError, a ValueError; anything else -> RuntimeError), so that the interpreter never
 // aborts. The GIL is released while the library works, so that other Python threads run meanwhile.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -125,6 +126,16 @@ Method MethodOf(const std::string& name) {
 std::optional<Method> OptionalMethodOf(const std::optional<std::string>& name) {
   if (!name) return std::nullopt;
   return MethodOf(*name);
+}
+
+// The over_states keyword's values for its help: 'mean'/'min'/..., kAggregations' names.
+const std::string& OverStatesKeywordValues() {
+  static const std::string values = [] {
+    std::vector<std::string> quoted;
+    for (const Aggregation& row : kAggregations) quoted.push_back(fmt::format("'{}'", row.name));
+    return fmt::format("{}", fmt::join(quoted, "/"));
+  }();
+  return values;
 }
 
 std::optional<OverStates> OverStatesOf(const std::optional<std::string>& name) {
@@ -1532,22 +1543,27 @@ void Bind(py::module_& m) {
       py::arg("motion_resolution") = py::none(), py::arg("plan_time") = py::none(),
       py::arg("track") = false, py::arg("move_penalty") = py::none(),
       py::arg("state_interval") = py::none(), py::arg("over_parts") = py::none(),
-      "The whole pipeline, as `vantage optimize SCENE`: the same outputs (report.json,\n"
-      "report.html, candidates.csv, ...) written atomically into the folder `out` (None: none\n"
-      "written). Returns report.json as a dict (docs/outputs.md).\n\n"
-      "Each keyword is the CLI flag of the same name (docs/python.md lists them): n, method\n"
-      "('all' by default: every method), model_path, resource_path, targets, cell_size, seed,\n"
-      "observation_point, random_roll, quality ({'max_incidence': deg, 'max_depth_noise':\n"
-      "mm}), cull, max_memory [MiB], iterations, stop, time_limit [s], goal, k, budget,\n"
-      "over_states ('mean'/'min'/'sum'), fov_tolerance [deg], alternatives_within [points],\n"
-      "refine, refine_rounds, threads, progress, interference, interference_overlap,\n"
-      "calibration_overlap, calibration_overlap_frac, min_points, min_density, package_path,\n"
-      "exposed_only, physical (True: --physical, False: --ideal, None: the default),\n"
-      "max_seconds, cheapest, keep_existing, pose_tolerance ((metres, degrees): --pose-tolerance\n"
-      "P,A), pose_samples, by_type, and a camera on an arm's cycle_time [s], joint_speed,\n"
-      "frames, motion_resolution, plan_time [s], track, move_penalty, state_interval [s],\n"
-      "over_parts ('mean'/'min': the parts' coverages' mean or worst).\n"
-      "None keeps the scene's setting (or the CLI's default).");
+      std::string(
+          "The whole pipeline, as `vantage optimize SCENE`: the same outputs (report.json,\n"
+          "report.html, candidates.csv, ...) written atomically into the folder `out` (None: none\n"
+          "written). Returns report.json as a dict (docs/outputs.md).\n\n"
+          "Each keyword is the CLI flag of the same name (docs/python.md lists them): n, method\n"
+          "('all' by default: every method), model_path, resource_path, targets, cell_size, seed,\n"
+          "observation_point, random_roll, quality ({'max_incidence': deg, 'max_depth_noise':\n"
+          "mm}), cull, max_memory [MiB], iterations, stop, time_limit [s], goal, k, budget,\n"
+          "over_states (" +
+          OverStatesKeywordValues() +
+          "), fov_tolerance [deg], alternatives_within [points],\n"
+          "refine, refine_rounds, threads, progress, interference, interference_overlap,\n"
+          "calibration_overlap, calibration_overlap_frac, min_points, min_density, package_path,\n"
+          "exposed_only, physical (True: --physical, False: --ideal, None: the default),\n"
+          "max_seconds, cheapest, keep_existing, pose_tolerance ((metres, degrees): "
+          "--pose-tolerance\n"
+          "P,A), pose_samples, by_type, and a camera on an arm's cycle_time [s], joint_speed,\n"
+          "frames, motion_resolution, plan_time [s], track, move_penalty, state_interval [s],\n"
+          "over_parts ('mean'/'min': the parts' coverages' mean or worst).\n"
+          "None keeps the scene's setting (or the CLI's default).")
+          .c_str());
 
   m.def(
       "select",

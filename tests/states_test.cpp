@@ -242,6 +242,36 @@ TEST(OverStates, ParsesMeanAndMin) {
   }
 }
 
+// The table of aggregations is what every reader reads: each row parses to its value and back,
+// the error lists the rows' names, and --over-states' help is the rows' words joined (the text
+// as written out by hand before the table).
+TEST(OverStates, EveryRowIsParsedNamedAndHelped) {
+  ASSERT_EQ(OverStatesValues().size(), kAggregations.size());
+  for (size_t i = 0; i < kAggregations.size(); ++i) {
+    const Aggregation& row = kAggregations[i];
+    EXPECT_EQ(OverStatesValues()[i], row.value);
+    EXPECT_EQ(ParseOverStates(std::string(row.name)), row.value);
+    EXPECT_EQ(OverStatesName(row.value), row.name);
+    EXPECT_EQ(&AggregationOf(row.value), &row);
+  }
+  try {
+    ParseOverStates("max");
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "--over-states 'max' is unknown — use mean, min or sum");
+  }
+  EXPECT_EQ(kOverStatesHelp,
+            "a scene with states: maximise the mean or the worst (min) coverage over them, or the "
+            "coverage of all their cells together (sum: a larger state weighs more) (default "
+            "mean)");
+  // The weights: a share of a state of 5 cells is 1/5 a cell; an empty state weighs nothing.
+  EXPECT_EQ(ShareOfItsState(5).numerator, 1u);
+  EXPECT_EQ(ShareOfItsState(5).denominator, 5u);
+  EXPECT_EQ(ShareOfItsState(0).numerator, 0u);
+  EXPECT_EQ(EveryCellAlike(7).numerator, 1u);
+  EXPECT_EQ(EveryCellAlike(7).denominator, 1u);
+}
+
 // ----- ApplyState and SameGeometry ------------------------------------------------------------
 
 Scene SmallScene() {

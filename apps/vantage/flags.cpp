@@ -305,9 +305,8 @@ void AddSelectionFlags(CLI::App* app, SelectionRequest* request) {
                                    Method::kLocal, Method::kExact, Method::kAll},
                                   MethodName, ParseMethod, help);
           } else if constexpr (std::is_same_v<Value, std::optional<OverStates>>) {
-            AddEnumOption<OverStates>(app, names, &value,
-                                      {OverStates::kMean, OverStates::kMin, OverStates::kSum},
-                                      OverStatesName, ParseOverStates, help);
+            AddEnumOption<OverStates>(app, names, &value, OverStatesValues(), OverStatesName,
+                                      ParseOverStates, help);
           } else {
             app->add_option(names, value, help);
           }

@@ -401,9 +401,7 @@ void PrintSummary(const Report& report, const std::string& out_dir) {
     std::vector<std::string> names;
     for (const StatesInfo::State& state : report.states->states) names.push_back(state.name);
     const std::string& over = report.states->over;
-    const std::string aggregate = over == "min"   ? "worst"
-                                  : over == "sum" ? "cell-weighted mean (all their cells together)"
-                                                  : "mean";
+    const std::string aggregate(AggregationOf(ParseOverStates(over)).phrase);
     // --over-parts: one aggregation over every state's target parts.
     const std::string what =
         report.inputs && report.inputs->selection.over_parts

@@ -4,9 +4,12 @@
 /// the worst case of the per-state coverage, or the coverage of all states' cells together. Each
 /// state has its own reference set R_s and its own visibility matrix; the matrices simply stack
 /// (docs/scene-format.md, States).
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "vantage/visibility.hpp"
@@ -14,13 +17,89 @@
 
 namespace vantage {
 
-/// What selection over states maximises (`--over-states mean|min|sum`): the mean of the states'
-/// coverages, the least of them, or the sum: all states' cells counted together,
-/// Σ_s covered_s / Σ_s |R_s| (the mean weighted by |R_s|: a larger state weighs more).
+/// What selection over states maximises (`--over-states NAME`): one row of kAggregations each.
 enum class OverStates { kMean, kMin, kSum };
-/// "mean", "min" or "sum"; InputError naming `--over-states` and listing them otherwise.
+
+/// How an aggregation combines the states' covered cells c_s, each cell of state s weighing
+/// ω_s: their weighted sum Σ_s ω_s c_s over its most Σ_s ω_s |R_s| (a fraction), or the least
+/// ω_s c_s with ties broken by that weighted sum.
+enum class AggregateShape { kWeightedSum, kMinimum };
+
+/// A cell's weight ω_s in its state, numerator / denominator, whole numbers: scores compare
+/// exactly in units of 1 / lcm(denominators) (StatesScorer).
+struct CellWeight {
+  uint64_t numerator = 1;
+  uint64_t denominator = 1;
+};
+
+/// ω_s = 1 / |R_s|: each state's share c_s / |R_s| counts alike (0 for an empty R_s).
+constexpr CellWeight ShareOfItsState(uint64_t state_cells) {
+  return state_cells ? CellWeight{1, state_cells} : CellWeight{0, 1};
+}
+/// ω_s = 1: every cell of every state counts alike.
+constexpr CellWeight EveryCellAlike(uint64_t) { return CellWeight{1, 1}; }
+
+/// One aggregation over states: how every reader and writer names it, and what selection
+/// computes for it (the scorer, the MILP and the bounds read its shape and weights, never its
+/// value). A new aggregation is a value of OverStates and its row.
+struct Aggregation {
+  OverStates value;
+  std::string_view name;  ///< --over-states NAME, Python over_states='NAME', report.json
+  std::string_view help;  ///< its words in --over-states' help, after the previous row's
+  /// The summary's word: coverages are "the PHRASE of the states' coverages".
+  std::string_view phrase;
+  AggregateShape shape;
+  CellWeight (*weight)(uint64_t state_cells);  ///< ω_s of a state of |R_s| cells
+};
+
+/// Every aggregation, the default (the first) first, in the order help and errors list them.
+inline constexpr std::array<Aggregation, 3> kAggregations = {{
+    {OverStates::kMean, "mean", "the mean", "mean", AggregateShape::kWeightedSum,
+     ShareOfItsState},
+    {OverStates::kMin, "min", " or the worst (min) coverage over them", "worst",
+     AggregateShape::kMinimum, ShareOfItsState},
+    // Σ_s c_s / Σ_s |R_s|: the mean weighted by |R_s|.
+    {OverStates::kSum, "sum",
+     ", or the coverage of all their cells together (sum: a larger state weighs more)",
+     "cell-weighted mean (all their cells together)", AggregateShape::kWeightedSum,
+     EveryCellAlike},
+}};
+
+/// The row of `over`.
+const Aggregation& AggregationOf(OverStates over);
+/// Every value, in kAggregations' order.
+std::vector<OverStates> OverStatesValues();
+/// A row's name; InputError naming `--over-states` and listing the names otherwise.
 OverStates ParseOverStates(const std::string& name);
 std::string OverStatesName(OverStates over);
+
+namespace detail {
+constexpr std::string_view kOverStatesHelpHead = "a scene with states: maximise ";
+constexpr size_t kOverStatesHelpSize = [] {
+  size_t size = kOverStatesHelpHead.size() + std::string_view(" (default )").size() +
+                kAggregations.front().name.size();
+  for (const Aggregation& row : kAggregations) size += row.help.size();
+  return size;
+}();
+// The rows' words, joined once at compile time into --over-states' help.
+constexpr std::array<char, kOverStatesHelpSize> kOverStatesHelpText = [] {
+  std::array<char, kOverStatesHelpSize> text{};
+  size_t at = 0;
+  const auto put = [&](std::string_view words) {
+    for (const char c : words) text[at++] = c;
+  };
+  put(kOverStatesHelpHead);
+  for (const Aggregation& row : kAggregations) put(row.help);
+  put(" (default ");
+  put(kAggregations.front().name);
+  put(")");
+  return text;
+}();
+}  // namespace detail
+
+/// --over-states' help (and the Python keyword's): the rows' words.
+inline constexpr std::string_view kOverStatesHelp(detail::kOverStatesHelpText.data(),
+                                                  detail::kOverStatesHelpText.size());
 
 /// The observations of one state (non-owning): one Observation per candidate, the candidates in
 /// the same order in every state, indices into the state's reference set R_s of

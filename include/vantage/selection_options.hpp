@@ -157,9 +157,7 @@ inline constexpr std::array<SelectionOption, 14> kSelectionOptions = {{
      "ceil(D * F²)",
      &SelectionRequest::min_density, {}, true},
     {"--over-states", "--over-states", "over_states", "over_states", "over_states",
-     "a scene with states: maximise the mean or the worst (min) coverage over them, or the "
-     "coverage of all their cells together (sum: a larger state weighs more) (default mean)",
-     &SelectionRequest::over_states, {}},
+     kOverStatesHelp, &SelectionRequest::over_states, {}},
     {"--over-parts", "--over-parts", "over_parts", "over_parts", "over_parts",
      "objective: maximise the mean or the worst (min) of the target parts' coverages, each part "
      "alike (with states: of every state's parts, as --over-states if given, which must match; "
@@ -168,7 +166,7 @@ inline constexpr std::array<SelectionOption, 14> kSelectionOptions = {{
      {},
      false,
      [](const SelectionRequest& request) {
-       return std::string(request.over_parts == OverStates::kMin ? "the worst" : "the mean") +
+       return "the " + std::string(AggregationOf(*request.over_parts).phrase) +
               " of the target parts' coverages (coverages below are that; each part's follows)";
      },
      true},

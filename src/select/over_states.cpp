@@ -7,6 +7,7 @@
 // (scorer.hpp). Reported coverages are recomputed from the observations by CoverageEvaluator,
 // never taken from this bookkeeping.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -35,16 +36,29 @@ using detail::SecondsSince;
 
 }  // namespace
 
-OverStates ParseOverStates(const std::string& name) {
-  if (name == "mean") return OverStates::kMean;
-  if (name == "min") return OverStates::kMin;
-  if (name == "sum") return OverStates::kSum;
-  throw InputError(fmt::format("--over-states '{}' is unknown — use mean, min or sum", name));
+const Aggregation& AggregationOf(OverStates over) {
+  for (const Aggregation& row : kAggregations)
+    if (row.value == over) return row;
+  throw InternalError(fmt::format("no aggregation row for value {}", static_cast<int>(over)));
 }
 
-std::string OverStatesName(OverStates over) {
-  return over == OverStates::kMean ? "mean" : over == OverStates::kMin ? "min" : "sum";
+std::vector<OverStates> OverStatesValues() {
+  std::vector<OverStates> values;
+  for (const Aggregation& row : kAggregations) values.push_back(row.value);
+  return values;
 }
+
+OverStates ParseOverStates(const std::string& name) {
+  std::vector<std::string_view> names;
+  for (const Aggregation& row : kAggregations) {
+    if (row.name == name) return row.value;
+    names.push_back(row.name);
+  }
+  throw InputError(fmt::format("--over-states '{}' is unknown — use {} or {}", name,
+                               fmt::join(names.begin(), names.end() - 1, ", "), names.back()));
+}
+
+std::string OverStatesName(OverStates over) { return std::string(AggregationOf(over).name); }
 
 // ----- the scorer ------------------------------------------------------------------------------
 
