@@ -123,6 +123,7 @@ TourTimes StraightTimes(const std::vector<Candidate>& candidates,
 /// collision, or +inf) and, when planned, the waypoints between the two stops (lower to higher).
 struct MoveVerdict {
   double seconds = 0;
+  bool collided = false;  ///< the straight segment collides (seconds: the planner's, or +inf)
   bool planned = false;
   std::vector<std::vector<double>> via;
   std::string collision;  ///< what the straight segment hits first (empty when it is free)
@@ -142,6 +143,11 @@ struct MoveVerdict {
                   arm.population, result, arm.robot, from, to, collision)));
 }
 using MoveVerdicts = std::map<std::pair<size_t, size_t>, MoveVerdict>;
+/// The moves one arm's tours have checked in a run, by their stops' candidate indices (home:
+/// 2^32 - 1) in the order the check took them, so that the same check is the same verdict: each
+/// move is checked (and planned) once however many tours use it. The coverage curve's answers
+/// share most of their moves: -n 50 on 2,792 joint-space views checked them again for every n.
+using SharedVerdicts = std::map<std::pair<uint64_t, uint64_t>, MoveVerdict>;
 
 /// What the moves among `views` (candidate indices) and home are checked with.
 struct MoveChecker {
@@ -151,6 +157,7 @@ struct MoveChecker {
   const ArmTourOptions& options;
   uint64_t seed;
   MoveVerdicts verdicts;
+  SharedVerdicts* shared = nullptr;  ///< other tours' checks of this arm's moves; null: none
 
   size_t home() const { return views.size(); }
   const std::vector<double>& Configuration(size_t k) const {
@@ -158,10 +165,8 @@ struct MoveChecker {
   }
   /// The planner's stream for a pair: the candidates' indices (home: 2^32 - 1), the same pair
   /// the same stream whatever the views' order.
-  uint64_t Stream(size_t a, size_t b) const {
-    const auto id = [&](size_t k) -> uint64_t { return k == home() ? 0xFFFFFFFFu : views[k]; };
-    return (id(a) << 32) | id(b);
-  }
+  uint64_t Id(size_t k) const { return k == home() ? 0xFFFFFFFFu : views[k]; }
+  uint64_t Stream(size_t a, size_t b) const { return (Id(a) << 32) | Id(b); }
 
   /// Checks the moves of `order` (home first and last) at the resolution; a move whose straight
   /// segment collides is planned around (OMPL), its time the planned path's, or +inf when the
@@ -174,27 +179,12 @@ struct MoveChecker {
     for (size_t next : stops) {
       const auto key = std::minmax(at, next);
       if (!verdicts.count(key)) {
-        const std::vector<double>& from = Configuration(key.first);
-        const std::vector<double>& to = Configuration(key.second);
-        MoveVerdict verdict;
-        verdict.seconds = times->motion[key.first][key.second];
-        if (!StraightMotionIsFree(*arm.kinematics, *arm.collisions, from, to,
-                                  options.resolution, &verdict.collision)) {
-          MotionPlanOptions plan;
-          plan.resolution = options.resolution;
-          plan.time_limit = options.plan_seconds;
-          plan.seed = seed;
-          plan.stream = Stream(key.first, key.second);
-          const PlannedMotion motion =
-              PlanMotion(*arm.kinematics, *arm.collisions, from, to, Speeds(arm, options), plan);
-          if (motion.stopped_by_time)
-            spdlog::warn("planning the move between {} and {} stopped at --plan-time {} s: the "
-                         "answer may differ on a faster machine — raise --plan-time",
-                         Name(key.first), Name(key.second), options.plan_seconds);
-          verdict.seconds = motion.seconds;  // +inf when not found
-          verdict.planned = motion.found;
-          if (motion.found)
-            verdict.via.assign(motion.waypoints.begin() + 1, motion.waypoints.end() - 1);
+        const std::pair<uint64_t, uint64_t> ids(Id(key.first), Id(key.second));
+        const auto known = shared ? shared->find(ids) : SharedVerdicts::iterator();
+        MoveVerdict verdict =
+            shared && known != shared->end() ? known->second : Verdict(key, *times);
+        if (shared && known == shared->end()) shared->emplace(ids, verdict);
+        if (verdict.collided) {
           // Planned or not, the move is slower than its straight time was taken to be.
           times->motion[key.first][key.second] = times->motion[key.second][key.first] =
               verdict.seconds;
@@ -205,6 +195,35 @@ struct MoveChecker {
       at = next;
     }
     return unchanged;
+  }
+
+  /// The move between stops key.first and key.second checked at the resolution, from the first
+  /// to the second; planned around (OMPL) where its straight segment collides.
+  MoveVerdict Verdict(std::pair<size_t, size_t> key, const TourTimes& times) const {
+    const std::vector<double>& from = Configuration(key.first);
+    const std::vector<double>& to = Configuration(key.second);
+    MoveVerdict verdict;
+    verdict.seconds = times.motion[key.first][key.second];
+    if (!StraightMotionIsFree(*arm.kinematics, *arm.collisions, from, to,
+                              options.resolution, &verdict.collision)) {
+      verdict.collided = true;
+      MotionPlanOptions plan;
+      plan.resolution = options.resolution;
+      plan.time_limit = options.plan_seconds;
+      plan.seed = seed;
+      plan.stream = Stream(key.first, key.second);
+      const PlannedMotion motion =
+          PlanMotion(*arm.kinematics, *arm.collisions, from, to, Speeds(arm, options), plan);
+      if (motion.stopped_by_time)
+        spdlog::warn("planning the move between {} and {} stopped at --plan-time {} s: the "
+                     "answer may differ on a faster machine — raise --plan-time",
+                     Name(key.first), Name(key.second), options.plan_seconds);
+      verdict.seconds = motion.seconds;  // +inf when not found
+      verdict.planned = motion.found;
+      if (motion.found)
+        verdict.via.assign(motion.waypoints.begin() + 1, motion.waypoints.end() - 1);
+    }
+    return verdict;
   }
 
   /// The waypoints of the move from stop `a` to stop `b` (ends excluded), in that direction,
@@ -268,9 +287,9 @@ Tour LazyTour(MoveChecker* checker, TourTimes* times) {
 std::optional<ArmTour> TourOf(const std::vector<Candidate>& candidates,
                               const std::vector<uint32_t>& views, const ArmSetup& arm,
                               const ArmTourOptions& options, uint64_t seed,
-                              const std::string& result, bool refuse) {
+                              const std::string& result, bool refuse, SharedVerdicts* shared) {
   TourTimes times = StraightTimes(candidates, views, arm, options);
-  MoveChecker checker{candidates, views, arm, options, seed, {}};
+  MoveChecker checker{candidates, views, arm, options, seed, {}, shared};
   const Tour tour = LazyTour(&checker, &times);
   if (!tour.connected()) {
     if (refuse) checker.RefuseFirstUnconnected(tour.order, result);
@@ -508,6 +527,7 @@ void CheckArmTourInputs(const std::vector<Candidate>& candidates,
 void AddArmTours(const std::vector<Candidate>& candidates, const std::vector<ArmSetup>& arms,
                  const ArmTourOptions& options, Report* report) {
   if (arms.empty()) return;
+  std::map<const ArmSetup*, SharedVerdicts> checked;  // per arm: its home and collisions
   // The tour of a selection's views on one arm (that of its first arm view); none without one.
   const auto tour_of = [&](const Selection& result, bool refuse) -> std::optional<ArmTour> {
     const ArmSetup* arm = nullptr;
@@ -521,7 +541,7 @@ void AddArmTours(const std::vector<Candidate>& candidates, const std::vector<Arm
     if (!arm) return std::nullopt;
     const std::string label = fmt::format("the result {} n={}", result.method, result.n);
     std::optional<ArmTour> tour =
-        TourOf(candidates, views, *arm, options, report->seed, label, refuse);
+        TourOf(candidates, views, *arm, options, report->seed, label, refuse, &checked[arm]);
     if (tour)
       spdlog::info("{} n={}{}: tour of {} view{} {:.2f} s ({:.2f} s moving, {:.2f} s acquiring; "
                    "{})",
