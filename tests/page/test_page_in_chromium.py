@@ -75,11 +75,16 @@ def main():
         rows = browser.evaluate("document.querySelectorAll('#parts-table tbody tr').length")
         check(rows == len(ceiling["parts"]), f"a row per target part ({rows} of {len(ceiling['parts'])})")
 
-        # Framing: every chosen camera inside the default picture.
+        # Framing: every chosen camera inside the default picture, and not under one of the
+        # panels that stand over the view (the element drawn at its point is the 3D canvas).
         chosen = [names.index(n) for n in primary["sensors"]]
         for i in chosen:
             at = browser.evaluate(f"window.vantagePage.screenOf({i})")
             check(at["inside"], f"chosen camera {names[i]} is inside the default view ({at})")
+            top = browser.evaluate(
+                f"(function () {{ var e = document.elementFromPoint({at['x']}, {at['y']});"
+                " return e ? (e.tagName === 'CANVAS' ? 'CANVAS' : e.id || e.className || e.tagName) : null; })()")
+            check(top == "CANVAS", f"chosen camera {names[i]} is not under a panel (at its point: {top})")
 
         # The result itself: the page shows report.json's coverage.
         first = shown(browser)

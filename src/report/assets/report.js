@@ -792,19 +792,21 @@
       stop.links.forEach(function (p) { armPoints.push(new THREE.Vector3(p[0], p[1], p[2])); });
     });
     var aspect = view.clientWidth / view.clientHeight;
-    var views = [{name: 'chosen sensors and targets', key: 'sensors',
-                  make: function () {
+    // A fitted view's make(aspect) frames its points in a picture of that aspect (the part of the
+    // canvas the panels leave free: see freeBand); a sensor's own view is not fitted.
+    var views = [{name: 'chosen sensors and targets', key: 'sensors', fitted: true,
+                  make: function (fitAspect) {
                     return fitView(targetCorners.concat(armPoints, D.view.sensors.map(function (p) { return new THREE.Vector3().fromArray(p); })),
-                                   D.view.fov_deg, camera.aspect);
+                                   D.view.fov_deg, fitAspect);
                   }},
-                 {name: 'targets only', key: 'targets',
-                  make: function () { return fitView(targetCorners, D.view.fov_deg, camera.aspect); }},
+                 {name: 'targets only', key: 'targets', fitted: true,
+                  make: function (fitAspect) { return fitView(targetCorners, D.view.fov_deg, fitAspect); }},
                  // Surface resting on or hidden by other geometry (a part's underside on a
                  // table) is seen from below with the occluders hidden: red where no sensor sees.
-                 {name: 'from below, occluders hidden', key: 'below', hide: ['occluders'],
-                  make: function () {
+                 {name: 'from below, occluders hidden', key: 'below', hide: ['occluders'], fitted: true,
+                  make: function (fitAspect) {
                     var d = D.view.direction;
-                    return fitView(targetCorners, D.view.fov_deg, camera.aspect, [d[0], d[1], -d[2]]);
+                    return fitView(targetCorners, D.view.fov_deg, fitAspect, [d[0], d[1], -d[2]]);
                   }}];
     // With keep-out boxes, a view that frames them too (their corners, in their poses).
     if (D.keep_out && D.keep_out.length) {
@@ -817,9 +819,9 @@
             .applyQuaternion(q).add(new THREE.Vector3().fromArray(b.center)));
         }
       });
-      views.push({name: 'targets, chosen sensors and keep-out boxes', key: 'keepout', make: function () {
+      views.push({name: 'targets, chosen sensors and keep-out boxes', key: 'keepout', fitted: true, make: function (fitAspect) {
         return fitView(targetCorners.concat(boxCorners, D.view.sensors.map(function (p) { return new THREE.Vector3().fromArray(p); })),
-                       D.view.fov_deg, camera.aspect);
+                       D.view.fov_deg, fitAspect);
       }});
     }
     // Each chosen sensor's own view: from its optical centre along its axis, with its vertical
@@ -1111,14 +1113,48 @@
       option.textContent = v.name;
       pickView.appendChild(option);
     });
+    // The panels stand over the canvas's sides (layers and legend at the left, the what-if at the
+    // right): a fitted view frames its points in the band between them, so that no chosen camera
+    // is drawn under a panel (issue 46: at 1,000-1,400 pixels wide the layers panel and the what-if
+    // covered two of the example's three). Null where that band is under a quarter of the canvas.
+    function freeBand() {
+      var box = view.getBoundingClientRect(), width = view.clientWidth, height = view.clientHeight;
+      var left = 0, right = width, margin = 8;
+      function edges(id, side) {
+        var e = document.getElementById(id);
+        if (!e || !e.offsetWidth || !e.offsetHeight) return;
+        var r = e.getBoundingClientRect();
+        if (r.bottom <= box.top || r.top >= box.bottom) return;
+        if (side < 0) left = Math.max(left, r.right - box.left + margin);
+        else right = Math.min(right, r.left - box.left - margin);
+      }
+      edges('layers', -1);
+      edges('legend', -1);
+      edges('whatif', 1);
+      if (right - left < 0.25 * width || height <= 0) return null;
+      return {left: left, right: right, width: right - left, height: height, canvasWidth: width};
+    }
+    // The picture's centre (where the view's target is drawn) moved to the band's centre: a view
+    // offset shifts the whole image, so a fit in the band's aspect stays inside the band.
+    function offsetTo(band) {
+      if (band) {
+        camera.setViewOffset(band.canvasWidth, band.height, band.canvasWidth / 2 - (band.left + band.right) / 2, 0,
+                             band.canvasWidth, band.height);
+      } else {
+        camera.clearViewOffset();
+      }
+      camera.updateProjectionMatrix();
+    }
     var hidden = [];
     function show(k) {
       hidden.forEach(function (name) { setLayer(name, true); });
       hidden = (views[k].hide || []).slice();
       hidden.forEach(function (name) { setLayer(name, false); });
-      var v = views[k].make();
+      moved = false;
+      var band = views[k].fitted ? freeBand() : null;
+      var v = views[k].make(band ? band.width / band.height : camera.aspect);
       camera.fov = v.fov;
-      camera.updateProjectionMatrix();
+      offsetTo(band);
       camera.position.copy(v.eye);
       controls.target.copy(v.target);
       controls.update();
@@ -1136,6 +1172,10 @@
     panel.appendChild(row);
     var wanted = /(?:^#|&)view=([A-Za-z0-9]+)/.exec(window.location.hash);
     views.forEach(function (v, k) { if (wanted && wanted[1] === v.key) pickView.value = String(k); });
+    // A canvas too narrow for a picture between the panels starts with the legend folded (its
+    // rows are the widest panel at the left; a click on "legend" unfolds it).
+    var legendBox = document.querySelector('#legend details');
+    if (!freeBand() && legendBox && legendBox.open) legendBox.open = false;
     show(Number(pickView.value));
 
     // The what-if layout drawn live: voxel colours, markers, height lines and frusta.
@@ -1186,9 +1226,14 @@
     window.vantagePage.screenOf = function (i) { return screenOf(D.candidates[i].p); };
     window.vantagePage.view = function () { return views[Number(pickView.value)].key; };
 
+    // Until the reader moves the view, a resize fits the picked view again (the page may first
+    // lay out narrower than its window); after that it keeps their view.
+    var moved = false;
+    controls.addEventListener('start', function () { moved = true; });
     window.addEventListener('resize', function () {
       camera.aspect = view.clientWidth / view.clientHeight;
-      camera.updateProjectionMatrix();
+      if (!moved) show(Number(pickView.value));
+      else offsetTo(camera.view && camera.view.enabled ? freeBand() : null);
       renderer.setSize(view.clientWidth, view.clientHeight);
       render();
     });
