@@ -302,7 +302,7 @@ TEST(ExactModel, EveryKindMatchesEnumeration) {
       }
       for (Question& q : states) {
         q.model.matrix = &stacked;
-        q.model.value = by_min ? detail::ModelValue::kMin : detail::ModelValue::kMean;
+        q.model.over = &AggregationOf(by_min ? OverStates::kMin : OverStates::kMean);
         Check(q, &asked);
       }
     }

@@ -822,7 +822,7 @@ TEST(SelectOverStates, MinBoundOfAHandWorkedInstance) {
   // n = 2: {0, 1} covers both states fully.
   detail::SelectionModel model;
   model.matrix = &matrix;
-  model.value = detail::ModelValue::kMin;
+  model.over = &AggregationOf(OverStates::kMin);
   model.capacity = 2;
   const detail::ExactAnswer two = detail::SolveExactModel(model, {2, 0}, 10);
   EXPECT_EQ(std::set<uint32_t>(two.chosen.begin(), two.chosen.end()), (std::set<uint32_t>{0, 1}));

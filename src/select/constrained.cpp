@@ -531,13 +531,13 @@ template std::vector<uint32_t> ConstrainedRansac(const StatesScorer&,
 
 namespace {
 
-// How the model values a scorer's cells: one state's, or its aggregate over the states.
+// How the model values a scorer's cells: one state's (null), or its aggregation over the states.
 template <MethodScorer Scorer>
-ModelValue ValueOf(const Scorer& scorer) {
+const Aggregation* AggregationOf(const Scorer& scorer) {
   if constexpr (Scorer::kCells) {
-    return ModelValue::kCells;
+    return nullptr;
   } else {
-    return ValueOver(scorer.over());
+    return &scorer.aggregation();
   }
 }
 
@@ -551,7 +551,7 @@ ConstrainedMethods<Scorer>::ConstrainedMethods(const Scorer& scorer,
                                                std::vector<uint32_t> start)
     : scorer_(scorer),
       feasible_(feasible),
-      model_(ModelFor(options, scorer.matrix(), ValueOf(scorer), 0, &feasible)),
+      model_(ModelFor(options, scorer.matrix(), AggregationOf(scorer), 0, &feasible)),
       seed_(options.seed),
       ransac_stop_coverage_(options.ransac_stop_coverage),
       setup_seconds_(setup_seconds),

@@ -80,7 +80,7 @@ enum class Kind {
 };
 
 Kind KindOf(const SelectionModel& model) {
-  const bool cells = model.value == ModelValue::kCells;
+  const bool cells = model.over == nullptr;
   if (model.goal) return cells ? Kind::kGoal : Kind::kStatesGoal;
   const bool plain = model.rules == nullptr && model.fixed.empty();
   if (!cells) {
@@ -150,9 +150,7 @@ class Objective {
  public:
   explicit Objective(const SelectionModel& model)
       : model_(model), matrix_(*model.matrix), kind_(KindOf(model)) {
-    if (model.value != ModelValue::kCells) {
-      states_.emplace(matrix_, OverOf(model.value), model.threshold);
-    }
+    if (model.over) states_.emplace(matrix_, model.over->value, model.threshold);
     most_ = MostSensors();
   }
 
@@ -566,7 +564,7 @@ ExactAnswer SolveModelMilp(const SelectionModel& model,
 // A goal of cells with no rule and no kept sensor: the plain matrix's goal.
 bool IsPlainGoal(const SelectionModel& model) {
   const bool rules = model.rules != nullptr && model.rules->restricts();
-  return model.goal && model.value == ModelValue::kCells && model.fixed.empty() && !rules;
+  return model.goal && model.over == nullptr && model.fixed.empty() && !rules;
 }
 
 // The plain matrix's goal: the fewest sensors by the set-cover search (SolveSetCover) where a

@@ -224,32 +224,46 @@ MilpAnswer BuildAndSolve(const SelectionModel& milp, const std::vector<uint32_t>
     class_weight[class_of[e]] += matrix.Weight(static_cast<uint32_t>(e));
     class_state[class_of[e]] = state_of[e];
   }
-  // The objective's value of a class (value units), its goal row's coefficient, the scale of
-  // CBC's objective (about cells of the largest state: its tolerances suit magnitudes >= 1).
-  size_t largest = 1;
-  for (size_t st = 0; st < states; ++st) largest = std::max(largest, matrix.StateReferenceSize(st));
-  // The sum counts cells, over all of R: CBC's objective and its goal row are in cells.
-  const bool by_min = milp.value == ModelValue::kMin;
-  const bool by_sum = milp.value == ModelValue::kSum;
-  const auto all_cells = static_cast<double>(std::max<size_t>(matrix.reference_size(), 1));
-  const double scale = milp.value == ModelValue::kCells ? 1.0
-                       : by_min                         ? static_cast<double>(largest)
-                       : by_sum                         ? all_cells
-                                : static_cast<double>(largest) * static_cast<double>(states);
-  const auto value_of = [&](int64_t c) {
-    if (milp.value == ModelValue::kCells) return class_weight[c];
-    if (by_sum) return class_weight[c] / all_cells;
-    const size_t st = class_state[c];
-    const double unit = 1.0 / static_cast<double>(matrix.StateReferenceSize(st)) /
-                        (by_min ? 1.0 : static_cast<double>(states));
-    return class_weight[c] * unit;
+  // Over states a cell of state s weighs ω_s = p_s / q_s (the aggregation's row): a weighted sum
+  // values it ω_s / Σ ω_s |R_s| of the aggregate, a minimum ω_s of its state's row. CBC's
+  // objective is in cells of the state weighted least (`scale` per unit of the aggregate: its
+  // tolerances suit magnitudes >= 1), and so is a weighted sum's goal row: ω_s / ω_least per
+  // cell, whole where every weight is (then so is the objective, up to round-off).
+  const Aggregation* over = milp.over;
+  const bool by_min = over && over->shape == AggregateShape::kMinimum;
+  const auto lighter = [](const CellWeight& a, const CellWeight& b) {
+    __extension__ typedef unsigned __int128 Wide;
+    return Wide{a.numerator} * b.denominator < Wide{b.numerator} * a.denominator;
   };
-  // Goal rows: cells (one state, each state's for min, all states' for the sum) or the mean
-  // times `scale`.
+  std::vector<CellWeight> weight(states);
+  double most = 0;         // Σ ω_s |R_s|
+  CellWeight least{0, 1};  // the least positive ω_s
+  bool whole_weights = true;
+  for (size_t st = 0; over && st < states; ++st) {
+    const size_t size = matrix.StateReferenceSize(st);
+    const CellWeight w = weight[st] = over->weight(size);
+    most += static_cast<double>(size) * static_cast<double>(w.numerator) /
+            static_cast<double>(w.denominator);
+    if (w.numerator > 0 && (least.numerator == 0 || lighter(w, least))) least = w;
+    whole_weights = whole_weights && w.numerator % w.denominator == 0;
+  }
+  if (least.numerator == 0) least = {1, 1};
+  const double per_least =
+      static_cast<double>(least.denominator) / static_cast<double>(least.numerator);
+  const double scale = !over ? 1.0 : by_min ? per_least : most > 0 ? most * per_least : 1.0;
+  std::vector<double> unit(states, 1.0);  // a class's value per weight unit (value units)
+  for (size_t st = 0; over && st < states; ++st) {
+    unit[st] = static_cast<double>(weight[st].numerator) /
+               static_cast<double>(weight[st].denominator) / (by_min ? 1.0 : most);
+  }
+  const auto value_of = [&](int64_t c) { return class_weight[c] * unit[class_state[c]]; };
+  // Goal rows: cells (one state, or each state's for a minimum), or a weighted sum in cells of
+  // the state weighted least (its goal times `scale`).
   const auto goal_value_of = [&](int64_t c) {
-    if (milp.value != ModelValue::kMean) return class_weight[c];
-    return class_weight[c] * static_cast<double>(largest) /
-           static_cast<double>(matrix.StateReferenceSize(class_state[c]));
+    if (!over || by_min) return class_weight[c];
+    const CellWeight& w = weight[class_state[c]];
+    return class_weight[c] * static_cast<double>(w.numerator * least.denominator) /
+           static_cast<double>(w.denominator * least.numerator);
   };
   const size_t groups = by_min ? states : 1;  // value rows: one, or one per state (min)
   const auto group_of = [&](int64_t c) { return by_min ? class_state[c] : 0; };
@@ -277,7 +291,7 @@ MilpAnswer BuildAndSolve(const SelectionModel& milp, const std::vector<uint32_t>
   bool cover_all = false;
   if (!maximise) {
     for (size_t g = 0; g < groups; ++g) {
-      if (milp.value == ModelValue::kCells) goal_rhs[g] = *milp.goal;
+      if (!over) goal_rhs[g] = *milp.goal;
       else if (by_min)
         goal_rhs[g] = std::ceil(*milp.goal * static_cast<double>(matrix.StateReferenceSize(g)) -
                                 1e-9);
@@ -290,7 +304,7 @@ MilpAnswer BuildAndSolve(const SelectionModel& milp, const std::vector<uint32_t>
     }
     // A goal of everything that can be seen (one state): covering rows sum points x >= T,
     // without y — pure set covering, whose structure CBC's cuts know.
-    cover_all = milp.value == ModelValue::kCells && goal_rhs[0] == coverable[0];
+    cover_all = !over && goal_rhs[0] == coverable[0];
   }
 
   Model model;
@@ -326,8 +340,7 @@ MilpAnswer BuildAndSolve(const SelectionModel& milp, const std::vector<uint32_t>
       continue;
     }
     if (folds(c)) continue;
-    const double objective = by_sum ? class_weight[c] : value_of(c) * scale;
-    y_of[c] = model.AddColumn(0, 1, maximise && !by_min ? objective : 0.0, integer_y);
+    y_of[c] = model.AddColumn(0, 1, maximise && !by_min ? value_of(c) * scale : 0.0, integer_y);
     for (const auto& [q, points] : seers[c]) terms.emplace_back(q, -static_cast<double>(points));
     terms.emplace_back(y_of[c], static_cast<double>(threshold));
     model.AddRow(terms, -kInfinity, 0.0);
@@ -439,9 +452,9 @@ MilpAnswer BuildAndSolve(const SelectionModel& milp, const std::vector<uint32_t>
   // CBC notices its limit only between steps and overran it by up to 5 s in 60 (the 450-candidate
   // bench world): it gets kCbcTimeShare of the time, so that the whole method stays within it.
   cbc_api.cbc_set_maximum_seconds(cbc, kCbcTimeShare * time_limit);
-  if (maximise && milp.value != ModelValue::kCells && !by_sum) {
+  if (maximise && over && !whole_weights) {
     // Aggregates are fractions with no common grain worth relying on: prove to round-off only
-    // (the sum's objective is whole cells).
+    // (with whole weights, as the sum's, the objective counts whole cells).
     cbc_api.cbc_set_allowable_gap(cbc, 1e-10 * scale);
     cbc_api.cbc_set_allowable_fraction_gap(cbc, 0.0);
   } else if (maximise || !has_costs || AllWhole(milp.costs)) {

@@ -50,35 +50,18 @@ bool SelectionKind::Applies(Method method) const {
   return std::find(methods.begin(), methods.end(), method) != methods.end();
 }
 
-ModelValue ValueOver(OverStates over) {
-  switch (over) {
-    case OverStates::kMean: return ModelValue::kMean;
-    case OverStates::kMin: return ModelValue::kMin;
-    case OverStates::kSum: return ModelValue::kSum;
-  }
-  VANTAGE_CHECK(false);
-  return ModelValue::kMean;
-}
-
-OverStates OverOf(ModelValue value) {
-  VANTAGE_CHECK(value != ModelValue::kCells);
-  return value == ModelValue::kMin ? OverStates::kMin
-         : value == ModelValue::kSum ? OverStates::kSum
-                                     : OverStates::kMean;
-}
-
 int Threshold(const SelectOptions& options) { return KindFor(options).threshold; }
 
 SelectionModel ModelFor(const SelectOptions& options, const CoverageMatrix& matrix,
-                        ModelValue value, size_t n, const Feasibility* rules) {
+                        const Aggregation* over, size_t n, const Feasibility* rules) {
   SelectionModel model;
   model.matrix = &matrix;
   model.threshold = Threshold(options);
-  model.value = value;
+  model.over = over;
   if (options.budget || options.minimize_cost) model.costs = options.costs;
   model.capacity = options.budget ? *options.budget : static_cast<double>(n);
   if (options.goal) {
-    model.goal = value == ModelValue::kCells
+    model.goal = over == nullptr
                      ? static_cast<double>(GoalCells(*options.goal, matrix.reference_size()))
                      : *options.goal;
   }

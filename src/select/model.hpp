@@ -21,14 +21,6 @@ namespace vantage::detail {
 
 class Feasibility;
 
-/// How an element's cells are valued: one state's cells, or over states the mean, the minimum, or
-/// the sum (every state's cells together, Σ covered_s / Σ |R_s|: the mean weighted by |R_s|).
-enum class ModelValue { kCells, kMean, kMin, kSum };
-
-/// The value of `over` (kMean, kMin, kSum), and the aggregate of a value over states (not kCells).
-ModelValue ValueOver(OverStates over);
-OverStates OverOf(ModelValue value);
-
 /// What kind of question `options` ask, decided once here (KindFor) and read by Validate (the
 /// methods that apply), Threshold and ModelFor (what a cell needs), the scorers (how an answer is
 /// scored and named) and RunMethods (which methods "all" runs): a new combination of the existing
@@ -58,14 +50,16 @@ SelectionKind KindFor(const SelectOptions& options);
 struct SelectionModel {
   const CoverageMatrix* matrix = nullptr;
   int threshold = 1;  ///< what a class needs to count: seers (k) or, with counts, points
-  ModelValue value = ModelValue::kCells;
+  /// How the states' cells are valued (kAggregations' row: its shape and cell weights); null:
+  /// one state's cells.
+  const Aggregation* over = nullptr;
   /// Per candidate: the budget row's coefficients (maximise) or the prices a goal minimises;
   /// empty: unit (n sensors, the fewest sensors).
   std::span<const double> costs;
   /// Maximise within sum_i r_i x_i <= capacity (n, or the budget with `costs`).
   double capacity = 0;
-  /// Minimise cost reaching this value instead: cells (kCells), the mean or the sum (a fraction)
-  /// or each state's share (kMin).
+  /// Minimise cost reaching this value instead: cells (one state's), a weighted sum (a fraction)
+  /// or each state's share (a minimum).
   std::optional<double> goal;
   std::span<const uint32_t> fixed;     ///< kept sensors: x = 1
   const Feasibility* rules = nullptr;  ///< conflicts and connectivity, or none
@@ -75,11 +69,11 @@ struct SelectionModel {
 uint64_t GoalCells(double goal, size_t reference_size);
 
 /// The model `options` ask on `matrix` (the one translation from options to model): the
-/// threshold (k, or min points), `value`, the costs where a budget or `--cheapest` prices the
-/// sets, the capacity (`n` sensors, or the budget), the goal (in cells for kCells, else the
-/// fraction itself), the kept sensors and `rules`.
+/// threshold (k, or min points), `over` (null: one state's cells), the costs where a budget or
+/// `--cheapest` prices the sets, the capacity (`n` sensors, or the budget), the goal (in cells
+/// for one state's cells, else the fraction itself), the kept sensors and `rules`.
 SelectionModel ModelFor(const SelectOptions& options, const CoverageMatrix& matrix,
-                        ModelValue value, size_t n, const Feasibility* rules);
+                        const Aggregation* over, size_t n, const Feasibility* rules);
 
 /// What exact found for a SelectionModel.
 struct ExactAnswer {

@@ -384,13 +384,18 @@ double StatesLagrangianBound(const CoverageMatrix& matrix,
                              double seconds) {
   const auto begin = std::chrono::steady_clock::now();
   const size_t states = matrix.state_count();
-  // The mean weighs each state's share alike; the sum is the mean weighted by |R_s|.
-  std::vector<double> multipliers(states, 1.0);
-  if (over == OverStates::kSum) {
-    for (size_t s = 0; s < states; ++s)
-      multipliers[s] = static_cast<double>(matrix.StateReferenceSize(s));
+  // A weighted sum weighs state s's share by ω_s |R_s| (the mean: alike; the sum: |R_s|), a
+  // minimum starts there too and moves the multipliers towards the states it covers least.
+  const Aggregation& aggregation = AggregationOf(over);
+  std::vector<double> multipliers(states);
+  for (size_t s = 0; s < states; ++s) {
+    const size_t size = matrix.StateReferenceSize(s);
+    const CellWeight w = aggregation.weight(size);
+    multipliers[s] = static_cast<double>(size) * static_cast<double>(w.numerator) /
+                     static_cast<double>(w.denominator);
   }
-  const int rounds = over == OverStates::kMin && states > 1 ? kMinRounds : 1;
+  const bool minimum = aggregation.shape == AggregateShape::kMinimum;
+  const int rounds = minimum && states > 1 ? kMinRounds : 1;
   double best = std::numeric_limits<double>::infinity();
   double rate = kStartRate;
   for (int round = 0; round < rounds; ++round) {
@@ -457,14 +462,8 @@ double RowSumGoalBound(const StatesScorer& scorer, std::span<const double> costs
   // Slack below the goal: GoalReached's 1e-9 and some round-off, so the bound stays proven.
   const double target = goal - 1e-9 - 1e-12;
   double others = 0;
-  if (scorer.over() != OverStates::kMin) {
-    const auto share = [&](const StateTally& t) {
-      if (scorer.over() == OverStates::kSum) return scorer.Fraction(t);
-      double sum = 0;
-      for (size_t st = 0; st < states; ++st)
-        sum += static_cast<double>(t[st]) / static_cast<double>(matrix.StateReferenceSize(st));
-      return sum / static_cast<double>(states);
-    };
+  if (scorer.aggregation().shape == AggregateShape::kWeightedSum) {
+    const auto share = [&](const StateTally& t) { return scorer.Fraction(t); };
     others = knapsack(target - share(kept) - 1e-12,
                       [&](uint32_t c) { return share(scorer.RowWeight(c)); });
   } else {

@@ -3,9 +3,9 @@
 // Every state s has its own reference set R_s and one observation set per candidate. The
 // states' merged matrices are stacked into one CoverageMatrix (an element is a class of cells of
 // one state), and Select's own methods run on it with StatesScorer, which scores a set of
-// candidates by the aggregate (mean or min) of its per-state coverages, compared exactly
-// (scorer.hpp). Reported coverages are recomputed from the observations by CoverageEvaluator,
-// never taken from this bookkeeping.
+// candidates by the aggregate (its aggregation's row: shape and cell weights) of its per-state
+// coverages, compared exactly (scorer.hpp). Reported coverages are recomputed from the
+// observations by CoverageEvaluator, never taken from this bookkeeping.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
@@ -67,6 +67,27 @@ namespace {
 
 using Int = StatesScorer::Int;
 
+// The aggregate, a fraction, of `states` states as `aggregation` counts it, from each state's
+// weighted cells weighted_of(s, ω_s) = ω_s c_s and size_of(s) = |R_s|: the weighted sum
+// Σ ω_s c_s / Σ ω_s |R_s|, or the least ω_s c_s. In state order, so every reader gets the same
+// number.
+template <class WeightedOf, class SizeOf>
+double AggregateOf(const Aggregation& aggregation, size_t states, const WeightedOf& weighted_of,
+                   const SizeOf& size_of) {
+  double sum = 0, most = 0, least = 0;
+  for (size_t s = 0; s < states; ++s) {
+    const size_t size = size_of(s);
+    const CellWeight w = aggregation.weight(size);
+    const double value = weighted_of(s, w);
+    sum += value;
+    most += static_cast<double>(size) * static_cast<double>(w.numerator) /
+            static_cast<double>(w.denominator);
+    least = s == 0 ? value : std::min(least, value);
+  }
+  if (aggregation.shape == AggregateShape::kMinimum) return least;
+  return most > 0 ? sum / most : 0.0;
+}
+
 Int Gcd(Int a, Int b) {
   while (b != 0) {
     const Int t = a % b;
@@ -79,16 +100,17 @@ Int Gcd(Int a, Int b) {
 }  // namespace
 
 StatesScorer::StatesScorer(const CoverageMatrix& matrix, OverStates over, int threshold)
-    : matrix_(&matrix), over_(over), threshold_(threshold) {
+    : matrix_(&matrix), aggregation_(&AggregationOf(over)), threshold_(threshold) {
   const size_t states = matrix.state_count();
-  // Common denominator L = lcm(|R_s|) when S · L fits comfortably, else fixed point 2^62. The
-  // sum counts cells: its unit is one cell of any state (L = 1 for all, always exact).
+  for (size_t s = 0; s < states; ++s)
+    weight_.push_back(aggregation_->weight(matrix.StateReferenceSize(s)));
+  // Common denominator L = lcm(q_s) when S · L fits comfortably, else fixed point 2^62 (whole
+  // weights, as the sum's: L = 1, always exact).
   constexpr Int kLimit = Int{1} << 96;
   Int lcm = 1;
-  for (size_t s = 0; s < states && over != OverStates::kSum; ++s) {
-    const auto r = static_cast<Int>(matrix.StateReferenceSize(s));
-    if (r == 0) continue;  // an empty R_s: every set covers 0 of it (unit 0)
-    const Int next = lcm / Gcd(lcm, r) * r;
+  for (size_t s = 0; s < states; ++s) {
+    const auto q = static_cast<Int>(weight_[s].denominator);
+    const Int next = lcm / Gcd(lcm, q) * q;
     if (next > kLimit) {
       lcm = 0;
       break;
@@ -96,9 +118,9 @@ StatesScorer::StatesScorer(const CoverageMatrix& matrix, OverStates over, int th
     lcm = next;
   }
   exact_ = lcm != 0;
-  for (size_t s = 0; s < states; ++s) {
-    const size_t r = matrix.StateReferenceSize(s);
-    unit_.push_back(over == OverStates::kSum ? 1 : exact_ && r > 0 ? lcm / static_cast<Int>(r) : 0);
+  for (const CellWeight& w : weight_) {
+    unit_.push_back(exact_ ? lcm / static_cast<Int>(w.denominator) * static_cast<Int>(w.numerator)
+                           : 0);
   }
   state_of_.resize(matrix.element_count());
   for (size_t s = 0; s < states; ++s) {
@@ -155,8 +177,9 @@ StateTally StatesScorer::Covered(std::span<const uint32_t> chosen) const {
 
 Int StatesScorer::Units(size_t state, uint64_t cells) const {
   if (exact_) return static_cast<Int>(cells) * unit_[state];
-  if (matrix_->StateReferenceSize(state) == 0) return 0;
-  return (static_cast<Int>(cells) << 62) / static_cast<Int>(matrix_->StateReferenceSize(state));
+  const CellWeight& w = weight_[state];
+  return ((static_cast<Int>(cells) * static_cast<Int>(w.numerator)) << 62) /
+         static_cast<Int>(w.denominator);
 }
 
 StatesScorer::Score StatesScorer::ScoreOf(const Tally& cells) const {
@@ -166,26 +189,18 @@ StatesScorer::Score StatesScorer::ScoreOf(const Tally& cells) const {
     sum += u;
     least = s == 0 ? u : std::min(least, u);
   }
-  if (over_ != OverStates::kMin) return Score{sum, 0};
+  if (aggregation_->shape == AggregateShape::kWeightedSum) return Score{sum, 0};
   return Score{least, sum};
 }
 
 double StatesScorer::Fraction(const Tally& cells) const {
-  if (over_ == OverStates::kSum) {  // all cells over all of R, one division
-    uint64_t covered = 0;
-    for (size_t s = 0; s < cells.size(); ++s) covered += cells[s];
-    const size_t r = matrix_->reference_size();
-    return r ? static_cast<double>(covered) / static_cast<double>(r) : 0.0;
-  }
-  double sum = 0, least = 1;
-  for (size_t s = 0; s < cells.size(); ++s) {
-    const size_t r = matrix_->StateReferenceSize(s);
-    const double fraction =
-        r ? static_cast<double>(cells[s]) / static_cast<double>(r) : 0.0;
-    sum += fraction;
-    least = std::min(least, fraction);
-  }
-  return over_ == OverStates::kMean ? sum / static_cast<double>(cells.size()) : least;
+  return AggregateOf(
+      *aggregation_, cells.size(),
+      [&](size_t s, const CellWeight& w) {
+        return static_cast<double>(cells[s]) * static_cast<double>(w.numerator) /
+               static_cast<double>(w.denominator);
+      },
+      [&](size_t s) { return matrix_->StateReferenceSize(s); });
 }
 
 }  // namespace detail
@@ -194,24 +209,21 @@ double StatesScorer::Fraction(const Tally& cells) const {
 
 namespace {
 
-// The states' `values` (each a share of its R_s) aggregated as `over` asks.
+// The states' `values` (each a share v_s of its R_s) aggregated as `over` asks: ω_s c_s is
+// v_s · ω_s |R_s| (mean, min: v_s itself), or with whole weights (sum) the share's whole cells
+// round(v_s |R_s|) · ω_s, as the scorer counts.
 double Aggregate(const std::vector<double>& values, OverStates over,
                  std::span<const StateObservations> states) {
-  if (over == OverStates::kMin) return *std::min_element(values.begin(), values.end());
-  if (over == OverStates::kSum) {
-    // Each share is a whole number of cells over |R_s|: those cells over all of R, one division
-    // (one state: its own share).
-    double cells = 0, reference = 0;
-    for (size_t s = 0; s < values.size(); ++s) {
-      const auto r = static_cast<double>(states[s].reference_size);
-      cells += std::round(values[s] * r);
-      reference += r;
-    }
-    return values.size() == 1 ? values.front() : cells / reference;
-  }
-  double sum = 0;
-  for (const double v : values) sum += v;  // state order: the same every time
-  return sum / static_cast<double>(values.size());
+  const auto size_of = [&](size_t s) { return states[s].reference_size; };
+  return detail::AggregateOf(
+      AggregationOf(over), values.size(),
+      [&](size_t s, const CellWeight& w) {
+        const auto size = static_cast<double>(size_of(s));
+        const auto p = static_cast<double>(w.numerator), q = static_cast<double>(w.denominator);
+        if (w.numerator % w.denominator == 0) return std::round(values[s] * size) * p / q;
+        return values[s] * (size * p / q);
+      },
+      size_of);
 }
 
 StateSelection Scored(std::span<const StateObservations> states,
@@ -272,7 +284,7 @@ StateSelection ScoredFor(const SelectOptions& options, std::span<const StateObse
 detail::SelectionModel StatesModel(const detail::StatesScorer& scorer,
                                    const detail::Feasibility* rules,
                                    const SelectOptions& options, size_t n) {
-  return detail::ModelFor(options, scorer.matrix(), detail::ValueOver(scorer.over()), n, rules);
+  return detail::ModelFor(options, scorer.matrix(), &scorer.aggregation(), n, rules);
 }
 
 // The methods for a goal, on the goal's model (GoalModel): the least cost (with unit costs the
@@ -310,12 +322,11 @@ class GoalMethods final : public detail::MethodSteps<StateSelection> {
     const size_t candidates = scorer.matrix().candidate_count();
     const bool plain =
         states.size() == 1 && options.constraints.empty() && options.fixed.empty();
-    return plain ? detail::ModelFor(options, scorer.matrix(), detail::ModelValue::kCells,
-                                    candidates, nullptr)
+    return plain ? detail::ModelFor(options, scorer.matrix(), nullptr, candidates, nullptr)
                  : StatesModel(scorer, &feasible, options, candidates);
   }
   static bool IsPlain(const detail::SelectionModel& model) {
-    return model.value == detail::ModelValue::kCells;
+    return model.over == nullptr;
   }
   /// Greedy to the model's goal, from the kept sensors (GoalOverStates checks what it reached).
   static std::vector<uint32_t> GreedyToTheGoal(const detail::SelectionModel& model,

@@ -98,20 +98,20 @@ class StateTally {
   std::vector<uint64_t> cells_;
 };
 
-/// Selection over the states of a scene, on their stacked matrix: the fractions c_s / |R_s| of
-/// the covered cells c_s of each state s, aggregated by their mean, or by their minimum with ties
-/// broken by the mean (then, in every method, by the lower index), or the sum Σ c_s / Σ |R_s|
-/// (every cell of every state alike: a coverage of the stacked cells, in units of one cell). The
-/// fractions are compared exactly: each is a whole number of units 1 / L, L = lcm(|R_s|) (fixed
-/// point 2^-62 when L is too large), so no floating-point summation order can change a choice.
-/// With exact units the mean is a coverage with weight L / |R_s| per cell of state s, and greedy
-/// is lazy for it and the sum as for plain coverage.
+/// Selection over the states of a scene, on their stacked matrix: the covered cells c_s of each
+/// state s, each weighing its aggregation's ω_s = p_s / q_s (select_states.hpp, kAggregations),
+/// aggregated by its shape: the weighted sum Σ ω_s c_s (mean: ω_s = 1 / |R_s|; sum: 1), or the
+/// least ω_s c_s with ties broken by that sum (min: the least share; then, in every method, by the
+/// lower index). Scores are compared exactly: each ω_s c_s is a whole number of units 1 / L,
+/// L = lcm(q_s) (fixed point 2^-62 when L is too large), so no floating-point summation order can
+/// change a choice. With exact units a weighted sum is a coverage with weight L p_s / q_s per cell
+/// of state s, and greedy is lazy for it as for plain coverage.
 class StatesScorer {
  public:
   __extension__ typedef __int128 Int;  // exact scores: up to S · L < 2^127
   using Tally = StateTally;
-  /// Lexicographic: primary (mean: the sum of the fractions; min: the least fraction; sum: the
-  /// cells), then secondary (min: the sum of the fractions; mean, sum: 0), each in units.
+  /// Lexicographic: primary (a weighted sum: Σ ω_s c_s; a minimum: the least ω_s c_s), then
+  /// secondary (a minimum: Σ ω_s c_s; a weighted sum: 0), each in units.
   struct Score {
     Int primary = 0;
     Int secondary = 0;
@@ -131,9 +131,10 @@ class StatesScorer {
   StatesScorer(const CoverageMatrix& matrix, OverStates over, int threshold = 1);
 
   const CoverageMatrix& matrix() const { return *matrix_; }
-  OverStates over() const { return over_; }
+  OverStates over() const { return aggregation_->value; }
+  const Aggregation& aggregation() const { return *aggregation_; }
   int k() const { return threshold_; }
-  bool lazy() const { return over_ != OverStates::kMin && exact_; }
+  bool lazy() const { return aggregation_->shape == AggregateShape::kWeightedSum && exact_; }
   Tally Zero() const { return StateTally(matrix_->state_count()); }
   void AddElement(uint32_t element, Tally* tally) const {
     (*tally)[state_of_[element]] += matrix_->Weight(element);
@@ -150,17 +151,18 @@ class StatesScorer {
   double Fraction(const Tally& cells) const;
 
  private:
-  /// The fraction cells / |R_s| in units of 1 / L (exact), or floor(cells · 2^62 / |R_s|).
+  /// ω_s · cells in units of 1 / L (exact), or floor(cells · p_s · 2^62 / q_s).
   Int Units(size_t state, uint64_t cells) const;
   /// The tally of the elements of `candidate` in `set` (kInSet) or outside it.
   template <bool kInSet>
   Tally RowTally(uint32_t candidate, const Bitset& set) const;
 
   const CoverageMatrix* matrix_;
-  OverStates over_;
+  const Aggregation* aggregation_;
   int threshold_ = 1;
   bool exact_ = true;
-  std::vector<Int> unit_;           ///< per state, L / |R_s| (exact only)
+  std::vector<CellWeight> weight_;  ///< per state, ω_s
+  std::vector<Int> unit_;           ///< per state, L p_s / q_s (exact only)
   std::vector<uint32_t> state_of_;  ///< per element
   std::vector<Tally> row_weights_;  ///< per candidate
 };
