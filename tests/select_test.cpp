@@ -1564,7 +1564,8 @@ TEST(Objectives, InfeasibleGoalIsInputErrorNamingTheReachableMaximum) {
       FAIL() << "no InputError for " << MethodName(m);
     } catch (const InputError& e) {
       EXPECT_EQ(std::string(e.what()),
-                "goal 0.8 is above the 0.7500 that all 3 candidates reach together — lower --goal");
+                "--goal: goal 0.8 is above the 0.7500 that all 3 candidates reach together — "
+                "lower --goal");
     }
   }
   // Nothing seen at all: any goal is infeasible (and no empty answer is returned).

@@ -51,6 +51,9 @@ struct SelectOptions {
   bool minimize_cost = false;
   /// Where the goal was given, for that InputError: "--goal", or the scene's "file:line".
   std::string goal_source = "--goal";
+  /// What SelectOverStates' groups of cells are, for its messages: "states", or "target parts"
+  /// (--over-parts, whose groups are parts, or each state's parts).
+  std::string groups = "states";
   /// k-coverage when >= 2: a cell counts only when at least k chosen sensors see it (stereo,
   /// redundancy); needs n >= k. Methods ransac, greedy, local, exact, all. 1 = plain coverage.
   int k = 1;

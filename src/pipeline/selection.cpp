@@ -285,9 +285,11 @@ void SelectOnMatrix(const VisibilityFile& data, const SelectionRequest& request,
   PartGroups parts;
   AddPartGroups(data.reference, data.observations, "", &parts);
   MakeGroupViews(&parts);
+  SelectOptions over_parts = options;
+  over_parts.groups = "target parts";
   // The calibration graph joins sensors by their common cells of all of R, not of one part.
   for (StateSelection& result :
-       SelectOverStates(parts.groups, *request.over_parts, options, data.observations))
+       SelectOverStates(parts.groups, *request.over_parts, over_parts, data.observations))
     report->results.push_back(std::move(result.selection));
 }
 
@@ -299,6 +301,7 @@ void SelectResults(const ObservedScene& observed, const SelectionRequest& reques
     SelectOnMatrix(observed.data, request, options, report);
     return;
   }
+  if (request.over_parts) options.groups = "states' target parts";
   // With --over-parts the states take its aggregation (optimize refuses two different ones).
   const OverStates over =
       request.over_states.value_or(request.over_parts.value_or(OverStates::kMean));

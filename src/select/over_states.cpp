@@ -428,9 +428,10 @@ std::vector<StateSelection> GoalOverStates(std::span<const StateObservations> st
     const std::string what =
         states.size() == 1
             ? fmt::format("goal {:g} {}", goal, reach)
-            : fmt::format("goal {:g} over the states ({}) {}", goal, OverStatesName(over), reach);
+            : fmt::format("goal {:g} over the {} ({}) {}", goal, options.groups,
+                          OverStatesName(over), reach);
     return InputError(options.goal_source == "--goal"
-                          ? fmt::format("{} — lower --goal{}", what, relax)
+                          ? AtPlace("--goal", 0, fmt::format("{} — lower --goal{}", what, relax))
                           : fmt::format("{}: {} — lower the scene's goal, or give a lower "
                                         "--goal{}",
                                         options.goal_source, what, relax));

@@ -157,10 +157,12 @@ std::vector<Selection> SelectOnOneState(std::span<const Observation> observation
   if (options.min_points) RequirePointCounts(observations);
   const CoverageEvaluator evaluator(observations, reference_size);
   if (reference_size == 0) {
-    throw InputError(options.goal ? fmt::format("goal {:g} is above the 0.0000 that all {} "
-                                                "candidates reach together: R is empty — lower "
-                                                "--goal, or give the scene a target",
-                                                *options.goal, observations.size())
+    throw InputError(options.goal ? AtPlace(options.goal_source,
+                                            0,
+                                            fmt::format("goal {:g} is above the 0.0000 that all {} "
+                                                        "candidates reach together: R is empty — "
+                                                        "lower --goal, or give the scene a target",
+                                                        *options.goal, observations.size()))
                                   : "R is empty: a budget counted k times or in points has no "
                                     "cell to count — give the scene a target");
   }
