@@ -563,6 +563,12 @@ TEST(Robot, JointLimitsAndMimicFactorsBeyondAMillionAreRefused) {
                        "from 1e-06 to 1e+06 [rad/s or m/s]"),
             std::string::npos)
       << error;
+  // A negative speed is a wrong one, not an absent one (it read as "has no <limit velocity>").
+  error = error_with("revolute", "<limit lower=\"-1\" upper=\"1\" velocity=\"-1\" effort=\"1\"/>", "");
+  EXPECT_NE(error.find("limits.urdf:3: joint 'j': its <limit velocity> -1 is not a speed "
+                       "from 1e-06 to 1e+06 [rad/s or m/s]"),
+            std::string::npos)
+      << error;
   error = error_with("revolute", limit("-1", "1"), "<mimic joint=\"j\" multiplier=\"1e300\"/>");
   EXPECT_NE(error.find("limits.urdf:4: joint 'follower': its <mimic> multiplier 1e+300 and "
                        "offset 0 must lie within ±1e+06"),

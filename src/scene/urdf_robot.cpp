@@ -371,7 +371,9 @@ RobotModel LoadUrdf(const std::string& path) {
           break;
         }
       }
-      if (joint->limits && std::isfinite(joint->limits->velocity) && joint->limits->velocity > 0) {
+      // urdfdom reads an absent velocity as 0; any other value is the joint's speed, so a
+      // negative or non-finite one is an error here (it read as "has no <limit velocity>").
+      if (joint->limits && joint->limits->velocity != 0) {
         out.velocity = joint->limits->velocity;
         if (!(out.velocity >= kMinJointSpeed && out.velocity <= kMaxJointSpeed))
           diag.Error(out.line, fmt::format("joint '{}': its <limit velocity> {} is not a speed "
