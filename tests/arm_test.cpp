@@ -1114,6 +1114,9 @@ TEST_F(ArmBadInputTest, EachIsRefusedAtItsPlace) {
   // Session 34: "joints must be a list of joint names, got a list".
   Expect(kPlanarUrdf, head + "    arm: {robot: arm, link: tip, joints: []}\n", "9",
          "population 'wrist'.arm.joints must be a list of joint names, got an empty list");
+  // Session 34: [tip, tip] exempts nothing (a shape never collides with itself).
+  Expect(kPlanarUrdf, head + "    arm: {robot: arm, link: tip, allowed_collisions: [[tip, tip]]}\n",
+         "9", "population 'wrist'.arm.allowed_collisions[0] pairs 'tip' with itself");
   // Session 33: a mount at 1e300 m read as "120 out of reach (inverse kinematics)".
   Expect(kPlanarUrdf, head + "    arm: {robot: arm, link: tip, mount: {xyz: [0, 0, 1e300]}}\n",
          "9", "population 'wrist'.arm.mount: its offset (0, 0, 1e+300) m, beyond the ±1e+09 m");
@@ -1319,6 +1322,19 @@ TEST_F(ArmBadInputTest, RenderRefusesAViewOutsideItsJointsLimits) {
                                " is outside its limits [-3, 3] on robot 'arm'"),
               std::string::npos)
         << refused.err;
+    EXPECT_FALSE(std::filesystem::exists(dir_.File("bad.png")));
+  }
+  // `views` a mapping, or a view not one: yaml-cpp's "invalid node; this may result from using a
+  // map iterator ..." had no line.
+  for (const auto& [text, line_of_it] : std::vector<std::pair<std::string, int>>{
+           {"robot: arm\njoint_names: [x]\nviews: {a: 1}\n", 3},
+           {"robot: arm\njoint_names: [x]\nviews:\n  - 7\n", 4}}) {
+    WriteText(dir_.File("out/views.yaml"), text);
+    const auto refused = test::RunVantage(render + dir_.File("bad.png"));
+    EXPECT_EQ(refused.exit_code, 2) << refused.err;
+    EXPECT_NE(refused.err.find(fmt::format("views.yaml:{}: ", line_of_it)), std::string::npos)
+        << refused.err;
+    EXPECT_EQ(refused.err.find("invalid node"), std::string::npos) << refused.err;
     EXPECT_FALSE(std::filesystem::exists(dir_.File("bad.png")));
   }
 }

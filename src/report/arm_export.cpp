@@ -218,7 +218,10 @@ ArmViewsFile ReadArmViews(const std::string& path) {
       throw bad(root, "needs `robot`, `joint_names` and `views`");
     file.robot = root["robot"].as<std::string>();
     file.joint_names = root["joint_names"].as<std::vector<std::string>>();
+    // A mapping here gave yaml-cpp's "invalid node; this may result from using a map iterator".
+    if (!root["views"].IsSequence()) throw bad(root["views"], "`views` must be a list of views");
     for (const YAML::Node& view : root["views"]) {
+      if (!view.IsMap()) throw bad(view, "a view needs `name` and `positions`");
       if (!view["name"] || !view["positions"]) throw bad(view, "a view needs `name` and `positions`");
       file.views.push_back(view["name"].as<std::string>());
       file.lines.push_back(view.Mark().line + 1);

@@ -2154,6 +2154,14 @@ std::optional<ArmMount> SceneReader::ReadArmMount(const Value& input, const std:
             both[k] = *name;
           }
         }
+        // A shape never collides with itself: [a, a] exempts nothing, so it is a mistaken name.
+        if (ok && both[0] == both[1]) {
+          Error(pair.line, fmt::format("{}.allowed_collisions[{}] pairs '{}' with itself, which "
+                                       "exempts nothing — name the two links or objects that may "
+                                       "touch",
+                                       what, i, both[0]));
+          ok = false;
+        }
         if (ok) arm.allowed_pairs.emplace_back(both[0], both[1]);
       }
     }
