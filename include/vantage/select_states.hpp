@@ -32,6 +32,12 @@ struct CellWeight {
   uint64_t denominator = 1;
 };
 
+/// x ω = x · p / q, multiplied first: every reader weighs in this one order, so all agree to the
+/// bit (x · (p / q) rounds differently).
+constexpr double Weighted(double x, CellWeight w) {
+  return x * static_cast<double>(w.numerator) / static_cast<double>(w.denominator);
+}
+
 /// ω_s = 1 / |R_s|: each state's share c_s / |R_s| counts alike (0 for an empty R_s).
 constexpr CellWeight ShareOfItsState(uint64_t state_cells) {
   return state_cells ? CellWeight{1, state_cells} : CellWeight{0, 1};

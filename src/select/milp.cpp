@@ -242,8 +242,7 @@ MilpAnswer BuildAndSolve(const SelectionModel& milp, const std::vector<uint32_t>
   for (size_t st = 0; over && st < states; ++st) {
     const size_t size = matrix.StateReferenceSize(st);
     const CellWeight w = weight[st] = over->weight(size);
-    most += static_cast<double>(size) * static_cast<double>(w.numerator) /
-            static_cast<double>(w.denominator);
+    most += Weighted(static_cast<double>(size), w);
     if (w.numerator > 0 && (least.numerator == 0 || lighter(w, least))) least = w;
     whole_weights = whole_weights && w.numerator % w.denominator == 0;
   }
@@ -253,8 +252,7 @@ MilpAnswer BuildAndSolve(const SelectionModel& milp, const std::vector<uint32_t>
   const double scale = !over ? 1.0 : by_min ? per_least : most > 0 ? most * per_least : 1.0;
   std::vector<double> unit(states, 1.0);  // a class's value per weight unit (value units)
   for (size_t st = 0; over && st < states; ++st) {
-    unit[st] = static_cast<double>(weight[st].numerator) /
-               static_cast<double>(weight[st].denominator) / (by_min ? 1.0 : most);
+    unit[st] = Weighted(1.0, weight[st]) / (by_min ? 1.0 : most);
   }
   const auto value_of = [&](int64_t c) { return class_weight[c] * unit[class_state[c]]; };
   // Goal rows: cells (one state, or each state's for a minimum), or a weighted sum in cells of

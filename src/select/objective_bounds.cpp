@@ -390,9 +390,7 @@ double StatesLagrangianBound(const CoverageMatrix& matrix,
   std::vector<double> multipliers(states);
   for (size_t s = 0; s < states; ++s) {
     const size_t size = matrix.StateReferenceSize(s);
-    const CellWeight w = aggregation.weight(size);
-    multipliers[s] = static_cast<double>(size) * static_cast<double>(w.numerator) /
-                     static_cast<double>(w.denominator);
+    multipliers[s] = Weighted(static_cast<double>(size), aggregation.weight(size));
   }
   const bool minimum = aggregation.shape == AggregateShape::kMinimum;
   const int rounds = minimum && states > 1 ? kMinRounds : 1;

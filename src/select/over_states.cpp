@@ -80,8 +80,7 @@ double AggregateOf(const Aggregation& aggregation, size_t states, const Weighted
     const CellWeight w = aggregation.weight(size);
     const double value = weighted_of(s, w);
     sum += value;
-    most += static_cast<double>(size) * static_cast<double>(w.numerator) /
-            static_cast<double>(w.denominator);
+    most += Weighted(static_cast<double>(size), w);
     least = s == 0 ? value : std::min(least, value);
   }
   if (aggregation.shape == AggregateShape::kMinimum) return least;
@@ -196,10 +195,7 @@ StatesScorer::Score StatesScorer::ScoreOf(const Tally& cells) const {
 double StatesScorer::Fraction(const Tally& cells) const {
   return AggregateOf(
       *aggregation_, cells.size(),
-      [&](size_t s, const CellWeight& w) {
-        return static_cast<double>(cells[s]) * static_cast<double>(w.numerator) /
-               static_cast<double>(w.denominator);
-      },
+      [&](size_t s, const CellWeight& w) { return Weighted(static_cast<double>(cells[s]), w); },
       [&](size_t s) { return matrix_->StateReferenceSize(s); });
 }
 
@@ -219,9 +215,8 @@ double Aggregate(const std::vector<double>& values, OverStates over,
       AggregationOf(over), values.size(),
       [&](size_t s, const CellWeight& w) {
         const auto size = static_cast<double>(size_of(s));
-        const auto p = static_cast<double>(w.numerator), q = static_cast<double>(w.denominator);
-        if (w.numerator % w.denominator == 0) return std::round(values[s] * size) * p / q;
-        return values[s] * (size * p / q);
+        if (w.numerator % w.denominator == 0) return Weighted(std::round(values[s] * size), w);
+        return values[s] * Weighted(size, w);
       },
       size_of);
 }
